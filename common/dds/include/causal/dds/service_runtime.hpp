@@ -1,0 +1,49 @@
+// What every service process shares: DDS command-line options, logging set-up and clean shutdown on
+// SIGINT/SIGTERM. Signals are blocked in every thread and received by one sigwait() thread, which then
+// calls the service's stop function from a normal thread context (no work inside a signal handler).
+#pragma once
+
+#include "causal/dds/participant.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+#include <thread>
+
+namespace causal::dds {
+
+struct CommonOptions {
+  int domain_id = 0;
+  std::string qos_file;        // deploy/dds/qos.xml unless overridden
+  std::string transport_file;  // deploy/dds/localhost.xml unless overridden
+  std::string log_level = "info";
+};
+
+// Default folder of the DDS XML files: $CAUSAL_TWIN_DDS_DIR, else the source tree's deploy/dds.
+std::string default_dds_dir();
+
+// Adds --domain, --dds-qos, --dds-transport, --log-level to a CLI11 app.
+void add_common_options(CLI::App& app, CommonOptions& options);
+
+DdsSettings to_dds_settings(const CommonOptions& options, const std::string& participant_name);
+
+// Console logger "<service>" with the given level ("trace".."off"); throws on an unknown level.
+void setup_logging(const std::string& service_name, const std::string& level);
+
+class ShutdownSignal {
+ public:
+  // Must be constructed before any thread (e.g. DDS) is created, so all threads inherit the blocked mask.
+  ShutdownSignal();
+  ~ShutdownSignal();
+  ShutdownSignal(const ShutdownSignal&) = delete;
+  ShutdownSignal& operator=(const ShutdownSignal&) = delete;
+
+  // on_signal runs once, on the signal thread, when SIGINT or SIGTERM arrives.
+  void start(std::function<void(int)> on_signal);
+
+ private:
+  std::thread thread_;
+};
+
+}  // namespace causal::dds

@@ -1,0 +1,32 @@
+// Topic names and the QoS profile each endpoint is created from (profiles live in deploy/dds/qos.xml).
+#pragma once
+
+namespace causal::dds::topics {
+
+inline constexpr const char* kVibrationFrame = "causal_twin/vibration_frame";
+inline constexpr const char* kConditionVector = "causal_twin/condition_vector";
+inline constexpr const char* kCausalFactors = "causal_twin/causal_factors";
+inline constexpr const char* kAlarm = "causal_twin/alarm";
+inline constexpr const char* kRecommendation = "causal_twin/recommendation";
+inline constexpr const char* kWhatIfRequest = "causal_twin/whatif_request";
+inline constexpr const char* kWhatIfReply = "causal_twin/whatif_reply";
+
+}  // namespace causal::dds::topics
+
+namespace causal::dds::profiles {
+
+inline constexpr const char* kParticipant = "causal_twin_participant";
+inline constexpr const char* kVibrationFrameWriter = "vibration_frame_writer";
+inline constexpr const char* kVibrationFrameReader = "vibration_frame_reader";
+inline constexpr const char* kConditionVectorWriter = "condition_vector_writer";
+inline constexpr const char* kConditionVectorReader = "condition_vector_reader";
+inline constexpr const char* kCausalFactorsWriter = "causal_factors_writer";
+inline constexpr const char* kCausalFactorsReader = "causal_factors_reader";
+inline constexpr const char* kAlarmWriter = "alarm_writer";
+inline constexpr const char* kAlarmReader = "alarm_reader";
+inline constexpr const char* kRecommendationWriter = "recommendation_writer";
+inline constexpr const char* kRecommendationReader = "recommendation_reader";
+inline constexpr const char* kWhatIfWriter = "whatif_writer";
+inline constexpr const char* kWhatIfReader = "whatif_reader";
+
+}  // namespace causal::dds::profiles

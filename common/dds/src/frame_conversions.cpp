@@ -1,0 +1,76 @@
+#include "causal/dds/frame_conversions.hpp"
+
+#include <cmath>
+
+namespace causal::dds {
+
+void to_frame(const FrameHeader& header, const Eigen::Ref<const Eigen::MatrixXd>& block, Eigen::Index first_row,
+              Eigen::Index rows, causal_twin::VibrationFrame& frame) {
+  const Eigen::Index g = block.cols();
+  frame.asset_group(header.asset_group);
+  frame.sequence_number(header.sequence);
+  frame.first_sample_index(header.first_sample_index);
+  frame.first_sample_time_ns(header.first_sample_time_ns);
+  frame.sample_rate_hz(header.sample_rate_hz);
+  frame.channel_names(header.channel_names);
+  frame.unit(header.unit);
+  frame.samples_per_channel(static_cast<uint32_t>(rows));
+  frame.discontinuity(header.discontinuity);
+  frame.end_of_segment(header.end_of_segment);
+  frame.source(header.source);
+  auto& out = frame.samples();
+  out.resize(static_cast<std::size_t>(rows * g));
+  // Sample-major (row-major) layout: samples[n * G + g].
+  Eigen::Map<RowMajorMatrix>(out.data(), rows, g) = block.middleRows(first_row, rows);
+}
+
+std::string validate_frame(const causal_twin::VibrationFrame& frame) {
+  const std::size_t g = frame.channel_names().size();
+  if (g == 0) return "frame has no channel names";
+  if (!(frame.sample_rate_hz() > 0.0) || !std::isfinite(frame.sample_rate_hz())) return "sample_rate_hz must be > 0";
+  const std::size_t expected = static_cast<std::size_t>(frame.samples_per_channel()) * g;
+  if (frame.samples().size() != expected) {
+    return "samples has " + std::to_string(frame.samples().size()) + " values, expected samples_per_channel x G = " +
+           std::to_string(expected);
+  }
+  return {};
+}
+
+Eigen::Map<const RowMajorMatrix> samples_view(const causal_twin::VibrationFrame& frame) {
+  return Eigen::Map<const RowMajorMatrix>(frame.samples().data(),
+                                          static_cast<Eigen::Index>(frame.samples_per_channel()),
+                                          static_cast<Eigen::Index>(frame.channel_names().size()));
+}
+
+std::vector<std::string> channel_names(const causal_twin::VibrationFrame& frame) {
+  return {frame.channel_names().begin(), frame.channel_names().end()};
+}
+
+void to_condition_vector(const ConditionHeader& header, const Eigen::Ref<const Eigen::VectorXd>& values,
+                         causal_twin::ConditionVector& out) {
+  out.asset_group(header.asset_group);
+  out.feature(header.feature);
+  out.snapshot_index(header.snapshot_index);
+  out.time_ns(header.time_ns);
+  out.channel_names(header.channel_names);
+  out.values(std::vector<double>(values.data(), values.data() + values.size()));
+  out.discontinuity(header.discontinuity);
+}
+
+std::string validate_condition_vector(const causal_twin::ConditionVector& in) {
+  if (in.channel_names().empty()) return "condition vector has no channel names";
+  if (in.values().size() != in.channel_names().size()) {
+    return "condition vector has " + std::to_string(in.values().size()) + " values for " +
+           std::to_string(in.channel_names().size()) + " channels";
+  }
+  for (double v : in.values()) {
+    if (!std::isfinite(v)) return "condition vector has a non-finite value";
+  }
+  return {};
+}
+
+Eigen::VectorXd values_of(const causal_twin::ConditionVector& in) {
+  return Eigen::Map<const Eigen::VectorXd>(in.values().data(), static_cast<Eigen::Index>(in.values().size()));
+}
+
+}  // namespace causal::dds

@@ -1,0 +1,124 @@
+// Per-snapshot feature table reader (merged_dataset and derived_per_file_stats layouts).
+#include "causal/io/feature_table.hpp"
+
+#include <cmath>
+
+#include "causal/io/input_error.hpp"
+#include "causal/io/time_format.hpp"
+#include "text_file.hpp"
+#include "text_scan.hpp"
+
+namespace causal::io {
+namespace {
+
+bool is_time_name(const std::string& lower) { return lower == "timestamp" || lower == "time"; }
+
+bool is_bookkeeping_name(const std::string& lower) {
+  return is_time_name(lower) || lower == "file" || lower == "index" || lower == "n";
+}
+
+bool ends_with(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+}  // namespace
+
+FeatureTable read_feature_table(const std::string& path, const std::string& column_suffix) {
+  const std::string text = detail::read_text_file(path);
+  detail::LineCursor cursor(text);
+  std::string_view line;
+  std::vector<std::string_view> fields;
+  std::string scratch;
+
+  bool have_header = false;
+  while (cursor.next(line)) {
+    if (!detail::is_blank_line(line)) {
+      have_header = true;
+      break;
+    }
+  }
+  if (!have_header) throw InputError(path, 0, "empty file: no header row");
+  const std::size_t header_line = cursor.line_number();
+  if (!detail::split_csv_line(line, fields, scratch)) throw InputError(path, header_line, "malformed quoting");
+  const std::vector<std::string> header(fields.begin(), fields.end());
+  const std::size_t width = header.size();
+
+  // Time column: a column named timestamp/time, else the first column.
+  std::size_t time_col = 0;
+  for (std::size_t c = 0; c < width; ++c) {
+    if (is_time_name(detail::to_lower(header[c]))) {
+      time_col = c;
+      break;
+    }
+  }
+
+  FeatureTable table;
+  std::vector<std::size_t> cols;  // file columns of the channels
+  for (std::size_t c = 0; c < width; ++c) {
+    if (c == time_col) continue;
+    if (column_suffix.empty()) {
+      if (is_bookkeeping_name(detail::to_lower(header[c]))) continue;
+      if (header[c].empty()) throw InputError(path, header_line, "empty column name in column " + std::to_string(c + 1));
+      cols.push_back(c);
+      table.channel_names.push_back(header[c]);
+    } else if (header[c].size() > column_suffix.size() && ends_with(header[c], column_suffix)) {
+      cols.push_back(c);
+      table.channel_names.push_back(header[c].substr(0, header[c].size() - column_suffix.size()));
+    }
+  }
+  if (cols.empty()) {
+    std::string names;
+    for (const std::string& h : header) names += (names.empty() ? "'" : ", '") + h + "'";
+    throw InputError(path, header_line,
+                     (column_suffix.empty() ? std::string("no channel column")
+                                            : "no column name ends with '" + column_suffix + "'") +
+                         "; columns are: " + names);
+  }
+
+  const std::size_t g = cols.size();
+  std::vector<double> data;  // row-major
+  std::size_t rows = 0;
+  while (cursor.next(line)) {
+    if (detail::is_blank_line(line)) continue;
+    const std::size_t ln = cursor.line_number();
+    if (!detail::split_csv_line(line, fields, scratch)) throw InputError(path, ln, "malformed quoting");
+    if (fields.size() != width) {
+      throw InputError(path, ln,
+                       "ragged row: " + std::to_string(fields.size()) + " fields, header has " +
+                           std::to_string(width));
+    }
+    const std::optional<std::int64_t> t = parse_utc(fields[time_col]);
+    if (!t) {
+      throw InputError(path, ln,
+                       "bad time stamp " + detail::quote_token(fields[time_col]) +
+                           " (want YYYY-MM-DD hh:mm:ss or YYYY.MM.DD.hh.mm.ss)");
+    }
+    if (!table.time_ns.empty() && *t <= table.time_ns.back()) {
+      throw InputError(path, ln,
+                       "time stamps not strictly increasing: " + format_utc(*t) + " after " +
+                           format_utc(table.time_ns.back()));
+    }
+    table.time_ns.push_back(*t);
+    for (std::size_t k = 0; k < g; ++k) {
+      const std::string_view cell = fields[cols[k]];
+      const std::optional<double> v = detail::parse_double(cell);
+      if (!v) {
+        throw InputError(path, ln,
+                         "not a number: " + detail::quote_token(cell) + " (column '" + header[cols[k]] + "')");
+      }
+      if (!std::isfinite(*v)) {
+        throw InputError(path, ln,
+                         "non-finite value " + detail::quote_token(cell) + " (column '" + header[cols[k]] + "')");
+      }
+      data.push_back(*v);
+    }
+    ++rows;
+  }
+  if (rows == 0) throw InputError(path, 0, "no data rows");
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  table.values = Eigen::Map<const RowMajor>(data.data(), static_cast<Eigen::Index>(rows),
+                                            static_cast<Eigen::Index>(g));
+  return table;
+}
+
+}  // namespace causal::io

@@ -1,0 +1,188 @@
+#include "replay_node.hpp"
+
+#include "causal/dds/frame_conversions.hpp"
+#include "causal/dds/topics.hpp"
+#include "causal/io/feature_table.hpp"
+#include "causal/io/input_error.hpp"
+#include "causal/io/time_format.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+namespace causal::replay {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
+ReplayNode::ReplayNode(ReplayOptions options)
+    : options_(std::move(options)), participant_(dds::to_dds_settings(options_.dds, "sensor-replay")) {
+  if (options_.source == SourceKind::FeatureTable) {
+    conditions_ = std::make_unique<dds::TypedWriter<causal_twin::ConditionVectorPubSubType>>(
+        participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter);
+  } else {
+    frames_ = std::make_unique<dds::TypedWriter<causal_twin::VibrationFramePubSubType>>(
+        participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameWriter);
+  }
+}
+
+void ReplayNode::stop() {
+  stop_.store(true);
+  wake_.notify_all();
+}
+
+int ReplayNode::run() {
+  started_ = Clock::now();
+  last_progress_ = started_;
+  const auto wait = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
+  const std::size_t want = static_cast<std::size_t>(options_.wait_subscribers);
+  if (want > 0) {
+    spdlog::info("waiting up to {:.0f} s for {} reader(s) on domain {}", options_.wait_timeout_s, want,
+                 participant_.domain_id());
+    const bool ok = frames_ ? frames_->wait_for_readers(want, wait, stop_) : conditions_->wait_for_readers(want, wait, stop_);
+    if (!ok) {
+      if (stop_.load()) return 0;
+      spdlog::error("no reader matched within {:.0f} s: is causal-estimator running on domain {} with the same "
+                    "transport profile?",
+                    options_.wait_timeout_s, participant_.domain_id());
+      return 3;
+    }
+  }
+  try {
+    if (options_.source == SourceKind::FeatureTable) return run_features();
+    const auto source = options_.source == SourceKind::ImsDirectory
+                            ? open_ims_directory(options_.path, options_.channels, options_.channel_names)
+                            : open_channel_csv(options_.path, options_.channels, options_.channel_names);
+    return run_raw(*source);
+  } catch (const io::InputError& e) {
+    spdlog::error("bad input: {}", e.what());
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}
+
+bool ReplayNode::pace(std::int64_t plant_ns) {
+  if (!origin_set_) {
+    origin_set_ = true;
+    plant_origin_ns_ = plant_ns;
+    wall_origin_ = Clock::now();
+  }
+  if (options_.speed <= 0.0) return !stop_.load();
+  const double wall_offset_s = static_cast<double>(plant_ns - plant_origin_ns_) * 1e-9 / options_.speed;
+  const auto due = wall_origin_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall_offset_s));
+  std::unique_lock<std::mutex> lock(mutex_);
+  wake_.wait_until(lock, due, [this] { return stop_.load(); });
+  return !stop_.load();
+}
+
+void ReplayNode::report_progress(std::size_t done, std::size_t total, bool force) {
+  if (!force && seconds_since(last_progress_) < options_.progress_every_s) return;
+  last_progress_ = Clock::now();
+  const double elapsed = seconds_since(started_);
+  const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
+  const double eta = rate > 0 ? static_cast<double>(total - done) / rate : 0.0;
+  spdlog::info("progress: {}/{} snapshots, {:.1f} snapshots/s, ETA {:.0f} s", done, total, rate, eta);
+}
+
+int ReplayNode::run_raw(const SnapshotSource& source) {
+  const std::size_t first = std::min(options_.first_snapshot, source.size());
+  std::size_t last = source.size();
+  if (options_.max_snapshots > 0) last = std::min(last, first + options_.max_snapshots);
+  const std::size_t total = last - first;
+  spdlog::info("replaying {} snapshot(s) of {} from {} as asset group '{}', channels [{}], {} samples per frame, "
+               "speed {}",
+               total, source.size(), options_.path, options_.asset_group, fmt::join(source.channel_names(), ", "),
+               options_.frame_samples, options_.speed > 0 ? fmt::format("x{}", options_.speed) : "as fast as possible");
+
+  causal_twin::VibrationFrame frame;
+  dds::FrameHeader header;
+  header.asset_group = options_.asset_group;
+  header.sample_rate_hz = options_.sample_rate_hz;
+  header.channel_names = source.channel_names();
+  header.unit = options_.unit;
+  std::uint64_t frames_sent = 0, samples_sent = 0;
+  const double sample_period_ns = 1e9 / options_.sample_rate_hz;
+
+  for (std::size_t i = first; i < last && !stop_.load(); ++i) {
+    const Snapshot snap = source.load(i);
+    const Eigen::Index n = snap.samples.rows();
+    header.source = snap.name;
+    for (Eigen::Index row = 0; row < n && !stop_.load(); row += options_.frame_samples) {
+      const Eigen::Index rows = std::min<Eigen::Index>(options_.frame_samples, n - row);
+      header.first_sample_time_ns = snap.time_ns + static_cast<std::int64_t>(static_cast<double>(row) * sample_period_ns);
+      header.discontinuity = (row == 0);  // every snapshot starts a new contiguous segment
+      header.end_of_segment = (row + rows == n);
+      if (!pace(header.first_sample_time_ns)) break;
+      dds::to_frame(header, snap.samples, row, rows, frame);
+      const auto result = frames_->write(frame, stop_);
+      if (result == dds::WriteResult::Stopped) break;
+      if (result != dds::WriteResult::Ok) {
+        spdlog::error("could not publish frame {} of '{}': {}", header.sequence, snap.name,
+                      result == dds::WriteResult::TimedOut
+                          ? "readers stopped acknowledging (timed out)"
+                          : fmt::format("DDS write error, return code {}", frames_->last_error()));
+        return 1;
+      }
+      ++header.sequence;
+      header.first_sample_index += static_cast<std::uint64_t>(rows);
+      ++frames_sent;
+      samples_sent += static_cast<std::uint64_t>(rows);
+    }
+    spdlog::debug("snapshot {} ({}) published", snap.name, io::format_utc(snap.time_ns));
+    report_progress(i + 1 - first, total, false);
+  }
+  report_progress(total, total, true);
+  // Nothing is lost on exit: wait until every reader has acknowledged every frame.
+  if (!frames_->wait_for_acknowledgments(std::chrono::seconds(30))) {
+    spdlog::warn("not every frame was acknowledged within 30 s");
+  }
+  spdlog::info("published {} frames ({} samples per channel) in {:.2f} s{}", frames_sent, samples_sent,
+               seconds_since(started_), stop_.load() ? " (stopped early)" : "");
+  return 0;
+}
+
+int ReplayNode::run_features() {
+  const io::FeatureTable table = io::read_feature_table(options_.path, options_.feature_suffix);
+  const Eigen::MatrixXd values = select_channels(table.values, options_.channels);
+  dds::ConditionHeader header;
+  header.asset_group = options_.asset_group;
+  header.feature = options_.feature_name;
+  header.channel_names = select_names(table.channel_names, options_.channels, options_.channel_names);
+  const std::size_t rows = static_cast<std::size_t>(values.rows());
+  const std::size_t first = std::min(options_.first_snapshot, rows);
+  std::size_t last = rows;
+  if (options_.max_snapshots > 0) last = std::min(last, first + options_.max_snapshots);
+  spdlog::info("replaying {} condition vector(s) of {} ('{}') from {} as asset group '{}'", last - first, rows,
+               header.feature, options_.path, options_.asset_group);
+  causal_twin::ConditionVector out;
+  std::size_t sent = 0;
+  for (std::size_t i = first; i < last && !stop_.load(); ++i) {
+    header.snapshot_index = i;
+    header.time_ns = table.time_ns[i];
+    header.discontinuity = (i == first);
+    if (!pace(header.time_ns)) break;
+    dds::to_condition_vector(header, values.row(static_cast<Eigen::Index>(i)).transpose(), out);
+    const auto result = conditions_->write(out, stop_);
+    if (result == dds::WriteResult::Stopped) break;
+    if (result != dds::WriteResult::Ok) {
+      spdlog::error("could not publish condition vector {}: readers stopped acknowledging", i);
+      return 1;
+    }
+    ++sent;
+    report_progress(sent, last - first, false);
+  }
+  report_progress(sent, last - first, true);
+  if (!conditions_->wait_for_acknowledgments(std::chrono::seconds(30))) {
+    spdlog::warn("not every condition vector was acknowledged within 30 s");
+  }
+  spdlog::info("published {} condition vectors in {:.2f} s{}", sent, seconds_since(started_),
+               stop_.load() ? " (stopped early)" : "");
+  return 0;
+}
+
+}  // namespace causal::replay

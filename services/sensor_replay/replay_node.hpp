@@ -1,0 +1,47 @@
+// sensor-replay's DDS node: entities are built in the constructor, run() publishes the whole source with
+// pacing, stop() (from the signal thread) ends it early. Exit codes: 0 done, 1 bad input, 3 no readers.
+#pragma once
+
+#include "replay_options.hpp"
+#include "snapshot_source.hpp"
+
+#include "causal/dds/participant.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal_twinPubSubTypes.h"
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+
+namespace causal::replay {
+
+class ReplayNode {
+ public:
+  explicit ReplayNode(ReplayOptions options);
+  int run();
+  void stop();
+
+ private:
+  int run_raw(const SnapshotSource& source);
+  int run_features();
+  // Sleeps until plant time `plant_ns` is due at the configured speed. False if stopped meanwhile.
+  bool pace(std::int64_t plant_ns);
+  void report_progress(std::size_t done, std::size_t total, bool force);
+
+  ReplayOptions options_;
+  dds::Participant participant_;
+  std::unique_ptr<dds::TypedWriter<causal_twin::VibrationFramePubSubType>> frames_;
+  std::unique_ptr<dds::TypedWriter<causal_twin::ConditionVectorPubSubType>> conditions_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::chrono::steady_clock::time_point wall_origin_;
+  std::int64_t plant_origin_ns_ = 0;
+  bool origin_set_ = false;
+  std::chrono::steady_clock::time_point last_progress_;
+  std::chrono::steady_clock::time_point started_;
+};
+
+}  // namespace causal::replay

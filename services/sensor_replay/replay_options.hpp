@@ -1,0 +1,38 @@
+// sensor-replay's parameters: one plain struct, filled and checked by parse_replay_options().
+#pragma once
+
+#include "causal/dds/service_runtime.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace causal::replay {
+
+enum class SourceKind { ImsDirectory, ChannelCsv, FeatureTable };
+
+struct ReplayOptions {
+  dds::CommonOptions dds;
+  SourceKind source = SourceKind::ImsDirectory;
+  std::string path;                       // directory or file
+  std::string asset_group = "ims2-shaft1";
+  std::vector<int> channels;              // 1-based selection; empty = all
+  std::vector<std::string> channel_names; // names for the selected channels; empty = from the source
+  std::string unit = "V";
+  double sample_rate_hz = 20000.0;        // raw sources (IMS is 20 kHz)
+  int frame_samples = 1024;               // samples per channel per frame
+  double speed = 0.0;                     // plant seconds per wall second; 0 = as fast as possible
+  std::size_t first_snapshot = 0;         // skip this many snapshots
+  std::size_t max_snapshots = 0;          // 0 = all
+  std::string feature_suffix;             // feature tables: column suffix ("_rms"); "" = every column
+  std::string feature_name = "meanabs";   // feature tables: what the values are
+  int wait_subscribers = 1;               // wait for this many matched readers before publishing
+  double wait_timeout_s = 30.0;
+  double progress_every_s = 5.0;
+};
+
+// Parses argv. Returns nullopt after printing --help / an error; `exit_code` tells the caller what to return.
+std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& exit_code);
+
+}  // namespace causal::replay
