@@ -1,0 +1,95 @@
+// AlarmEngine: turns the causal twin's per-observation outputs (condition features, one-step innovations
+// of the causal filter, causal factors) for one asset group into alarms that explain themselves.
+//
+// Pipeline per observation (see docs in alarm_params.hpp for every threshold):
+//  1. warm-up (ignored), then baseline: the first baseline_observations healthy observations give each
+//     signal a robust location/scale (median, 1.4826 MAD): log feature, standardised innovation
+//     e_k/sqrt(S_k) (or log mean NIS), every causal factor.
+//  2. monitoring, per channel k:
+//       feature_drift   : clipped one-sided CUSUM on the standardised log feature (level rose)
+//       innovation_rise : same CUSUM on the standardised innovation: the part of channel k the other
+//                         channels do not explain rose -> k's OWN behaviour changed
+//       innovation_nis  : window mean of clipped squared standardised innovations (upward departures
+//                         only, by default): the model no longer explains the channel
+//       factor_shift    : max |z| of outcome k's factors vs their baseline, Bonferroni threshold
+//     each with persistence / hysteresis (PersistenceLatch), severities, one alarm per (channel, kind)
+//     while active; escalations and the clearing republish the same alarm id.
+//  3. root cause (per episode = period during which at least one alarm is active): the channel whose
+//     own behaviour (innovation_rise) changed first, among channels whose change began no later than the
+//     alarmed channel's; if no channel's own behaviour changed, the channel whose feature departed
+//     first. Followers (channels that rise only because the causal links carry the root's change) show
+//     a feature drift without an innovation rise and get the root's id as root cause.
+//
+// Sample-level use: feed one Observation per factor publication (mean_nis filled from the CausalFactors
+// nis_mean, features optional e.g. a block RMS) with AlarmParams::sample_level(n_healthy_publications).
+// The innovation signal is then log mean NIS: a channel whose waveform is no longer predicted from the
+// others (bearing damage adds impulsive, unexplained energy) raises innovation_rise / innovation_nis.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "causal/alarms/alarm_event.hpp"
+#include "causal/alarms/alarm_params.hpp"
+#include "causal/alarms/observation.hpp"
+
+namespace causal::alarms {
+
+// State of one monitored scalar signal (diagnostics).
+struct SignalDiagnostics {
+  bool monitored = false;        // baseline learned with enough finite values
+  double baseline_location = 0;  // median over the baseline (log units for log features)
+  double baseline_scale = 0;     // 1.4826 MAD
+  double baseline_lag1_autocorr = 0;
+  double last_z = 0;             // latest standardised value (NaN if none)
+  double cusum = 0;              // current CUSUM statistic (feature / innovation)
+};
+
+struct ChannelDiagnostics {
+  SignalDiagnostics feature;
+  SignalDiagnostics innovation;
+  double nis_window_mean = 0;    // window mean of clipped squared standardised innovations
+  double factor_max_abs_z = 0;   // max |z| over the channel's (outcome's) monitored factors
+  int monitored_factors = 0;
+  std::uint64_t rejected_values = 0;  // non-finite / non-positive (log) inputs skipped for this channel
+  int root_cause = -1;           // current root-cause verdict for this channel (-1 when no episode)
+};
+
+class AlarmEngine {
+ public:
+  // channel_names: G >= 1 names (G fixed for the engine's life). factor_names: F names (may be empty)
+  // following the project convention; factors whose name cannot be parsed are used in explanations
+  // only. Throws std::invalid_argument on empty channel list or invalid params.
+  AlarmEngine(std::string asset_group, std::vector<std::string> channel_names, std::vector<std::string> factor_names,
+              AlarmParams params);
+  ~AlarmEngine();
+  AlarmEngine(AlarmEngine&&) noexcept;
+  AlarmEngine& operator=(AlarmEngine&&) noexcept;
+  AlarmEngine(const AlarmEngine&) = delete;
+  AlarmEngine& operator=(const AlarmEngine&) = delete;
+
+  // Processes one observation; returns the events it triggered (raised / escalated / cleared), in
+  // channel order. Observations whose vectors have the wrong size are rejected (counted, no event).
+  std::vector<AlarmEvent> observe(const Observation& obs);
+
+  bool baseline_ready() const;
+  int channel_count() const;
+  const std::string& asset_group() const;
+  const std::vector<std::string>& channel_names() const;
+  const AlarmParams& params() const;
+  double cusum_threshold() const;     // h
+  double nis_threshold() const;
+  std::uint64_t observations_seen() const;
+  std::uint64_t rejected_observations() const;
+  ChannelDiagnostics channel_diagnostics(int channel) const;
+  // Latest event of every active alarm (state Raised or Escalated), channel order.
+  std::vector<AlarmEvent> active_alarms() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace causal::alarms

@@ -1,0 +1,49 @@
+// Alarm events published by the engine (mirrors causal_twin::Alarm in idl/causal_twin.idl, except that
+// channels are 0-based here; adapters add 1).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace causal::alarms {
+
+enum class Severity { Advisory = 0, Warning = 1, Critical = 2 };
+enum class AlarmState { Raised, Escalated, Cleared };
+
+// Detector kinds (AlarmEvent::kind). One alarm at most is active per (channel, kind).
+namespace kind {
+inline constexpr const char* kFeatureDrift = "feature_drift";      // condition feature above its baseline
+inline constexpr const char* kInnovationRise = "innovation_rise";  // unexplained part rose: own behaviour
+inline constexpr const char* kInnovationNis = "innovation_nis";    // model no longer fits the channel
+inline constexpr const char* kFactorShift = "factor_shift";        // causal factors left their baseline
+}  // namespace kind
+
+struct AlarmEvent {
+  std::string alarm_id;            // "<asset_group>/<channel 1-based>/<kind>/<counter>", stable across
+                                   // Raised -> Escalated* -> Cleared
+  int channel = -1;                // 0-based channel the alarm is about
+  Severity severity = Severity::Advisory;
+  AlarmState state = AlarmState::Raised;
+  std::string kind;                // one of causal::alarms::kind
+  std::int64_t raised_time_ns = 0;
+  std::int64_t cleared_time_ns = 0;  // 0 while active
+  std::uint64_t index = 0;         // observation index of the latest evidence
+  std::uint64_t onset_index = 0;   // estimated start of the change (CUSUM change point)
+  std::int64_t onset_time_ns = 0;
+  int root_cause_channel = -1;     // 0-based channel whose own behaviour changed first, -1 unknown
+  std::vector<std::string> factor_names;  // factors that moved most (explanation)
+  std::vector<double> factor_baseline;    // their baseline (median over the baseline period)
+  std::vector<double> factor_now;         // their current values
+  double score = 0.0;              // detector statistic (CUSUM S, window-mean NIS, max |z| of factors)
+  double threshold = 0.0;          // the raise threshold it is compared with
+  std::string reason;              // plain-language explanation with numbers and UTC times
+};
+
+const char* to_string(Severity s);
+const char* to_string(AlarmState s);
+
+// "YYYY-MM-DD hh:mm:ss UTC" (std only; the alarm library does not depend on causal_io).
+std::string format_utc_seconds(std::int64_t time_ns);
+
+}  // namespace causal::alarms

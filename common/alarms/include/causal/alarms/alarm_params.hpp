@@ -1,0 +1,139 @@
+// Every threshold of the alarm engine, with the statistical reasoning behind its default.
+// Nothing here is fitted to a particular recording: the detectors standardise every signal by the
+// asset group's own healthy baseline (median / MAD), so the defaults are in baseline-sigma units,
+// in false-alarm probabilities / average run lengths, or in physical level ratios.
+#pragma once
+
+namespace causal::alarms {
+
+struct AlarmParams {
+  // ---------------------------------------------------------------- baseline ------------------------
+  // Observations skipped at the start: the causal filter starts from a diffuse prior (p0) and its
+  // innovations / factors are a transient until the factors have converged (a few times the number of
+  // regressors per outcome, 2G-2 = 6 for G = 4, M = 1). 20 covers ~3 such time constants.
+  int warmup_observations = 20;
+  // Healthy observations that define the baseline (after the warm-up). With n = 120 the median is
+  // known to ~1.25/sqrt(n) = 0.11 sigma and the MAD scale to ~1.17/sqrt(n) = 11 %: the thresholds
+  // below are then within ~0.1 sigma of their design value, small against the reference value k.
+  int baseline_observations = 120;
+  // A signal (one channel's feature, innovation or one factor) is monitored only if at least this
+  // fraction of its baseline values were finite; otherwise it stays unmonitored (reported in diagnostics).
+  double min_baseline_coverage = 0.5;
+  // The baseline median and MAD are estimates (from n values): with n = 120 the scale is off by ~11 %
+  // (1 sd) and an underestimated scale shortens the in-control ARL by an order of magnitude (measured:
+  // 1.4e-5 false raises per channel-observation instead of the nominal 1e-6). The engine therefore
+  // standardises with the upper one-sided `baseline_confidence` bound of the scale and a location margin
+  // (sd(MAD)/MAD = 1.166/sqrt(n), sd(median) = 1.2533 sigma/sqrt(n) for Gaussian data): the design ARL
+  // then holds for at least this fraction of baselines ("guaranteed conditional performance").
+  double baseline_confidence = 0.9;
+
+  // ---------------------------------------------------------------- CUSUM design --------------------
+  // Shared by the feature-drift and innovation-rise detectors (one-sided upper CUSUM on z, the signal
+  // standardised by the baseline median / 1.4826 MAD; see ClippedCusum).
+  // k = half the shift the chart is fastest for: 1.5 -> tuned to 3-sigma shifts. Smaller shifts still
+  // accumulate if they exceed k; a larger k makes the chart blind to slow environmental drifts
+  // (temperature, load) of order one sigma that a long run-to-failure test inevitably has.
+  double cusum_k = 1.5;
+  // In-control average run length per detector, in observations (Siegmund's approximation gives h;
+  // h = 3.94 for k = 1.5). Why so large: a group of G = 4 channels runs ~3 CUSUM-type detectors per
+  // channel; 1e6 nominal i.i.d. ARL0 keeps the group's nominal false-alarm rate at ~1 per 8e4
+  // observations (1.6 years at one snapshot per 10 min). Real baselines are mildly autocorrelated
+  // (lag-1 ~0.2-0.3 measured on healthy bearings), which shortens the true ARL by one to two orders of
+  // magnitude; the high nominal target leaves room for that.
+  double target_arl0 = 1e6;
+  // Winsorising of z before it enters a CUSUM: one observation adds at most clip - k = 2.5 < h, so a
+  // single spike can never raise an alarm (validate() enforces h > clip - k when raise_persistence is 1).
+  double clip_sigma = 4.0;
+  // Cap of the CUSUM at cap_factor * h: keeps the time to clear after a long fault short (see ClippedCusum).
+  double cusum_cap_factor = 2.0;
+  // Hysteresis: an active alarm clears when its statistic is < clear_fraction * (raise threshold) for
+  // clear_persistence consecutive observations. 12 = the NIS window: an alarm cannot clear while its
+  // evidence window still holds anomalous observations, and a channel whose unexplained part comes in
+  // bursts (a progressing fault) is not re-announced for every burst. With S capped at 2h and a healthy
+  // signal draining >= k per observation, clearing takes ~ (2 - 0.5) h / k + 12 = 16 observations; a
+  // still-shifted process (mean >= k) keeps S from draining and cannot clear.
+  double clear_fraction = 0.5;
+  int raise_persistence = 1;
+  int clear_persistence = 12;
+  // Current level of a signal (for severities) = median of the last level_window standardised values:
+  // robust to one outlier among 5.
+  int level_window = 5;
+
+  // ---------------------------------------------------------------- feature drift -------------------
+  bool feature_enabled = true;
+  // Scale features (RMS, mean |x|, peak, kurtosis) are positive and change multiplicatively: log makes
+  // a given relative change equally significant at any level and makes their spread near-Gaussian.
+  bool feature_log_transform = true;
+  // Severity of a feature-drift alarm from the physical level ratio now / baseline median
+  // (log-transformed features): Advisory = statistically significant rise; Warning = doubled (+6 dB),
+  // Critical = four times (+12 dB): the customary 6 dB-per-step alert ladder of vibration trending.
+  double warning_ratio = 2.0;
+  double critical_ratio = 4.0;
+
+  // ---------------------------------------------------------------- innovations ---------------------
+  // innovation_rise: the CUSUM above on z = standardised e_k / sqrt(S_k) (or log mean NIS): channel k
+  // does more than the other channels explain -> its OWN behaviour changed (drives the root cause).
+  bool innovation_enabled = true;
+  // innovation_nis: window mean of min(z^2, clip^2) over nis_window observations against the
+  // chi-square(nis_window)/nis_window quantile at nis_false_alarm_prob (per observation).
+  // One-sided by default (nis_two_sided = false): only positive departures (z > 0: more than the other
+  // channels explain) enter, z^2 for z > 0 and 0 otherwise; the sum is then stochastically smaller than
+  // the chi-square, so the false-alarm probability stays below nis_false_alarm_prob. Why one-sided: a
+  // channel that becomes quieter than its causes predict (run-in, a healthy bearing that does not follow
+  // a failing one) is not a fault; measured on IMS test 2, the two-sided window of bearing 2 (quietening
+  // during run-in) reached 3.6 of 4.3 before the failure began.
+  bool nis_enabled = true;
+  bool nis_two_sided = false;
+  int nis_window = 12;
+  double nis_false_alarm_prob = 1e-6;
+  // Severities of innovation and factor alarms from the current level in baseline sigmas (median of
+  // the last level_window values): 6 sigma has a Gaussian tail probability of 1e-9 per observation,
+  // i.e. the change is unambiguous even to a single look; 12 sigma is twice that.
+  double warning_sigma = 6.0;
+  double critical_sigma = 12.0;
+
+  // ---------------------------------------------------------------- factor shift --------------------
+  // factor_shift: max over the factors of outcome k of |x_i - baseline median_i| / sqrt(MAD-scale_i^2 +
+  // std_i^2) against a Bonferroni two-sided Gaussian threshold at factor_false_alarm_prob per
+  // observation, for factor_persistence consecutive observations (factor trajectories are random walks,
+  // strongly autocorrelated, so consecutive exceedances are not independent evidence: the persistence
+  // is a minimum duration, and the threshold carries the statistical weight).
+  bool factor_enabled = false;
+  double factor_false_alarm_prob = 1e-6;
+  int factor_persistence = 6;
+
+  // ---------------------------------------------------------------- root cause / explanation --------
+  // Onsets (CUSUM change points) within this many observations count as simultaneous: the change-point
+  // estimate of a CUSUM is uncertain by about one to two observations for shifts of 3 sigma or more.
+  int onset_tolerance = 2;
+  // Own-change evidence of a departure = z statistic of the mean standardised innovation since the
+  // feature CUSUM's onset (sum / sqrt(n)); ~N(0,1) for a follower, whose rise the causal links explain.
+  // A channel whose departure carries evidence >= own_evidence_z (one-sided 1e-3: a follower is mistaken
+  // for an independent root once in 1000 departures), or whose trouble began with its own innovation_rise,
+  // is its OWN root cause when its change began clearly after the group's first root (a second,
+  // independent fault, e.g. two failing bearings); otherwise the group's first root is blamed.
+  double own_evidence_z = 3.09;
+  // Factors listed in an alarm's explanation.
+  int explain_top_factors = 3;
+
+  // Throws std::invalid_argument with a clear message when a value is out of range or when the
+  // combination breaks a promise (e.g. a single spike could raise an alarm).
+  void validate() const;
+
+  // Decision interval h of the CUSUM detectors (Siegmund, from cusum_k and target_arl0).
+  double cusum_threshold() const;
+  // Raise threshold of innovation_nis on the window-mean clipped NIS.
+  double nis_threshold() const;
+  // Two-sided Bonferroni threshold of factor_shift for an outcome with `factor_count` factors.
+  double factor_threshold(int factor_count) const;
+
+  // Preset for sample-level factor publications (each observation summarises a block of raw samples):
+  // the first `baseline_publications` publications (e.g. those of the healthy snapshots) are the warm-up
+  // (one publication: the filter converges within its first block of thousands of samples) plus the
+  // baseline,
+  // innovation signal = log mean NIS; the factor detector is off because sample-level factors describe
+  // within-snapshot waveform coupling, whose publication-to-publication spread is not a condition signal.
+  static AlarmParams sample_level(int baseline_publications);
+};
+
+}  // namespace causal::alarms

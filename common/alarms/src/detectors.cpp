@@ -1,0 +1,102 @@
+#include "causal/alarms/detectors.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "causal/alarms/statistics.hpp"
+
+namespace causal::alarms {
+
+ClippedCusum::ClippedCusum(double k, double clip, double cap) : k_(k), clip_(clip), cap_(cap) {
+  if (!(k > 0.0)) throw std::invalid_argument("ClippedCusum: k must be > 0");
+  if (!(clip > k)) throw std::invalid_argument("ClippedCusum: clip must be > k (else S can never grow)");
+  if (!(cap > 0.0)) throw std::invalid_argument("ClippedCusum: cap must be > 0");
+}
+
+double ClippedCusum::update(double z, std::uint64_t index, std::int64_t time_ns) {
+  if (!std::isfinite(z)) return s_;
+  const double increment = std::min(z, clip_) - k_;
+  if (s_ <= 0.0 && increment > 0.0) {
+    onset_index_ = index;  // new excursion: the change-point estimate is its first observation
+    onset_time_ns_ = time_ns;
+  }
+  s_ = std::min(cap_, std::max(0.0, s_ + increment));
+  return s_;
+}
+
+void ClippedCusum::reset() {
+  s_ = 0.0;
+  onset_index_ = 0;
+  onset_time_ns_ = 0;
+}
+
+WindowMean::WindowMean(int window) {
+  if (window < 1) throw std::invalid_argument("WindowMean: window must be >= 1");
+  buf_.assign(static_cast<std::size_t>(window), 0.0);
+}
+
+void WindowMean::push(double v) {
+  if (!std::isfinite(v) || buf_.empty()) return;
+  if (full()) sum_ -= buf_[static_cast<std::size_t>(next_)];
+  buf_[static_cast<std::size_t>(next_)] = v;
+  sum_ += v;
+  next_ = (next_ + 1) % static_cast<int>(buf_.size());
+  if (!full()) ++count_;
+  // Recompute the sum from scratch once per wrap so rounding error cannot accumulate without bound.
+  if (next_ == 0) {
+    sum_ = 0.0;
+    for (int i = 0; i < count_; ++i) sum_ += buf_[static_cast<std::size_t>(i)];
+  }
+}
+
+void WindowMean::reset() {
+  std::fill(buf_.begin(), buf_.end(), 0.0);
+  next_ = count_ = 0;
+  sum_ = 0.0;
+}
+
+double WindowMean::mean() const {
+  if (count_ == 0) return std::numeric_limits<double>::quiet_NaN();
+  return sum_ / count_;
+}
+
+double WindowMean::median() const {
+  if (count_ == 0) return std::numeric_limits<double>::quiet_NaN();
+  // While filling, the values live in buf_[0 .. count_); once full, all of buf_ is in use.
+  return causal::alarms::median(std::vector<double>(buf_.begin(), buf_.begin() + count_));
+}
+
+PersistenceLatch::PersistenceLatch(int raise_count, int clear_count)
+    : raise_count_(raise_count), clear_count_(clear_count) {
+  if (raise_count < 1 || clear_count < 1) throw std::invalid_argument("PersistenceLatch: counts must be >= 1");
+}
+
+PersistenceLatch::Transition PersistenceLatch::update(double statistic, double raise_threshold,
+                                                      double clear_threshold) {
+  if (!std::isfinite(statistic)) return Transition::None;
+  if (!active_) {
+    above_ = statistic >= raise_threshold ? above_ + 1 : 0;
+    if (above_ >= raise_count_) {
+      active_ = true;
+      above_ = below_ = 0;
+      return Transition::Raise;
+    }
+    return Transition::None;
+  }
+  below_ = statistic < clear_threshold ? below_ + 1 : 0;
+  if (below_ >= clear_count_) {
+    active_ = false;
+    above_ = below_ = 0;
+    return Transition::Clear;
+  }
+  return Transition::None;
+}
+
+void PersistenceLatch::reset() {
+  above_ = below_ = 0;
+  active_ = false;
+}
+
+}  // namespace causal::alarms

@@ -1,0 +1,118 @@
+#include "causal/alarms/statistics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace causal::alarms {
+
+double median(std::vector<double> v) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  const double upper = v[mid];
+  if (v.size() % 2 == 1) return upper;
+  const double lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid));
+  return 0.5 * (lower + upper);
+}
+
+RobustStats robust_stats(const std::vector<double>& v, double relative_floor, double absolute_floor) {
+  RobustStats s;
+  std::vector<double> finite;
+  finite.reserve(v.size());
+  for (double x : v)
+    if (std::isfinite(x)) finite.push_back(x);
+  s.count = finite.size();
+  if (finite.size() < 2) return s;
+  s.location = median(finite);
+  std::vector<double> dev(finite.size());
+  for (std::size_t i = 0; i < finite.size(); ++i) dev[i] = std::abs(finite[i] - s.location);
+  // 1.4826 = 1 / Phi^-1(3/4): makes MAD a consistent estimator of sigma for Gaussian data.
+  double scale = 1.4826 * median(dev);
+  double mean = 0.0;
+  for (double x : finite) mean += x;
+  mean /= static_cast<double>(finite.size());
+  double c0 = 0.0, c1 = 0.0;
+  for (std::size_t i = 0; i < finite.size(); ++i) {
+    c0 += (finite[i] - mean) * (finite[i] - mean);
+    if (i > 0) c1 += (finite[i] - mean) * (finite[i - 1] - mean);
+  }
+  s.lag1_autocorr = c0 > 0.0 ? c1 / c0 : 0.0;
+  if (!(scale > 0.0)) scale = std::sqrt(c0 / static_cast<double>(finite.size() - 1));
+  if (!(scale > 0.0)) scale = relative_floor * std::abs(s.location);
+  if (!(scale > 0.0)) scale = absolute_floor;
+  s.scale = scale;
+  s.valid = true;
+  return s;
+}
+
+double normal_upper_quantile(double p) {
+  if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("normal_upper_quantile: p must be in (0, 1)");
+  // Acklam's algorithm for the lower-tail quantile of q = 1 - p, evaluated on the short tail for accuracy.
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                             6.680131188771972e+01,  -1.328068155288572e+01};
+  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
+  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                             3.754408661907416e+00};
+  const double q = 1.0 - p;  // lower-tail probability
+  const double plow = 0.02425;
+  double x;
+  if (q < plow) {
+    const double r = std::sqrt(-2.0 * std::log(q));
+    x = (((((c[0] * r + c[1]) * r + c[2]) * r + c[3]) * r + c[4]) * r + c[5]) /
+        ((((d[0] * r + d[1]) * r + d[2]) * r + d[3]) * r + 1.0);
+  } else if (q <= 1.0 - plow) {
+    const double r = q - 0.5, t = r * r;
+    x = (((((a[0] * t + a[1]) * t + a[2]) * t + a[3]) * t + a[4]) * t + a[5]) * r /
+        (((((b[0] * t + b[1]) * t + b[2]) * t + b[3]) * t + b[4]) * t + 1.0);
+  } else {
+    const double r = std::sqrt(-2.0 * std::log(p));  // p = 1 - q, the small upper tail, exactly
+    x = -(((((c[0] * r + c[1]) * r + c[2]) * r + c[3]) * r + c[4]) * r + c[5]) /
+        ((((d[0] * r + d[1]) * r + d[2]) * r + d[3]) * r + 1.0);
+  }
+  // One Halley refinement on the upper-tail form f(x) = 0.5 erfc(x / sqrt 2) - p, with f' = -phi(x),
+  // f''/f' = -x:  x <- x - u / (1 + x u / 2),  u = f / f'.
+  const double e = 0.5 * std::erfc(x / std::sqrt(2.0)) - p;
+  const double u = -e * std::sqrt(2.0 * 3.14159265358979323846) * std::exp(0.5 * x * x);
+  x = x - u / (1.0 + 0.5 * x * u);
+  return x;
+}
+
+double chi_square_upper_quantile(int dof, double p) {
+  if (dof < 1) throw std::invalid_argument("chi_square_upper_quantile: dof must be >= 1");
+  // Wilson-Hilferty: (X/nu)^(1/3) ~ N(1 - 2/(9 nu), 2/(9 nu)).
+  const double nu = static_cast<double>(dof);
+  const double z = normal_upper_quantile(p);
+  const double v = 2.0 / (9.0 * nu);
+  const double c = 1.0 - v + z * std::sqrt(v);
+  return nu * c * c * c;
+}
+
+double cusum_arl0(double k, double h) {
+  if (!(k > 0.0)) throw std::invalid_argument("cusum_arl0: k must be > 0");
+  const double b = h + 1.166;
+  const double x = 2.0 * k * b;
+  return (std::exp(x) - x - 1.0) / (2.0 * k * k);
+}
+
+double cusum_threshold_for_arl0(double k, double target_arl0) {
+  if (!(k > 0.0)) throw std::invalid_argument("cusum_threshold_for_arl0: k must be > 0");
+  if (!(target_arl0 > 1.0)) throw std::invalid_argument("cusum_threshold_for_arl0: target ARL0 must be > 1");
+  double lo = 0.0, hi = 1.0;
+  while (cusum_arl0(k, hi) < target_arl0) hi *= 2.0;
+  for (int it = 0; it < 200 && hi - lo > 1e-10; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (cusum_arl0(k, mid) < target_arl0)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace causal::alarms

@@ -1,0 +1,154 @@
+#include "causal/analysis/recommendation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace causal::analysis {
+namespace {
+
+std::string fixed(double value, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
+  return buf;
+}
+
+// Fixed text of a user-given amount without trailing zeros (0.020 -> "0.02").
+std::string amount(double value) {
+  std::string s = fixed(value, std::min(decimals_for(value) + 1, 9));
+  if (s.find('.') != std::string::npos) {
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+  }
+  return s;
+}
+
+std::string with_unit(const std::string& number, const std::string& unit) {
+  return unit.empty() ? number : number + " " + unit;
+}
+
+std::string channel_name(int c, const std::vector<std::string>& names) {
+  if (c >= 0 && c < static_cast<int>(names.size())) return names[static_cast<std::size_t>(c)];
+  return "channel " + std::to_string(c + 1);
+}
+
+}  // namespace
+
+int decimals_for(double reference) {
+  const double a = std::abs(reference);
+  if (!(a > 0.0) || !std::isfinite(a)) return 3;
+  const int d = 1 - static_cast<int>(std::floor(std::log10(a)));
+  return std::clamp(d, 0, 9);
+}
+
+std::string describe_recommendation(const Recommendation& rec, int target, const std::vector<std::string>& names,
+                                    const std::string& unit) {
+  const std::string verb = rec.action.delta < 0.0 ? "Reduce " : "Raise ";
+  std::string text = verb + channel_name(rec.action.channel, names) + " by " +
+                     with_unit(amount(std::abs(rec.action.delta)), unit) + ": ";
+  const std::string target_name = channel_name(target, names);
+  if (rec.status == AnalysisStatus::not_identifiable || rec.status == AnalysisStatus::non_finite_input) {
+    return text + "the effect on " + target_name + " cannot be predicted (" + rec.message + ").";
+  }
+  const int dec = decimals_for(std::abs(rec.steady_state) > 0.0 && rec.status == AnalysisStatus::ok ? rec.steady_state
+                                                                                                    : rec.immediate);
+  const bool drop_now = rec.immediate < 0.0;
+  const double now = std::abs(rec.immediate);
+  const bool no_change_now = now < 0.5 * std::pow(10.0, -dec);
+  if (rec.status == AnalysisStatus::unstable) {
+    return text + target_name + " is predicted to " +
+           (no_change_now ? std::string("not change at once")
+                          : std::string(drop_now ? "drop" : "rise") + " by " + with_unit(fixed(now, dec), unit) + " at once") +
+           ", but the intervened system does not settle, so there is no steady-state prediction.";
+  }
+  const bool drop = rec.steady_state < 0.0;
+  const double size = std::abs(rec.steady_state);
+  text += target_name + " is predicted to " + (drop ? "drop" : "rise") + " by " + with_unit(fixed(size, dec), unit);
+  if (rec.interval_valid) {
+    // Interval of the drop (or rise) magnitude, ascending.
+    const double lo = drop ? -rec.upper : rec.lower;
+    const double hi = drop ? -rec.lower : rec.upper;
+    char pct[16];
+    std::snprintf(pct, sizeof pct, "%g", 100.0 * rec.coverage);
+    text += std::string(" (") + pct + "% interval " + fixed(lo, dec) + ".." + fixed(hi, dec) + ")";
+  }
+  text += " at steady state, ";
+  if (no_change_now) {
+    text += "no change at once";
+  } else if (drop_now == drop) {
+    text += fixed(now, dec) + " at once";
+  } else {
+    text += std::string("but ") + (drop_now ? "drop" : "rise") + " by " + fixed(now, dec) + " at once";
+  }
+  text += ".";
+  if (rec.interval_valid && rec.lower <= 0.0 && rec.upper >= 0.0) {
+    text += " The interval includes no change: the direction of the effect is uncertain.";
+  }
+  if (rec.draws_rejected > 0) {
+    text += " (" + std::to_string(rec.draws_rejected) + " of the sampled models did not settle and were left out.)";
+  }
+  return text;
+}
+
+std::vector<Recommendation> rank_interventions(const SvarLayout& layout, const FactorPosterior& posterior, int target,
+                                               const std::vector<CandidateIntervention>& candidates,
+                                               const RecommendationOptions& options) {
+  const int g = layout.channels();
+  if (target < 0 || target >= g) throw std::invalid_argument("recommendation: target channel outside 0.." + std::to_string(g - 1));
+  if (!options.channel_names.empty() && static_cast<int>(options.channel_names.size()) != g) {
+    throw std::invalid_argument("recommendation: " + std::to_string(options.channel_names.size()) +
+                                " channel names for " + std::to_string(g) + " channels");
+  }
+  std::vector<Recommendation> out;
+  for (const CandidateIntervention& c : candidates) {
+    if (c.channel < 0 || c.channel >= g) {
+      throw std::invalid_argument("recommendation: candidate channel " + std::to_string(c.channel) + " outside 0.." +
+                                  std::to_string(g - 1));
+    }
+    if (c.channel == target) throw std::invalid_argument("recommendation: a candidate intervenes on the target itself");
+    if (!std::isfinite(c.delta)) throw std::invalid_argument("recommendation: non-finite candidate delta");
+    InterventionQuery query;
+    query.channel = c.channel;
+    query.delta = c.delta;
+    query.kind = InterventionKind::sustained;
+    const UncertainEffect u = predict_intervention_with_uncertainty(layout, posterior, query, options.uncertainty);
+    Recommendation rec;
+    rec.action = c;
+    rec.status = u.point.status;
+    rec.message = u.point.message;
+    rec.immediate = u.point.immediate(target);
+    rec.steady_state = u.point.steady_state(target);
+    rec.interval_valid = u.interval_valid;
+    rec.lower = u.steady_state.lower(target);
+    rec.upper = u.steady_state.upper(target);
+    rec.coverage = u.coverage;
+    rec.draws_rejected = u.draws_rejected;
+    rec.text = describe_recommendation(rec, target, options.channel_names, options.unit);
+    out.push_back(rec);
+  }
+  std::stable_sort(out.begin(), out.end(), [](const Recommendation& a, const Recommendation& b) {
+    const bool aok = a.status == AnalysisStatus::ok;
+    const bool bok = b.status == AnalysisStatus::ok;
+    if (aok != bok) return aok;
+    if (aok && a.steady_state != b.steady_state) return a.steady_state < b.steady_state;
+    return a.action.channel < b.action.channel;
+  });
+  return out;
+}
+
+std::vector<CandidateIntervention> candidates_from_excess(const Eigen::VectorXd& current, const Eigen::VectorXd& baseline,
+                                                          int target, double fraction) {
+  if (current.size() != baseline.size()) throw std::invalid_argument("candidates: current and baseline sizes differ");
+  if (target < 0 || target >= current.size()) throw std::invalid_argument("candidates: target channel out of range");
+  if (!(fraction > 0.0 && fraction <= 1.0)) throw std::invalid_argument("candidates: fraction must be in (0, 1]");
+  std::vector<CandidateIntervention> out;
+  for (Eigen::Index j = 0; j < current.size(); ++j) {
+    if (j == target) continue;
+    const double excess = current(j) - baseline(j);
+    if (std::isfinite(excess) && excess > 0.0) out.push_back({static_cast<int>(j), -fraction * excess});
+  }
+  return out;
+}
+
+}  // namespace causal::analysis

@@ -1,0 +1,194 @@
+#include "causal/analysis/uncertainty.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+namespace causal::analysis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+EffectInterval nan_interval(Eigen::Index size) {
+  return {Eigen::VectorXd::Constant(size, kNaN), Eigen::VectorXd::Constant(size, kNaN),
+          Eigen::VectorXd::Constant(size, kNaN)};
+}
+
+// Effect quantities stacked into one vector: [immediate; steady_state; cumulative (impulse only)].
+Eigen::VectorXd stack(const InterventionEffect& e) {
+  Eigen::VectorXd v(e.immediate.size() + e.steady_state.size() + e.cumulative.size());
+  v << e.immediate, e.steady_state, e.cumulative;
+  return v;
+}
+
+void unstack(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, const Eigen::VectorXd& sd, Eigen::Index g,
+             UncertainEffect& out) {
+  out.immediate = {lo.segment(0, g), hi.segment(0, g), sd.segment(0, g)};
+  out.steady_state = {lo.segment(g, g), hi.segment(g, g), sd.segment(g, g)};
+  if (lo.size() > 2 * g) out.cumulative = {lo.segment(2 * g, g), hi.segment(2 * g, g), sd.segment(2 * g, g)};
+}
+
+// Linear interpolation between order statistics at p (0..1) of a sorted sample.
+double percentile(const std::vector<double>& sorted, double p) {
+  const double pos = p * static_cast<double>(sorted.size() - 1);
+  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
+  const double w = pos - static_cast<double>(lo);
+  return sorted[lo] * (1.0 - w) + sorted[hi] * w;
+}
+
+// Symmetric square root S with S S^T = P; negative eigenvalues (rounding, fixed factors) clipped to 0 so a
+// semi-definite block still gives valid draws.
+Eigen::MatrixXd psd_sqrt(const Eigen::MatrixXd& p) {
+  if (p.size() == 0) return p;  // fully masked outcome: no factors
+  const Eigen::MatrixXd sym = 0.5 * (p + p.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(sym);
+  if (es.info() != Eigen::Success) throw std::invalid_argument("factor covariance block has no eigen-decomposition");
+  return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+}
+
+void monte_carlo(const SvarLayout& layout, const FactorPosterior& posterior, const InterventionQuery& query,
+                 const UncertaintyOptions& options, UncertainEffect& out) {
+  const Eigen::Index g = layout.channels();
+  std::vector<Eigen::MatrixXd> roots;
+  for (const auto& block : posterior.blocks) roots.push_back(psd_sqrt(block));
+  std::mt19937_64 rng(options.seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const Eigen::Index width = stack(out.point).size();
+  std::vector<std::vector<double>> samples(static_cast<std::size_t>(width));
+  Eigen::VectorXd x(posterior.mean.size());
+  for (int d = 0; d < options.draws; ++d) {
+    for (int k = 0; k < layout.channels(); ++k) {
+      const int fk = layout.factor_count(k);
+      Eigen::VectorXd z(fk);
+      for (int i = 0; i < fk; ++i) z(i) = normal(rng);
+      x.segment(layout.offset(k), fk) = posterior.mean.segment(layout.offset(k), fk) + roots[static_cast<std::size_t>(k)] * z;
+    }
+    const InterventionEffect e = predict_intervention(assemble_structural_model(layout, x), query);
+    const Eigen::VectorXd v = stack(e);
+    if (e.status != AnalysisStatus::ok || !v.allFinite()) {
+      ++out.draws_rejected;
+      continue;
+    }
+    ++out.draws_used;
+    for (Eigen::Index i = 0; i < width; ++i) samples[static_cast<std::size_t>(i)].push_back(v(i));
+  }
+  if (out.draws_used < 2) return;
+  Eigen::VectorXd lo(width), hi(width), sd(width);
+  const double tail = 0.5 * (1.0 - options.coverage);
+  for (Eigen::Index i = 0; i < width; ++i) {
+    auto& s = samples[static_cast<std::size_t>(i)];
+    const Eigen::Map<const Eigen::VectorXd> m(s.data(), static_cast<Eigen::Index>(s.size()));
+    const double mean = m.mean();
+    sd(i) = std::sqrt((m.array() - mean).square().sum() / static_cast<double>(s.size() - 1));
+    std::sort(s.begin(), s.end());
+    lo(i) = percentile(s, tail);
+    hi(i) = percentile(s, 1.0 - tail);
+  }
+  unstack(lo, hi, sd, g, out);
+  out.interval_valid = true;
+}
+
+void delta_method(const SvarLayout& layout, const FactorPosterior& posterior, const InterventionQuery& query,
+                  const UncertaintyOptions& options, UncertainEffect& out) {
+  const Eigen::Index g = layout.channels();
+  const Eigen::VectorXd f0 = stack(out.point);
+  Eigen::VectorXd variance = Eigen::VectorXd::Zero(f0.size());
+  for (int k = 0; k < layout.channels(); ++k) {
+    const int fk = layout.factor_count(k);
+    Eigen::MatrixXd jac(f0.size(), fk);  // J_k, central differences (second-order accurate)
+    for (int i = 0; i < fk; ++i) {
+      const int idx = layout.offset(k) + i;
+      const double h = options.relative_step * std::max(1.0, std::abs(posterior.mean(idx)));
+      Eigen::VectorXd xp = posterior.mean;
+      Eigen::VectorXd xm = posterior.mean;
+      xp(idx) += h;
+      xm(idx) -= h;
+      const InterventionEffect ep = predict_intervention(assemble_structural_model(layout, xp), query);
+      const InterventionEffect em = predict_intervention(assemble_structural_model(layout, xm), query);
+      if (ep.status != AnalysisStatus::ok || em.status != AnalysisStatus::ok) return;  // at the edge: no interval
+      jac.col(i) = (stack(ep) - stack(em)) / (2.0 * h);
+    }
+    const Eigen::MatrixXd& p = posterior.blocks[static_cast<std::size_t>(k)];
+    variance += (jac * p * jac.transpose()).diagonal().cwiseMax(0.0);
+  }
+  const Eigen::VectorXd sd = variance.cwiseSqrt();
+  const double z = normal_quantile(0.5 * (1.0 + options.coverage));
+  unstack(f0 - z * sd, f0 + z * sd, sd, g, out);
+  out.interval_valid = sd.allFinite();
+}
+
+}  // namespace
+
+const char* to_string(IntervalMethod method) {
+  return method == IntervalMethod::monte_carlo ? "monte_carlo" : "delta_method";
+}
+
+double normal_quantile(double p) {
+  if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("normal_quantile: p must be in (0, 1)");
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                             6.680131188771972e+01,  -1.328068155288572e+01};
+  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
+  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                             3.754408661907416e+00};
+  constexpr double p_low = 0.02425;
+  double x = 0.0;
+  if (p < p_low) {
+    const double q = std::sqrt(-2.0 * std::log(p));
+    x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+  } else if (p <= 1.0 - p_low) {
+    const double q = p - 0.5;
+    const double r = q * q;
+    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1.0);
+  } else {
+    const double q = std::sqrt(-2.0 * std::log1p(-p));
+    x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+  }
+  // One Halley step on Phi(x) - p brings the 1e-9 approximation to machine level.
+  const double e = 0.5 * std::erfc(-x / std::sqrt(2.0)) - p;
+  const double u = e * std::sqrt(2.0 * 3.14159265358979323846) * std::exp(0.5 * x * x);
+  return x - u / (1.0 + 0.5 * x * u);
+}
+
+UncertainEffect predict_intervention_with_uncertainty(const SvarLayout& layout, const FactorPosterior& posterior,
+                                                      const InterventionQuery& query,
+                                                      const UncertaintyOptions& options) {
+  if (!(options.coverage > 0.0 && options.coverage < 1.0)) {
+    throw std::invalid_argument("uncertainty: coverage must be in (0, 1)");
+  }
+  if (options.method == IntervalMethod::monte_carlo && options.draws < 2) {
+    throw std::invalid_argument("uncertainty: need at least 2 Monte Carlo draws");
+  }
+  if (!(options.relative_step > 0.0)) throw std::invalid_argument("uncertainty: relative_step must be > 0");
+  validate_posterior(layout, posterior);
+
+  UncertainEffect out;
+  out.coverage = options.coverage;
+  out.method = options.method;
+  out.point = predict_intervention(assemble_structural_model(layout, posterior.mean), query);
+  const Eigen::Index g = layout.channels();
+  out.immediate = nan_interval(g);
+  out.steady_state = nan_interval(g);
+  out.cumulative = query.kind == InterventionKind::impulse ? nan_interval(g) : EffectInterval{};
+  if (out.point.status != AnalysisStatus::ok) return out;
+  InterventionQuery no_path = query;  // draws need only the summary quantities
+  no_path.horizon = 0;
+  if (options.method == IntervalMethod::monte_carlo) {
+    monte_carlo(layout, posterior, no_path, options, out);
+  } else {
+    delta_method(layout, posterior, no_path, options, out);
+  }
+  return out;
+}
+
+}  // namespace causal::analysis

@@ -1,0 +1,118 @@
+#include "causal/config/yaml_fields.hpp"
+
+#include <cmath>
+#include <set>
+
+namespace causal::config {
+
+Section Section::load_file(const std::string& path) {
+  try {
+    YAML::Node root = YAML::LoadFile(path);
+    if (!root.IsMap()) throw ConfigError(path + ": the top level must be a map of sections");
+    return Section(root, path, "");
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(path + ": cannot open the parameter file");
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(path + ": invalid YAML: " + e.what());
+  }
+}
+
+Section::Section(YAML::Node node, std::string file, std::string path)
+    : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
+
+std::string Section::where(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+void Section::fail(const std::string& key, const std::string& problem) const {
+  throw ConfigError(file_ + ": " + where(key) + ": " + problem);
+}
+
+bool Section::has(const std::string& key) const { return node_[key].IsDefined() && !node_[key].IsNull(); }
+
+YAML::Node Section::field(const std::string& key) const {
+  const YAML::Node n = node_[key];
+  if (!n.IsDefined() || n.IsNull()) fail(key, "missing (required)");
+  return n;
+}
+
+Section Section::child(const std::string& key) const {
+  const YAML::Node n = field(key);
+  if (!n.IsMap()) fail(key, "must be a section (a map of keys)");
+  return Section(n, file_, where(key));
+}
+
+double Section::number(const std::string& key) const {
+  const YAML::Node n = field(key);
+  double v = 0.0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(key, "must be a number, got '" + n.as<std::string>("?") + "'");
+  }
+  if (!std::isfinite(v)) fail(key, "must be finite");
+  return v;
+}
+
+double Section::positive(const std::string& key) const {
+  const double v = number(key);
+  if (!(v > 0.0)) fail(key, "must be > 0, got " + std::to_string(v));
+  return v;
+}
+
+double Section::non_negative(const std::string& key) const {
+  const double v = number(key);
+  if (v < 0.0) fail(key, "must be >= 0, got " + std::to_string(v));
+  return v;
+}
+
+long Section::integer(const std::string& key, long min, long max) const {
+  const YAML::Node n = field(key);
+  long v = 0;
+  try {
+    v = n.as<long>();
+  } catch (const YAML::Exception&) {
+    fail(key, "must be a whole number, got '" + n.as<std::string>("?") + "'");
+  }
+  if (v < min || v > max) {
+    fail(key, "must be in " + std::to_string(min) + ".." + std::to_string(max) + ", got " + std::to_string(v));
+  }
+  return v;
+}
+
+bool Section::boolean(const std::string& key) const {
+  const YAML::Node n = field(key);
+  try {
+    return n.as<bool>();
+  } catch (const YAML::Exception&) {
+    fail(key, "must be true or false, got '" + n.as<std::string>("?") + "'");
+  }
+}
+
+std::string Section::text(const std::string& key) const {
+  const YAML::Node n = field(key);
+  if (!n.IsScalar()) fail(key, "must be a single value");
+  return n.as<std::string>();
+}
+
+std::string Section::one_of(const std::string& key, std::initializer_list<const char*> allowed) const {
+  const std::string v = text(key);
+  std::string list;
+  for (const char* a : allowed) {
+    if (v == a) return v;
+    list += list.empty() ? a : std::string(", ") + a;
+  }
+  fail(key, "must be one of " + list + ", got '" + v + "'");
+}
+
+void Section::only(std::initializer_list<const char*> known) const {
+  const std::set<std::string> allowed(known.begin(), known.end());
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    if (allowed.count(key) == 0) {
+      std::string list;
+      for (const auto& a : allowed) list += list.empty() ? a : ", " + a;
+      fail(key, "unknown key (known here: " + list + ")");
+    }
+  }
+}
+
+}  // namespace causal::config

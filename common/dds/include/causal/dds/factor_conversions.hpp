@@ -1,0 +1,53 @@
+// IDL <-> core conversions for causal factor vectors.
+#pragma once
+
+#include "causal/pipeline/factor_stream.hpp"
+#include "causal/svar_layout.hpp"
+#include "causal_twin.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace causal::dds {
+
+// What a report needs around it to become a CausalFactors message.
+struct FactorContext {
+  std::string asset_group;
+  causal_twin::TimeScale time_scale = causal_twin::SAMPLE_LEVEL;
+  std::string feature;                     // condition feature ("" at sample level)
+  const SvarLayout* layout = nullptr;
+  std::vector<std::string> channel_names;  // G names
+};
+
+void to_causal_factors(const FactorContext& context, const pipeline::FactorReport& report,
+                       causal_twin::CausalFactors& out);
+
+// A received CausalFactors message, in core types (outcome 0-based).
+struct FactorMessage {
+  std::string asset_group;
+  int outcome = 0;
+  causal_twin::EstimateKind kind = causal_twin::FILTER;
+  causal_twin::TimeScale time_scale = causal_twin::SAMPLE_LEVEL;
+  std::string feature;
+  std::string outcome_name;
+  int channel_count = 0;
+  int lag_order = 0;
+  std::uint64_t sample_index = 0;
+  std::int64_t time_ns = 0;
+  std::vector<std::string> factor_names;
+  Eigen::VectorXd factors, factor_std;
+  std::uint64_t innovation_count = 0;
+  double innovation_mean = 0.0, nis_mean = 0.0, last_innovation = 0.0, last_innovation_variance = 0.0;
+  std::uint64_t rejected_samples = 0;
+};
+
+// Empty string when the message is consistent (1 <= outcome <= channel_count, equal vector lengths).
+std::string validate_causal_factors(const causal_twin::CausalFactors& in);
+FactorMessage from_causal_factors(const causal_twin::CausalFactors& in);
+
+const char* to_string(causal_twin::EstimateKind kind);
+const char* to_string(causal_twin::TimeScale scale);
+
+}  // namespace causal::dds

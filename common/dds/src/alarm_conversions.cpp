@@ -1,0 +1,50 @@
+#include "causal/dds/alarm_conversions.hpp"
+
+namespace causal::dds {
+
+namespace {
+causal_twin::Severity to_idl(alarms::Severity s) {
+  switch (s) {
+    case alarms::Severity::Advisory: return causal_twin::ADVISORY;
+    case alarms::Severity::Warning: return causal_twin::WARNING;
+    case alarms::Severity::Critical: return causal_twin::CRITICAL;
+  }
+  return causal_twin::ADVISORY;
+}
+causal_twin::AlarmState to_idl(alarms::AlarmState s) {
+  switch (s) {
+    case alarms::AlarmState::Raised: return causal_twin::RAISED;
+    case alarms::AlarmState::Escalated: return causal_twin::ESCALATED;
+    case alarms::AlarmState::Cleared: return causal_twin::CLEARED;
+  }
+  return causal_twin::RAISED;
+}
+std::string name_of(const std::vector<std::string>& names, int channel) {
+  return channel >= 0 && static_cast<std::size_t>(channel) < names.size() ? names[static_cast<std::size_t>(channel)]
+                                                                          : std::string();
+}
+}  // namespace
+
+void to_alarm(const std::string& asset_group, const std::vector<std::string>& channel_names,
+              const alarms::AlarmEvent& e, causal_twin::Alarm& out) {
+  out.alarm_id(e.alarm_id);
+  out.asset_group(asset_group);
+  out.channel(static_cast<uint16_t>(e.channel + 1));
+  out.channel_name(name_of(channel_names, e.channel));
+  out.severity(to_idl(e.severity));
+  out.state(to_idl(e.state));
+  out.kind(e.kind);
+  out.raised_time_ns(e.raised_time_ns);
+  out.cleared_time_ns(e.cleared_time_ns);
+  out.sample_index(e.index);
+  out.root_cause_channel(static_cast<uint16_t>(e.root_cause_channel >= 0 ? e.root_cause_channel + 1 : 0));
+  out.root_cause_name(name_of(channel_names, e.root_cause_channel));
+  out.factor_names(e.factor_names);
+  out.factor_baseline(e.factor_baseline);
+  out.factor_now(e.factor_now);
+  out.score(e.score);
+  out.threshold(e.threshold);
+  out.reason(e.reason);
+}
+
+}  // namespace causal::dds

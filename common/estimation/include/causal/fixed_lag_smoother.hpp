@@ -1,0 +1,77 @@
+// Streaming fixed-lag smoother: after sample n it releases x[n-L | n] (data up to n) with its standard
+// deviations, L = lag.
+//
+// Method: the filter state x[n] is augmented with the lagged states x[n-1..n-L]. For the random walk the
+// augmented prediction just shifts them (x[n] becomes x[n-1] with cross-covariance P[n-1,n] = P[n-1|n-1]), and
+// the scalar update y = h^T x[n] + eps with S = h^T P[n,n] h + r gives, for every lag i (Anderson & Moore,
+// "Optimal Filtering", 1979, sec. 7.3):
+//   g_i        = P[n-i,n] h / S
+//   x[n-i]    += g_i e
+//   P[n-i,n]  -= g_i (P[n,n] h)^T          (cross-covariance, d x d)
+//   var[n-i]  -= S g_i .^2                 (diagonal of P[n-i,n-i], all that the output needs)
+// The current block P[n,n] is the filter's own (Joseph form). Cost per sample and outcome: O(L d^2) time and
+// L (d^2 + 2d) doubles of memory. The tests check the result against RTS run on data[0..n+L].
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "causal/noise_params.hpp"
+#include "causal/svar_kalman_filter.hpp"
+#include "causal/svar_layout.hpp"
+
+namespace causal {
+
+struct SmoothedSample {
+  std::uint64_t index;       // 0-based sample index (counting every sample passed to step)
+  Eigen::VectorXd estimates;  // all factors, outcome-major
+  Eigen::VectorXd std_devs;
+};
+
+class FixedLagSmoother {
+ public:
+  // lag >= 0 (0 = plain filter); throws std::invalid_argument for lag < 0 or invalid noise (see the filter).
+  FixedLagSmoother(const SvarLayout& layout, std::vector<NoiseParams> noise, int lag);
+
+  // Feeds sample y (same semantics as SvarKalmanFilter::step); returns the smoothed estimate of sample
+  // (current index - lag) once available.
+  std::optional<SmoothedSample> step(const double* y, bool discontinuity = false);
+  // Allocation-free form: returns true and writes total_factors() values to estimates and std_devs when a
+  // smoothed sample is released.
+  bool step_into(const double* y, bool discontinuity, std::uint64_t* index, double* estimates, double* std_devs);
+  // Remaining samples at the end of the stream (each with all data seen so far). The smoother stays usable:
+  // later samples are released with the full lag again and flushed indices are never released twice.
+  std::vector<SmoothedSample> flush();
+
+  const SvarKalmanFilter& filter() const { return filter_; }
+  SampleStatus last_status() const { return last_status_; }
+  int lag() const { return lag_; }
+  void reset();
+
+ private:
+  template <int D>
+  struct Select;
+  using LagUpdateFn = void (*)(FixedLagSmoother&, int k);
+
+  void shift_in_filter_state();
+  int slot_pos(int i) const { return (head_ - (i - 1) + lag_) % lag_; }  // ring position of lag i (1..L)
+  void write_lag(int i, double* estimates, double* std_devs) const;   // i = 0: the filter itself
+
+  SvarKalmanFilter filter_;
+  int lag_;
+  int g_;
+  std::vector<int> dim_, x_off_, p_off_;
+  std::vector<double> xs_;   // L slots per outcome: outcome k at lag_ * x_off_[k], slot s at + s * d
+  std::vector<double> pc_;   // cross-covariances P[n-i,n]: outcome k at lag_ * p_off_[k], slot s at + s * d^2
+  std::vector<double> var_;  // diag P[n-i,n-i], laid out like xs_
+  std::vector<double> work_;
+  std::vector<LagUpdateFn> update_fn_;
+  int head_ = 0;    // ring position of lag 1
+  int active_ = 0;  // valid lagged slots (<= lag_)
+  std::uint64_t next_release_ = 0;  // smallest index not yet released
+  SampleStatus last_status_ = SampleStatus::WarmUp;
+};
+
+}  // namespace causal

@@ -1,0 +1,42 @@
+// Streaming innovation statistics for services that publish diagnostics every N samples.
+// For a correctly tuned filter the innovations are white with E[e] = 0 and E[e^2 / S] = 1 (normalised
+// innovation squared, NIS; Bar-Shalom, Li & Kirubarajan, "Estimation with Applications to Tracking and
+// Navigation", 2001, sec. 5.4): mean_nis() >> 1 means r or q is too small, << 1 too large.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace causal {
+
+class SvarKalmanFilter;
+
+class InnovationAccumulator {
+ public:
+  // Adds one innovation e with variance s. Non-finite e or s, or s <= 0, is ignored (not counted).
+  void add(double e, double s);
+  void reset() { *this = InnovationAccumulator{}; }
+  std::uint64_t count() const { return count_; }
+  double mean() const;                // mean e          (NaN when empty)
+  double mean_square() const;         // mean e^2        (NaN when empty)
+  double mean_nis() const;            // mean e^2 / s    (NaN when empty)
+
+ private:
+  std::uint64_t count_ = 0;
+  double sum_e_ = 0.0, sum_e2_ = 0.0, sum_nis_ = 0.0;
+};
+
+// One accumulator per outcome, fed from a filter after each Updated step.
+class InnovationStats {
+ public:
+  explicit InnovationStats(int channels) : acc_(channels) {}
+  void add(const SvarKalmanFilter& filter);  // adds last_innovation(k), last_innovation_variance(k) for all k
+  const InnovationAccumulator& outcome(int k) const { return acc_.at(k); }
+  int channels() const { return static_cast<int>(acc_.size()); }
+  void reset();
+
+ private:
+  std::vector<InnovationAccumulator> acc_;
+};
+
+}  // namespace causal

@@ -1,0 +1,94 @@
+// Streaming Kalman filter for the time-varying SVAR factors (random-walk state, see svar_layout.hpp).
+//
+// The stacked system x[n+1] = x[n] + w, y[n] = H[n] x[n] + eps with block-diagonal H[n] (row k holds outcome
+// k's regressors in its own block), Q = diag(q_k I), R = diag(r_k) and block-diagonal P0 keeps P block-diagonal
+// for ever, so it splits exactly into G independent filters, one per outcome, each with a scalar measurement.
+// (The tests check this against a dense stacked filter.)
+//
+// Time convention: x[0] ~ N(0, p0 I) is the prior at the first sample. Every later sample first predicts
+// (P += q I: time passes whether or not the sample can be used), then updates if it is usable. Warm-up and
+// rejected samples therefore still grow P by q I; their estimate is the prediction.
+//
+// Cost per sample: O(sum_k d_k^2) with d_k = factor_count(k); no heap allocation after construction.
+// Dimensions 1..12 use fixed-size Eigen kernels.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "causal/noise_params.hpp"
+#include "causal/svar_layout.hpp"
+
+namespace causal {
+
+enum class SampleStatus {
+  Updated,           // all outcomes updated with this sample
+  WarmUp,            // finite, but fewer than M previous samples in this segment: only fills the lag history
+  RejectedNonFinite  // some value is NaN/inf: no update, lag history restarts
+};
+
+const char* to_string(SampleStatus status);
+
+struct FilterCounters {
+  std::uint64_t updated = 0;
+  std::uint64_t warm_up = 0;
+  std::uint64_t rejected_non_finite = 0;
+};
+
+class FixedLagSmoother;
+
+class SvarKalmanFilter {
+ public:
+  // noise.size() must be 1 (shared by all outcomes) or G; throws std::invalid_argument otherwise or if any
+  // NoiseParams is invalid (see validate_noise_params).
+  SvarKalmanFilter(const SvarLayout& layout, std::vector<NoiseParams> noise);
+
+  // y: G values. discontinuity = true: y does not follow the previous sample (e.g. a gap), so the lag history
+  // restarts and this sample plus the next M-1 only fill it (WarmUp). Any non-finite y -> RejectedNonFinite,
+  // counted, and the lag history restarts (a NaN cannot serve as a regressor later either).
+  SampleStatus step(const double* y, bool discontinuity = false);
+
+  double last_innovation(int k) const;           // e_k of the last Updated step (NaN before the first)
+  double last_innovation_variance(int k) const;  // S_k of the last Updated step (NaN before the first)
+  Eigen::VectorXd estimate(int k) const;         // x_k, factor_count(k) values
+  Eigen::MatrixXd covariance(int k) const;       // P_k
+  void estimates(double* out) const;             // all factors, outcome-major, total_factors() values
+  void std_devs(double* out) const;              // sqrt(diag P), same order
+  const FilterCounters& counters() const { return counters_; }
+  std::uint64_t samples_seen() const { return steps_; }
+  const SvarLayout& layout() const { return layout_; }
+  const NoiseParams& noise(int k) const;
+  // Changes q and r from the next step on; p0 is used by reset().
+  void set_noise(int k, const NoiseParams& noise);
+  // Back to the prior x = 0, P = p0 I, empty lag history, zero counters.
+  void reset();
+
+ private:
+  friend class FixedLagSmoother;
+  using UpdateFn = void (*)(SvarKalmanFilter&, int k, double y);
+  template <int D>
+  struct Select;
+
+  SvarLayout layout_;
+  std::vector<NoiseParams> noise_;
+  int g_;
+  int m_;
+  std::vector<int> dim_;         // d_k
+  std::vector<int> x_off_;       // offset of x_k in x_ (== layout offset)
+  std::vector<int> p_off_;       // offset of P_k (column-major d_k x d_k) in p_
+  std::vector<int> gather_;      // per factor: index into window_ (lag * G + channel)
+  std::vector<double> x_;        // all factors, outcome-major
+  std::vector<double> p_;        // all P_k blocks
+  std::vector<double> window_;   // (M+1) x G: window_[l*G + j] = y_j[n-l]
+  std::vector<double> h_;        // regressors of the last update, same layout as x_
+  std::vector<double> u_;        // P[n|n-1] h of the last update, same layout as x_
+  std::vector<double> e_, s_;    // last innovation and its variance per outcome
+  std::vector<double> work_;     // scratch for the dynamic-size kernels
+  std::vector<UpdateFn> update_fn_;
+  int history_ = 0;              // valid samples in window_ rows 1..M (capped at M)
+  std::uint64_t steps_ = 0;
+  FilterCounters counters_;
+};
+
+}  // namespace causal

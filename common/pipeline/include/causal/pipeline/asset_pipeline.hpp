@@ -1,0 +1,68 @@
+// Everything causal-estimator computes for one asset group: sample-level factors from raw frames,
+// condition vectors from raw frames, and condition-level factors from those (or from condition vectors
+// that arrive ready-made, e.g. replayed feature tables).
+#pragma once
+
+#include "causal/pipeline/condition_stream.hpp"
+#include "causal/pipeline/factor_stream.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace causal::pipeline {
+
+struct AssetPipelineParams {
+  bool sample_level = true;
+  FactorStreamParams sample;          // model.channels is set from the data
+  bool condition_level = true;
+  ConditionStreamParams condition;
+  FactorStreamParams condition_model; // model.channels is set from the data
+};
+
+struct PipelineOutput {
+  std::vector<FactorReport> sample_reports;
+  std::vector<FactorReport> condition_reports;
+  std::vector<ConditionSample> conditions;  // computed here from raw frames (to publish)
+  void clear() {
+    sample_reports.clear();
+    condition_reports.clear();
+    conditions.clear();
+  }
+};
+
+struct FrameCheck {
+  bool ok = true;
+  std::string problem;
+};
+
+class AssetPipeline {
+ public:
+  explicit AssetPipeline(AssetPipelineParams params);
+
+  // A raw frame: rows N x G (sample-major), `gap` = frames were lost before this one. The first frame fixes
+  // G; a frame with another channel count is refused (FrameCheck.ok = false) and nothing is fed.
+  FrameCheck feed_frame(const Eigen::Ref<const RowMajorMatrix>& rows, bool discontinuity, bool end_of_segment,
+                        bool gap, std::int64_t first_time_ns, double sample_rate_hz, PipelineOutput& out);
+  // A ready-made condition vector (feature values per channel, e.g. from a replayed feature table).
+  FrameCheck feed_condition(const Eigen::VectorXd& values, bool discontinuity, std::int64_t time_ns,
+                            PipelineOutput& out);
+  void finish(PipelineOutput& out);
+
+  int channels() const { return channels_; }
+  const FactorStream* sample_stream() const { return sample_.get(); }
+  const FactorStream* condition_stream() const { return condition_model_.get(); }
+  std::uint64_t dropped_condition_windows() const { return conditions_ ? conditions_->dropped_windows() : 0; }
+
+ private:
+  bool fix_channels(int g, FrameCheck& check);
+  void feed_condition_model(const ConditionSample& s, PipelineOutput& out);
+
+  AssetPipelineParams params_;
+  int channels_ = 0;
+  std::unique_ptr<FactorStream> sample_;
+  std::unique_ptr<ConditionStream> conditions_;
+  std::unique_ptr<FactorStream> condition_model_;
+};
+
+}  // namespace causal::pipeline

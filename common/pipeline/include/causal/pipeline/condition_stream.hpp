@@ -1,0 +1,59 @@
+// Condition level: one vector of per-channel condition features per contiguous segment (an IMS snapshot)
+// or per fixed window of samples (a continuous sensor), computed from raw frames.
+#pragma once
+
+#include "causal/io/condition_features.hpp"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+namespace causal::pipeline {
+
+struct ConditionStreamParams {
+  io::ConditionFeature feature = io::ConditionFeature::Rms;
+  // Model the log of the feature: vibration features are positive and change multiplicatively, so log
+  // turns a fault that doubles RMS into the same step at any operating level; factors become elasticities.
+  bool log_transform = true;
+  std::size_t window_samples = 0;      // close a window after this many samples (0 = only at segment ends)
+  std::size_t min_samples = 256;       // a shorter segment is dropped (too few samples for kurtosis/peak)
+};
+
+struct ConditionSample {
+  std::uint64_t snapshot_index = 0;    // 0-based count of condition vectors produced
+  std::int64_t time_ns = 0;            // time of the segment's first sample
+  Eigen::VectorXd values;              // feature per channel
+  Eigen::VectorXd model_input;         // what the condition-level filter sees (log(values) or values)
+  std::size_t samples = 0;             // samples the features were computed from
+  bool discontinuity = false;          // the condition-level model must restart its lags here
+};
+
+// The model input for a condition vector: log(values) when log_transform (non-positive values become NaN,
+// which the filter rejects and counts), values otherwise.
+Eigen::VectorXd condition_model_input(const Eigen::VectorXd& values, bool log_transform);
+
+class ConditionStream {
+ public:
+  ConditionStream(ConditionStreamParams params, int channels);
+  // rows: N x G sample-major samples. Appends finished condition samples to `out`.
+  void feed(const double* rows, std::size_t n, bool discontinuity, bool end_of_segment, std::int64_t first_time_ns,
+            std::vector<ConditionSample>& out);
+  // A gap in the frame sequence (lost frames): the open window is discarded (features of a partial
+  // snapshot would be biased) and the next vector restarts the condition-level lags.
+  void drop_open_window();
+  std::uint64_t dropped_windows() const { return dropped_; }
+
+ private:
+  void close(std::vector<ConditionSample>& out);
+
+  ConditionStreamParams params_;
+  io::ConditionAccumulator acc_;
+  std::int64_t window_time_ns_ = 0;
+  bool window_open_ = false;
+  bool next_discontinuity_ = true;
+  std::uint64_t next_index_ = 0;
+  std::uint64_t dropped_ = 0;
+};
+
+}  // namespace causal::pipeline

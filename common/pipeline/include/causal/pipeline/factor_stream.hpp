@@ -1,0 +1,113 @@
+// One asset group's causal factors on one time scale, fed sample by sample, reported every N samples.
+//
+// Wraps the Kalman filter (and optionally the fixed-lag smoother) with what a streaming service needs:
+//  * automatic noise: the first `calibration_samples` samples are buffered, q and r are tuned on them by
+//    maximising the innovation likelihood (causal/noise_tuning.hpp), then the buffer is replayed through
+//    the filter, so no sample is lost to calibration;
+//  * a publication cadence: every `publish_every` samples one report per outcome with the factors, their
+//    standard deviations and the innovation statistics since the previous report; the fixed-lag smoother
+//    reports the same sample indices once its lag has passed;
+//  * per-sample times, so each report carries the UTC time of the sample it refers to.
+#pragma once
+
+#include "causal/fixed_lag_smoother.hpp"
+#include "causal/innovation_stats.hpp"
+#include "causal/noise_params.hpp"
+#include "causal/noise_tuning.hpp"
+#include "causal/svar_kalman_filter.hpp"
+#include "causal/svar_layout.hpp"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace causal::pipeline {
+
+using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+enum class EstimateKind { Filter, FixedLag };
+
+struct NoiseSetting {
+  bool automatic = false;            // tune q and r per outcome on a calibration window
+  NoiseParams fixed;                 // used as is when !automatic; fixed.p0 is also the tuning's p0
+  std::size_t calibration_samples = 2048;
+};
+
+struct FactorStreamParams {
+  ModelSpec model;
+  NoiseSetting noise;
+  std::size_t publish_every = 1024;  // samples between reports (>= 1)
+  int fixed_lag = 0;                 // > 0: also report the fixed-lag smoother with this lag
+};
+
+struct FactorReport {
+  EstimateKind kind = EstimateKind::Filter;
+  int outcome = 0;                   // 0-based k
+  std::uint64_t sample_index = 0;    // sample the estimate refers to (0-based, counts every fed sample)
+  std::int64_t time_ns = 0;          // its UTC time
+  Eigen::VectorXd factors;           // outcome k's factors (layout order)
+  Eigen::VectorXd std_devs;
+  std::uint64_t innovation_count = 0;  // updates since the previous report
+  double innovation_mean = 0.0;
+  double nis_mean = 0.0;
+  double last_innovation = 0.0;
+  double last_innovation_variance = 0.0;
+  std::uint64_t rejected = 0;        // cumulative non-finite samples
+  double q = 0.0, r = 0.0;
+};
+
+class FactorStream {
+ public:
+  explicit FactorStream(FactorStreamParams params);  // throws std::invalid_argument for invalid params
+
+  // Feeds the rows of an N x G block; row 0 is at first_time_ns, rows are period_ns apart, `discontinuity`
+  // applies to row 0. Reports are appended to `out`.
+  void feed(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity, std::int64_t first_time_ns,
+            double period_ns, std::vector<FactorReport>& out);
+  // End of stream: calibrates on what was buffered (if still calibrating) and flushes the smoother.
+  void finish(std::vector<FactorReport>& out);
+
+  const SvarLayout& layout() const { return layout_; }
+  bool calibrated() const { return smoother_ != nullptr; }
+  const std::vector<NoiseParams>& noise() const { return noise_; }
+  const std::vector<NoiseTuningResult>& tuning() const { return tuning_; }
+  FilterCounters counters() const;
+  std::uint64_t samples_seen() const { return next_index_; }
+
+ private:
+  struct Pending {  // a filter report waiting for its fixed-lag twin
+    std::uint64_t index;
+    std::int64_t time_ns;
+    std::vector<FactorReport> filter_reports;
+  };
+  void calibrate(std::vector<FactorReport>& out);
+  void process(const double* y, bool discontinuity, std::int64_t time_ns, std::vector<FactorReport>& out);
+  void emit_filter(std::uint64_t index, std::int64_t time_ns, std::vector<FactorReport>& out);
+  void emit_smoothed(const SmoothedSample& s, std::vector<FactorReport>& out);
+  FactorReport make_report(EstimateKind kind, int k, std::uint64_t index, std::int64_t time_ns,
+                           const Eigen::VectorXd& all_factors, const Eigen::VectorXd& all_std) const;
+
+  FactorStreamParams params_;
+  SvarLayout layout_;
+  int g_;
+  std::vector<NoiseParams> noise_;
+  std::vector<NoiseTuningResult> tuning_;
+  std::unique_ptr<FixedLagSmoother> smoother_;  // lag 0 when only the filter is wanted
+  InnovationStats stats_;
+  // Calibration buffer (automatic noise only).
+  std::vector<double> buffer_;
+  std::vector<bool> buffer_disc_;
+  std::vector<std::int64_t> buffer_time_;
+  std::deque<Pending> pending_;
+  std::uint64_t next_index_ = 0;      // index of the next sample processed by the filter
+  std::uint64_t buffered_index_ = 0;  // samples seen including the calibration buffer
+  std::size_t since_report_ = 0;
+  Eigen::VectorXd all_factors_, all_std_;
+};
+
+}  // namespace causal::pipeline

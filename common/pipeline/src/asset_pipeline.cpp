@@ -1,0 +1,77 @@
+#include "causal/pipeline/asset_pipeline.hpp"
+
+namespace causal::pipeline {
+
+AssetPipeline::AssetPipeline(AssetPipelineParams params) : params_(std::move(params)) {}
+
+bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
+  if (channels_ == 0) {
+    if (g < 2) {
+      check = {false, "an asset group needs at least 2 channels for causal factors, got " + std::to_string(g)};
+      return false;
+    }
+    channels_ = g;
+    if (params_.sample_level) {
+      FactorStreamParams p = params_.sample;
+      p.model.channels = g;
+      sample_ = std::make_unique<FactorStream>(p);
+    }
+    if (params_.condition_level) {
+      conditions_ = std::make_unique<ConditionStream>(params_.condition, g);
+      FactorStreamParams p = params_.condition_model;
+      p.model.channels = g;
+      condition_model_ = std::make_unique<FactorStream>(p);
+    }
+    return true;
+  }
+  if (g != channels_) {
+    check = {false, "frame has " + std::to_string(g) + " channels but this asset group has " +
+                        std::to_string(channels_)};
+    return false;
+  }
+  return true;
+}
+
+FrameCheck AssetPipeline::feed_frame(const Eigen::Ref<const RowMajorMatrix>& rows, bool discontinuity,
+                                     bool end_of_segment, bool gap, std::int64_t first_time_ns, double sample_rate_hz,
+                                     PipelineOutput& out) {
+  FrameCheck check;
+  if (!fix_channels(static_cast<int>(rows.cols()), check)) return check;
+  // Lost frames break the sample stream: treat the frame as a discontinuity so no lag spans the hole.
+  const bool restart = discontinuity || gap;
+  if (sample_) sample_->feed(rows, restart, first_time_ns, 1e9 / sample_rate_hz, out.sample_reports);
+  if (conditions_) {
+    if (gap) conditions_->drop_open_window();
+    const std::size_t before = out.conditions.size();
+    conditions_->feed(rows.data(), static_cast<std::size_t>(rows.rows()), restart, end_of_segment, first_time_ns,
+                      out.conditions);
+    for (std::size_t i = before; i < out.conditions.size(); ++i) feed_condition_model(out.conditions[i], out);
+  }
+  return check;
+}
+
+void AssetPipeline::feed_condition_model(const ConditionSample& s, PipelineOutput& out) {
+  const RowMajorMatrix y = s.model_input.transpose();
+  condition_model_->feed(y, s.discontinuity, s.time_ns, 0.0, out.condition_reports);
+}
+
+FrameCheck AssetPipeline::feed_condition(const Eigen::VectorXd& values, bool discontinuity, std::int64_t time_ns,
+                                         PipelineOutput& out) {
+  FrameCheck check;
+  if (!fix_channels(static_cast<int>(values.size()), check)) return check;
+  if (!condition_model_) return {false, "condition level is disabled in the parameters"};
+  ConditionSample s;
+  s.time_ns = time_ns;
+  s.values = values;
+  s.model_input = condition_model_input(values, params_.condition.log_transform);
+  s.discontinuity = discontinuity;
+  feed_condition_model(s, out);
+  return check;
+}
+
+void AssetPipeline::finish(PipelineOutput& out) {
+  if (sample_) sample_->finish(out.sample_reports);
+  if (condition_model_) condition_model_->finish(out.condition_reports);
+}
+
+}  // namespace causal::pipeline

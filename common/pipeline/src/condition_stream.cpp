@@ -1,0 +1,61 @@
+#include "causal/pipeline/condition_stream.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace causal::pipeline {
+
+Eigen::VectorXd condition_model_input(const Eigen::VectorXd& values, bool log_transform) {
+  if (!log_transform) return values;
+  Eigen::VectorXd out(values.size());
+  for (Eigen::Index i = 0; i < values.size(); ++i) {
+    out[i] = values[i] > 0.0 ? std::log(values[i]) : std::numeric_limits<double>::quiet_NaN();
+  }
+  return out;
+}
+
+ConditionStream::ConditionStream(ConditionStreamParams params, int channels) : params_(params), acc_(channels) {
+  if (channels < 1) throw std::invalid_argument("condition stream needs at least one channel");
+}
+
+void ConditionStream::drop_open_window() {
+  if (window_open_) ++dropped_;
+  acc_.reset();
+  window_open_ = false;
+  next_discontinuity_ = true;
+}
+
+void ConditionStream::close(std::vector<ConditionSample>& out) {
+  if (!window_open_) return;
+  window_open_ = false;
+  if (acc_.count() < params_.min_samples) {
+    ++dropped_;
+    acc_.reset();
+    return;
+  }
+  ConditionSample s;
+  s.snapshot_index = next_index_++;
+  s.time_ns = window_time_ns_;
+  s.values = acc_.value(params_.feature);
+  s.model_input = condition_model_input(s.values, params_.log_transform);
+  s.samples = acc_.count();
+  s.discontinuity = next_discontinuity_;
+  next_discontinuity_ = false;
+  acc_.reset();
+  out.push_back(std::move(s));
+}
+
+void ConditionStream::feed(const double* rows, std::size_t n, bool discontinuity, bool end_of_segment,
+                           std::int64_t first_time_ns, std::vector<ConditionSample>& out) {
+  // A new segment closes the previous window (a snapshot whose last frame did not say end_of_segment).
+  if (discontinuity) close(out);
+  if (!window_open_) {
+    window_open_ = true;
+    window_time_ns_ = first_time_ns;
+  }
+  acc_.add(rows, n);
+  if (end_of_segment || (params_.window_samples > 0 && acc_.count() >= params_.window_samples)) close(out);
+}
+
+}  // namespace causal::pipeline

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian packages the project builds and runs with. Idempotent: packages already present are
+# not touched, and apt is only called when something is missing. Needs root (or sudo) for the install.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake            # C++17 toolchain and build
+  libfastrtps-dev libfastcdr-dev   # Fast DDS 2.9 and its CDR serialisation
+  fastddsgen fastdds-tools         # IDL code generator (build time) and the fastdds CLI (shm clean)
+  libeigen3-dev                    # estimation core
+  libspdlog-dev                    # service logging
+  libgtest-dev libbenchmark-dev    # tests and benchmarks
+  libcli11-dev                     # command-line parsing with a truthful --help
+  libyaml-cpp-dev                  # parameter files
+  zlib1g-dev                       # gzip-compressed embedded snapshots
+  gnuplot-nox                      # causal-report's plots
+  iproute2                         # network-namespace tests (ip netns)
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+echo "install_deps: installing ${missing[*]}"
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Starts the three services on one DDS domain, replays a data set through them, and stops them all.
+#   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE] [--speed X] [--transport XML] [--record DIR]
+# Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
+# Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bin="${CAUSAL_TWIN_BUILD_DIR:-$root/build}/services"
+domain=$(( 100 + $$ % 100 ))
+source_args=(--ims-dir "$root/deploy/data/ims2-slice")
+speed=0
+transport="$root/deploy/dds/localhost.xml"
+max_runtime=900
+record=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --domain) domain="$2"; shift 2 ;;
+    --ims-dir) source_args=(--ims-dir "$2"); shift 2 ;;
+    --features) source_args=(--features "$2"); shift 2 ;;
+    --speed) speed="$2"; shift 2 ;;
+    --transport) transport="$2"; shift 2 ;;
+    --max-runtime) max_runtime="$2"; shift 2 ;;
+    --record) record="$2"; shift 2 ;;
+    -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
+    *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
+  esac
+done
+common=(--domain "$domain" --dds-transport "$transport")
+pids=()
+stop_all() {
+  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  command -v fastdds >/dev/null && fastdds shm clean >/dev/null 2>&1 || true
+}
+trap stop_all EXIT INT TERM
+
+echo "launch: DDS domain $domain, transport $(basename "$transport")"
+subscribers=1
+if [ -x "$bin/causal_recorder/causal-recorder" ] && [ -n "$record" ]; then
+  "$bin/causal_recorder/causal-recorder" "${common[@]}" --out "$record" --idle-exit 6 --max-runtime "$max_runtime" &
+  pids+=($!)
+  subscribers=2
+fi
+"$bin/alarm_recommender/alarm-recommender" "${common[@]}" --idle-exit 5 --max-runtime "$max_runtime" &
+pids+=($!)
+"$bin/causal_estimator/causal-estimator" "${common[@]}" --idle-exit 4 --max-runtime "$max_runtime" \
+  --wait-subscribers "$subscribers" &
+pids+=($!)
+"$bin/sensor_replay/sensor-replay" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-subscribers 1 \
+  --wait-timeout 60
+status=0
+# The replay has finished; the others drain their queues and exit when idle.
+for p in "${pids[@]}"; do wait "$p" || status=$?; done
+pids=()
+exit $status

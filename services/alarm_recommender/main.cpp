@@ -1,0 +1,39 @@
+// alarm-recommender: causal factors in; alarms, root cause and recommendations out. See --help.
+#include "recommender_node.hpp"
+#include "recommender_params.hpp"
+
+#include "causal/config/yaml_fields.hpp"
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+int main(int argc, char** argv) {
+  causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
+  causal::recommender::RecommenderOptions o;
+  o.params_file = causal::dds::default_dds_dir() + "/../config/alarms.yaml";
+  CLI::App app{"alarm-recommender: learns each asset group's healthy baseline, raises explained alarms with their\n"
+               "root cause from the causal factors and innovations, and publishes them."};
+  causal::dds::add_common_options(app, o.dds);
+  app.add_option("--params", o.params_file, "YAML parameter file")->check(CLI::ExistingFile)->capture_default_str();
+  app.add_option("--idle-exit", o.idle_exit_s, "exit after this many seconds without data, once data arrived (0 = never)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    causal::dds::setup_logging("alarm-recommender", o.dds.log_level);
+    auto params = causal::recommender::load_recommender_params(o.params_file);
+    causal::recommender::RecommenderNode node(std::move(o), std::move(params));
+    signals.start([&node](int sig) {
+      spdlog::info("signal {} received, stopping", sig);
+      node.stop();
+    });
+    return node.run();
+  } catch (const causal::config::ConfigError& e) {
+    spdlog::critical("{}", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,58 @@
+// alarm-recommender's DDS node: causal factors and condition vectors in; alarms (and, on a raised alarm,
+// recommendations) out. One AlarmEngine per asset group and time scale.
+#pragma once
+
+#include "observation_assembler.hpp"
+#include "recommender_params.hpp"
+
+#include "causal/alarms/alarm_engine.hpp"
+#include "causal/dds/event_loop.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/service_runtime.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal_twinPubSubTypes.h"
+
+#include <map>
+#include <memory>
+#include <string>
+
+namespace causal::recommender {
+
+struct RecommenderOptions {
+  dds::CommonOptions dds;
+  std::string params_file;
+  double idle_exit_s = 0.0;
+  double max_runtime_s = 0.0;
+};
+
+class RecommenderNode {
+ public:
+  RecommenderNode(RecommenderOptions options, RecommenderParams params);
+  int run();
+  void stop() { loop_.stop(); }
+
+ private:
+  struct EngineState {
+    std::unique_ptr<alarms::AlarmEngine> engine;
+    std::vector<std::string> channel_names;
+    bool baseline_logged = false;
+    std::uint64_t raised = 0;
+  };
+  void handle(std::vector<AssembledObservation>& ready);
+  void observe(AssembledObservation& a);
+  void publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e);
+
+  RecommenderOptions options_;
+  RecommenderParams params_;
+  dds::Participant participant_;
+  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
+  dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_;
+  dds::TypedWriter<causal_twin::AlarmPubSubType> alarms_;
+  dds::EventLoop loop_;  // after the readers: detaches their conditions first
+  ObservationAssembler assembler_;
+  std::map<std::pair<std::string, int>, EngineState> engines_;
+  causal_twin::Alarm alarm_msg_;
+  std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0;
+};
+
+}  // namespace causal::recommender

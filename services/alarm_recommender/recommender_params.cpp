@@ -1,0 +1,64 @@
+#include "recommender_params.hpp"
+
+#include "causal/config/yaml_fields.hpp"
+
+#include <stdexcept>
+
+namespace causal::recommender {
+
+RecommenderParams load_recommender_params(const std::string& path) {
+  using config::Section;
+  const Section root = Section::load_file(path);
+  root.only({"condition_level", "sample_level"});
+  RecommenderParams r;
+
+  const Section c = root.child("condition_level");
+  c.only({"enabled", "warmup_observations", "baseline_observations", "min_baseline_coverage", "baseline_confidence",
+          "cusum_k", "target_arl0", "clip_sigma", "cusum_cap_factor", "clear_fraction", "raise_persistence",
+          "clear_persistence", "level_window", "feature_enabled", "feature_log_transform", "warning_ratio",
+          "critical_ratio", "innovation_enabled", "nis_enabled", "nis_window", "nis_false_alarm_prob",
+          "warning_sigma", "critical_sigma", "factor_enabled", "factor_false_alarm_prob", "factor_persistence",
+          "onset_tolerance", "explain_top_factors"});
+  r.condition_enabled = c.boolean("enabled");
+  alarms::AlarmParams& p = r.condition;
+  p.warmup_observations = static_cast<int>(c.integer("warmup_observations", 0, 1000000));
+  p.baseline_observations = static_cast<int>(c.integer("baseline_observations", 2, 1000000));
+  p.min_baseline_coverage = c.positive("min_baseline_coverage");
+  p.baseline_confidence = c.positive("baseline_confidence");
+  p.cusum_k = c.positive("cusum_k");
+  p.target_arl0 = c.positive("target_arl0");
+  p.clip_sigma = c.positive("clip_sigma");
+  p.cusum_cap_factor = c.positive("cusum_cap_factor");
+  p.clear_fraction = c.positive("clear_fraction");
+  p.raise_persistence = static_cast<int>(c.integer("raise_persistence", 1, 1000));
+  p.clear_persistence = static_cast<int>(c.integer("clear_persistence", 1, 1000));
+  p.level_window = static_cast<int>(c.integer("level_window", 1, 1000));
+  p.feature_enabled = c.boolean("feature_enabled");
+  p.feature_log_transform = c.boolean("feature_log_transform");
+  p.warning_ratio = c.positive("warning_ratio");
+  p.critical_ratio = c.positive("critical_ratio");
+  p.innovation_enabled = c.boolean("innovation_enabled");
+  p.nis_enabled = c.boolean("nis_enabled");
+  p.nis_window = static_cast<int>(c.integer("nis_window", 1, 100000));
+  p.nis_false_alarm_prob = c.positive("nis_false_alarm_prob");
+  p.warning_sigma = c.positive("warning_sigma");
+  p.critical_sigma = c.positive("critical_sigma");
+  p.factor_enabled = c.boolean("factor_enabled");
+  p.factor_false_alarm_prob = c.positive("factor_false_alarm_prob");
+  p.factor_persistence = static_cast<int>(c.integer("factor_persistence", 1, 100000));
+  p.onset_tolerance = static_cast<int>(c.integer("onset_tolerance", 0, 100000));
+  p.explain_top_factors = static_cast<int>(c.integer("explain_top_factors", 0, 1000));
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& e) {
+    c.fail("enabled", std::string("inconsistent alarm parameters: ") + e.what());
+  }
+
+  const Section s = root.child("sample_level");
+  s.only({"enabled", "baseline_publications"});
+  r.sample_enabled = s.boolean("enabled");
+  r.sample_baseline_publications = static_cast<int>(s.integer("baseline_publications", 3, 1000000));
+  return r;
+}
+
+}  // namespace causal::recommender

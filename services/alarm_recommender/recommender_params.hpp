@@ -1,0 +1,20 @@
+// alarm-recommender's parameters: one plain struct and one loader that rejects missing or invalid keys.
+#pragma once
+
+#include "causal/alarms/alarm_params.hpp"
+
+#include <string>
+
+namespace causal::recommender {
+
+struct RecommenderParams {
+  bool condition_enabled = true;
+  alarms::AlarmParams condition;
+  bool sample_enabled = true;
+  int sample_baseline_publications = 50;
+};
+
+// Throws causal::config::ConfigError naming the file and key (also for values AlarmParams::validate refuses).
+RecommenderParams load_recommender_params(const std::string& path);
+
+}  // namespace causal::recommender

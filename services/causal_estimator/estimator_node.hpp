@@ -1,0 +1,76 @@
+// causal-estimator's DDS node: frames (and ready-made condition vectors) in; causal factors and condition
+// vectors out. One AssetPipeline per asset group (DDS instance); with --shard-count N the node keeps only the
+// asset groups whose id hashes to --shard-index, so N estimators share a plant.
+#pragma once
+
+#include "causal/dds/event_loop.hpp"
+#include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/service_runtime.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal/pipeline/asset_pipeline.hpp"
+#include "causal_twinPubSubTypes.h"
+
+#include <chrono>
+#include <map>
+#include <optional>
+#include <string>
+
+namespace causal::estimator {
+
+struct EstimatorOptions {
+  dds::CommonOptions dds;
+  std::string params_file;
+  int shard_index = 0;
+  int shard_count = 1;
+  double idle_exit_s = 0.0;    // exit after this long without data, once data has arrived (0 = never)
+  double max_runtime_s = 0.0;  // hard stop (0 = none)
+  int wait_subscribers = 0;    // wait for this many factor readers before processing (frames queue meanwhile)
+  double wait_timeout_s = 30.0;
+};
+
+// FNV-1a: a stable hash, so every estimator agrees on the shard of an asset group.
+std::uint64_t shard_hash(const std::string& asset_group);
+
+class EstimatorNode {
+ public:
+  EstimatorNode(EstimatorOptions options, pipeline::AssetPipelineParams params);
+  int run();
+  void stop() { loop_.stop(); }
+
+ private:
+  struct Asset {
+    explicit Asset(const pipeline::AssetPipelineParams& p) : pipeline(p) {}
+    pipeline::AssetPipeline pipeline;
+    std::vector<std::string> channel_names;
+    std::optional<std::uint64_t> last_sequence;
+    std::uint64_t frames = 0, lost_frames = 0, refused_frames = 0, conditions_in = 0;
+    std::uint64_t sample_msgs = 0, condition_msgs = 0;
+    std::string feature;  // feature name of the condition-level model
+    bool tuning_logged = false;
+  };
+
+  bool mine(const std::string& asset_group) const;
+  Asset& asset(const std::string& asset_group);
+  void on_frame(const causal_twin::VibrationFrame& frame);
+  void on_condition(const causal_twin::ConditionVector& in);
+  void publish(const std::string& name, Asset& a);
+  void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
+  void finish_all();
+
+  EstimatorOptions options_;
+  pipeline::AssetPipelineParams params_;
+  dds::Participant participant_;
+  dds::TypedReader<causal_twin::VibrationFramePubSubType> frames_;
+  dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
+  dds::TypedWriter<causal_twin::CausalFactorsPubSubType> factors_;
+  dds::TypedWriter<causal_twin::ConditionVectorPubSubType> conditions_out_;
+  dds::EventLoop loop_;  // after the readers: detaches their conditions first
+  std::map<std::string, Asset> assets_;
+  pipeline::PipelineOutput out_;
+  causal_twin::CausalFactors factor_msg_;
+  causal_twin::ConditionVector condition_msg_;
+  std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
+};
+
+}  // namespace causal::estimator

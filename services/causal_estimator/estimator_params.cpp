@@ -1,0 +1,59 @@
+#include "estimator_params.hpp"
+
+#include "causal/config/yaml_fields.hpp"
+
+namespace causal::estimator {
+
+namespace {
+
+using config::Section;
+
+pipeline::NoiseSetting load_noise(const Section& s) {
+  s.only({"mode", "q", "r", "p0", "calibration_samples"});
+  pipeline::NoiseSetting n;
+  n.automatic = s.one_of("mode", {"fixed", "automatic"}) == "automatic";
+  n.fixed.q = s.non_negative("q");
+  n.fixed.r = s.positive("r");
+  n.fixed.p0 = s.positive("p0");
+  n.calibration_samples = static_cast<std::size_t>(s.integer("calibration_samples", 1, 100000000));
+  return n;
+}
+
+// Keys shared by both time scales.
+void load_model(const Section& s, pipeline::FactorStreamParams& p) {
+  p.model.lag_order = static_cast<int>(s.integer("lag_order", 1, 64));
+  p.model.include_self_lags = s.boolean("include_self_lags");
+  p.noise = load_noise(s.child("noise"));
+  p.publish_every = static_cast<std::size_t>(s.integer("publish_every", 1, 100000000));
+  p.fixed_lag = static_cast<int>(s.integer("fixed_lag", 0, 100000));
+}
+
+}  // namespace
+
+pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
+  const Section root = Section::load_file(path);
+  root.only({"sample_level", "condition_level"});
+  pipeline::AssetPipelineParams p;
+
+  const Section sample = root.child("sample_level");
+  sample.only({"enabled", "lag_order", "include_self_lags", "noise", "publish_every", "fixed_lag"});
+  p.sample_level = sample.boolean("enabled");
+  load_model(sample, p.sample);
+
+  const Section cond = root.child("condition_level");
+  cond.only({"enabled", "feature", "log_transform", "window_samples", "min_samples", "lag_order",
+             "include_self_lags", "noise", "publish_every", "fixed_lag"});
+  p.condition_level = cond.boolean("enabled");
+  const auto feature = io::parse_condition_feature(cond.one_of("feature", {"rms", "meanabs", "kurtosis", "peak"}));
+  p.condition.feature = *feature;
+  p.condition.log_transform = cond.boolean("log_transform");
+  p.condition.window_samples = static_cast<std::size_t>(cond.integer("window_samples", 0, 100000000));
+  p.condition.min_samples = static_cast<std::size_t>(cond.integer("min_samples", 1, 100000000));
+  load_model(cond, p.condition_model);
+  if (!p.sample_level && !p.condition_level) {
+    root.fail("sample_level.enabled", "both time scales are disabled: nothing to estimate");
+  }
+  return p;
+}
+
+}  // namespace causal::estimator

@@ -1,0 +1,52 @@
+// causal-estimator: vibration frames in, causal factor vectors out. See --help.
+#include "estimator_node.hpp"
+#include "estimator_params.hpp"
+
+#include "causal/config/yaml_fields.hpp"
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+int main(int argc, char** argv) {
+  causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
+  causal::estimator::EstimatorOptions o;
+  o.params_file = causal::dds::default_dds_dir() + "/../config/estimator.yaml";
+  CLI::App app{"causal-estimator: learns time-varying causal factors between the channels of each asset group\n"
+               "(Kalman filter and fixed-lag smoother, sample level and condition level) and publishes them."};
+  causal::dds::add_common_options(app, o.dds);
+  app.add_option("--params", o.params_file, "YAML parameter file")->check(CLI::ExistingFile)->capture_default_str();
+  app.add_option("--shard-index", o.shard_index, "this estimator's shard (0-based)")->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--shard-count", o.shard_count, "number of estimators sharing the asset groups")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--idle-exit", o.idle_exit_s, "exit after this many seconds without data, once data arrived (0 = never)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--wait-subscribers", o.wait_subscribers,
+                 "wait for this many causal-factor readers before processing frames (they queue meanwhile)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  if (o.shard_index >= o.shard_count) {
+    std::cerr << "error: --shard-index must be < --shard-count\n";
+    return 2;
+  }
+  try {
+    causal::dds::setup_logging("causal-estimator", o.dds.log_level);
+    auto params = causal::estimator::load_estimator_params(o.params_file);
+    causal::estimator::EstimatorNode node(std::move(o), std::move(params));
+    signals.start([&node](int sig) {
+      spdlog::info("signal {} received, stopping", sig);
+      node.stop();
+    });
+    return node.run();
+  } catch (const causal::config::ConfigError& e) {
+    spdlog::critical("{}", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 1;
+  }
+}

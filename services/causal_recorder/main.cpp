@@ -1,0 +1,41 @@
+// causal-recorder: the historian. Records condition vectors, causal factors, alarms and
+// recommendations as CSV files. See --help.
+#include "recorder_node.hpp"
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+int main(int argc, char** argv) {
+  causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
+  causal::recorder::RecorderOptions o;
+  CLI::App app{"causal-recorder: records condition vectors, condition-level causal factors (filter and fixed-lag\n"
+               "smoother), alarms and recommendations as CSV files, one file per asset group and stream,\n"
+               "flushed as it goes. causal-report turns the folder into plots."};
+  causal::dds::add_common_options(app, o.dds);
+  app.add_option("--out", o.out_dir, "output folder (created; existing files with the same header are appended to)")
+      ->required();
+  app.add_flag("--sample-level", o.sample_level, "also record sample-level factors (voluminous)");
+  app.add_option("--idle-exit", o.idle_exit_s, "exit after this many seconds without data, once data arrived (0 = never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--max-pending", o.max_pending,
+                 "factor rows per file waiting for missing outcomes before the oldest is written partially")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    causal::dds::setup_logging("causal-recorder", o.dds.log_level);
+    causal::recorder::RecorderNode node(std::move(o));
+    signals.start([&node](int sig) {
+      spdlog::info("signal {} received, stopping", sig);
+      node.stop();
+    });
+    return node.run();
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,128 @@
+#include "record_rows.hpp"
+
+#include "csv_format.hpp"
+
+#include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/frame_conversions.hpp"
+#include "causal/io/time_format.hpp"
+
+namespace causal::recorder {
+
+using report::format_integer;
+using report::format_number;
+using report::sanitize_file_component;
+
+namespace {
+std::string utc_or_empty(std::int64_t time_ns) { return time_ns == 0 ? std::string() : io::format_utc(time_ns); }
+}  // namespace
+
+std::string conditions_file_name(const std::string& asset_group, const std::string& feature) {
+  return "conditions_" + sanitize_file_component(asset_group) + "_" + sanitize_file_component(feature) + ".csv";
+}
+
+std::string factors_file_name(const std::string& asset_group, causal_twin::TimeScale scale,
+                              causal_twin::EstimateKind kind) {
+  return "factors_" + sanitize_file_component(asset_group) + "_" + dds::to_string(scale) + "_" + dds::to_string(kind) +
+         ".csv";
+}
+
+std::vector<std::string> condition_header(const causal_twin::ConditionVector& in) {
+  std::vector<std::string> h{"snapshot", "time_ns", "time_utc"};
+  h.insert(h.end(), in.channel_names().begin(), in.channel_names().end());
+  return h;
+}
+
+std::vector<std::string> condition_row(const causal_twin::ConditionVector& in) {
+  std::vector<std::string> row{format_integer(static_cast<std::uint64_t>(in.snapshot_index())),
+                               format_integer(static_cast<std::int64_t>(in.time_ns())), io::format_utc(in.time_ns())};
+  const Eigen::VectorXd values = dds::values_of(in);
+  for (Eigen::Index i = 0; i < values.size(); ++i) row.push_back(format_number(values[i]));
+  return row;
+}
+
+const char* to_string(causal_twin::Severity severity) {
+  switch (severity) {
+    case causal_twin::ADVISORY: return "advisory";
+    case causal_twin::WARNING: return "warning";
+    case causal_twin::CRITICAL: return "critical";
+  }
+  return "?";
+}
+
+const char* to_string(causal_twin::AlarmState state) {
+  switch (state) {
+    case causal_twin::RAISED: return "raised";
+    case causal_twin::ESCALATED: return "escalated";
+    case causal_twin::CLEARED: return "cleared";
+  }
+  return "?";
+}
+
+const std::vector<std::string>& alarm_header() {
+  static const std::vector<std::string> h{"alarm_id",      "state",        "severity",           "kind",
+                                          "asset_group",   "channel",      "channel_name",       "sample_index",
+                                          "time_utc",      "raised_utc",   "cleared_utc",        "root_cause_channel",
+                                          "root_cause_name", "score",      "threshold",          "reason"};
+  return h;
+}
+
+std::vector<std::string> alarm_row(const causal_twin::Alarm& a, std::optional<std::int64_t> evidence_time_ns) {
+  std::string event_time;
+  switch (a.state()) {
+    case causal_twin::CLEARED: event_time = utc_or_empty(a.cleared_time_ns()); break;
+    case causal_twin::RAISED: event_time = utc_or_empty(a.raised_time_ns()); break;
+    case causal_twin::ESCALATED: event_time = evidence_time_ns ? io::format_utc(*evidence_time_ns) : ""; break;
+  }
+  return {a.alarm_id(),
+          to_string(a.state()),
+          to_string(a.severity()),
+          a.kind(),
+          a.asset_group(),
+          format_integer(static_cast<std::uint64_t>(a.channel())),
+          a.channel_name(),
+          format_integer(static_cast<std::uint64_t>(a.sample_index())),
+          event_time,
+          utc_or_empty(a.raised_time_ns()),
+          utc_or_empty(a.cleared_time_ns()),
+          format_integer(static_cast<std::uint64_t>(a.root_cause_channel())),
+          a.root_cause_name(),
+          format_number(a.score()),
+          format_number(a.threshold()),
+          a.reason()};
+}
+
+const std::vector<std::string>& recommendation_header() {
+  static const std::vector<std::string> h{
+      "recommendation_id", "alarm_id",    "asset_group",  "rank",       "target_channel", "intervene_channel", "delta",
+      "effect_immediate",  "effect_steady_state", "effect_low", "effect_high", "confidence", "text"};
+  return h;
+}
+
+std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r) {
+  return {r.recommendation_id(),
+          r.alarm_id(),
+          r.asset_group(),
+          format_integer(static_cast<std::uint64_t>(r.rank())),
+          format_integer(static_cast<std::uint64_t>(r.target_channel())),
+          format_integer(static_cast<std::uint64_t>(r.intervene_channel())),
+          format_number(r.delta()),
+          format_number(r.effect_immediate()),
+          format_number(r.effect_steady_state()),
+          format_number(r.effect_low()),
+          format_number(r.effect_high()),
+          format_number(r.confidence()),
+          r.text()};
+}
+
+void IndexClock::record(std::uint64_t index, std::int64_t time_ns) {
+  times_[index] = time_ns;
+  while (times_.size() > capacity_) times_.erase(times_.begin());
+}
+
+std::optional<std::int64_t> IndexClock::time_of(std::uint64_t index) const {
+  const auto it = times_.find(index);
+  if (it == times_.end()) return std::nullopt;
+  return it->second;
+}
+
+}  // namespace causal::recorder

@@ -1,0 +1,57 @@
+// What causal-recorder writes for each topic: file names, headers and rows (cells already formatted;
+// CsvFile quotes them). Kept out of the DDS node so the tests can check them without DDS.
+#pragma once
+
+#include "causal_twin.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace causal::recorder {
+
+// conditions_<asset>_<feature>.csv and factors_<asset>_<scale>_<kind>.csv, with the ids sanitised
+// ([A-Za-z0-9_.-] only). scale: sample | condition; kind: filter | fixed-lag | rts.
+std::string conditions_file_name(const std::string& asset_group, const std::string& feature);
+std::string factors_file_name(const std::string& asset_group, causal_twin::TimeScale scale,
+                              causal_twin::EstimateKind kind);
+inline constexpr const char* kAlarmsFile = "alarms.csv";
+inline constexpr const char* kRecommendationsFile = "recommendations.csv";
+
+// snapshot,time_ns,time_utc,<channel names...>
+std::vector<std::string> condition_header(const causal_twin::ConditionVector& in);
+std::vector<std::string> condition_row(const causal_twin::ConditionVector& in);
+
+const char* to_string(causal_twin::Severity severity);  // advisory | warning | critical
+const char* to_string(causal_twin::AlarmState state);   // raised | escalated | cleared
+
+// alarm_id,state,severity,kind,asset_group,channel,channel_name,sample_index,time_utc,raised_utc,
+// cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason
+const std::vector<std::string>& alarm_header();
+// time_utc is the data time of this state change: the clearing time for CLEARED, the raising time for
+// RAISED, and for ESCALATED the time of sample_index when the caller knows it (evidence_time_ns, from the
+// asset's condition-level factors), else empty. Times that are 0 ("not set") give empty cells.
+std::vector<std::string> alarm_row(const causal_twin::Alarm& alarm, std::optional<std::int64_t> evidence_time_ns);
+
+// Every field of Recommendation, in IDL order.
+const std::vector<std::string>& recommendation_header();
+std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r);
+
+// Sample index -> UTC time of one asset's observation stream, so an alarm's sample_index can be placed
+// in time. Keeps the newest `capacity` indices.
+class IndexClock {
+ public:
+  explicit IndexClock(std::size_t capacity = 100000) : capacity_(capacity < 1 ? 1 : capacity) {}
+  void record(std::uint64_t index, std::int64_t time_ns);
+  std::optional<std::int64_t> time_of(std::uint64_t index) const;
+  std::size_t size() const { return times_.size(); }
+
+ private:
+  std::size_t capacity_;
+  std::map<std::uint64_t, std::int64_t> times_;
+};
+
+}  // namespace causal::recorder

@@ -1,0 +1,222 @@
+#include "recorder_node.hpp"
+
+#include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/frame_conversions.hpp"
+#include "causal/dds/topics.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <stdexcept>
+#include <system_error>
+
+namespace causal::recorder {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+std::filesystem::path make_out_dir(const std::string& dir) {
+  if (dir.empty()) throw std::runtime_error("--out must name a folder");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    throw std::runtime_error("cannot create output folder '" + dir + "'" + (ec ? ": " + ec.message() : ""));
+  }
+  return dir;
+}
+}  // namespace
+
+RecorderNode::RecorderNode(RecorderOptions options)
+    : options_(std::move(options)),
+      out_dir_(make_out_dir(options_.out_dir)),
+      participant_(dds::to_dds_settings(options_.dds, "causal-recorder")),
+      conditions_in_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader),
+      factors_in_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
+      alarms_in_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
+      recommendations_in_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader) {
+  loop_.attach(conditions_in_.get());
+  loop_.attach(factors_in_.get());
+  loop_.attach(alarms_in_.get());
+  loop_.attach(recommendations_in_.get());
+  // Alarms and recommendations always get a file: a header-only alarms.csv says "no alarms", which is
+  // different from "not recorded".
+  alarms_ = open(kAlarmsFile, alarm_header());
+  recommendations_ = open(kRecommendationsFile, recommendation_header());
+}
+
+std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name,
+                                                    const std::vector<std::string>& header) {
+  auto file = std::make_unique<report::CsvFile>(out_dir_ / file_name, header);
+  if (file->appended()) spdlog::info("appending to {}", file->path().string());
+  if (!file->moved_aside().empty()) {
+    spdlog::warn("{} had another header: moved to {}", file->path().string(), file->moved_aside().string());
+  }
+  return file;
+}
+
+const std::string& RecorderNode::file_asset(const std::string& asset_group) {
+  if (auto it = file_assets_.find(asset_group); it != file_assets_.end()) return it->second;
+  const std::string base = report::sanitize_file_component(asset_group);
+  std::string name = base;
+  for (int n = 2; used_file_assets_.count(name) > 0; ++n) name = base + "-" + std::to_string(n);
+  if (name != base) {
+    spdlog::warn("asset groups '{}' and another one share the file name '{}': recording '{}' as '{}'", asset_group,
+                 base, asset_group, name);
+  }
+  used_file_assets_.insert(name);
+  return file_assets_.emplace(asset_group, name).first->second;
+}
+
+int RecorderNode::run() {
+  spdlog::info("causal-recorder on domain {}, writing to {}{}", participant_.domain_id(), out_dir_.string(),
+               options_.sample_level ? " (with sample-level factors)" : "");
+  const auto started = Clock::now();
+  auto last_data = started;
+  bool any_data = false;
+  while (loop_.wait(std::chrono::milliseconds(200))) {
+    const std::size_t n = take_available();
+    const auto now = Clock::now();
+    if (n > 0) {
+      flush_all();  // a batch is on disk before we wait again: a crash loses at most the current batch
+      last_data = now;
+      any_data = true;
+    }
+    if (options_.idle_exit_s > 0 && any_data &&
+        std::chrono::duration<double>(now - last_data).count() > options_.idle_exit_s) {
+      spdlog::info("no data for {:.1f} s: finishing", options_.idle_exit_s);
+      break;
+    }
+    if (options_.max_runtime_s > 0 && std::chrono::duration<double>(now - started).count() > options_.max_runtime_s) {
+      spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
+      break;
+    }
+  }
+  // Samples already delivered to our readers (acknowledged to their writers) are recorded even when a
+  // signal ended the loop: the writers consider them delivered.
+  take_available();
+  finish();
+  return 0;
+}
+
+std::size_t RecorderNode::take_available() {
+  return conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
+         factors_in_.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
+         alarms_in_.take_all([this](const auto& a, const auto&) { on_alarm(a); }) +
+         recommendations_in_.take_all([this](const auto& r, const auto&) { on_recommendation(r); });
+}
+
+void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
+  const std::string name = conditions_file_name(file_asset(in.asset_group()), in.feature());
+  auto it = conditions_.find(name);
+  if (it == conditions_.end()) {
+    if (in.channel_names().empty() || in.values().size() != in.channel_names().size()) {
+      ++invalid_msgs_;
+      return;
+    }
+    it = conditions_.emplace(name, ConditionTable{}).first;
+    it->second.file = open(name, condition_header(in));
+  }
+  ConditionTable& t = it->second;
+  // Non-finite values are recorded as "nan"/"inf" (a historian keeps what was sent); only a vector
+  // that does not fit the file's columns is refused.
+  if (in.values().size() + 3 != t.file->columns()) {
+    if (t.refused++ == 0) {
+      spdlog::warn("{}: condition vector {} has {} values, the file has {} channels: refused (counted)", name,
+                   in.snapshot_index(), in.values().size(), t.file->columns() - 3);
+    }
+    return;
+  }
+  t.file->write_row(condition_row(in));
+}
+
+void RecorderNode::on_factors(const causal_twin::CausalFactors& in) {
+  if (in.time_scale() == causal_twin::SAMPLE_LEVEL && !options_.sample_level) {
+    ++sample_level_skipped_;
+    return;
+  }
+  if (const std::string problem = dds::validate_causal_factors(in); !problem.empty()) {
+    if (invalid_msgs_++ == 0) spdlog::warn("asset '{}': factor message refused: {}", in.asset_group(), problem);
+    return;
+  }
+  const dds::FactorMessage m = dds::from_causal_factors(in);
+  if (m.time_scale == causal_twin::CONDITION_LEVEL && m.kind == causal_twin::FILTER) {
+    clocks_[m.asset_group].record(m.sample_index, m.time_ns);
+  }
+  const std::string key = m.asset_group + '\x1f' + dds::to_string(m.time_scale) + '\x1f' + dds::to_string(m.kind);
+  auto it = factor_tables_.find(key);
+  if (it == factor_tables_.end()) {
+    it = factor_tables_.emplace(key, FactorTable(options_.max_pending)).first;
+    it->second.file_name = factors_file_name(file_asset(m.asset_group), m.time_scale, m.kind);
+  }
+  if (it->second.assembler.add(m) == FactorRowAssembler::AddStatus::Refused) {
+    if (it->second.assembler.counters().refused == 1) {
+      spdlog::warn("{}: outcome {} message refused (channel count {} differs from the file's {})",
+                   it->second.file_name, m.outcome + 1, m.channel_count, it->second.assembler.channel_count());
+    }
+    return;
+  }
+  write_ready_rows(it->second);
+}
+
+void RecorderNode::write_ready_rows(FactorTable& table) {
+  if (!table.assembler.has_header()) return;
+  const auto rows = table.assembler.take_rows();
+  if (rows.empty()) return;
+  if (!table.file) table.file = open(table.file_name, table.assembler.header());
+  for (const auto& row : rows) table.file->write_row(row);
+}
+
+void RecorderNode::on_alarm(const causal_twin::Alarm& in) {
+  std::optional<std::int64_t> evidence_time;
+  if (auto it = clocks_.find(in.asset_group()); it != clocks_.end()) evidence_time = it->second.time_of(in.sample_index());
+  alarms_->write_row(alarm_row(in, evidence_time));
+  spdlog::info("alarm {} {} {}: {}", in.alarm_id(), to_string(in.state()), to_string(in.severity()), in.reason());
+}
+
+void RecorderNode::on_recommendation(const causal_twin::Recommendation& in) {
+  recommendations_->write_row(recommendation_row(in));
+}
+
+void RecorderNode::flush_all() {
+  for (auto& [name, t] : conditions_) t.file->flush();
+  for (auto& [key, t] : factor_tables_) {
+    if (t.file) t.file->flush();
+  }
+  alarms_->flush();
+  recommendations_->flush();
+}
+
+void RecorderNode::finish() {
+  for (auto& [key, t] : factor_tables_) {
+    t.assembler.flush_pending();
+    write_ready_rows(t);
+  }
+  flush_all();
+  std::string summary;
+  auto add = [&summary](const std::string& name, std::uint64_t rows) {
+    summary += (summary.empty() ? "" : ", ") + name + " " + std::to_string(rows);
+  };
+  for (const auto& [name, t] : conditions_) add(name, t.file->rows_written());
+  for (const auto& [key, t] : factor_tables_) {
+    add(t.file_name, t.file ? t.file->rows_written() : 0);
+    const auto& c = t.assembler.counters();
+    if (c.rows_partial + c.refused + c.duplicates + c.dropped_factors > 0) {
+      spdlog::warn("{}: {} partial rows (an outcome missing), {} messages refused, {} duplicates, {} factor values "
+                   "without a column",
+                   t.file_name, c.rows_partial, c.refused, c.duplicates, c.dropped_factors);
+    }
+  }
+  for (const auto& [name, t] : conditions_) {
+    if (t.refused > 0) spdlog::warn("{}: {} condition vectors refused (channel count changed)", name, t.refused);
+  }
+  add(kAlarmsFile, alarms_->rows_written());
+  add(kRecommendationsFile, recommendations_->rows_written());
+  spdlog::info("rows written: {}", summary);
+  if (sample_level_skipped_ > 0) {
+    spdlog::info("{} sample-level factor messages not recorded (use --sample-level to keep them)",
+                 sample_level_skipped_);
+  }
+  if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
+}
+
+}  // namespace causal::recorder

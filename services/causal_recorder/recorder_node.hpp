@@ -1,0 +1,83 @@
+// causal-recorder's DDS node (the historian): condition vectors, causal factors, alarms and
+// recommendations in; CSV files out, flushed after every batch. Entities are built in the constructor,
+// run() records until idle/max-runtime/stop(), then writes pending partial factor rows and a summary.
+#pragma once
+
+#include "factor_row_assembler.hpp"
+#include "record_rows.hpp"
+
+#include "csv_format.hpp"
+
+#include "causal/dds/event_loop.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/service_runtime.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal_twinPubSubTypes.h"
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+
+namespace causal::recorder {
+
+struct RecorderOptions {
+  dds::CommonOptions dds;
+  std::string out_dir;
+  bool sample_level = false;     // also record sample-level factors (voluminous)
+  double idle_exit_s = 0.0;      // exit after this long without data, once data has arrived (0 = never)
+  double max_runtime_s = 0.0;    // hard stop (0 = none)
+  std::size_t max_pending = 1024;  // pending factor rows per file before the oldest is written partially
+};
+
+class RecorderNode {
+ public:
+  // Creates the output folder and the DDS entities; throws std::runtime_error naming what failed.
+  explicit RecorderNode(RecorderOptions options);
+  int run();
+  void stop() { loop_.stop(); }
+
+ private:
+  struct ConditionTable {
+    std::unique_ptr<report::CsvFile> file;
+    std::uint64_t refused = 0;
+  };
+  struct FactorTable {
+    explicit FactorTable(std::size_t max_pending) : assembler(max_pending) {}
+    FactorRowAssembler assembler;
+    std::string file_name;
+    std::unique_ptr<report::CsvFile> file;
+  };
+
+  std::size_t take_available();  // one pass over every reader
+  void on_condition(const causal_twin::ConditionVector& in);
+  void on_factors(const causal_twin::CausalFactors& in);
+  void on_alarm(const causal_twin::Alarm& in);
+  void on_recommendation(const causal_twin::Recommendation& in);
+  void write_ready_rows(FactorTable& table);
+  // Sanitised asset id for file names, unique per raw id (a clash gets "-2", "-3", ...).
+  const std::string& file_asset(const std::string& asset_group);
+  std::unique_ptr<report::CsvFile> open(const std::string& file_name, const std::vector<std::string>& header);
+  void flush_all();
+  void finish();
+
+  RecorderOptions options_;
+  std::filesystem::path out_dir_;
+  dds::Participant participant_;
+  dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
+  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_in_;
+  dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
+  dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
+  dds::EventLoop loop_;  // after the readers: detaches their conditions first
+
+  std::map<std::string, ConditionTable> conditions_;  // by file name
+  std::map<std::string, FactorTable> factor_tables_;  // by "asset\x1fscale\x1fkind"
+  std::map<std::string, IndexClock> clocks_;          // per asset: condition-level index -> time
+  std::map<std::string, std::string> file_assets_;    // raw asset id -> file-name component
+  std::set<std::string> used_file_assets_;
+  std::unique_ptr<report::CsvFile> alarms_, recommendations_;
+  std::uint64_t sample_level_skipped_ = 0, invalid_msgs_ = 0;
+};
+
+}  // namespace causal::recorder

@@ -1,0 +1,117 @@
+#include "causal/analysis/recommendation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <causal/svar_layout.hpp>
+
+#include <cmath>
+
+#include "matrix_asserts.hpp"
+
+using causal::ModelSpec;
+using causal::SvarLayout;
+using namespace causal::analysis;
+
+namespace {
+
+const std::vector<std::string> kNames{"bearing 1", "bearing 2", "vibration at bearing 3"};
+
+TEST(Recommendation, SentenceMatchesTheHouseExample) {
+  Recommendation rec;
+  rec.action = {2, -0.02};
+  rec.steady_state = -0.015;
+  rec.lower = -0.019;
+  rec.upper = -0.010;
+  rec.immediate = -0.008;
+  rec.interval_valid = true;
+  rec.coverage = 0.9;
+  EXPECT_EQ(describe_recommendation(rec, 0, kNames, "g"),
+            "Reduce vibration at bearing 3 by 0.02 g: bearing 1 is predicted to drop by 0.015 g (90% interval "
+            "0.010..0.019) at steady state, 0.008 at once.");
+}
+
+TEST(Recommendation, SentencesForRisesUncertainAndFailedCases) {
+  Recommendation rec;
+  rec.action = {1, 0.5};
+  rec.steady_state = 1.2;
+  rec.lower = -0.1;
+  rec.upper = 2.4;
+  rec.immediate = 0.0;
+  rec.interval_valid = true;
+  rec.coverage = 0.95;
+  const std::string up = describe_recommendation(rec, 0, {}, "");
+  EXPECT_EQ(up,
+            "Raise channel 2 by 0.5: channel 1 is predicted to rise by 1.2 (95% interval -0.1..2.4) at steady state, "
+            "no change at once. The interval includes no change: the direction of the effect is uncertain.");
+  rec.status = AnalysisStatus::unstable;
+  rec.immediate = 0.3;
+  EXPECT_NE(describe_recommendation(rec, 0, {}, "").find("does not settle"), std::string::npos);
+  rec.status = AnalysisStatus::not_identifiable;
+  rec.message = "singular";
+  EXPECT_NE(describe_recommendation(rec, 0, {}, "").find("cannot be predicted (singular)"), std::string::npos);
+}
+
+// Target y1 = 0.5 y2 + 0.4 y1[n-1] + e1; y2 = 0.8 y3 + e2; y3 = e3 (no other links). A sustained shift of y2
+// by d moves y1 by 0.5 d at once and by 0.5 d / (1 - 0.4) at steady state; a shift of y3 by d moves y2 by
+// 0.8 d (no self lag: at once and for ever), so y1 by 0.4 d at once and 0.4 d / 0.6 at steady state.
+TEST(Recommendation, RanksByPredictedSteadyStateReduction) {
+  ModelSpec spec;
+  spec.channels = 3;
+  spec.include_self_lags = true;
+  spec.instantaneous_allowed = {{false, true, false}, {false, false, true}, {false, false, false}};
+  const SvarLayout layout(spec);
+  FactorPosterior post;
+  post.mean = Eigen::VectorXd::Zero(layout.total_factors());
+  post.mean(layout.offset(0) + layout.factor_index(0, 1, 0)) = 0.5;
+  post.mean(layout.offset(0) + layout.factor_index(0, 0, 1)) = 0.4;
+  post.mean(layout.offset(1) + layout.factor_index(1, 2, 0)) = 0.8;
+  for (int k = 0; k < 3; ++k) {
+    post.blocks.push_back(1e-6 * Eigen::MatrixXd::Identity(layout.factor_count(k), layout.factor_count(k)));
+  }
+  RecommendationOptions opt;
+  opt.channel_names = kNames;
+  opt.unit = "g";
+  opt.uncertainty.draws = 500;
+  const std::vector<Recommendation> recs = rank_interventions(layout, post, 0, {{2, -0.1}, {1, -0.1}}, opt);
+  ASSERT_EQ(recs.size(), 2u);
+  // Reducing y2 by 0.1: target -0.05 at once, -0.05/0.6 at steady state. Reducing y3 by 0.1: -0.04, -0.04/0.6.
+  EXPECT_EQ(recs[0].action.channel, 1);
+  EXPECT_NEAR(recs[0].steady_state, -0.05 / 0.6, 1e-12);
+  EXPECT_NEAR(recs[0].immediate, -0.05, 1e-12);
+  EXPECT_EQ(recs[1].action.channel, 2);
+  EXPECT_NEAR(recs[1].steady_state, -0.04 / 0.6, 1e-12);
+  for (const auto& r : recs) {
+    EXPECT_EQ(r.status, AnalysisStatus::ok);
+    EXPECT_TRUE(r.interval_valid);
+    EXPECT_LE(r.lower, r.steady_state);
+    EXPECT_GE(r.upper, r.steady_state);
+    EXPECT_DOUBLE_EQ(r.coverage, 0.9);
+  }
+  EXPECT_EQ(recs[0].text.rfind("Reduce bearing 2 by 0.1 g: bearing 1 is predicted to drop by 0.083 g (90% interval ", 0), 0u)
+      << recs[0].text;
+
+  EXPECT_THROW(rank_interventions(layout, post, 0, {{0, -0.1}}, opt), std::invalid_argument);
+  EXPECT_THROW(rank_interventions(layout, post, 3, {{1, -0.1}}, opt), std::invalid_argument);
+  opt.channel_names = {"a"};
+  EXPECT_THROW(rank_interventions(layout, post, 0, {{1, -0.1}}, opt), std::invalid_argument);
+}
+
+TEST(Recommendation, CandidatesFromExcess) {
+  const Eigen::Vector3d current(0.5, 0.3, 0.1);
+  const Eigen::Vector3d baseline(0.2, 0.1, 0.2);
+  const auto c = candidates_from_excess(current, baseline, 0, 0.5);
+  ASSERT_EQ(c.size(), 1u);  // channel 0 is the target, channel 2 is below baseline
+  EXPECT_EQ(c[0].channel, 1);
+  EXPECT_NEAR(c[0].delta, -0.1, 1e-15);
+  EXPECT_THROW(candidates_from_excess(current, baseline, 0, 0.0), std::invalid_argument);
+  EXPECT_THROW(candidates_from_excess(current, Eigen::Vector2d(1, 1), 0, 1.0), std::invalid_argument);
+}
+
+TEST(Recommendation, DecimalsFollowMagnitude) {
+  EXPECT_EQ(decimals_for(0.015), 3);
+  EXPECT_EQ(decimals_for(1.5), 1);
+  EXPECT_EQ(decimals_for(150.0), 0);
+  EXPECT_EQ(decimals_for(0.0), 3);
+}
+
+}  // namespace

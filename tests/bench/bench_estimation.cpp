@@ -1,0 +1,108 @@
+// Throughput of the estimators in sample-vectors per second (items/s): one item = one G-channel sample.
+// Configurations (G channels, M lags): factors per outcome d = (G-1)(M+1):
+//   G=4 M=1: d=6 (24 factors)   G=8 M=1: d=14 (112)   G=4 M=3: d=12 (48)   G=8 M=3: d=28 (224)
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Core>
+#include <random>
+
+#include "causal/batch_estimation.hpp"
+#include "causal/fixed_lag_smoother.hpp"
+#include "causal/svar_kalman_filter.hpp"
+
+namespace {
+
+using causal::NoiseParams;
+
+causal::SvarLayout make_layout(benchmark::State& state) {
+  causal::ModelSpec spec;
+  spec.channels = static_cast<int>(state.range(0));
+  spec.lag_order = static_cast<int>(state.range(1));
+  return causal::SvarLayout(spec);
+}
+
+Eigen::MatrixXd random_samples(Eigen::Index n, int g) {
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd y(n, g);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y.data()[i] = normal(rng);
+  return y;
+}
+
+const std::vector<NoiseParams> kNoise = {NoiseParams{1e-5, 1e-2, 1.0}};
+
+// Streaming filter: SvarKalmanFilter::step on row-major samples.
+void BM_FilterStep(benchmark::State& state) {
+  const causal::SvarLayout layout = make_layout(state);
+  const int g = layout.channels();
+  constexpr int kRows = 4096;
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> y = random_samples(kRows, g);
+  causal::SvarKalmanFilter filter(layout, kNoise);
+  int n = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(filter.step(y.row(n).data()));
+    n = (n + 1) % kRows;
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["factors"] = layout.total_factors();
+}
+
+// Batch filter with all outputs (estimates, std devs, innovations): run_filter.
+void BM_RunFilter(benchmark::State& state) {
+  const causal::SvarLayout layout = make_layout(state);
+  constexpr int kRows = 20000;
+  const Eigen::MatrixXd y = random_samples(kRows, layout.channels());
+  for (auto _ : state) {
+    causal::EstimationRun run = causal::run_filter(layout, kNoise, y);
+    benchmark::DoNotOptimize(run.estimates.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kRows);
+}
+
+// Streaming fixed-lag smoother, L = state.range(2), allocation-free step_into.
+void BM_FixedLagStep(benchmark::State& state) {
+  const causal::SvarLayout layout = make_layout(state);
+  const int g = layout.channels();
+  constexpr int kRows = 4096;
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> y = random_samples(kRows, g);
+  causal::FixedLagSmoother smoother(layout, kNoise, static_cast<int>(state.range(2)));
+  Eigen::VectorXd est(layout.total_factors()), sd(layout.total_factors());
+  std::uint64_t index = 0;
+  int n = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(smoother.step_into(y.row(n).data(), false, &index, est.data(), sd.data()));
+    n = (n + 1) % kRows;
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+// Batch RTS smoother with covariances: run_rts_smoother.
+void BM_RunRts(benchmark::State& state) {
+  const causal::SvarLayout layout = make_layout(state);
+  constexpr int kRows = 20000;
+  const Eigen::MatrixXd y = random_samples(kRows, layout.channels());
+  for (auto _ : state) {
+    causal::EstimationRun run = causal::run_rts_smoother(layout, kNoise, y);
+    benchmark::DoNotOptimize(run.estimates.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kRows);
+}
+
+void configs(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"G", "M"});
+  for (auto gm : {std::pair{4, 1}, std::pair{8, 1}, std::pair{4, 3}, std::pair{8, 3}}) b->Args({gm.first, gm.second});
+}
+
+void lag_configs(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"G", "M", "L"});
+  for (auto gm : {std::pair{4, 1}, std::pair{8, 1}, std::pair{4, 3}, std::pair{8, 3}}) {
+    b->Args({gm.first, gm.second, 50});
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_FilterStep)->Apply(configs);
+BENCHMARK(BM_RunFilter)->Apply(configs)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FixedLagStep)->Apply(lag_configs);
+BENCHMARK(BM_RunRts)->Apply(configs)->Unit(benchmark::kMillisecond);

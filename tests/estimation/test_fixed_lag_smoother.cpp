@@ -1,0 +1,138 @@
+// FixedLagSmoother: x[n | n+L] must equal RTS run on data[0..n+L] at index n (streaming and batch forms).
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <stdexcept>
+
+#include "causal/batch_estimation.hpp"
+#include "causal/fixed_lag_smoother.hpp"
+#include "matrix_asserts.hpp"
+#include "svar_test_support.hpp"
+
+namespace causal {
+namespace {
+
+ModelSpec spec_g(int g, int m) {
+  ModelSpec s;
+  s.channels = g;
+  s.lag_order = m;
+  return s;
+}
+
+struct Case {
+  int g, m, lag, n;
+};
+
+class FixedLagEqualsRts : public ::testing::TestWithParam<Case> {};
+
+TEST_P(FixedLagEqualsRts, StreamingAndBatch) {
+  const Case c = GetParam();
+  SvarLayout layout(spec_g(c.g, c.m));
+  const std::vector<NoiseParams> noise = {{1e-3, 0.05, 1.0}};
+  test::Simulation sim = test::simulate_svar(layout, noise, c.n, 100 + c.lag, 0.1);
+  std::vector<bool> disc(c.n, false);
+  disc[c.n / 2] = true;
+  sim.y(c.n / 4, 0) = std::numeric_limits<double>::quiet_NaN();
+
+  FixedLagSmoother smoother(layout, noise, c.lag);
+  const EstimationRun batch = run_fixed_lag_smoother(layout, noise, sim.y, disc, c.lag);
+  int released = 0;
+  for (int n = 0; n < c.n; ++n) {
+    const Eigen::RowVectorXd row = sim.y.row(n);
+    const auto out = smoother.step(row.data(), disc[n]);
+    if (n < c.lag) {
+      ASSERT_FALSE(out.has_value());
+      continue;
+    }
+    ASSERT_TRUE(out.has_value());
+    const int idx = n - c.lag;
+    ASSERT_EQ(out->index, static_cast<std::uint64_t>(idx));
+    ++released;
+    // Truth: RTS over the prefix data[0..n], read at idx.
+    const std::vector<bool> prefix_disc(disc.begin(), disc.begin() + n + 1);
+    const EstimationRun rts = run_rts_smoother(layout, noise, sim.y.topRows(n + 1), prefix_disc);
+    ASSERT_MATRIX_NEAR(out->estimates, rts.estimates.row(idx).transpose(), 1e-9) << "n = " << n;
+    ASSERT_MATRIX_NEAR(out->std_devs, rts.std_devs.row(idx).transpose(), 1e-9) << "n = " << n;
+    ASSERT_MATRIX_NEAR(batch.estimates.row(idx), rts.estimates.row(idx), 1e-9);
+  }
+  // End of stream: the remaining samples use all data, i.e. equal full RTS.
+  const EstimationRun full = run_rts_smoother(layout, noise, sim.y, disc);
+  const auto rest = smoother.flush();
+  ASSERT_EQ(static_cast<int>(rest.size()), std::min(c.lag, c.n));
+  for (const SmoothedSample& s : rest) {
+    const auto idx = static_cast<Eigen::Index>(s.index);
+    ++released;
+    ASSERT_MATRIX_NEAR(s.estimates, full.estimates.row(idx).transpose(), 1e-9);
+    ASSERT_MATRIX_NEAR(s.std_devs, full.std_devs.row(idx).transpose(), 1e-9);
+    ASSERT_MATRIX_NEAR(batch.estimates.row(idx), full.estimates.row(idx), 1e-12);
+    ASSERT_MATRIX_NEAR(batch.std_devs.row(idx), full.std_devs.row(idx), 1e-9);
+  }
+  EXPECT_EQ(released, c.n);
+  EXPECT_EQ(smoother.filter().counters().rejected_non_finite, 1u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, FixedLagEqualsRts,
+                         ::testing::Values(Case{4, 1, 10, 200}, Case{3, 2, 25, 160}, Case{2, 1, 1, 60},
+                                           Case{5, 3, 4, 80} /* 16 factors: generic-size path */));
+
+TEST(FixedLagSmoother, LagZeroIsTheFilter) {
+  SvarLayout layout(spec_g(4, 1));
+  const std::vector<NoiseParams> noise = {{1e-3, 0.05, 1.0}};
+  const test::Simulation sim = test::simulate_svar(layout, noise, 100, 5);
+  const EstimationRun filt = run_filter(layout, noise, sim.y);
+  FixedLagSmoother smoother(layout, noise, 0);
+  for (int n = 0; n < 100; ++n) {
+    const Eigen::RowVectorXd row = sim.y.row(n);
+    const auto out = smoother.step(row.data());
+    ASSERT_TRUE(out.has_value());
+    ASSERT_EQ(out->index, static_cast<std::uint64_t>(n));
+    ASSERT_MATRIX_NEAR(out->estimates, filt.estimates.row(n).transpose(), 1e-13);
+    ASSERT_MATRIX_NEAR(out->std_devs, filt.std_devs.row(n).transpose(), 1e-13);
+  }
+  EXPECT_TRUE(smoother.flush().empty());
+}
+
+TEST(FixedLagSmoother, FlushedIndicesAreNeverReleasedTwice) {
+  SvarLayout layout(spec_g(3, 1));
+  const std::vector<NoiseParams> noise = {{1e-3, 0.05, 1.0}};
+  const test::Simulation sim = test::simulate_svar(layout, noise, 40, 6);
+  FixedLagSmoother smoother(layout, noise, 5);
+  std::vector<std::uint64_t> indices;
+  auto feed = [&](int from, int to) {
+    for (int n = from; n < to; ++n) {
+      const Eigen::RowVectorXd row = sim.y.row(n);
+      if (auto out = smoother.step(row.data())) indices.push_back(out->index);
+    }
+  };
+  feed(0, 20);
+  for (const auto& s : smoother.flush()) indices.push_back(s.index);
+  feed(20, 40);
+  for (const auto& s : smoother.flush()) indices.push_back(s.index);
+  ASSERT_EQ(indices.size(), 40u);
+  for (std::size_t i = 0; i < indices.size(); ++i) EXPECT_EQ(indices[i], i);
+}
+
+TEST(FixedLagSmoother, StepIntoMatchesStepAndNegativeLagThrows) {
+  SvarLayout layout(spec_g(3, 1));
+  const std::vector<NoiseParams> noise = {{1e-3, 0.05, 1.0}};
+  const test::Simulation sim = test::simulate_svar(layout, noise, 30, 8);
+  FixedLagSmoother a(layout, noise, 3), b(layout, noise, 3);
+  Eigen::VectorXd est(layout.total_factors()), sd(layout.total_factors());
+  for (int n = 0; n < 30; ++n) {
+    const Eigen::RowVectorXd row = sim.y.row(n);
+    std::uint64_t idx = 0;
+    const bool got = a.step_into(row.data(), false, &idx, est.data(), sd.data());
+    const auto out = b.step(row.data());
+    ASSERT_EQ(got, out.has_value());
+    if (got) {
+      EXPECT_EQ(idx, out->index);
+      ASSERT_MATRIX_NEAR(est, out->estimates, 0.0);
+      ASSERT_MATRIX_NEAR(sd, out->std_devs, 0.0);
+    }
+  }
+  EXPECT_EQ(a.last_status(), SampleStatus::Updated);
+  EXPECT_THROW(FixedLagSmoother(layout, noise, -1), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace causal

@@ -1,0 +1,98 @@
+// tune_noise: maximum-likelihood q, r recover the values the data were simulated with.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "causal/noise_tuning.hpp"
+#include "svar_test_support.hpp"
+
+namespace causal {
+namespace {
+
+ModelSpec acyclic_spec() {
+  ModelSpec spec;  // G = 4, M = 1, instantaneous links in causal order 1 -> 2 -> 3 -> 4 (see batch test)
+  spec.instantaneous_allowed = {{false, false, false, false},
+                                {true, false, false, false},
+                                {true, true, false, false},
+                                {true, true, true, false}};
+  return spec;
+}
+
+// Tolerances: with N = 5000 samples and d = 3..6 factors per outcome, r is estimated from ~5000 residuals
+// (relative sd ~ sqrt(2/N) = 2 %, plus the factor-tracking error), so 10 % is > 4 sigma. q is a variance of
+// the factor increments seen only through noisy regressions; its ML estimate has a relative sd of roughly
+// 20-40 % here, so the test allows a factor of 2.
+TEST(NoiseTuning, RecoversSimulatedQAndR) {
+  SvarLayout layout(acyclic_spec());
+  const std::vector<NoiseParams> truth = {{1e-5, 1e-2, 1.0}, {4e-5, 2e-2, 1.0}, {5e-6, 5e-3, 1.0}, {2e-5, 1e-2, 1.0}};
+  const test::Simulation sim = test::simulate_svar(layout, truth, 5000, 2024);
+  ASSERT_LT(sim.y.cwiseAbs().maxCoeff(), 10.0);
+  const std::vector<NoiseTuningResult> res = tune_noise_all(layout, sim.y, {});
+  ASSERT_EQ(res.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    SCOPED_TRACE(res[k].message);
+    EXPECT_TRUE(res[k].converged);
+    EXPECT_FALSE(res[k].at_range_limit);
+    EXPECT_LE(res[k].evaluations, NoiseTuningOptions{}.max_evaluations);
+    EXPECT_NEAR(res[k].noise.r / truth[k].r, 1.0, 0.10) << "outcome " << k;
+    EXPECT_GT(res[k].noise.q / truth[k].q, 0.5) << "outcome " << k;
+    EXPECT_LT(res[k].noise.q / truth[k].q, 2.0) << "outcome " << k;
+    EXPECT_EQ(res[k].noise.p0, 1.0);
+    EXPECT_EQ(res[k].updates, 4999);
+  }
+}
+
+// The result is a maximiser of the exact likelihood (not just of the tuner's internal approximation): moving
+// q or r away from it lowers the exact log-likelihood, and the reported value is the exact one.
+TEST(NoiseTuning, ResultMaximisesTheExactLikelihood) {
+  SvarLayout layout(acyclic_spec());
+  const std::vector<NoiseParams> truth = {{2e-5, 1e-2, 1.0}};
+  const test::Simulation sim = test::simulate_svar(layout, truth, 3000, 77);
+  const int k = 2;
+  const NoiseTuningResult res = tune_noise(layout, k, sim.y, {});
+  ASSERT_TRUE(res.converged) << res.message;
+  const double ll = innovation_log_likelihood(layout, k, sim.y, {}, res.noise);
+  EXPECT_NEAR(res.log_likelihood, ll, 1e-9 * std::abs(ll));
+  for (double fq : {0.7, 1.4}) {
+    NoiseParams p = res.noise;
+    p.q *= fq;
+    EXPECT_LT(innovation_log_likelihood(layout, k, sim.y, {}, p), ll) << "q x " << fq;
+  }
+  for (double fr : {0.95, 1.05}) {
+    NoiseParams p = res.noise;
+    p.r *= fr;
+    EXPECT_LT(innovation_log_likelihood(layout, k, sim.y, {}, p), ll) << "r x " << fr;
+  }
+}
+
+TEST(NoiseTuning, ConstantFactorsGiveTinyRatioAtLowerLimit) {
+  SvarLayout layout(acyclic_spec());
+  const std::vector<NoiseParams> truth = {{0.0, 1e-2, 1.0}};
+  const test::Simulation sim = test::simulate_svar(layout, truth, 3000, 5);
+  const NoiseTuningResult res = tune_noise(layout, 3, sim.y, {});
+  EXPECT_NEAR(res.noise.r / 1e-2, 1.0, 0.10);
+  EXPECT_LT(res.noise.q / res.noise.r, 1e-5);  // q is negligible: factors treated as (nearly) constant
+}
+
+TEST(NoiseTuning, TooFewSamplesIsReportedNotThrown) {
+  SvarLayout layout(acyclic_spec());
+  const test::Simulation sim = test::simulate_svar(layout, {NoiseParams{}}, 12, 1);
+  const NoiseTuningResult res = tune_noise(layout, 0, sim.y, {});
+  EXPECT_FALSE(res.converged);
+  EXPECT_NE(res.message.find("too few usable samples"), std::string::npos) << res.message;
+  EXPECT_EQ(res.evaluations, 0);
+}
+
+TEST(NoiseTuning, InvalidArgumentsThrow) {
+  SvarLayout layout(acyclic_spec());
+  const Eigen::MatrixXd y = Eigen::MatrixXd::Ones(100, 4);
+  EXPECT_THROW(tune_noise(layout, 4, y, {}), std::invalid_argument);
+  NoiseTuningOptions bad;
+  bad.log10_ratio_min = 1.0;
+  EXPECT_THROW(tune_noise(layout, 0, y, {}, bad), std::invalid_argument);
+  EXPECT_THROW(tune_noise(layout, 0, Eigen::MatrixXd::Ones(100, 3), {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace causal

@@ -1,0 +1,109 @@
+// A DDS participant inside the test process that listens to the product's topics and records what
+// arrives, so integration tests check real traffic between real processes.
+#pragma once
+
+#include "causal/dds/event_loop.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/topics.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal_twinPubSubTypes.h"
+
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+namespace causal::test {
+
+class DdsObserver {
+ public:
+  explicit DdsObserver(int domain_id)
+      : participant_(settings(domain_id)),
+        frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader),
+        factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
+        alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
+        recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader) {
+    loop_.attach(frames_.get());
+    loop_.attach(factors_.get());
+    loop_.attach(alarms_.get());
+    loop_.attach(recommendations_.get());
+    thread_ = std::thread([this] { run(); });
+  }
+  ~DdsObserver() {
+    loop_.stop();
+    thread_.join();
+  }
+
+  // Number of CausalFactors messages per (time scale, kind).
+  std::size_t factors(causal_twin::TimeScale scale, causal_twin::EstimateKind kind) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = factor_counts_.find({scale, kind});
+    return it == factor_counts_.end() ? 0 : it->second;
+  }
+  std::size_t frames() const { return frame_count_.load(); }
+  std::vector<causal_twin::Alarm> alarms() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return alarm_list_;
+  }
+  std::vector<causal_twin::Recommendation> recommendations() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return recommendation_list_;
+  }
+  std::vector<std::string> factor_names_seen() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return names_;
+  }
+  std::size_t matched_factor_writers() const { return factors_.matched_writers(); }
+
+ private:
+  static dds::DdsSettings settings(int domain_id) {
+    dds::DdsSettings s;
+    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
+                       std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
+    s.domain_id = domain_id;
+    s.participant_name = "test-observer";
+    return s;
+  }
+  void run() {
+    while (loop_.wait(std::chrono::milliseconds(100))) {
+      frames_.take_all([this](const auto&, const auto&) { ++frame_count_; });
+      factors_.take_all([this](const causal_twin::CausalFactors& f, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++factor_counts_[{f.time_scale(), f.kind()}];
+        if (names_.size() < 64 && f.time_scale() == causal_twin::SAMPLE_LEVEL && f.kind() == causal_twin::FILTER) {
+          for (const auto& n : f.factor_names()) {
+            if (std::find(names_.begin(), names_.end(), n) == names_.end()) names_.push_back(n);
+          }
+        }
+      });
+      alarms_.take_all([this](const causal_twin::Alarm& a, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        alarm_list_.push_back(a);
+      });
+      recommendations_.take_all([this](const causal_twin::Recommendation& r, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        recommendation_list_.push_back(r);
+      });
+    }
+  }
+
+  dds::Participant participant_;
+  dds::TypedReader<causal_twin::VibrationFramePubSubType> frames_;
+  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
+  dds::TypedReader<causal_twin::AlarmPubSubType> alarms_;
+  dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_;
+  dds::EventLoop loop_;
+  std::thread thread_;
+  mutable std::mutex mutex_;
+  std::atomic<std::size_t> frame_count_{0};
+  std::map<std::pair<int, int>, std::size_t> factor_counts_;
+  std::vector<causal_twin::Alarm> alarm_list_;
+  std::vector<causal_twin::Recommendation> recommendation_list_;
+  std::vector<std::string> names_;
+};
+
+}  // namespace causal::test

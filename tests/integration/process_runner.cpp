@@ -1,0 +1,91 @@
+#include "process_runner.hpp"
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <fcntl.h>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace causal::test {
+
+ServiceProcess::ServiceProcess(std::string name, std::vector<std::string> argv, std::string log_path)
+    : name_(std::move(name)), log_path_(std::move(log_path)) {
+  std::vector<char*> args;
+  for (auto& a : argv) args.push_back(a.data());
+  args.push_back(nullptr);
+  pid_ = fork();
+  if (pid_ < 0) throw std::runtime_error("fork failed for " + name_);
+  if (pid_ == 0) {
+    const int fd = open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, STDOUT_FILENO);
+      dup2(fd, STDERR_FILENO);
+      close(fd);
+    }
+    // The test runner may block signals; a service must start with a clean mask.
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+}
+
+ServiceProcess::~ServiceProcess() {
+  if (!exit_code_) terminate(std::chrono::seconds(5));
+}
+
+namespace {
+int decode(int status) {
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+}  // namespace
+
+std::optional<int> ServiceProcess::wait(std::chrono::milliseconds timeout) {
+  if (exit_code_) return exit_code_;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    int status = 0;
+    const pid_t r = waitpid(pid_, &status, WNOHANG);
+    if (r == pid_) {
+      exit_code_ = decode(status);
+      return exit_code_;
+    }
+    if (r < 0 && errno != EINTR) {
+      exit_code_ = -1;
+      return exit_code_;
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
+bool ServiceProcess::running() { return !wait(std::chrono::milliseconds(0)).has_value(); }
+
+int ServiceProcess::terminate(std::chrono::milliseconds grace) {
+  if (exit_code_) return *exit_code_;
+  kill(pid_, SIGTERM);
+  if (auto code = wait(grace)) return *code;
+  kill(pid_, SIGKILL);
+  return wait(std::chrono::seconds(5)).value_or(-1);
+}
+
+std::string ServiceProcess::output() const {
+  std::ifstream in(log_path_);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+int private_domain_id(int salt) { return 100 + static_cast<int>((static_cast<unsigned>(getpid()) * 7u + static_cast<unsigned>(salt)) % 100u); }
+
+bool clean_stale_shared_memory() { return std::system("fastdds shm clean > /dev/null 2>&1") == 0; }
+
+}  // namespace causal::test

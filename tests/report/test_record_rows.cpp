@@ -1,0 +1,108 @@
+// What the recorder writes per topic: file names, condition / alarm / recommendation rows, quoting.
+#include "record_rows.hpp"
+
+#include "csv_format.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace causal::recorder;
+using causal::report::csv_line;
+
+namespace {
+const std::int64_t kT0 = 1076581959LL * 1000000000LL;  // 2004-02-12 10:32:39 UTC
+const std::int64_t kMin = 60LL * 1000000000LL;
+
+causal_twin::Alarm make_alarm() {
+  causal_twin::Alarm a;
+  a.alarm_id("plant/a,b/2/feature_drift/1");
+  a.asset_group("plant/a,b");
+  a.channel(2);
+  a.channel_name("Bearing 2");
+  a.severity(causal_twin::WARNING);
+  a.state(causal_twin::RAISED);
+  a.kind("feature_drift");
+  a.raised_time_ns(kT0 + 10 * kMin);
+  a.cleared_time_ns(0);
+  a.sample_index(17);
+  a.root_cause_channel(3);
+  a.root_cause_name("Bearing 3");
+  a.score(12.5);
+  a.threshold(8.0);
+  a.reason("rms rose 3x, \"sharply\"\nsince 10:42");
+  return a;
+}
+}  // namespace
+
+TEST(RecordRows, FileNamesAreSanitised) {
+  EXPECT_EQ(conditions_file_name("ims2/shaft 1", "rms"), "conditions_ims2_shaft_1_rms.csv");
+  EXPECT_EQ(factors_file_name("ims2-shaft1", causal_twin::CONDITION_LEVEL, causal_twin::FIXED_LAG_SMOOTHER),
+            "factors_ims2-shaft1_condition_fixed-lag.csv");
+  EXPECT_EQ(factors_file_name("a b", causal_twin::SAMPLE_LEVEL, causal_twin::FILTER), "factors_a_b_sample_filter.csv");
+}
+
+TEST(RecordRows, ConditionRow) {
+  causal_twin::ConditionVector c;
+  c.asset_group("g");
+  c.feature("rms");
+  c.snapshot_index(7);
+  c.time_ns(kT0);
+  c.channel_names({"Bearing 1", "B,2"});
+  c.values({0.125, 1e-7});
+  EXPECT_EQ(csv_line(condition_header(c)), "snapshot,time_ns,time_utc,Bearing 1,\"B,2\"\n");
+  EXPECT_EQ(csv_line(condition_row(c)), "7," + std::to_string(kT0) + ",2004-02-12 10:32:39,0.125,1e-07\n");
+}
+
+TEST(RecordRows, AlarmRowQuotesTextAndFormatsTimes) {
+  const auto a = make_alarm();
+  ASSERT_EQ(alarm_header().size(), 16u);
+  EXPECT_EQ(csv_line(alarm_header()),
+            "alarm_id,state,severity,kind,asset_group,channel,channel_name,sample_index,time_utc,raised_utc,"
+            "cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason\n");
+  EXPECT_EQ(csv_line(alarm_row(a, std::nullopt)),
+            "\"plant/a,b/2/feature_drift/1\",raised,warning,feature_drift,\"plant/a,b\",2,Bearing 2,17,"
+            "2004-02-12 10:42:39,2004-02-12 10:42:39,,3,Bearing 3,12.5,8,"
+            "\"rms rose 3x, \"\"sharply\"\"\nsince 10:42\"\n");
+}
+
+TEST(RecordRows, AlarmEventTimeFollowsTheState) {
+  auto a = make_alarm();
+  a.state(causal_twin::ESCALATED);
+  a.severity(causal_twin::CRITICAL);
+  EXPECT_EQ(alarm_row(a, std::nullopt)[8], "");  // escalation time unknown
+  EXPECT_EQ(alarm_row(a, kT0 + 30 * kMin)[8], "2004-02-12 11:02:39");
+  EXPECT_EQ(alarm_row(a, std::nullopt)[2], "critical");
+  a.state(causal_twin::CLEARED);
+  a.cleared_time_ns(kT0 + 50 * kMin);
+  const auto row = alarm_row(a, kT0 + 30 * kMin);
+  EXPECT_EQ(row[1], "cleared");
+  EXPECT_EQ(row[8], "2004-02-12 11:22:39");
+  EXPECT_EQ(row[10], "2004-02-12 11:22:39");
+}
+
+TEST(RecordRows, RecommendationRowHasEveryField) {
+  causal_twin::Recommendation r;
+  r.recommendation_id("x/1");
+  r.alarm_id("x");
+  r.asset_group("g");
+  r.rank(1);
+  r.target_channel(2);
+  r.intervene_channel(3);
+  r.delta(-0.5);
+  r.effect_immediate(-0.25);
+  r.effect_steady_state(-0.4);
+  r.effect_low(-0.6);
+  r.effect_high(-0.2);
+  r.confidence(0.9);
+  r.text("reduce load on Bearing 3, then re-check");
+  EXPECT_EQ(recommendation_header().size(), 13u);
+  EXPECT_EQ(csv_line(recommendation_row(r)),
+            "x/1,x,g,1,2,3,-0.5,-0.25,-0.4,-0.6,-0.2,0.9,\"reduce load on Bearing 3, then re-check\"\n");
+}
+
+TEST(IndexClock, RemembersTheNewestIndices) {
+  IndexClock clock(3);
+  for (std::uint64_t n = 0; n < 5; ++n) clock.record(n, kT0 + static_cast<std::int64_t>(n) * kMin);
+  EXPECT_EQ(clock.size(), 3u);
+  EXPECT_FALSE(clock.time_of(1).has_value());
+  EXPECT_EQ(clock.time_of(4), kT0 + 4 * kMin);
+}
