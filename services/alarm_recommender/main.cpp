@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
                "root cause from the causal factors and innovations, and publishes them."};
   causal::dds::add_common_options(app, o.dds);
   app.add_option("--params", o.params_file, "YAML parameter file")->check(CLI::ExistingFile)->capture_default_str();
-  app.add_option("--idle-exit", o.idle_exit_s, "exit after this many seconds without data, once data arrived (0 = never)")
+  app.add_option("--idle-exit", o.idle_exit_s, "exit once data has arrived, every publisher of factors/condition vectors has left, and nothing arrived for this many seconds (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();

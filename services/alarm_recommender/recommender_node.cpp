@@ -3,6 +3,9 @@
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
+#include "advice_conversions.hpp"
+
+#include <cmath>
 
 #include <spdlog/spdlog.h>
 
@@ -18,9 +21,14 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       participant_(dds::to_dds_settings(options_.dds, "alarm-recommender")),
       factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
       conditions_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader),
-      alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter) {
+      whatif_requests_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfReader),
+      alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
+      recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationWriter),
+      whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
+      advisor_(params_.advice) {
   loop_.attach(factors_.get());
   loop_.attach(conditions_.get());
+  loop_.attach(whatif_requests_.get());
 }
 
 int RecommenderNode::run() {
@@ -47,14 +55,17 @@ int RecommenderNode::run() {
       assembler_.add_factors(dds::from_causal_factors(f), ready);
     });
     handle(ready);
+    whatif_requests_.take_all([this](const causal_twin::WhatIfRequest& r, const auto&) { answer(r); });
     const auto now = Clock::now();
     if (n > 0) {
       last_data = now;
       any_data = true;
     }
-    if (options_.idle_exit_s > 0 && any_data &&
+    // Idle exit only once every source has left the domain (see causal-estimator).
+    const std::size_t sources = factors_.matched_writers() + conditions_.matched_writers();
+    if (options_.idle_exit_s > 0 && any_data && sources == 0 &&
         std::chrono::duration<double>(now - last_data).count() > options_.idle_exit_s) {
-      spdlog::info("no data for {:.1f} s: finishing", options_.idle_exit_s);
+      spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
       break;
     }
     if (options_.max_runtime_s > 0 && std::chrono::duration<double>(now - started).count() > options_.max_runtime_s) {
@@ -78,7 +89,8 @@ int RecommenderNode::run() {
   if (!alarms_.wait_for_acknowledgments(std::chrono::seconds(10))) {
     spdlog::warn("not every alarm was acknowledged within 10 s");
   }
-  spdlog::info("{} alarm messages published", alarms_published_);
+  recommendations_.wait_for_acknowledgments(std::chrono::seconds(10));
+  spdlog::info("{} alarm messages and {} recommendations published", alarms_published_, recommendations_published_);
   return 0;
 }
 
@@ -102,9 +114,11 @@ void RecommenderNode::observe(AssembledObservation& a) {
                  sample ? "sample" : "condition", p.warmup_observations + p.baseline_observations);
   }
   EngineState& st = it->second;
+  advisor_.update(a);
   for (const auto& e : st.engine->observe(a.observation)) {
     if (e.state == alarms::AlarmState::Raised) ++st.raised;
     publish_event(a, e);
+    if (e.state == alarms::AlarmState::Raised && !sample && params_.advice.enabled) recommend(a, st, e);
   }
   if (!st.baseline_logged && st.engine->baseline_ready()) {
     st.baseline_logged = true;
@@ -122,6 +136,42 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const alarms:
   spdlog::log(level, "ALARM {} {} [{} {}] {}: {}", alarms::to_string(e.state), e.alarm_id, alarms::to_string(e.severity),
               a.time_scale == causal_twin::SAMPLE_LEVEL ? "sample-level" : "condition-level",
               alarm_msg_.channel_name(), e.reason);
+}
+
+}  // namespace causal::recommender
+
+namespace causal::recommender {
+
+void RecommenderNode::recommend(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e) {
+  // Baseline of each channel's raw feature, from the engine's healthy baseline (log units when it logs).
+  const int g = static_cast<int>(st.channel_names.size());
+  Eigen::VectorXd baseline(g);
+  for (int j = 0; j < g; ++j) {
+    const auto d = st.engine->channel_diagnostics(j).feature;
+    baseline[j] = !d.monitored ? NAN : st.engine->params().feature_log_transform ? std::exp(d.baseline_location)
+                                                                                  : d.baseline_location;
+  }
+  std::string why;
+  const auto items = advisor_.advise(a.asset_group, e.channel, baseline, why);
+  if (items.empty()) {
+    spdlog::info("no recommendation for {}: {}", e.alarm_id, why);
+    return;
+  }
+  causal_twin::Recommendation msg;
+  for (const auto& item : items) {
+    to_recommendation(a.asset_group, e.alarm_id, item, msg);
+    if (recommendations_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
+    spdlog::info("RECOMMENDATION {} #{}: {}", e.alarm_id, item.rank, item.text);
+  }
+}
+
+void RecommenderNode::answer(const causal_twin::WhatIfRequest& request) {
+  const auto ans = advisor_.what_if(request.asset_group(), static_cast<int>(request.intervene_channel()) - 1,
+                                    request.delta(), request.sustained());
+  causal_twin::WhatIfReply reply;
+  to_whatif_reply(request, ans, reply);
+  whatif_replies_.write(reply, loop_.stop_flag());
+  spdlog::info("what-if {} on '{}': {}", request.request_id(), request.asset_group(), ans.ok ? ans.text : ans.error);
 }
 
 }  // namespace causal::recommender

@@ -2,6 +2,7 @@
 // recommendations) out. One AlarmEngine per asset group and time scale.
 #pragma once
 
+#include "advisor.hpp"
 #include "observation_assembler.hpp"
 #include "recommender_params.hpp"
 
@@ -41,18 +42,24 @@ class RecommenderNode {
   void handle(std::vector<AssembledObservation>& ready);
   void observe(AssembledObservation& a);
   void publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e);
+  void recommend(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e);
+  void answer(const causal_twin::WhatIfRequest& request);
 
   RecommenderOptions options_;
   RecommenderParams params_;
   dds::Participant participant_;
   dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_;
+  dds::TypedReader<causal_twin::WhatIfRequestPubSubType> whatif_requests_;
   dds::TypedWriter<causal_twin::AlarmPubSubType> alarms_;
+  dds::TypedWriter<causal_twin::RecommendationPubSubType> recommendations_;
+  dds::TypedWriter<causal_twin::WhatIfReplyPubSubType> whatif_replies_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
+  Advisor advisor_;
   std::map<std::pair<std::string, int>, EngineState> engines_;
   causal_twin::Alarm alarm_msg_;
-  std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0;
+  std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
 };
 
 }  // namespace causal::recommender

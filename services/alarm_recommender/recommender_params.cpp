@@ -9,7 +9,7 @@ namespace causal::recommender {
 RecommenderParams load_recommender_params(const std::string& path) {
   using config::Section;
   const Section root = Section::load_file(path);
-  root.only({"condition_level", "sample_level"});
+  root.only({"condition_level", "sample_level", "recommendations"});
   RecommenderParams r;
 
   const Section c = root.child("condition_level");
@@ -22,7 +22,7 @@ RecommenderParams load_recommender_params(const std::string& path) {
   r.condition_enabled = c.boolean("enabled");
   alarms::AlarmParams& p = r.condition;
   p.warmup_observations = static_cast<int>(c.integer("warmup_observations", 0, 1000000));
-  p.baseline_observations = static_cast<int>(c.integer("baseline_observations", 2, 1000000));
+  p.baseline_observations = static_cast<int>(c.integer("baseline_observations", 8, 1000000));
   p.min_baseline_coverage = c.positive("min_baseline_coverage");
   p.baseline_confidence = c.positive("baseline_confidence");
   p.cusum_k = c.positive("cusum_k");
@@ -58,6 +58,17 @@ RecommenderParams load_recommender_params(const std::string& path) {
   s.only({"enabled", "baseline_publications"});
   r.sample_enabled = s.boolean("enabled");
   r.sample_baseline_publications = static_cast<int>(s.integer("baseline_publications", 3, 1000000));
+
+  const Section a = root.child("recommendations");
+  a.only({"enabled", "max_per_alarm", "excess_fraction", "coverage", "draws", "model_log_features"});
+  r.advice.enabled = a.boolean("enabled");
+  r.advice.max_per_alarm = static_cast<int>(a.integer("max_per_alarm", 1, 64));
+  r.advice.excess_fraction = a.positive("excess_fraction");
+  if (r.advice.excess_fraction > 1.0) a.fail("excess_fraction", "must be in (0, 1]");
+  r.advice.coverage = a.positive("coverage");
+  if (r.advice.coverage >= 1.0) a.fail("coverage", "must be in (0, 1)");
+  r.advice.draws = static_cast<int>(a.integer("draws", 10, 1000000));
+  r.advice.model_log_features = a.boolean("model_log_features");
   return r;
 }
 

@@ -1,6 +1,8 @@
 // alarm-recommender's parameters: one plain struct and one loader that rejects missing or invalid keys.
 #pragma once
 
+#include "advisor.hpp"
+
 #include "causal/alarms/alarm_params.hpp"
 
 #include <string>
@@ -12,6 +14,7 @@ struct RecommenderParams {
   alarms::AlarmParams condition;
   bool sample_enabled = true;
   int sample_baseline_publications = 50;
+  AdvisorParams advice;
 };
 
 // Throws causal::config::ConfigError naming the file and key (also for values AlarmParams::validate refuses).

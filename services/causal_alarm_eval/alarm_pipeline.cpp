@@ -39,8 +39,12 @@ ConditionSeries series_from_feature_table(const std::string& path, const std::st
   const std::size_t n = table.time_ns.size();
   s.index.resize(n);
   for (std::size_t i = 0; i < n; ++i) s.index[i] = i;
+  // A time gap larger than 2.5 x the median interval restarts the condition-level lags.
   s.discontinuity.assign(n, false);
-  if (n > 0) s.discontinuity[0] = true;
+  std::vector<double> dt;
+  for (std::size_t i = 1; i < n; ++i) dt.push_back(static_cast<double>(s.time_ns[i] - s.time_ns[i - 1]));
+  const double med = dt.empty() ? 0.0 : causal::alarms::median(dt);
+  for (std::size_t i = 0; i < n; ++i) s.discontinuity[i] = i == 0 || dt[i - 1] > 2.5 * med;
   return s;
 }
 
@@ -105,7 +109,8 @@ PipelineResult run_condition_pipeline(const ConditionSeries& series, const Pipel
     res.baseline_scale_log.push_back(st.scale);
     for (Eigen::Index t = 0; t < n; ++t) {
       const double v = series.values(t, c);
-      y(t, c) = v > 0.0 && std::isfinite(v) ? (std::log(v) - st.location) / st.scale : kNaN;
+      const double z = v > 0.0 && std::isfinite(v) ? (std::log(v) - st.location) / st.scale : kNaN;
+      y(t, c) = options.standardize_input ? z : z * st.scale + st.location;
     }
   }
 
@@ -144,8 +149,22 @@ PipelineResult run_condition_pipeline(const ConditionSeries& series, const Pipel
   for (Eigen::Index c = 0; c < g; ++c) res.summary[static_cast<std::size_t>(c)].name = series.channel_names[static_cast<std::size_t>(c)];
   std::vector<bool> first_active(static_cast<std::size_t>(g), false);
 
+  // The engine's operating-state gate, applied to the filter input as well: a snapshot in which every
+  // channel is far below its baseline (machine stopped) is not fed to the filter (NaN row: rejected,
+  // counted, lags restart), so it cannot drag the causal factors.
+  const double stopped_log = p.stopped_ratio > 0.0 ? std::log(p.stopped_ratio) : -std::numeric_limits<double>::infinity();
   for (Eigen::Index t = 0; t < n; ++t) {
-    const Eigen::VectorXd row = y.row(t).transpose();
+    Eigen::VectorXd row = y.row(t).transpose();
+    bool stopped = p.feature_log_transform && p.stopped_ratio > 0.0;
+    for (Eigen::Index c = 0; c < g && stopped; ++c) {
+      const auto ci = static_cast<std::size_t>(c);
+      const double dev = options.standardize_input ? row(c) * res.baseline_scale_log[ci] : row(c) - res.baseline_median_log[ci];
+      stopped = std::isfinite(dev) && dev < stopped_log;
+    }
+    if (stopped) {
+      row.setConstant(kNaN);
+      ++res.not_running;
+    }
     const auto status = filter.step(row.data(), disc[static_cast<std::size_t>(t)]);
     Observation o;
     o.index = series.index[static_cast<std::size_t>(t)];

@@ -24,7 +24,8 @@ struct ConditionSeries {
 };
 
 // Feature table (derived_per_file_stats style with the feature's column suffix, or merged_dataset style
-// when feature is empty). Snapshot index = row number; no discontinuities.
+// when feature is empty). Snapshot index = row number; a time gap larger than 2.5 x the median interval
+// is a discontinuity.
 ConditionSeries series_from_feature_table(const std::string& path, const std::string& feature);
 
 // Raw IMS snapshot directory: computes the feature of every snapshot with causal_io. The snapshot index is
@@ -39,6 +40,9 @@ struct PipelineOptions {
   causal::alarms::AlarmParams params;
   int lag_order = 1;
   bool include_self_lags = false;
+  // Filter input: log feature centred / scaled by the baseline median / MAD (true), or the plain log
+  // feature as causal-estimator's condition level feeds it (false).
+  bool standardize_input = true;
   // q, r per outcome tuned by maximum likelihood (causal::tune_noise) on the baseline window; otherwise
   // `noise` is used for every outcome.
   bool tune_noise = true;
@@ -68,6 +72,7 @@ struct PipelineResult {
   std::vector<double> baseline_median_log;   // per channel: standardisation of the filter input
   std::vector<double> baseline_scale_log;
   std::uint64_t filter_updates = 0;
+  std::uint64_t not_running = 0;             // snapshots withheld from the filter (machine stopped)
   double cusum_threshold = 0.0;
   double nis_threshold = 0.0;
   // Per observation and channel (N x G) for plots / diagnostics: standardised feature z, standardised

@@ -92,6 +92,8 @@ int main(int argc, char** argv) {
   app.add_option("--baseline", opt.params.baseline_observations, "healthy baseline length in observations")->capture_default_str();
   app.add_option("--lag-order", opt.lag_order, "lag order M of the causal model")->capture_default_str();
   app.add_flag("--self-lags", opt.include_self_lags, "include y_k[n-l] regressors for outcome k");
+  bool raw_log = false;
+  app.add_flag("--raw-log-input", raw_log, "feed the filter the plain log feature (as causal-estimator does), not standardised");
   app.add_flag("--no-tune", no_tune, "do not tune q, r by maximum likelihood on the baseline; use --q/--r");
   app.add_option("--q", opt.noise.q, "process noise q (with --no-tune)")->capture_default_str();
   app.add_option("--r", opt.noise.r, "measurement noise r (with --no-tune)")->capture_default_str();
@@ -120,6 +122,7 @@ int main(int argc, char** argv) {
   }
   opt.asset_group = group;
   opt.tune_noise = !no_tune;
+  opt.standardize_input = !raw_log;
 
   ConditionSeries series;
   PipelineResult res;
@@ -135,10 +138,10 @@ int main(int argc, char** argv) {
   std::printf("causal-alarm-eval: feature %s, %lld observations, %lld channels, source %s\n", series.feature.c_str(),
               static_cast<long long>(n), static_cast<long long>(series.values.cols()),
               table.empty() ? ims_dir.c_str() : table.c_str());
-  std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, filter updates %llu\n",
+  std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, filter updates %llu, not running %llu\n",
               opt.params.warmup_observations, opt.params.warmup_observations + opt.params.baseline_observations,
               opt.params.cusum_k, res.cusum_threshold, opt.params.target_arl0, opt.params.nis_window, res.nis_threshold,
-              static_cast<unsigned long long>(res.filter_updates));
+              static_cast<unsigned long long>(res.filter_updates), static_cast<unsigned long long>(res.not_running));
   for (std::size_t k = 0; k < res.noise.size(); ++k)
     std::printf("noise outcome %zu: q=%.3g r=%.3g p0=%.3g%s%s\n", k + 1, res.noise[k].q, res.noise[k].r, res.noise[k].p0,
                 res.tuning_messages[k].empty() ? "" : "  | ", res.tuning_messages[k].c_str());

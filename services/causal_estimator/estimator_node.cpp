@@ -76,9 +76,12 @@ int EstimatorNode::run() {
       last_data = now;
       any_data = true;
     }
-    if (options_.idle_exit_s > 0 && any_data &&
+    // Idle exit only once every source has left the domain: a source that is merely blocked (by a slow
+    // reader elsewhere) or paced must not end the run. Our own condition writer also matches our reader.
+    const std::size_t sources = frames_.matched_writers() + conditions_in_.matched_writers() - 1;
+    if (options_.idle_exit_s > 0 && any_data && sources == 0 &&
         std::chrono::duration<double>(now - last_data).count() > options_.idle_exit_s) {
-      spdlog::info("no data for {:.1f} s: finishing", options_.idle_exit_s);
+      spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
       break;
     }
     if (options_.max_runtime_s > 0 && std::chrono::duration<double>(now - started).count() > options_.max_runtime_s) {

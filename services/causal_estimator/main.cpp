@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--shard-count", o.shard_count, "number of estimators sharing the asset groups")
       ->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--idle-exit", o.idle_exit_s, "exit after this many seconds without data, once data arrived (0 = never)")
+  app.add_option("--idle-exit", o.idle_exit_s, "exit once data has arrived, every publisher of frames/condition vectors has left, and nothing arrived for this many seconds (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();

@@ -39,15 +39,24 @@ std::string preamble(const PlotStyle& style, int height, const std::string& png)
   return s.str();
 }
 
-std::string time_axis(const TimeRange& r) {
+// Time axis in UTC. compact: narrow panels get month-day ticks only and no axis label (the figure
+// title says UTC), so tick labels never run into each other.
+std::string time_axis(const TimeRange& r, bool compact = false) {
   std::ostringstream s;
   const double span = r.to - r.from;
+  const char* format = span > 5 * 86400.0 ? (compact ? "%m-%d" : "%Y-%m-%d")
+                                          : (span > 86400.0 || !compact ? "%m-%d\\n%H:%M" : "%H:%M");
   s << "set xdata time\nset timefmt \"%s\"\n"
-    << (span > 5 * 86400.0 ? "set format x \"%Y-%m-%d\"\n" : "set format x \"%m-%d\\n%H:%M\"\n")
+    << "set format x \"" << format << "\"\n"
     << "set xrange [" << t_num(r.from) << ":" << t_num(r.to) << "]\n"
-    << "set xlabel 'time (UTC)'\n"
+    << (compact ? "unset xlabel\nset xtics rotate by 0 font ',9'\n" : "set xlabel 'time (UTC)'\n")
     << "set grid xtics ytics lc rgb '#dddddd' lw 1 dt 1\n";
   return s.str();
+}
+
+// A two-line title as a gnuplot string expression.
+std::string two_lines(const std::string& first, const std::string& second) {
+  return gnuplot_quote(first) + ".\"\\n\"." + gnuplot_quote(second);
 }
 
 // Vertical lines at alarm raises (dashed) and escalations (dotted), coloured by severity. channel 0 = all.
@@ -177,16 +186,17 @@ std::string factor_panels_script(const std::string& asset, const std::string& ou
   };
   block(filter, "filter");
   block(fixed_lag, "fixedlag");
-  s << time_axis(range) << "unset key\nset lmargin 10\n";
+  s << time_axis(range, cols > 1) << "unset key\nset lmargin 10\n";
   std::set<Severity> used;
   s << alarm_lines(alarms, outcome_channel, used);
-  std::string title = "Causal factors of " + outcome_name + " (asset " + asset + ")" + page_note + ": ";
-  if (filter) title += "filter (blue)";
-  if (filter && fixed_lag) title += " and ";
-  if (fixed_lag) title += "fixed-lag smoother (green)";
-  title += ", bands = estimate \xC2\xB1 2 sd";
-  if (!used.empty()) title += "; vertical lines: alarms on " + outcome_name;
-  s << "set multiplot layout " << rows << "," << cols << " title " << gnuplot_quote(title) << " font ',13'\n";
+  const std::string title = "Causal factors of " + outcome_name + " (asset " + asset + ")" + page_note;
+  std::string legend;
+  if (filter) legend += "filter (blue, solid)";
+  if (filter && fixed_lag) legend += " and ";
+  if (fixed_lag) legend += "fixed-lag smoother (green, dashed)";
+  legend += ", bands = estimate \xC2\xB1 2 sd, time in UTC";
+  if (!used.empty()) legend += "; vertical lines: alarms on " + outcome_name + " (colour = severity)";
+  s << "set multiplot layout " << rows << "," << cols << " title " << two_lines(title, legend) << " font ',13'\n";
   for (std::size_t p = 0; p < n; ++p) {
     const std::size_t f = factor_indices[p];
     const std::size_t mean_col = 2 + 2 * p, sd_col = 3 + 2 * p;
@@ -209,15 +219,21 @@ std::string factor_panels_script(const std::string& asset, const std::string& ou
     s << "set title " << gnuplot_quote(factor_title(primary->names[f], channel_names)) << " font ',12'\n";
     s << "plot ";
     bool first = true;
-    auto series = [&](const FactorSeries* fs, const char* name, const char* colour) {
+    // Bands first, lines on top; the smoother's line is dashed so a filter line under it stays visible.
+    auto band = [&](const FactorSeries* fs, const char* name, const char* colour) {
       if (fs == nullptr) return;
       s << (first ? "" : ", ") << "$" << name << " using ($1):($" << mean_col << "-2*$" << sd_col << "):($" << mean_col
-        << "+2*$" << sd_col << ") with filledcurves fc rgb '" << colour << "' fs transparent solid 0.18 noborder, $"
-        << name << " using ($1):" << mean_col << " with lines lw 1.6 lc rgb '" << colour << "'";
+        << "+2*$" << sd_col << ") with filledcurves fc rgb '" << colour << "' fs transparent solid 0.18 noborder";
       first = false;
     };
-    series(filter, "filter", kFilterColour);
-    series(fixed_lag, "fixedlag", kSmootherColour);
+    auto line = [&](const FactorSeries* fs, const char* name, const char* colour, const char* look) {
+      if (fs == nullptr) return;
+      s << ", $" << name << " using ($1):" << mean_col << " with lines " << look << " lc rgb '" << colour << "'";
+    };
+    band(filter, "filter", kFilterColour);
+    band(fixed_lag, "fixedlag", kSmootherColour);
+    line(filter, "filter", kFilterColour, "lw 2");
+    line(fixed_lag, "fixedlag", kSmootherColour, "lw 1.6 dt (6,4)");
     if (zero_line) s << ", 0 with lines dt 3 lw 1 lc rgb '#555555'";
     s << "\n";
   }
@@ -263,21 +279,25 @@ std::string alarm_timeline_script(const std::string& asset, const std::vector<st
       text += ", root cause: " + (a.root_cause_name.empty() ? name_of(a.root_cause_channel) : a.root_cause_name);
     }
     if (!a.cleared) text += " (still active)";
+    // Alarms raised late in the run are labelled leftwards from their start, so the text stays inside.
+    const bool late = a.raised > range.from + 0.7 * (range.to - range.from);
     labels << "set label " << gnuplot_quote(text) << " at " << t_num(a.raised) << ", " << num(y)
-           << " left offset 0.5,0 front font ',10'\n";
+           << (late ? " right offset -0.5,0" : " left offset 0.5,0") << " front font ',10'\n";
   }
   s << "EOD\n" << time_axis(range) << labels.str();
   s << "set yrange [" << g + 0.5 << ":0.5]\nset ytics (";
   for (int c = 1; c <= g; ++c) s << (c > 1 ? ", " : "") << gnuplot_quote(name_of(c)) << " " << c;
-  s << ")\nset grid noytics\nset key outside right top title 'severity'\n";
+  s << ")\nset grid noytics\n";
   for (int c = 1; c < g; ++c) s << "set arrow from graph 0, first " << c + 0.5 << " to graph 1, first " << c + 0.5
                                 << " nohead lc rgb '#bbbbbb'\n";
   s << "set title " << gnuplot_quote("Alarm timeline, asset " + asset + ": bars from raised to cleared (or end of data)")
     << "\n";
   if (used.empty()) {
-    s << "set label 'no alarms recorded' at graph 0.5, graph 0.5 center font ',16'\nplot NaN notitle\n";
+    s << "unset key\nset style textbox opaque noborder\n"
+      << "set label 'no alarms recorded' at graph 0.5, graph 0.5 center front boxed font ',16'\nplot NaN notitle\n";
     return s.str();
   }
+  s << "set key outside right top title 'severity'\n";
   s << "plot $bars using ($1):2:3:4:5 with boxxyerror fs transparent solid 0.55 noborder lc rgb variable notitle";
   for (Severity sev : used) {
     s << ", NaN with boxes fs solid 0.55 lc rgb '" << severity_colour(sev) << "' title '" << to_string(sev) << "'";

@@ -30,6 +30,9 @@ struct SyntheticConfig {
   // Extra term added to channel `changed` own noise at observation t (in units of sigma).
   int changed = 1;
   std::function<double(int)> own_change = [](int) { return 0.0; };
+  // Optional second, independent change on another channel.
+  int changed2 = 3;
+  std::function<double(int)> own_change2 = [](int) { return 0.0; };
   // Optional single-observation spike on channel `spike_channel` (units of sigma) at `spike_at`.
   int spike_at = -1;
   int spike_channel = 0;
@@ -61,6 +64,7 @@ inline std::vector<Observation> make_run(const SyntheticConfig& cfg) {
     double noise[4];
     for (double& v : noise) v = cfg.sigma * nd(rng);
     noise[cfg.changed] += cfg.sigma * cfg.own_change(t);
+    noise[cfg.changed2] += cfg.sigma * cfg.own_change2(t);
     if (t == cfg.spike_at) noise[cfg.spike_channel] += cfg.sigma * cfg.spike_sigma;
     double y[4] = {noise[0], noise[1], 0.0, noise[3]};
     y[2] = cfg.link * y[1] + noise[2];

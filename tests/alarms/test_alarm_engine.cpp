@@ -1,6 +1,7 @@
 // AlarmEngine on synthetic condition-level data with known answers (see synthetic_group.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -77,6 +78,29 @@ TEST(AlarmEngine, ChangeInChannel2PropagatesTo3RootCauseIs2) {
       EXPECT_GE(a.index, 400u) << a.alarm_id;
       EXPECT_EQ(a.root_cause_channel, 1) << a.alarm_id << ": " << a.reason;
     }
+  }
+}
+
+// Two independent faults: channel 1 changes at t = 300, channel 4 at t = 450 (no causal link between them).
+// Each is its own root cause: channel 4's trouble begins with its own change, clearly after channel 1's.
+TEST(AlarmEngine, SecondIndependentFaultIsItsOwnRoot) {
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    SyntheticConfig cfg;
+    cfg.seed = seed;
+    cfg.changed = 0;
+    cfg.own_change = [](int t) { return t >= 300 ? 6.0 : 0.0; };
+    cfg.changed2 = 3;
+    cfg.own_change2 = [](int t) { return t >= 450 ? 6.0 : 0.0; };
+    auto e = make_engine();
+    const auto ev = run_all(e, make_run(cfg));
+    const AlarmEvent* f1 = first_of(ev, 0, kind::kFeatureDrift);
+    const AlarmEvent* f4 = first_of(ev, 3, kind::kFeatureDrift);
+    ASSERT_NE(f1, nullptr) << "seed " << seed;
+    ASSERT_NE(f4, nullptr) << "seed " << seed;
+    EXPECT_EQ(f1->root_cause_channel, 0) << f1->reason;
+    EXPECT_GE(f4->index, 450u);
+    EXPECT_EQ(f4->root_cause_channel, 3) << f4->reason;
+    for (const auto& a : ev) EXPECT_TRUE(a.channel == 0 || a.channel == 3) << a.alarm_id << " seed " << seed;
   }
 }
 
@@ -313,6 +337,50 @@ TEST(AlarmEngine, ExplanationNamesRootCauseLinkAndTimes) {
   EXPECT_NE(f3->reason.find("UTC"), std::string::npos);
   EXPECT_NE(f3->reason.find("x32"), std::string::npos);
   EXPECT_GT(f3->score, f3->threshold);
+}
+
+// Machine stopped for three snapshots (every channel at 1 % of its level, the filter's innovations wild):
+// the operating-state gate skips them, nothing is raised, and monitoring resumes afterwards.
+TEST(AlarmEngine, StoppedMachineSnapshotsAreSkipped) {
+  auto obs = make_run(SyntheticConfig{});
+  for (std::size_t t : {300u, 301u, 302u}) {
+    obs[t].features *= 0.01;
+    obs[t].innovations = Eigen::VectorXd::Constant(4, 50.0 * 0.02);
+  }
+  obs[400].features *= 0.01;  // all channels but one stopped: not a stop, a (downward) change -> kept
+  obs[400].features(2) *= 100.0;
+  auto e = make_engine();
+  EXPECT_TRUE(run_all(e, obs).empty());
+  EXPECT_EQ(e.not_running_observations(), 3u);
+  AlarmParams off;
+  off.stopped_ratio = 0.0;  // gate disabled: the wild innovations of consecutive snapshots do alarm
+  auto e2 = make_engine(off);
+  EXPECT_FALSE(run_all(e2, obs).empty());
+  EXPECT_EQ(e2.not_running_observations(), 0u);
+}
+
+// factor_shift (off by default, see AlarmParams): a step of the causal link x32 from 0.8 to 1.0 (20
+// baseline sigmas) raises a factor_shift alarm on channel 3's equation after factor_persistence
+// observations, and nothing else.
+TEST(AlarmEngine, FactorShiftDetectorWhenEnabled) {
+  AlarmParams p;
+  p.factor_enabled = true;
+  SyntheticConfig cfg;
+  cfg.seed = 4;
+  cfg.with_factors = true;
+  auto obs = make_run(cfg);
+  const auto names = factor_names4();
+  const auto x32 = static_cast<Eigen::Index>(std::find(names.begin(), names.end(), "x32") - names.begin());
+  for (std::size_t t = 300; t < obs.size(); ++t) obs[t].factors(x32) += 0.2;
+  auto e = make_engine(p, true);
+  const auto ev = run_all(e, obs);
+  const AlarmEvent* f = first_of(ev, 2, kind::kFactorShift);
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->index, 300u + static_cast<std::uint64_t>(p.factor_persistence) - 1);
+  EXPECT_EQ(f->onset_index, 300u);
+  EXPECT_EQ(f->factor_names.front(), "x32");
+  EXPECT_NEAR(f->factor_now.front(), 1.0, 0.05);
+  for (const auto& a : ev) EXPECT_EQ(a.kind, kind::kFactorShift) << a.reason;
 }
 
 TEST(AlarmEngine, RejectsWrongSizesAndBadConfiguration) {

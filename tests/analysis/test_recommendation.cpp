@@ -30,6 +30,20 @@ TEST(Recommendation, SentenceMatchesTheHouseExample) {
             "0.010..0.019) at steady state, 0.008 at once.");
 }
 
+TEST(Recommendation, NarrowIntervalsGetMoreDecimals) {
+  Recommendation rec;
+  rec.action = {1, -0.000923};
+  rec.steady_state = -0.00171;
+  rec.lower = -0.00175;
+  rec.upper = -0.00168;
+  rec.immediate = -0.0008;
+  rec.interval_valid = true;
+  rec.coverage = 0.9;
+  EXPECT_EQ(describe_recommendation(rec, 3, {"b1", "b2", "b3", "b4"}, "g"),
+            "Reduce b2 by 0.000923 g: b4 is predicted to drop by 0.00171 g (90% interval 0.00168..0.00175) at steady "
+            "state, 0.00080 at once.");
+}
+
 TEST(Recommendation, SentencesForRisesUncertainAndFailedCases) {
   Recommendation rec;
   rec.action = {1, 0.5};
@@ -87,7 +101,7 @@ TEST(Recommendation, RanksByPredictedSteadyStateReduction) {
     EXPECT_GE(r.upper, r.steady_state);
     EXPECT_DOUBLE_EQ(r.coverage, 0.9);
   }
-  EXPECT_EQ(recs[0].text.rfind("Reduce bearing 2 by 0.1 g: bearing 1 is predicted to drop by 0.083 g (90% interval ", 0), 0u)
+  EXPECT_EQ(recs[0].text.rfind("Reduce bearing 2 by 0.1 g: bearing 1 is predicted to drop by 0.0833 g (90% interval ", 0), 0u)
       << recs[0].text;
 
   EXPECT_THROW(rank_interventions(layout, post, 0, {{0, -0.1}}, opt), std::invalid_argument);

@@ -97,6 +97,22 @@ TEST(BatchEstimation, RtsMatchesDenseReferenceOnGenericDimensionPath) {
   }
 }
 
+TEST(BatchEstimation, MaskedModelRtsMatchesDenseReference) {
+  ModelSpec spec = spec_g(4, 2);
+  spec.allowed = {{true, false, false, false}, {true, true, true, true}, {true, true, true, false},
+                  {true, false, true, true}};
+  spec.include_self_lags = true;
+  SvarLayout layout(spec);
+  const std::vector<NoiseParams> noise = {{1e-4, 0.02, 1.0}, {1e-3, 0.05, 0.5}, {1e-5, 0.01, 2.0}, {0.0, 0.1, 1.0}};
+  const GappyData data = gappy(layout, noise, 300, 4);
+  const test::DenseReference ref(layout, noise, data.sim.y, data.disc);
+  const EstimationRun rts = run_rts_smoother(layout, noise, data.sim.y, data.disc);
+  for (int n = 0; n < 300; ++n) {
+    ASSERT_MATRIX_NEAR(rts.estimates.row(n).transpose(), ref.x_smooth[n], 1e-9) << "n = " << n;
+    ASSERT_MATRIX_NEAR(rts.std_devs.row(n).transpose(), ref.p_smooth[n].diagonal().cwiseSqrt(), 1e-9);
+  }
+}
+
 double rmse(const Eigen::MatrixXd& est, const Eigen::MatrixXd& truth, int from) {
   const Eigen::MatrixXd d = est.bottomRows(est.rows() - from) - truth.bottomRows(truth.rows() - from);
   return std::sqrt(d.squaredNorm() / static_cast<double>(d.size()));

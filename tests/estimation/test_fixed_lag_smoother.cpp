@@ -75,6 +75,30 @@ INSTANTIATE_TEST_SUITE_P(Cases, FixedLagEqualsRts,
                          ::testing::Values(Case{4, 1, 10, 200}, Case{3, 2, 25, 160}, Case{2, 1, 1, 60},
                                            Case{5, 3, 4, 80} /* 16 factors: generic-size path */));
 
+// Masked model: lane groups of different dimensions and an outcome without factors.
+TEST(FixedLagSmoother, MaskedModelEqualsRtsOnPrefix) {
+  ModelSpec spec = spec_g(4, 1);
+  spec.allowed = {{true, false, false, false}, {true, true, true, true}, {true, true, true, false},
+                  {true, true, true, true}};
+  SvarLayout layout(spec);
+  ASSERT_EQ(layout.factor_count(0), 0);
+  const std::vector<NoiseParams> noise = {{1e-3, 0.05, 1.0}, {2e-3, 0.02, 1.0}, {5e-4, 0.05, 2.0}, {1e-3, 0.1, 1.0}};
+  const test::Simulation sim = test::simulate_svar(layout, noise, 90, 12, 0.1);
+  const int lag = 6;
+  FixedLagSmoother smoother(layout, noise, lag);
+  for (int n = 0; n < 90; ++n) {
+    const Eigen::RowVectorXd row = sim.y.row(n);
+    const auto out = smoother.step(row.data());
+    if (!out) continue;
+    const EstimationRun rts = run_rts_smoother(layout, noise, sim.y.topRows(n + 1));
+    ASSERT_MATRIX_NEAR(out->estimates, rts.estimates.row(n - lag).transpose(), 1e-9) << "n = " << n;
+    ASSERT_MATRIX_NEAR(out->std_devs, rts.std_devs.row(n - lag).transpose(), 1e-9) << "n = " << n;
+  }
+  const EstimationRun batch = run_fixed_lag_smoother(layout, noise, sim.y, {}, lag);
+  EXPECT_TRUE(batch.innovations.col(0).tail(80).isApprox(sim.y.col(0).tail(80)));  // no factors: e = y
+  EXPECT_TRUE((batch.innovation_variances.col(0).tail(80).array() == 0.05).all());
+}
+
 TEST(FixedLagSmoother, LagZeroIsTheFilter) {
   SvarLayout layout(spec_g(4, 1));
   const std::vector<NoiseParams> noise = {{1e-3, 0.05, 1.0}};

@@ -223,6 +223,52 @@ TEST(SvarKalmanFilter, CovarianceStaysSymmetricPositiveDefiniteOverLongRuns) {
   EXPECT_EQ(filter.counters().updated, 199999u);
 }
 
+// Masks give outcomes of different dimensions (separate SIMD lane groups) and one outcome without factors
+// (its innovation is y itself): still identical to the dense stacked filter.
+TEST(SvarKalmanFilter, MixedDimensionsAndEmptyOutcomeMatchDense) {
+  ModelSpec spec = spec_g(5, 2);
+  spec.allowed.assign(5, std::vector<bool>(5, true));
+  spec.allowed[0] = {true, false, false, false, false};  // outcome 1: no parents at all -> no factors
+  spec.instantaneous_allowed = {{false, false, false, false, false},
+                                {true, false, false, false, false},
+                                {true, true, false, false, false},
+                                {true, true, true, false, false},
+                                {true, true, true, true, false}};
+  spec.include_self_lags = true;
+  SvarLayout layout(spec);
+  ASSERT_EQ(layout.factor_count(0), 2);  // only the self lags survive
+  spec.include_self_lags = false;
+  SvarLayout no_self(spec);
+  ASSERT_EQ(no_self.factor_count(0), 0);
+  for (const SvarLayout* l : {&layout, &no_self}) {
+    const std::vector<NoiseParams> noise = {{1e-4, 0.02, 1.0}, {1e-3, 0.05, 0.5}, {1e-5, 0.01, 2.0},
+                                            {0.0, 0.1, 1.0}, {2e-4, 0.03, 1.5}};
+    test::Simulation sim = test::simulate_svar(*l, noise, 250, 17, 0.1);
+    sim.y(90, 4) = kNaN;
+    std::vector<bool> disc(250, false);
+    disc[150] = true;
+    const test::DenseReference ref(*l, noise, sim.y, disc);
+    SvarKalmanFilter filter(*l, noise);
+    Eigen::VectorXd x(l->total_factors());
+    for (int n = 0; n < 250; ++n) {
+      const Eigen::RowVectorXd row = sim.y.row(n);
+      filter.step(row.data(), disc[n]);
+      filter.estimates(x.data());
+      ASSERT_MATRIX_NEAR(x, ref.x_filt[n], 1e-10) << "n = " << n;
+      if (ref.updated[n]) {
+        for (int k = 0; k < 5; ++k) ASSERT_NEAR(filter.last_innovation(k), ref.innovations[n][k], 1e-10);
+      }
+    }
+    for (int k = 0; k < 5; ++k) {
+      const int d = l->factor_count(k), o = l->offset(k);
+      ASSERT_MATRIX_NEAR(filter.covariance(k), ref.p_filt[249].block(o, o, d, d), 1e-10);
+    }
+    if (l->factor_count(0) == 0) {
+      EXPECT_EQ(filter.last_innovation_variance(0), 0.02);  // no factors: S = r, e = y
+    }
+  }
+}
+
 TEST(SvarKalmanFilter, GenericDimensionPathMatchesDenseReference) {
   // G = 6, M = 2: 15 factors per outcome, beyond the fixed-size kernels (<= 12).
   SvarLayout layout(spec_g(6, 2));

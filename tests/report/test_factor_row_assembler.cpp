@@ -30,8 +30,8 @@ std::vector<std::string> names_of(int k) {
   return n;
 }
 
-double value_of(std::uint64_t n, int k, std::size_t i) { return 0.1 * k + 0.01 * static_cast<double>(i) + 1e-3 * n; }
-double sd_of(std::uint64_t n, int k, std::size_t i) { return 0.05 + 1e-4 * (k + static_cast<double>(i)) + 1e-6 * n; }
+double value_of(std::uint64_t n, int k, std::size_t i) { return 0.1 * k + 0.01 * static_cast<double>(i) + 1e-3 * static_cast<double>(n); }
+double sd_of(std::uint64_t n, int k, std::size_t i) { return 0.05 + 1e-4 * (k + static_cast<double>(i)) + 1e-6 * static_cast<double>(n); }
 double nis_of(std::uint64_t n, int k) { return 1.0 + 0.1 * k + 0.01 * static_cast<double>(n); }
 
 // k is 1-based here; FactorMessage::outcome is 0-based.
@@ -186,9 +186,15 @@ TEST(FactorRowAssembler, PendingRowsAreBounded) {
   }
   const auto rows = a.take_rows();
   ASSERT_EQ(rows.size(), 6u);
+  // Outcome 3 was never seen: it has only its NIS column, empty; outcomes 1 and 2 are filled.
+  const std::size_t per = names_of(1).size();
   for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), 3 + 2 * 2 * per + kG);
     EXPECT_EQ(rows[i][0], std::to_string(i));  // oldest first
-    check_outcome(rows[i], i, 3, false);
+    EXPECT_EQ(num(rows[i][3]), value_of(i, 1, 0));
+    EXPECT_EQ(num(rows[i][3 + 2 * per + per + 1]), sd_of(i, 2, 1));  // sd block, outcome 2
+    EXPECT_EQ(num(rows[i][3 + 4 * per + 1]), nis_of(i, 2));
+    EXPECT_EQ(rows[i].back(), "");
   }
   EXPECT_EQ(a.counters().rows_partial, 6u);
 }

@@ -48,7 +48,8 @@ std::vector<std::string> names_of(int k) {  // model convention, self lags inclu
 double factor_value(std::uint64_t n, int k, std::size_t i, bool smoothed) {
   return 0.3 * std::sin(0.2 * static_cast<double>(n) + k + 0.7 * static_cast<double>(i)) + (smoothed ? 0.01 : 0.0);
 }
-double factor_sd(std::uint64_t n, int k, std::size_t i) { return 0.05 + 0.01 * k + 0.001 * i + 0.1 / (1.0 + n); }
+double factor_sd(std::uint64_t n, int k, std::size_t i) { return 0.05 + 0.01 * k + 0.001 * static_cast<double>(i) + 0.1 / (1.0 + static_cast<double>(n));
+}
 double feature_value(std::uint64_t n, int c) { return 0.05 * c * std::exp(0.08 * static_cast<double>(n)); }
 
 std::string slurp(const fs::path& p) {
@@ -97,10 +98,15 @@ class RecorderIntegration : public ::testing::Test {
   }
 
   void TearDown() override {
-    for (pid_t pid : children_) {  // still running only if a check failed: stop it, ours, by pid
-      ::kill(pid, SIGKILL);
-      int status = 0;
-      ::waitpid(pid, &status, 0);
+    // Still running only if a check failed: stop it (ours, by pid), politely first so that it releases its
+    // shared-memory files, then for good.
+    for (pid_t pid : std::vector<pid_t>(children_)) {
+      ::kill(pid, SIGTERM);
+      if (wait_exit(pid, 10s) == -1) {
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        ::waitpid(pid, &status, 0);
+      }
     }
     children_.clear();
     writers_.reset();
@@ -210,10 +216,26 @@ class RecorderIntegration : public ::testing::Test {
 
   void publish(causal_twin::CausalFactors m) { ASSERT_EQ(writers_->factors.write(m, stop_), causal::dds::WriteResult::Ok); }
 
+  // Waits (bounded) until the recorder has `rows` data rows in `file`: the recorder flushes after every
+  // batch, so this is the recorder's own confirmation. (A writer's wait_for_acknowledgments is no proof:
+  // it also succeeds once the reader has left, and KEEP_LAST writers may wait for a heartbeat period.)
+  bool wait_rows(const std::string& file, std::size_t rows, std::chrono::seconds limit = 15s) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < deadline) {
+      try {
+        if (causal::report::parse_csv(slurp(dir_ / "run" / file)).rows.size() >= rows) return true;
+      } catch (const std::runtime_error&) {
+        // a row being written right now: look again
+      }
+      std::this_thread::sleep_for(50ms);
+    }
+    return false;
+  }
+
   void publish_alarm(causal_twin::Alarm& a) {
     ASSERT_EQ(writers_->alarms.write(a, stop_), causal::dds::WriteResult::Ok);
-    // KEEP_LAST 1 per alarm id: let the reader have each state before the next replaces it.
-    ASSERT_TRUE(writers_->alarms.wait_for_acknowledgments(10s));
+    // KEEP_LAST 1 per alarm id: the recorder must have this state before the next one replaces it.
+    ASSERT_TRUE(wait_rows("alarms.csv", ++alarms_sent_)) << slurp(dir_ / "recorder.log");
   }
 
   fs::path dir_;
@@ -222,6 +244,7 @@ class RecorderIntegration : public ::testing::Test {
   std::atomic<bool> stop_{false};
   std::unique_ptr<causal::dds::Participant> participant_;
   std::unique_ptr<Writers> writers_;
+  std::size_t alarms_sent_ = 0;
 };
 
 TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
@@ -248,8 +271,9 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
     }
   }
   for (int k = 1; k <= kG; ++k) publish(factors(0, k, causal_twin::FILTER, causal_twin::SAMPLE_LEVEL));
-  ASSERT_TRUE(writers_->conditions.wait_for_acknowledgments(10s));
-  ASSERT_TRUE(writers_->factors.wait_for_acknowledgments(10s));
+  ASSERT_TRUE(wait_rows("conditions_" + file_asset_ + "_rms.csv", kSnapshots)) << slurp(dir_ / "recorder.log");
+  ASSERT_TRUE(wait_rows("factors_" + file_asset_ + "_condition_filter.csv", kSnapshots));
+  ASSERT_TRUE(wait_rows("factors_" + file_asset_ + "_condition_fixed-lag.csv", kSnapshots - 2));
 
   causal_twin::Alarm a;
   a.alarm_id(asset_ + "/2/feature_drift/1");
@@ -297,7 +321,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   r.confidence(0.9);
   r.text("lower Bearing 3's load, then re-check");
   ASSERT_EQ(writers_->recommendations.write(r, stop_), causal::dds::WriteResult::Ok);
-  ASSERT_TRUE(writers_->recommendations.wait_for_acknowledgments(10s));
+  ASSERT_TRUE(wait_rows("recommendations.csv", 1));
 
   ASSERT_EQ(wait_exit(recorder, 30s), 0) << slurp(dir_ / "recorder.log");
   const std::string log = slurp(dir_ / "recorder.log");
@@ -391,10 +415,11 @@ TEST_F(RecorderIntegration, SigtermRecordsWhatArrivedIncludingPartialRows) {
   ASSERT_GT(recorder, 0);
   open_publisher(162);
   if (HasFatalFailure()) return;
-  for (int k = 1; k <= kG; ++k) publish(factors(0, k, causal_twin::FILTER));
   publish(factors(1, 1, causal_twin::FILTER));
   publish(factors(1, 3, causal_twin::FILTER));  // outcome 2 of index 1 never comes
-  ASSERT_TRUE(writers_->factors.wait_for_acknowledgments(10s));
+  for (int k = 1; k <= kG; ++k) publish(factors(0, k, causal_twin::FILTER));
+  // One writer delivers in order: once row 0 (sent last) is on disk, the recorder holds index 1's parts too.
+  ASSERT_TRUE(wait_rows("factors_" + file_asset_ + "_condition_filter.csv", 1)) << slurp(dir_ / "recorder.log");
   ASSERT_EQ(::kill(recorder, SIGTERM), 0);
   ASSERT_EQ(wait_exit(recorder, 20s), 0) << slurp(dir_ / "recorder.log");
   const auto f = lines_of(dir_ / "run" / ("factors_" + file_asset_ + "_condition_filter.csv"));

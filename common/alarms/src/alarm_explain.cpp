@@ -104,8 +104,11 @@ std::string AlarmEngine::Impl::reason(int c, int kind, AlarmState state, int roo
     else
       os << rname;
     if (own.set)
-      os << ": its own, unexplained behaviour changed first (from " << at(own.index, own.time_ns) << ", "
+      os << ": its own, unexplained behaviour changed (from " << at(own.index, own.time_ns) << ", "
          << signed_fixed(own.level, 1) << " sigma)";
+    else if (dep.set && dep.evidence >= p.own_evidence_z)
+      os << ": its rise from " << at(dep.index, dep.time_ns) << " is not explained by the other channels (own-change "
+         << "evidence z = " << fixed(dep.evidence, 1) << ")";
     else if (dep.set)
       os << ": its level departed first (from " << at(dep.index, dep.time_ns)
          << ") and no channel's own behaviour changed before it";

@@ -30,6 +30,7 @@ void AlarmParams::validate() const {
   require(clear_persistence >= 1, "clear_persistence must be >= 1");
   require(level_window >= 1, "level_window must be >= 1");
   require(warning_ratio > 1.0 && critical_ratio > warning_ratio, "need 1 < warning_ratio < critical_ratio");
+  require(stopped_ratio >= 0.0 && stopped_ratio < 1.0, "stopped_ratio must be in [0, 1)");
   require(warning_sigma > 0.0 && critical_sigma > warning_sigma, "need 0 < warning_sigma < critical_sigma");
   require(nis_window >= 2, "nis_window must be >= 2");
   require(prob_ok(nis_false_alarm_prob), "nis_false_alarm_prob must be in (0, 0.5)");
@@ -68,8 +69,7 @@ AlarmParams AlarmParams::sample_level(int baseline_publications) {
   p.warmup_observations = 1;
   p.baseline_observations = baseline_publications - p.warmup_observations;
   p.factor_enabled = false;
-  // Publications come in bursts of one snapshot; a 12-publication NIS window could span two snapshots,
-  // and a snapshot typically yields ~10 publications: use a window of a few publications.
+  // A 1-s snapshot gives ~20 publications of 1024 samples: a window of 4 stays within one snapshot.
   p.nis_window = 4;
   p.validate();
   return p;

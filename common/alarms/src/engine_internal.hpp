@@ -122,6 +122,7 @@ struct AlarmEngine::Impl {
   std::vector<detail::FactorMonitor> fac;
   std::uint64_t seen = 0;
   std::uint64_t rejected = 0;
+  std::uint64_t not_running = 0;
   bool ready = false;
   detail::Episode episode;
 

@@ -51,8 +51,12 @@ std::string describe_recommendation(const Recommendation& rec, int target, const
   if (rec.status == AnalysisStatus::not_identifiable || rec.status == AnalysisStatus::non_finite_input) {
     return text + "the effect on " + target_name + " cannot be predicted (" + rec.message + ").";
   }
-  const int dec = decimals_for(std::abs(rec.steady_state) > 0.0 && rec.status == AnalysisStatus::ok ? rec.steady_state
-                                                                                                    : rec.immediate);
+  // Two significant digits of the effect, and enough to show the interval's width with one digit.
+  int dec = decimals_for(std::abs(rec.steady_state) > 0.0 && rec.status == AnalysisStatus::ok ? rec.steady_state
+                                                                                              : rec.immediate);
+  if (rec.status == AnalysisStatus::ok && rec.interval_valid && rec.upper > rec.lower) {
+    dec = std::clamp(std::max(dec, decimals_for(rec.upper - rec.lower) - 1), 0, 9);
+  }
   const bool drop_now = rec.immediate < 0.0;
   const double now = std::abs(rec.immediate);
   const bool no_change_now = now < 0.5 * std::pow(10.0, -dec);

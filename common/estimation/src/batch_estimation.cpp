@@ -1,7 +1,9 @@
 #include "causal/batch_estimation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include "causal/fixed_lag_smoother.hpp"
@@ -37,25 +39,43 @@ EstimationRun forward_backward(const SvarLayout& layout, const std::vector<Noise
   const std::vector<NoiseParams> noise = detail::expand_noise(noise_in, layout.channels());
   EstimationRun run = prepare(layout, samples, discontinuity);
   const Eigen::Index n = samples.rows();
-  std::vector<double> p_store;
-  if (smooth) p_store.resize(static_cast<std::size_t>(n) * layout.max_factor_count() * layout.max_factor_count());
-  for (int k = 0; k < layout.channels(); ++k) {
-    const int d = layout.factor_count(k);
-    detail::OutcomeForward job;
+  const detail::LanePlan plan = detail::make_lane_plan(layout);
+  // RTS history of one group at a time; not zero-initialised (every element is written before it is read).
+  std::unique_ptr<double[]> store;
+  if (smooth) store.reset(new double[static_cast<std::size_t>(n) * detail::store_doubles_per_sample(plan.max_d)]);
+  auto column = [&](Eigen::MatrixXd& m, int k) { return m.data() + static_cast<Eigen::Index>(layout.offset(k)) * n; };
+  for (const detail::LaneGroup& grp : plan.groups) {
+    detail::GroupForward job;
     job.layout = &layout;
-    job.k = k;
+    job.group = &grp;
     job.samples = &samples;
     job.status = &run.status;
-    job.noise = noise[k];
-    job.x_cols = run.estimates.data() + static_cast<Eigen::Index>(layout.offset(k)) * n;
-    job.sd_cols = smooth ? nullptr : run.std_devs.data() + static_cast<Eigen::Index>(layout.offset(k)) * n;
-    job.e_col = run.innovations.col(k).data();
-    job.s_col = run.innovation_variances.col(k).data();
-    job.p_store = smooth ? p_store.data() : nullptr;
-    detail::run_outcome_forward(job);
+    std::array<double, detail::kLanes> q{};
+    for (int w = 0; w < grp.count; ++w) {
+      const int k = grp.outcome[w];
+      job.noise[w] = noise[k];
+      q[w] = noise[k].q;
+      job.x_cols[w] = smooth ? nullptr : column(run.estimates, k);  // RTS writes the estimates itself
+      job.sd_cols[w] = smooth ? nullptr : column(run.std_devs, k);
+      job.e_col[w] = run.innovations.col(k).data();
+      job.s_col[w] = run.innovation_variances.col(k).data();
+    }
+    job.store = smooth ? store.get() : nullptr;
+    detail::run_group_forward(job);
     if (smooth) {
-      detail::run_outcome_rts(d, n, noise[k].q, p_store.data(), job.x_cols,
-                              run.std_devs.data() + static_cast<Eigen::Index>(layout.offset(k)) * n);
+      std::array<double*, detail::kLanes> x{}, sd{};
+      for (int w = 0; w < grp.count; ++w) {
+        x[w] = column(run.estimates, grp.outcome[w]);
+        sd[w] = column(run.std_devs, grp.outcome[w]);
+      }
+      detail::run_group_rts(grp, n, q, store.get(), x, sd);
+    }
+  }
+  for (int k : plan.empty) {  // no factors: the whole of y_k is innovation
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (run.status[i] != SampleStatus::Updated) continue;
+      run.innovations(i, k) = samples(i, k);
+      run.innovation_variances(i, k) = noise[k].r;
     }
   }
   return run;

@@ -5,73 +5,50 @@
 #include <stdexcept>
 
 #include "kernels.hpp"
+#include "lane_plan.hpp"
 
 namespace causal {
 
-// Lag update of outcome k with the filter's last regressors h, u = P[n|n-1] h, innovation e and variance S
-// (equations in the header), for every lagged slot i = 1..active.
+// Lag update of one lane group with the filter's last regressors h, u = P[n|n-1] h, innovation e and
+// variance S (equations in the header), for every lagged slot i = 1..active.
 template <int D>
 struct FixedLagSmoother::Select {
-  CAUSAL_CORE_CLONES static void update(FixedLagSmoother& s, int k) {
+  CAUSAL_CORE_CLONES static void update(FixedLagSmoother& s, int group) {
+    using detail::V4;
     const SvarKalmanFilter& f = s.filter_;
-    const int d = D > 0 ? D : s.dim_[k];
-    const int xo = s.x_off_[k];
-    const double* __restrict h = f.h_.data() + xo;
-    const double* __restrict u = f.u_.data() + xo;
-    detail::Scratch<D> scratch(s.work_.data());
-    double* __restrict g = scratch.get();
-    const double e = f.e_[k];
-    const double sv = f.s_[k];
-    const double inv_s = 1.0 / sv;
-    double* xs = s.xs_.data() + static_cast<std::size_t>(s.lag_) * xo;
-    double* pc = s.pc_.data() + static_cast<std::size_t>(s.lag_) * s.p_off_[k];
-    double* var = s.var_.data() + static_cast<std::size_t>(s.lag_) * xo;
+    const detail::LaneGroup& grp = f.plan_->groups[group];
+    const int d = grp.d;
+    const V4* h = detail::lanes(f.h_.data() + grp.x_off);
+    const V4* u = detail::lanes(f.u_.data() + grp.x_off);
+    const V4 e = detail::lanes(f.e_lane_.data() + group * detail::kLanes)[0];
+    const V4 sv = detail::lanes(f.s_lane_.data() + group * detail::kLanes)[0];
+    const V4 inv_s = 1.0 / sv;
+    const std::size_t l = static_cast<std::size_t>(s.lag_);
+    V4* xs = detail::lanes(s.xs_.data() + l * grp.x_off);
+    V4* pc = detail::lanes(s.pc_.data() + l * grp.p_off);
+    V4* var = detail::lanes(s.var_.data() + l * grp.x_off);
+    V4* work = detail::lanes(s.work_.data());
     for (int slot = 1; slot <= s.active_; ++slot) {
-      const int pos = s.slot_pos(slot);
-      double* __restrict p = pc + static_cast<std::size_t>(pos) * d * d;
-      double* __restrict x = xs + static_cast<std::size_t>(pos) * d;
-      double* __restrict v = var + static_cast<std::size_t>(pos) * d;
-      for (int i = 0; i < d; ++i) g[i] = 0.0;
-      for (int j = 0; j < d; ++j) {  // g = P[n-i,n] h / S
-        const double hj = h[j];
-        const double* pj = p + j * d;
-        for (int i = 0; i < d; ++i) g[i] += pj[i] * hj;
-      }
-      for (int i = 0; i < d; ++i) {
-        g[i] *= inv_s;
-        x[i] += g[i] * e;
-        v[i] -= sv * g[i] * g[i];
-      }
-      for (int j = 0; j < d; ++j) {  // P[n-i,n] -= g u^T
-        const double uj = u[j];
-        double* pj = p + j * d;
-        for (int i = 0; i < d; ++i) pj[i] -= g[i] * uj;
-      }
+      const auto pos = static_cast<std::size_t>(s.slot_pos(slot));
+      detail::lag_update<D>(d, h, u, e, sv, inv_s, pc + pos * d * d, xs + pos * d, var + pos * d, work);
     }
   }
-  static void run(FixedLagSmoother& s, int k) { s.update_fn_[k] = &update; }
+  static void run(FixedLagSmoother& s, int group) { s.update_fn_[group] = &update; }
 };
 
 FixedLagSmoother::FixedLagSmoother(const SvarLayout& layout, std::vector<NoiseParams> noise, int lag)
-    : filter_(layout, std::move(noise)), lag_(lag), g_(layout.channels()) {
+    : filter_(layout, std::move(noise)), lag_(lag) {
   if (lag < 0) throw std::invalid_argument("FixedLagSmoother: lag must be >= 0, got " + std::to_string(lag));
-  dim_.resize(g_);
-  x_off_.resize(g_);
-  p_off_.resize(g_);
-  update_fn_.resize(g_);
-  int p_total = 0;
-  for (int k = 0; k < g_; ++k) {
-    dim_[k] = layout.factor_count(k);
-    x_off_[k] = layout.offset(k);
-    p_off_[k] = p_total;
-    p_total += dim_[k] * dim_[k];
-    detail::dispatch_dim<Select>(dim_[k], *this, k);
+  const detail::LanePlan& plan = *filter_.plan_;
+  update_fn_.resize(plan.groups.size());
+  for (std::size_t gi = 0; gi < plan.groups.size(); ++gi) {
+    detail::dispatch_dim<Select>(plan.groups[gi].d, *this, static_cast<int>(gi));
   }
   const auto l = static_cast<std::size_t>(lag_);
-  xs_.assign(l * layout.total_factors(), 0.0);
-  var_.assign(l * layout.total_factors(), 0.0);
-  pc_.assign(l * p_total, 0.0);
-  work_.assign(detail::kernel_work_size(layout.max_factor_count()), 0.0);
+  xs_.assign(l * plan.x_size, 0.0);
+  var_.assign(l * plan.x_size, 0.0);
+  pc_.assign(l * plan.p_size, 0.0);
+  work_.assign(detail::kernel_work_lanes(plan.max_d) * detail::kLanes, 0.0);
 }
 
 void FixedLagSmoother::reset() {
@@ -88,16 +65,21 @@ void FixedLagSmoother::shift_in_filter_state() {
   if (lag_ == 0) return;
   head_ = (head_ + 1) % lag_;
   active_ = std::min(active_ + 1, lag_);
-  for (int k = 0; k < g_; ++k) {
-    const int d = dim_[k];
-    const std::size_t xo = static_cast<std::size_t>(lag_) * x_off_[k] + static_cast<std::size_t>(head_) * d;
-    const std::size_t po =
-        static_cast<std::size_t>(lag_) * p_off_[k] + static_cast<std::size_t>(head_) * d * d;
-    const double* fx = filter_.x_.data() + x_off_[k];
-    const double* fp = filter_.p_.data() + filter_.p_off_[k];
-    std::copy(fx, fx + d, xs_.data() + xo);
-    std::copy(fp, fp + d * d, pc_.data() + po);
-    for (int i = 0; i < d; ++i) var_[xo + i] = fp[i * d + i];
+  const auto l = static_cast<std::size_t>(lag_);
+  const auto pos = static_cast<std::size_t>(head_);
+  for (const detail::LaneGroup& grp : filter_.plan_->groups) {
+    const std::size_t nx = static_cast<std::size_t>(grp.d) * detail::kLanes;
+    const std::size_t np = nx * grp.d;
+    const double* fx = filter_.x_.data() + grp.x_off;
+    const double* fp = filter_.p_.data() + grp.p_off;
+    std::copy(fx, fx + nx, xs_.data() + l * grp.x_off + pos * nx);
+    std::copy(fp, fp + np, pc_.data() + l * grp.p_off + pos * np);
+    double* v = var_.data() + l * grp.x_off + pos * nx;
+    for (int i = 0; i < grp.d; ++i) {
+      for (int w = 0; w < detail::kLanes; ++w) {
+        v[i * detail::kLanes + w] = fp[(static_cast<std::size_t>(i) * grp.d + i) * detail::kLanes + w];
+      }
+    }
   }
 }
 
@@ -107,13 +89,19 @@ void FixedLagSmoother::write_lag(int i, double* estimates, double* std_devs) con
     filter_.std_devs(std_devs);
     return;
   }
-  const int pos = slot_pos(i);
-  for (int k = 0; k < g_; ++k) {
-    const int d = dim_[k];
-    const std::size_t xo = static_cast<std::size_t>(lag_) * x_off_[k] + static_cast<std::size_t>(pos) * d;
-    for (int j = 0; j < d; ++j) {
-      estimates[x_off_[k] + j] = xs_[xo + j];
-      std_devs[x_off_[k] + j] = std::sqrt(std::max(var_[xo + j], 0.0));
+  const auto l = static_cast<std::size_t>(lag_);
+  const auto pos = static_cast<std::size_t>(slot_pos(i));
+  const SvarLayout& layout = filter_.layout();
+  for (const detail::LaneGroup& grp : filter_.plan_->groups) {
+    const std::size_t nx = static_cast<std::size_t>(grp.d) * detail::kLanes;
+    const double* x = xs_.data() + l * grp.x_off + pos * nx;
+    const double* v = var_.data() + l * grp.x_off + pos * nx;
+    for (int w = 0; w < grp.count; ++w) {
+      const int off = layout.offset(grp.outcome[w]);
+      for (int j = 0; j < grp.d; ++j) {
+        estimates[off + j] = x[j * detail::kLanes + w];
+        std_devs[off + j] = std::sqrt(std::max(v[j * detail::kLanes + w], 0.0));
+      }
     }
   }
 }
@@ -123,7 +111,7 @@ bool FixedLagSmoother::step_into(const double* y, bool discontinuity, std::uint6
   if (filter_.samples_seen() > 0) shift_in_filter_state();
   last_status_ = filter_.step(y, discontinuity);
   if (last_status_ == SampleStatus::Updated) {
-    for (int k = 0; k < g_; ++k) update_fn_[k](*this, k);
+    for (std::size_t gi = 0; gi < update_fn_.size(); ++gi) update_fn_[gi](*this, static_cast<int>(gi));
   }
   const std::uint64_t n = filter_.samples_seen() - 1;
   if (n < static_cast<std::uint64_t>(lag_)) return false;

@@ -1,7 +1,13 @@
-// Per-outcome Kalman kernels on raw column-major arrays, templated on the outcome's state dimension D so that
-// common sizes (1..kMaxFixedDim) get compile-time trip counts (unrolled, vectorised, scratch on the stack).
-// D = 0 means "dimension known at run time" and uses caller-owned scratch, so no kernel allocates per step.
-// Plain loops rather than fixed-size Eigen expressions: same speed here, a fraction of the compile time/memory.
+// Kalman kernels for FOUR independent outcomes at once ("lanes"): outcomes of equal state dimension d are
+// grouped by four and every scalar operation of the per-outcome algorithm becomes one 4-wide vector operation
+// (GCC/Clang vector extension, AVX2 or 2 x SSE2). Unused lanes carry a harmless dummy model (h = 0, y = 0,
+// r = 1, q = 0). Storage is "structure of arrays": element i of a vector is V4 v[i] (lane w = v[i][w]);
+// element (i, j) of a d x d matrix (column-major) is V4 m[j * d + i].
+//
+// Kernels are templated on D = d for 1 <= d <= kMaxFixedDim (compile-time trip counts, scratch on the stack);
+// D = 0 means "d known at run time" and uses caller-owned scratch, so nothing allocates per step.
+// Plain loops over V4 rather than Eigen expressions: small-matrix kernels like these compile to much better
+// code this way (and far faster: fixed-size Eigen LLT/product instantiations for 12 sizes took minutes).
 #pragma once
 
 #include <cmath>
@@ -10,50 +16,46 @@
 
 namespace causal::detail {
 
+constexpr int kLanes = 4;
 constexpr int kMaxFixedDim = 12;
 
-// Entry points that run the kernels (not the kernels themselves: they are inlined into these) are compiled
-// twice on x86-64 GCC, for the baseline and for x86-64-v3 (AVX2 + FMA), and the loader picks the clone the
-// CPU supports (GCC function multi-versioning): portable binaries that still use wide vectors.
+// 4 doubles; may alias double and needs only 8-byte alignment, so it can view std::vector<double> storage.
+typedef double V4 __attribute__((vector_size(32), aligned(8), may_alias));
+
+inline V4 splat(double a) { return V4{a, a, a, a}; }
+inline V4* lanes(double* p) { return reinterpret_cast<V4*>(p); }
+inline const V4* lanes(const double* p) { return reinterpret_cast<const V4*>(p); }
+
+// Entry points that run the kernels (the kernels themselves are force-inlined into them) are compiled twice
+// on x86-64 GCC, for the baseline and for x86-64-v3 (AVX2 + FMA); the loader picks the clone the CPU supports
+// (function multi-versioning): portable binaries that still use 4-wide vectors where available.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(CAUSAL_CORE_NO_CLONES)
 #define CAUSAL_CORE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define CAUSAL_CORE_CLONES
 #endif
-// Kernels are force-inlined into those entry points so that each clone gets its own vector code.
-#if defined(__GNUC__)
 #define CAUSAL_CORE_KERNEL __attribute__((always_inline)) inline
-#else
-#define CAUSAL_CORE_KERNEL inline
-#endif
 
-// Scratch doubles a D = 0 kernel needs for dimension d (covers every kernel below).
-inline std::size_t kernel_work_size(int d) {
-  return static_cast<std::size_t>(4 * d + 4 * d * d);  // rts_step: 4 d^2 + 2 d
-}
+// V4 elements of scratch a D = 0 kernel needs for dimension d (covers every kernel below).
+inline std::size_t kernel_work_lanes(int d) { return static_cast<std::size_t>(3 * d * d + 4 * d); }
 
 // Stack scratch for fixed D, caller scratch for D = 0.
 template <int D>
 struct Scratch {
-  double buf[4 * D + 4 * D * D];
-  explicit Scratch(double* /*unused*/) {}
-  double* get() { return buf; }
+  V4 buf[3 * D * D + 4 * D];
+  explicit Scratch(V4* /*unused*/) {}
+  V4* get() { return buf; }
 };
 template <>
 struct Scratch<0> {
-  double* ptr;
-  explicit Scratch(double* work) : ptr(work) {}
-  double* get() { return ptr; }
-};
-
-struct UpdateResult {
-  double e;  // innovation y - h^T x[n|n-1]
-  double s;  // innovation variance h^T P[n|n-1] h + r
+  V4* ptr;
+  explicit Scratch(V4* work) : ptr(work) {}
+  V4* get() { return ptr; }
 };
 
 // Time update of the random walk x[n+1] = x[n] + w, w ~ N(0, q I): x unchanged, P += q I.
 template <int D>
-CAUSAL_CORE_KERNEL void predict(int d_rt, double* p, double q) {
+CAUSAL_CORE_KERNEL void predict(int d_rt, V4* p, V4 q) {
   const int d = D > 0 ? D : d_rt;
   for (int i = 0; i < d; ++i) p[i * d + i] += q;
 }
@@ -64,97 +66,108 @@ CAUSAL_CORE_KERNEL void predict(int d_rt, double* p, double q) {
 // For a scalar measurement it expands exactly, for ANY gain K, into the symmetric rank-2 update
 //   P+ = P - K u^T - u K^T + S K K^T = P - K z^T - z K^T,   u = P h, S = h^T u + r, z = u - (S/2) K
 // so it keeps the Joseph form's first-order insensitivity to errors in K (the short form P - K u^T does
-// not) at O(d^2) cost. Only the lower triangle is computed and mirrored: P+ is exactly symmetric, which is
-// the symmetrisation. (A stress test against a long-double reference — p0/r up to 1e16, near-collinear
-// regressors — showed the same accuracy as evaluating the product (I - K h^T) P (I - K h^T)^T, at half
-// the flops.)
-// Writes u = P[n|n-1] h (the fixed-lag smoother needs it). work: kernel_work_size(d) doubles if D = 0.
+// not) at O(d^2) cost. Only the lower triangle is computed and then mirrored: P+ is exactly symmetric
+// (that is the symmetrisation). A stress test against a long-double reference (p0/r up to 1e16,
+// near-collinear regressors) showed the same accuracy as evaluating the product form, at half the flops.
+// Outputs u = P[n|n-1] h (the fixed-lag smoother needs it), e = y - h^T x[n|n-1] and S.
 template <int D>
-CAUSAL_CORE_KERNEL UpdateResult joseph_update(int d_rt, double* __restrict x, double* __restrict p, const double* __restrict h,
-                                  double y, double r, double* __restrict u, double* work) {
+CAUSAL_CORE_KERNEL void joseph_update(int d_rt, V4* __restrict x, V4* __restrict p, const V4* __restrict h,
+                                      V4 y, V4 r, V4* __restrict u, V4& e_out, V4& s_out, V4* work) {
   const int d = D > 0 ? D : d_rt;
   Scratch<D> scratch(work);
-  double* __restrict k = scratch.get();
-  double* __restrict z = k + d;
+  V4* __restrict k = scratch.get();
+  V4* __restrict z = k + d;
 
-  for (int i = 0; i < d; ++i) u[i] = 0.0;
+  for (int i = 0; i < d; ++i) u[i] = splat(0.0);
   for (int j = 0; j < d; ++j) {
-    const double hj = h[j];
-    const double* pj = p + j * d;
+    const V4 hj = h[j];
+    const V4* pj = p + j * d;
     for (int i = 0; i < d; ++i) u[i] += pj[i] * hj;
   }
-  double s = r, hx = 0.0;
+  V4 s = r, hx = splat(0.0);
   for (int i = 0; i < d; ++i) {
     s += h[i] * u[i];
     hx += h[i] * x[i];
   }
-  const double e = y - hx;
-  const double inv_s = 1.0 / s;
-  const double half_s = 0.5 * s;
+  const V4 e = y - hx;
+  const V4 inv_s = 1.0 / s;
+  const V4 half_s = 0.5 * s;
   for (int i = 0; i < d; ++i) {
     k[i] = u[i] * inv_s;
     z[i] = u[i] - half_s * k[i];
   }
   for (int j = 0; j < d; ++j) {
-    const double kj = k[j], zj = z[j];
-    double* pj = p + j * d;
+    const V4 kj = k[j], zj = z[j];
+    V4* pj = p + j * d;
     for (int i = j; i < d; ++i) pj[i] -= k[i] * zj + z[i] * kj;
   }
   for (int j = 0; j < d; ++j) {
     for (int i = j + 1; i < d; ++i) p[i * d + j] = p[j * d + i];
   }
   for (int i = 0; i < d; ++i) x[i] += k[i] * e;
-  return {e, s};
+  e_out = e;
+  s_out = s;
 }
 
-// In-place Cholesky A = L L^T of an SPD matrix (column-major): the lower triangle of a becomes L (the upper
-// triangle is left as it was), inv_diag[j] = 1 / L(j, j).
-// Returns false if a pivot is not positive (not SPD to working precision).
+// Cholesky A = L L^T of SPD matrices (column-major), written to l (lower triangle; the upper triangle of l
+// is not touched), inv_diag[j] = 1 / L(j, j). Columns are accumulated in tmp (d elements) so no store can
+// alias a load. Returns false if any lane has a non-positive pivot (not SPD to working precision).
 template <int D>
-CAUSAL_CORE_KERNEL bool cholesky(int d_rt, double* __restrict a, double* __restrict inv_diag) {
+CAUSAL_CORE_KERNEL bool cholesky(int d_rt, const V4* __restrict a, V4* __restrict l, V4* __restrict inv_diag,
+                                 V4* __restrict tmp) {
   const int d = D > 0 ? D : d_rt;
   for (int j = 0; j < d; ++j) {
-    double* aj = a + j * d;
+    for (int i = j; i < d; ++i) tmp[i] = a[j * d + i];
     for (int k = 0; k < j; ++k) {
-      const double* ak = a + k * d;
-      const double ljk = ak[j];
-      for (int i = j; i < d; ++i) aj[i] -= ak[i] * ljk;
+      const V4* lk = l + k * d;
+      const V4 ljk = lk[j];
+      for (int i = j; i < d; ++i) tmp[i] -= lk[i] * ljk;
     }
-    if (!(aj[j] > 0.0)) return false;
-    const double ljj = std::sqrt(aj[j]);
-    const double inv = 1.0 / ljj;
-    aj[j] = ljj;
+    const V4 pivot = tmp[j];
+    bool spd = true;
+    for (int w = 0; w < kLanes; ++w) spd &= pivot[w] > 0.0;  // also false for NaN
+    if (!spd) return false;
+    V4 ljj;
+    for (int w = 0; w < kLanes; ++w) ljj[w] = std::sqrt(pivot[w]);
+    const V4 inv = 1.0 / ljj;
+    V4* lj = l + j * d;
+    lj[j] = ljj;
     inv_diag[j] = inv;
-    for (int i = j + 1; i < d; ++i) aj[i] *= inv;
+    for (int i = j + 1; i < d; ++i) lj[i] = tmp[i] * inv;
   }
   return true;
 }
 
-// Solves L L^T X = B in place for a d x d right-hand side B stored ROW-major in b (l, inv_diag from
-// cholesky()). Row-oriented substitution: every operation is an axpy over a whole row of X, so the d
-// right-hand sides proceed in parallel (vectorised) instead of as d serial substitution chains.
+// Solves L L^T X = B in place for a d x d right-hand side stored ROW-major in b. Row-oriented substitution:
+// every operation is an axpy over a whole row, so the d right-hand sides run in parallel. tmp: d elements.
 template <int D>
-CAUSAL_CORE_KERNEL void cholesky_solve_rows(int d_rt, const double* __restrict l, const double* __restrict inv_diag,
-                                double* __restrict b) {
+CAUSAL_CORE_KERNEL void cholesky_solve_rows(int d_rt, const V4* __restrict l, const V4* __restrict inv_diag,
+                                            V4* __restrict b, V4* __restrict tmp) {
   const int d = D > 0 ? D : d_rt;
   for (int j = 0; j < d; ++j) {  // forward: L Z = B
-    double* bj = b + j * d;
-    const double s = inv_diag[j];
-    for (int c = 0; c < d; ++c) bj[c] *= s;
+    V4* bj = b + j * d;
+    const V4 s = inv_diag[j];
+    for (int c = 0; c < d; ++c) {
+      tmp[c] = bj[c] * s;
+      bj[c] = tmp[c];
+    }
     for (int i = j + 1; i < d; ++i) {
-      const double lij = l[j * d + i];  // L(i, j)
-      double* bi = b + i * d;
-      for (int c = 0; c < d; ++c) bi[c] -= lij * bj[c];
+      const V4 lij = l[j * d + i];  // L(i, j)
+      V4* bi = b + i * d;
+      for (int c = 0; c < d; ++c) bi[c] -= lij * tmp[c];
     }
   }
   for (int j = d - 1; j >= 0; --j) {  // backward: L^T X = Z
-    double* bj = b + j * d;
-    const double s = inv_diag[j];
-    for (int c = 0; c < d; ++c) bj[c] *= s;
+    V4* bj = b + j * d;
+    const V4 s = inv_diag[j];
+    for (int c = 0; c < d; ++c) {
+      tmp[c] = bj[c] * s;
+      bj[c] = tmp[c];
+    }
     for (int i = 0; i < j; ++i) {
-      const double lji = l[i * d + j];  // L^T(i, j) = L(j, i)
-      double* bi = b + i * d;
-      for (int c = 0; c < d; ++c) bi[c] -= lji * bj[c];
+      const V4 lji = l[i * d + j];  // L^T(i, j) = L(j, i)
+      V4* bi = b + i * d;
+      for (int c = 0; c < d; ++c) bi[c] -= lji * tmp[c];
     }
   }
 }
@@ -164,77 +177,105 @@ CAUSAL_CORE_KERNEL void cholesky_solve_rows(int d_rt, const double* __restrict l
 //   x[n|N] = x[n|n] + C_n (x[n+1|N] - x[n|n])      (x[n+1|n] = x[n|n])
 //   P[n|N] = P[n|n] + C_n (P[n+1|N] - P[n+1|n]) C_n^T
 // (Rauch, Tung & Striebel 1965; Saerkkae, "Bayesian Filtering and Smoothing", 2013, Thm 8.2.)
-// Split in two so callers can compute the gains of several samples back to back (they do not depend on the
-// smoothed values, so their sqrt/divide latency chains overlap) before the sequential part.
+// Split in two: the gains C_n depend only on P[n|n], so callers compute several of them back to back (their
+// sqrt/divide latency chains then overlap) before the sequential part. ~ 3.2 d^3 flops in total.
 
-// rts_gain: C_n (column-major, into c) from pf = P[n|n] by a Cholesky solve of P[n+1|n] C_n^T = P[n|n], never
-// an explicit inverse. ~ 7/6 d^3 flops. Returns false if P[n+1|n] is not SPD to working precision.
+// rts_gain: C_n, column-major into c, from a Cholesky solve P[n+1|n] C_n^T = P[n|n], never an explicit
+// inverse. Returns false if P[n+1|n] is not SPD to working precision in some lane.
 template <int D>
-CAUSAL_CORE_KERNEL bool rts_gain(int d_rt, double q, const double* __restrict pf, double* __restrict c,
-                                 double* work) {
+CAUSAL_CORE_KERNEL bool rts_gain(int d_rt, V4 q, const V4* __restrict pf, V4* __restrict c, V4* work) {
   const int d = D > 0 ? D : d_rt;
   Scratch<D> scratch(work);
-  double* __restrict l = scratch.get();
-  double* __restrict inv_diag = l + d * d;
+  V4* __restrict a = scratch.get();  // P[n+1|n]
+  V4* __restrict l = a + d * d;      // its Cholesky factor
+  V4* __restrict inv_diag = l + d * d;
+  V4* __restrict tmp = inv_diag + d;
   for (int j = 0; j < d; ++j) {
     for (int i = 0; i < d; ++i) {
-      const double v = pf[j * d + i];
-      l[j * d + i] = v + (i == j ? q : 0.0);
+      const V4 v = pf[j * d + i];
+      a[j * d + i] = i == j ? v + q : v;
       c[j * d + i] = v;
     }
   }
-  if (!cholesky<D>(d, l, inv_diag)) return false;
+  if (!cholesky<D>(d, a, l, inv_diag, tmp)) return false;
   // Right-hand side P[n|n] read row-major is the same array (symmetric); the solution X = C^T read row-major
   // is C column-major.
-  cholesky_solve_rows<D>(d, l, inv_diag, c);
+  cholesky_solve_rows<D>(d, l, inv_diag, c, tmp);
   return true;
 }
 
-// rts_apply: in: ps/xs = P[n+1|N], x[n+1|N]; out: P[n|N], x[n|N]. ~ 3/2 d^3 flops (lower triangle of the
-// symmetric product, mirrored: the result is exactly symmetric).
+// rts_apply: in: ps/xs = P[n+1|N], x[n+1|N]; out: P[n|N], x[n|N] (P exactly symmetric: lower triangle
+// computed, then mirrored). pf = P[n|n], xf = x[n|n], c = C_n from rts_gain.
 template <int D>
-CAUSAL_CORE_KERNEL void rts_apply(int d_rt, double q, const double* __restrict pf, const double* __restrict xf,
-                                  const double* __restrict c, double* __restrict ps, double* __restrict xs,
-                                  double* work) {
+CAUSAL_CORE_KERNEL void rts_apply(int d_rt, V4 q, const V4* __restrict pf, const V4* __restrict xf,
+                                  const V4* __restrict c, V4* __restrict ps, V4* __restrict xs, V4* work) {
   const int d = D > 0 ? D : d_rt;
   Scratch<D> scratch(work);
-  double* __restrict t = scratch.get();  // C (P[n+1|N] - P[n+1|n])
-  double* __restrict dx = t + d * d;
+  V4* __restrict t = scratch.get();  // C (P[n+1|N] - P[n+1|n])
+  V4* __restrict dx = t + d * d;
+  // x[n|N] = xf + C (xs - xf)
   for (int i = 0; i < d; ++i) {
     dx[i] = xs[i] - xf[i];
     xs[i] = xf[i];
   }
   for (int k = 0; k < d; ++k) {
-    const double dk = dx[k];
-    const double* ck = c + k * d;
+    const V4 dk = dx[k];
+    const V4* ck = c + k * d;
     for (int i = 0; i < d; ++i) xs[i] += ck[i] * dk;
   }
   // ps <- P[n+1|N] - P[n+1|n] = ps - pf - q I;  T = C ps (column j of T = sum_k C(:, k) ps(k, j))
   for (int i = 0; i < d * d; ++i) ps[i] -= pf[i];
   for (int i = 0; i < d; ++i) ps[i * d + i] -= q;
   for (int j = 0; j < d; ++j) {
-    double* tj = t + j * d;
-    const double* psj = ps + j * d;
-    for (int i = 0; i < d; ++i) tj[i] = 0.0;
+    V4* tj = t + j * d;
+    const V4* psj = ps + j * d;
+    for (int i = 0; i < d; ++i) tj[i] = splat(0.0);
     for (int k = 0; k < d; ++k) {
-      const double v = psj[k];
-      const double* ck = c + k * d;
+      const V4 v = psj[k];
+      const V4* ck = c + k * d;
       for (int i = 0; i < d; ++i) tj[i] += ck[i] * v;
     }
   }
   // P[n|N] = pf + T C^T: column j = pf(:, j) + sum_k T(:, k) C(j, k); lower triangle, then mirrored.
   for (int j = 0; j < d; ++j) {
-    double* psj = ps + j * d;
-    const double* pfj = pf + j * d;
+    V4* psj = ps + j * d;
+    const V4* pfj = pf + j * d;
     for (int i = j; i < d; ++i) psj[i] = pfj[i];
     for (int k = 0; k < d; ++k) {
-      const double v = c[k * d + j];
-      const double* tk = t + k * d;
+      const V4 v = c[k * d + j];
+      const V4* tk = t + k * d;
       for (int i = j; i < d; ++i) psj[i] += tk[i] * v;
     }
   }
   for (int j = 0; j < d; ++j) {
     for (int i = 0; i < j; ++i) ps[j * d + i] = ps[i * d + j];
+  }
+}
+
+// Fixed-lag smoother update of one lagged state x[n-i] (see fixed_lag_smoother.hpp):
+//   g = P[n-i,n] h / S;  x[n-i] += g e;  P[n-i,n] -= g u^T;  var[n-i] -= S g.^2
+template <int D>
+CAUSAL_CORE_KERNEL void lag_update(int d_rt, const V4* __restrict h, const V4* __restrict u, V4 e, V4 s,
+                                   V4 inv_s, V4* __restrict pc, V4* __restrict x, V4* __restrict var,
+                                   V4* work) {
+  const int d = D > 0 ? D : d_rt;
+  Scratch<D> scratch(work);
+  V4* __restrict g = scratch.get();
+  for (int i = 0; i < d; ++i) g[i] = splat(0.0);
+  for (int j = 0; j < d; ++j) {
+    const V4 hj = h[j];
+    const V4* pj = pc + j * d;
+    for (int i = 0; i < d; ++i) g[i] += pj[i] * hj;
+  }
+  for (int i = 0; i < d; ++i) {
+    g[i] *= inv_s;
+    x[i] += g[i] * e;
+    var[i] -= s * g[i] * g[i];
+  }
+  for (int j = 0; j < d; ++j) {
+    const V4 uj = u[j];
+    V4* pj = pc + j * d;
+    for (int i = 0; i < d; ++i) pj[i] -= g[i] * uj;
   }
 }
 

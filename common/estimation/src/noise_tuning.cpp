@@ -1,6 +1,7 @@
 #include "causal/noise_tuning.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -12,46 +13,93 @@ namespace causal {
 namespace {
 
 constexpr double kLog2Pi = 1.8378770664093454836;  // log(2 pi)
-constexpr double kGoldenTol = 0.01;               // decades of lambda
-constexpr double kRoundRTol = 1e-3;               // relative change of r_hat that ends the rounds
-constexpr double kRoundLambdaTol = 0.05;          // decades
+constexpr double kSearchTol = 0.01;                // decades of lambda
+constexpr double kRoundRTol = 1e-3;                // relative change of r_hat that ends the rounds
+constexpr double kRoundLambdaTol = 0.05;           // decades
 
+struct Point {
+  double log10_lambda;
+  double loglik;  // concentrated
+  double r_hat;
+};
+
+// Evaluates up to 4 noise settings of outcome k in one filter pass (one per SIMD lane).
 struct Tuner {
   const SvarLayout& layout;
   int k;
   const Eigen::MatrixXd& samples;
   const std::vector<SampleStatus>& status;
-  int evaluations = 0;
+  detail::LanePlan plan;
+  int passes = 0;
 
-  // One filter pass with (q, r, p0); returns the sums of the likelihood.
-  detail::OutcomeForward pass(const NoiseParams& noise) {
-    detail::OutcomeForward job;
+  Tuner(const SvarLayout& l, int outcome, const Eigen::MatrixXd& s, const std::vector<SampleStatus>& st)
+      : layout(l), k(outcome), samples(s), status(st), plan(detail::make_replicated_plan(l, outcome)) {}
+
+  detail::GroupForward pass(const std::array<NoiseParams, detail::kLanes>& noise) {
+    detail::GroupForward job;
     job.layout = &layout;
-    job.k = k;
+    job.group = &plan.groups.front();
     job.samples = &samples;
     job.status = &status;
     job.noise = noise;
-    detail::run_outcome_forward(job);
-    ++evaluations;
+    job.likelihood = true;
+    detail::run_group_forward(job);
+    ++passes;
     return job;
   }
 
-  struct Point {
-    double log10_lambda;
-    double loglik;  // concentrated
-    double r_hat;
-  };
+  // Concentrated log-likelihood at each log10(lambda) with P0 = pi r I, filter run in units of r (R = 1).
+  std::vector<Point> concentrated(const std::vector<double>& log10_lambdas, double pi) {
+    std::vector<Point> out;
+    for (std::size_t first = 0; first < log10_lambdas.size(); first += detail::kLanes) {
+      std::array<NoiseParams, detail::kLanes> noise;
+      const std::size_t m = std::min<std::size_t>(detail::kLanes, log10_lambdas.size() - first);
+      for (std::size_t w = 0; w < detail::kLanes; ++w) {
+        const double l10 = log10_lambdas[first + std::min(w, m - 1)];
+        noise[w] = NoiseParams{std::pow(10.0, l10), 1.0, pi};
+      }
+      const detail::GroupForward job = pass(noise);
+      const auto n = static_cast<double>(job.updates);
+      for (std::size_t w = 0; w < m; ++w) {
+        const double r_hat = std::max(job.sum_e2_over_s[w] / n, std::numeric_limits<double>::min());
+        const double ll = -0.5 * (n * (kLog2Pi + std::log(r_hat)) + job.sum_log_s[w] + n);
+        out.push_back({log10_lambdas[first + w], ll, r_hat});
+      }
+    }
+    return out;
+  }
 
-  // Concentrated log-likelihood at lambda with P0 = pi r I, filter run in units of r (R = 1).
-  Point concentrated(double log10_lambda, double pi) {
-    const double lambda = std::pow(10.0, log10_lambda);
-    const detail::OutcomeForward job = pass({lambda, 1.0, pi});
-    const auto n = static_cast<double>(job.updates);
-    const double r_hat = std::max(job.sum_e2_over_s / n, std::numeric_limits<double>::min());
-    const double ll = -0.5 * (n * (kLog2Pi + std::log(r_hat)) + job.sum_log_s + n);
-    return {log10_lambda, ll, r_hat};
+  double exact(const NoiseParams& noise, long* updates) {
+    std::array<NoiseParams, detail::kLanes> lanes;
+    lanes.fill(noise);
+    const detail::GroupForward job = pass(lanes);
+    if (updates) *updates = static_cast<long>(job.updates);
+    if (job.updates == 0) return -std::numeric_limits<double>::infinity();
+    return -0.5 * (static_cast<double>(job.updates) * kLog2Pi + job.sum_log_s[0] + job.sum_e2_over_s[0]);
   }
 };
+
+// Outcome without factors: y_k = eps, the likelihood depends on r only (r_hat = mean y_k^2), q is moot.
+double empty_outcome_loglik(const Eigen::MatrixXd& samples, int k, const std::vector<SampleStatus>& status,
+                            double r, long* updates) {
+  double sum_sq = 0.0;
+  long n = 0;
+  for (Eigen::Index i = 0; i < samples.rows(); ++i) {
+    if (status[i] != SampleStatus::Updated) continue;
+    sum_sq += samples(i, k) * samples(i, k);
+    ++n;
+  }
+  if (updates) *updates = n;
+  if (n == 0) return -std::numeric_limits<double>::infinity();
+  return -0.5 * (static_cast<double>(n) * (kLog2Pi + std::log(r)) + sum_sq / r);
+}
+
+void check_outcome(const SvarLayout& layout, int k, const char* what) {
+  if (k < 0 || k >= layout.channels()) {
+    throw std::invalid_argument(std::string(what) + ": outcome " + std::to_string(k) + " out of range [0, " +
+                                std::to_string(layout.channels()) + ")");
+  }
+}
 
 }  // namespace
 
@@ -59,21 +107,16 @@ double innovation_log_likelihood(const SvarLayout& layout, int k, const Eigen::M
                                  const std::vector<bool>& discontinuity, const NoiseParams& noise,
                                  long* updates) {
   validate_noise_params(noise, "noise");
-  if (k < 0 || k >= layout.channels()) throw std::invalid_argument("outcome index out of range");
+  check_outcome(layout, k, "innovation_log_likelihood");
   const std::vector<SampleStatus> status = detail::classify_all(layout, samples, discontinuity);
-  Tuner t{layout, k, samples, status};
-  const detail::OutcomeForward job = t.pass(noise);
-  if (updates) *updates = static_cast<long>(job.updates);
-  if (job.updates == 0) return -std::numeric_limits<double>::infinity();
-  return -0.5 * (static_cast<double>(job.updates) * kLog2Pi + job.sum_log_s + job.sum_e2_over_s);
+  if (layout.factor_count(k) == 0) return empty_outcome_loglik(samples, k, status, noise.r, updates);
+  Tuner t(layout, k, samples, status);
+  return t.exact(noise, updates);
 }
 
 NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::MatrixXd& samples,
                              const std::vector<bool>& discontinuity, const NoiseTuningOptions& options) {
-  if (k < 0 || k >= layout.channels()) {
-    throw std::invalid_argument("tune_noise: outcome " + std::to_string(k) + " out of range [0, " +
-                                std::to_string(layout.channels()) + ")");
-  }
+  check_outcome(layout, k, "tune_noise");
   if (!(options.log10_ratio_min < options.log10_ratio_max) || !std::isfinite(options.log10_ratio_min) ||
       !std::isfinite(options.log10_ratio_max)) {
     throw std::invalid_argument("NoiseTuningOptions: need finite log10_ratio_min < log10_ratio_max");
@@ -105,76 +148,72 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
   }
   double r_ref = sum_sq / static_cast<double>(usable);
   if (!(r_ref > 0.0)) r_ref = 1.0;
+  if (d == 0) {
+    result.noise.r = r_ref;
+    result.noise.q = 0.0;
+    result.log_likelihood = empty_outcome_loglik(samples, k, status, r_ref, nullptr);
+    result.converged = true;
+    result.message = "outcome " + std::to_string(k + 1) + " has no factors: r = mean square of y";
+    return result;
+  }
 
-  Tuner t{layout, k, samples, status};
+  Tuner t(layout, k, samples, status);
   const int budget = options.max_evaluations - 1;  // keep one pass for the exact final likelihood
   const double lo = options.log10_ratio_min, hi = options.log10_ratio_max;
 
-  // Round 1: coarse 1-decade grid.
+  // Round 1 starts from a coarse 1-decade grid.
   double pi = options.p0 / r_ref;
-  Tuner::Point best{lo, -std::numeric_limits<double>::infinity(), r_ref};
-  const int grid = static_cast<int>(std::ceil(hi - lo)) + 1;
-  for (int i = 0; i < grid && t.evaluations < budget; ++i) {
-    const Tuner::Point p = t.concentrated(std::min(lo + i, hi), pi);
+  std::vector<double> grid;
+  for (double v = lo; v < hi + 0.5; v += 1.0) grid.push_back(std::min(v, hi));
+  Point best{lo, -std::numeric_limits<double>::infinity(), r_ref};
+  for (const Point& p : t.concentrated(grid, pi)) {
     if (p.loglik > best.loglik) best = p;
   }
 
-  bool golden_done = false;
+  bool search_done = false;
   bool rounds_done = false;
   double half = 1.0;
-  for (int round = 0; t.evaluations < budget; ++round) {
+  for (int round = 0; t.passes < budget; ++round) {
     const double center = best.log10_lambda;
+    // 4-point search: each pass evaluates 4 equally spaced interior points of [a, b] (one per lane) and
+    // shrinks the bracket to +-1 spacing around the best point seen (for a unimodal likelihood the maximum
+    // lies within one spacing of the best sample): width x 0.4 per pass.
     double a = std::max(lo, center - half), b = std::min(hi, center + half);
-    // Golden-section search for the maximum of the concentrated likelihood on [a, b].
-    constexpr double kInvPhi = 0.6180339887498949;
-    double c = b - kInvPhi * (b - a), e = a + kInvPhi * (b - a);
-    if (t.evaluations + 2 > budget) break;
-    Tuner::Point pc = t.concentrated(c, pi), pe = t.concentrated(e, pi);
-    golden_done = false;
-    while (t.evaluations < budget) {
-      if (b - a < kGoldenTol) {
-        golden_done = true;
+    Point round_best{center, -std::numeric_limits<double>::infinity(), r_ref};
+    search_done = false;
+    while (t.passes < budget) {
+      if (b - a < kSearchTol) {
+        search_done = true;
         break;
       }
-      if (pc.loglik >= pe.loglik) {
-        b = e;
-        e = c;
-        pe = pc;
-        c = b - kInvPhi * (b - a);
-        pc = t.concentrated(c, pi);
-      } else {
-        a = c;
-        c = e;
-        pc = pe;
-        e = a + kInvPhi * (b - a);
-        pe = t.concentrated(e, pi);
+      const double step = (b - a) / 5.0;
+      std::vector<double> pts;
+      for (int i = 1; i <= 4; ++i) pts.push_back(a + step * i);
+      for (const Point& p : t.concentrated(pts, pi)) {
+        if (p.loglik > round_best.loglik) round_best = p;
       }
+      a = std::max(a, round_best.log10_lambda - step);
+      b = std::min(b, round_best.log10_lambda + step);
     }
-    if (b - a < kGoldenTol) golden_done = true;
-    const Tuner::Point round_best = pc.loglik >= pe.loglik ? pc : pe;
+    if (b - a < kSearchTol) search_done = true;
     const double r_change = std::abs(round_best.r_hat / r_ref - 1.0);
     const double lambda_change = std::abs(round_best.log10_lambda - center);
     best = round_best;
     r_ref = round_best.r_hat;
     pi = options.p0 / r_ref;
     half = 0.5;
-    if (round > 0 && golden_done && r_change < kRoundRTol && lambda_change < kRoundLambdaTol) {
+    if (round > 0 && search_done && r_change < kRoundRTol && lambda_change < kRoundLambdaTol) {
       rounds_done = true;
       break;
     }
   }
 
-  const double lambda = std::pow(10.0, best.log10_lambda);
   result.noise.r = best.r_hat;
-  result.noise.q = lambda * best.r_hat;
+  result.noise.q = std::pow(10.0, best.log10_lambda) * best.r_hat;
   result.noise.p0 = options.p0;
-  {
-    const detail::OutcomeForward job = t.pass(result.noise);
-    result.log_likelihood =
-        -0.5 * (static_cast<double>(job.updates) * kLog2Pi + job.sum_log_s + job.sum_e2_over_s);
-  }
-  result.evaluations = t.evaluations;
-  result.converged = golden_done && rounds_done;
+  result.log_likelihood = t.exact(result.noise, nullptr);
+  result.evaluations = t.passes;
+  result.converged = search_done && rounds_done;
   result.at_range_limit = best.log10_lambda - lo < 0.05 || hi - best.log10_lambda < 0.05;
 
   std::ostringstream os;

@@ -50,74 +50,181 @@ namespace {
 
 template <int D>
 struct ForwardOp {
-  CAUSAL_CORE_CLONES static void run(OutcomeForward& job) {
-    const SvarLayout& layout = *job.layout;
-    const int d = layout.factor_count(job.k);
+  CAUSAL_CORE_CLONES static void run(GroupForward& job) {
+    const LaneGroup& grp = *job.group;
+    const int d = grp.d;
+    const int count = grp.count;
     const Eigen::Index n_samples = job.samples->rows();
     const double* data = job.samples->data();
-    // h_i[n] = samples(n - lag_i, channel_i) = data[gather_i + n] (column-major samples)
-    std::vector<Eigen::Index> gather(d);
-    for (int i = 0; i < d; ++i) {
-      const Regressor& reg = layout.regressors(job.k)[i];
-      gather[i] = static_cast<Eigen::Index>(reg.channel) * n_samples - reg.lag;
+    // h(i, w)[n] = samples(n - lag, channel) = data[gather(i, w) + n] (column-major samples)
+    std::vector<Eigen::Index> gather(static_cast<std::size_t>(d) * kLanes, 0);
+    std::array<const double*, kLanes> y_col{};
+    V4 q = splat(0.0), r = splat(1.0);
+    std::vector<double> x(static_cast<std::size_t>(d) * kLanes, 0.0), h(x.size(), 0.0), u(x.size(), 0.0);
+    std::vector<double> p(static_cast<std::size_t>(d) * d * kLanes, 0.0);
+    for (int w = 0; w < kLanes; ++w) {
+      const double p0 = w < count ? job.noise[w].p0 : 1.0;
+      for (int i = 0; i < d; ++i) p[(static_cast<std::size_t>(i) * d + i) * kLanes + w] = p0;
     }
-    const std::size_t dd = static_cast<std::size_t>(d) * d;
-    std::vector<double> x(d, 0.0), p(dd, 0.0), h(d), u(d);
-    std::vector<double> work(kernel_work_size(d));
-    for (int i = 0; i < d; ++i) p[i * d + i] = job.noise.p0;
+    for (int w = 0; w < count; ++w) {
+      const int k = grp.outcome[w];
+      const auto& regs = job.layout->regressors(k);
+      for (int i = 0; i < d; ++i) {
+        gather[static_cast<std::size_t>(i) * kLanes + w] =
+            static_cast<Eigen::Index>(regs[i].channel) * n_samples - regs[i].lag;
+      }
+      y_col[w] = data + static_cast<Eigen::Index>(k) * n_samples;
+      q[w] = job.noise[w].q;
+      r[w] = job.noise[w].r;
+    }
+    std::vector<double> work(kernel_work_lanes(d) * kLanes);
     const std::vector<SampleStatus>& status = *job.status;
-    const double* y = data + job.k * n_samples;
+    const std::size_t per_sample = store_doubles_per_sample(d);
+    V4* xv = lanes(x.data());
+    V4* pv = lanes(p.data());
+    // Outputs are column-major N x d per lane: writing one sample at a time would touch 2 d count cache lines
+    // per sample, so kBlock samples are buffered (lane-interleaved) and then written column by column.
+    constexpr Eigen::Index kBlock = 64;
+    const bool want_x = std::any_of(job.x_cols.begin(), job.x_cols.end(), [](double* c) { return c; });
+    const bool want_sd = std::any_of(job.sd_cols.begin(), job.sd_cols.end(), [](double* c) { return c; });
+    std::vector<double> xbuf(want_x || want_sd ? kBlock * x.size() : 0), sdbuf(want_sd ? kBlock * x.size() : 0);
+    Eigen::Index block_start = 0;
+    auto flush = [&](Eigen::Index from, Eigen::Index to) {
+      for (int w = 0; w < count; ++w) {
+        for (int i = 0; i < d; ++i) {
+          const std::size_t j = static_cast<std::size_t>(i) * kLanes + w;
+          if (double* xc = job.x_cols[w]) {
+            double* dst = xc + i * n_samples;
+            for (Eigen::Index m = from; m < to; ++m) dst[m] = xbuf[static_cast<std::size_t>(m - from) * x.size() + j];
+          }
+          if (double* sc = job.sd_cols[w]) {
+            double* dst = sc + i * n_samples;
+            for (Eigen::Index m = from; m < to; ++m) dst[m] = sdbuf[static_cast<std::size_t>(m - from) * x.size() + j];
+          }
+        }
+      }
+    };
     for (Eigen::Index n = 0; n < n_samples; ++n) {
-      if (n > 0) predict<D>(d, p.data(), job.noise.q);
+      if (n > 0) predict<D>(d, pv, q);
       if (status[n] == SampleStatus::Updated) {
-        for (int i = 0; i < d; ++i) h[i] = data[gather[i] + n];
-        const UpdateResult res =
-            joseph_update<D>(d, x.data(), p.data(), h.data(), y[n], job.noise.r, u.data(), work.data());
-        job.sum_log_s += std::log(res.s);
-        job.sum_e2_over_s += res.e * res.e / res.s;
+        V4 y = splat(0.0);
+        for (int w = 0; w < count; ++w) {
+          y[w] = y_col[w][n];
+          for (int i = 0; i < d; ++i) {
+            const std::size_t j = static_cast<std::size_t>(i) * kLanes + w;
+            h[j] = data[gather[j] + n];
+          }
+        }
+        V4 e, s;
+        joseph_update<D>(d, xv, pv, lanes(h.data()), y, r, lanes(u.data()), e, s, lanes(work.data()));
         ++job.updates;
-        if (job.e_col) job.e_col[n] = res.e;
-        if (job.s_col) job.s_col[n] = res.s;
+        for (int w = 0; w < count; ++w) {
+          if (job.likelihood) {
+            job.sum_log_s[w] += std::log(s[w]);
+            job.sum_e2_over_s[w] += e[w] * e[w] / s[w];
+          }
+          if (job.e_col[w]) job.e_col[w][n] = e[w];
+          if (job.s_col[w]) job.s_col[w][n] = s[w];
+        }
       }
-      if (job.x_cols) {
-        for (int i = 0; i < d; ++i) job.x_cols[i * n_samples + n] = x[i];
+      if (want_x || want_sd) {  // buffered, then written column by column (see flush)
+        const std::size_t b = static_cast<std::size_t>(n - block_start);
+        std::copy(x.begin(), x.end(), xbuf.begin() + b * x.size());
+        if (want_sd) {
+          V4* sd = lanes(sdbuf.data() + b * x.size());
+          for (int i = 0; i < d; ++i) {
+            const V4 v = pv[i * d + i];
+            for (int w = 0; w < kLanes; ++w) sd[i][w] = std::sqrt(v[w]);
+          }
+        }
+        if (n - block_start + 1 == kBlock || n + 1 == n_samples) {
+          flush(block_start, n + 1);
+          block_start = n + 1;
+        }
       }
-      if (job.sd_cols) {
-        for (int i = 0; i < d; ++i) job.sd_cols[i * n_samples + n] = std::sqrt(p[i * d + i]);
+      if (job.store) {
+        double* dst = job.store + static_cast<std::size_t>(n) * per_sample;
+        std::copy(p.begin(), p.end(), dst);
+        std::copy(x.begin(), x.end(), dst + p.size());
       }
-      if (job.p_store) std::copy(p.begin(), p.end(), job.p_store + n * static_cast<Eigen::Index>(dd));
     }
   }
 };
 
-// Backward pass: rts_step (kernels.hpp) from the last sample down, reading P[n|n] from p_store and x[n|n]
-// from x_cols, writing x[n|N] back into x_cols.
+// Backward pass: rts_gain / rts_apply (kernels.hpp) from the last sample down.
 template <int D>
 struct RtsOp {
-  CAUSAL_CORE_CLONES static void run(int d, Eigen::Index n_samples, double q, const double* p_store, double* x_cols,
-                  double* sd_cols) {
-    if (n_samples == 0 || d == 0) return;
-    const std::size_t dd = static_cast<std::size_t>(d) * d;
-    std::vector<double> ps(dd), xs(d), xf(d), work(kernel_work_size(d));
-    const Eigen::Index last = n_samples - 1;
-    std::copy(p_store + last * static_cast<Eigen::Index>(dd), p_store + n_samples * static_cast<Eigen::Index>(dd),
-              ps.begin());
-    for (int i = 0; i < d; ++i) {
-      xs[i] = x_cols[i * n_samples + last];
-      sd_cols[i * n_samples + last] = std::sqrt(ps[i * d + i]);
-    }
-    for (Eigen::Index n = last - 1; n >= 0; --n) {
-      const double* pf = p_store + n * static_cast<Eigen::Index>(dd);
-      for (int i = 0; i < d; ++i) xf[i] = x_cols[i * n_samples + n];
-      if (!rts_step<D>(d, q, pf, xf.data(), ps.data(), xs.data(), work.data())) {
-        // P[n+1|n] = P[n|n] + q I lost positive definiteness (cannot happen for p0 > 0, r > 0 short of
-        // overflow): fall back to the filtered values rather than emit garbage.
-        std::copy(pf, pf + dd, ps.begin());
-        std::copy(xf.begin(), xf.end(), xs.begin());
+  CAUSAL_CORE_CLONES static void run(const LaneGroup& grp, Eigen::Index n_samples,
+                                     const std::array<double, kLanes>& q_lanes, const double* store,
+                                     const std::array<double*, kLanes>& x_cols,
+                                     const std::array<double*, kLanes>& sd_cols) {
+    const int d = grp.d;
+    if (n_samples == 0) return;
+    const std::size_t np = static_cast<std::size_t>(d) * d * kLanes;
+    const std::size_t per_sample = store_doubles_per_sample(d);
+    const V4 q{q_lanes[0], q_lanes[1], q_lanes[2], q_lanes[3]};
+    std::vector<double> ps(np), xs(static_cast<std::size_t>(d) * kLanes), work(kernel_work_lanes(d) * kLanes);
+    // Outputs are buffered for kBlock samples (lane-interleaved) and written column by column, as in the
+    // forward pass; samples come in decreasing order, so block slot b holds sample block_hi - b.
+    constexpr Eigen::Index kBlock = 64;
+    const std::size_t nx = xs.size();
+    std::vector<double> xbuf(kBlock * nx), sdbuf(kBlock * nx);
+    Eigen::Index block_hi = n_samples - 1;
+    auto flush = [&](Eigen::Index lo) {
+      for (int w = 0; w < grp.count; ++w) {
+        for (int i = 0; i < d; ++i) {
+          const std::size_t j = static_cast<std::size_t>(i) * kLanes + w;
+          double* xc = x_cols[w] + i * n_samples;
+          double* sc = sd_cols[w] + i * n_samples;
+          for (Eigen::Index m = block_hi; m >= lo; --m) {
+            const std::size_t b = static_cast<std::size_t>(block_hi - m) * nx + j;
+            xc[m] = xbuf[b];
+            sc[m] = sdbuf[b];
+          }
+        }
       }
+    };
+    auto emit = [&](Eigen::Index n) {
+      const std::size_t b = static_cast<std::size_t>(block_hi - n) * nx;
+      std::copy(xs.begin(), xs.end(), xbuf.begin() + b);
+      V4* sd = lanes(sdbuf.data() + b);
+      const V4* p = lanes(ps.data());
       for (int i = 0; i < d; ++i) {
-        x_cols[i * n_samples + n] = xs[i];
-        sd_cols[i * n_samples + n] = std::sqrt(std::max(ps[i * d + i], 0.0));
+        const V4 v = p[i * d + i];
+        for (int w = 0; w < kLanes; ++w) sd[i][w] = std::sqrt(std::max(v[w], 0.0));
+      }
+      if (block_hi - n + 1 == kBlock || n == 0) {
+        flush(n);
+        block_hi = n - 1;
+      }
+    };
+    const Eigen::Index last = n_samples - 1;
+    const double* src = store + static_cast<std::size_t>(last) * per_sample;
+    std::copy(src, src + np, ps.begin());
+    std::copy(src + np, src + per_sample, xs.begin());
+    emit(last);
+    // Gains first for a chunk of samples (independent of the smoothed values), then the sequential part.
+    constexpr Eigen::Index kChunk = 8;
+    std::vector<double> gains(static_cast<std::size_t>(kChunk) * np);
+    std::array<bool, kChunk> ok{};
+    for (Eigen::Index hi = last - 1; hi >= 0; hi -= kChunk) {
+      const Eigen::Index lo = std::max<Eigen::Index>(0, hi - kChunk + 1);
+      for (Eigen::Index n = hi; n >= lo; --n) {
+        const double* pf = store + static_cast<std::size_t>(n) * per_sample;
+        ok[hi - n] = rts_gain<D>(d, q, lanes(pf), lanes(gains.data() + (hi - n) * np), lanes(work.data()));
+      }
+      for (Eigen::Index n = hi; n >= lo; --n) {
+        const double* pf = store + static_cast<std::size_t>(n) * per_sample;
+        if (ok[hi - n]) {
+          rts_apply<D>(d, q, lanes(pf), lanes(pf + np), lanes(gains.data() + (hi - n) * np), lanes(ps.data()),
+                       lanes(xs.data()), lanes(work.data()));
+        } else {
+          // P[n+1|n] = P[n|n] + q I not SPD (cannot happen for p0 > 0, r > 0 short of overflow): fall back to
+          // the filtered values rather than emit garbage.
+          std::copy(pf, pf + np, ps.begin());
+          std::copy(pf + np, pf + per_sample, xs.begin());
+        }
+        emit(n);
       }
     }
   }
@@ -125,13 +232,12 @@ struct RtsOp {
 
 }  // namespace
 
-void run_outcome_forward(OutcomeForward& job) {
-  dispatch_dim<ForwardOp>(job.layout->factor_count(job.k), job);
-}
+void run_group_forward(GroupForward& job) { dispatch_dim<ForwardOp>(job.group->d, job); }
 
-void run_outcome_rts(int d, Eigen::Index n_samples, double q, const double* p_store, double* x_cols,
-                     double* sd_cols) {
-  dispatch_dim<RtsOp>(d, d, n_samples, q, p_store, x_cols, sd_cols);
+void run_group_rts(const LaneGroup& group, Eigen::Index n_samples, const std::array<double, kLanes>& q,
+                   const double* store, const std::array<double*, kLanes>& x_cols,
+                   const std::array<double*, kLanes>& sd_cols) {
+  dispatch_dim<RtsOp>(group.d, group, n_samples, q, store, x_cols, sd_cols);
 }
 
 }  // namespace causal::detail

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "kernels.hpp"
+#include "lane_plan.hpp"
 #include "segment_tracker.hpp"
 
 namespace causal {
@@ -19,20 +20,23 @@ const char* to_string(SampleStatus status) {
   return "unknown";
 }
 
-// Binds the per-outcome function pointers to the fixed-size kernels of dimension D.
+// Binds each lane group to the kernels of its dimension D.
 template <int D>
 struct SvarKalmanFilter::Select {
-  CAUSAL_CORE_CLONES static void update(SvarKalmanFilter& f, int k, double y) {
-    const int o = f.x_off_[k];
-    const detail::UpdateResult res =
-        detail::joseph_update<D>(f.dim_[k], f.x_.data() + o, f.p_.data() + f.p_off_[k], f.h_.data() + o, y,
-                                 f.noise_[k].r, f.u_.data() + o, f.work_.data());
-    f.e_[k] = res.e;
-    f.s_[k] = res.s;
+  CAUSAL_CORE_CLONES static void update(SvarKalmanFilter& f, int group) {
+    using detail::V4;
+    const detail::LaneGroup& grp = f.plan_->groups[group];
+    const int* yi = f.y_index_.data() + group * detail::kLanes;
+    const V4 y{f.window_[yi[0]], f.window_[yi[1]], f.window_[yi[2]], f.window_[yi[3]]};
+    V4 e, s;
+    detail::joseph_update<D>(grp.d, detail::lanes(f.x_.data() + grp.x_off), detail::lanes(f.p_.data() + grp.p_off),
+                             detail::lanes(f.h_.data() + grp.x_off),
+                             y, detail::lanes(f.r_.data() + group * detail::kLanes)[0],
+                             detail::lanes(f.u_.data() + grp.x_off), e, s, detail::lanes(f.work_.data()));
+    detail::lanes(f.e_lane_.data() + group * detail::kLanes)[0] = e;
+    detail::lanes(f.s_lane_.data() + group * detail::kLanes)[0] = s;
   }
-  static void run(SvarKalmanFilter& f, int k) {
-    f.update_fn_[k] = &update;
-  }
+  static void run(SvarKalmanFilter& f, int group) { f.update_fn_[group] = &update; }
 };
 
 SvarKalmanFilter::SvarKalmanFilter(const SvarLayout& layout, std::vector<NoiseParams> noise)
@@ -47,55 +51,70 @@ SvarKalmanFilter::SvarKalmanFilter(const SvarLayout& layout, std::vector<NoisePa
   }
   for (int k = 0; k < g_; ++k) validate_noise_params(noise_[k], "noise[" + std::to_string(k) + "]");
 
-  const int f = layout_.total_factors();
-  dim_.resize(g_);
-  x_off_.resize(g_);
-  p_off_.resize(g_);
-  update_fn_.resize(g_);
-  gather_.resize(f);
-  int p_total = 0;
-  for (int k = 0; k < g_; ++k) {
-    dim_[k] = layout_.factor_count(k);
-    x_off_[k] = layout_.offset(k);
-    p_off_[k] = p_total;
-    p_total += dim_[k] * dim_[k];
-    const auto& regs = layout_.regressors(k);
-    for (int i = 0; i < dim_[k]; ++i) gather_[x_off_[k] + i] = regs[i].lag * g_ + regs[i].channel;
-    detail::dispatch_dim<Select>(dim_[k], *this, k);
+  auto plan = std::make_shared<detail::LanePlan>(detail::make_lane_plan(layout_));
+  plan_ = plan;
+  const int zero_slot = (m_ + 1) * g_;  // window_ index that always holds 0 (padding lanes read it)
+  const std::size_t n_groups = plan->groups.size();
+  gather_.assign(plan->x_size, zero_slot);
+  y_index_.assign(n_groups * detail::kLanes, zero_slot);
+  q_.assign(n_groups * detail::kLanes, 0.0);
+  r_.assign(n_groups * detail::kLanes, 1.0);
+  update_fn_.resize(n_groups);
+  for (std::size_t gi = 0; gi < n_groups; ++gi) {
+    const detail::LaneGroup& grp = plan->groups[gi];
+    for (int w = 0; w < grp.count; ++w) {
+      const int k = grp.outcome[w];
+      const auto& regs = layout_.regressors(k);
+      for (int i = 0; i < grp.d; ++i) {
+        gather_[grp.x_off + static_cast<std::size_t>(i) * detail::kLanes + w] = regs[i].lag * g_ + regs[i].channel;
+      }
+      y_index_[gi * detail::kLanes + w] = k;
+    }
+    detail::dispatch_dim<Select>(grp.d, *this, static_cast<int>(gi));
   }
-  x_.resize(f);
-  p_.resize(p_total);
-  window_.assign(static_cast<std::size_t>(m_ + 1) * g_, 0.0);
-  h_.assign(f, 0.0);
-  u_.assign(f, 0.0);
+  for (int k = 0; k < g_; ++k) set_noise(k, noise_[k]);
+  x_.resize(plan->x_size);
+  p_.resize(plan->p_size);
+  h_.assign(plan->x_size, 0.0);
+  u_.assign(plan->x_size, 0.0);
+  e_lane_.assign(n_groups * detail::kLanes, 0.0);
+  s_lane_.assign(n_groups * detail::kLanes, 1.0);
   e_.resize(g_);
   s_.resize(g_);
-  work_.resize(detail::kernel_work_size(layout_.max_factor_count()));
+  window_.assign(static_cast<std::size_t>(zero_slot) + 1, 0.0);
+  work_.resize(detail::kernel_work_lanes(plan->max_d) * detail::kLanes);
   reset();
 }
 
 void SvarKalmanFilter::reset() {
   std::fill(x_.begin(), x_.end(), 0.0);
   std::fill(p_.begin(), p_.end(), 0.0);
-  for (int k = 0; k < g_; ++k) {
-    Eigen::Map<Eigen::MatrixXd> P(p_.data() + p_off_[k], dim_[k], dim_[k]);
-    P.diagonal().setConstant(noise_[k].p0);
+  for (const detail::LaneGroup& grp : plan_->groups) {
+    for (int w = 0; w < detail::kLanes; ++w) {
+      const double p0 = w < grp.count ? noise_[grp.outcome[w]].p0 : 1.0;
+      for (int i = 0; i < grp.d; ++i) {
+        p_[grp.p_off + (static_cast<std::size_t>(i) * grp.d + i) * detail::kLanes + w] = p0;
+      }
+    }
   }
   std::fill(e_.begin(), e_.end(), std::numeric_limits<double>::quiet_NaN());
   std::fill(s_.begin(), s_.end(), std::numeric_limits<double>::quiet_NaN());
+  std::fill(window_.begin(), window_.end(), 0.0);
   history_ = 0;
   steps_ = 0;
   counters_ = FilterCounters{};
 }
 
 SampleStatus SvarKalmanFilter::step(const double* y, bool discontinuity) {
+  const auto& groups = plan_->groups;
+  const int n_groups = static_cast<int>(groups.size());
   if (steps_ > 0) {
-    // P += q I (time passes for every sample, usable or not)
-    for (int k = 0; k < g_; ++k) {
-      double* p = p_.data() + p_off_[k];
-      const int d = dim_[k];
-      const double q = noise_[k].q;
-      for (int i = 0; i < d; ++i) p[i * d + i] += q;
+    // P += q I for every sample, usable or not: time passes.
+    for (int gi = 0; gi < n_groups; ++gi) {
+      const detail::LaneGroup& grp = groups[gi];
+      detail::V4* p = detail::lanes(p_.data() + grp.p_off);
+      const detail::V4 q = detail::lanes(q_.data() + gi * detail::kLanes)[0];
+      for (int i = 0; i < grp.d; ++i) p[i * grp.d + i] += q;
     }
   }
   ++steps_;
@@ -111,9 +130,20 @@ SampleStatus SvarKalmanFilter::step(const double* y, bool discontinuity) {
     ++counters_.warm_up;
     return status;
   }
-  const int f = static_cast<int>(x_.size());
-  for (int i = 0; i < f; ++i) h_[i] = window_[gather_[i]];
-  for (int k = 0; k < g_; ++k) update_fn_[k](*this, k, y[k]);
+  const std::size_t nh = h_.size();
+  for (std::size_t i = 0; i < nh; ++i) h_[i] = window_[gather_[i]];
+  for (int gi = 0; gi < n_groups; ++gi) update_fn_[gi](*this, gi);
+  for (int gi = 0; gi < n_groups; ++gi) {
+    const detail::LaneGroup& grp = groups[gi];
+    for (int w = 0; w < grp.count; ++w) {
+      e_[grp.outcome[w]] = e_lane_[gi * detail::kLanes + w];
+      s_[grp.outcome[w]] = s_lane_[gi * detail::kLanes + w];
+    }
+  }
+  for (int k : plan_->empty) {  // no factors: the whole of y_k is innovation
+    e_[k] = y[k];
+    s_[k] = noise_[k].r;
+  }
   ++counters_.updated;
   return status;
 }
@@ -123,20 +153,46 @@ double SvarKalmanFilter::last_innovation(int k) const { return e_.at(k); }
 double SvarKalmanFilter::last_innovation_variance(int k) const { return s_.at(k); }
 
 Eigen::VectorXd SvarKalmanFilter::estimate(int k) const {
-  return Eigen::Map<const Eigen::VectorXd>(x_.data() + x_off_.at(k), dim_[k]);
+  const int d = layout_.factor_count(k);
+  Eigen::VectorXd v(d);
+  if (d == 0) return v;
+  const detail::LaneGroup& grp = plan_->groups[plan_->group_of[k]];
+  const int w = plan_->lane_of[k];
+  for (int i = 0; i < d; ++i) v[i] = x_[grp.x_off + static_cast<std::size_t>(i) * detail::kLanes + w];
+  return v;
 }
 
 Eigen::MatrixXd SvarKalmanFilter::covariance(int k) const {
-  return Eigen::Map<const Eigen::MatrixXd>(p_.data() + p_off_.at(k), dim_[k], dim_[k]);
+  const int d = layout_.factor_count(k);
+  Eigen::MatrixXd m(d, d);
+  if (d == 0) return m;
+  const detail::LaneGroup& grp = plan_->groups[plan_->group_of[k]];
+  const int w = plan_->lane_of[k];
+  for (int j = 0; j < d; ++j) {
+    for (int i = 0; i < d; ++i) {
+      m(i, j) = p_[grp.p_off + (static_cast<std::size_t>(j) * d + i) * detail::kLanes + w];
+    }
+  }
+  return m;
 }
 
-void SvarKalmanFilter::estimates(double* out) const { std::copy(x_.begin(), x_.end(), out); }
+void SvarKalmanFilter::estimates(double* out) const {
+  for (const detail::LaneGroup& grp : plan_->groups) {
+    for (int w = 0; w < grp.count; ++w) {
+      double* o = out + layout_.offset(grp.outcome[w]);
+      for (int i = 0; i < grp.d; ++i) o[i] = x_[grp.x_off + static_cast<std::size_t>(i) * detail::kLanes + w];
+    }
+  }
+}
 
 void SvarKalmanFilter::std_devs(double* out) const {
-  for (int k = 0; k < g_; ++k) {
-    const double* p = p_.data() + p_off_[k];
-    const int d = dim_[k];
-    for (int i = 0; i < d; ++i) out[x_off_[k] + i] = std::sqrt(p[i * d + i]);
+  for (const detail::LaneGroup& grp : plan_->groups) {
+    for (int w = 0; w < grp.count; ++w) {
+      double* o = out + layout_.offset(grp.outcome[w]);
+      for (int i = 0; i < grp.d; ++i) {
+        o[i] = std::sqrt(p_[grp.p_off + (static_cast<std::size_t>(i) * grp.d + i) * detail::kLanes + w]);
+      }
+    }
   }
 }
 
@@ -145,6 +201,10 @@ const NoiseParams& SvarKalmanFilter::noise(int k) const { return noise_.at(k); }
 void SvarKalmanFilter::set_noise(int k, const NoiseParams& noise) {
   validate_noise_params(noise, "set_noise(" + std::to_string(k) + ")");
   noise_.at(k) = noise;
+  const int gi = plan_->group_of[k];
+  if (gi < 0) return;
+  q_[gi * detail::kLanes + plan_->lane_of[k]] = noise.q;
+  r_[gi * detail::kLanes + plan_->lane_of[k]] = noise.r;
 }
 
 }  // namespace causal

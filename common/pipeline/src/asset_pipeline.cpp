@@ -44,7 +44,7 @@ FrameCheck AssetPipeline::feed_frame(const Eigen::Ref<const RowMajorMatrix>& row
     if (gap) conditions_->drop_open_window();
     const std::size_t before = out.conditions.size();
     conditions_->feed(rows.data(), static_cast<std::size_t>(rows.rows()), restart, end_of_segment, first_time_ns,
-                      out.conditions);
+                      1e9 / sample_rate_hz, out.conditions);
     for (std::size_t i = before; i < out.conditions.size(); ++i) feed_condition_model(out.conditions[i], out);
   }
   return check;

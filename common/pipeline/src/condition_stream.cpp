@@ -1,5 +1,6 @@
 #include "causal/pipeline/condition_stream.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -15,7 +16,8 @@ Eigen::VectorXd condition_model_input(const Eigen::VectorXd& values, bool log_tr
   return out;
 }
 
-ConditionStream::ConditionStream(ConditionStreamParams params, int channels) : params_(params), acc_(channels) {
+ConditionStream::ConditionStream(ConditionStreamParams params, int channels)
+    : params_(params), channels_(channels), acc_(channels) {
   if (channels < 1) throw std::invalid_argument("condition stream needs at least one channel");
 }
 
@@ -23,12 +25,14 @@ void ConditionStream::drop_open_window() {
   if (window_open_) ++dropped_;
   acc_.reset();
   window_open_ = false;
+  fed_in_window_ = 0;
   next_discontinuity_ = true;
 }
 
 void ConditionStream::close(std::vector<ConditionSample>& out) {
   if (!window_open_) return;
   window_open_ = false;
+  fed_in_window_ = 0;
   if (acc_.count() < params_.min_samples) {
     ++dropped_;
     acc_.reset();
@@ -47,15 +51,24 @@ void ConditionStream::close(std::vector<ConditionSample>& out) {
 }
 
 void ConditionStream::feed(const double* rows, std::size_t n, bool discontinuity, bool end_of_segment,
-                           std::int64_t first_time_ns, std::vector<ConditionSample>& out) {
+                           std::int64_t first_time_ns, double period_ns, std::vector<ConditionSample>& out) {
   // A new segment closes the previous window (a snapshot whose last frame did not say end_of_segment).
   if (discontinuity) close(out);
-  if (!window_open_) {
-    window_open_ = true;
-    window_time_ns_ = first_time_ns;
+  std::size_t done = 0;
+  while (done < n) {
+    if (!window_open_) {
+      window_open_ = true;
+      window_time_ns_ = first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(done) * period_ns));
+    }
+    // Fill the open window up to window_samples (counted in rows fed, rejected non-finite rows included).
+    std::size_t take = n - done;
+    if (params_.window_samples > 0) take = std::min(take, params_.window_samples - fed_in_window_);
+    acc_.add(rows + done * static_cast<std::size_t>(channels_), take);
+    fed_in_window_ += take;
+    done += take;
+    if (params_.window_samples > 0 && fed_in_window_ >= params_.window_samples) close(out);
   }
-  acc_.add(rows, n);
-  if (end_of_segment || (params_.window_samples > 0 && acc_.count() >= params_.window_samples)) close(out);
+  if (end_of_segment) close(out);
 }
 
 }  // namespace causal::pipeline

@@ -61,9 +61,11 @@ void FactorStream::calibrate(std::vector<FactorReport>& out) {
   tuning_ = tune_noise_all(layout_, samples, buffer_disc_, options);
   noise_.clear();
   for (int k = 0; k < g_; ++k) {
-    // A window with too few usable samples cannot be tuned: keep the configured values for that outcome.
+    // A window with too few usable samples cannot be tuned (tune_noise then runs no filter pass and
+    // returns library defaults): keep the configured values for that outcome.
     const auto& t = tuning_[static_cast<std::size_t>(k)];
-    noise_.push_back(t.updates > 0 && t.noise.r > 0.0 ? t.noise : params_.noise.fixed);
+    const bool tuned = t.evaluations > 0 && t.noise.r > 0.0;
+    noise_.push_back(tuned ? t.noise : params_.noise.fixed);
   }
   smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag);
   // Replay the calibration window so no sample is lost.

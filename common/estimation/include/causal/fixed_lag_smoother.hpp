@@ -53,7 +53,7 @@ class FixedLagSmoother {
  private:
   template <int D>
   struct Select;
-  using LagUpdateFn = void (*)(FixedLagSmoother&, int k);
+  using LagUpdateFn = void (*)(FixedLagSmoother&, int group);
 
   void shift_in_filter_state();
   int slot_pos(int i) const { return (head_ - (i - 1) + lag_) % lag_; }  // ring position of lag i (1..L)
@@ -61,10 +61,9 @@ class FixedLagSmoother {
 
   SvarKalmanFilter filter_;
   int lag_;
-  int g_;
-  std::vector<int> dim_, x_off_, p_off_;
-  std::vector<double> xs_;   // L slots per outcome: outcome k at lag_ * x_off_[k], slot s at + s * d
-  std::vector<double> pc_;   // cross-covariances P[n-i,n]: outcome k at lag_ * p_off_[k], slot s at + s * d^2
+  // Per lane group of the filter (same lane-interleaved layout), L ring slots each:
+  std::vector<double> xs_;   // group g at lag_ * x_off, slot s at + s * d * 4
+  std::vector<double> pc_;   // cross-covariances P[n-i,n]: group g at lag_ * p_off, slot s at + s * d * d * 4
   std::vector<double> var_;  // diag P[n-i,n-i], laid out like xs_
   std::vector<double> work_;
   std::vector<LagUpdateFn> update_fn_;

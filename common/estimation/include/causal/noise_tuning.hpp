@@ -13,11 +13,13 @@
 //    Rounds stop when r_hat changes by < 0.1 % and log10(lambda) by < 0.05. P0 only shapes the first few
 //    updates, so this converges in 2-3 rounds. The returned NoiseParams has p0 = options.p0 and the reported
 //    log_likelihood is the exact one of the returned (q, r, p0) (one extra pass).
-//  * Search over log10(lambda) in [log10_ratio_min, log10_ratio_max]: round 1 scans a 1-decade grid, then
-//    golden-section search in +-1 decade around the best grid point to 0.01 decade; later rounds search
+//  * Search over log10(lambda) in [log10_ratio_min, log10_ratio_max]: the filter runs 4 candidate ratios at
+//    once in SIMD lanes, so each pass evaluates 4 points. Round 1 scans a 1-decade grid, then a 4-point
+//    bracketing search (4 equally spaced interior points per pass, bracket shrunk to +-1 spacing around the
+//    best: x 0.4 per pass) in +-1 decade around the best grid point to 0.01 decade; later rounds search
 //    +-0.5 decade around the previous optimum.
-// Cost: one filter pass of outcome k over the window per evaluation, O(N d_k^2); typically 40-50 evaluations
-// (e.g. N = 5000, d = 6: a few ms). max_evaluations caps it (converged = false when the cap stops the search).
+// Cost: one filter pass of outcome k over the window per 4 evaluations, O(N d_k^2); typically ~20 passes
+// (e.g. N = 5000, d = 6: a few ms). max_evaluations caps the passes (converged = false if it stops the search).
 #pragma once
 
 #include <Eigen/Core>
@@ -33,13 +35,13 @@ struct NoiseTuningOptions {
   double p0 = 1.0;                 // absolute initial state variance used for tuning and returned
   double log10_ratio_min = -12;    // search range of log10(q / r)
   double log10_ratio_max = 0;
-  int max_evaluations = 60;        // filter passes, including the final exact evaluation
+  int max_evaluations = 60;        // filter passes (4 candidates each), including the final exact one; >= 8
 };
 
 struct NoiseTuningResult {
   NoiseParams noise;               // q = lambda_hat r_hat, r = r_hat, p0 = options.p0
   double log_likelihood = 0.0;     // exact innovation log-likelihood of `noise` on the window
-  int evaluations = 0;             // filter passes used
+  int evaluations = 0;             // filter passes used (each evaluates up to 4 candidates)
   bool converged = false;          // search tolerance and r fixed point reached within max_evaluations
   std::string message;             // human-readable summary (and why not converged / limit hit)
   bool at_range_limit = false;     // optimum within 0.05 decade of log10_ratio_min or _max

@@ -10,11 +10,13 @@
 // rejected samples therefore still grow P by q I; their estimate is the prediction.
 //
 // Cost per sample: O(sum_k d_k^2) with d_k = factor_count(k); no heap allocation after construction.
-// Dimensions 1..12 use fixed-size Eigen kernels.
+// Outcomes of equal dimension are updated four at a time in SIMD lanes; dimensions 1..12 use kernels with
+// compile-time sizes.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "causal/noise_params.hpp"
@@ -37,6 +39,9 @@ struct FilterCounters {
 };
 
 class FixedLagSmoother;
+namespace detail {
+struct LanePlan;
+}
 
 class SvarKalmanFilter {
  public:
@@ -66,26 +71,27 @@ class SvarKalmanFilter {
 
  private:
   friend class FixedLagSmoother;
-  using UpdateFn = void (*)(SvarKalmanFilter&, int k, double y);
+  using UpdateFn = void (*)(SvarKalmanFilter&, int group);
   template <int D>
   struct Select;
 
+  // Internals are "lane groups" of up to 4 outcomes of equal dimension updated together in SIMD lanes
+  // (src/kernels.hpp, src/lane_plan.hpp); vectors/matrices are stored lane-interleaved.
   SvarLayout layout_;
   std::vector<NoiseParams> noise_;
   int g_;
   int m_;
-  std::vector<int> dim_;         // d_k
-  std::vector<int> x_off_;       // offset of x_k in x_ (== layout offset)
-  std::vector<int> p_off_;       // offset of P_k (column-major d_k x d_k) in p_
-  std::vector<int> gather_;      // per factor: index into window_ (lag * G + channel)
-  std::vector<double> x_;        // all factors, outcome-major
-  std::vector<double> p_;        // all P_k blocks
-  std::vector<double> window_;   // (M+1) x G: window_[l*G + j] = y_j[n-l]
-  std::vector<double> h_;        // regressors of the last update, same layout as x_
-  std::vector<double> u_;        // P[n|n-1] h of the last update, same layout as x_
-  std::vector<double> e_, s_;    // last innovation and its variance per outcome
+  std::shared_ptr<const detail::LanePlan> plan_;
+  std::vector<int> gather_;      // per lane-interleaved regressor: index into window_
+  std::vector<int> y_index_;     // per group lane: index into window_ of the outcome's own y[n]
+  std::vector<double> q_, r_;    // per group lane (padding: q = 0, r = 1)
+  std::vector<double> x_, p_;    // lane-interleaved states and covariances
+  std::vector<double> h_, u_;    // regressors and P[n|n-1] h of the last update, lane-interleaved
+  std::vector<double> e_lane_, s_lane_;  // last innovation and variance per group lane
+  std::vector<double> e_, s_;    // last innovation and variance per outcome
+  std::vector<double> window_;   // (M+1) x G + 1: window_[l*G + j] = y_j[n-l]; last element is always 0
   std::vector<double> work_;     // scratch for the dynamic-size kernels
-  std::vector<UpdateFn> update_fn_;
+  std::vector<UpdateFn> update_fn_;  // per group
   int history_ = 0;              // valid samples in window_ rows 1..M (capped at M)
   std::uint64_t steps_ = 0;
   FilterCounters counters_;

@@ -15,10 +15,13 @@
 //     each with persistence / hysteresis (PersistenceLatch), severities, one alarm per (channel, kind)
 //     while active; escalations and the clearing republish the same alarm id.
 //  3. root cause (per episode = period during which at least one alarm is active): the channel whose
-//     own behaviour (innovation_rise) changed first, among channels whose change began no later than the
-//     alarmed channel's; if no channel's own behaviour changed, the channel whose feature departed
-//     first. Followers (channels that rise only because the causal links carry the root's change) show
-//     a feature drift without an innovation rise and get the root's id as root cause.
+//     own behaviour changed first -- an innovation_rise onset, else a feature departure, among channels
+//     whose change began no later than the alarmed channel's; simultaneous onsets (within
+//     onset_tolerance) are resolved by the own-change evidence (z statistic of the innovations since the
+//     departure began), then by size. Followers (channels that rise only because the causal links carry
+//     the root's change) show a departure without own-change evidence and get the root's id. A channel
+//     whose trouble began with its own change clearly AFTER the first root is an independent root
+//     (a second fault) and is its own root cause.
 //
 // Sample-level use: feed one Observation per factor publication (mean_nis filled from the CausalFactors
 // nis_mean, features optional e.g. a block RMS) with AlarmParams::sample_level(n_healthy_publications).
@@ -83,6 +86,8 @@ class AlarmEngine {
   double nis_threshold() const;
   std::uint64_t observations_seen() const;
   std::uint64_t rejected_observations() const;
+  // Observations skipped by the operating-state gate (every channel far below its baseline: not running).
+  std::uint64_t not_running_observations() const;
   ChannelDiagnostics channel_diagnostics(int channel) const;
   // Latest event of every active alarm (state Raised or Escalated), channel order.
   std::vector<AlarmEvent> active_alarms() const;

@@ -36,9 +36,10 @@ Eigen::VectorXd condition_model_input(const Eigen::VectorXd& values, bool log_tr
 class ConditionStream {
  public:
   ConditionStream(ConditionStreamParams params, int channels);
-  // rows: N x G sample-major samples. Appends finished condition samples to `out`.
+  // rows: N x G sample-major samples, period_ns apart. Appends finished condition samples to `out`.
+  // With window_samples > 0 a frame is split so that every window holds exactly window_samples samples.
   void feed(const double* rows, std::size_t n, bool discontinuity, bool end_of_segment, std::int64_t first_time_ns,
-            std::vector<ConditionSample>& out);
+            double period_ns, std::vector<ConditionSample>& out);
   // A gap in the frame sequence (lost frames): the open window is discarded (features of a partial
   // snapshot would be biased) and the next vector restarts the condition-level lags.
   void drop_open_window();
@@ -48,9 +49,11 @@ class ConditionStream {
   void close(std::vector<ConditionSample>& out);
 
   ConditionStreamParams params_;
+  int channels_;
   io::ConditionAccumulator acc_;
   std::int64_t window_time_ns_ = 0;
   bool window_open_ = false;
+  std::size_t fed_in_window_ = 0;  // rows fed into the open window (the accumulator counts accepted ones)
   bool next_discontinuity_ = true;
   std::uint64_t next_index_ = 0;
   std::uint64_t dropped_ = 0;

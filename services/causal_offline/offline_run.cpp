@@ -1,0 +1,138 @@
+#include "offline_run.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <ostream>
+#include <string>
+
+#include "causal/batch_estimation.hpp"
+#include "causal/noise_tuning.hpp"
+#include "causal/svar_layout.hpp"
+
+namespace causal::offline {
+namespace {
+
+bool blank(const std::string& line) {
+  for (char c : line) {
+    if (c != ' ' && c != '\t' && c != '\r') return false;
+  }
+  return true;
+}
+
+// Shortest round-trip decimal form of v.
+void put_number(std::string& buf, double v) {
+  char tmp[32];
+  const auto res = std::to_chars(tmp, tmp + sizeof tmp, v);
+  buf.append(tmp, res.ptr);
+}
+
+const char* estimator_name(Estimator e) {
+  switch (e) {
+    case Estimator::Filter: return "filter";
+    case Estimator::FixedLag: return "fixed-lag";
+    case Estimator::Rts: return "rts";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::size_t data_row_line(const std::string& path, long row) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return 0;
+  std::string line;
+  std::size_t number = 0;
+  long rows_seen = -1;  // the header is row -1
+  while (std::getline(in, line)) {
+    ++number;
+    if (blank(line)) continue;
+    if (rows_seen == row) return number;
+    ++rows_seen;
+  }
+  return 0;
+}
+
+void run_offline(const std::string& path, const causal::io::ChannelTable& table, const OfflineOptions& options,
+                 std::ostream& out, std::ostream& log) {
+  const Eigen::MatrixXd& y = table.values;
+  const auto g = static_cast<int>(y.cols());
+  if (g < 2) {
+    throw BadInput(path + ": need at least 2 channel columns, found " + std::to_string(g));
+  }
+  // The estimator would reject non-finite samples and carry on, but in an offline file they are almost always
+  // an export error: refuse them with the line to look at.
+  for (Eigen::Index i = 0; i < y.rows(); ++i) {
+    for (int j = 0; j < g; ++j) {
+      if (!std::isfinite(y(i, j))) {
+        throw BadInput(path + ":" + std::to_string(data_row_line(path, static_cast<long>(i))) +
+                       ": non-finite value in column '" + table.channel_names[j] + "' (sample " +
+                       std::to_string(i) + ")");
+      }
+    }
+  }
+  if (y.rows() <= options.lag_order) {
+    throw BadInput(path + ": " + std::to_string(y.rows()) + " samples, need more than lag order " +
+                   std::to_string(options.lag_order));
+  }
+
+  ModelSpec spec;
+  spec.channels = g;
+  spec.lag_order = options.lag_order;
+  spec.include_self_lags = options.self_lags;
+  const SvarLayout layout(spec);
+
+  std::vector<NoiseParams> noise{options.noise};
+  if (options.auto_noise) {
+    const Eigen::Index cal = options.calibration_samples > 0
+                                 ? std::min<Eigen::Index>(options.calibration_samples, y.rows())
+                                 : y.rows();
+    NoiseTuningOptions topt;
+    topt.p0 = options.noise.p0;
+    noise.clear();
+    for (const NoiseTuningResult& t : tune_noise_all(layout, y.topRows(cal), {}, topt)) {
+      if (t.evaluations == 0) {
+        throw BadInput(path + ": calibration window of " + std::to_string(cal) + " samples is too short: " +
+                       t.message);
+      }
+      log << "auto-noise: " << t.message << "\n";
+      noise.push_back(t.noise);
+    }
+  }
+
+  EstimationRun run;
+  switch (options.estimator) {
+    case Estimator::Filter: run = run_filter(layout, noise, y); break;
+    case Estimator::FixedLag: run = run_fixed_lag_smoother(layout, noise, y, {}, options.lag); break;
+    case Estimator::Rts: run = run_rts_smoother(layout, noise, y); break;
+  }
+  log << "estimator " << estimator_name(options.estimator) << ": " << y.rows() << " samples, " << g
+      << " channels, " << layout.total_factors() << " factors; updated " << run.counters.updated << ", warm-up "
+      << run.counters.warm_up << "\n";
+
+  const std::vector<std::string> names = layout.factor_names();
+  std::string buf = "n";
+  for (const auto& nm : names) buf += "," + nm;
+  for (const auto& nm : names) buf += ",sd_" + nm;
+  buf += "\n";
+  const Eigen::Index f = layout.total_factors();
+  for (Eigen::Index i = 0; i < y.rows(); ++i) {
+    buf += std::to_string(i);
+    for (Eigen::Index c = 0; c < f; ++c) {
+      buf += ',';
+      put_number(buf, run.estimates(i, c));
+    }
+    for (Eigen::Index c = 0; c < f; ++c) {
+      buf += ',';
+      put_number(buf, run.std_devs(i, c));
+    }
+    buf += '\n';
+    if (buf.size() > (1u << 20)) {
+      out << buf;
+      buf.clear();
+    }
+  }
+  out << buf;
+}
+
+}  // namespace causal::offline

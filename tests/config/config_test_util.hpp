@@ -1,0 +1,52 @@
+// Shared helpers of the parameter-loader tests: mutate a shipped YAML file, write the copy, expect errors.
+#pragma once
+
+#include "causal/config/yaml_fields.hpp"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+namespace causal::test {
+
+inline std::string temp_yaml_path(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "causal_config_loader_tests";
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+// Loads `source`, applies `mutate` to the document, writes it to a temp file and returns its path.
+inline std::string mutated_copy(const std::string& source, const std::string& name,
+                                const std::function<void(YAML::Node&)>& mutate) {
+  YAML::Node doc = YAML::LoadFile(source);
+  mutate(doc);
+  YAML::Emitter emitter;
+  emitter << doc;
+  const std::string path = temp_yaml_path(name);
+  std::ofstream(path) << emitter.c_str() << "\n";
+  return path;
+}
+
+// Runs f, expects causal::config::ConfigError and returns its message.
+template <typename F>
+std::string config_error(F&& f) {
+  try {
+    f();
+  } catch (const causal::config::ConfigError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected ConfigError, got another exception: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << "expected ConfigError, nothing was thrown";
+  return "";
+}
+
+}  // namespace causal::test
+
+#define EXPECT_HAS(haystack, needle) \
+  EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << "message: '" << (haystack) << "'"

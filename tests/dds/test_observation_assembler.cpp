@@ -1,0 +1,368 @@
+// causal::recommender::ObservationAssembler (services/alarm_recommender/observation_assembler.cpp): G per-outcome
+// CausalFactors messages of one index -> one Observation, whatever their arrival order; condition vectors joined
+// by time; bounded waiting (max_pending) and bounded memory for indices that never complete.
+#include "observation_assembler.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <vector>
+
+namespace {
+
+using causal::ModelSpec;
+using causal::SvarLayout;
+using causal::dds::FactorMessage;
+using causal::recommender::AssembledObservation;
+using causal::recommender::ObservationAssembler;
+
+constexpr std::int64_t kT0 = 1'077'000'000'000'000'000LL;
+constexpr std::int64_t kStep = 600'000'000'000LL;  // 10 min
+
+SvarLayout make_layout(int g) {
+  ModelSpec s;
+  s.channels = g;
+  s.lag_order = 1;
+  s.include_self_lags = true;
+  return SvarLayout(s);
+}
+
+double factor_value(std::uint64_t index, int global_factor) {
+  return 0.001 * static_cast<double>(index) + 0.01 * global_factor - 0.2;
+}
+
+FactorMessage message(const SvarLayout& l, causal_twin::TimeScale scale, int k, std::uint64_t index,
+                      causal_twin::EstimateKind kind = causal_twin::FILTER, const std::string& group = "ims2",
+                      const std::string& feature = "rms") {
+  FactorMessage m;
+  m.asset_group = group;
+  m.outcome = k;
+  m.kind = kind;
+  m.time_scale = scale;
+  m.feature = scale == causal_twin::CONDITION_LEVEL ? feature : "";
+  m.outcome_name = "b" + std::to_string(k + 1);
+  m.channel_count = l.channels();
+  m.lag_order = l.lag_order();
+  m.sample_index = index;
+  m.time_ns = kT0 + static_cast<std::int64_t>(index) * kStep;
+  const int d = l.factor_count(k);
+  m.factors.resize(d);
+  m.factor_std.resize(d);
+  for (int i = 0; i < d; ++i) {
+    m.factor_names.push_back(l.factor_name(k, i));
+    m.factors[i] = factor_value(index, l.offset(k) + i);
+    m.factor_std[i] = 0.5 + 0.001 * (l.offset(k) + i);
+  }
+  m.innovation_count = 7;
+  m.innovation_mean = 0.0;
+  m.nis_mean = 1.0 + k + 0.1 * static_cast<double>(index);
+  m.last_innovation = 0.25 * k - 0.3 + static_cast<double>(index);
+  m.last_innovation_variance = 1.0 + 0.5 * k;
+  return m;
+}
+
+Eigen::VectorXd condition_values(int g, std::uint64_t index) {
+  Eigen::VectorXd v(g);
+  for (int c = 0; c < g; ++c) v[c] = 0.06 + 0.001 * c + 1e-4 * static_cast<double>(index);
+  return v;
+}
+
+// Checks everything that does not depend on features.
+void expect_observation(const AssembledObservation& a, const SvarLayout& l, causal_twin::TimeScale scale,
+                        std::uint64_t index) {
+  SCOPED_TRACE("observation " + std::to_string(index));
+  const int g = l.channels();
+  EXPECT_EQ(a.asset_group, "ims2");
+  EXPECT_EQ(a.time_scale, scale);
+  EXPECT_EQ(a.lag_order, 1);
+  EXPECT_EQ(a.factor_names, l.factor_names());
+  ASSERT_EQ(a.channel_names.size(), static_cast<std::size_t>(g));
+  for (int k = 0; k < g; ++k) EXPECT_EQ(a.channel_names[static_cast<std::size_t>(k)], "b" + std::to_string(k + 1));
+  const auto& o = a.observation;
+  EXPECT_EQ(o.index, index);
+  EXPECT_EQ(o.time_ns, kT0 + static_cast<std::int64_t>(index) * kStep);
+  ASSERT_EQ(o.factors.size(), l.total_factors());
+  ASSERT_EQ(o.factor_std.size(), l.total_factors());
+  for (int f = 0; f < l.total_factors(); ++f) {
+    EXPECT_EQ(o.factors[f], factor_value(index, f)) << "factor " << f;
+    EXPECT_EQ(o.factor_std[f], 0.5 + 0.001 * f);
+  }
+  ASSERT_EQ(o.innovations.size(), g);
+  ASSERT_EQ(o.innovation_variances.size(), g);
+  for (int k = 0; k < g; ++k) {
+    EXPECT_EQ(o.innovations[k], 0.25 * k - 0.3 + static_cast<double>(index));
+    EXPECT_EQ(o.innovation_variances[k], 1.0 + 0.5 * k);
+  }
+  if (scale == causal_twin::SAMPLE_LEVEL) {
+    ASSERT_EQ(o.mean_nis.size(), g);
+    for (int k = 0; k < g; ++k) EXPECT_EQ(o.mean_nis[k], 1.0 + k + 0.1 * static_cast<double>(index));
+    EXPECT_EQ(o.features.size(), 0);
+  }
+}
+
+TEST(ObservationAssembler, ShuffledOutcomesOfOneIndexBecomeOneObservation) {
+  const SvarLayout l = make_layout(4);
+  ObservationAssembler asm_(4);
+  std::mt19937_64 rng(5);
+  std::vector<AssembledObservation> out;
+  for (std::uint64_t n = 0; n < 20; ++n) {
+    std::vector<int> order{0, 1, 2, 3};
+    std::shuffle(order.begin(), order.end(), rng);
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, order[i], n), out);
+      EXPECT_EQ(out.size(), i + 1 == order.size() ? n + 1 : n) << "complete only with all G outcomes";
+    }
+  }
+  ASSERT_EQ(out.size(), 20u);
+  for (std::uint64_t n = 0; n < 20; ++n) expect_observation(out[n], l, causal_twin::SAMPLE_LEVEL, n);
+  EXPECT_EQ(asm_.dropped_incomplete(), 0u);
+}
+
+TEST(ObservationAssembler, InterleavedIndicesAreAssembledSeparately) {
+  const SvarLayout l = make_layout(3);
+  ObservationAssembler asm_(4);
+  std::mt19937_64 rng(9);
+  std::vector<std::pair<int, std::uint64_t>> msgs;  // (outcome, index) for indices 0..29
+  for (std::uint64_t n = 0; n < 30; ++n) {
+    for (int k = 0; k < 3; ++k) msgs.emplace_back(k, n);
+  }
+  // Shuffle within windows of 5 indices: several indices are in assembly at once.
+  for (std::size_t w = 0; w < msgs.size(); w += 15) {
+    std::shuffle(msgs.begin() + static_cast<std::ptrdiff_t>(w), msgs.begin() + static_cast<std::ptrdiff_t>(w + 15), rng);
+  }
+  std::vector<AssembledObservation> out;
+  for (const auto& [k, n] : msgs) asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, n), out);
+  ASSERT_EQ(out.size(), 30u);
+  std::map<std::uint64_t, const AssembledObservation*> by_index;
+  for (const auto& a : out) by_index[a.observation.index] = &a;
+  ASSERT_EQ(by_index.size(), 30u) << "each index exactly once";
+  for (const auto& [n, a] : by_index) expect_observation(*a, l, causal_twin::SAMPLE_LEVEL, n);
+}
+
+TEST(ObservationAssembler, FixedLagMessagesAreIgnored) {
+  const SvarLayout l = make_layout(3);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  for (int k = 0; k < 3; ++k) {
+    asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, 0, causal_twin::FIXED_LAG_SMOOTHER), out);
+    asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, k, 1, causal_twin::FIXED_LAG_SMOOTHER), out);
+    asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, k, 2, causal_twin::RTS_SMOOTHER), out);
+  }
+  asm_.flush(out);
+  EXPECT_TRUE(out.empty());
+  // A fixed-lag message must not complete or corrupt a filter observation of the same index either.
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 0, 5), out);
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 1, 5, causal_twin::FIXED_LAG_SMOOTHER), out);
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 2, 5), out);
+  EXPECT_TRUE(out.empty());
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 1, 5), out);
+  ASSERT_EQ(out.size(), 1u);
+  expect_observation(out[0], l, causal_twin::SAMPLE_LEVEL, 5);
+}
+
+TEST(ObservationAssembler, DuplicateOutcomeMessagesAreNotCountedTwice) {
+  const SvarLayout l = make_layout(4);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  for (int k : {0, 0, 1, 2, 2}) asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, 3), out);
+  EXPECT_TRUE(out.empty()) << "outcome 4 has not arrived";
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 3, 3), out);
+  ASSERT_EQ(out.size(), 1u);
+  expect_observation(out[0], l, causal_twin::SAMPLE_LEVEL, 3);
+}
+
+TEST(ObservationAssembler, NoUpdateSinceLastReportGivesNaNInnovations) {
+  const SvarLayout l = make_layout(3);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  for (int k = 0; k < 3; ++k) {
+    FactorMessage m = message(l, causal_twin::SAMPLE_LEVEL, k, 0);
+    if (k == 1) m.innovation_count = 0;
+    asm_.add_factors(m, out);
+  }
+  ASSERT_EQ(out.size(), 1u);
+  const auto& o = out[0].observation;
+  EXPECT_TRUE(std::isnan(o.innovations[1]));
+  EXPECT_TRUE(std::isnan(o.innovation_variances[1]));
+  EXPECT_TRUE(std::isnan(o.mean_nis[1]));
+  EXPECT_FALSE(std::isnan(o.innovations[0]));
+  EXPECT_FALSE(std::isnan(o.innovations[2]));
+}
+
+// Condition level: the condition-vector topic is not ordered with respect to the factor topic, so each vector
+// may arrive up to an index before or after its observation's factor messages (which come from one writer,
+// index by index, outcomes in any order). Every observation must get the vector of ITS time, in index order.
+TEST(ObservationAssembler, ConditionVectorsJoinedByTimeRegardlessOfArrivalOrder) {
+  const int g = 4;
+  const SvarLayout l = make_layout(g);
+  for (std::uint64_t seed : {1u, 2u, 3u, 4u, 5u}) {
+    ObservationAssembler asm_(4);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> shift(-1.0, 1.5);
+    struct Event {
+      double key;   // arrival order
+      int outcome;  // -1: the condition vector
+      std::uint64_t index;
+    };
+    std::vector<Event> events;
+    for (std::uint64_t n = 0; n < 24; ++n) {
+      std::vector<int> order{0, 1, 2, 3};
+      std::shuffle(order.begin(), order.end(), rng);
+      for (int i = 0; i < g; ++i) events.push_back({static_cast<double>(n) + 0.2 * i, order[static_cast<std::size_t>(i)], n});
+      events.push_back({static_cast<double>(n) + shift(rng), -1, n});
+    }
+    std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.key < b.key; });
+    std::vector<AssembledObservation> out;
+    for (const Event& e : events) {
+      if (e.outcome < 0) {
+        asm_.add_condition("ims2", "rms", kT0 + static_cast<std::int64_t>(e.index) * kStep, condition_values(g, e.index),
+                           out);
+      } else {
+        asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, e.outcome, e.index), out);
+      }
+    }
+    EXPECT_EQ(out.size(), 24u) << "all joined before flush (seed " << seed << ")";
+    asm_.flush(out);
+    ASSERT_EQ(out.size(), 24u) << "seed " << seed;
+    for (std::uint64_t n = 0; n < 24; ++n) {
+      const auto& a = out[n];
+      expect_observation(a, l, causal_twin::CONDITION_LEVEL, n);
+      EXPECT_EQ(a.observation.mean_nis.size(), 0) << "condition level carries per-observation innovations only";
+      ASSERT_EQ(a.observation.features.size(), g) << "observation " << n << " seed " << seed;
+      EXPECT_TRUE((a.observation.features.array() == condition_values(g, n).array()).all()) << "observation " << n;
+    }
+  }
+}
+
+TEST(ObservationAssembler, ConditionVectorBeforeFactorsReleasesAtOnce) {
+  const SvarLayout l = make_layout(2);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  asm_.add_condition("ims2", "rms", kT0, condition_values(2, 0), out);
+  EXPECT_TRUE(out.empty());
+  asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, 1, 0), out);
+  EXPECT_TRUE(out.empty());
+  asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, 0, 0), out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].observation.features.size(), 2);
+}
+
+TEST(ObservationAssembler, ReleasedWithoutFeaturesAfterMaxPending) {
+  const int g = 3;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(2);
+  std::vector<AssembledObservation> out;
+  auto complete = [&](std::uint64_t n) {
+    for (int k = 0; k < g; ++k) asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, k, n), out);
+  };
+  complete(0);
+  complete(1);
+  EXPECT_TRUE(out.empty()) << "two observations may wait (max_pending = 2)";
+  complete(2);
+  ASSERT_EQ(out.size(), 1u) << "the third pushes the oldest out without features";
+  EXPECT_EQ(out[0].observation.index, 0u);
+  EXPECT_EQ(out[0].observation.features.size(), 0);
+  // The vector of index 2 arrives: index 1 (older, no vector) still holds the queue in order.
+  asm_.add_condition("ims2", "rms", kT0 + 2 * kStep, condition_values(g, 2), out);
+  EXPECT_EQ(out.size(), 1u);
+  // The vector of index 1 arrives: 1 and 2 both go, with their own features.
+  asm_.add_condition("ims2", "rms", kT0 + 1 * kStep, condition_values(g, 1), out);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[1].observation.index, 1u);
+  EXPECT_EQ(out[2].observation.index, 2u);
+  EXPECT_TRUE((out[1].observation.features.array() == condition_values(g, 1).array()).all());
+  EXPECT_TRUE((out[2].observation.features.array() == condition_values(g, 2).array()).all());
+  // A late vector for the already released index 0 changes nothing.
+  asm_.add_condition("ims2", "rms", kT0, condition_values(g, 0), out);
+  asm_.flush(out);
+  EXPECT_EQ(out.size(), 3u);
+}
+
+TEST(ObservationAssembler, FlushReleasesEverythingHeld) {
+  const int g = 2;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(10);
+  std::vector<AssembledObservation> out;
+  for (std::uint64_t n = 0; n < 5; ++n) {
+    for (int k = 0; k < g; ++k) asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, k, n), out);
+  }
+  EXPECT_TRUE(out.empty());
+  asm_.flush(out);
+  ASSERT_EQ(out.size(), 5u);
+  for (std::uint64_t n = 0; n < 5; ++n) {
+    EXPECT_EQ(out[n].observation.index, n);
+    EXPECT_EQ(out[n].observation.features.size(), 0);
+  }
+  out.clear();
+  asm_.flush(out);
+  EXPECT_TRUE(out.empty()) << "flushed observations are released once";
+}
+
+TEST(ObservationAssembler, VectorsOfAnotherFeatureOrGroupAreNotJoined) {
+  const int g = 2;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  asm_.add_condition("ims2", "kurtosis", kT0, condition_values(g, 0), out);
+  asm_.add_condition("other", "rms", kT0, condition_values(g, 0), out);
+  for (int k = 0; k < g; ++k) asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, k, 0), out);
+  EXPECT_TRUE(out.empty());
+  asm_.flush(out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].observation.features.size(), 0);
+}
+
+TEST(ObservationAssembler, GroupsAndTimeScalesAreSeparateStreams) {
+  const int g = 2;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  // Same index on the sample level, the condition level and another group: three observations.
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 0, 0), out);
+  asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, 1, 0), out);
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 1, 0, causal_twin::FILTER, "other"), out);
+  EXPECT_TRUE(out.empty());
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 1, 0), out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].asset_group, "ims2");
+  EXPECT_EQ(out[0].time_scale, causal_twin::SAMPLE_LEVEL);
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 0, 0, causal_twin::FILTER, "other"), out);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[1].asset_group, "other");
+  asm_.add_condition("ims2", "rms", kT0, condition_values(g, 0), out);
+  asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, 0, 0), out);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[2].time_scale, causal_twin::CONDITION_LEVEL);
+  EXPECT_EQ(out[2].observation.features.size(), g);
+}
+
+TEST(ObservationAssembler, LostOutcomeMessagesDoNotPinMemory) {
+  const int g = 3;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  const std::uint64_t lost = 1000;
+  for (std::uint64_t n = 0; n < lost; ++n) {
+    // Outcome 2 of every index is lost on the way.
+    asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 0, n), out);
+    asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 1, n), out);
+  }
+  EXPECT_TRUE(out.empty());
+  // Incomplete indices are given up (bounded state): at most a small window of them is still held.
+  EXPECT_GT(asm_.dropped_incomplete(), 0u);
+  EXPECT_LE(asm_.dropped_incomplete(), lost);
+  EXPECT_GE(asm_.dropped_incomplete(), lost - 100) << "more than 100 incomplete indices held in memory";
+  // The stream still works afterwards.
+  for (int k = 0; k < g; ++k) asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, lost + 5), out);
+  ASSERT_EQ(out.size(), 1u);
+  expect_observation(out[0], l, causal_twin::SAMPLE_LEVEL, lost + 5);
+  // The newest incomplete index is still assemblable when its lost message turns up late.
+  asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 2, lost - 1), out);
+  ASSERT_EQ(out.size(), 2u);
+  expect_observation(out[1], l, causal_twin::SAMPLE_LEVEL, lost - 1);
+}
+
+}  // namespace

@@ -1,0 +1,152 @@
+// causal-offline end to end: runs the binary on CSVs written here, checks the output header and values
+// (against the library called in-process) and that malformed files give exit code 2 naming file and line.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <charconv>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "causal/batch_estimation.hpp"
+#include "svar_test_support.hpp"
+
+namespace causal {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class CausalOfflineCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("causal_offline_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+  Result run(const std::string& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string("\"") + CAUSAL_OFFLINE_BIN + "\" " + args + " > \"" + out.string() +
+                            "\" 2> \"" + err.string() + "\"";
+    const int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+  }
+
+  fs::path dir_;
+};
+
+std::string number(double v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
+std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    std::string cell;
+    while (std::getline(ls, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
+  ModelSpec spec;
+  spec.channels = 3;
+  SvarLayout layout(spec);
+  const NoiseParams noise{2e-5, 0.02, 1.0};
+  const test::Simulation sim = test::simulate_svar(layout, {noise}, 200, 31);
+  std::string csv = "time,alpha,beta,gamma\n";
+  for (int n = 0; n < 200; ++n) {
+    csv += std::to_string(n) + "," + number(sim.y(n, 0)) + "," + number(sim.y(n, 1)) + "," + number(sim.y(n, 2)) + "\n";
+  }
+  const fs::path in = write("in.csv", csv);
+  const fs::path out = dir_ / "factors.csv";
+  for (const std::string estimator : {"filter", "fixed-lag", "rts"}) {
+    SCOPED_TRACE(estimator);
+    const Result res = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --estimator " + estimator +
+                           " --lag 7 --q 2e-5 --r 0.02 --p0 1");
+    ASSERT_EQ(res.exit_code, 0) << res.err;
+    const auto rows = parse_csv(slurp(out));
+    ASSERT_EQ(rows.size(), 201u);
+    const std::vector<std::string> expected_header = {
+        "n",      "x12",     "x13",     "xL12",    "xL13",    "x21",     "x23",     "xL21",    "xL23",
+        "x31",    "x32",     "xL31",    "xL32",    "sd_x12",  "sd_x13",  "sd_xL12", "sd_xL13", "sd_x21",
+        "sd_x23", "sd_xL21", "sd_xL23", "sd_x31",  "sd_x32",  "sd_xL31", "sd_xL32"};
+    EXPECT_EQ(rows[0], expected_header);
+    const EstimationRun ref = estimator == std::string("filter") ? run_filter(layout, {noise}, sim.y)
+                              : estimator == std::string("rts")  ? run_rts_smoother(layout, {noise}, sim.y)
+                                                                 : run_fixed_lag_smoother(layout, {noise}, sim.y, {}, 7);
+    for (int n = 0; n < 200; n += 13) {
+      ASSERT_EQ(rows[n + 1].size(), 25u);
+      EXPECT_EQ(rows[n + 1][0], std::to_string(n));
+      for (int c = 0; c < 12; ++c) {
+        EXPECT_NEAR(std::stod(rows[n + 1][1 + c]), ref.estimates(n, c), 1e-12);
+        EXPECT_NEAR(std::stod(rows[n + 1][13 + c]), ref.std_devs(n, c), 1e-12);
+      }
+    }
+  }
+  // Automatic noise runs and reports the tuned values.
+  const Result tuned = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --auto-noise");
+  ASSERT_EQ(tuned.exit_code, 0) << tuned.err;
+  EXPECT_NE(tuned.err.find("auto-noise: outcome 3"), std::string::npos) << tuned.err;
+}
+
+TEST_F(CausalOfflineCli, MalformedFilesExitWithCode2AndNameTheLine) {
+  const fs::path text = write("text.csv", "a,b,c\n1,2,3\n1,oops,3\n");
+  Result res = run("\"" + text.string() + "\"");
+  EXPECT_EQ(res.exit_code, 2);
+  EXPECT_NE(res.err.find("text.csv:3"), std::string::npos) << res.err;
+
+  const fs::path nan = write("nan.csv", "a,b,c\n1,2,3\n\n4,5,6\n7,nan,9\n");  // blank line 3 counts
+  res = run("\"" + nan.string() + "\"");
+  EXPECT_EQ(res.exit_code, 2);
+  EXPECT_NE(res.err.find("nan.csv:5"), std::string::npos) << res.err;
+
+  const fs::path ragged = write("ragged.csv", "a,b,c\n1,2,3\n4,5\n");
+  res = run("\"" + ragged.string() + "\"");
+  EXPECT_EQ(res.exit_code, 2);
+  EXPECT_NE(res.err.find("ragged.csv:3"), std::string::npos) << res.err;
+
+  const fs::path one = write("one.csv", "a\n1\n2\n");
+  res = run("\"" + one.string() + "\"");
+  EXPECT_EQ(res.exit_code, 2);
+  EXPECT_NE(res.err.find("at least 2 channel"), std::string::npos) << res.err;
+
+  res = run("\"" + (dir_ / "missing.csv").string() + "\"");
+  EXPECT_EQ(res.exit_code, 2);
+  EXPECT_NE(res.err.find("missing.csv"), std::string::npos) << res.err;
+
+  res = run("\"" + text.string() + "\" --estimator nonsense");
+  EXPECT_EQ(res.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace causal

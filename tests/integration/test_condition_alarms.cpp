@@ -1,0 +1,86 @@
+// Issue 4's bar, end to end over DDS: sensor-replay publishes the per-snapshot RMS of all 984 IMS test-2
+// snapshots (mean |x|, from the embedded feature table) as condition vectors, causal-estimator runs the condition-level
+// filter across the 7-day run, alarm-recommender raises alarms with the SHIPPED parameters.
+// Snapshot i is 2004-02-12 10:32:39 + 10 i min; the index of an alarm is computed here from its time.
+// Bar: a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 533, and no alarm
+// of any kind before snapshot 500.
+#include "dds_observer.hpp"
+#include "process_runner.hpp"
+
+#include "causal/io/feature_table.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+
+namespace fs = std::filesystem;
+using causal::test::DdsObserver;
+using causal::test::ServiceProcess;
+
+namespace {
+constexpr std::int64_t kTenMinutesNs = 600LL * 1000000000LL;
+}
+
+TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
+  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
+  const auto features = causal::io::read_feature_table(table, "_meanabs");
+  ASSERT_EQ(features.time_ns.size(), 984u);
+  const std::int64_t t0 = features.time_ns.front();
+  auto index_of = [&](std::int64_t t) { return static_cast<long>((t - t0 + kTenMinutesNs / 2) / kTenMinutesNs); };
+
+  const fs::path work = fs::temp_directory_path() / ("causal_it_cond_" + std::to_string(getpid()));
+  fs::create_directories(work);
+  const std::string d = std::to_string(causal::test::private_domain_id(2));
+  DdsObserver observer(std::stoi(d));
+  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "5", "--max-runtime", "300"},
+                       (work / "alarm.log").string());
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
+                            "--wait-subscribers", "2"},
+                           (work / "estimator.log").string());
+  ServiceProcess replay("sensor-replay",
+                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
+                         "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
+                         "--wait-subscribers", "2", "--wait-timeout", "60"},
+                        (work / "replay.log").string());
+  const auto replay_code = replay.wait(std::chrono::seconds(240));
+  ASSERT_TRUE(replay_code.has_value()) << replay.output();
+  EXPECT_EQ(*replay_code, 0) << replay.output();
+  ASSERT_TRUE(estimator.wait(std::chrono::seconds(120)).has_value()) << estimator.output();
+  ASSERT_TRUE(alarm.wait(std::chrono::seconds(120)).has_value()) << alarm.output();
+
+  EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u * 4u);
+  const auto alarms = observer.alarms();
+  ASSERT_FALSE(alarms.empty()) << alarm.output();
+
+  // First raise per channel, and when each alarm id cleared (if it did).
+  std::map<int, causal_twin::Alarm> first_raise;
+  std::map<std::string, long> cleared_at;
+  for (const auto& a : alarms) {
+    if (a.state() == causal_twin::CLEARED) cleared_at[a.alarm_id()] = index_of(a.cleared_time_ns());
+    if (a.state() != causal_twin::RAISED) continue;
+    EXPECT_GE(index_of(a.raised_time_ns()), 500) << "alarm before snapshot 500: " << a.alarm_id() << ": " << a.reason();
+    auto it = first_raise.find(a.channel());
+    if (it == first_raise.end() || a.raised_time_ns() < it->second.raised_time_ns()) first_raise[a.channel()] = a;
+  }
+  for (const auto& [ch, a] : first_raise) {
+    std::printf("first alarm on channel %d (%s): snapshot %ld, %s, kind %s, root cause %d (%s)\n", ch,
+                a.channel_name().c_str(), index_of(a.raised_time_ns()),
+                a.severity() == causal_twin::CRITICAL ? "critical" : a.severity() == causal_twin::WARNING ? "warning" : "advisory",
+                a.kind().c_str(), a.root_cause_channel(), a.root_cause_name().c_str());
+  }
+  // Bearing 1: an alarm with root cause bearing 1, raised by snapshot 533 and still active 12 snapshots later.
+  bool met = false;
+  for (const auto& a : alarms) {
+    if (a.state() != causal_twin::RAISED || a.channel() != 1 || a.root_cause_channel() != 1) continue;
+    const long raised = index_of(a.raised_time_ns());
+    const auto c = cleared_at.find(a.alarm_id());
+    const bool sustained = c == cleared_at.end() || c->second >= raised + 12;
+    if (raised <= 533 && sustained) met = true;
+  }
+  EXPECT_TRUE(met) << "no sustained bearing-1 alarm with root cause bearing 1 by snapshot 533; alarm log:\n"
+                   << alarm.output();
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}

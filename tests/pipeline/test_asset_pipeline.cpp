@@ -1,0 +1,265 @@
+// causal::pipeline::AssetPipeline: the per-asset wiring of the sample-level factor stream, the condition
+// stream and the condition-level factor stream. Checked against the parts run by hand on the same data.
+#include "causal/pipeline/asset_pipeline.hpp"
+
+#include "matrix_asserts.hpp"
+#include "pipeline_test_util.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace {
+
+using causal::ModelSpec;
+using causal::NoiseParams;
+using causal::SvarLayout;
+using causal::pipeline::AssetPipeline;
+using causal::pipeline::AssetPipelineParams;
+using causal::pipeline::ConditionSample;
+using causal::pipeline::ConditionStream;
+using causal::pipeline::EstimateKind;
+using causal::pipeline::FrameCheck;
+using causal::pipeline::PipelineOutput;
+using causal::pipeline::RowMajorMatrix;
+
+constexpr std::int64_t kT0 = 1'650'000'000'000'000'000LL;
+constexpr double kRate = 20'000.0;  // 50 us per sample
+const NoiseParams kSampleNoise{2e-5, 0.05, 0.5};
+const NoiseParams kConditionNoise{1e-4, 1e-2, 1.0};
+
+AssetPipelineParams params(bool sample, bool condition) {
+  AssetPipelineParams p;
+  p.sample_level = sample;
+  p.sample.model.lag_order = 1;
+  p.sample.noise.automatic = false;
+  p.sample.noise.fixed = kSampleNoise;
+  p.sample.publish_every = 32;
+  p.sample.fixed_lag = 0;
+  p.condition_level = condition;
+  p.condition.feature = causal::io::ConditionFeature::Rms;
+  p.condition.log_transform = true;
+  p.condition.window_samples = 0;
+  p.condition.min_samples = 100;
+  p.condition_model.model.lag_order = 1;
+  p.condition_model.model.include_self_lags = true;
+  p.condition_model.noise.automatic = false;
+  p.condition_model.noise.fixed = kConditionNoise;
+  p.condition_model.publish_every = 1;
+  p.condition_model.fixed_lag = 0;
+  return p;
+}
+
+ModelSpec sample_spec(int g) {
+  ModelSpec s;
+  s.channels = g;
+  s.lag_order = 1;
+  return s;
+}
+
+TEST(AssetPipeline, FirstFrameFixesTheChannelCountAndAChangeIsRefused) {
+  AssetPipeline pipe(params(true, true));
+  PipelineOutput out;
+  const RowMajorMatrix three = RowMajorMatrix::Random(64, 3);
+  FrameCheck c = pipe.feed_frame(three, true, false, false, kT0, kRate, out);
+  EXPECT_TRUE(c.ok) << c.problem;
+  EXPECT_EQ(pipe.channels(), 3);
+  ASSERT_NE(pipe.sample_stream(), nullptr);
+  const auto seen = pipe.sample_stream()->samples_seen();
+  EXPECT_EQ(seen, 64u);
+  out.clear();
+
+  const RowMajorMatrix four = RowMajorMatrix::Random(64, 4);
+  c = pipe.feed_frame(four, false, true, false, kT0 + 64 * 50'000, kRate, out);
+  EXPECT_FALSE(c.ok);
+  EXPECT_NE(c.problem.find("4"), std::string::npos) << c.problem;
+  EXPECT_NE(c.problem.find("3"), std::string::npos) << c.problem;
+  // Nothing of the refused frame was fed anywhere.
+  EXPECT_EQ(pipe.sample_stream()->samples_seen(), seen);
+  EXPECT_TRUE(out.sample_reports.empty());
+  EXPECT_TRUE(out.conditions.empty()) << "end_of_segment of a refused frame must not close the window";
+  EXPECT_EQ(pipe.channels(), 3);
+
+  Eigen::VectorXd cond(5);
+  cond.setOnes();
+  c = pipe.feed_condition(cond, false, kT0, out);
+  EXPECT_FALSE(c.ok);
+  EXPECT_NE(c.problem.find("5"), std::string::npos) << c.problem;
+  EXPECT_TRUE(out.condition_reports.empty());
+}
+
+TEST(AssetPipeline, FewerThanTwoChannelsIsRefusedAndDoesNotFixTheCount) {
+  AssetPipeline pipe(params(true, true));
+  PipelineOutput out;
+  const RowMajorMatrix one = RowMajorMatrix::Random(16, 1);
+  const FrameCheck c = pipe.feed_frame(one, true, false, false, kT0, kRate, out);
+  EXPECT_FALSE(c.ok);
+  EXPECT_NE(c.problem.find("2 channels"), std::string::npos) << c.problem;
+  EXPECT_EQ(pipe.channels(), 0);
+  EXPECT_EQ(pipe.sample_stream(), nullptr);
+  const RowMajorMatrix two = RowMajorMatrix::Random(16, 2);
+  EXPECT_TRUE(pipe.feed_frame(two, true, false, false, kT0, kRate, out).ok);
+  EXPECT_EQ(pipe.channels(), 2);
+}
+
+// Four snapshots of 4 frames each; the third frame of snapshot 2 arrives after lost frames (gap). The sample
+// level must restart its lags there, the condition level must drop snapshot 2 and restart its lags after.
+TEST(AssetPipeline, GapRestartsSampleLagsAndDropsTheOpenConditionWindow) {
+  const int g = 3, frame = 128, frames_per_snap = 4, snaps = 4;
+  const SvarLayout layout(sample_spec(g));
+  const int n = frame * frames_per_snap * snaps;
+  const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 77);
+  AssetPipeline pipe(params(true, true));
+  PipelineOutput out;
+  std::vector<bool> disc(static_cast<std::size_t>(n), false);
+  std::vector<std::int64_t> frame_time;
+  const std::int64_t snap_period = 600'000'000'000LL;  // 10 min between snapshots
+  int gap_frame = 2 * frames_per_snap + 2;
+  std::vector<int> kept_rows;  // rows the condition level may use (the dropped window excluded)
+  for (int f = 0; f < frames_per_snap * snaps; ++f) {
+    const int snap = f / frames_per_snap, pos = f % frames_per_snap;
+    const bool first = pos == 0, last = pos == frames_per_snap - 1, gap = f == gap_frame;
+    const std::int64_t t = kT0 + snap * snap_period + pos * frame * 50'000LL;
+    frame_time.push_back(t);
+    if (first || gap) disc[static_cast<std::size_t>(f * frame)] = true;
+    const FrameCheck c = pipe.feed_frame(y.middleRows(f * frame, frame), first, last, gap, t, kRate, out);
+    ASSERT_TRUE(c.ok) << c.problem;
+  }
+  pipe.finish(out);
+
+  // Sample level: exactly the filter with a discontinuity at every snapshot start and at the gap frame.
+  // (Row times in this test are per snapshot; the reference only needs the sample order.)
+  const auto expected = causal::test::reference_reports(layout, {kSampleNoise}, y, disc, 32);
+  ASSERT_EQ(out.sample_reports.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const auto& r = out.sample_reports[i];
+    EXPECT_EQ(r.sample_index, expected[i].index);
+    EXPECT_MATRIX_NEAR(r.factors, expected[i].factors, 1e-12);
+    EXPECT_EQ(r.innovation_count, expected[i].innovation_count);
+    // time = first time of the frame holding the sample + offset / rate.
+    const int f = static_cast<int>(r.sample_index) / frame;
+    EXPECT_EQ(r.time_ns, frame_time[static_cast<std::size_t>(f)] + (static_cast<std::int64_t>(r.sample_index) % frame) * 50'000);
+  }
+
+  // Condition level: snapshots 0, 1 complete; snapshot 2 loses its open window at the gap, and its remaining
+  // frames (gap frame + last) form a 256-sample window; snapshot 3 complete.
+  EXPECT_EQ(pipe.dropped_condition_windows(), 1u);
+  ASSERT_EQ(out.conditions.size(), 4u);
+  const int rows_of[4][2] = {{0, 512}, {512, 512}, {gap_frame * frame, 256}, {1536, 512}};
+  const bool disc_of[4] = {true, false, true, false};
+  for (int i = 0; i < 4; ++i) {
+    const ConditionSample& c = out.conditions[static_cast<std::size_t>(i)];
+    SCOPED_TRACE("condition vector " + std::to_string(i));
+    EXPECT_EQ(c.samples, static_cast<std::size_t>(rows_of[i][1]));
+    EXPECT_EQ(c.discontinuity, disc_of[i]);
+    EXPECT_EQ(c.time_ns, frame_time[static_cast<std::size_t>(rows_of[i][0] / frame)]);
+    const Eigen::MatrixXd seg = y.middleRows(rows_of[i][0], rows_of[i][1]);
+    const Eigen::VectorXd rms = (seg.colwise().squaredNorm() / rows_of[i][1]).cwiseSqrt().transpose();
+    EXPECT_MATRIX_NEAR(c.values, rms, 1e-12);
+  }
+
+  // Condition-level factors: the filter on log(values) with the vectors' restart flags, one report per vector.
+  RowMajorMatrix z(4, g);
+  std::vector<bool> zdisc;
+  for (int i = 0; i < 4; ++i) {
+    z.row(i) = out.conditions[static_cast<std::size_t>(i)].values.array().log().matrix().transpose();
+    zdisc.push_back(disc_of[i]);
+  }
+  ModelSpec cs = sample_spec(g);
+  cs.include_self_lags = true;
+  const SvarLayout clayout(cs);
+  const auto cexp = causal::test::reference_reports(clayout, {kConditionNoise}, z, zdisc, 1);
+  ASSERT_EQ(out.condition_reports.size(), cexp.size());
+  for (std::size_t i = 0; i < cexp.size(); ++i) {
+    const auto& r = out.condition_reports[i];
+    EXPECT_EQ(r.sample_index, cexp[i].index);
+    EXPECT_EQ(r.outcome, cexp[i].outcome);
+    EXPECT_EQ(r.time_ns, out.conditions[r.sample_index].time_ns);
+    EXPECT_MATRIX_NEAR(r.factors, cexp[i].factors, 1e-12);
+    EXPECT_EQ(r.innovation_count, cexp[i].innovation_count);
+  }
+}
+
+TEST(AssetPipeline, FeedConditionRunsTheConditionModelOnLogValues) {
+  const int g = 4, n = 60;
+  AssetPipelineParams p = params(false, true);
+  p.condition_model.fixed_lag = 3;
+  AssetPipeline pipe(p);
+  PipelineOutput out;
+  // Positive condition values following a log-linear SVAR (simulated in log space).
+  ModelSpec cs = sample_spec(g);
+  cs.include_self_lags = true;
+  const SvarLayout clayout(cs);
+  RowMajorMatrix z = causal::test::simulate_svar(clayout, n, 91, 1e-4, 1e-2);
+  z(30, 2) = std::numeric_limits<double>::quiet_NaN();  // becomes a rejected sample
+  std::vector<bool> zdisc(static_cast<std::size_t>(n), false);
+  zdisc[0] = true;
+  zdisc[40] = true;  // a restart announced by the condition vector
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd values = z.row(i).transpose().array().exp();
+    if (i == 30) values[2] = -1.0;  // non-positive: log gives NaN, the filter rejects and counts it
+    const FrameCheck c = pipe.feed_condition(values, zdisc[static_cast<std::size_t>(i)], kT0 + i * 1000LL, out);
+    ASSERT_TRUE(c.ok) << c.problem;
+  }
+  pipe.finish(out);
+  EXPECT_EQ(pipe.sample_stream(), nullptr);
+  ASSERT_NE(pipe.condition_stream(), nullptr);
+  EXPECT_TRUE(out.sample_reports.empty());
+  EXPECT_TRUE(out.conditions.empty()) << "ready-made vectors are not republished";
+
+  const auto filt = causal::test::of_kind(out.condition_reports, EstimateKind::Filter);
+  const auto smooth = causal::test::of_kind(out.condition_reports, EstimateKind::FixedLag);
+  const auto expected = causal::test::reference_reports(clayout, {kConditionNoise}, z, zdisc, 1);
+  ASSERT_EQ(filt.size(), static_cast<std::size_t>(n * g));
+  ASSERT_EQ(filt.size(), expected.size());
+  for (std::size_t i = 0; i < filt.size(); ++i) {
+    EXPECT_EQ(filt[i].sample_index, expected[i].index);
+    EXPECT_EQ(filt[i].time_ns, kT0 + static_cast<std::int64_t>(filt[i].sample_index) * 1000);
+    EXPECT_MATRIX_NEAR(filt[i].factors, expected[i].factors, 1e-10);  // log(exp(z)) vs z: rounding only
+    EXPECT_EQ(filt[i].rejected, expected[i].rejected);
+  }
+  EXPECT_EQ(filt.back().rejected, 1u);
+  EXPECT_EQ(smooth.size(), filt.size()) << "finish() flushes the fixed-lag smoother";
+}
+
+TEST(AssetPipeline, FeedConditionRefusedWhenTheConditionLevelIsDisabled) {
+  AssetPipeline pipe(params(true, false));
+  PipelineOutput out;
+  Eigen::VectorXd v = Eigen::VectorXd::Ones(3);
+  const FrameCheck c = pipe.feed_condition(v, true, kT0, out);
+  EXPECT_FALSE(c.ok);
+  EXPECT_NE(c.problem.find("disabled"), std::string::npos) << c.problem;
+  EXPECT_TRUE(out.condition_reports.empty());
+}
+
+TEST(AssetPipeline, SampleLevelOnlyProducesNoConditions) {
+  const int g = 2;
+  const SvarLayout layout(sample_spec(g));
+  const RowMajorMatrix y = causal::test::simulate_svar(layout, 256, 5);
+  AssetPipeline pipe(params(true, false));
+  PipelineOutput out;
+  ASSERT_TRUE(pipe.feed_frame(y, true, true, false, kT0, kRate, out).ok);
+  pipe.finish(out);
+  EXPECT_EQ(out.sample_reports.size(), 256u / 32u * g);
+  EXPECT_TRUE(out.conditions.empty());
+  EXPECT_TRUE(out.condition_reports.empty());
+  EXPECT_EQ(pipe.condition_stream(), nullptr);
+  EXPECT_EQ(pipe.dropped_condition_windows(), 0u);
+}
+
+TEST(AssetPipeline, SampleTimesUseTheSampleRate) {
+  const int g = 3;
+  const SvarLayout layout(sample_spec(g));
+  const RowMajorMatrix y = causal::test::simulate_svar(layout, 512, 6);
+  AssetPipeline pipe(params(true, false));
+  PipelineOutput out;
+  const double rate = 25'600.0;  // 39062.5 ns per sample
+  ASSERT_TRUE(pipe.feed_frame(y, true, false, false, kT0, rate, out).ok);
+  ASSERT_EQ(out.sample_reports.size(), 512u / 32u * g);
+  for (const auto& r : out.sample_reports) {
+    EXPECT_EQ(r.time_ns, kT0 + std::llround(static_cast<double>(r.sample_index) * 1e9 / rate));
+  }
+}
+
+}  // namespace
