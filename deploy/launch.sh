@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Starts the three services on one DDS domain, replays a data set through them, and stops them all.
-#   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE] [--speed X] [--transport XML] [--record DIR]
+#   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
+#                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
 # Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
+# --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
 # Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -12,16 +14,19 @@ speed=0
 transport="$root/deploy/dds/localhost.xml"
 max_runtime=900
 record=""
+feature_args=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --domain) domain="$2"; shift 2 ;;
     --ims-dir) source_args=(--ims-dir "$2"); shift 2 ;;
     --features) source_args=(--features "$2"); shift 2 ;;
+    --feature-suffix) feature_args+=(--feature-suffix "$2"); shift 2 ;;
+    --feature-name) feature_args+=(--feature-name "$2"); shift 2 ;;
     --speed) speed="$2"; shift 2 ;;
     --transport) transport="$2"; shift 2 ;;
     --max-runtime) max_runtime="$2"; shift 2 ;;
     --record) record="$2"; shift 2 ;;
-    -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -47,9 +52,12 @@ pids+=($!)
   --wait-subscribers "$subscribers" &
 pids+=($!)
 "$bin/sensor_replay/sensor-replay" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-subscribers 1 \
-  --wait-timeout 60
+  "${feature_args[@]}" --wait-timeout 60
 status=0
 # The replay has finished; the others drain their queues and exit when idle.
 for p in "${pids[@]}"; do wait "$p" || status=$?; done
 pids=()
+if [ -n "$record" ] && [ -x "$bin/causal_report/causal-report" ]; then
+  "$bin/causal_report/causal-report" --run "$record" --out "$record/report" || status=$?
+fi
 exit $status

@@ -5,20 +5,35 @@
 
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 namespace causal::recommender {
 
 std::optional<SvarLayout> layout_from_names(int channels, int lag_order, const std::vector<std::string>& names) {
+  // Masks (a configured causal graph) remove factors: rebuild them from which canonical names are present.
+  const std::set<std::string> present(names.begin(), names.end());
   for (bool self_lags : {false, true}) {
     ModelSpec spec;
     spec.channels = channels;
     spec.lag_order = lag_order;
     spec.include_self_lags = self_lags;
     try {
+      const SvarLayout full(spec);
+      const auto g = static_cast<std::size_t>(channels);
+      spec.allowed.assign(g, std::vector<bool>(g, false));
+      spec.instantaneous_allowed.assign(g, std::vector<bool>(g, false));
+      for (int k = 0; k < channels; ++k) {
+        for (int i = 0; i < full.factor_count(k); ++i) {
+          if (present.count(full.factor_name(k, i)) == 0) continue;
+          const Regressor r = full.regressors(k)[static_cast<std::size_t>(i)];
+          spec.allowed[static_cast<std::size_t>(k)][static_cast<std::size_t>(r.channel)] = true;
+          if (r.lag == 0) spec.instantaneous_allowed[static_cast<std::size_t>(k)][static_cast<std::size_t>(r.channel)] = true;
+        }
+      }
       SvarLayout layout(spec);
       if (layout.factor_names() == names) return layout;
     } catch (const std::invalid_argument&) {
-      return std::nullopt;
+      continue;  // e.g. a spec without any factor
     }
   }
   return std::nullopt;

@@ -157,8 +157,15 @@ void RecommenderNode::recommend(const AssembledObservation& a, const EngineState
     spdlog::info("no recommendation for {}: {}", e.alarm_id, why);
     return;
   }
+  // When the alarmed channel is its own root cause, acting upstream can only help a little: say so first.
+  const bool own = e.root_cause_channel == e.channel;
+  const std::string prefix =
+      own ? "Root cause is " + st.channel_names[static_cast<std::size_t>(e.channel)] +
+                " itself: inspect it first. Acting elsewhere: "
+          : "";
   causal_twin::Recommendation msg;
-  for (const auto& item : items) {
+  for (auto item : items) {
+    item.text = prefix + item.text;
     to_recommendation(a.asset_group, e.alarm_id, item, msg);
     if (recommendations_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
     spdlog::info("RECOMMENDATION {} #{}: {}", e.alarm_id, item.rank, item.text);

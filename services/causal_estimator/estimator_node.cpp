@@ -114,7 +114,10 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
                  frame.sequence_number() - 1);
   }
   a.last_sequence = frame.sequence_number();
-  if (a.channel_names.empty()) a.channel_names = dds::channel_names(frame);
+  if (a.channel_names.empty()) {
+    a.channel_names = dds::channel_names(frame);
+    a.pipeline.set_channel_names(a.channel_names);
+  }
   out_.clear();
   const auto check = a.pipeline.feed_frame(dds::samples_view(frame), frame.discontinuity(), frame.end_of_segment(),
                                            gap, frame.first_sample_time_ns(), frame.sample_rate_hz(), out_);
@@ -136,7 +139,10 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
     return;
   }
   Asset& a = asset(in.asset_group());
-  if (a.channel_names.empty()) a.channel_names.assign(in.channel_names().begin(), in.channel_names().end());
+  if (a.channel_names.empty()) {
+    a.channel_names.assign(in.channel_names().begin(), in.channel_names().end());
+    a.pipeline.set_channel_names(a.channel_names);
+  }
   if (a.feature.empty()) a.feature = in.feature();
   out_.clear();
   const auto check = a.pipeline.feed_condition(dds::values_of(in), in.discontinuity(), in.time_ns(), out_);

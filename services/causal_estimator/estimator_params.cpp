@@ -28,6 +28,13 @@ void load_model(const Section& s, pipeline::FactorStreamParams& p) {
   p.fixed_lag = static_cast<int>(s.integer("fixed_lag", 0, 100000));
 }
 
+// Required key; "" (or "all") = every instantaneous link. Checked against the channels when data arrives.
+std::string graph_text(const Section& s) {
+  if (!s.node()["instantaneous_graph"].IsDefined()) s.fail("instantaneous_graph", "missing (required; \"\" = all links)");
+  const std::string g = s.node()["instantaneous_graph"].IsNull() ? "" : s.text("instantaneous_graph");
+  return g == "all" ? "" : g;
+}
+
 }  // namespace
 
 pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
@@ -36,13 +43,15 @@ pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
   pipeline::AssetPipelineParams p;
 
   const Section sample = root.child("sample_level");
-  sample.only({"enabled", "lag_order", "include_self_lags", "noise", "publish_every", "fixed_lag"});
+  sample.only({"enabled", "lag_order", "include_self_lags", "instantaneous_graph", "noise", "publish_every", "fixed_lag"});
   p.sample_level = sample.boolean("enabled");
   load_model(sample, p.sample);
+  p.sample_graph = graph_text(sample);
 
   const Section cond = root.child("condition_level");
   cond.only({"enabled", "feature", "log_transform", "window_samples", "min_samples", "lag_order",
-             "include_self_lags", "noise", "publish_every", "fixed_lag"});
+             "include_self_lags", "instantaneous_graph", "noise", "publish_every", "fixed_lag"});
+  p.condition_graph = graph_text(cond);
   p.condition_level = cond.boolean("enabled");
   const auto feature = io::parse_condition_feature(cond.one_of("feature", {"rms", "meanabs", "kurtosis", "peak"}));
   p.condition.feature = *feature;

@@ -34,11 +34,11 @@ std::string read_file(const std::string& path) {
 
 std::string write_estimator_params(const fs::path& dir) {
   const fs::path p = dir / "estimator.yaml";
-  std::ofstream(p) << "sample_level:\n  enabled: true\n  lag_order: 1\n  include_self_lags: false\n"
+  std::ofstream(p) << "sample_level:\n  enabled: true\n  lag_order: 1\n  include_self_lags: false\n  instantaneous_graph: \"\"\n"
                       "  noise: {mode: automatic, q: 1.0e-6, r: 1.0e-2, p0: 1.0, calibration_samples: 4096}\n"
                       "  publish_every: " << kPublishEvery << "\n  fixed_lag: 32\n"
                       "condition_level:\n  enabled: true\n  feature: rms\n  log_transform: true\n"
-                      "  window_samples: 0\n  min_samples: 256\n  lag_order: 1\n  include_self_lags: true\n"
+                      "  window_samples: 0\n  min_samples: 256\n  lag_order: 1\n  include_self_lags: true\n  instantaneous_graph: \"\"\n"
                       "  noise: {mode: fixed, q: 1.0e-4, r: 1.0e-2, p0: 1.0, calibration_samples: 100}\n"
                       "  publish_every: 1\n  fixed_lag: 2\n";
   return p.string();

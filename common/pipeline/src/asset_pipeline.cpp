@@ -1,5 +1,9 @@
 #include "causal/pipeline/asset_pipeline.hpp"
 
+#include "causal/analysis/causal_graph.hpp"
+
+#include <stdexcept>
+
 namespace causal::pipeline {
 
 AssetPipeline::AssetPipeline(AssetPipelineParams params) : params_(std::move(params)) {}
@@ -10,18 +14,29 @@ bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
       check = {false, "an asset group needs at least 2 channels for causal factors, got " + std::to_string(g)};
       return false;
     }
+    // Resolve the configured graphs against this asset group's channels; a bad graph refuses the data.
+    const std::vector<std::string> names = channel_names_.size() == static_cast<std::size_t>(g)
+                                               ? channel_names_ : std::vector<std::string>{};
+    auto model_for = [&](const FactorStreamParams& base, const std::string& graph) {
+      FactorStreamParams p = base;
+      p.model.channels = g;
+      if (!graph.empty()) p.model = analysis::parse_causal_graph(graph, g, names).apply_to(p.model);
+      return p;
+    };
+    try {
+      std::unique_ptr<FactorStream> sample, condition;
+      if (params_.sample_level) sample = std::make_unique<FactorStream>(model_for(params_.sample, params_.sample_graph));
+      if (params_.condition_level) {
+        condition = std::make_unique<FactorStream>(model_for(params_.condition_model, params_.condition_graph));
+        conditions_ = std::make_unique<ConditionStream>(params_.condition, g);
+      }
+      sample_ = std::move(sample);
+      condition_model_ = std::move(condition);
+    } catch (const std::invalid_argument& e) {
+      check = {false, std::string("the configured causal graph does not fit this asset group: ") + e.what()};
+      return false;
+    }
     channels_ = g;
-    if (params_.sample_level) {
-      FactorStreamParams p = params_.sample;
-      p.model.channels = g;
-      sample_ = std::make_unique<FactorStream>(p);
-    }
-    if (params_.condition_level) {
-      conditions_ = std::make_unique<ConditionStream>(params_.condition, g);
-      FactorStreamParams p = params_.condition_model;
-      p.model.channels = g;
-      condition_model_ = std::make_unique<FactorStream>(p);
-    }
     return true;
   }
   if (g != channels_) {

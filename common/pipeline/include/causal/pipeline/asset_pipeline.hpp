@@ -15,6 +15,12 @@ namespace causal::pipeline {
 struct AssetPipelineParams {
   bool sample_level = true;
   FactorStreamParams sample;          // model.channels is set from the data
+  // Optional configured causal graph of the instantaneous links, e.g. "bearing2 -> bearing1, 3 -> 1"
+  // (channel names or 1-based numbers). Empty: every instantaneous link is estimated. Otherwise only the
+  // listed links are; lagged links are unaffected. Must be acyclic: with instantaneous links running both
+  // ways the per-outcome regressions do not form one identified structural model (common/analysis).
+  std::string sample_graph;
+  std::string condition_graph;
   bool condition_level = true;
   ConditionStreamParams condition;
   FactorStreamParams condition_model; // model.channels is set from the data
@@ -39,6 +45,8 @@ struct FrameCheck {
 class AssetPipeline {
  public:
   explicit AssetPipeline(AssetPipelineParams params);
+  // Names used to resolve the configured graphs; call before the first feed (else 1-based numbers only).
+  void set_channel_names(std::vector<std::string> names) { channel_names_ = std::move(names); }
 
   // A raw frame: rows N x G (sample-major), `gap` = frames were lost before this one. The first frame fixes
   // G; a frame with another channel count is refused (FrameCheck.ok = false) and nothing is fed.
@@ -59,6 +67,7 @@ class AssetPipeline {
   void feed_condition_model(const ConditionSample& s, PipelineOutput& out);
 
   AssetPipelineParams params_;
+  std::vector<std::string> channel_names_;
   int channels_ = 0;
   std::unique_ptr<FactorStream> sample_;
   std::unique_ptr<ConditionStream> conditions_;

@@ -1,0 +1,111 @@
+// Issue 5 end to end over DDS, on simulated data where the answer is known: bearing 2 drives bearing 1
+// (instantaneously and with one lag); bearings 3 and 4 are independent. From snapshot 250 bearing 2's OWN
+// level rises; bearing 1 follows only through the causal link. The three services (shipped alarm parameters,
+// an estimator told the instantaneous graph "bearing2 -> bearing1") must alarm on bearing 1 and recommend
+// acting on bearing 2, with a predicted reduction of bearing 1.
+#include "dds_observer.hpp"
+#include "process_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace fs = std::filesystem;
+using causal::test::DdsObserver;
+using causal::test::ServiceProcess;
+
+namespace {
+
+constexpr int kSnapshots = 400;
+constexpr int kChangeAt = 250;
+
+// Log-levels of a structural VAR(1): z2 -> z1 instantaneous 0.8 and lagged 0.2; uniform (non-Gaussian) noise.
+std::string write_simulated_table(const fs::path& dir) {
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> u(-0.035, 0.035);  // sd 0.02
+  const double base[4] = {std::log(0.08), std::log(0.10), std::log(0.06), std::log(0.05)};
+  double z[4] = {0, 0, 0, 0}, prev[4] = {0, 0, 0, 0};
+  const fs::path p = dir / "simulated_features.csv";
+  std::ofstream out(p);
+  out << ",bearing1,bearing2,bearing3,bearing4\n";
+  for (int n = 0; n < kSnapshots; ++n) {
+    const double own_change = n < kChangeAt ? 0.0 : 0.5 * std::min(1.0, (n - kChangeAt + 1) / 20.0);
+    z[1] = 0.5 * prev[1] + u(rng) + own_change * 0.5;  // steady state of the shift: +own_change
+    z[0] = 0.8 * z[1] + 0.2 * prev[1] + 0.3 * prev[0] + u(rng);
+    z[2] = 0.4 * prev[2] + u(rng);
+    z[3] = 0.4 * prev[3] + u(rng);
+    std::copy(z, z + 4, prev);
+    const long minutes = 10L * n;
+    char ts[32];
+    std::snprintf(ts, sizeof ts, "2026-01-%02ld %02ld:%02ld:00", 1 + minutes / 1440, (minutes / 60) % 24, minutes % 60);
+    out << ts;
+    for (int k = 0; k < 4; ++k) out << "," << std::exp(base[k] + z[k]);
+    out << "\n";
+  }
+  return p.string();
+}
+
+std::string write_estimator_params(const fs::path& dir) {
+  const fs::path p = dir / "estimator.yaml";
+  std::ofstream(p) << "sample_level:\n  enabled: false\n  lag_order: 1\n  include_self_lags: false\n"
+                      "  instantaneous_graph: \"\"\n"
+                      "  noise: {mode: fixed, q: 1.0e-6, r: 1.0e-2, p0: 1.0, calibration_samples: 4096}\n"
+                      "  publish_every: 1024\n  fixed_lag: 0\n"
+                      "condition_level:\n  enabled: true\n  feature: meanabs\n  log_transform: true\n"
+                      "  window_samples: 0\n  min_samples: 256\n  lag_order: 1\n  include_self_lags: true\n"
+                      "  instantaneous_graph: \"bearing2 -> bearing1\"\n"
+                      "  noise: {mode: fixed, q: 1.0e-4, r: 1.0e-2, p0: 1.0, calibration_samples: 100}\n"
+                      "  publish_every: 1\n  fixed_lag: 0\n";
+  return p.string();
+}
+
+}  // namespace
+
+TEST(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChannel) {
+  const fs::path work = fs::temp_directory_path() / ("causal_it_rec_" + std::to_string(getpid()));
+  fs::create_directories(work);
+  const std::string table = write_simulated_table(work);
+  const std::string d = std::to_string(causal::test::private_domain_id(3));
+  DdsObserver observer(std::stoi(d));
+  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300"},
+                       (work / "alarm.log").string());
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", write_estimator_params(work), "--idle-exit",
+                            "3", "--max-runtime", "300", "--wait-subscribers", "2"},
+                           (work / "estimator.log").string());
+  ServiceProcess replay("sensor-replay",
+                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-name", "meanabs",
+                         "--asset-group", "sim-shaft", "--wait-subscribers", "2", "--wait-timeout", "60"},
+                        (work / "replay.log").string());
+  const auto code = replay.wait(std::chrono::seconds(240));
+  ASSERT_TRUE(code.has_value()) << replay.output();
+  EXPECT_EQ(*code, 0) << replay.output();
+  ASSERT_TRUE(estimator.wait(std::chrono::seconds(120)).has_value()) << estimator.output();
+  ASSERT_TRUE(alarm.wait(std::chrono::seconds(120)).has_value()) << alarm.output();
+
+  bool alarm_on_1 = false;
+  for (const auto& a : observer.alarms()) {
+    EXPECT_GE(a.sample_index(), static_cast<unsigned long long>(kChangeAt)) << "alarm before the change: " << a.reason();
+    if (a.channel() == 1 && a.state() == causal_twin::RAISED) alarm_on_1 = true;
+  }
+  ASSERT_TRUE(alarm_on_1) << "no alarm on bearing 1; alarm log:\n" << alarm.output();
+  const auto recs = observer.recommendations();
+  bool upstream = false;
+  for (const auto& r : recs) {
+    std::printf("recommendation %s: act on %u, target %u, steady-state effect %.4f [%.4f, %.4f]\n",
+                r.recommendation_id().c_str(), r.intervene_channel(), r.target_channel(), r.effect_steady_state(),
+                r.effect_low(), r.effect_high());
+    if (r.target_channel() == 1 && r.rank() == 1) {
+      EXPECT_EQ(r.intervene_channel(), 2) << r.text();
+      EXPECT_LT(r.effect_steady_state(), 0.0) << r.text();
+      upstream = r.intervene_channel() == 2;
+    }
+  }
+  EXPECT_TRUE(upstream) << "no rank-1 recommendation for bearing 1; alarm log:\n" << alarm.output();
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}
