@@ -55,7 +55,7 @@ int RecommenderNode::run() {
       assembler_.add_factors(dds::from_causal_factors(f), ready);
     });
     handle(ready);
-    whatif_requests_.take_all([this](const causal_twin::WhatIfRequest& r, const auto&) { answer(r); });
+    n += whatif_requests_.take_all([this](const causal_twin::WhatIfRequest& r, const auto&) { answer(r); });
     const auto now = Clock::now();
     if (n > 0) {
       last_data = now;

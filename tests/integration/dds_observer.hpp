@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <map>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -26,7 +27,10 @@ class DdsObserver {
         frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader),
         factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
         alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
-        recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader) {
+        recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
+        whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader),
+        whatif_requests_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter) {
+    loop_.attach(whatif_replies_.get());
     loop_.attach(frames_.get());
     loop_.attach(factors_.get());
     loop_.attach(alarms_.get());
@@ -59,6 +63,24 @@ class DdsObserver {
   }
   std::size_t matched_factor_writers() const { return factors_.matched_writers(); }
 
+  // Sends a what-if request (once the alarm service's reader is matched) and waits, bounded, for its reply.
+  std::optional<causal_twin::WhatIfReply> ask(causal_twin::WhatIfRequest request, std::chrono::seconds timeout) {
+    std::atomic<bool> never{false};
+    if (!whatif_requests_.wait_for_readers(1, timeout, never)) return std::nullopt;
+    if (whatif_requests_.write(request, never, timeout) != dds::WriteResult::Ok) return std::nullopt;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (const auto& r : replies_) {
+          if (r.request_id() == request.request_id()) return r;
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return std::nullopt;
+  }
+
  private:
   static dds::DdsSettings settings(int domain_id) {
     dds::DdsSettings s;
@@ -84,6 +106,10 @@ class DdsObserver {
         std::lock_guard<std::mutex> lock(mutex_);
         alarm_list_.push_back(a);
       });
+      whatif_replies_.take_all([this](const causal_twin::WhatIfReply& r, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        replies_.push_back(r);
+      });
       recommendations_.take_all([this](const causal_twin::Recommendation& r, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);
         recommendation_list_.push_back(r);
@@ -96,6 +122,8 @@ class DdsObserver {
   dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
   dds::TypedReader<causal_twin::AlarmPubSubType> alarms_;
   dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_;
+  dds::TypedReader<causal_twin::WhatIfReplyPubSubType> whatif_replies_;
+  dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> whatif_requests_;
   dds::EventLoop loop_;
   std::thread thread_;
   mutable std::mutex mutex_;
@@ -103,6 +131,7 @@ class DdsObserver {
   std::map<std::pair<int, int>, std::size_t> factor_counts_;
   std::vector<causal_twin::Alarm> alarm_list_;
   std::vector<causal_twin::Recommendation> recommendation_list_;
+  std::vector<causal_twin::WhatIfReply> replies_;
   std::vector<std::string> names_;
 };
 
