@@ -2,8 +2,6 @@
 #include "recommender_node.hpp"
 #include "recommender_params.hpp"
 
-#include "causal/config/yaml_fields.hpp"
-
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -20,20 +18,8 @@ int main(int argc, char** argv) {
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  try {
-    causal::dds::setup_logging("alarm-recommender", o.dds.log_level);
+  return causal::dds::run_service(signals, "alarm-recommender", o.dds.log_level, [&] {
     auto params = causal::recommender::load_recommender_params(o.params_file);
-    causal::recommender::RecommenderNode node(std::move(o), std::move(params));
-    signals.start([&node](int sig) {
-      spdlog::info("signal {} received, stopping", sig);
-      node.stop();
-    });
-    return node.run();
-  } catch (const causal::config::ConfigError& e) {
-    spdlog::critical("{}", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    spdlog::critical("{}", e.what());
-    return 1;
-  }
+    return std::make_unique<causal::recommender::RecommenderNode>(std::move(o), std::move(params));
+  });
 }

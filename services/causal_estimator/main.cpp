@@ -2,8 +2,6 @@
 #include "estimator_node.hpp"
 #include "estimator_params.hpp"
 
-#include "causal/config/yaml_fields.hpp"
-
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -33,20 +31,8 @@ int main(int argc, char** argv) {
     std::cerr << "error: --shard-index must be < --shard-count\n";
     return 2;
   }
-  try {
-    causal::dds::setup_logging("causal-estimator", o.dds.log_level);
+  return causal::dds::run_service(signals, "causal-estimator", o.dds.log_level, [&] {
     auto params = causal::estimator::load_estimator_params(o.params_file);
-    causal::estimator::EstimatorNode node(std::move(o), std::move(params));
-    signals.start([&node](int sig) {
-      spdlog::info("signal {} received, stopping", sig);
-      node.stop();
-    });
-    return node.run();
-  } catch (const causal::config::ConfigError& e) {
-    spdlog::critical("{}", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    spdlog::critical("{}", e.what());
-    return 1;
-  }
+    return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(params));
+  });
 }

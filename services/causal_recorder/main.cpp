@@ -26,16 +26,6 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  try {
-    causal::dds::setup_logging("causal-recorder", o.dds.log_level);
-    causal::recorder::RecorderNode node(std::move(o));
-    signals.start([&node](int sig) {
-      spdlog::info("signal {} received, stopping", sig);
-      node.stop();
-    });
-    return node.run();
-  } catch (const std::exception& e) {
-    spdlog::critical("{}", e.what());
-    return 1;
-  }
+  return causal::dds::run_service(signals, "causal-recorder", o.dds.log_level,
+                                  [&] { return std::make_unique<causal::recorder::RecorderNode>(std::move(o)); });
 }

@@ -8,16 +8,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   auto options = causal::replay::parse_replay_options(argc, argv, exit_code);
   if (!options) return exit_code;
-  try {
-    causal::dds::setup_logging("sensor-replay", options->dds.log_level);
-    causal::replay::ReplayNode node(std::move(*options));
-    signals.start([&node](int sig) {
-      spdlog::info("signal {} received, stopping", sig);
-      node.stop();
-    });
-    return node.run();
-  } catch (const std::exception& e) {
-    spdlog::critical("{}", e.what());
-    return 1;
-  }
+  return causal::dds::run_service(signals, "sensor-replay", options->dds.log_level, [&] {
+    return std::make_unique<causal::replay::ReplayNode>(std::move(*options));
+  });
 }

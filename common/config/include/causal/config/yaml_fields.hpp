@@ -12,9 +12,10 @@
 
 namespace causal::config {
 
-class ConfigError : public std::runtime_error {
+// Invalid configuration is invalid input: services exit with code 2 for it (see run_service).
+class ConfigError : public std::invalid_argument {
  public:
-  using std::runtime_error::runtime_error;
+  using std::invalid_argument::invalid_argument;
 };
 
 class Section {

@@ -6,8 +6,12 @@
 #include "causal/dds/participant.hpp"
 
 #include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
 
+#include <exception>
 #include <functional>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -45,5 +49,27 @@ class ShutdownSignal {
  private:
   std::thread thread_;
 };
+
+// The body of every service's main(): logging, the node built by make_node() (a std::unique_ptr to a type
+// with run() and stop()), SIGINT/SIGTERM routed to stop(), and exit codes: run()'s own, 2 for invalid
+// input or configuration (std::invalid_argument, e.g. causal::config::ConfigError), 1 for anything else.
+template <typename MakeNode>
+int run_service(ShutdownSignal& signals, const std::string& name, const std::string& log_level, MakeNode&& make_node) {
+  try {
+    setup_logging(name, log_level);
+    auto node = make_node();
+    signals.start([&node](int sig) {
+      spdlog::info("signal {} received, stopping", sig);
+      node->stop();
+    });
+    return node->run();
+  } catch (const std::invalid_argument& e) {
+    spdlog::critical("{}", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 1;
+  }
+}
 
 }  // namespace causal::dds
