@@ -69,17 +69,7 @@ ChannelTable read_channel_csv(const std::string& path) {
   std::vector<std::string_view> fields;
   std::string scratch;
 
-  // Header: first non-blank line.
-  bool have_header = false;
-  while (cursor.next(line)) {
-    if (!detail::is_blank_line(line)) {
-      have_header = true;
-      break;
-    }
-  }
-  if (!have_header) throw InputError(path, 0, "empty file: no header row");
-  const std::size_t header_line = cursor.line_number();
-  if (!detail::split_csv_line(line, fields, scratch)) throw InputError(path, header_line, "malformed quoting");
+  const std::size_t header_line = detail::read_csv_header(path, cursor, fields, scratch);
 
   const FirstColumn first = classify_first_column(fields.front());
   const std::size_t skip = first == FirstColumn::Channel ? 0 : 1;

@@ -30,16 +30,7 @@ FeatureTable read_feature_table(const std::string& path, const std::string& colu
   std::vector<std::string_view> fields;
   std::string scratch;
 
-  bool have_header = false;
-  while (cursor.next(line)) {
-    if (!detail::is_blank_line(line)) {
-      have_header = true;
-      break;
-    }
-  }
-  if (!have_header) throw InputError(path, 0, "empty file: no header row");
-  const std::size_t header_line = cursor.line_number();
-  if (!detail::split_csv_line(line, fields, scratch)) throw InputError(path, header_line, "malformed quoting");
+  const std::size_t header_line = detail::read_csv_header(path, cursor, fields, scratch);
   const std::vector<std::string> header(fields.begin(), fields.end());
   const std::size_t width = header.size();
 

@@ -1,5 +1,7 @@
 #include "text_scan.hpp"
 
+#include "causal/io/input_error.hpp"
+
 namespace causal::io::detail {
 
 bool split_csv_line(std::string_view line, std::vector<std::string_view>& fields, std::string& scratch) {
@@ -76,6 +78,18 @@ std::string to_lower(std::string_view s) {
     if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
   }
   return out;
+}
+
+std::size_t read_csv_header(const std::string& path, LineCursor& cursor, std::vector<std::string_view>& fields,
+                            std::string& scratch) {
+  std::string_view line;
+  while (cursor.next(line)) {
+    if (is_blank_line(line)) continue;
+    const std::size_t header_line = cursor.line_number();
+    if (!split_csv_line(line, fields, scratch)) throw InputError(path, header_line, "malformed quoting");
+    return header_line;
+  }
+  throw InputError(path, 0, "empty file: no header row");
 }
 
 }  // namespace causal::io::detail

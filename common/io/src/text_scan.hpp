@@ -107,6 +107,11 @@ inline std::optional<std::int64_t> parse_int64(std::string_view tok) {
 // unterminated quote or text after a closing quote.
 bool split_csv_line(std::string_view line, std::vector<std::string_view>& fields, std::string& scratch);
 
+// Reads the header row of a CSV file (its first non-blank line) into `fields` and returns its line number.
+// Throws InputError(path, ...) for an empty file or malformed quoting.
+std::size_t read_csv_header(const std::string& path, LineCursor& cursor, std::vector<std::string_view>& fields,
+                            std::string& scratch);
+
 // Short printable excerpt of a bad token for error messages.
 std::string quote_token(std::string_view tok);
 
