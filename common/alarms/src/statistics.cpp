@@ -1,5 +1,7 @@
 #include "causal/alarms/statistics.hpp"
 
+#include "causal/normal_quantile.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -50,37 +52,7 @@ RobustStats robust_stats(const std::vector<double>& v, double relative_floor, do
 
 double normal_upper_quantile(double p) {
   if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("normal_upper_quantile: p must be in (0, 1)");
-  // Acklam's algorithm for the lower-tail quantile of q = 1 - p, evaluated on the short tail for accuracy.
-  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
-  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                             6.680131188771972e+01,  -1.328068155288572e+01};
-  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
-  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
-                             3.754408661907416e+00};
-  const double q = 1.0 - p;  // lower-tail probability
-  const double plow = 0.02425;
-  double x;
-  if (q < plow) {
-    const double r = std::sqrt(-2.0 * std::log(q));
-    x = (((((c[0] * r + c[1]) * r + c[2]) * r + c[3]) * r + c[4]) * r + c[5]) /
-        ((((d[0] * r + d[1]) * r + d[2]) * r + d[3]) * r + 1.0);
-  } else if (q <= 1.0 - plow) {
-    const double r = q - 0.5, t = r * r;
-    x = (((((a[0] * t + a[1]) * t + a[2]) * t + a[3]) * t + a[4]) * t + a[5]) * r /
-        (((((b[0] * t + b[1]) * t + b[2]) * t + b[3]) * t + b[4]) * t + 1.0);
-  } else {
-    const double r = std::sqrt(-2.0 * std::log(p));  // p = 1 - q, the small upper tail, exactly
-    x = -(((((c[0] * r + c[1]) * r + c[2]) * r + c[3]) * r + c[4]) * r + c[5]) /
-        ((((d[0] * r + d[1]) * r + d[2]) * r + d[3]) * r + 1.0);
-  }
-  // One Halley refinement on the upper-tail form f(x) = 0.5 erfc(x / sqrt 2) - p, with f' = -phi(x),
-  // f''/f' = -x:  x <- x - u / (1 + x u / 2),  u = f / f'.
-  const double e = 0.5 * std::erfc(x / std::sqrt(2.0)) - p;
-  const double u = -e * std::sqrt(2.0 * 3.14159265358979323846) * std::exp(0.5 * x * x);
-  x = x - u / (1.0 + 0.5 * x * u);
-  return x;
+  return -causal::normal_quantile(p);  // upper tail p = lower tail p, mirrored
 }
 
 double chi_square_upper_quantile(int dof, double p) {

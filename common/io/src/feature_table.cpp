@@ -69,15 +69,8 @@ FeatureTable read_feature_table(const std::string& path, const std::string& colu
   const std::size_t g = cols.size();
   std::vector<double> data;  // row-major
   std::size_t rows = 0;
-  while (cursor.next(line)) {
-    if (detail::is_blank_line(line)) continue;
-    const std::size_t ln = cursor.line_number();
-    if (!detail::split_csv_line(line, fields, scratch)) throw InputError(path, ln, "malformed quoting");
-    if (fields.size() != width) {
-      throw InputError(path, ln,
-                       "ragged row: " + std::to_string(fields.size()) + " fields, header has " +
-                           std::to_string(width));
-    }
+  std::size_t ln = 0;
+  while ((ln = detail::next_csv_row(path, cursor, width, fields, scratch)) != 0) {
     const std::optional<std::int64_t> t = parse_utc(fields[time_col]);
     if (!t) {
       throw InputError(path, ln,

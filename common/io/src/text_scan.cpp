@@ -92,4 +92,20 @@ std::size_t read_csv_header(const std::string& path, LineCursor& cursor, std::ve
   throw InputError(path, 0, "empty file: no header row");
 }
 
+std::size_t next_csv_row(const std::string& path, LineCursor& cursor, std::size_t width,
+                         std::vector<std::string_view>& fields, std::string& scratch) {
+  std::string_view line;
+  while (cursor.next(line)) {
+    if (is_blank_line(line)) continue;
+    const std::size_t ln = cursor.line_number();
+    if (!split_csv_line(line, fields, scratch)) throw InputError(path, ln, "malformed quoting");
+    if (fields.size() != width) {
+      throw InputError(path, ln,
+                       "ragged row: " + std::to_string(fields.size()) + " fields, header has " + std::to_string(width));
+    }
+    return ln;
+  }
+  return 0;
+}
+
 }  // namespace causal::io::detail

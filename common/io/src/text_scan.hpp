@@ -109,6 +109,11 @@ bool split_csv_line(std::string_view line, std::vector<std::string_view>& fields
 
 // Reads the header row of a CSV file (its first non-blank line) into `fields` and returns its line number.
 // Throws InputError(path, ...) for an empty file or malformed quoting.
+// Reads the next non-blank data row into `fields` and returns its line number, 0 at the end of the file.
+// Throws InputError(path, line, ...) for malformed quoting or a row that does not have `width` fields.
+std::size_t next_csv_row(const std::string& path, LineCursor& cursor, std::size_t width,
+                         std::vector<std::string_view>& fields, std::string& scratch);
+
 std::size_t read_csv_header(const std::string& path, LineCursor& cursor, std::vector<std::string_view>& fields,
                             std::string& scratch);
 
