@@ -3,9 +3,11 @@
 #include "causal/analysis/intervention.hpp"
 #include "causal/analysis/structural_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <stdexcept>
 
 namespace causal::recommender {
 
@@ -50,7 +52,31 @@ void Advisor::update(const AssembledObservation& a) {
   }
   m.factors = a.observation.factors;
   m.factor_std = a.observation.factor_std;
+  m.blocks = a.covariance_blocks;  // the latest observation decides: no stale blocks with new factors
   if (a.observation.features.size() > 0) m.features = a.observation.features;
+}
+
+bool Advisor::blocks_usable(const AssetModel& m) {
+  if (!m.layout || m.blocks.empty()) return false;
+  for (const auto& b : m.blocks) {
+    if (!b.allFinite()) return false;  // a NaN block would poison every Monte Carlo draw
+  }
+  try {
+    analysis::validate_posterior(*m.layout, analysis::FactorPosterior{m.factors, m.blocks});
+  } catch (const std::invalid_argument&) {
+    return false;  // block sizes do not match the layout rebuilt from the names
+  }
+  return true;
+}
+
+bool Advisor::full_covariance(const std::string& asset_group) const {
+  const auto it = models_.find(asset_group);
+  return it != models_.end() && blocks_usable(it->second);
+}
+
+analysis::FactorPosterior Advisor::posterior(const AssetModel& m) const {
+  if (blocks_usable(m)) return analysis::FactorPosterior{m.factors, m.blocks};
+  return analysis::posterior_from_std_devs(*m.layout, m.factors, m.factor_std);
 }
 
 Eigen::VectorXd Advisor::to_model_units(const Eigen::VectorXd& features) const {
@@ -98,9 +124,19 @@ std::vector<AdviceItem> Advisor::advise(const std::string& asset_group, int targ
     why = "a condition feature or its baseline is not positive/finite";
     return {};
   }
-  const auto candidates = analysis::candidates_from_excess(current, baseline, target, params_.excess_fraction);
+  auto candidates = analysis::candidates_from_excess(current, baseline, target, params_.excess_fraction);
+  // A channel barely above its baseline is within its normal spread: acting on it is no advice.
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                  [&](const analysis::CandidateIntervention& c) {
+                                    const auto j = static_cast<Eigen::Index>(c.channel);
+                                    return m.features[j] < baseline_features[j] * (1.0 + params_.min_excess_percent / 100.0);
+                                  }),
+                   candidates.end());
   if (candidates.empty()) {
-    why = "no other channel is above its baseline: nothing upstream to act on";
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "no other channel is %.3g %% or more above its baseline: nothing upstream to act on",
+                  params_.min_excess_percent);
+    why = buf;
     return {};
   }
   analysis::RecommendationOptions options;
@@ -108,8 +144,7 @@ std::vector<AdviceItem> Advisor::advise(const std::string& asset_group, int targ
   options.uncertainty.draws = params_.draws;
   options.channel_names = m.channel_names;
   options.unit = params_.model_log_features ? "log-level" : "";
-  const auto posterior = analysis::posterior_from_std_devs(*m.layout, m.factors, m.factor_std);
-  const auto ranked = analysis::rank_interventions(*m.layout, posterior, target, candidates, options);
+  const auto ranked = analysis::rank_interventions(*m.layout, posterior(m), target, candidates, options);
   std::vector<AdviceItem> out;
   for (const auto& r : ranked) {
     if (static_cast<int>(out.size()) >= params_.max_per_alarm) break;
@@ -160,8 +195,7 @@ WhatIfAnswer Advisor::what_if(const std::string& asset_group, int channel, doubl
   analysis::UncertaintyOptions u;
   u.coverage = params_.coverage;
   u.draws = params_.draws;
-  const auto posterior = analysis::posterior_from_std_devs(*m.layout, m.factors, m.factor_std);
-  const auto eff = analysis::predict_intervention_with_uncertainty(*m.layout, posterior, q, u);
+  const auto eff = analysis::predict_intervention_with_uncertainty(*m.layout, posterior(m), q, u);
   if (eff.point.status != analysis::AnalysisStatus::ok) {
     ans.error = std::string(analysis::to_string(eff.point.status)) + ": " + eff.point.message;
     return ans;

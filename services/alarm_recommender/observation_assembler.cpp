@@ -48,6 +48,7 @@ void ObservationAssembler::complete(Stream& s, Partial& p, std::vector<Assembled
   o.factors.resize(total);
   o.factor_std.resize(total);
   Eigen::Index at = 0;
+  bool all_blocks = true;
   for (int k = 0; k < g; ++k) {
     const auto& m = p.outcomes[static_cast<std::size_t>(k)];
     a.channel_names.push_back(m.outcome_name);
@@ -61,6 +62,13 @@ void ObservationAssembler::complete(Stream& s, Partial& p, std::vector<Assembled
     o.factors.segment(at, m.factors.size()) = m.factors;
     o.factor_std.segment(at, m.factor_std.size()) = m.factor_std;
     at += m.factors.size();
+    const auto d = m.factors.size();
+    // A 0 x 0 block is valid only for an outcome without factors (then there is nothing to miss).
+    all_blocks = all_blocks && m.covariance.rows() == d && m.covariance.cols() == d;
+  }
+  if (all_blocks) {
+    a.covariance_blocks.reserve(static_cast<std::size_t>(g));
+    for (const auto& m : p.outcomes) a.covariance_blocks.push_back(m.covariance);
   }
   if (a.time_scale == causal_twin::SAMPLE_LEVEL) {
     out.push_back(std::move(a));  // sample-level observations carry no condition features

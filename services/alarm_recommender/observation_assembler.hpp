@@ -22,6 +22,9 @@ struct AssembledObservation {
   std::vector<std::string> factor_names;   // F, outcome-major
   int lag_order = 1;
   alarms::Observation observation;
+  // Per outcome k (0-based), the full factor covariance P_k from the messages. Empty unless EVERY outcome
+  // carried a valid block (factors.size() square), so a consumer either has all of them or none.
+  std::vector<Eigen::MatrixXd> covariance_blocks;
 };
 
 class ObservationAssembler {

@@ -115,6 +115,15 @@ void RecommenderNode::observe(AssembledObservation& a) {
   }
   EngineState& st = it->second;
   advisor_.update(a);
+  if (!sample && advisor_.has_model(a.asset_group)) {
+    const int full = advisor_.full_covariance(a.asset_group) ? 1 : 0;
+    if (full != st.full_covariance) {
+      st.full_covariance = full;
+      spdlog::info("asset '{}': what-if intervals from {}", a.asset_group,
+                   full ? "the full per-outcome factor covariance"
+                        : "factor standard deviations only (no covariance blocks: correlations ignored)");
+    }
+  }
   for (const auto& e : st.engine->observe(a.observation)) {
     if (e.state == alarms::AlarmState::Raised) ++st.raised;
     publish_event(a, e);

@@ -37,6 +37,7 @@ class RecommenderNode {
     std::unique_ptr<alarms::AlarmEngine> engine;
     std::vector<std::string> channel_names;
     bool baseline_logged = false;
+    int full_covariance = -1;  // last logged interval basis: -1 none yet, 0 diagonal, 1 full blocks
     std::uint64_t raised = 0;
   };
   void handle(std::vector<AssembledObservation>& ready);

@@ -60,11 +60,12 @@ RecommenderParams load_recommender_params(const std::string& path) {
   r.sample_baseline_publications = static_cast<int>(s.integer("baseline_publications", 3, 1000000));
 
   const Section a = root.child("recommendations");
-  a.only({"enabled", "max_per_alarm", "excess_fraction", "coverage", "draws", "model_log_features"});
+  a.only({"enabled", "max_per_alarm", "excess_fraction", "min_excess_percent", "coverage", "draws", "model_log_features"});
   r.advice.enabled = a.boolean("enabled");
   r.advice.max_per_alarm = static_cast<int>(a.integer("max_per_alarm", 1, 64));
   r.advice.excess_fraction = a.positive("excess_fraction");
   if (r.advice.excess_fraction > 1.0) a.fail("excess_fraction", "must be in (0, 1]");
+  r.advice.min_excess_percent = a.non_negative("min_excess_percent");
   r.advice.coverage = a.positive("coverage");
   if (r.advice.coverage >= 1.0) a.fail("coverage", "must be in (0, 1)");
   r.advice.draws = static_cast<int>(a.integer("draws", 10, 1000000));

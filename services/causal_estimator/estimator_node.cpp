@@ -167,6 +167,37 @@ void EstimatorNode::log_condition_report(const std::string& name, const Asset& a
                r.kind == pipeline::EstimateKind::Filter ? "filter" : "fixed-lag", r.nis_mean, text);
 }
 
+void EstimatorNode::log_structure(const std::string& name, const Asset& a, const char* level,
+                                  const pipeline::LearnedStructure* learned, bool& logged) const {
+  if (learned == nullptr || !learned->ready || learned->samples == 0 || logged) return;
+  logged = true;
+  const auto& names = a.channel_names;
+  if (learned->centre.size() > 0) {
+    std::string text;
+    for (Eigen::Index j = 0; j < learned->centre.size(); ++j) {
+      text += fmt::format("{}{}={:.4g}", j ? " " : "", names.at(static_cast<std::size_t>(j)), learned->centre[j]);
+    }
+    spdlog::info("{} {}: inputs centred on the mean of the first {} samples: {}", name, level, learned->samples, text);
+  }
+  if (!learned->order.empty()) {
+    std::string order, links;
+    for (std::size_t p = 0; p < learned->order.size(); ++p) {
+      order += (p ? " < " : "") + names.at(static_cast<std::size_t>(learned->order[p]));
+    }
+    const auto& mask = learned->instantaneous_allowed;
+    for (std::size_t k = 0; k < mask.size(); ++k) {
+      for (std::size_t j = 0; j < mask[k].size(); ++j) {
+        if (j == k || !mask[k][j]) continue;
+        links += fmt::format("{}{} -> {} (B0 {:+.3f})", links.empty() ? "" : ", ", names.at(j), names.at(k),
+                             learned->b0(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)));
+      }
+    }
+    spdlog::info("{} {}: causal order learned by VAR-LiNGAM on {} samples: {}; instantaneous links: {}", name, level,
+                 learned->samples, order, links.empty() ? "none" : links);
+  }
+  if (!learned->problem.empty()) spdlog::warn("{} {}: {}", name, level, learned->problem);
+}
+
 void EstimatorNode::publish(const std::string& name, Asset& a) {
   const std::atomic<bool>& stop = loop_.stop_flag();
   for (const auto& c : out_.conditions) {
@@ -187,6 +218,8 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
   };
   send(out_.sample_reports, a.pipeline.sample_stream(), causal_twin::SAMPLE_LEVEL, a.sample_msgs);
   send(out_.condition_reports, a.pipeline.condition_stream(), causal_twin::CONDITION_LEVEL, a.condition_msgs);
+  log_structure(name, a, "sample level", a.pipeline.sample_structure(), a.sample_structure_logged);
+  log_structure(name, a, "condition level", a.pipeline.condition_structure(), a.condition_structure_logged);
   const auto* s = a.pipeline.sample_stream();
   if (s != nullptr && s->calibrated() && !a.tuning_logged) {
     a.tuning_logged = true;

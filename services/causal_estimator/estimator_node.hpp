@@ -48,6 +48,7 @@ class EstimatorNode {
     std::uint64_t sample_msgs = 0, condition_msgs = 0;
     std::string feature;  // feature name of the condition-level model
     bool tuning_logged = false;
+    bool sample_structure_logged = false, condition_structure_logged = false;
   };
 
   bool mine(const std::string& asset_group) const;
@@ -55,6 +56,8 @@ class EstimatorNode {
   void on_frame(const causal_twin::VibrationFrame& frame);
   void on_condition(const causal_twin::ConditionVector& in);
   void publish(const std::string& name, Asset& a);
+  void log_structure(const std::string& name, const Asset& a, const char* level,
+                     const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
   void finish_all();
 

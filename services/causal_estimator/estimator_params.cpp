@@ -28,6 +28,20 @@ void load_model(const Section& s, pipeline::FactorStreamParams& p) {
   p.fixed_lag = static_cast<int>(s.integer("fixed_lag", 0, 100000));
 }
 
+// Online structure learning on a calibration window (common/pipeline structured_factor_stream.hpp).
+pipeline::StructureSetting load_structure(const Section& s) {
+  s.only({"calibration_samples", "centre", "causal_order", "prune_threshold"});
+  pipeline::StructureSetting st;
+  st.calibration_samples = static_cast<std::size_t>(s.integer("calibration_samples", 0, 100000000));
+  st.centre = s.boolean("centre");
+  st.learn_order = s.one_of("causal_order", {"configured", "lingam"}) == "lingam";
+  st.prune_threshold = s.non_negative("prune_threshold");
+  if ((st.centre || st.learn_order) && st.calibration_samples == 0) {
+    s.fail("calibration_samples", "must be > 0 when centre is true or causal_order is lingam");
+  }
+  return st;
+}
+
 // Required key; "" (or "all") = every instantaneous link. Checked against the channels when data arrives.
 std::string graph_text(const Section& s) {
   if (!s.node()["instantaneous_graph"].IsDefined()) s.fail("instantaneous_graph", "missing (required; \"\" = all links)");
@@ -43,14 +57,16 @@ pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
   pipeline::AssetPipelineParams p;
 
   const Section sample = root.child("sample_level");
-  sample.only({"enabled", "lag_order", "include_self_lags", "instantaneous_graph", "noise", "publish_every", "fixed_lag"});
+  sample.only({"enabled", "lag_order", "include_self_lags", "instantaneous_graph", "noise", "structure",
+               "publish_every", "fixed_lag"});
   p.sample_level = sample.boolean("enabled");
   load_model(sample, p.sample);
+  p.sample_structure = load_structure(sample.child("structure"));
   p.sample_graph = graph_text(sample);
 
   const Section cond = root.child("condition_level");
   cond.only({"enabled", "feature", "log_transform", "window_samples", "min_samples", "lag_order",
-             "include_self_lags", "instantaneous_graph", "noise", "publish_every", "fixed_lag"});
+             "include_self_lags", "instantaneous_graph", "noise", "structure", "publish_every", "fixed_lag"});
   p.condition_graph = graph_text(cond);
   p.condition_level = cond.boolean("enabled");
   const auto feature = io::parse_condition_feature(cond.one_of("feature", {"rms", "meanabs", "kurtosis", "peak"}));
@@ -59,6 +75,7 @@ pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
   p.condition.window_samples = static_cast<std::size_t>(cond.integer("window_samples", 0, 100000000));
   p.condition.min_samples = static_cast<std::size_t>(cond.integer("min_samples", 1, 100000000));
   load_model(cond, p.condition_model);
+  p.condition_structure = load_structure(cond.child("structure"));
   if (!p.sample_level && !p.condition_level) {
     root.fail("sample_level.enabled", "both time scales are disabled: nothing to estimate");
   }

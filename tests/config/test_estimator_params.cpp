@@ -46,6 +46,13 @@ TEST(EstimatorParams, ShippedFileLoads) {
   EXPECT_EQ(p.condition_model.publish_every, c["publish_every"].as<std::size_t>());
   EXPECT_EQ(p.condition_model.fixed_lag, c["fixed_lag"].as<int>());
 
+  for (const auto& [loaded, node] : {std::pair{p.sample_structure, s["structure"]}, std::pair{p.condition_structure, c["structure"]}}) {
+    EXPECT_EQ(loaded.calibration_samples, node["calibration_samples"].as<std::size_t>());
+    EXPECT_EQ(loaded.centre, node["centre"].as<bool>());
+    EXPECT_EQ(loaded.learn_order, node["causal_order"].as<std::string>() == "lingam");
+    EXPECT_DOUBLE_EQ(loaded.prune_threshold, node["prune_threshold"].as<double>());
+  }
+
   // (Compared with the file itself, not with copied numbers: the shipped values may be retuned.)
 }
 
@@ -96,6 +103,18 @@ const Mutation kMutations[] = {
      "got -1"},
     {"min_samples_zero", [](YAML::Node& d) { d["condition_level"]["min_samples"] = 0; },
      "condition_level.min_samples", "got 0"},
+    {"missing_structure", [](YAML::Node& d) { d["condition_level"].remove("structure"); },
+     "condition_level.structure", "missing"},
+    {"causal_order_unknown", [](YAML::Node& d) { d["condition_level"]["structure"]["causal_order"] = "pc"; },
+     "condition_level.structure.causal_order", "configured, lingam"},
+    {"centre_without_window",
+     [](YAML::Node& d) {
+       d["sample_level"]["structure"]["centre"] = true;
+       d["sample_level"]["structure"]["calibration_samples"] = 0;
+     },
+     "sample_level.structure.calibration_samples", "must be > 0"},
+    {"prune_negative", [](YAML::Node& d) { d["condition_level"]["structure"]["prune_threshold"] = -0.5; },
+     "condition_level.structure.prune_threshold", ">= 0"},
     {"both_disabled",
      [](YAML::Node& d) {
        d["sample_level"]["enabled"] = false;

@@ -56,6 +56,7 @@ TEST(RecommenderParams, ShippedFileLoads) {
   EXPECT_EQ(r.advice.enabled, a["enabled"].as<bool>());
   EXPECT_EQ(r.advice.max_per_alarm, a["max_per_alarm"].as<int>());
   EXPECT_DOUBLE_EQ(r.advice.excess_fraction, a["excess_fraction"].as<double>());
+  EXPECT_DOUBLE_EQ(r.advice.min_excess_percent, a["min_excess_percent"].as<double>());
   EXPECT_DOUBLE_EQ(r.advice.coverage, a["coverage"].as<double>());
   EXPECT_EQ(r.advice.draws, a["draws"].as<int>());
   EXPECT_EQ(r.advice.model_log_features, a["model_log_features"].as<bool>());
@@ -103,6 +104,8 @@ const Mutation kMutations[] = {
      "unknown key"},
     {"missing_sample_section", [](YAML::Node& d) { d.remove("sample_level"); }, "sample_level", "missing"},
     {"missing_recommendations", [](YAML::Node& d) { d.remove("recommendations"); }, ": recommendations:", "missing"},
+    {"min_excess_negative", [](YAML::Node& d) { d["recommendations"]["min_excess_percent"] = -1.0; },
+     "recommendations.min_excess_percent", ">= 0"},
     {"excess_fraction_above_one", [](YAML::Node& d) { d["recommendations"]["excess_fraction"] = 1.5; },
      "recommendations.excess_fraction", "(0, 1]"},
     {"coverage_one", [](YAML::Node& d) { d["recommendations"]["coverage"] = 1.0; }, "recommendations.coverage",

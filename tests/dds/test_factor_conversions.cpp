@@ -1,11 +1,15 @@
 // causal::dds factor conversions (common/dds/src/factor_conversions.cpp): FactorReport -> CausalFactors
-// (1-based outcome, factor names from the layout) -> FactorMessage round trip, and message validation.
+// (1-based outcome, factor names from the layout) -> FactorMessage round trip, and message validation;
+// the packed lower-triangle covariance (pack/unpack, wire round trip, malformed counts).
 #include "causal/dds/factor_conversions.hpp"
 
 #include "causal_twinPubSubTypes.h"
+#include "matrix_asserts.hpp"
 
 #include <gtest/gtest.h>
 
+#include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -47,6 +51,28 @@ FactorReport report(const SvarLayout& l, int k, EstimateKind kind) {
   r.q = 1e-6;
   r.r = 1e-2;
   return r;
+}
+
+// A random SPD matrix A A^T + d I, made exactly symmetric (0.5 (P + P^T) is bitwise symmetric).
+Eigen::MatrixXd random_spd(int d, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd a(d, d);
+  for (int i = 0; i < d; ++i) {
+    for (int j = 0; j < d; ++j) a(i, j) = normal(rng);
+  }
+  const Eigen::MatrixXd p = a * a.transpose() + d * Eigen::MatrixXd::Identity(d, d);
+  return 0.5 * (p + p.transpose());
+}
+
+// Serialises and deserialises through the CDR wire format.
+causal_twin::CausalFactors through_the_wire(causal_twin::CausalFactors m) {
+  causal_twin::CausalFactorsPubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&m)());
+  EXPECT_TRUE(type.serialize(&m, &payload));
+  causal_twin::CausalFactors wire;
+  EXPECT_TRUE(type.deserialize(&payload, &wire));
+  return wire;
 }
 
 FactorContext context(const SvarLayout& l, const std::vector<std::string>& names) {
@@ -179,6 +205,112 @@ TEST(FactorConversions, ToStringNames) {
   EXPECT_STREQ(causal::dds::to_string(causal_twin::RTS_SMOOTHER), "rts");
   EXPECT_STREQ(causal::dds::to_string(causal_twin::SAMPLE_LEVEL), "sample");
   EXPECT_STREQ(causal::dds::to_string(causal_twin::CONDITION_LEVEL), "condition");
+}
+
+// ---- covariance ------------------------------------------------------------------------------------------
+
+TEST(FactorCovariance, PackIsTheLowerTriangleRowByRow) {
+  // Independent truth written out by hand for d = 3 (documented order in the IDL).
+  Eigen::MatrixXd p(3, 3);
+  p << 11, 21, 31,
+       21, 22, 32,
+       31, 32, 33;
+  p(0, 1) = -1.0;  // upper triangle is not read
+  const std::vector<double> expected{11, 21, 22, 31, 32, 33};
+  EXPECT_EQ(causal::dds::pack_lower_triangle(p), expected);
+  EXPECT_TRUE(causal::dds::pack_lower_triangle(Eigen::MatrixXd(0, 0)).empty());
+  EXPECT_THROW(causal::dds::pack_lower_triangle(Eigen::MatrixXd::Zero(2, 3)), std::invalid_argument);
+}
+
+TEST(FactorCovariance, PackUnpackRoundTripOfRandomSpdMatrices) {
+  for (int d : {1, 3, 7}) {
+    SCOPED_TRACE("d = " + std::to_string(d));
+    const Eigen::MatrixXd p = random_spd(d, 100 + static_cast<std::uint64_t>(d));
+    const std::vector<double> packed = causal::dds::pack_lower_triangle(p);
+    ASSERT_EQ(packed.size(), static_cast<std::size_t>(d * (d + 1) / 2));
+    const Eigen::MatrixXd back = causal::dds::unpack_lower_triangle(packed, d);
+    ASSERT_EQ(back.rows(), d);
+    ASSERT_EQ(back.cols(), d);
+    EXPECT_TRUE((back.array() == p.array()).all()) << "bit-exact round trip";
+    EXPECT_TRUE((back.array() == back.transpose().array()).all()) << "unpacked matrix must be symmetric";
+    EXPECT_SPD(back, 0.0);
+  }
+}
+
+TEST(FactorCovariance, UnpackWithTheWrongCountIsEmpty) {
+  const std::vector<double> six{1, 2, 3, 4, 5, 6};  // d = 3
+  EXPECT_EQ(causal::dds::unpack_lower_triangle(six, 3).rows(), 3);
+  EXPECT_EQ(causal::dds::unpack_lower_triangle(six, 2).size(), 0);
+  EXPECT_EQ(causal::dds::unpack_lower_triangle(six, 4).size(), 0);
+  EXPECT_EQ(causal::dds::unpack_lower_triangle(std::vector<double>(5, 1.0), 3).size(), 0);
+  EXPECT_EQ(causal::dds::unpack_lower_triangle(six, -1).size(), 0);
+  EXPECT_EQ(causal::dds::unpack_lower_triangle({}, 0).size(), 0);
+}
+
+TEST(FactorCovariance, MessageRoundTripCarriesTheFullBlock) {
+  const SvarLayout l = layout(4, 2, true);  // 3 + 4 + 4 = 11 factors per outcome
+  const std::vector<std::string> names{"b1", "b2", "b3", "b4"};
+  for (int k = 0; k < 4; ++k) {
+    SCOPED_TRACE("outcome " + std::to_string(k));
+    FactorReport r = report(l, k, EstimateKind::Filter);
+    const int d = l.factor_count(k);
+    r.covariance = random_spd(d, 7 + static_cast<std::uint64_t>(k));
+    causal_twin::CausalFactors m;
+    causal::dds::to_causal_factors(context(l, names), r, m);
+    ASSERT_EQ(m.factor_covariance().size(), static_cast<std::size_t>(d * (d + 1) / 2));
+    // Element (i, j), i >= j, sits at i(i+1)/2 + j: checked against the report directly.
+    for (int i = 0; i < d; ++i) {
+      for (int j = 0; j <= i; ++j) {
+        ASSERT_EQ(m.factor_covariance()[static_cast<std::size_t>(i * (i + 1) / 2 + j)], r.covariance(i, j));
+      }
+    }
+    const causal_twin::CausalFactors wire = through_the_wire(m);
+    ASSERT_EQ(causal::dds::validate_causal_factors(wire), "");
+    const causal::dds::FactorMessage back = causal::dds::from_causal_factors(wire);
+    ASSERT_EQ(back.covariance.rows(), d);
+    ASSERT_EQ(back.covariance.cols(), d);
+    EXPECT_TRUE((back.covariance.array() == r.covariance.array()).all());
+  }
+}
+
+TEST(FactorCovariance, ReportsWithoutCovarianceSendAnEmptySequence) {
+  const SvarLayout l = layout(3, 1);
+  const std::vector<std::string> names{"a", "b", "c"};
+  FactorReport fixed_lag = report(l, 1, EstimateKind::FixedLag);  // no covariance
+  causal_twin::CausalFactors m;
+  causal::dds::to_causal_factors(context(l, names), fixed_lag, m);
+  EXPECT_TRUE(m.factor_covariance().empty());
+  EXPECT_EQ(causal::dds::validate_causal_factors(m), "") << "empty covariance is valid";
+  EXPECT_EQ(causal::dds::from_causal_factors(through_the_wire(m)).covariance.size(), 0);
+  // A writer reusing its message: a filter report with a block, then a fixed-lag one without.
+  FactorReport filt = report(l, 1, EstimateKind::Filter);
+  filt.covariance = random_spd(l.factor_count(1), 3);
+  causal::dds::to_causal_factors(context(l, names), filt, m);
+  EXPECT_FALSE(m.factor_covariance().empty());
+  causal::dds::to_causal_factors(context(l, names), fixed_lag, m);
+  EXPECT_TRUE(m.factor_covariance().empty()) << "no stale block from the previous report";
+  // A block of the wrong size is not sent.
+  filt.covariance = random_spd(l.factor_count(1) + 1, 4);
+  causal::dds::to_causal_factors(context(l, names), filt, m);
+  EXPECT_TRUE(m.factor_covariance().empty());
+}
+
+TEST(FactorCovariance, WrongCountIsMalformedAndUnpacksEmpty) {
+  const SvarLayout l = layout(3, 1);  // 4 factors per outcome: 10 values
+  FactorReport r = report(l, 0, EstimateKind::Filter);
+  r.covariance = random_spd(4, 11);
+  causal_twin::CausalFactors good;
+  causal::dds::to_causal_factors(context(l, {"a", "b", "c"}), r, good);
+  ASSERT_EQ(good.factor_covariance().size(), 10u);
+  ASSERT_EQ(causal::dds::validate_causal_factors(good), "");
+  for (std::size_t count : {1u, 4u, 9u, 11u, 16u}) {
+    SCOPED_TRACE("count " + std::to_string(count));
+    auto m = good;
+    m.factor_covariance().resize(count, 0.5);
+    const auto wire = through_the_wire(m);
+    EXPECT_NE(causal::dds::validate_causal_factors(wire).find("factor_covariance"), std::string::npos);
+    EXPECT_EQ(causal::dds::from_causal_factors(wire).covariance.size(), 0) << "malformed block is dropped";
+  }
 }
 
 }  // namespace

@@ -365,4 +365,63 @@ TEST(ObservationAssembler, LostOutcomeMessagesDoNotPinMemory) {
   expect_observation(out[1], l, causal_twin::SAMPLE_LEVEL, lost - 1);
 }
 
+// Per-outcome covariance blocks: a distinct, recognisable SPD block per (outcome, index).
+Eigen::MatrixXd block(int d, int k, std::uint64_t index) {
+  Eigen::MatrixXd p(d, d);
+  for (int i = 0; i < d; ++i) {
+    for (int j = 0; j < d; ++j) p(i, j) = (i == j ? 1.0 + k : 0.3) + 0.001 * static_cast<double>(index) * (i + j);
+  }
+  return p;
+}
+
+TEST(ObservationAssembler, CovarianceBlocksReachTheObservationInOutcomeOrder) {
+  const int g = 4;
+  const SvarLayout l = make_layout(g);
+  for (causal_twin::TimeScale scale : {causal_twin::SAMPLE_LEVEL, causal_twin::CONDITION_LEVEL}) {
+    ObservationAssembler asm_(4);
+    std::vector<AssembledObservation> out;
+    for (int k : {2, 0, 3, 1}) {  // arrival order differs from outcome order
+      FactorMessage m = message(l, scale, k, 8);
+      m.covariance = block(l.factor_count(k), k, 8);
+      asm_.add_factors(m, out);
+    }
+    asm_.flush(out);
+    ASSERT_EQ(out.size(), 1u);
+    const auto& blocks = out[0].covariance_blocks;
+    ASSERT_EQ(blocks.size(), static_cast<std::size_t>(g));
+    for (int k = 0; k < g; ++k) {
+      const Eigen::MatrixXd want = block(l.factor_count(k), k, 8);
+      const auto& got = blocks[static_cast<std::size_t>(k)];
+      ASSERT_EQ(got.rows(), want.rows()) << "outcome " << k;
+      ASSERT_EQ(got.cols(), want.cols()) << "outcome " << k;
+      EXPECT_TRUE((got.array() == want.array()).all()) << "outcome " << k;
+    }
+    expect_observation(out[0], l, scale, 8);
+  }
+}
+
+TEST(ObservationAssembler, CovarianceBlocksAreAllOrNothing) {
+  const int g = 3;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  // Index 0: outcome 1 without a block. Index 1: outcome 2 with a block of the wrong size.
+  // Index 2: no blocks at all. Index 3: all blocks.
+  for (std::uint64_t n = 0; n < 4; ++n) {
+    for (int k = 0; k < g; ++k) {
+      FactorMessage m = message(l, causal_twin::SAMPLE_LEVEL, k, n);
+      const int d = l.factor_count(k);
+      if (n == 0 && k != 1) m.covariance = block(d, k, n);
+      if (n == 1) m.covariance = block(k == 2 ? d - 1 : d, k, n);
+      if (n == 3) m.covariance = block(d, k, n);
+      asm_.add_factors(m, out);
+    }
+  }
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_TRUE(out[0].covariance_blocks.empty()) << "one outcome without a block";
+  EXPECT_TRUE(out[1].covariance_blocks.empty()) << "one block of the wrong size";
+  EXPECT_TRUE(out[2].covariance_blocks.empty()) << "no blocks";
+  EXPECT_EQ(out[3].covariance_blocks.size(), static_cast<std::size_t>(g));
+}
+
 }  // namespace

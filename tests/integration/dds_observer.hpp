@@ -57,9 +57,11 @@ class DdsObserver {
     std::lock_guard<std::mutex> lock(mutex_);
     return recommendation_list_;
   }
-  std::vector<std::string> factor_names_seen() const {
+  // Distinct factor names of the filter messages of one time scale (the first 64).
+  std::vector<std::string> factor_names_seen(causal_twin::TimeScale scale) const {
     std::lock_guard<std::mutex> lock(mutex_);
-    return names_;
+    const auto it = names_.find(scale);
+    return it == names_.end() ? std::vector<std::string>{} : it->second;
   }
   std::size_t matched_factor_writers() const { return factors_.matched_writers(); }
 
@@ -96,9 +98,10 @@ class DdsObserver {
       factors_.take_all([this](const causal_twin::CausalFactors& f, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);
         ++factor_counts_[{f.time_scale(), f.kind()}];
-        if (names_.size() < 64 && f.time_scale() == causal_twin::SAMPLE_LEVEL && f.kind() == causal_twin::FILTER) {
+        auto& names = names_[f.time_scale()];
+        if (names.size() < 64 && f.kind() == causal_twin::FILTER) {
           for (const auto& n : f.factor_names()) {
-            if (std::find(names_.begin(), names_.end(), n) == names_.end()) names_.push_back(n);
+            if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
           }
         }
       });
@@ -132,7 +135,7 @@ class DdsObserver {
   std::vector<causal_twin::Alarm> alarm_list_;
   std::vector<causal_twin::Recommendation> recommendation_list_;
   std::vector<causal_twin::WhatIfReply> replies_;
-  std::vector<std::string> names_;
+  std::map<causal_twin::TimeScale, std::vector<std::string>> names_;
 };
 
 }  // namespace causal::test

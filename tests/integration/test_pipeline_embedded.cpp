@@ -36,10 +36,12 @@ std::string write_estimator_params(const fs::path& dir) {
   const fs::path p = dir / "estimator.yaml";
   std::ofstream(p) << "sample_level:\n  enabled: true\n  lag_order: 1\n  include_self_lags: false\n  instantaneous_graph: \"\"\n"
                       "  noise: {mode: automatic, q: 1.0e-6, r: 1.0e-2, p0: 1.0, calibration_samples: 4096}\n"
+                      "  structure: {calibration_samples: 0, centre: false, causal_order: configured, prune_threshold: 0.0}\n"
                       "  publish_every: " << kPublishEvery << "\n  fixed_lag: 32\n"
                       "condition_level:\n  enabled: true\n  feature: rms\n  log_transform: true\n"
                       "  window_samples: 0\n  min_samples: 256\n  lag_order: 1\n  include_self_lags: true\n  instantaneous_graph: \"\"\n"
                       "  noise: {mode: fixed, q: 1.0e-4, r: 1.0e-2, p0: 1.0, calibration_samples: 100}\n"
+                      "  structure: {calibration_samples: 0, centre: false, causal_order: configured, prune_threshold: 0.0}\n"
                       "  publish_every: 1\n  fixed_lag: 2\n";
   return p.string();
 }
@@ -115,7 +117,7 @@ TEST(PipelineEmbedded, ThreeServicesReplayTheSliceAndRaiseTheBearingOneAlarm) {
   EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), condition_msgs);
   EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FIXED_LAG_SMOOTHER), condition_msgs);
   // Factor names follow x{k}{j} / xL{k}{j}: G=4, M=1 gives 24 sample-level names.
-  const auto names = observer.factor_names_seen();
+  const auto names = observer.factor_names_seen(causal_twin::SAMPLE_LEVEL);
   EXPECT_EQ(names.size(), 24u);
   EXPECT_NE(std::find(names.begin(), names.end(), "x12"), names.end());
   EXPECT_NE(std::find(names.begin(), names.end(), "xL43"), names.end());

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -253,6 +254,53 @@ TEST(FactorStream, FixedLagReportWaitsForItsLag) {
     EXPECT_EQ(s.sample_index, 19u);
     EXPECT_EQ(s.time_ns, kT0 + 19 * 50'000);
   }
+}
+
+// Filter reports carry P_k: stepped here with a separate SvarKalmanFilter on the same samples and flags, the
+// covariance at each report's sample must be the filter's covariance(k); fixed-lag reports carry none.
+TEST(FactorStream, FilterReportsCarryTheFilterCovarianceBlock) {
+  const SvarLayout layout(spec(3, 2, true));  // 2 + 3 + 3 = 8 factors per outcome
+  const int n = 600, lag = 6;
+  const std::size_t pe = 40;
+  const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 61);
+  const auto sizes = causal::test::irregular_blocks(n);
+  std::vector<bool> disc(static_cast<std::size_t>(n), false);
+  disc[0] = true;
+  disc[static_cast<std::size_t>(sizes[0] + sizes[1] + sizes[2] + sizes[3])] = true;
+  FactorStream stream(fixed_params(layout.spec(), pe, lag));
+  const auto all = feed_all(stream, y, sizes, disc);
+  const auto filt = causal::test::of_kind(all, EstimateKind::Filter);
+  const auto smooth = causal::test::of_kind(all, EstimateKind::FixedLag);
+  ASSERT_EQ(filt.size(), static_cast<std::size_t>(n) / pe * 3);
+  ASSERT_EQ(smooth.size(), filt.size());
+
+  // Independent truth: the filter stepped directly, covariance(k) read at every publish point.
+  causal::SvarKalmanFilter direct(layout, {NoiseParams{2e-5, 0.05, 0.5}});
+  std::vector<std::vector<Eigen::MatrixXd>> truth;  // per report time, per outcome
+  for (Eigen::Index i = 0; i < n; ++i) {
+    direct.step(y.row(i).data(), disc[static_cast<std::size_t>(i)]);
+    if ((static_cast<std::size_t>(i) + 1) % pe != 0) continue;
+    truth.emplace_back();
+    for (int k = 0; k < 3; ++k) truth.back().push_back(direct.covariance(k));
+  }
+  ASSERT_EQ(truth.size() * 3, filt.size());
+  double off_diagonal = 0.0;
+  for (std::size_t i = 0; i < filt.size(); ++i) {
+    const FactorReport& r = filt[i];
+    SCOPED_TRACE("filter report " + std::to_string(i) + " (outcome " + std::to_string(r.outcome) + ")");
+    const Eigen::MatrixXd& want = truth[i / 3][static_cast<std::size_t>(r.outcome)];
+    ASSERT_EQ(r.covariance.rows(), layout.factor_count(r.outcome));
+    ASSERT_EQ(r.covariance.cols(), layout.factor_count(r.outcome));
+    EXPECT_MATRIX_NEAR(r.covariance, want, 1e-15);
+    EXPECT_MATRIX_NEAR(r.covariance, r.covariance.transpose(), 1e-15 * r.covariance.cwiseAbs().maxCoeff());
+    EXPECT_MATRIX_NEAR(r.covariance.diagonal().cwiseSqrt(), r.std_devs, 1e-14);
+    EXPECT_SPD(r.covariance, 0.0);
+    const Eigen::MatrixXd corr_free = r.covariance.diagonal().asDiagonal();
+    off_diagonal = std::max(off_diagonal, (r.covariance - corr_free).cwiseAbs().maxCoeff());
+  }
+  // The blocks must actually carry correlations (otherwise std_devs would have said it all).
+  EXPECT_GT(off_diagonal, 1e-6);
+  for (const auto& s : smooth) EXPECT_EQ(s.covariance.size(), 0) << "fixed-lag report at " << s.sample_index;
 }
 
 // ---- automatic noise ------------------------------------------------------------------------------------

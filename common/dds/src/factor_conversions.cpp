@@ -1,6 +1,40 @@
 #include "causal/dds/factor_conversions.hpp"
 
+#include <stdexcept>
+
 namespace causal::dds {
+
+namespace {
+// Number of values in the packed lower triangle of a d x d matrix.
+std::size_t triangle_size(std::size_t d) { return d * (d + 1) / 2; }
+}  // namespace
+
+std::vector<double> pack_lower_triangle(const Eigen::MatrixXd& p) {
+  if (p.rows() != p.cols()) {
+    throw std::invalid_argument("pack_lower_triangle: matrix is " + std::to_string(p.rows()) + " x " +
+                                std::to_string(p.cols()) + ", not square");
+  }
+  std::vector<double> out;
+  out.reserve(triangle_size(static_cast<std::size_t>(p.rows())));
+  for (Eigen::Index i = 0; i < p.rows(); ++i) {
+    for (Eigen::Index j = 0; j <= i; ++j) out.push_back(p(i, j));
+  }
+  return out;
+}
+
+Eigen::MatrixXd unpack_lower_triangle(const std::vector<double>& packed, int d) {
+  if (d < 0 || packed.size() != triangle_size(static_cast<std::size_t>(d))) return {};
+  Eigen::MatrixXd p(d, d);
+  std::size_t at = 0;
+  for (int i = 0; i < d; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      p(i, j) = packed[at];
+      p(j, i) = packed[at];  // mirrored: exactly symmetric by construction
+      ++at;
+    }
+  }
+  return p;
+}
 
 void to_causal_factors(const FactorContext& context, const pipeline::FactorReport& report,
                        causal_twin::CausalFactors& out) {
@@ -21,6 +55,9 @@ void to_causal_factors(const FactorContext& context, const pipeline::FactorRepor
   out.factor_names(std::move(names));
   out.factors(std::vector<double>(report.factors.data(), report.factors.data() + report.factors.size()));
   out.factor_std(std::vector<double>(report.std_devs.data(), report.std_devs.data() + report.std_devs.size()));
+  const Eigen::MatrixXd& p = report.covariance;
+  const bool has_covariance = p.size() > 0 && p.rows() == p.cols() && p.rows() == report.factors.size();
+  out.factor_covariance(has_covariance ? pack_lower_triangle(p) : std::vector<double>{});
   out.innovation_count(static_cast<uint32_t>(report.innovation_count));
   out.innovation_mean(report.innovation_mean);
   out.nis_mean(report.nis_mean);
@@ -38,6 +75,11 @@ std::string validate_causal_factors(const causal_twin::CausalFactors& in) {
   }
   if (in.factors().size() != in.factor_names().size() || in.factor_std().size() != in.factors().size()) {
     return "factor_names, factors and factor_std differ in length";
+  }
+  const std::size_t expected = triangle_size(in.factors().size());
+  if (!in.factor_covariance().empty() && in.factor_covariance().size() != expected) {
+    return "factor_covariance has " + std::to_string(in.factor_covariance().size()) + " values, expected 0 or " +
+           std::to_string(expected) + " (lower triangle of " + std::to_string(in.factors().size()) + " factors)";
   }
   return {};
 }
@@ -58,6 +100,9 @@ FactorMessage from_causal_factors(const causal_twin::CausalFactors& in) {
   m.factors = Eigen::Map<const Eigen::VectorXd>(in.factors().data(), static_cast<Eigen::Index>(in.factors().size()));
   m.factor_std =
       Eigen::Map<const Eigen::VectorXd>(in.factor_std().data(), static_cast<Eigen::Index>(in.factor_std().size()));
+  if (!in.factor_covariance().empty()) {
+    m.covariance = unpack_lower_triangle(in.factor_covariance(), static_cast<int>(in.factors().size()));
+  }
   m.innovation_count = in.innovation_count();
   m.innovation_mean = in.innovation_mean();
   m.nis_mean = in.nis_mean();

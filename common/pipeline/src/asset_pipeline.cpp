@@ -24,16 +24,20 @@ bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
       return p;
     };
     try {
-      std::unique_ptr<FactorStream> sample, condition;
-      if (params_.sample_level) sample = std::make_unique<FactorStream>(model_for(params_.sample, params_.sample_graph));
+      std::unique_ptr<StructuredFactorStream> sample, condition;
+      if (params_.sample_level) {
+        sample = std::make_unique<StructuredFactorStream>(model_for(params_.sample, params_.sample_graph),
+                                                          params_.sample_structure);
+      }
       if (params_.condition_level) {
-        condition = std::make_unique<FactorStream>(model_for(params_.condition_model, params_.condition_graph));
+        condition = std::make_unique<StructuredFactorStream>(
+            model_for(params_.condition_model, params_.condition_graph), params_.condition_structure);
         conditions_ = std::make_unique<ConditionStream>(params_.condition, g);
       }
       sample_ = std::move(sample);
       condition_model_ = std::move(condition);
     } catch (const std::invalid_argument& e) {
-      check = {false, std::string("the configured causal graph does not fit this asset group: ") + e.what()};
+      check = {false, std::string("the configured model does not fit this asset group: ") + e.what()};
       return false;
     }
     channels_ = g;

@@ -118,6 +118,8 @@ void FactorStream::emit_filter(std::uint64_t index, std::int64_t time_ns, std::v
   Pending pending{index, time_ns, {}};
   for (int k = 0; k < g_; ++k) {
     FactorReport r = make_report(EstimateKind::Filter, k, index, time_ns, factors, stds);
+    // The filter's P is block-diagonal by outcome, so P_k is the whole covariance of this report's factors.
+    r.covariance = filter.covariance(k);
     const auto& acc = stats_.outcome(k);
     r.innovation_count = acc.count();
     r.innovation_mean = acc.mean();

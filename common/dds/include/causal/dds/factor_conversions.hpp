@@ -21,8 +21,18 @@ struct FactorContext {
   std::vector<std::string> channel_names;  // G names
 };
 
+// factor_covariance carries report.covariance packed (empty when the report has none, e.g. fixed-lag, or
+// when it is not factors.size() square).
 void to_causal_factors(const FactorContext& context, const pipeline::FactorReport& report,
                        causal_twin::CausalFactors& out);
+
+// The wire form of a symmetric d x d covariance: its lower triangle row by row, P(0,0), P(1,0), P(1,1),
+// P(2,0), ..., d(d+1)/2 values (the upper triangle is redundant). Throws std::invalid_argument if p is not
+// square.
+std::vector<double> pack_lower_triangle(const Eigen::MatrixXd& p);
+// Inverse of pack_lower_triangle: the symmetric d x d matrix. Returns an empty (0 x 0) matrix when
+// packed.size() != d(d+1)/2 or d < 0 (d = 0 with no values gives the valid 0 x 0 matrix too).
+Eigen::MatrixXd unpack_lower_triangle(const std::vector<double>& packed, int d);
 
 // A received CausalFactors message, in core types (outcome 0-based).
 struct FactorMessage {
@@ -38,12 +48,15 @@ struct FactorMessage {
   std::int64_t time_ns = 0;
   std::vector<std::string> factor_names;
   Eigen::VectorXd factors, factor_std;
+  Eigen::MatrixXd covariance;  // P_k, symmetric, factors.size() square; empty when the message has none
+                               // (fixed-lag) or its factor_covariance has the wrong count
   std::uint64_t innovation_count = 0;
   double innovation_mean = 0.0, nis_mean = 0.0, last_innovation = 0.0, last_innovation_variance = 0.0;
   std::uint64_t rejected_samples = 0;
 };
 
-// Empty string when the message is consistent (1 <= outcome <= channel_count, equal vector lengths).
+// Empty string when the message is consistent (1 <= outcome <= channel_count, equal vector lengths,
+// factor_covariance empty or d(d+1)/2 values for d = factors.size()).
 std::string validate_causal_factors(const causal_twin::CausalFactors& in);
 FactorMessage from_causal_factors(const causal_twin::CausalFactors& in);
 

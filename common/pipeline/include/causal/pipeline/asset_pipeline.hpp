@@ -5,6 +5,7 @@
 
 #include "causal/pipeline/condition_stream.hpp"
 #include "causal/pipeline/factor_stream.hpp"
+#include "causal/pipeline/structured_factor_stream.hpp"
 
 #include <memory>
 #include <optional>
@@ -15,6 +16,7 @@ namespace causal::pipeline {
 struct AssetPipelineParams {
   bool sample_level = true;
   FactorStreamParams sample;          // model.channels is set from the data
+  StructureSetting sample_structure;  // centring / learned causal order (structured_factor_stream.hpp)
   // Optional configured causal graph of the instantaneous links, e.g. "bearing2 -> bearing1, 3 -> 1"
   // (channel names or 1-based numbers). Empty: every instantaneous link is estimated. Otherwise only the
   // listed links are; lagged links are unaffected. Must be acyclic: with instantaneous links running both
@@ -24,6 +26,7 @@ struct AssetPipelineParams {
   bool condition_level = true;
   ConditionStreamParams condition;
   FactorStreamParams condition_model; // model.channels is set from the data
+  StructureSetting condition_structure;
 };
 
 struct PipelineOutput {
@@ -58,8 +61,14 @@ class AssetPipeline {
   void finish(PipelineOutput& out);
 
   int channels() const { return channels_; }
-  const FactorStream* sample_stream() const { return sample_.get(); }
-  const FactorStream* condition_stream() const { return condition_model_.get(); }
+  // The running filters; null before the first frame and while a structure calibration window fills.
+  const FactorStream* sample_stream() const { return sample_ ? sample_->stream() : nullptr; }
+  const FactorStream* condition_stream() const { return condition_model_ ? condition_model_->stream() : nullptr; }
+  // What the structure calibration learned (null before the first frame or when the level is disabled).
+  const LearnedStructure* sample_structure() const { return sample_ ? &sample_->structure() : nullptr; }
+  const LearnedStructure* condition_structure() const {
+    return condition_model_ ? &condition_model_->structure() : nullptr;
+  }
   std::uint64_t dropped_condition_windows() const { return conditions_ ? conditions_->dropped_windows() : 0; }
 
  private:
@@ -69,9 +78,9 @@ class AssetPipeline {
   AssetPipelineParams params_;
   std::vector<std::string> channel_names_;
   int channels_ = 0;
-  std::unique_ptr<FactorStream> sample_;
+  std::unique_ptr<StructuredFactorStream> sample_;
   std::unique_ptr<ConditionStream> conditions_;
-  std::unique_ptr<FactorStream> condition_model_;
+  std::unique_ptr<StructuredFactorStream> condition_model_;
 };
 
 }  // namespace causal::pipeline

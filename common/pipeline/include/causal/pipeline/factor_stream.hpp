@@ -52,6 +52,7 @@ struct FactorReport {
   std::int64_t time_ns = 0;          // its UTC time
   Eigen::VectorXd factors;           // outcome k's factors (layout order)
   Eigen::VectorXd std_devs;
+  Eigen::MatrixXd covariance;        // P_k (filter reports); empty for fixed-lag reports
   std::uint64_t innovation_count = 0;  // updates since the previous report
   double innovation_mean = 0.0;
   double nis_mean = 0.0;

@@ -1,0 +1,150 @@
+#include "causal/pipeline/structured_factor_stream.hpp"
+
+#include "causal/analysis/var_lingam.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace causal::pipeline {
+
+StructuredFactorStream::StructuredFactorStream(FactorStreamParams params, StructureSetting setting)
+    : params_(std::move(params)), setting_(setting), g_(params_.model.channels) {
+  FactorStream probe(params_);  // validates the FactorStream parameters now, not when the window is full
+  const bool learning = setting_.centre || setting_.learn_order;
+  if (!std::isfinite(setting_.prune_threshold) || setting_.prune_threshold < 0.0) {
+    throw std::invalid_argument("prune_threshold must be finite and >= 0");
+  }
+  if (learning && setting_.calibration_samples == 0) {
+    throw std::invalid_argument("centring or learning the causal order needs calibration_samples > 0");
+  }
+  if (setting_.learn_order && setting_.calibration_samples < minimum_calibration_samples()) {
+    throw std::invalid_argument("calibration_samples must be >= " + std::to_string(minimum_calibration_samples()) +
+                                " to learn the causal order of " + std::to_string(g_) + " channels at lag order " +
+                                std::to_string(params_.model.lag_order) + " (10 x G x (M + 1))");
+  }
+  if (!learning) {
+    stream_ = std::make_unique<FactorStream>(params_);
+    learned_.ready = true;
+  }
+}
+
+std::size_t StructuredFactorStream::minimum_calibration_samples() const {
+  return 10 * static_cast<std::size_t>(g_) * static_cast<std::size_t>(params_.model.lag_order + 1);
+}
+
+void StructuredFactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity,
+                                  std::int64_t first_time_ns, double period_ns, std::vector<FactorReport>& out) {
+  if (block.cols() != g_) {
+    throw std::invalid_argument("block has " + std::to_string(block.cols()) + " channels, the model has " +
+                                std::to_string(g_));
+  }
+  if (stream_) {
+    feed_centred(block, discontinuity, first_time_ns, period_ns, out);
+    return;
+  }
+  Eigen::Index row = 0;
+  for (; row < block.rows() && !stream_; ++row) {
+    const double* y = block.data() + row * block.outerStride();
+    buffer_.insert(buffer_.end(), y, y + g_);
+    buffer_disc_.push_back(discontinuity && row == 0);
+    buffer_time_.push_back(first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(row) * period_ns)));
+    if (buffer_disc_.size() >= setting_.calibration_samples) learn(out);
+  }
+  if (row < block.rows()) {
+    const std::int64_t t = first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(row) * period_ns));
+    feed_centred(block.bottomRows(block.rows() - row), false, t, period_ns, out);
+  }
+}
+
+void StructuredFactorStream::feed_centred(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity,
+                                          std::int64_t first_time_ns, double period_ns,
+                                          std::vector<FactorReport>& out) {
+  if (learned_.centre.size() == 0) {
+    stream_->feed(block, discontinuity, first_time_ns, period_ns, out);
+    return;
+  }
+  scratch_ = block.rowwise() - learned_.centre.transpose();
+  stream_->feed(scratch_, discontinuity, first_time_ns, period_ns, out);
+}
+
+void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
+  const auto n = static_cast<Eigen::Index>(buffer_disc_.size());
+  const Eigen::MatrixXd window = Eigen::Map<const RowMajorMatrix>(buffer_.data(), n, static_cast<Eigen::Index>(g_));
+  learned_.samples = static_cast<std::size_t>(n);
+  auto add_problem = [&](const std::string& p) { learned_.problem += (learned_.problem.empty() ? "" : "; ") + p; };
+
+  if (setting_.centre) {
+    // Mean over the finite values of each channel (rejected samples must not poison the baseline).
+    Eigen::VectorXd centre(g_);
+    for (int j = 0; j < g_; ++j) {
+      double sum = 0.0;
+      std::size_t count = 0;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (std::isfinite(window(i, j))) {
+          sum += window(i, j);
+          ++count;
+        }
+      }
+      if (count == 0) {
+        add_problem("channel " + std::to_string(j + 1) + " has no finite value in the calibration window: inputs are not centred");
+        centre.resize(0);
+        break;
+      }
+      centre[j] = sum / static_cast<double>(count);
+    }
+    learned_.centre = centre;
+  }
+
+  FactorStreamParams params = params_;
+  if (setting_.learn_order) {
+    // One NaN row before each discontinuity: the VAR fit skips every sample whose lag window holds a
+    // non-finite value, so no lag pair spans a gap (var_fit.hpp).
+    Eigen::MatrixXd samples(n + static_cast<Eigen::Index>(std::count(buffer_disc_.begin() + 1, buffer_disc_.end(), true)), g_);
+    Eigen::Index at = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (i > 0 && buffer_disc_[static_cast<std::size_t>(i)]) samples.row(at++).setConstant(std::numeric_limits<double>::quiet_NaN());
+      samples.row(at++) = window.row(i);
+    }
+    if (learned_.centre.size() == g_) samples.rowwise() -= learned_.centre.transpose();
+    analysis::VarLingamOptions options;
+    options.lag_order = params_.model.lag_order;
+    options.intercept = true;  // harmless after centring; needed when the centre could not be formed
+    options.prune_threshold = setting_.prune_threshold;
+    try {
+      const analysis::VarLingamResult result = analysis::var_lingam(samples, options);
+      ModelSpec restricted = result.restrict(params.model);
+      FactorStreamParams candidate = params;
+      candidate.model = restricted;
+      FactorStream probe(candidate);  // a restriction can leave an outcome without factors: refuse it
+      params = candidate;
+      learned_.order = result.order;
+      learned_.b0 = result.b0;
+    } catch (const std::invalid_argument& e) {
+      add_problem(std::string("causal order not learned, every configured instantaneous link is kept: ") + e.what());
+    }
+  }
+  learned_.instantaneous_allowed = params.model.instantaneous_allowed;
+  stream_ = std::make_unique<FactorStream>(params);
+  learned_.ready = true;
+  // Replay the window so no sample is lost (times and discontinuities as received).
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto s = static_cast<std::size_t>(i);
+    feed_centred(Eigen::Map<const RowMajorMatrix>(buffer_.data() + s * static_cast<std::size_t>(g_), 1, g_),
+                 buffer_disc_[s], buffer_time_[s], 0.0, out);
+  }
+  buffer_.clear();
+  buffer_disc_.clear();
+  buffer_time_.clear();
+}
+
+void StructuredFactorStream::finish(std::vector<FactorReport>& out) {
+  if (!stream_) {
+    if (buffer_disc_.empty()) return;
+    learn(out);
+  }
+  stream_->finish(out);
+}
+
+}  // namespace causal::pipeline

@@ -1,0 +1,284 @@
+// causal::recommender::Advisor (services/alarm_recommender/advisor.cpp): what-if and recommendation intervals
+// from the FULL per-outcome factor covariance P_k when every outcome carries one, diagonal blocks from the
+// standard deviations otherwise.
+//
+// Independent truth: in the model below (channel 2's equation holds only channel 1: a configured graph) the
+// steady-state effect of a sustained shift of channel 1 on channel 2 is LINEAR in the factors,
+// d_2 = (x21 + xL21) delta (W3), so it is exactly normal and its
+// central interval is a closed form: point -/+ z sd with sd = |delta| sqrt(Var x21 + Var xL21 + 2 Cov).
+// Channel 3's effect is non-linear (products of factors): checked against a Monte Carlo written here (own
+// sampler, own dense (W3) solve).
+#include "advisor.hpp"
+
+#include "causal/analysis/recommendation.hpp"
+#include "causal/analysis/uncertainty.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using causal::ModelSpec;
+using causal::SvarLayout;
+using causal::recommender::Advisor;
+using causal::recommender::AdvisorParams;
+using causal::recommender::AssembledObservation;
+
+constexpr double kSigma = 0.05;  // sd of every factor
+constexpr double kRho = -0.9;    // correlation of x_kj with xL_kj (instantaneous vs lag-1, same j)
+constexpr double kCoverage = 0.9;
+constexpr double kZ = 1.6448536269514722;  // Phi^{-1}(0.95)
+
+// Outcomes 1 and 3: x_ka x_kb xL_ka xL_kb (a < b, both != k); outcome 2: x21 xL21 only (3 -> 2 masked, so
+// channel 2 cannot be fed back by channel 3 and its effect stays linear in the factors).
+SvarLayout make_layout() {
+  ModelSpec s;
+  s.channels = 3;
+  s.lag_order = 1;
+  s.include_self_lags = false;
+  s.allowed.assign(3, std::vector<bool>(3, true));
+  s.allowed[1][2] = false;
+  return SvarLayout(s);
+}
+
+// Acyclic chain 1 -> 2 -> 3 plus 1 -> 3; every other factor 0.
+Eigen::VectorXd mean_factors(const SvarLayout& l) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(l.total_factors());
+  const auto set = [&](const std::string& name, double v) {
+    const auto& names = l.factor_names();
+    const auto it = std::find(names.begin(), names.end(), name);
+    ASSERT_NE(it, names.end()) << name;
+    x[it - names.begin()] = v;
+  };
+  set("x21", 0.5);
+  set("xL21", 0.2);
+  set("x31", 0.2);
+  set("xL31", 0.1);
+  set("x32", 0.4);
+  set("xL32", 0.1);
+  return x;
+}
+
+// d = 2h factors (h instantaneous, then h lag 1, same channels): sd kSigma, correlation kRho between factor i
+// (instantaneous on j) and i + h (lag 1 on j).
+Eigen::MatrixXd correlated_block(int d) {
+  const int h = d / 2;
+  Eigen::MatrixXd p = kSigma * kSigma * Eigen::MatrixXd::Identity(d, d);
+  for (int i = 0; i < h; ++i) p(i, i + h) = p(i + h, i) = kRho * kSigma * kSigma;
+  return p;
+}
+
+std::vector<Eigen::MatrixXd> correlated_blocks(const SvarLayout& l) {
+  std::vector<Eigen::MatrixXd> out;
+  for (int k = 0; k < l.channels(); ++k) out.push_back(correlated_block(l.factor_count(k)));
+  return out;
+}
+
+std::vector<Eigen::MatrixXd> diagonal_blocks(const SvarLayout& l) {
+  std::vector<Eigen::MatrixXd> out;
+  for (const auto& b : correlated_blocks(l)) out.push_back(b.diagonal().asDiagonal());
+  return out;
+}
+
+AssembledObservation observation(const SvarLayout& l, bool with_blocks) {
+  AssembledObservation a;
+  a.asset_group = "ims2";
+  a.time_scale = causal_twin::CONDITION_LEVEL;
+  a.channel_names = {"b1", "b2", "b3"};
+  a.factor_names = l.factor_names();
+  a.lag_order = 1;
+  a.observation.index = 5;
+  a.observation.factors = mean_factors(l);
+  a.observation.factor_std = Eigen::VectorXd::Constant(l.total_factors(), kSigma);
+  // RMS now: channel 1 is 10 % (in log level) above its baseline, 2 and 3 at baseline (see baseline()).
+  a.observation.features = Eigen::Vector3d(0.2, 0.1, 0.1);
+  if (with_blocks) a.covariance_blocks = correlated_blocks(l);
+  return a;
+}
+
+Eigen::VectorXd baseline() { return Eigen::Vector3d(0.2 * std::exp(-0.1), 0.1, 0.1); }
+
+AdvisorParams params() {
+  AdvisorParams p;
+  p.coverage = kCoverage;
+  p.draws = 4000;
+  p.model_log_features = true;
+  return p;
+}
+
+// Closed-form interval of channel 2's steady-state change under do(y_1 += delta).
+struct Interval {
+  double lower, upper;
+};
+Interval closed_form_channel2(double delta, double rho) {
+  const double point = (0.5 + 0.2) * delta;
+  const double sd = std::abs(delta) * kSigma * std::sqrt(2.0 + 2.0 * rho);
+  return {point - kZ * sd, point + kZ * sd};
+}
+
+// Own Monte Carlo of the steady-state change of every channel, (W3): d = (I - A0c - A1c)^{-1} e_1 delta with
+// row 0 (channel 1's equation) cut. Returns the (1-c)/2 and (1+c)/2 sample quantiles of channel 3.
+Interval monte_carlo_channel3(const SvarLayout& l, const std::vector<Eigen::MatrixXd>& blocks, double delta,
+                              int draws) {
+  const Eigen::VectorXd mean = mean_factors(l);
+  std::vector<Eigen::MatrixXd> roots;
+  for (const auto& b : blocks) roots.push_back(b.llt().matrixL());
+  std::mt19937_64 rng(777);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<double> d3;
+  for (int n = 0; n < draws; ++n) {
+    Eigen::VectorXd x = mean;
+    for (int k = 0; k < 3; ++k) {
+      const int d = l.factor_count(k);
+      Eigen::VectorXd z(d);
+      for (int i = 0; i < d; ++i) z[i] = normal(rng);
+      x.segment(l.offset(k), d) += roots[static_cast<std::size_t>(k)] * z;
+    }
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();  // A0 + A1, rows k, columns j
+    for (int k = 1; k < 3; ++k) {                 // row 0 cut by the intervention
+      const auto& regs = l.regressors(k);
+      for (int i = 0; i < l.factor_count(k); ++i) a(k, regs[static_cast<std::size_t>(i)].channel) += x[l.offset(k) + i];
+    }
+    const Eigen::Vector3d rhs(delta, 0.0, 0.0);
+    d3.push_back((Eigen::Matrix3d::Identity() - a).partialPivLu().solve(rhs)[2]);
+  }
+  std::sort(d3.begin(), d3.end());
+  const auto at = [&](double p) { return d3[static_cast<std::size_t>(p * static_cast<double>(d3.size() - 1))]; };
+  return {at(0.5 * (1 - kCoverage)), at(0.5 * (1 + kCoverage))};
+}
+
+TEST(Advisor, WhatIfUsesTheFullCovarianceBlocks) {
+  const SvarLayout l = make_layout();
+  Advisor full(params()), diag(params());
+  full.update(observation(l, true));
+  diag.update(observation(l, false));
+  EXPECT_TRUE(full.full_covariance("ims2"));
+  EXPECT_FALSE(diag.full_covariance("ims2"));
+
+  const double delta = -0.1;
+  const auto a = full.what_if("ims2", 0, delta, true);
+  const auto b = diag.what_if("ims2", 0, delta, true);
+  ASSERT_TRUE(a.ok) << a.error;
+  ASSERT_TRUE(b.ok) << b.error;
+  EXPECT_NEAR(a.steady_state[1], 0.7 * delta, 1e-12);
+  EXPECT_NEAR(b.steady_state[1], 0.7 * delta, 1e-12);
+
+  // Channel 2 against the closed forms: full (rho = -0.9) and diagonal (rho = 0). Tolerance: Monte Carlo error
+  // of a 5 % quantile with 4000 draws is about 0.035 sd; allow 0.15 sd.
+  const Interval want_full = closed_form_channel2(delta, kRho), want_diag = closed_form_channel2(delta, 0.0);
+  const double sd_full = std::abs(delta) * kSigma * std::sqrt(2.0 + 2.0 * kRho);
+  const double sd_diag = std::abs(delta) * kSigma * std::sqrt(2.0);
+  EXPECT_NEAR(a.lower[1], want_full.lower, 0.15 * sd_full);
+  EXPECT_NEAR(a.upper[1], want_full.upper, 0.15 * sd_full);
+  EXPECT_NEAR(b.lower[1], want_diag.lower, 0.15 * sd_diag);
+  EXPECT_NEAR(b.upper[1], want_diag.upper, 0.15 * sd_diag);
+  // And the two differ by far more than Monte Carlo noise: the full interval is ~3x narrower.
+  const double width_full = a.upper[1] - a.lower[1], width_diag = b.upper[1] - b.lower[1];
+  EXPECT_LT(width_full, 0.5 * width_diag) << width_full << " vs " << width_diag;
+
+  // Channel 3 (non-linear in the factors) against this test's own Monte Carlo with the full blocks.
+  const Interval mc3 = monte_carlo_channel3(l, correlated_blocks(l), delta, 40000);
+  const double width3 = mc3.upper - mc3.lower;
+  EXPECT_NEAR(a.lower[2], mc3.lower, 0.1 * width3);
+  EXPECT_NEAR(a.upper[2], mc3.upper, 0.1 * width3);
+  const Interval mc3_diag = monte_carlo_channel3(l, diagonal_blocks(l), delta, 40000);
+  EXPECT_GT(std::abs((b.upper[2] - b.lower[2]) - width3), 0.3 * width3) << "diagonal fallback must differ";
+  EXPECT_NEAR(b.upper[2] - b.lower[2], mc3_diag.upper - mc3_diag.lower, 0.1 * (mc3_diag.upper - mc3_diag.lower));
+
+  // Same options, same posterior: identical to the analysis library called directly.
+  causal::analysis::InterventionQuery q;
+  q.channel = 0;
+  q.delta = delta;
+  q.kind = causal::analysis::InterventionKind::sustained;
+  causal::analysis::UncertaintyOptions u;
+  u.coverage = kCoverage;
+  u.draws = params().draws;
+  const causal::analysis::FactorPosterior posterior{mean_factors(l), correlated_blocks(l)};
+  const auto ref = causal::analysis::predict_intervention_with_uncertainty(l, posterior, q, u);
+  ASSERT_TRUE(ref.interval_valid);
+  EXPECT_TRUE((a.lower.array() == ref.steady_state.lower.array()).all());
+  EXPECT_TRUE((a.upper.array() == ref.steady_state.upper.array()).all());
+}
+
+TEST(Advisor, RecommendationIntervalUsesTheFullCovarianceBlocks) {
+  const SvarLayout l = make_layout();
+  Advisor full(params()), diag(params());
+  full.update(observation(l, true));
+  diag.update(observation(l, false));
+  std::string why_full, why_diag;
+  const auto a = full.advise("ims2", 1, baseline(), why_full);
+  const auto b = diag.advise("ims2", 1, baseline(), why_diag);
+  ASSERT_EQ(a.size(), 1u) << why_full;
+  ASSERT_EQ(b.size(), 1u) << why_diag;
+  EXPECT_EQ(a[0].intervene, 0);
+  EXPECT_NEAR(a[0].delta, -0.1, 1e-12);
+  const Interval want_full = closed_form_channel2(a[0].delta, kRho), want_diag = closed_form_channel2(b[0].delta, 0.0);
+  const double sd_full = 0.1 * kSigma * std::sqrt(2.0 + 2.0 * kRho), sd_diag = 0.1 * kSigma * std::sqrt(2.0);
+  EXPECT_NEAR(a[0].lower, want_full.lower, 0.15 * sd_full);
+  EXPECT_NEAR(a[0].upper, want_full.upper, 0.15 * sd_full);
+  EXPECT_NEAR(b[0].lower, want_diag.lower, 0.15 * sd_diag);
+  EXPECT_NEAR(b[0].upper, want_diag.upper, 0.15 * sd_diag);
+  EXPECT_LT(a[0].upper - a[0].lower, 0.5 * (b[0].upper - b[0].lower));
+}
+
+TEST(Advisor, AChannelWithinItsNormalSpreadIsNoCandidate) {
+  // Channel 1 is exp(0.1) - 1 = 10.5 % above its baseline: a candidate at a 10 % minimum, none at 11 %.
+  const SvarLayout l = make_layout();
+  for (const double min_percent : {10.0, 11.0}) {
+    AdvisorParams p = params();
+    p.min_excess_percent = min_percent;
+    Advisor adv(p);
+    adv.update(observation(l, true));
+    std::string why;
+    const auto advice = adv.advise("ims2", 1, baseline(), why);
+    if (min_percent == 10.0) {
+      ASSERT_EQ(advice.size(), 1u) << why;
+      EXPECT_EQ(advice[0].intervene, 0);
+    } else {
+      EXPECT_TRUE(advice.empty());
+      EXPECT_NE(why.find("11 % or more above its baseline"), std::string::npos) << why;
+    }
+  }
+}
+
+TEST(Advisor, FallsBackToDiagonalWhenBlocksAreMissingOrUnusable) {
+  const SvarLayout l = make_layout();
+  Advisor diag(params());
+  diag.update(observation(l, false));
+  const auto want = diag.what_if("ims2", 0, -0.1, true);
+  ASSERT_TRUE(want.ok);
+
+  // Blocks of the wrong size for the layout, or with a NaN: diagonal fallback, same answer as without blocks.
+  AssembledObservation wrong = observation(l, true);
+  wrong.covariance_blocks[0] = Eigen::MatrixXd::Identity(3, 3);
+  AssembledObservation nan = observation(l, true);
+  nan.covariance_blocks[2](0, 0) = std::nan("");
+  for (const auto* obs : {&wrong, &nan}) {
+    Advisor adv(params());
+    adv.update(*obs);
+    EXPECT_FALSE(adv.full_covariance("ims2"));
+    const auto got = adv.what_if("ims2", 0, -0.1, true);
+    ASSERT_TRUE(got.ok) << got.error;
+    EXPECT_TRUE((got.lower.array() == want.lower.array()).all());
+    EXPECT_TRUE((got.upper.array() == want.upper.array()).all());
+  }
+
+  // The latest observation decides: blocks, then none -> diagonal; then blocks again -> full.
+  Advisor adv(params());
+  adv.update(observation(l, true));
+  EXPECT_TRUE(adv.full_covariance("ims2"));
+  adv.update(observation(l, false));
+  EXPECT_FALSE(adv.full_covariance("ims2"));
+  adv.update(observation(l, true));
+  EXPECT_TRUE(adv.full_covariance("ims2"));
+  EXPECT_FALSE(adv.full_covariance("unknown"));
+}
+
+}  // namespace
