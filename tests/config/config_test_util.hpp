@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -13,11 +15,28 @@
 
 namespace causal::test {
 
-inline std::string temp_yaml_path(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "causal_config_loader_tests";
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+// A directory of this test process only: ctest runs every test case as its own process, in parallel, and
+// cases that wrote the same file name in a shared directory read each other's half-written files. The
+// directory is removed when the process's tests end.
+inline std::filesystem::path process_temp_dir() {
+  struct Cleanup : ::testing::Environment {
+    explicit Cleanup(std::filesystem::path d) : dir(std::move(d)) {}
+    void TearDown() override {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+    std::filesystem::path dir;
+  };
+  static const std::filesystem::path dir = [] {
+    const auto d = std::filesystem::path(::testing::TempDir()) / ("causal_config_tests_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(d);
+    ::testing::AddGlobalTestEnvironment(new Cleanup(d));  // gtest owns it
+    return d;
+  }();
+  return dir;
 }
+
+inline std::string temp_yaml_path(const std::string& name) { return (process_temp_dir() / name).string(); }
 
 // Loads `source`, applies `mutate` to the document, writes it to a temp file and returns its path.
 inline std::string mutated_copy(const std::string& source, const std::string& name,

@@ -19,11 +19,9 @@ using causal::test::config_error;
 
 // Writes `text` to a fresh file under the gtest temp dir and returns its path.
 std::string write_yaml(const std::string& name, const std::string& text) {
-  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "causal_config_tests";
-  std::filesystem::create_directories(dir);
-  const std::filesystem::path p = dir / name;
+  const std::string p = causal::test::temp_yaml_path(name);
   std::ofstream(p) << text;
-  return p.string();
+  return p;
 }
 
 const char* kDoc = R"(
