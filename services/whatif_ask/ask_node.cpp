@@ -1,0 +1,115 @@
+#include "ask_node.hpp"
+
+#include "causal/dds/topics.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace causal::ask {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double checked_delta(const AskOptions& o) {
+  if (o.delta.has_value() == o.percent.has_value()) throw std::invalid_argument("give exactly one of --delta and --percent");
+  if (o.percent) {
+    if (!std::isfinite(*o.percent) || *o.percent <= -100.0) throw std::invalid_argument("--percent must be > -100");
+    return std::log1p(*o.percent / 100.0);
+  }
+  if (!std::isfinite(*o.delta)) throw std::invalid_argument("--delta must be finite");
+  return *o.delta;
+}
+
+std::string request_id() {
+  char host[128] = "host";
+  gethostname(host, sizeof host - 1);
+  return std::string("causal-ask/") + host + "/" + std::to_string(getpid()) + "/" +
+         std::to_string(std::chrono::system_clock::now().time_since_epoch().count());
+}
+
+}  // namespace
+
+AskNode::AskNode(AskOptions options)
+    : options_(std::move(options)),
+      delta_(checked_delta(options_)),
+      participant_(dds::to_dds_settings(options_.dds, "causal-ask")),
+      requests_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter),
+      replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader) {
+  if (options_.asset_group.empty()) throw std::invalid_argument("--asset-group must not be empty");
+  if (options_.channel < 1 || options_.channel > 64) throw std::invalid_argument("--intervene must be in 1..64");
+  loop_.attach(replies_.get());
+}
+
+int AskNode::run() {
+  const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.timeout_s * 1000.0));
+  const auto deadline = Clock::now() + timeout;
+  if (!requests_.wait_for_readers(1, timeout, loop_.stop_flag())) {
+    if (loop_.stopped()) return kNoAnswer;
+    spdlog::error("no alarm-recommender reads what-if requests on domain {} (waited {:.0f} s)", participant_.domain_id(),
+                  options_.timeout_s);
+    return kNoAnswer;
+  }
+  causal_twin::WhatIfRequest request;
+  request.request_id(request_id());
+  request.asset_group(options_.asset_group);
+  request.intervene_channel(static_cast<std::uint16_t>(options_.channel));
+  request.delta(delta_);
+  request.sustained(!options_.impulse);
+  // Replies are volatile: if the recommender's reply writer has not discovered our reader yet when it answers,
+  // the reply is lost. So the request is repeated once a second (same id, the first reply wins), bounded by
+  // the timeout.
+  auto next_send = Clock::now();
+  while (!loop_.stopped() && Clock::now() < deadline) {
+    if (Clock::now() >= next_send) {
+      if (requests_.write(request, loop_.stop_flag(), std::chrono::seconds(1)) != dds::WriteResult::Ok) {
+        spdlog::warn("what-if request not sent (DDS return code {}); retrying", requests_.last_error());
+      }
+      next_send = Clock::now() + std::chrono::seconds(1);
+    }
+    std::optional<causal_twin::WhatIfReply> answer;
+    loop_.wait(std::chrono::milliseconds(100));
+    replies_.take_all([&](const causal_twin::WhatIfReply& r, const auto&) {
+      if (r.request_id() == request.request_id() && !answer) answer = r;
+    });
+    if (answer) {
+      print(*answer);
+      return answer->ok() ? kAnswered : kRefused;
+    }
+  }
+  if (!loop_.stopped()) spdlog::error("no reply to what-if request {} within {:.0f} s", request.request_id(), options_.timeout_s);
+  return kNoAnswer;
+}
+
+void AskNode::print(const causal_twin::WhatIfReply& reply) const {
+  if (!reply.ok()) {
+    std::printf("cannot answer: %s\n", reply.error().c_str());
+    return;
+  }
+  std::printf("%s\n", reply.text().c_str());
+  // Effects are in model units; with --percent the model is taken to be on log levels (estimator
+  // log_transform: true), so they are shown as level changes in percent too.
+  const bool pct = options_.percent.has_value();
+  auto show = [pct](double v) {
+    char buf[32];
+    if (!std::isfinite(v)) return std::string("n/a");
+    std::snprintf(buf, sizeof buf, pct ? "%+.1f %%" : "%+.4g", pct ? 100.0 * std::expm1(v) : v);
+    return std::string(buf);
+  };
+  std::printf("%-8s %14s %14s %26s\n", "channel", "at once", options_.impulse ? "in total" : "steady state",
+              "interval");
+  for (std::size_t k = 0; k < reply.effect_immediate().size(); ++k) {
+    const auto at = [&](const std::vector<double>& v) { return k < v.size() ? v[k] : std::nan(""); };
+    std::printf("%-8zu %14s %14s %12s .. %-12s\n", k + 1, show(at(reply.effect_immediate())).c_str(),
+                show(at(reply.effect_steady_state())).c_str(), show(at(reply.effect_low())).c_str(),
+                show(at(reply.effect_high())).c_str());
+  }
+}
+
+}  // namespace causal::ask
