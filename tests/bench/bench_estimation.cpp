@@ -59,13 +59,15 @@ void BM_RunFilter(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kRows);
 }
 
-// Streaming fixed-lag smoother, L = state.range(2), allocation-free step_into.
+// Streaming fixed-lag smoother, L = state.range(2), releasing every state.range(3)-th sample (1 = every
+// sample; causal-estimator releases one per publication, 1024 at sample level), allocation-free step_into.
 void BM_FixedLagStep(benchmark::State& state) {
   const causal::SvarLayout layout = make_layout(state);
   const int g = layout.channels();
   constexpr int kRows = 4096;
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> y = random_samples(kRows, g);
-  causal::FixedLagSmoother smoother(layout, kNoise, static_cast<int>(state.range(2)));
+  causal::FixedLagSmoother smoother(layout, kNoise, static_cast<int>(state.range(2)),
+                                   static_cast<std::uint64_t>(state.range(3)));
   Eigen::VectorXd est(layout.total_factors()), sd(layout.total_factors());
   std::uint64_t index = 0;
   int n = 0;
@@ -94,10 +96,15 @@ void configs(benchmark::internal::Benchmark* b) {
 }
 
 void lag_configs(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"G", "M", "L"});
+  b->ArgNames({"G", "M", "L", "every"});
   for (auto gm : {std::pair{4, 1}, std::pair{8, 1}, std::pair{4, 3}, std::pair{8, 3}}) {
-    b->Args({gm.first, gm.second, 50});
+    b->Args({gm.first, gm.second, 50, 1});
   }
+  // The shipped sample level: lag 16, one release per 1024 samples, against releasing every sample.
+  b->Args({4, 1, 16, 1});
+  b->Args({4, 1, 16, 1024});
+  b->Args({8, 1, 16, 1024});
+  b->Args({4, 1, 64, 1024});
 }
 
 }  // namespace

@@ -156,6 +156,46 @@ TEST(FixedLagSmoother, StepIntoMatchesStepAndNegativeLagThrows) {
   }
   EXPECT_EQ(a.last_status(), SampleStatus::Updated);
   EXPECT_THROW(FixedLagSmoother(layout, noise, -1), std::invalid_argument);
+  EXPECT_THROW(FixedLagSmoother(layout, noise, 3, 0), std::invalid_argument);
+}
+
+// Decimation: only indices with (index + 1) % m == 0 are released, each equal to RTS on the data up to its
+// release (the same truth as the full smoother), for m below, equal to and above the lag, with a gap and a
+// rejected sample in the stream; flush releases the remaining decimated indices with all the data.
+TEST(FixedLagSmoother, DecimatedReleasesEqualRtsAtTheReleasedIndices) {
+  SvarLayout layout(spec_g(4, 1));
+  const std::vector<NoiseParams> noise = {{1e-3, 0.05, 1.0}};
+  constexpr int kN = 150, kLag = 8;
+  test::Simulation sim = test::simulate_svar(layout, noise, kN, 77, 0.1);
+  std::vector<bool> disc(kN, false);
+  disc[61] = true;
+  sim.y(40, 2) = std::numeric_limits<double>::quiet_NaN();
+  const EstimationRun full = run_rts_smoother(layout, noise, sim.y, disc);
+  for (const std::uint64_t m : {3u, 8u, 20u}) {
+    FixedLagSmoother smoother(layout, noise, kLag, m);
+    std::vector<std::uint64_t> got;
+    for (int n = 0; n < kN; ++n) {
+      const Eigen::RowVectorXd row = sim.y.row(n);
+      const auto out = smoother.step(row.data(), disc[n]);
+      if (!out) continue;
+      ASSERT_EQ(out->index + kLag, static_cast<std::uint64_t>(n)) << "m = " << m;
+      got.push_back(out->index);
+      const std::vector<bool> prefix_disc(disc.begin(), disc.begin() + n + 1);
+      const EstimationRun rts = run_rts_smoother(layout, noise, sim.y.topRows(n + 1), prefix_disc);
+      const auto idx = static_cast<Eigen::Index>(out->index);
+      ASSERT_MATRIX_NEAR(out->estimates, rts.estimates.row(idx).transpose(), 1e-9) << "m = " << m << ", n = " << n;
+      ASSERT_MATRIX_NEAR(out->std_devs, rts.std_devs.row(idx).transpose(), 1e-9) << "m = " << m << ", n = " << n;
+    }
+    for (const SmoothedSample& s : smoother.flush()) {
+      got.push_back(s.index);
+      const auto idx = static_cast<Eigen::Index>(s.index);
+      ASSERT_MATRIX_NEAR(s.estimates, full.estimates.row(idx).transpose(), 1e-9) << "m = " << m;
+      ASSERT_MATRIX_NEAR(s.std_devs, full.std_devs.row(idx).transpose(), 1e-9) << "m = " << m;
+    }
+    std::vector<std::uint64_t> want;
+    for (std::uint64_t i = m - 1; i < static_cast<std::uint64_t>(kN); i += m) want.push_back(i);
+    EXPECT_EQ(got, want) << "m = " << m;
+  }
 }
 
 }  // namespace

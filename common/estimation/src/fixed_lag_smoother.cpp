@@ -28,7 +28,13 @@ struct FixedLagSmoother::Select {
     V4* pc = detail::lanes(s.pc_.data() + l * grp.p_off);
     V4* var = detail::lanes(s.var_.data() + l * grp.x_off);
     V4* work = detail::lanes(s.work_.data());
-    for (int slot = 1; slot <= s.active_; ++slot) {
+    // Only the slots of released samples (n - slot + 1) % m == 0, i.e. slot = first, first + m, ...: the
+    // others are never read (decimation; m = 1 updates every slot).
+    const std::uint64_t m = s.release_every_;
+    const std::uint64_t r = f.samples_seen() % m;  // samples_seen() = n + 1
+    const std::uint64_t first = r == 0 ? m : r;     // smallest slot >= 1 with slot = n + 1 (mod m)
+    for (std::uint64_t slot_u = first; slot_u <= static_cast<std::uint64_t>(s.active_); slot_u += m) {
+      const int slot = static_cast<int>(slot_u);
       const auto pos = static_cast<std::size_t>(s.slot_pos(slot));
       detail::lag_update<D>(d, h, u, e, sv, inv_s, pc + pos * d * d, xs + pos * d, var + pos * d, work);
     }
@@ -36,9 +42,11 @@ struct FixedLagSmoother::Select {
   static void run(FixedLagSmoother& s, int group) { s.update_fn_[group] = &update; }
 };
 
-FixedLagSmoother::FixedLagSmoother(const SvarLayout& layout, std::vector<NoiseParams> noise, int lag)
-    : filter_(layout, std::move(noise)), lag_(lag) {
+FixedLagSmoother::FixedLagSmoother(const SvarLayout& layout, std::vector<NoiseParams> noise, int lag,
+                                   std::uint64_t release_every)
+    : filter_(layout, std::move(noise)), lag_(lag), release_every_(release_every) {
   if (lag < 0) throw std::invalid_argument("FixedLagSmoother: lag must be >= 0, got " + std::to_string(lag));
+  if (release_every < 1) throw std::invalid_argument("FixedLagSmoother: release_every must be >= 1");
   const detail::LanePlan& plan = *filter_.plan_;
   update_fn_.resize(plan.groups.size());
   for (std::size_t gi = 0; gi < plan.groups.size(); ++gi) {
@@ -65,6 +73,7 @@ void FixedLagSmoother::shift_in_filter_state() {
   if (lag_ == 0) return;
   head_ = (head_ + 1) % lag_;
   active_ = std::min(active_ + 1, lag_);
+  if (!released(filter_.samples_seen() - 1)) return;  // the slot of a sample that is never released stays unused
   const auto l = static_cast<std::size_t>(lag_);
   const auto pos = static_cast<std::size_t>(head_);
   for (const detail::LaneGroup& grp : filter_.plan_->groups) {
@@ -118,6 +127,7 @@ bool FixedLagSmoother::step_into(const double* y, bool discontinuity, std::uint6
   const std::uint64_t release = n - static_cast<std::uint64_t>(lag_);
   if (release < next_release_) return false;  // already flushed
   next_release_ = release + 1;
+  if (!released(release)) return false;
   *index = release;
   write_lag(lag_, estimates, std_devs);
   return true;
@@ -135,6 +145,7 @@ std::vector<SmoothedSample> FixedLagSmoother::flush() {
   const std::uint64_t seen = filter_.samples_seen();
   const int f = filter_.layout().total_factors();
   for (std::uint64_t idx = next_release_; idx < seen; ++idx) {
+    if (!released(idx)) continue;
     SmoothedSample s{idx, Eigen::VectorXd(f), Eigen::VectorXd(f)};
     write_lag(static_cast<int>(seen - 1 - idx), s.estimates.data(), s.std_devs.data());
     out.push_back(std::move(s));

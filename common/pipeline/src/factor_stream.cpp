@@ -22,7 +22,7 @@ FactorStream::FactorStream(FactorStreamParams params)
     }
   } else {
     noise_.assign(static_cast<std::size_t>(g_), params_.noise.fixed);
-    smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag);
+    smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
   }
 }
 
@@ -67,7 +67,7 @@ void FactorStream::calibrate(std::vector<FactorReport>& out) {
     const bool tuned = t.evaluations > 0 && t.noise.r > 0.0;
     noise_.push_back(tuned ? t.noise : params_.noise.fixed);
   }
-  smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag);
+  smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
   // Replay the calibration window so no sample is lost.
   for (Eigen::Index i = 0; i < n; ++i) {
     process(buffer_.data() + i * g_, buffer_disc_[static_cast<std::size_t>(i)],

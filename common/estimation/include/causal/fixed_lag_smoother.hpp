@@ -11,6 +11,11 @@
 //   var[n-i]  -= S g_i .^2                 (diagonal of P[n-i,n-i], all that the output needs)
 // The current block P[n,n] is the filter's own (Joseph form). Cost per sample and outcome: O(L d^2) time and
 // L (d^2 + 2d) doubles of memory. The tests check the result against RTS run on data[0..n+L].
+//
+// Decimation: a service publishes one estimate every m samples, so only those samples need smoothing.
+// With release_every = m only samples with (index + 1) % m == 0 enter the lag slots (each slot is then a
+// fixed-point smoother of its own sample, the same equations): O(ceil(L / m) d^2) per sample instead of
+// O(L d^2), with results identical to the full smoother at the released indices.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,11 +37,12 @@ struct SmoothedSample {
 
 class FixedLagSmoother {
  public:
-  // lag >= 0 (0 = plain filter); throws std::invalid_argument for lag < 0 or invalid noise (see the filter).
-  FixedLagSmoother(const SvarLayout& layout, std::vector<NoiseParams> noise, int lag);
+  // lag >= 0 (0 = plain filter), release_every >= 1 (see Decimation above); throws std::invalid_argument
+  // otherwise or for invalid noise (see the filter).
+  FixedLagSmoother(const SvarLayout& layout, std::vector<NoiseParams> noise, int lag, std::uint64_t release_every = 1);
 
   // Feeds sample y (same semantics as SvarKalmanFilter::step); returns the smoothed estimate of sample
-  // (current index - lag) once available.
+  // (current index - lag) once available (and only for released indices when decimating).
   std::optional<SmoothedSample> step(const double* y, bool discontinuity = false);
   // Allocation-free form: returns true and writes total_factors() values to estimates and std_devs when a
   // smoothed sample is released.
@@ -48,6 +54,8 @@ class FixedLagSmoother {
   const SvarKalmanFilter& filter() const { return filter_; }
   SampleStatus last_status() const { return last_status_; }
   int lag() const { return lag_; }
+  std::uint64_t release_every() const { return release_every_; }
+  bool released(std::uint64_t index) const { return (index + 1) % release_every_ == 0; }
   void reset();
 
  private:
@@ -61,6 +69,7 @@ class FixedLagSmoother {
 
   SvarKalmanFilter filter_;
   int lag_;
+  std::uint64_t release_every_;
   // Per lane group of the filter (same lane-interleaved layout), L ring slots each:
   std::vector<double> xs_;   // group g at lag_ * x_off, slot s at + s * d * 4
   std::vector<double> pc_;   // cross-covariances P[n-i,n]: group g at lag_ * p_off, slot s at + s * d * d * 4
