@@ -2,8 +2,10 @@
 # Starts the three services on one DDS domain, replays a data set through them, and stops them all.
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
 #                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
+#                    [--asset-group ID] [--ask CHANNEL:PERCENT]...
 # Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
 # --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
+# --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
 # Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -15,6 +17,8 @@ transport="$root/deploy/dds/localhost.xml"
 max_runtime=900
 record=""
 feature_args=()
+asset_group="ims2-shaft1"
+asks=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --domain) domain="$2"; shift 2 ;;
@@ -26,7 +30,9 @@ while [ $# -gt 0 ]; do
     --transport) transport="$2"; shift 2 ;;
     --max-runtime) max_runtime="$2"; shift 2 ;;
     --record) record="$2"; shift 2 ;;
-    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
+    --asset-group) asset_group="$2"; shift 2 ;;
+    --ask) asks+=("$2"); shift 2 ;;
+    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -52,8 +58,14 @@ pids+=($!)
   --wait-subscribers "$subscribers" &
 pids+=($!)
 "$bin/sensor_replay/sensor-replay" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-subscribers 1 \
-  "${feature_args[@]}" --wait-timeout 60
+  "${feature_args[@]}" --wait-timeout 60 --asset-group "$asset_group"
 status=0
+# What-if questions to the live twin once the replay is done (the services are still up for a few seconds).
+for q in "${asks[@]}"; do
+  echo "launch: asking the twin: sustained ${q#*:} % on channel ${q%%:*} of $asset_group"
+  "$bin/whatif_ask/causal-ask" "${common[@]}" --asset-group "$asset_group" --intervene "${q%%:*}" \
+    --percent "${q#*:}" --timeout 5 || echo "launch: causal-ask exit code $? (see above)"
+done
 # The replay has finished; the others drain their queues and exit when idle.
 for p in "${pids[@]}"; do wait "$p" || status=$?; done
 pids=()

@@ -17,6 +17,9 @@ struct PlotStyle {
 // gnuplot single-quoted string literal (quotes doubled).
 std::string gnuplot_quote(const std::string& text);
 
+// Terminal (PNG, width x height) and output file lines that start every figure script.
+std::string gnuplot_preamble(const PlotStyle& style, int height, const std::string& png);
+
 // Time span shown on every figure of an asset, seconds since the epoch.
 struct TimeRange {
   double from = 0.0, to = 0.0;

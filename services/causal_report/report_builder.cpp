@@ -1,6 +1,7 @@
 #include "report_builder.hpp"
 
 #include "csv_format.hpp"
+#include "causal_graph_plot.hpp"
 #include "gnuplot_plots.hpp"
 #include "process.hpp"
 
@@ -17,6 +18,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::size_t kPanelsPerPage = 12;
+// A causal-graph arrow needs its factor at least this many standard deviations from 0 (about 95 % two-sided).
+constexpr double kGraphMinZ = 2.0;
 
 std::string tail_of(const fs::path& log, std::size_t max_chars = 600) {
   std::ifstream in(log);
@@ -163,6 +166,16 @@ void render_asset(const AssetFiles& files, const fs::path& alarms_file, const st
     }
   } else {
     notes.push_back("no condition-level factors recorded: no factor figures");
+  }
+  if (pf != nullptr && !pf->outcome_names.empty()) {
+    const std::vector<GraphMoment> moments = graph_moments(*pf, spans);
+    const std::string stem = "causal_graph_" + asset;
+    if (r.render(stem, causal_graph_script(asset, pf->outcome_names, *pf, moments, kGraphMinZ, r.style,
+                                           (r.out_dir / (stem + ".png")).string()))) {
+      std::string when;
+      for (const auto& m : moments) when += (when.empty() ? "" : "; ") + m.label;
+      figures.emplace_back("Causal graph (" + when + ")", stem + ".png");
+    }
   }
   const std::string stem = "alarm_timeline_" + asset;
   if (r.render(stem, alarm_timeline_script(asset, channels, spans, range, r.style, (r.out_dir / (stem + ".png")).string()))) {

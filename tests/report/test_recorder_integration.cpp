@@ -395,7 +395,8 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   }
   ASSERT_EQ(run_sync({CAUSAL_REPORT_EXE, "--run", run.string(), "--out", report.string()}, dir_ / "report.log"), 0)
       << slurp(dir_ / "report.log");
-  std::vector<std::string> pngs{"condition_trends_" + file_asset_, "alarm_timeline_" + file_asset_};
+  std::vector<std::string> pngs{"condition_trends_" + file_asset_, "alarm_timeline_" + file_asset_,
+                                "causal_graph_" + file_asset_};
   for (int k = 1; k <= kG; ++k) pngs.push_back("factors_" + file_asset_ + "_Bearing_" + std::to_string(k));
   for (const auto& stem : pngs) {
     const std::string png = slurp(report / (stem + ".png"));
