@@ -52,20 +52,31 @@ if [ -x "$bin/causal_recorder/causal-recorder" ] && [ -n "$record" ]; then
   pids+=($!)
   subscribers=2
 fi
-"$bin/alarm_recommender/alarm-recommender" "${common[@]}" --idle-exit 5 --max-runtime "$max_runtime" &
+# With questions to ask, the recommender stays up a little longer after its sources are gone.
+recommender_idle=5
+[ ${#asks[@]} -gt 0 ] && recommender_idle=12
+"$bin/alarm_recommender/alarm-recommender" "${common[@]}" --idle-exit "$recommender_idle" --max-runtime "$max_runtime" &
 pids+=($!)
 "$bin/causal_estimator/causal-estimator" "${common[@]}" --idle-exit 4 --max-runtime "$max_runtime" \
   --wait-subscribers "$subscribers" &
-pids+=($!)
+estimator_pid=$!
+pids+=($estimator_pid)
 "$bin/sensor_replay/sensor-replay" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-subscribers 1 \
   "${feature_args[@]}" --wait-timeout 60 --asset-group "$asset_group"
 status=0
-# What-if questions to the live twin once the replay is done (the services are still up for a few seconds).
-for q in "${asks[@]}"; do
-  echo "launch: asking the twin: sustained ${q#*:} % on channel ${q%%:*} of $asset_group"
-  "$bin/whatif_ask/causal-ask" "${common[@]}" --asset-group "$asset_group" --intervene "${q%%:*}" \
-    --percent "${q#*:}" --timeout 5 || echo "launch: causal-ask exit code $? (see above)"
-done
+if [ ${#asks[@]} -gt 0 ]; then
+  # Ask the final model: once the estimator has published everything and left, the recommender holds the
+  # model of the last snapshot for recommender_idle seconds.
+  wait "$estimator_pid" || status=$?
+  remaining=()
+  for p in "${pids[@]}"; do [ "$p" != "$estimator_pid" ] && remaining+=("$p"); done
+  pids=("${remaining[@]}")
+  for q in "${asks[@]}"; do
+    echo "launch: asking the twin: sustained ${q#*:} % on channel ${q%%:*} of $asset_group"
+    "$bin/whatif_ask/causal-ask" "${common[@]}" --asset-group "$asset_group" --intervene "${q%%:*}" \
+      --percent "${q#*:}" --timeout 5 || echo "launch: causal-ask exit code $? (see above)"
+  done
+fi
 # The replay has finished; the others drain their queues and exit when idle.
 for p in "${pids[@]}"; do wait "$p" || status=$?; done
 pids=()
