@@ -13,14 +13,6 @@ SquareSolve::SquareSolve(const Eigen::MatrixXd& m) : lu_(m) {
   ok_ = std::isfinite(rcond_) && rcond_ >= kSingularRcond;
 }
 
-InstantaneousSolve::InstantaneousSolve(const Eigen::MatrixXd& a0)
-    : lu_(Eigen::MatrixXd::Identity(a0.rows(), a0.cols()) - a0) {
-  if (!a0.allFinite()) return;
-  if (!lu_.isInvertible()) return;
-  rcond_ = lu_.rcond();
-  ok_ = std::isfinite(rcond_) && rcond_ >= kSingularRcond;
-}
-
 double spectral_radius(const Eigen::MatrixXd& m) {
   if (m.size() == 0) return 0.0;
   Eigen::EigenSolver<Eigen::MatrixXd> solver(m, /*computeEigenvectors=*/false);

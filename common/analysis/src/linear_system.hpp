@@ -12,21 +12,8 @@ constexpr double kSingularRcond = 1e-10;
 // Companion spectral radius at or above this has no steady state (unit root or explosive).
 constexpr double kUnstableRadius = 1.0 - 1e-9;
 
-// LU of (I - A0): solves (I - A0) y = b without forming the inverse.
-class InstantaneousSolve {
- public:
-  explicit InstantaneousSolve(const Eigen::MatrixXd& a0);
-  bool ok() const { return ok_; }
-  double rcond() const { return rcond_; }
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const { return lu_.solve(rhs); }
-
- private:
-  Eigen::FullPivLU<Eigen::MatrixXd> lu_;
-  bool ok_ = false;
-  double rcond_ = 0.0;
-};
-
-// Same, for a general square matrix (I - A0 - sum A_l).
+// LU of a square matrix (e.g. I - A0 - sum A_l): solves m y = b without forming the inverse; ok() is false
+// when m is non-finite or singular by kSingularRcond.
 class SquareSolve {
  public:
   explicit SquareSolve(const Eigen::MatrixXd& m);
@@ -38,6 +25,13 @@ class SquareSolve {
   Eigen::FullPivLU<Eigen::MatrixXd> lu_;
   bool ok_ = false;
   double rcond_ = 0.0;
+};
+
+// The same for (I - A0), the instantaneous part of the structural equations: solves (I - A0) y = b.
+class InstantaneousSolve : public SquareSolve {
+ public:
+  explicit InstantaneousSolve(const Eigen::MatrixXd& a0)
+      : SquareSolve(Eigen::MatrixXd::Identity(a0.rows(), a0.cols()) - a0) {}
 };
 
 // max |eigenvalue|; 0 for an empty matrix.
