@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Starts the three services on one DDS domain, replays a data set through them, and stops them all.
+# Starts the services on one DDS domain, replays a data set through them, stops them all, and prints what
+# every topic carried.
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
 #                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
-#                    [--asset-group ID] [--ask CHANNEL:PERCENT]...
+#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR]
 # Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
 # --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
 # --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
+# --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
+# Exit code: 0 when every service exited 0 (nothing lost, refused or dropped), else the first non-zero code;
+# the summary at the end says per topic: sent, received, dropped, rejected, and which service failed.
 # Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -19,6 +23,7 @@ record=""
 feature_args=()
 asset_group="ims2-shaft1"
 asks=()
+logs=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --domain) domain="$2"; shift 2 ;;
@@ -32,55 +37,108 @@ while [ $# -gt 0 ]; do
     --record) record="$2"; shift 2 ;;
     --asset-group) asset_group="$2"; shift 2 ;;
     --ask) asks+=("$2"); shift 2 ;;
-    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+    --logs) logs="$2"; shift 2 ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
+keep_logs=1
+if [ -z "$logs" ]; then logs="$(mktemp -d)"; keep_logs=0; fi
+mkdir -p "$logs"
 common=(--domain "$domain" --dds-transport "$transport")
 pids=()
+names=()
+tail_pid=""
 stop_all() {
   for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
   for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  [ -n "$tail_pid" ] && { kill "$tail_pid" 2>/dev/null || true; wait "$tail_pid" 2>/dev/null || true; }
   command -v fastdds >/dev/null && fastdds shm clean >/dev/null 2>&1 || true
+  [ "$keep_logs" = 0 ] && rm -rf "$logs"
+  return 0
 }
 trap stop_all EXIT INT TERM
 
-echo "launch: DDS domain $domain, transport $(basename "$transport")"
-subscribers=1
-if [ -x "$bin/causal_recorder/causal-recorder" ] && [ -n "$record" ]; then
-  "$bin/causal_recorder/causal-recorder" "${common[@]}" --out "$record" --idle-exit 6 --max-runtime "$max_runtime" &
+# start NAME CMD...: runs a service in the background with its log in $logs/NAME.log
+start() {
+  local name="$1"; shift
+  "$@" > "$logs/$name.log" 2>&1 &
   pids+=($!)
-  subscribers=2
+  names+=("$name")
+}
+
+echo "launch: DDS domain $domain, transport $(basename "$transport"), logs in $logs"
+for n in causal-recorder alarm-recommender causal-estimator sensor-replay causal-ask; do : > "$logs/$n.log"; done
+tail -q -n +1 -F "$logs"/causal-recorder.log "$logs"/alarm-recommender.log "$logs"/causal-estimator.log \
+  "$logs"/sensor-replay.log "$logs"/causal-ask.log 2>/dev/null &
+tail_pid=$!
+
+estimator_waits=(--wait-for alarm-recommender)
+if [ -x "$bin/causal_recorder/causal-recorder" ] && [ -n "$record" ]; then
+  start causal-recorder "$bin/causal_recorder/causal-recorder" "${common[@]}" --out "$record" --idle-exit 6 \
+    --max-runtime "$max_runtime"
+  estimator_waits+=(--wait-for causal-recorder)
 fi
 # With questions to ask, the recommender stays up a little longer after its sources are gone.
 recommender_idle=5
 [ ${#asks[@]} -gt 0 ] && recommender_idle=12
-"$bin/alarm_recommender/alarm-recommender" "${common[@]}" --idle-exit "$recommender_idle" --max-runtime "$max_runtime" &
-pids+=($!)
-"$bin/causal_estimator/causal-estimator" "${common[@]}" --idle-exit 4 --max-runtime "$max_runtime" \
-  --wait-subscribers "$subscribers" &
-estimator_pid=$!
-pids+=($estimator_pid)
-"$bin/sensor_replay/sensor-replay" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-subscribers 1 \
-  "${feature_args[@]}" --wait-timeout 60 --asset-group "$asset_group"
+start alarm-recommender "$bin/alarm_recommender/alarm-recommender" "${common[@]}" --idle-exit "$recommender_idle" \
+  --max-runtime "$max_runtime"
+start causal-estimator "$bin/causal_estimator/causal-estimator" "${common[@]}" --idle-exit 4 \
+  --max-runtime "$max_runtime" "${estimator_waits[@]}" --wait-timeout 60
+estimator_pid=${pids[-1]}
 status=0
+"$bin/sensor_replay/sensor-replay" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-for causal-estimator \
+  "${feature_args[@]}" --wait-timeout 60 --asset-group "$asset_group" > "$logs/sensor-replay.log" 2>&1 || {
+  rc=$?; echo "launch: sensor-replay exited with code $rc" >&2; status=$rc; }
+
+declare -A service_rc=()
+service_rc[sensor-replay]=$status
 if [ ${#asks[@]} -gt 0 ]; then
   # Ask the final model: once the estimator has published everything and left, the recommender holds the
   # model of the last snapshot for recommender_idle seconds.
-  wait "$estimator_pid" || status=$?
-  remaining=()
-  for p in "${pids[@]}"; do [ "$p" != "$estimator_pid" ] && remaining+=("$p"); done
-  pids=("${remaining[@]}")
+  rc=0; wait "$estimator_pid" || rc=$?
+  service_rc[causal-estimator]=$rc
   for q in "${asks[@]}"; do
-    echo "launch: asking the twin: sustained ${q#*:} % on channel ${q%%:*} of $asset_group"
+    echo "launch: asking the twin: sustained ${q#*:} % on channel ${q%%:*} of $asset_group" >> "$logs/causal-ask.log"
     "$bin/whatif_ask/causal-ask" "${common[@]}" --asset-group "$asset_group" --intervene "${q%%:*}" \
-      --percent "${q#*:}" --timeout 5 || echo "launch: causal-ask exit code $? (see above)"
+      --percent "${q#*:}" --timeout 5 >> "$logs/causal-ask.log" 2>&1 || echo "launch: causal-ask exit code $? (see above)" >> "$logs/causal-ask.log"
   done
 fi
 # The replay has finished; the others drain their queues and exit when idle.
-for p in "${pids[@]}"; do wait "$p" || status=$?; done
+for i in "${!pids[@]}"; do
+  [ -n "${service_rc[${names[$i]}]+x}" ] && continue
+  rc=0; wait "${pids[$i]}" || rc=$?
+  service_rc[${names[$i]}]=$rc
+done
 pids=()
+sleep 0.5  # let tail print the last lines
+kill "$tail_pid" 2>/dev/null || true; wait "$tail_pid" 2>/dev/null || true; tail_pid=""
+
+echo
+echo "=== delivery summary (per topic, from each service's own counters) ==="
+printf '%-34s %-18s %s\n' "topic" "service" "counts"
+for n in sensor-replay causal-estimator alarm-recommender causal-recorder; do
+  [ -s "$logs/$n.log" ] || continue
+  grep -o 'summary topic=.*' "$logs/$n.log" | while read -r _ topic rest; do
+    printf '%-34s %-18s %s\n' "${topic#topic=}" "$n" "$rest"
+  done
+done
+for n in sensor-replay causal-estimator alarm-recommender causal-recorder; do
+  [ -n "${service_rc[$n]+x}" ] || continue
+  rc=${service_rc[$n]}
+  if [ "$rc" != 0 ]; then
+    case "$rc" in
+      3) why="its peers never matched" ;;
+      4) why="data was lost, dropped or refused (see its summary)" ;;
+      *) why="failed (see its log)" ;;
+    esac
+    echo "launch: $n exited with code $rc: $why" >&2
+    [ "$status" = 0 ] && status=$rc
+  fi
+done
 if [ -n "$record" ] && [ -x "$bin/causal_report/causal-report" ]; then
   "$bin/causal_report/causal-report" --run "$record" --out "$record/report" || status=$?
 fi
+[ "$status" = 0 ] && echo "launch: every service exited 0: nothing lost, dropped or refused"
 exit $status

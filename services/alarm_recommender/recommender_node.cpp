@@ -11,10 +11,6 @@
 
 namespace causal::recommender {
 
-namespace {
-using Clock = std::chrono::steady_clock;
-}
-
 RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams params)
     : options_(std::move(options)),
       params_(std::move(params)),
@@ -33,17 +29,15 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
 
 int RecommenderNode::run() {
   spdlog::info("alarm-recommender on domain {}, waiting for causal factors", participant_.domain_id());
-  const auto started = Clock::now();
-  auto last_data = started;
-  bool any_data = false;
   std::vector<AssembledObservation> ready;
-  while (loop_.wait(std::chrono::milliseconds(200))) {
+  const auto poll = [&] {
     ready.clear();
     std::size_t n = conditions_.take_all([&](const causal_twin::ConditionVector& c, const auto&) {
       if (!dds::validate_condition_vector(c).empty()) {
         ++invalid_msgs_;
         return;
       }
+      ++conditions_received_;
       assembler_.add_condition(c.asset_group(), c.feature(), c.time_ns(), dds::values_of(c), ready);
     });
     n += factors_.take_all([&](const causal_twin::CausalFactors& f, const auto&) {
@@ -52,27 +46,18 @@ int RecommenderNode::run() {
         spdlog::warn("causal factors from '{}' refused: {}", f.asset_group(), problem);
         return;
       }
+      ++factors_received_;
       assembler_.add_factors(dds::from_causal_factors(f), ready);
     });
     handle(ready);
     n += whatif_requests_.take_all([this](const causal_twin::WhatIfRequest& r, const auto&) { answer(r); });
-    const auto now = Clock::now();
-    if (n > 0) {
-      last_data = now;
-      any_data = true;
-    }
-    // Idle exit only once every source has left the domain (see causal-estimator).
-    const std::size_t sources = factors_.matched_writers() + conditions_.matched_writers();
-    if (options_.idle_exit_s > 0 && any_data && sources == 0 &&
-        std::chrono::duration<double>(now - last_data).count() > options_.idle_exit_s) {
-      spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
-      break;
-    }
-    if (options_.max_runtime_s > 0 && std::chrono::duration<double>(now - started).count() > options_.max_runtime_s) {
-      spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
-      break;
-    }
-  }
+    return n;
+  };
+  // Idle exit only once every source has left the domain (see causal-estimator).
+  const auto end = loop_.run({options_.idle_exit_s, options_.max_runtime_s}, poll,
+                             [this] { return factors_.matched_writers() + conditions_.matched_writers(); });
+  if (end == dds::RunEnd::Idle) spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
+  if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
   ready.clear();
   assembler_.flush(ready);
   handle(ready);
@@ -91,7 +76,14 @@ int RecommenderNode::run() {
   }
   recommendations_.wait_for_acknowledgments(std::chrono::seconds(10));
   spdlog::info("{} alarm messages and {} recommendations published", alarms_published_, recommendations_published_);
-  return 0;
+  const std::uint64_t dds_lost = factors_.rejected_samples() + factors_.lost_samples() + conditions_.rejected_samples() +
+                                 conditions_.lost_samples();
+  spdlog::info("summary topic=causal_twin/causal_factors received={} rejected={}", factors_received_, invalid_msgs_);
+  spdlog::info("summary topic=causal_twin/condition_vector received={}", conditions_received_);
+  spdlog::info("summary topic=causal_twin/alarm sent={}", alarms_published_);
+  spdlog::info("summary topic=causal_twin/recommendation sent={}", recommendations_published_);
+  if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
+  return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete()) > 0 ? 4 : 0;
 }
 
 void RecommenderNode::handle(std::vector<AssembledObservation>& ready) {

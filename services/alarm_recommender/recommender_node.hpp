@@ -61,6 +61,7 @@ class RecommenderNode {
   std::map<std::pair<std::string, int>, EngineState> engines_;
   causal_twin::Alarm alarm_msg_;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
+  std::uint64_t factors_received_ = 0, conditions_received_ = 0;
 };
 
 }  // namespace causal::recommender

@@ -26,9 +26,10 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       params_(std::move(params)),
       participant_(dds::to_dds_settings(options_.dds, "causal-estimator")),
       frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader),
-      conditions_in_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader),
+      conditions_in_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputReader),
       factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsWriter),
-      conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter) {
+      conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter),
+      outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
 }
@@ -51,46 +52,32 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
 int EstimatorNode::run() {
   spdlog::info("causal-estimator on domain {} (shard {}/{}), waiting for frames", participant_.domain_id(),
                options_.shard_index, options_.shard_count);
-  if (options_.wait_subscribers > 0) {
-    // Frames that arrive meanwhile wait in the reliable reader's history: nothing is lost.
+  if (!options_.wait_for.empty()) {
+    // Input that arrives meanwhile waits in the reliable, transient-local readers: nothing is lost.
+    std::vector<dds::NamedReaders> wanted;
+    for (const auto& spec : options_.wait_for) wanted.push_back(dds::parse_named_readers(spec));
     const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
-    if (!factors_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), timeout, loop_.stop_flag())) {
+    const std::string missing = dds::wait_for_named_readers(factors_, wanted, timeout, loop_.stop_flag());
+    if (!missing.empty()) {
       if (loop_.stopped()) return 0;
-      spdlog::error("fewer than {} factor readers matched within {:.0f} s: is alarm-recommender running on domain {}?",
-                    options_.wait_subscribers, options_.wait_timeout_s, participant_.domain_id());
+      spdlog::error("no '{}' reader of causal factors matched within {:.0f} s: is it running on domain {} with the "
+                    "same transport profile?",
+                    missing, options_.wait_timeout_s, participant_.domain_id());
       return 3;
     }
   }
-  const auto started = Clock::now();
-  auto last_data = started;
-  bool any_data = false;
-  while (loop_.wait(std::chrono::milliseconds(200))) {
-    const std::size_t n = frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }) +
-                          conditions_in_.take_all([this](const auto& c, const auto& info) {
-                            // Our own condition vectors come back to us through the shared topic: skip them.
-                            if (info.sample_identity.writer_guid() == conditions_out_.get()->guid()) return;
-                            on_condition(c);
-                          });
-    const auto now = Clock::now();
-    if (n > 0) {
-      last_data = now;
-      any_data = true;
-    }
-    // Idle exit only once every source has left the domain: a source that is merely blocked (by a slow
-    // reader elsewhere) or paced must not end the run. Our own condition writer also matches our reader.
-    const std::size_t sources = frames_.matched_writers() + conditions_in_.matched_writers() - 1;
-    if (options_.idle_exit_s > 0 && any_data && sources == 0 &&
-        std::chrono::duration<double>(now - last_data).count() > options_.idle_exit_s) {
-      spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
-      break;
-    }
-    if (options_.max_runtime_s > 0 && std::chrono::duration<double>(now - started).count() > options_.max_runtime_s) {
-      spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
-      break;
-    }
-  }
-  finish_all();
-  return 0;
+  const dds::RunLimits limits{options_.idle_exit_s, options_.max_runtime_s};
+  const auto end = loop_.run(
+      limits,
+      [this] {
+        return frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }) +
+               conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); });
+      },
+      // Idle exit only once every source has left: a source that is merely blocked or paced must not end the run.
+      [this] { return frames_.matched_writers() + conditions_in_.matched_writers(); });
+  if (end == dds::RunEnd::Idle) spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
+  if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
+  return finish_all();
 }
 
 void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
@@ -200,20 +187,29 @@ void EstimatorNode::log_structure(const std::string& name, const Asset& a, const
 
 void EstimatorNode::publish(const std::string& name, Asset& a) {
   const std::atomic<bool>& stop = loop_.stop_flag();
+  using Class = dds::OutboundQueue::Class;
   for (const auto& c : out_.conditions) {
     dds::ConditionHeader h{name, a.feature, c.snapshot_index, c.time_ns, a.channel_names, c.discontinuity};
-    dds::to_condition_vector(h, c.values, condition_msg_);
-    conditions_out_.write(condition_msg_, stop);
+    auto msg = std::make_shared<causal_twin::ConditionVector>();
+    dds::to_condition_vector(h, c.values, *msg);
+    outbound_.push("condition_vector", Class::Essential,
+                   [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, stop);
   }
   auto send = [&](const std::vector<pipeline::FactorReport>& reports, const pipeline::FactorStream* stream,
                   causal_twin::TimeScale scale, std::uint64_t& counter) {
     if (reports.empty()) return;
-    const dds::FactorContext ctx{name, scale, scale == causal_twin::CONDITION_LEVEL ? a.feature : "", &stream->layout(),
-                                 a.channel_names};
+    const bool condition = scale == causal_twin::CONDITION_LEVEL;
+    const dds::FactorContext ctx{name, scale, condition ? a.feature : "", &stream->layout(), a.channel_names};
     for (const auto& r : reports) {
-      dds::to_causal_factors(ctx, r, factor_msg_);
-      if (factors_.write(factor_msg_, stop) == dds::WriteResult::Ok) ++counter;
-      if (scale == causal_twin::CONDITION_LEVEL) log_condition_report(name, a, r);
+      auto msg = std::make_shared<causal_twin::CausalFactors>();
+      dds::to_causal_factors(ctx, r, *msg);
+      // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
+      if (outbound_.push(condition ? "causal_factors/condition" : "causal_factors/sample",
+                         condition ? Class::Essential : Class::Droppable,
+                         [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, stop)) {
+        ++counter;
+      }
+      if (condition && options_.verbose) log_condition_report(name, a, r);
     }
   };
   send(out_.sample_reports, a.pipeline.sample_stream(), causal_twin::SAMPLE_LEVEL, a.sample_msgs);
@@ -231,23 +227,53 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
   }
 }
 
-void EstimatorNode::finish_all() {
+int EstimatorNode::finish_all() {
   for (auto& [name, a] : assets_) {
     out_.clear();
     a.pipeline.finish(out_);
     publish(name, a);
+  }
+  // Deliver what is queued (bounded), then wait for the readers' acknowledgements.
+  if (!outbound_.drain(std::chrono::seconds(30))) {
+    spdlog::warn("{} messages still queued for DDS after 30 s: not delivered", outbound_.size());
+  }
+  if (!factors_.wait_for_acknowledgments(std::chrono::seconds(10))) {
+    spdlog::warn("not every factor message was acknowledged within 10 s");
+  }
+  conditions_out_.wait_for_acknowledgments(std::chrono::seconds(10));
+  // The summary: one line per asset group and one per output stream, machine-readable (launch.sh reads them).
+  std::uint64_t lost_in = 0, refused_in = 0;
+  for (const auto& [name, a] : assets_) {
     const auto* s = a.pipeline.sample_stream();
     spdlog::info("asset '{}': {} frames ({} lost, {} refused), {} condition vectors in, {} sample-level and {} "
                  "condition-level factor messages out, {} non-finite samples rejected",
                  name, a.frames, a.lost_frames, a.refused_frames, a.conditions_in, a.sample_msgs, a.condition_msgs,
                  s ? s->counters().rejected_non_finite : 0);
+    lost_in += a.lost_frames;
+    refused_in += a.refused_frames;
   }
   if (foreign_frames_ > 0) spdlog::info("{} frames of other shards ignored", foreign_frames_);
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
-  if (!factors_.wait_for_acknowledgments(std::chrono::seconds(10))) {
-    spdlog::warn("not every factor message was acknowledged within 10 s");
+  const std::uint64_t dds_rejected = frames_.rejected_samples() + conditions_in_.rejected_samples();
+  const std::uint64_t dds_lost = frames_.lost_samples() + conditions_in_.lost_samples();
+  std::uint64_t frames_received = 0, conditions_received = 0;
+  for (const auto& [name, a] : assets_) {
+    frames_received += a.frames + a.refused_frames;
+    conditions_received += a.conditions_in;
   }
-  conditions_out_.wait_for_acknowledgments(std::chrono::seconds(10));
+  spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} rejected={}", frames_received + foreign_frames_,
+               lost_in, refused_in + invalid_msgs_);
+  spdlog::info("summary topic=causal_twin/condition_input received={}", conditions_received);
+  if (dds_rejected + dds_lost > 0) {
+    spdlog::warn("summary dds: {} input samples rejected by the readers' resource limits, {} lost", dds_rejected, dds_lost);
+  }
+  std::uint64_t out_lost = 0;
+  for (const auto& [stream, c] : outbound_.counters()) {
+    spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
+    out_lost += c.dropped + c.failed;
+  }
+  spdlog::info("outbound queue high-water mark: {} of {} messages", outbound_.high_water(), options_.outbound_capacity);
+  return (lost_in + refused_in + invalid_msgs_ + dds_rejected + dds_lost + out_lost) > 0 ? 4 : 0;
 }
 
 }  // namespace causal::estimator

@@ -5,6 +5,7 @@
 
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/outbound_queue.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
 #include "causal/dds/typed_endpoints.hpp"
@@ -15,6 +16,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace causal::estimator {
 
@@ -25,8 +27,12 @@ struct EstimatorOptions {
   int shard_count = 1;
   double idle_exit_s = 0.0;    // exit after this long without data, once data has arrived (0 = never)
   double max_runtime_s = 0.0;  // hard stop (0 = none)
-  int wait_subscribers = 0;    // wait for this many factor readers before processing (frames queue meanwhile)
+  // Wait for readers of participants with these names ("alarm-recommender", or "causal-recorder:1") on the
+  // factor topic before processing (input queues meanwhile in the reliable, transient-local readers).
+  std::vector<std::string> wait_for;
   double wait_timeout_s = 30.0;
+  std::size_t outbound_capacity = 65536;
+  bool verbose = false;  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
 
 // FNV-1a: a stable hash, so every estimator agrees on the shard of an asset group.
@@ -35,6 +41,7 @@ std::uint64_t shard_hash(const std::string& asset_group);
 class EstimatorNode {
  public:
   EstimatorNode(EstimatorOptions options, pipeline::AssetPipelineParams params);
+  // Exit codes: 0 done, 3 the named readers never came, 4 data was lost or refused on the way (see the summary).
   int run();
   void stop() { loop_.stop(); }
 
@@ -59,7 +66,7 @@ class EstimatorNode {
   void log_structure(const std::string& name, const Asset& a, const char* level,
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
-  void finish_all();
+  int finish_all();  // publishes what is left, drains, logs the summary; returns the exit code
 
   EstimatorOptions options_;
   pipeline::AssetPipelineParams params_;
@@ -73,7 +80,8 @@ class EstimatorNode {
   pipeline::PipelineOutput out_;
   causal_twin::CausalFactors factor_msg_;
   causal_twin::ConditionVector condition_msg_;
-  std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
+  std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0, rejected_by_dds_ = 0;
+  dds::OutboundQueue outbound_;  // last: its drain thread stops before the writers are destroyed
 };
 
 }  // namespace causal::estimator

@@ -10,7 +10,8 @@ int main(int argc, char** argv) {
   causal::estimator::EstimatorOptions o;
   o.params_file = causal::dds::default_dds_dir() + "/../config/estimator.yaml";
   CLI::App app{"causal-estimator: learns time-varying causal factors between the channels of each asset group\n"
-               "(Kalman filter and fixed-lag smoother, sample level and condition level) and publishes them."};
+               "(Kalman filter and fixed-lag smoother, sample level and condition level) and publishes them.\n"
+               "Exit codes: 0 done, 2 invalid configuration, 3 named readers never matched, 4 data lost or refused."};
   causal::dds::add_common_options(app, o.dds);
   app.add_option("--params", o.params_file, "YAML parameter file")->check(CLI::ExistingFile)->capture_default_str();
   app.add_option("--shard-index", o.shard_index, "this estimator's shard (0-based)")->check(CLI::NonNegativeNumber)
@@ -21,11 +22,16 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--wait-subscribers", o.wait_subscribers,
-                 "wait for this many causal-factor readers before processing frames (they queue meanwhile)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--wait-for", o.wait_for,
+                 "before processing, wait until readers of these participants are matched on the causal-factor topic: "
+                 "NAME or NAME:COUNT, e.g. --wait-for alarm-recommender causal-recorder (input queues meanwhile)");
   app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
       ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--outbound-queue", o.outbound_capacity,
+                 "messages queued between the filters and the DDS writers; on overflow the oldest sample-level factor "
+                 "message is dropped (counted), condition-level output is never dropped (input waits instead)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_flag("--verbose", o.verbose, "log every condition-level factor vector");
   CLI11_PARSE(app, argc, argv);
   if (o.shard_index >= o.shard_count) {
     std::cerr << "error: --shard-index must be < --shard-count\n";

@@ -13,7 +13,6 @@
 namespace causal::recorder {
 
 namespace {
-using Clock = std::chrono::steady_clock;
 
 std::filesystem::path make_out_dir(const std::string& dir) {
   if (dir.empty()) throw std::runtime_error("--out must name a folder");
@@ -70,27 +69,20 @@ const std::string& RecorderNode::file_asset(const std::string& asset_group) {
 int RecorderNode::run() {
   spdlog::info("causal-recorder on domain {}, writing to {}{}", participant_.domain_id(), out_dir_.string(),
                options_.sample_level ? " (with sample-level factors)" : "");
-  const auto started = Clock::now();
-  auto last_data = started;
-  bool any_data = false;
-  while (loop_.wait(std::chrono::milliseconds(200))) {
-    const std::size_t n = take_available();
-    const auto now = Clock::now();
-    if (n > 0) {
-      flush_all();  // a batch is on disk before we wait again: a crash loses at most the current batch
-      last_data = now;
-      any_data = true;
-    }
-    if (options_.idle_exit_s > 0 && any_data &&
-        std::chrono::duration<double>(now - last_data).count() > options_.idle_exit_s) {
-      spdlog::info("no data for {:.1f} s: finishing", options_.idle_exit_s);
-      break;
-    }
-    if (options_.max_runtime_s > 0 && std::chrono::duration<double>(now - started).count() > options_.max_runtime_s) {
-      spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
-      break;
-    }
-  }
+  const auto end = loop_.run(
+      {options_.idle_exit_s, options_.max_runtime_s},
+      [this] {
+        const std::size_t n = take_available();
+        if (n > 0) flush_all();  // a batch is on disk before we wait again: a crash loses at most the current batch
+        return n;
+      },
+      // Idle exit once every publisher has left (the recommender's last alarms come after the estimator's data).
+      [this] {
+        return conditions_in_.matched_writers() + factors_in_.matched_writers() + alarms_in_.matched_writers() +
+               recommendations_in_.matched_writers();
+      });
+  if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
+  if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
   // Samples already delivered to our readers (acknowledged to their writers) are recorded even when a
   // signal ended the loop: the writers consider them delivered.
   take_available();

@@ -22,11 +22,38 @@ ReplayNode::ReplayNode(ReplayOptions options)
     : options_(std::move(options)), participant_(dds::to_dds_settings(options_.dds, "sensor-replay")) {
   if (options_.source == SourceKind::FeatureTable) {
     conditions_ = std::make_unique<dds::TypedWriter<causal_twin::ConditionVectorPubSubType>>(
-        participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter);
+        participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputWriter);
   } else {
     frames_ = std::make_unique<dds::TypedWriter<causal_twin::VibrationFramePubSubType>>(
         participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameWriter);
   }
+  for (const auto& spec : options_.wait_for) wanted_.push_back(dds::parse_named_readers(spec));
+}
+
+template <typename Writer>
+bool ReplayNode::readers_present(const Writer& writer, bool first) {
+  const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
+  const std::size_t want = static_cast<std::size_t>(options_.wait_subscribers);
+  bool missing = writer.matched_readers() < want;
+  for (const auto& w : wanted_) missing = missing || writer.matched_readers_named(w.name) < w.count;
+  if (!missing) return true;
+  if (first) {
+    spdlog::info("waiting up to {:.0f} s for {} reader(s){}{} on domain {}", options_.wait_timeout_s, want,
+                 wanted_.empty() ? "" : " including ", fmt::join(options_.wait_for, ", "), participant_.domain_id());
+  } else {
+    spdlog::warn("a reader it waits for has gone ({}): pausing until it is back (up to {:.0f} s)",
+                 fmt::join(options_.wait_for, ", "), options_.wait_timeout_s);
+  }
+  const bool ok = writer.wait_for_readers(want, timeout, stop_) &&
+                  dds::wait_for_named_readers(writer, wanted_, timeout, stop_).empty();
+  if (!ok && !stop_.load()) {
+    readers_missing_ = true;
+    spdlog::error("the readers did not match within {:.0f} s: is causal-estimator running on domain {} with the same "
+                  "transport profile?",
+                  options_.wait_timeout_s, participant_.domain_id());
+  }
+  if (ok && !first) spdlog::info("readers are back: resuming");
+  return ok;
 }
 
 void ReplayNode::stop() {
@@ -37,20 +64,8 @@ void ReplayNode::stop() {
 int ReplayNode::run() {
   started_ = Clock::now();
   last_progress_ = started_;
-  const auto wait = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
-  const std::size_t want = static_cast<std::size_t>(options_.wait_subscribers);
-  if (want > 0) {
-    spdlog::info("waiting up to {:.0f} s for {} reader(s) on domain {}", options_.wait_timeout_s, want,
-                 participant_.domain_id());
-    const bool ok = frames_ ? frames_->wait_for_readers(want, wait, stop_) : conditions_->wait_for_readers(want, wait, stop_);
-    if (!ok) {
-      if (stop_.load()) return 0;
-      spdlog::error("no reader matched within {:.0f} s: is causal-estimator running on domain {} with the same "
-                    "transport profile?",
-                    options_.wait_timeout_s, participant_.domain_id());
-      return 3;
-    }
-  }
+  const bool ready = frames_ ? readers_present(*frames_, true) : readers_present(*conditions_, true);
+  if (!ready) return stop_.load() ? 0 : 3;
   try {
     if (options_.source == SourceKind::FeatureTable) return run_features();
     const auto source = options_.source == SourceKind::ImsDirectory
@@ -105,7 +120,7 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
   header.sample_rate_hz = options_.sample_rate_hz;
   header.channel_names = source.channel_names();
   header.unit = options_.unit;
-  std::uint64_t frames_sent = 0, samples_sent = 0;
+  std::uint64_t frames_sent = 0, samples_sent = 0, snapshots_sent = 0;
   const double sample_period_ns = 1e9 / options_.sample_rate_hz;
 
   for (std::size_t i = first; i < last && !stop_.load(); ++i) {
@@ -118,6 +133,8 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
       header.discontinuity = (row == 0);  // every snapshot starts a new contiguous segment
       header.end_of_segment = (row + rows == n);
       if (!pace(header.first_sample_time_ns)) break;
+      if (row == 0 && !readers_present(*frames_, false)) return stop_.load() ? 0 : 3;
+      header.snapshot_index = i;
       dds::to_frame(header, snap.samples, row, rows, frame);
       const auto result = frames_->write(frame, stop_);
       if (result == dds::WriteResult::Stopped) break;
@@ -133,6 +150,7 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
       ++frames_sent;
       samples_sent += static_cast<std::uint64_t>(rows);
     }
+    ++snapshots_sent;
     spdlog::debug("snapshot {} ({}) published", snap.name, io::format_utc(snap.time_ns));
     report_progress(i + 1 - first, total, false);
   }
@@ -143,6 +161,7 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
   }
   spdlog::info("published {} frames ({} samples per channel) in {:.2f} s{}", frames_sent, samples_sent,
                seconds_since(started_), stop_.load() ? " (stopped early)" : "");
+  spdlog::info("summary topic=causal_twin/vibration_frame sent={} snapshots={}", frames_sent, snapshots_sent);
   return 0;
 }
 
@@ -166,6 +185,7 @@ int ReplayNode::run_features() {
     header.time_ns = table.time_ns[i];
     header.discontinuity = (i == first);
     if (!pace(header.time_ns)) break;
+    if (!readers_present(*conditions_, false)) return stop_.load() ? 0 : 3;
     dds::to_condition_vector(header, values.row(static_cast<Eigen::Index>(i)).transpose(), out);
     const auto result = conditions_->write(out, stop_);
     if (result == dds::WriteResult::Stopped) break;
@@ -182,6 +202,7 @@ int ReplayNode::run_features() {
   }
   spdlog::info("published {} condition vectors in {:.2f} s{}", sent, seconds_since(started_),
                stop_.load() ? " (stopped early)" : "");
+  spdlog::info("summary topic=causal_twin/condition_input sent={}", sent);
   return 0;
 }
 

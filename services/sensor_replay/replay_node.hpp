@@ -29,11 +29,16 @@ class ReplayNode {
   // Sleeps until plant time `plant_ns` is due at the configured speed. False if stopped meanwhile.
   bool pace(std::int64_t plant_ns);
   void report_progress(std::size_t done, std::size_t total, bool force);
+  // True when the readers asked for are matched (waiting, bounded, when they are not); false on stop/timeout.
+  template <typename Writer>
+  bool readers_present(const Writer& writer, bool first);
 
   ReplayOptions options_;
   dds::Participant participant_;
   std::unique_ptr<dds::TypedWriter<causal_twin::VibrationFramePubSubType>> frames_;
   std::unique_ptr<dds::TypedWriter<causal_twin::ConditionVectorPubSubType>> conditions_;
+  std::vector<dds::NamedReaders> wanted_;
+  bool readers_missing_ = false;  // set when a wait timed out (exit 3)
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -1,5 +1,7 @@
 #include "replay_options.hpp"
 
+#include "causal/dds/typed_endpoints.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -56,7 +58,11 @@ std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& ex
                  "wait until this many readers are matched before publishing (nothing is published into the void)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds")
+  app.add_option("--wait-for", o.wait_for,
+                 "also wait until readers of these participants are matched, before publishing and again whenever they "
+                 "go away (e.g. an estimator that restarts): NAME or NAME:COUNT, e.g. --wait-for causal-estimator:2")
+      ->each([](const std::string& spec) { dds::parse_named_readers(spec); });
+  app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_option("--progress-every", o.progress_every_s, "seconds between progress lines")

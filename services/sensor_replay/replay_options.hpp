@@ -27,7 +27,9 @@ struct ReplayOptions {
   std::size_t max_snapshots = 0;          // 0 = all
   std::string feature_suffix;             // feature tables: column suffix ("_rms"); "" = every column
   std::string feature_name = "meanabs";   // feature tables: what the values are
-  int wait_subscribers = 1;               // wait for this many matched readers before publishing
+  int wait_subscribers = 1;               // wait for this many matched readers (any) before publishing
+  std::vector<std::string> wait_for;      // and for readers of these participants ("causal-estimator[:N]"),
+                                          // before publishing and whenever they go away (a restarted estimator)
   double wait_timeout_s = 30.0;
   double progress_every_s = 5.0;
 };

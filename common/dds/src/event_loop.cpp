@@ -2,6 +2,8 @@
 
 #include <fastdds/dds/core/condition/StatusCondition.hpp>
 
+#include <thread>
+
 namespace causal::dds {
 
 EventLoop::EventLoop() { waitset_.attach_condition(guard_); }
@@ -30,6 +32,55 @@ bool EventLoop::wait(std::chrono::milliseconds timeout) {
 void EventLoop::stop() {
   stopped_.store(true);
   guard_.set_trigger_value(true);
+}
+
+RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()>& poll,
+                      const std::function<std::size_t()>& sources) {
+  using Clock = std::chrono::steady_clock;
+  const auto started = Clock::now();
+  // Watchdog: max-runtime must hold even when the loop thread is stuck in a blocking write.
+  std::mutex mutex;
+  std::condition_variable done_cv;
+  bool done = false;
+  std::atomic<bool> expired{false};
+  std::thread watchdog;
+  if (limits.max_runtime_s > 0) {
+    const auto deadline = started + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(limits.max_runtime_s));
+    watchdog = std::thread([&] {
+      std::unique_lock<std::mutex> lock(mutex);
+      if (!done_cv.wait_until(lock, deadline, [&] { return done; })) {
+        expired.store(true);
+        stop();
+      }
+    });
+  }
+  auto last_data = started;
+  bool any_data = false;
+  RunEnd end = RunEnd::Stopped;
+  while (wait(std::chrono::milliseconds(200))) {
+    const std::size_t n = poll();
+    const auto now = Clock::now();
+    if (n > 0) {
+      last_data = now;
+      any_data = true;
+    }
+    if (limits.idle_exit_s > 0 && any_data && sources() == 0 &&
+        std::chrono::duration<double>(now - last_data).count() > limits.idle_exit_s) {
+      end = RunEnd::Idle;
+      break;
+    }
+  }
+  if (watchdog.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      done = true;
+    }
+    done_cv.notify_all();
+    watchdog.join();
+  }
+  if (end != RunEnd::Idle && expired.load()) end = RunEnd::MaxRuntime;
+  return end;
 }
 
 }  // namespace causal::dds

@@ -10,6 +10,7 @@ void to_frame(const FrameHeader& header, const Eigen::Ref<const Eigen::MatrixXd>
   frame.asset_group(header.asset_group);
   frame.sequence_number(header.sequence);
   frame.first_sample_index(header.first_sample_index);
+  frame.snapshot_index(header.snapshot_index);
   frame.first_sample_time_ns(header.first_sample_time_ns);
   frame.sample_rate_hz(header.sample_rate_hz);
   frame.channel_names(header.channel_names);
@@ -63,9 +64,8 @@ std::string validate_condition_vector(const causal_twin::ConditionVector& in) {
     return "condition vector has " + std::to_string(in.values().size()) + " values for " +
            std::to_string(in.channel_names().size()) + " channels";
   }
-  for (double v : in.values()) {
-    if (!std::isfinite(v)) return "condition vector has a non-finite value";
-  }
+  // Non-finite values are not a malformed message: the estimator's input screen rejects them per channel
+  // (counted, a data-quality event), so one bad channel does not cost the others their snapshot.
   return {};
 }
 

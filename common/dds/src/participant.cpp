@@ -3,6 +3,8 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/log/Log.hpp>
+#include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
+#include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
 
 #include <stdexcept>
 
@@ -28,11 +30,15 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
                              "' is not defined in the loaded XML files");
   }
   if (!settings.participant_name.empty()) qos.name(settings.participant_name);
-  participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(settings.domain_id), qos);
+  directory_ = std::make_unique<ParticipantDirectory>();
+  // Discovery callbacks do not depend on the status mask; no other status is routed to this listener.
+  participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(settings.domain_id), qos,
+                                             directory_.get(), eprosima::fastdds::dds::StatusMask::none());
   if (participant_ == nullptr) {
     throw std::runtime_error("cannot create DDS participant on domain " + std::to_string(settings.domain_id) +
                              " from profile '" + settings.participant_profile + "'");
   }
+  directory_->set_local(participant_->guid().guidPrefix, qos.name().to_string());
   publisher_ = participant_->create_publisher(eprosima::fastdds::dds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(eprosima::fastdds::dds::SUBSCRIBER_QOS_DEFAULT);
   if (publisher_ == nullptr || subscriber_ == nullptr) {
@@ -40,6 +46,51 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
     factory->delete_participant(participant_);
     throw std::runtime_error("cannot create DDS publisher/subscriber");
   }
+}
+
+void ParticipantDirectory::on_participant_discovery(eprosima::fastdds::dds::DomainParticipant*,
+                                                    eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
+  using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto& prefix = info.info.m_guid.guidPrefix;
+  if (info.status == Status::DISCOVERED_PARTICIPANT || info.status == Status::CHANGED_QOS_PARTICIPANT) {
+    names_[prefix] = info.info.m_participantName.to_string();
+  } else {
+    names_.erase(prefix);  // REMOVED_PARTICIPANT, DROPPED_PARTICIPANT (lease expired), IGNORED_PARTICIPANT
+  }
+}
+
+void ParticipantDirectory::on_subscriber_discovery(eprosima::fastdds::dds::DomainParticipant*,
+                                                   eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) {
+  using Status = eprosima::fastrtps::rtps::ReaderDiscoveryInfo;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (info.status == Status::REMOVED_READER) {
+    readers_.erase(info.info.guid());
+  } else {
+    readers_[info.info.guid()] = info.info.topicName().to_string();
+  }
+}
+
+std::size_t ParticipantDirectory::readers_named(const std::string& topic, const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& [guid, t] : readers_) {
+    if (t != topic) continue;
+    const auto it = names_.find(guid.guidPrefix);  // a dropped participant (lease expired) no longer counts
+    if (it != names_.end() && it->second == name) ++n;
+  }
+  return n;
+}
+
+std::string ParticipantDirectory::name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = names_.find(prefix);
+  return it == names_.end() ? std::string() : it->second;
+}
+
+void ParticipantDirectory::set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  names_[prefix] = name;
 }
 
 Participant::~Participant() {

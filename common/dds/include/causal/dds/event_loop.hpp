@@ -9,9 +9,21 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <functional>
+#include <mutex>
 #include <vector>
 
 namespace causal::dds {
+
+// When a service's run loop ends by itself (0 = never).
+struct RunLimits {
+  double idle_exit_s = 0.0;    // once data has arrived, every source has left and nothing came for this long
+  double max_runtime_s = 0.0;  // hard stop, honoured even while a write is blocked
+};
+
+enum class RunEnd { Stopped, Idle, MaxRuntime };
 
 class EventLoop {
  public:
@@ -25,6 +37,13 @@ class EventLoop {
   bool wait(std::chrono::milliseconds timeout);
   void stop();
   bool stopped() const { return stopped_.load(); }
+
+  // The run loop every service shares: waits for data, calls poll() (returns how many items it handled), and
+  // ends when stop() is called (a signal), when limits.max_runtime_s passes (a watchdog calls stop(), so a
+  // write that is blocked on a slow reader is abandoned too), or when idle: data has arrived, sources()
+  // (matched upstream writers) is 0 and nothing arrived for limits.idle_exit_s.
+  RunEnd run(const RunLimits& limits, const std::function<std::size_t()>& poll,
+             const std::function<std::size_t()>& sources);
   const std::atomic<bool>& stop_flag() const { return stopped_; }
 
  private:

@@ -16,6 +16,7 @@ struct FrameHeader {
   std::string asset_group;
   std::uint64_t sequence = 0;
   std::uint64_t first_sample_index = 0;
+  std::uint64_t snapshot_index = 0;  // the source's snapshot (segment) number
   std::int64_t first_sample_time_ns = 0;
   double sample_rate_hz = 0.0;
   std::vector<std::string> channel_names;
@@ -50,7 +51,8 @@ struct ConditionHeader {
 
 void to_condition_vector(const ConditionHeader& header, const Eigen::Ref<const Eigen::VectorXd>& values,
                          causal_twin::ConditionVector& out);
-// Empty string when valid (values.size() == channel_names.size() >= 1, all finite).
+// Empty string when the shape is valid (values.size() == channel_names.size() >= 1). Values may be non-finite:
+// the consumer screens them per channel.
 std::string validate_condition_vector(const causal_twin::ConditionVector& in);
 Eigen::VectorXd values_of(const causal_twin::ConditionVector& in);
 

@@ -8,12 +8,37 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/rtps/common/Guid.h>
+
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
 namespace causal::dds {
+
+// Names of the remote participants this one has discovered (by GUID prefix), kept current by discovery:
+// lets a writer wait for a NAMED reader ("causal-estimator") instead of any reader.
+class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantListener {
+ public:
+  void on_participant_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
+                                eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
+  void on_subscriber_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
+                               eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override;
+  // Name of the participant with this GUID prefix ("" when unknown).
+  std::string name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
+  void set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name);
+  // Remote readers of `topic` whose participant is named `name` and is alive (Fast DDS 2.9 does not
+  // implement DataWriter::get_matched_subscriptions, so readers are tracked from discovery).
+  std::size_t readers_named(const std::string& topic, const std::string& name) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> names_;
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::string> readers_;  // reader -> topic
+};
 
 struct DdsSettings {
   std::vector<std::string> profile_files;   // XML files loaded in order (QoS file, transport file)
@@ -41,13 +66,15 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
   int domain_id() const { return domain_id_; }
+  const ParticipantDirectory& directory() const { return *directory_; }
 
  private:
   eprosima::fastdds::dds::Topic* topic_for(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
 
-  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;  // deleted in ~Participant, before directory_
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  std::unique_ptr<ParticipantDirectory> directory_;  // the listener: ~Participant deletes participant_ first
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
   std::mutex mutex_;
   int domain_id_ = 0;

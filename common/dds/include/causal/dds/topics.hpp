@@ -4,7 +4,8 @@
 namespace causal::dds::topics {
 
 inline constexpr const char* kVibrationFrame = "causal_twin/vibration_frame";
-inline constexpr const char* kConditionVector = "causal_twin/condition_vector";
+inline constexpr const char* kConditionVector = "causal_twin/condition_vector";  // estimator output
+inline constexpr const char* kConditionInput = "causal_twin/condition_input";    // ready-made, to the estimator
 inline constexpr const char* kCausalFactors = "causal_twin/causal_factors";
 inline constexpr const char* kAlarm = "causal_twin/alarm";
 inline constexpr const char* kRecommendation = "causal_twin/recommendation";
@@ -20,6 +21,8 @@ inline constexpr const char* kVibrationFrameWriter = "vibration_frame_writer";
 inline constexpr const char* kVibrationFrameReader = "vibration_frame_reader";
 inline constexpr const char* kConditionVectorWriter = "condition_vector_writer";
 inline constexpr const char* kConditionVectorReader = "condition_vector_reader";
+inline constexpr const char* kConditionInputWriter = "condition_input_writer";
+inline constexpr const char* kConditionInputReader = "condition_input_reader";
 inline constexpr const char* kCausalFactorsWriter = "causal_factors_writer";
 inline constexpr const char* kCausalFactorsReader = "causal_factors_reader";
 inline constexpr const char* kAlarmWriter = "alarm_writer";

@@ -7,12 +7,15 @@
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace causal::dds {
 
@@ -71,6 +74,27 @@ class TypedWriter {
     return true;
   }
 
+  // Readers of this writer's topic in participants named `name` (the services name their participants after
+  // themselves: "causal-estimator", "alarm-recommender", ...), as discovery knows them; capped by the number
+  // of matched readers, so a reader that is discovered but not (yet) matched does not count.
+  std::size_t matched_readers_named(const std::string& name) const {
+    const std::size_t named = participant_.directory().readers_named(writer_->get_topic()->get_name(), name);
+    return std::min(named, matched_readers());
+  }
+
+  // Waits (bounded) until at least `count` readers of participants named `name` are matched. A reader of any
+  // other participant (a recorder, a test observer) does not count: data must not start flowing before the
+  // consumer that needs it is there. Returns false on timeout or stop.
+  bool wait_for_named_readers(const std::string& name, std::size_t count, std::chrono::milliseconds timeout,
+                              const std::atomic<bool>& stop) const {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (matched_readers_named(name) < count) {
+      if (stop.load() || std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return true;
+  }
+
   // Blocks until every matched reader acknowledged every sample (or timeout): call before exiting.
   bool wait_for_acknowledgments(std::chrono::milliseconds timeout) {
     const auto secs = std::chrono::duration_cast<std::chrono::seconds>(timeout);
@@ -88,6 +112,42 @@ class TypedWriter {
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
   int last_error_ = 0;
 };
+
+// "NAME" or "NAME:COUNT": wait for COUNT (default 1) matched readers of participants named NAME.
+struct NamedReaders {
+  std::string name;
+  std::size_t count = 1;
+};
+
+inline NamedReaders parse_named_readers(const std::string& spec) {
+  NamedReaders r;
+  const auto colon = spec.rfind(':');
+  r.name = spec.substr(0, colon);
+  if (colon != std::string::npos) {
+    const std::string n = spec.substr(colon + 1);
+    if (n.empty() || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) == 0) {
+      throw std::invalid_argument("'" + spec + "': expected NAME or NAME:COUNT with COUNT >= 1");
+    }
+    r.count = std::stoul(n);
+  }
+  if (r.name.empty()) throw std::invalid_argument("'" + spec + "': empty participant name");
+  return r;
+}
+
+// Waits (bounded, total) until every named reader set is matched on `writer`. Returns the first that is not
+// (empty name when all are there).
+template <typename Writer>
+std::string wait_for_named_readers(const Writer& writer, const std::vector<NamedReaders>& wanted,
+                                   std::chrono::milliseconds timeout, const std::atomic<bool>& stop) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (const auto& w : wanted) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (!writer.wait_for_named_readers(w.name, w.count, std::max(left, std::chrono::milliseconds(0)), stop)) {
+      return w.name;
+    }
+  }
+  return {};
+}
 
 template <typename PubSubType>
 class TypedReader {
@@ -127,6 +187,19 @@ class TypedReader {
     eprosima::fastdds::dds::SubscriptionMatchedStatus status;
     reader_->get_subscription_matched_status(status);
     return static_cast<std::size_t>(status.current_count);
+  }
+
+  // Samples DDS could not deliver to this reader: rejected (resource limits) and lost (never received, e.g.
+  // evicted by a writer before this reader got them). Cumulative; services report them, never ignore them.
+  std::uint64_t rejected_samples() const {
+    eprosima::fastdds::dds::SampleRejectedStatus status;
+    reader_->get_sample_rejected_status(status);
+    return static_cast<std::uint64_t>(status.total_count);
+  }
+  std::uint64_t lost_samples() const {
+    eprosima::fastdds::dds::SampleLostStatus status;
+    reader_->get_sample_lost_status(status);
+    return static_cast<std::uint64_t>(status.total_count);
   }
 
   eprosima::fastdds::dds::DataReader* get() const { return reader_; }

@@ -1,0 +1,75 @@
+// A bounded queue between a service's processing loop and its DDS writers, drained by its own thread, so the
+// processing (the Kalman filters) never waits on the bus: a reliable writer blocks while a reader is behind
+// (until the reader catches up or its lease expires), and that wait happens here, not in the filter loop.
+//
+// Overflow policy (stated in README "Delivery contract"):
+//  * items are Essential (condition vectors, condition-level factors, alarms) or Droppable (sample-level
+//    factor vectors, a high-rate diagnostic stream);
+//  * when the queue holds `capacity` items and another arrives, the OLDEST Droppable item is dropped and
+//    counted per stream;
+//  * Essential items are never dropped: when the queue is full of them, push() waits until there is room
+//    (the service then stops taking input, so back-pressure reaches the source) or the stop flag is set;
+//  * an item whose write fails (the writer gave up, or a DDS error) is counted as failed per stream.
+// Every count is visible through counters() and ends up in the service's exit summary.
+#pragma once
+
+#include "causal/dds/typed_endpoints.hpp"
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace causal::dds {
+
+class OutboundQueue {
+ public:
+  enum class Class { Essential, Droppable };
+  // Writes one message; returns the writer's result. Runs on the drain thread.
+  using WriteFn = std::function<WriteResult(const std::atomic<bool>& stop)>;
+
+  struct StreamCounters {
+    std::uint64_t queued = 0, written = 0, dropped = 0, failed = 0;
+  };
+
+  explicit OutboundQueue(std::size_t capacity);
+  ~OutboundQueue();  // stops the drain thread; call drain() first to deliver what is queued
+  OutboundQueue(const OutboundQueue&) = delete;
+  OutboundQueue& operator=(const OutboundQueue&) = delete;
+
+  // Queues one write. `stream` names what is counted (e.g. "causal_factors/sample"). Returns false when the
+  // item could not be queued because `stop` was set while waiting for room (counted as failed).
+  bool push(const std::string& stream, Class cls, WriteFn write, const std::atomic<bool>& stop);
+
+  // Waits until everything queued has been written (or failed), or `timeout` passes. True when empty.
+  bool drain(std::chrono::milliseconds timeout);
+
+  std::size_t size() const;
+  std::size_t high_water() const;
+  std::map<std::string, StreamCounters> counters() const;
+
+ private:
+  struct Item {
+    std::string stream;
+    Class cls;
+    WriteFn write;
+  };
+  void run();
+
+  const std::size_t capacity_;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<Item> items_;
+  std::size_t in_flight_ = 0;
+  std::size_t high_water_ = 0;
+  std::map<std::string, StreamCounters> counters_;
+  std::atomic<bool> closing_{false};
+  std::thread thread_;
+};
+
+}  // namespace causal::dds
