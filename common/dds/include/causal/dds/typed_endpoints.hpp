@@ -5,11 +5,14 @@
 
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/core/status/SampleRejectedStatus.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -38,11 +41,15 @@ class TypedWriter {
   TypedWriter(const TypedWriter&) = delete;
   TypedWriter& operator=(const TypedWriter&) = delete;
 
-  // Writes one sample. A reliable KEEP_ALL writer blocks while readers are behind; it retries until the
-  // sample is accepted, `stop` is set, or `give_up_after` passes, so a slow reader never loses data silently.
-  WriteResult write(Sample& sample, const std::atomic<bool>& stop,
-                    std::chrono::milliseconds give_up_after = std::chrono::seconds(60)) {
-    const auto deadline = std::chrono::steady_clock::now() + give_up_after;
+  // Writes one sample. A reliable KEEP_ALL writer blocks (up to the profile's max_blocking_time) while readers
+  // are behind, and fails at once when a resource limit is reached (e.g. max_instances); either way it retries,
+  // backing off (1 ms doubling to 20 ms, never a busy loop), until the sample is accepted, `stop` is set, or
+  // `deadline` passes, so a slow reader never loses data silently and a stop or deadline is seen within
+  // max_blocking_time + 20 ms. After a stop, a writer that could not deliver does not block again: later
+  // writes while `stop` is set return Stopped at once, so a shutdown that flushes many messages stays bounded.
+  WriteResult write_until(Sample& sample, const std::atomic<bool>& stop, std::chrono::steady_clock::time_point deadline) {
+    if (stop.load() && blocked_after_stop_) return WriteResult::Stopped;
+    auto backoff = std::chrono::milliseconds(1);
     while (true) {
       const ReturnCode_t rc = writer_->write(&sample, eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
       if (rc == ReturnCode_t::RETCODE_OK) return WriteResult::Ok;
@@ -50,9 +57,22 @@ class TypedWriter {
         last_error_ = rc();
         return WriteResult::Error;
       }
-      if (stop.load()) return WriteResult::Stopped;
-      if (std::chrono::steady_clock::now() >= deadline) return WriteResult::TimedOut;
+      last_error_ = rc();
+      ++retries_;
+      if (stop.load()) {
+        blocked_after_stop_ = true;
+        return WriteResult::Stopped;
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (now >= deadline) return WriteResult::TimedOut;
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(backoff, deadline - now));
+      backoff = std::min(backoff * 2, std::chrono::milliseconds(20));
     }
+  }
+
+  WriteResult write(Sample& sample, const std::atomic<bool>& stop,
+                    std::chrono::milliseconds give_up_after = std::chrono::seconds(60)) {
+    return write_until(sample, stop, std::chrono::steady_clock::now() + give_up_after);
   }
 
   std::size_t matched_readers() const {
@@ -80,14 +100,27 @@ class TypedWriter {
   }
 
   eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
-  // DDS return code of the last failed write (ReturnCode_t value), for diagnostics.
+  // DDS return code of the last failed write attempt (ReturnCode_t value), for diagnostics.
   int last_error() const { return last_error_; }
+  // Write attempts the writer refused (full history, resource limits) and that were retried or given up.
+  std::uint64_t retries() const { return retries_; }
 
  private:
   Participant& participant_;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
   int last_error_ = 0;
+  std::uint64_t retries_ = 0;
+  bool blocked_after_stop_ = false;
 };
+
+inline const char* to_string(eprosima::fastdds::dds::SampleRejectedStatusKind reason) {
+  switch (reason) {
+    case eprosima::fastdds::dds::REJECTED_BY_INSTANCES_LIMIT: return "max_instances reached";
+    case eprosima::fastdds::dds::REJECTED_BY_SAMPLES_LIMIT: return "max_samples reached";
+    case eprosima::fastdds::dds::REJECTED_BY_SAMPLES_PER_INSTANCE_LIMIT: return "max_samples_per_instance reached";
+    default: return "not rejected";
+  }
+}
 
 template <typename PubSubType>
 class TypedReader {
@@ -109,18 +142,37 @@ class TypedReader {
   TypedReader& operator=(const TypedReader&) = delete;
 
   // Takes every available valid sample and hands it to fn(const Sample&, const SampleInfo&).
-  // Returns how many were taken.
+  // Returns how many were taken. With `stop`, it returns as soon as stop is set (the rest stays queued), so a
+  // reader that is flooded never delays a shutdown.
   template <typename Fn>
-  std::size_t take_all(Fn&& fn) {
+  std::size_t take_all(Fn&& fn, const std::atomic<bool>* stop = nullptr) {
     std::size_t taken = 0;
     eprosima::fastdds::dds::SampleInfo info;
-    while (reader_->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
+    while ((stop == nullptr || !stop->load()) && reader_->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
       if (info.valid_data) {
         fn(static_cast<const Sample&>(sample_), static_cast<const eprosima::fastdds::dds::SampleInfo&>(info));
         ++taken;
       }
     }
     return taken;
+  }
+  template <typename Fn>
+  std::size_t take_all(Fn&& fn, const std::atomic<bool>& stop) {
+    return take_all(std::forward<Fn>(fn), &stop);
+  }
+
+  // Samples the reader's resource limits (max_instances, max_samples, max_samples_per_instance) refused.
+  // A reliable writer resends a sample refused for lack of room once the reader has taken others; a sample
+  // of an instance beyond max_instances has no room at all. Either way it must be visible, never silent.
+  struct Rejections {
+    std::uint64_t total = 0;             // since the reader was created
+    std::uint64_t since_last_call = 0;
+    eprosima::fastdds::dds::SampleRejectedStatusKind last_reason = eprosima::fastdds::dds::NOT_REJECTED;
+  };
+  Rejections rejections() {
+    eprosima::fastdds::dds::SampleRejectedStatus status;
+    reader_->get_sample_rejected_status(status);
+    return {status.total_count, status.total_count_change, status.last_reason};
   }
 
   std::size_t matched_writers() const {
