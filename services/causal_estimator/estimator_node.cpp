@@ -1,6 +1,7 @@
 #include "estimator_node.hpp"
 
 #include "causal/dds/frame_conversions.hpp"
+#include "causal/dds/stop_timer.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/io/time_format.hpp"
 
@@ -61,16 +62,23 @@ int EstimatorNode::run() {
       return 3;
     }
   }
+  // --max-runtime must hold even while a write blocks on a slow reader: the timer raises the stop flag that
+  // every write and take checks, exactly as SIGTERM does.
+  const dds::StopTimer runtime_limit(options_.max_runtime_s, [this] {
+    spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
+    loop_.stop();
+  });
   const auto started = Clock::now();
   auto last_data = started;
   bool any_data = false;
   while (loop_.wait(std::chrono::milliseconds(200))) {
-    const std::size_t n = frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }) +
+    const std::size_t n = frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }, loop_.stop_flag()) +
                           conditions_in_.take_all([this](const auto& c, const auto& info) {
                             // Our own condition vectors come back to us through the shared topic: skip them.
                             if (info.sample_identity.writer_guid() == conditions_out_.get()->guid()) return;
                             on_condition(c);
-                          });
+                          }, loop_.stop_flag());
+    report_rejections();
     const auto now = Clock::now();
     if (n > 0) {
       last_data = now;
@@ -82,10 +90,6 @@ int EstimatorNode::run() {
     if (options_.idle_exit_s > 0 && any_data && sources == 0 &&
         std::chrono::duration<double>(now - last_data).count() > options_.idle_exit_s) {
       spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
-      break;
-    }
-    if (options_.max_runtime_s > 0 && std::chrono::duration<double>(now - started).count() > options_.max_runtime_s) {
-      spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
       break;
     }
   }
@@ -212,7 +216,11 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
                                  a.channel_names};
     for (const auto& r : reports) {
       dds::to_causal_factors(ctx, r, factor_msg_);
-      if (factors_.write(factor_msg_, stop) == dds::WriteResult::Ok) ++counter;
+      if (factors_.write(factor_msg_, stop) == dds::WriteResult::Ok) {
+        ++counter;
+      } else {
+        ++unpublished_msgs_;
+      }
       if (scale == causal_twin::CONDITION_LEVEL) log_condition_report(name, a, r);
     }
   };
@@ -231,7 +239,23 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
   }
 }
 
+void EstimatorNode::report_rejections() {
+  const auto frames = frames_.rejections();
+  const auto conditions = conditions_in_.rejections();
+  rejected_msgs_ = frames.total + conditions.total;
+  if (frames.since_last_call > 0) {
+    spdlog::warn("{} frames rejected by the reader's resource limits ({} in all; last: {}): see deploy/dds/qos.xml",
+                 frames.since_last_call, frames.total, dds::to_string(frames.last_reason));
+  }
+  if (conditions.since_last_call > 0) {
+    spdlog::warn("{} condition vectors rejected by the reader's resource limits ({} in all; last: {})",
+                 conditions.since_last_call, conditions.total, dds::to_string(conditions.last_reason));
+  }
+}
+
 void EstimatorNode::finish_all() {
+  report_rejections();
+  std::uint64_t frames = 0, lost = 0, refused = 0, published = 0;
   for (auto& [name, a] : assets_) {
     out_.clear();
     a.pipeline.finish(out_);
@@ -241,13 +265,23 @@ void EstimatorNode::finish_all() {
                  "condition-level factor messages out, {} non-finite samples rejected",
                  name, a.frames, a.lost_frames, a.refused_frames, a.conditions_in, a.sample_msgs, a.condition_msgs,
                  s ? s->counters().rejected_non_finite : 0);
+    frames += a.frames;
+    lost += a.lost_frames;
+    refused += a.refused_frames;
+    published += a.sample_msgs + a.condition_msgs;
   }
+  // One machine-readable line (tests and operators compare it with what the sources sent).
+  spdlog::info("causal-estimator: received frames={} groups={} lost={} refused={} rejected={} published factors={} "
+               "unpublished={}",
+               frames, assets_.size(), lost, refused + invalid_msgs_, rejected_msgs_, published, unpublished_msgs_);
   if (foreign_frames_ > 0) spdlog::info("{} frames of other shards ignored", foreign_frames_);
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
-  if (!factors_.wait_for_acknowledgments(std::chrono::seconds(10))) {
-    spdlog::warn("not every factor message was acknowledged within 10 s");
+  // After a stop (signal, max runtime) the readers may be leaving too: wait briefly, so shutdown stays bounded.
+  const auto ack_wait = loop_.stopped() ? std::chrono::seconds(1) : std::chrono::seconds(10);
+  if (!factors_.wait_for_acknowledgments(ack_wait)) {
+    spdlog::warn("not every factor message was acknowledged within {} s", ack_wait.count());
   }
-  conditions_out_.wait_for_acknowledgments(std::chrono::seconds(10));
+  conditions_out_.wait_for_acknowledgments(ack_wait);
 }
 
 }  // namespace causal::estimator

@@ -60,6 +60,7 @@ class EstimatorNode {
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
   void finish_all();
+  void report_rejections();  // warns when the readers' resource limits refused samples
 
   EstimatorOptions options_;
   pipeline::AssetPipelineParams params_;
@@ -74,6 +75,7 @@ class EstimatorNode {
   causal_twin::CausalFactors factor_msg_;
   causal_twin::ConditionVector condition_msg_;
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
+  std::uint64_t rejected_msgs_ = 0, unpublished_msgs_ = 0;  // refused by our readers' limits; writes given up
 };
 
 }  // namespace causal::estimator
