@@ -242,15 +242,21 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
 void EstimatorNode::report_rejections() {
   const auto frames = frames_.rejections();
   const auto conditions = conditions_in_.rejections();
-  rejected_msgs_ = frames.total + conditions.total;
-  if (frames.since_last_call > 0) {
-    spdlog::warn("{} frames rejected by the reader's resource limits ({} in all; last: {}): see deploy/dds/qos.xml",
-                 frames.since_last_call, frames.total, dds::to_string(frames.last_reason));
+  const std::uint64_t no_instance = frames.instances_limit + conditions.instances_limit;
+  const std::uint64_t no_room = frames.no_room + conditions.no_room;
+  if (no_instance > rejected_no_instance_) {
+    spdlog::error("{} frames/condition vectors of asset groups beyond the reader's max_instances refused ({} in all): "
+                  "those asset groups are not served; raise max_instances in deploy/dds/qos.xml",
+                  no_instance - rejected_no_instance_, no_instance);
   }
-  if (conditions.since_last_call > 0) {
-    spdlog::warn("{} condition vectors rejected by the reader's resource limits ({} in all; last: {})",
-                 conditions.since_last_call, conditions.total, dds::to_string(conditions.last_reason));
+  if (no_room > rejected_no_room_) {
+    // Back-pressure, not loss: said once at info, then at debug.
+    spdlog::log(rejected_no_room_ == 0 ? spdlog::level::info : spdlog::level::debug,
+                "{} samples refused for lack of room in the reader's history ({} in all); reliable writers resend them",
+                no_room - rejected_no_room_, no_room);
   }
+  rejected_no_instance_ = no_instance;
+  rejected_no_room_ = no_room;
 }
 
 void EstimatorNode::finish_all() {
@@ -271,9 +277,10 @@ void EstimatorNode::finish_all() {
     published += a.sample_msgs + a.condition_msgs;
   }
   // One machine-readable line (tests and operators compare it with what the sources sent).
-  spdlog::info("causal-estimator: received frames={} groups={} lost={} refused={} rejected={} published factors={} "
-               "unpublished={}",
-               frames, assets_.size(), lost, refused + invalid_msgs_, rejected_msgs_, published, unpublished_msgs_);
+  spdlog::info("causal-estimator: received frames={} groups={} lost={} refused={} rejected_instances={} "
+               "rejected_no_room={} published factors={} unpublished={}",
+               frames, assets_.size(), lost, refused + invalid_msgs_, rejected_no_instance_, rejected_no_room_, published,
+               unpublished_msgs_);
   if (foreign_frames_ > 0) spdlog::info("{} frames of other shards ignored", foreign_frames_);
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
   // After a stop (signal, max runtime) the readers may be leaving too: wait briefly, so shutdown stays bounded.

@@ -60,7 +60,7 @@ class EstimatorNode {
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
   void finish_all();
-  void report_rejections();  // warns when the readers' resource limits refused samples
+  void report_rejections();  // logs samples the readers' resource limits refused
 
   EstimatorOptions options_;
   pipeline::AssetPipelineParams params_;
@@ -75,7 +75,8 @@ class EstimatorNode {
   causal_twin::CausalFactors factor_msg_;
   causal_twin::ConditionVector condition_msg_;
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
-  std::uint64_t rejected_msgs_ = 0, unpublished_msgs_ = 0;  // refused by our readers' limits; writes given up
+  std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits
+  std::uint64_t unpublished_msgs_ = 0;                             // factor writes given up
 };
 
 }  // namespace causal::estimator

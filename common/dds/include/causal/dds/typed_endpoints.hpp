@@ -5,7 +5,7 @@
 
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
-#include <fastdds/dds/core/status/SampleRejectedStatus.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include <algorithm>
@@ -113,15 +113,6 @@ class TypedWriter {
   bool blocked_after_stop_ = false;
 };
 
-inline const char* to_string(eprosima::fastdds::dds::SampleRejectedStatusKind reason) {
-  switch (reason) {
-    case eprosima::fastdds::dds::REJECTED_BY_INSTANCES_LIMIT: return "max_instances reached";
-    case eprosima::fastdds::dds::REJECTED_BY_SAMPLES_LIMIT: return "max_samples reached";
-    case eprosima::fastdds::dds::REJECTED_BY_SAMPLES_PER_INSTANCE_LIMIT: return "max_samples_per_instance reached";
-    default: return "not rejected";
-  }
-}
-
 template <typename PubSubType>
 class TypedReader {
  public:
@@ -130,7 +121,8 @@ class TypedReader {
   TypedReader(Participant& participant, const std::string& topic_name, const std::string& profile)
       : participant_(participant) {
     auto* topic = participant.topic<PubSubType>(topic_name);
-    reader_ = participant.subscriber()->create_datareader_with_profile(topic, profile);
+    reader_ = participant.subscriber()->create_datareader_with_profile(
+        topic, profile, &rejections_, eprosima::fastdds::dds::StatusMask::sample_rejected());
     if (reader_ == nullptr) {
       throw std::runtime_error("cannot create DataReader for '" + topic_name + "' from QoS profile '" + profile +
                                "' (is the QoS XML loaded?)");
@@ -161,19 +153,17 @@ class TypedReader {
     return take_all(std::forward<Fn>(fn), &stop);
   }
 
-  // Samples the reader's resource limits (max_instances, max_samples, max_samples_per_instance) refused.
-  // A reliable writer resends a sample refused for lack of room once the reader has taken others; a sample
-  // of an instance beyond max_instances has no room at all. Either way it must be visible, never silent.
+  // Samples the reader's resource limits refused (sample_rejected status, counted per sample by a listener),
+  // so a refusal is never silent. For lack of room (max_samples, max_samples_per_instance; Fast DDS also counts
+  // the writer's samples still missing before it against the per-instance room, so many interleaved instances
+  // and a retransmission can trigger it) a reliable writer resends the sample later: nothing is lost, but
+  // throughput suffers. A sample of an instance beyond max_instances has no room at all.
   struct Rejections {
-    std::uint64_t total = 0;             // since the reader was created
-    std::uint64_t since_last_call = 0;
-    eprosima::fastdds::dds::SampleRejectedStatusKind last_reason = eprosima::fastdds::dds::NOT_REJECTED;
+    std::uint64_t instances_limit = 0;  // REJECTED_BY_INSTANCES_LIMIT: that instance is not served
+    std::uint64_t no_room = 0;          // REJECTED_BY_SAMPLES_LIMIT / _PER_INSTANCE_LIMIT: resent by reliable writers
+    std::uint64_t total() const { return instances_limit + no_room; }
   };
-  Rejections rejections() {
-    eprosima::fastdds::dds::SampleRejectedStatus status;
-    reader_->get_sample_rejected_status(status);
-    return {status.total_count, status.total_count_change, status.last_reason};
-  }
+  Rejections rejections() const { return {rejections_.instances_limit.load(), rejections_.no_room.load()}; }
 
   std::size_t matched_writers() const {
     eprosima::fastdds::dds::SubscriptionMatchedStatus status;
@@ -184,7 +174,21 @@ class TypedReader {
   eprosima::fastdds::dds::DataReader* get() const { return reader_; }
 
  private:
+  // Called by Fast DDS once per refused sample, on its receive thread.
+  struct RejectionCounter : eprosima::fastdds::dds::DataReaderListener {
+    std::atomic<std::uint64_t> instances_limit{0}, no_room{0};
+    void on_sample_rejected(eprosima::fastdds::dds::DataReader*,
+                            const eprosima::fastdds::dds::SampleRejectedStatus& status) override {
+      if (status.last_reason == eprosima::fastdds::dds::REJECTED_BY_INSTANCES_LIMIT) {
+        ++instances_limit;
+      } else {
+        ++no_room;
+      }
+    }
+  };
+
   Participant& participant_;
+  RejectionCounter rejections_;  // outlives reader_ (deleted in the destructor body)
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
   Sample sample_;  // reused: frames are large, do not reallocate per take
 };
