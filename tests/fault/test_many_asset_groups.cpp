@@ -239,7 +239,7 @@ TEST(ManyAssetGroups, SigtermWhileBusyEndsEveryProcessWithinFiveSeconds) {
                      (work / "sim.log").string());
 
   // Busy: factor messages flowing, i.e. frames published, taken and processed, for a few rounds.
-  const std::size_t busy = std::size_t{kGroups} * kChannels * 3;
+  const std::size_t busy = std::size_t{kGroups} * kChannels * 10;
   const auto until = Clock::now() + std::chrono::seconds(60);
   while (counter.count() < busy && Clock::now() < until && sim.running() && estimator.running()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -277,6 +277,61 @@ TEST(ManyAssetGroups, SigtermWhileBusyEndsEveryProcessWithinFiveSeconds) {
   EXPECT_EQ(got.rejected_instances, 0u);
   EXPECT_EQ(got.unpublished, 0u);
   EXPECT_EQ(counter.settle(std::chrono::milliseconds(500), std::chrono::seconds(5)), got.published);
+
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}
+
+// The estimator's factor writer may serve only 8 instances (a QoS copy with max_instances 8): the ninth
+// instance's write is refused at once, every time. The estimator must neither spin (CPU) nor outlive
+// --max-runtime, and must say what it could not publish. One frame per group (a keyed reader hands samples
+// out instance by instance, so with more the count would depend on timing). Expected from the limit alone:
+// 8 instances = the 4 outcomes of 2 groups' frames; the third frame taken is processed, its 4 messages are not
+// published, and the estimator stops there.
+TEST(ManyAssetGroups, EstimatorHonoursMaxRuntimeWhileItsWritesAreRefused) {
+  constexpr int kFactorInstances = 8;
+  constexpr double kMaxRuntime = 4.0;
+  const fs::path work = work_dir("blocked");
+  const std::string d = std::to_string(fault_domain_id(3));
+  std::ifstream in(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml");
+  std::string qos((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::regex writer_limits(R"((profile_name="causal_factors_writer">\s*<topic>\s*<historyQos>.*?</historyQos>\s*)<resourceLimitsQos>.*?</resourceLimitsQos>)");
+  ASSERT_TRUE(std::regex_search(qos, writer_limits)) << "causal_factors_writer profile not found";
+  qos = std::regex_replace(qos, writer_limits,
+                           "$1<resourceLimitsQos><max_samples>" + std::to_string(kFactorInstances * 16) +
+                               "</max_samples><max_instances>" + std::to_string(kFactorInstances) +
+                               "</max_instances><max_samples_per_instance>16</max_samples_per_instance></resourceLimitsQos>");
+  const std::string qos_file = (work / "qos_small_factor_writer.xml").string();
+  std::ofstream(qos_file) << qos;
+
+  const auto started = Clock::now();
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--dds-qos", qos_file, "--params",
+                            FAULT_ESTIMATOR_PARAMS, "--max-runtime", "4"},
+                           (work / "estimator.log").string());
+  ServiceProcess sim("sensor-sim",
+                     {SENSOR_SIM_BIN, "--domain", d, "--groups", "4", "--channels", std::to_string(kChannels),
+                      "--frames-per-group", "1", "--wait-subscribers", "1", "--max-runtime", "20"},
+                     (work / "sim.log").string());
+  std::this_thread::sleep_for(std::chrono::duration<double>(kMaxRuntime - 0.5));
+  const double cpu = cpu_seconds(estimator.pid());
+  std::printf("[ fault    ] causal-estimator CPU time in %.1f s with a refused write: %.2f s\n", kMaxRuntime - 0.5, cpu);
+  EXPECT_LT(cpu, 1.0) << "busy loop in a refused write";
+  const auto code = estimator.wait(std::chrono::seconds(6));
+  const double ended = std::chrono::duration<double>(Clock::now() - started).count();
+  ASSERT_TRUE(code.has_value()) << "causal-estimator outlived --max-runtime " << kMaxRuntime << " s by 6 s:\n"
+                                << estimator.output();
+  EXPECT_EQ(*code, 0) << estimator.output();
+  EXPECT_LT(ended, kMaxRuntime + 3.0);
+  const auto sim_code = sim.wait(std::chrono::seconds(20));
+  ASSERT_TRUE(sim_code.has_value()) << sim.output();
+  EXPECT_EQ(*sim_code, 0) << sim.output();
+
+  const EstimatorSummary got = parse_estimator(estimator.output());
+  ASSERT_TRUE(got.found) << estimator.output();
+  EXPECT_EQ(got.published, std::uint64_t{kFactorInstances});
+  EXPECT_EQ(got.frames, std::uint64_t{kFactorInstances / kChannels + 1});
+  EXPECT_EQ(got.unpublished, std::uint64_t{kChannels});
 
   if (!HasFailure()) fs::remove_all(work);
   causal::test::clean_stale_shared_memory();
