@@ -76,8 +76,10 @@ int RecommenderNode::run() {
   }
   recommendations_.wait_for_acknowledgments(std::chrono::seconds(10));
   spdlog::info("{} alarm messages and {} recommendations published", alarms_published_, recommendations_published_);
-  const std::uint64_t dds_lost = factors_.rejected_samples() + factors_.lost_samples() + conditions_.rejected_samples() +
-                                 conditions_.lost_samples();
+  // Samples refused for lack of room are resent by the reliable writers (back-pressure); refused instances and
+  // lost samples are not.
+  const std::uint64_t dds_lost = factors_.rejections().instances_limit + factors_.lost_samples() +
+                                 conditions_.rejections().instances_limit + conditions_.lost_samples();
   spdlog::info("summary topic=causal_twin/causal_factors received={} rejected={}", factors_received_, invalid_msgs_);
   spdlog::info("summary topic=causal_twin/condition_vector received={}", conditions_received_);
   spdlog::info("summary topic=causal_twin/alarm sent={}", alarms_published_);

@@ -8,10 +8,6 @@
 
 namespace causal::estimator {
 
-namespace {
-using Clock = std::chrono::steady_clock;
-}
-
 std::uint64_t shard_hash(const std::string& asset_group) {
   std::uint64_t h = 1469598103934665603ULL;
   for (unsigned char c : asset_group) {
@@ -70,8 +66,11 @@ int EstimatorNode::run() {
   const auto end = loop_.run(
       limits,
       [this] {
-        return frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }) +
-               conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); });
+        const std::size_t n =
+            frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }, loop_.stop_flag()) +
+            conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }, loop_.stop_flag());
+        report_rejections();
+        return n;
       },
       // Idle exit only once every source has left: a source that is merely blocked or paced must not end the run.
       [this] { return frames_.matched_writers() + conditions_in_.matched_writers(); });
@@ -227,53 +226,79 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
   }
 }
 
+void EstimatorNode::report_rejections() {
+  const auto frames = frames_.rejections();
+  const auto conditions = conditions_in_.rejections();
+  const std::uint64_t no_instance = frames.instances_limit + conditions.instances_limit;
+  const std::uint64_t no_room = frames.no_room + conditions.no_room;
+  if (no_instance > rejected_no_instance_) {
+    spdlog::error("{} frames/condition vectors of asset groups beyond the reader's max_instances refused ({} in all): "
+                  "those asset groups are not served; raise max_instances in deploy/dds/qos.xml",
+                  no_instance - rejected_no_instance_, no_instance);
+  }
+  if (no_room > rejected_no_room_) {
+    // Back-pressure, not loss: said once at info, then at debug.
+    spdlog::log(rejected_no_room_ == 0 ? spdlog::level::info : spdlog::level::debug,
+                "{} samples refused for lack of room in the reader's history ({} in all); reliable writers resend them",
+                no_room - rejected_no_room_, no_room);
+  }
+  rejected_no_instance_ = no_instance;
+  rejected_no_room_ = no_room;
+}
+
 int EstimatorNode::finish_all() {
+  report_rejections();
   for (auto& [name, a] : assets_) {
     out_.clear();
     a.pipeline.finish(out_);
     publish(name, a);
   }
-  // Deliver what is queued (bounded), then wait for the readers' acknowledgements.
-  if (!outbound_.drain(std::chrono::seconds(30))) {
-    spdlog::warn("{} messages still queued for DDS after 30 s: not delivered", outbound_.size());
+  // Deliver what is queued, then wait for the readers' acknowledgements. After a stop (signal, max runtime)
+  // the readers may be leaving too: wait briefly, so shutdown stays bounded.
+  const bool stopping = loop_.stopped();
+  const auto drain_wait = stopping ? std::chrono::seconds(2) : std::chrono::seconds(30);
+  if (!outbound_.drain(drain_wait)) {
+    spdlog::warn("{} messages still queued for DDS after {} s: not delivered", outbound_.size(), drain_wait.count());
   }
-  if (!factors_.wait_for_acknowledgments(std::chrono::seconds(10))) {
-    spdlog::warn("not every factor message was acknowledged within 10 s");
+  const auto ack_wait = stopping ? std::chrono::seconds(1) : std::chrono::seconds(10);
+  if (!factors_.wait_for_acknowledgments(ack_wait)) {
+    spdlog::warn("not every factor message was acknowledged within {} s", ack_wait.count());
   }
-  conditions_out_.wait_for_acknowledgments(std::chrono::seconds(10));
-  // The summary: one line per asset group and one per output stream, machine-readable (launch.sh reads them).
-  std::uint64_t lost_in = 0, refused_in = 0;
+  conditions_out_.wait_for_acknowledgments(ack_wait);
+
+  // The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).
+  std::uint64_t frames = 0, lost = 0, refused = 0, conditions_received = 0;
   for (const auto& [name, a] : assets_) {
     const auto* s = a.pipeline.sample_stream();
     spdlog::info("asset '{}': {} frames ({} lost, {} refused), {} condition vectors in, {} sample-level and {} "
                  "condition-level factor messages out, {} non-finite samples rejected",
                  name, a.frames, a.lost_frames, a.refused_frames, a.conditions_in, a.sample_msgs, a.condition_msgs,
                  s ? s->counters().rejected_non_finite : 0);
-    lost_in += a.lost_frames;
-    refused_in += a.refused_frames;
+    frames += a.frames;
+    lost += a.lost_frames;
+    refused += a.refused_frames;
+    conditions_received += a.conditions_in;
   }
   if (foreign_frames_ > 0) spdlog::info("{} frames of other shards ignored", foreign_frames_);
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
-  const std::uint64_t dds_rejected = frames_.rejected_samples() + conditions_in_.rejected_samples();
-  const std::uint64_t dds_lost = frames_.lost_samples() + conditions_in_.lost_samples();
-  std::uint64_t frames_received = 0, conditions_received = 0;
-  for (const auto& [name, a] : assets_) {
-    frames_received += a.frames + a.refused_frames;
-    conditions_received += a.conditions_in;
+  std::uint64_t published = 0, unpublished = 0;
+  const auto streams = outbound_.counters();
+  for (const auto& [stream, c] : streams) {
+    if (stream.rfind("causal_factors", 0) == 0) published += c.written;
+    unpublished += c.dropped + c.failed;
   }
-  spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} rejected={}", frames_received + foreign_frames_,
-               lost_in, refused_in + invalid_msgs_);
+  spdlog::info("causal-estimator: received frames={} groups={} lost={} refused={} rejected_instances={} "
+               "rejected_no_room={} published factors={} unpublished={}",
+               frames, assets_.size(), lost, refused + invalid_msgs_, rejected_no_instance_, rejected_no_room_, published,
+               unpublished);
+  spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={}", frames + refused, lost,
+               refused + invalid_msgs_ + rejected_no_instance_);
   spdlog::info("summary topic=causal_twin/condition_input received={}", conditions_received);
-  if (dds_rejected + dds_lost > 0) {
-    spdlog::warn("summary dds: {} input samples rejected by the readers' resource limits, {} lost", dds_rejected, dds_lost);
-  }
-  std::uint64_t out_lost = 0;
-  for (const auto& [stream, c] : outbound_.counters()) {
+  for (const auto& [stream, c] : streams) {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
-    out_lost += c.dropped + c.failed;
   }
   spdlog::info("outbound queue high-water mark: {} of {} messages", outbound_.high_water(), options_.outbound_capacity);
-  return (lost_in + refused_in + invalid_msgs_ + dds_rejected + dds_lost + out_lost) > 0 ? 4 : 0;
+  return (lost + refused + invalid_msgs_ + rejected_no_instance_ + unpublished) > 0 ? 4 : 0;
 }
 
 }  // namespace causal::estimator

@@ -67,6 +67,7 @@ class EstimatorNode {
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
   int finish_all();  // publishes what is left, drains, logs the summary; returns the exit code
+  void report_rejections();  // logs samples the readers' resource limits refused
 
   EstimatorOptions options_;
   pipeline::AssetPipelineParams params_;
@@ -80,7 +81,8 @@ class EstimatorNode {
   pipeline::PipelineOutput out_;
   causal_twin::CausalFactors factor_msg_;
   causal_twin::ConditionVector condition_msg_;
-  std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0, rejected_by_dds_ = 0;
+  std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
+  std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits
   dds::OutboundQueue outbound_;  // last: its drain thread stops before the writers are destroyed
 };
 

@@ -5,6 +5,7 @@
 
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include <algorithm>
@@ -41,11 +42,15 @@ class TypedWriter {
   TypedWriter(const TypedWriter&) = delete;
   TypedWriter& operator=(const TypedWriter&) = delete;
 
-  // Writes one sample. A reliable KEEP_ALL writer blocks while readers are behind; it retries until the
-  // sample is accepted, `stop` is set, or `give_up_after` passes, so a slow reader never loses data silently.
-  WriteResult write(Sample& sample, const std::atomic<bool>& stop,
-                    std::chrono::milliseconds give_up_after = std::chrono::seconds(60)) {
-    const auto deadline = std::chrono::steady_clock::now() + give_up_after;
+  // Writes one sample. A reliable KEEP_ALL writer blocks (up to the profile's max_blocking_time) while readers
+  // are behind, and fails at once when a resource limit is reached (e.g. max_instances); either way it retries,
+  // backing off (1 ms doubling to 20 ms, never a busy loop), until the sample is accepted, `stop` is set, or
+  // `deadline` passes, so a slow reader never loses data silently and a stop or deadline is seen within
+  // max_blocking_time + 20 ms. After a stop, a writer that could not deliver does not block again: later
+  // writes while `stop` is set return Stopped at once, so a shutdown that flushes many messages stays bounded.
+  WriteResult write_until(Sample& sample, const std::atomic<bool>& stop, std::chrono::steady_clock::time_point deadline) {
+    if (stop.load() && blocked_after_stop_) return WriteResult::Stopped;
+    auto backoff = std::chrono::milliseconds(1);
     while (true) {
       const ReturnCode_t rc = writer_->write(&sample, eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
       if (rc == ReturnCode_t::RETCODE_OK) return WriteResult::Ok;
@@ -53,9 +58,22 @@ class TypedWriter {
         last_error_ = rc();
         return WriteResult::Error;
       }
-      if (stop.load()) return WriteResult::Stopped;
-      if (std::chrono::steady_clock::now() >= deadline) return WriteResult::TimedOut;
+      last_error_ = rc();
+      ++retries_;
+      if (stop.load()) {
+        blocked_after_stop_ = true;
+        return WriteResult::Stopped;
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (now >= deadline) return WriteResult::TimedOut;
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(backoff, deadline - now));
+      backoff = std::min(backoff * 2, std::chrono::milliseconds(20));
     }
+  }
+
+  WriteResult write(Sample& sample, const std::atomic<bool>& stop,
+                    std::chrono::milliseconds give_up_after = std::chrono::seconds(60)) {
+    return write_until(sample, stop, std::chrono::steady_clock::now() + give_up_after);
   }
 
   std::size_t matched_readers() const {
@@ -104,13 +122,17 @@ class TypedWriter {
   }
 
   eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
-  // DDS return code of the last failed write (ReturnCode_t value), for diagnostics.
+  // DDS return code of the last failed write attempt (ReturnCode_t value), for diagnostics.
   int last_error() const { return last_error_; }
+  // Write attempts the writer refused (full history, resource limits) and that were retried or given up.
+  std::uint64_t retries() const { return retries_; }
 
  private:
   Participant& participant_;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
   int last_error_ = 0;
+  std::uint64_t retries_ = 0;
+  bool blocked_after_stop_ = false;
 };
 
 // "NAME" or "NAME:COUNT": wait for COUNT (default 1) matched readers of participants named NAME.
@@ -157,7 +179,8 @@ class TypedReader {
   TypedReader(Participant& participant, const std::string& topic_name, const std::string& profile)
       : participant_(participant) {
     auto* topic = participant.topic<PubSubType>(topic_name);
-    reader_ = participant.subscriber()->create_datareader_with_profile(topic, profile);
+    reader_ = participant.subscriber()->create_datareader_with_profile(
+        topic, profile, &rejections_, eprosima::fastdds::dds::StatusMask::sample_rejected());
     if (reader_ == nullptr) {
       throw std::runtime_error("cannot create DataReader for '" + topic_name + "' from QoS profile '" + profile +
                                "' (is the QoS XML loaded?)");
@@ -169,12 +192,13 @@ class TypedReader {
   TypedReader& operator=(const TypedReader&) = delete;
 
   // Takes every available valid sample and hands it to fn(const Sample&, const SampleInfo&).
-  // Returns how many were taken.
+  // Returns how many were taken. With `stop`, it returns as soon as stop is set (the rest stays queued), so a
+  // reader that is flooded never delays a shutdown.
   template <typename Fn>
-  std::size_t take_all(Fn&& fn) {
+  std::size_t take_all(Fn&& fn, const std::atomic<bool>* stop = nullptr) {
     std::size_t taken = 0;
     eprosima::fastdds::dds::SampleInfo info;
-    while (reader_->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
+    while ((stop == nullptr || !stop->load()) && reader_->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
       if (info.valid_data) {
         fn(static_cast<const Sample&>(sample_), static_cast<const eprosima::fastdds::dds::SampleInfo&>(info));
         ++taken;
@@ -182,6 +206,22 @@ class TypedReader {
     }
     return taken;
   }
+  template <typename Fn>
+  std::size_t take_all(Fn&& fn, const std::atomic<bool>& stop) {
+    return take_all(std::forward<Fn>(fn), &stop);
+  }
+
+  // Samples the reader's resource limits refused (sample_rejected status, counted per sample by a listener),
+  // so a refusal is never silent. For lack of room (max_samples, max_samples_per_instance; Fast DDS also counts
+  // the writer's samples still missing before it against the per-instance room, so many interleaved instances
+  // and a retransmission can trigger it) a reliable writer resends the sample later: nothing is lost, but
+  // throughput suffers. A sample of an instance beyond max_instances has no room at all.
+  struct Rejections {
+    std::uint64_t instances_limit = 0;  // REJECTED_BY_INSTANCES_LIMIT: that instance is not served
+    std::uint64_t no_room = 0;          // REJECTED_BY_SAMPLES_LIMIT / _PER_INSTANCE_LIMIT: resent by reliable writers
+    std::uint64_t total() const { return instances_limit + no_room; }
+  };
+  Rejections rejections() const { return {rejections_.instances_limit.load(), rejections_.no_room.load()}; }
 
   std::size_t matched_writers() const {
     eprosima::fastdds::dds::SubscriptionMatchedStatus status;
@@ -189,13 +229,7 @@ class TypedReader {
     return static_cast<std::size_t>(status.current_count);
   }
 
-  // Samples DDS could not deliver to this reader: rejected (resource limits) and lost (never received, e.g.
-  // evicted by a writer before this reader got them). Cumulative; services report them, never ignore them.
-  std::uint64_t rejected_samples() const {
-    eprosima::fastdds::dds::SampleRejectedStatus status;
-    reader_->get_sample_rejected_status(status);
-    return static_cast<std::uint64_t>(status.total_count);
-  }
+  // Samples this reader never received (e.g. evicted by a writer before it got them). Cumulative.
   std::uint64_t lost_samples() const {
     eprosima::fastdds::dds::SampleLostStatus status;
     reader_->get_sample_lost_status(status);
@@ -205,7 +239,21 @@ class TypedReader {
   eprosima::fastdds::dds::DataReader* get() const { return reader_; }
 
  private:
+  // Called by Fast DDS once per refused sample, on its receive thread.
+  struct RejectionCounter : eprosima::fastdds::dds::DataReaderListener {
+    std::atomic<std::uint64_t> instances_limit{0}, no_room{0};
+    void on_sample_rejected(eprosima::fastdds::dds::DataReader*,
+                            const eprosima::fastdds::dds::SampleRejectedStatus& status) override {
+      if (status.last_reason == eprosima::fastdds::dds::REJECTED_BY_INSTANCES_LIMIT) {
+        ++instances_limit;
+      } else {
+        ++no_room;
+      }
+    }
+  };
+
   Participant& participant_;
+  RejectionCounter rejections_;  // outlives reader_ (deleted in the destructor body)
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
   Sample sample_;  // reused: frames are large, do not reallocate per take
 };

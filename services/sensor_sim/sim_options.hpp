@@ -1,0 +1,33 @@
+// sensor-sim's parameters: one plain struct, filled and checked by parse_sim_options().
+#pragma once
+
+#include "causal/dds/service_runtime.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace causal::sim {
+
+struct SimOptions {
+  dds::CommonOptions dds;
+  int groups = 1;                          // simulated asset groups, ids <prefix>0000, <prefix>0001, ...
+  std::string group_prefix = "sim-";
+  int channels = 4;                        // G channels per group
+  int lag_order = 1;                       // M of the simulated structural VAR
+  std::uint64_t seed = 1;                  // same seed: same factors, same samples
+  double rate_hz = 0.0;                    // samples per second per group (wall clock); 0 = as fast as possible
+  double sample_rate_hz = 20000.0;         // stamped in the frames; time of sample i = start + i / sample_rate
+  std::int64_t start_time_ns = 1767225600LL * 1000000000LL;  // 2026-01-01T00:00:00Z: time of sample 0
+  int frame_samples = 1024;                // samples per channel in one frame
+  std::uint64_t frames_per_group = 0;      // stop after this many frames per group (0 = no bound)
+  double max_runtime_s = 0.0;              // stop after this many seconds in any case (0 = no bound)
+  int wait_subscribers = 1;                // wait for this many matched readers before publishing
+  double wait_timeout_s = 30.0;
+  double write_timeout_s = 10.0;           // a frame not accepted within this (readers stuck) is counted lost
+};
+
+// Parses argv. Returns nullopt after printing --help / an error; `exit_code` tells the caller what to return.
+std::optional<SimOptions> parse_sim_options(int argc, char** argv, int& exit_code);
+
+}  // namespace causal::sim
