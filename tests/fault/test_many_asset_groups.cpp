@@ -168,7 +168,7 @@ TEST(ManyAssetGroups, ExactCountsFrom256GroupsThroughOneEstimator) {
   FactorCounter counter(std::stoi(d));
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", FAULT_ESTIMATOR_PARAMS,
-                            "--wait-subscribers", "1", "--max-runtime", "100"},
+                            "--wait-for", "fault-test-counter", "--max-runtime", "100"},
                            (work / "estimator.log").string());
   ServiceProcess sim("sensor-sim",
                      {SENSOR_SIM_BIN, "--domain", d, "--groups", std::to_string(kGroups), "--channels",
@@ -229,7 +229,7 @@ TEST(ManyAssetGroups, SigtermWhileBusyEndsEveryProcessWithinFiveSeconds) {
   FactorCounter counter(std::stoi(d));
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", FAULT_ESTIMATOR_PARAMS,
-                            "--wait-subscribers", "1", "--max-runtime", "100"},
+                            "--wait-for", "fault-test-counter", "--max-runtime", "100"},
                            (work / "estimator.log").string());
   ServiceProcess sim("sensor-sim",
                      {SENSOR_SIM_BIN, "--domain", d, "--groups", std::to_string(kGroups), "--channels",
@@ -321,7 +321,7 @@ TEST(ManyAssetGroups, EstimatorHonoursMaxRuntimeWhileItsWritesAreRefused) {
   const double ended = std::chrono::duration<double>(Clock::now() - started).count();
   ASSERT_TRUE(code.has_value()) << "causal-estimator outlived --max-runtime " << kMaxRuntime << " s by 6 s:\n"
                                 << estimator.output();
-  EXPECT_EQ(*code, 0) << estimator.output();
+  EXPECT_EQ(*code, 4) << "messages it could not publish must show in the exit code:\n" << estimator.output();
   EXPECT_LT(ended, kMaxRuntime + 3.0);
   const auto sim_code = sim.wait(std::chrono::seconds(20));
   ASSERT_TRUE(sim_code.has_value()) << sim.output();

@@ -37,12 +37,12 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
                        (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
-                            "--wait-subscribers", "2"},
+                            "--wait-for", "alarm-recommender", "--wait-for", "test-observer"},
                            (work / "estimator.log").string());
   ServiceProcess replay("sensor-replay",
                         {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
                          "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
-                         "--wait-subscribers", "2", "--wait-timeout", "60"},
+                         "--wait-for", "causal-estimator", "--wait-timeout", "60"},
                         (work / "replay.log").string());
   const auto replay_code = replay.wait(std::chrono::seconds(240));
   ASSERT_TRUE(replay_code.has_value()) << replay.output();

@@ -89,11 +89,11 @@ TEST(PipelineEmbedded, ThreeServicesReplayTheSliceAndRaiseTheBearingOneAlarm) {
                        (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", estimator_params, "--idle-exit", "4",
-                            "--max-runtime", "240", "--wait-subscribers", "2"},
+                            "--max-runtime", "240", "--wait-for", "alarm-recommender", "--wait-for", "test-observer"},
                            (work / "estimator.log").string());
   ServiceProcess replay("sensor-replay",
                         {SENSOR_REPLAY_BIN, "--domain", d, "--ims-dir", slice, "--frame-samples",
-                         std::to_string(kFrameSamples), "--wait-subscribers", "2", "--wait-timeout", "60"},
+                         std::to_string(kFrameSamples), "--wait-for", "causal-estimator", "--wait-timeout", "60"},
                         (work / "replay.log").string());
 
   const auto replay_code = replay.wait(std::chrono::seconds(180));

@@ -112,11 +112,11 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
                        (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", write_estimator_params(work, sc),
-                            "--idle-exit", "3", "--max-runtime", "300", "--wait-subscribers", "2"},
+                            "--idle-exit", "3", "--max-runtime", "300", "--wait-for", "alarm-recommender", "--wait-for", "test-observer"},
                            (work / "estimator.log").string());
   ServiceProcess replay("sensor-replay",
                         {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-name", "meanabs",
-                         "--asset-group", "sim-shaft", "--wait-subscribers", "2", "--wait-timeout", "60"},
+                         "--asset-group", "sim-shaft", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
                         (work / "replay.log").string());
   const auto code = replay.wait(std::chrono::seconds(240));
   ASSERT_TRUE(code.has_value()) << replay.output();
