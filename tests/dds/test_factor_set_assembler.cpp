@@ -150,17 +150,26 @@ TEST(FactorSetAssembler, OutOfOrderOutcomesOfOneIndexBecomeOneCompleteSet) {
   EXPECT_EQ(a.pending(), 0u);
 }
 
-TEST(FactorSetAssembler, IndicesCompletingOutOfOrderAreEmittedInIndexOrder) {
+TEST(FactorSetAssembler, SeveralIndicesInAssemblyAtOnceComeOutInIndexOrder) {
+  // Each outcome delivers in index order (one DDS instance), the outcomes run up to 4 indices apart.
   FactorSetAssembler a(8);
   std::vector<FactorSet> out;
-  a.add(message(0, 0), out);
-  send_all(a, 1, out);
-  send_all(a, 2, out);
-  EXPECT_TRUE(out.empty()) << "1 and 2 wait for 0";
-  a.add(message(0, 2), out);
-  a.add(message(0, 1), out);
-  EXPECT_EQ(indices(out), range(0, 2));
-  for (std::uint64_t n = 0; n < 3; ++n) expect_set(out[n], n);
+  std::mt19937_64 rng(21);
+  std::vector<std::uint64_t> next(kG, 0);
+  std::uniform_int_distribution<int> pick(0, kG - 1);
+  std::size_t sent = 0, most_pending = 0;
+  while (sent < 40u * kG) {
+    const int k = pick(rng);
+    const auto ku = static_cast<std::size_t>(k);
+    if (next[ku] >= 40 || next[ku] >= *std::min_element(next.begin(), next.end()) + 4) continue;
+    EXPECT_EQ(a.add(message(next[ku]++, k), out), Status::Accepted);
+    ++sent;
+    most_pending = std::max(most_pending, a.pending());
+  }
+  EXPECT_GT(most_pending, 2u) << "the interleaving should keep several sets in assembly";
+  EXPECT_EQ(indices(out), range(0, 39));
+  for (const auto& s : out) expect_set(s, s.index);
+  EXPECT_EQ(a.counters().complete, 40u);
 }
 
 TEST(FactorSetAssembler, ReSentIndicesAfterARestartAreDroppedAndCounted) {
@@ -218,36 +227,53 @@ TEST(FactorSetAssembler, SecondCopyOfAPendingOutcomeIsADuplicateAndTheFirstIsKep
   EXPECT_EQ(a.counters().accepted, 3u);
 }
 
-TEST(FactorSetAssembler, MissingOutcomeIsDroppedWhenThePendingBoundIsExceeded) {
-  constexpr std::size_t kMax = 4;
-  FactorSetAssembler a(kMax, Policy::Drop);
+TEST(FactorSetAssembler, MissingOutcomeIsDroppedOnceANewerSetCompletes) {
+  FactorSetAssembler a(64, Policy::Drop);
   std::vector<FactorSet> out;
-  a.add(message(0, 0), out);
-  a.add(message(0, 2), out);  // outcome 1 of index 0 is lost
-  for (std::uint64_t n = 1; n < kMax; ++n) send_all(a, n, out);
-  EXPECT_TRUE(out.empty()) << "complete sets wait behind the incomplete one, " << kMax << " sets in all";
-  EXPECT_EQ(a.pending(), kMax);
-  send_all(a, kMax, out);  // one set too many: index 0 is given up, 1..kMax follow in order
-  EXPECT_EQ(indices(out), range(1, kMax));
-  for (const auto& s : out) expect_set(s, s.index);
+  send_all(a, 0, out);
+  a.add(message(1, 0), out);
+  a.add(message(1, 2), out);  // outcome 1 of index 1 is lost
+  a.add(message(2, 1), out);
+  a.add(message(2, 0), out);
+  EXPECT_EQ(indices(out), range(0, 0));
+  a.add(message(2, 2), out);  // every outcome is past index 1 now: it can never complete
+  EXPECT_EQ(indices(out), (std::vector<std::uint64_t>{0, 2}));
+  expect_set(out[1], 2);
   EXPECT_EQ(a.counters().dropped, 1u);
   EXPECT_EQ(a.pending(), 0u);
   // The lost message turns up after all: its index was given up, it is not emitted.
-  EXPECT_EQ(a.add(message(0, 1), out), Status::Duplicate);
-  EXPECT_EQ(out.size(), kMax);
-  // Dropped indices count as missing (condition level).
+  EXPECT_EQ(a.add(message(1, 1), out), Status::Duplicate);
+  EXPECT_EQ(out.size(), 2u);
+  // A dropped index is one the consumer never got.
   const auto streams = a.streams();
   ASSERT_EQ(streams.size(), 1u);
-  EXPECT_TRUE(streams[0].gaps_tracked);
-  EXPECT_TRUE(streams[0].missing.empty()) << "index 0 is before the first emitted one";
+  EXPECT_EQ(streams[0].missing, (std::vector<IndexRange>{{1, 1}}));
+}
+
+TEST(FactorSetAssembler, PendingSetsAreBoundedWhenAnOutcomeStopsArriving) {
+  constexpr std::size_t kMax = 4;
+  FactorSetAssembler a(kMax, Policy::Drop);
+  std::vector<FactorSet> out;
+  for (std::uint64_t n = 0; n < 10; ++n) {
+    a.add(message(n, 0), out);
+    a.add(message(n, 2), out);  // outcome 1 never comes
+    EXPECT_LE(a.pending(), kMax);
+  }
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(a.pending(), kMax);
+  EXPECT_EQ(a.counters().dropped, 10u - kMax) << "the oldest are given up first";
+  a.flush(out);
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(a.counters().dropped, 10u);
 }
 
 TEST(FactorSetAssembler, MissingOutcomeIsReleasedPartiallyUnderThePartialPolicy) {
-  FactorSetAssembler a(2, Policy::ReleasePartial);
+  FactorSetAssembler a(64, Policy::ReleasePartial);
   std::vector<FactorSet> out;
   send_all(a, 0, out);
   a.add(message(1, 2), out);  // outcomes 0 and 1 of index 1 are lost
   send_all(a, 2, out);
+  ASSERT_EQ(indices(out), range(0, 2)) << "index 1 goes out, partial, before the complete index 2";
   send_all(a, 3, out);
   ASSERT_EQ(indices(out), range(0, 3));
   expect_set(out[0], 0);
@@ -264,19 +290,22 @@ TEST(FactorSetAssembler, FlushReleasesPendingSetsByThePolicyInIndexOrder) {
   for (Policy policy : {Policy::Drop, Policy::ReleasePartial}) {
     FactorSetAssembler a(16, policy);
     std::vector<FactorSet> out;
-    a.add(message(0, 0), out);
-    send_all(a, 1, out);
+    send_all(a, 0, out);
+    a.add(message(1, 0), out);
+    a.add(message(2, 0), out);
     a.add(message(2, 1), out);
-    EXPECT_TRUE(out.empty());
+    a.add(message(3, 1), out);  // outcome 2 stopped after index 0
+    EXPECT_EQ(indices(out), range(0, 0));
     a.flush(out);
     if (policy == Policy::Drop) {
-      EXPECT_EQ(indices(out), (std::vector<std::uint64_t>{1}));
-      EXPECT_EQ(a.counters().dropped, 2u);
+      EXPECT_EQ(indices(out), range(0, 0));
+      EXPECT_EQ(a.counters().dropped, 3u);
     } else {
-      EXPECT_EQ(indices(out), range(0, 2));
-      expect_set(out[0], 0, {true, false, false});
-      expect_set(out[2], 2, {false, true, false});
-      EXPECT_EQ(a.counters().partial, 2u);
+      EXPECT_EQ(indices(out), range(0, 3));
+      expect_set(out[1], 1, {true, false, false});
+      expect_set(out[2], 2, {true, true, false});
+      expect_set(out[3], 3, {false, true, false});
+      EXPECT_EQ(a.counters().partial, 3u);
     }
     EXPECT_EQ(a.pending(), 0u);
     const std::size_t before = out.size();

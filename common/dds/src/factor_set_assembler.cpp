@@ -71,6 +71,11 @@ FactorSetAssembler::AddStatus FactorSetAssembler::add(const FactorMessage& m, st
   slot = m;
   ++p.present;
   ++s.counters.accepted;
+  if (p.present == s.channel_count) {
+    // Every outcome has delivered this index, and each outcome delivers in index order: an older set
+    // still missing an outcome will never get it. Release it now rather than holding this one back.
+    while (s.pending.begin()->first < m.sample_index) release(key, s, s.pending.begin(), out);
+  }
   drain(key, s, out);
   return AddStatus::Accepted;
 }
@@ -80,7 +85,8 @@ void FactorSetAssembler::drain(const FactorStreamKey& key, Stream& s, std::vecto
     while (!s.pending.empty() && s.pending.begin()->second.present == s.channel_count) {
       release(key, s, s.pending.begin(), out);
     }
-    // The front is incomplete here; too many sets behind it means it waits for a message that was lost.
+    // The front is incomplete here, and nothing behind it is complete: an outcome has stopped arriving.
+    // Bound the wait.
     if (s.pending.size() <= max_pending_) return;
     release(key, s, s.pending.begin(), out);
   }

@@ -11,13 +11,14 @@
 // released (emitted, released partially or given up) is a duplicate: dropped and counted. So is a second
 // message for an (index, outcome) that is still being assembled: the first copy is kept.
 //
-// Bounded pending, in index order: a complete set is emitted once every older pending set of its stream
-// is complete or released. The messages of one outcome come in index order (one DDS instance of one
-// writer), so when index n is complete every older index was either assembled already or never sent:
-// nothing older is waited for, and a set is emitted as soon as nothing older is pending. When more than max_pending sets of a stream are pending (an outcome message
-// was lost, so the oldest set can never complete), the oldest is released by the policy:
+// In index order, nothing held without need: the messages of one outcome come in index order (one DDS
+// instance of one writer), so once every outcome has delivered index n, an older set that still misses
+// an outcome can never complete. A set is therefore emitted as soon as it is complete, and every older
+// pending set is released before it by the policy:
 //   ReleasePartial: emitted with the outcomes it has (complete = false; a historian keeps what arrived);
 //   Drop:           given up and counted (a consumer that needs all G outcomes, e.g. the alarm engine).
+// Bounded pending: when an outcome stops arriving altogether no set completes; beyond max_pending sets of
+// a stream the oldest is released by the same policy.
 // flush() applies the same policy to everything still pending (end of stream).
 #pragma once
 
