@@ -1,10 +1,12 @@
 // Reassembles what the alarm engine needs from the per-outcome CausalFactors messages of the estimator:
-// the G messages of one sample index become one Observation (innovations, NIS, all factors), joined with
-// the asset group's condition vector of the same time at condition level.
+// the G messages of one sample index (collected by dds::FactorSetAssembler) become one Observation
+// (innovations, NIS, all factors), joined with the asset group's condition vector of the same time at
+// condition level. observation.index is the messages' sample_index (the snapshot index at condition level).
 #pragma once
 
 #include "causal/alarms/observation.hpp"
 #include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/factor_set_assembler.hpp"
 
 #include <Eigen/Core>
 
@@ -31,34 +33,37 @@ class ObservationAssembler {
  public:
   // max_pending: complete observations held back waiting for their condition vector before they are
   // released without features (the two topics are not ordered with respect to each other).
-  explicit ObservationAssembler(std::size_t max_pending = 4) : max_pending_(max_pending) {}
+  // max_pending_sets: factor sets per stream in assembly (FactorSetAssembler, Drop policy): a set still
+  // missing an outcome when that many sets are pending is given up (the alarm engine needs all G
+  // outcomes), so a lost message delays the observations behind it by at most that many sets.
+  explicit ObservationAssembler(std::size_t max_pending = 4, std::size_t max_pending_sets = 8)
+      : max_pending_(max_pending), sets_(max_pending_sets, dds::FactorSetAssembler::IncompletePolicy::Drop) {}
 
-  // Filter estimates only (the alarm engine runs in real time); other kinds are ignored.
+  // Filter estimates only (the alarm engine runs in real time); other kinds are ignored. Each index of a
+  // stream becomes at most one observation, in index order (re-sent or replayed indices are duplicates,
+  // see factor_counters()).
   void add_factors(const dds::FactorMessage& m, std::vector<AssembledObservation>& out);
   void add_condition(const std::string& asset_group, const std::string& feature, std::int64_t time_ns,
                      const Eigen::VectorXd& values, std::vector<AssembledObservation>& out);
-  // Releases everything still held (end of stream).
+  // Releases everything still held (end of stream); factor sets still missing an outcome are dropped.
   void flush(std::vector<AssembledObservation>& out);
-  std::uint64_t dropped_incomplete() const { return dropped_incomplete_; }
+  std::uint64_t dropped_incomplete() const { return sets_.counters().dropped; }
+  dds::FactorSetCounters factor_counters() const { return sets_.counters(); }
+  const std::string& last_problem() const { return sets_.last_problem(); }  // why the last refusal
 
  private:
-  struct Partial {
-    std::vector<dds::FactorMessage> outcomes;  // indexed by outcome
-    int received = 0;
-  };
-  struct Stream {  // one asset group and time scale
-    std::map<std::uint64_t, Partial> partial;
-    std::deque<AssembledObservation> waiting_features;
-    std::string feature;
-  };
-  void complete(Stream& s, Partial& p, std::vector<AssembledObservation>& out);
-  void release(Stream& s, std::vector<AssembledObservation>& out, bool all);
+  using WaitingKey = std::pair<std::string, std::string>;  // asset group, feature
+  void observe(const dds::FactorSet& set, std::vector<AssembledObservation>& out);
+  void release(const WaitingKey& key, std::deque<AssembledObservation>& waiting, std::vector<AssembledObservation>& out,
+               bool all);
 
   std::size_t max_pending_;
-  std::map<std::pair<std::string, int>, Stream> streams_;
+  dds::FactorSetAssembler sets_;
+  // Condition-level observations waiting for their condition vector, by asset group + feature.
+  std::map<WaitingKey, std::deque<AssembledObservation>> waiting_;
   // Condition vectors by asset group + feature, then time.
-  std::map<std::pair<std::string, std::string>, std::map<std::int64_t, Eigen::VectorXd>> features_;
-  std::uint64_t dropped_incomplete_ = 0;
+  std::map<WaitingKey, std::map<std::int64_t, Eigen::VectorXd>> features_;
+  std::vector<dds::FactorSet> sets_ready_;  // scratch
 };
 
 }  // namespace causal::recommender

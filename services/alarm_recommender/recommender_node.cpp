@@ -68,8 +68,11 @@ int RecommenderNode::run() {
                  st.raised, active.size());
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
-  if (assembler_.dropped_incomplete() > 0) {
-    spdlog::warn("{} factor sets never completed (lost outcome messages)", assembler_.dropped_incomplete());
+  if (const auto c = assembler_.factor_counters(); c.dropped + c.duplicates + c.refused > 0) {
+    spdlog::warn("causal factors: {} messages assembled into {} observations; {} duplicates (re-sent or replayed "
+                 "indices, dropped), {} refused{}, {} factor sets never completed (lost outcome messages)",
+                 c.accepted, c.complete, c.duplicates, c.refused,
+                 c.refused > 0 ? " (last: " + assembler_.last_problem() + ")" : std::string(), c.dropped);
   }
   if (!alarms_.wait_for_acknowledgments(std::chrono::seconds(10))) {
     spdlog::warn("not every alarm was acknowledged within 10 s");

@@ -4,20 +4,31 @@
 
 #include "causal/io/time_format.hpp"
 
+#include <algorithm>
+
 namespace causal::recorder {
 
 using report::format_integer;
 using report::format_number;
 
-FactorRowAssembler::FactorRowAssembler(std::size_t max_pending) : max_pending_(max_pending < 1 ? 1 : max_pending) {}
+FactorRowAssembler::FactorRowAssembler(std::size_t max_pending)
+    : sets_(max_pending < 1 ? 1 : max_pending, dds::FactorSetAssembler::IncompletePolicy::ReleasePartial) {}
 
 FactorRowAssembler::AddStatus FactorRowAssembler::add(const dds::FactorMessage& m) {
-  const auto n = static_cast<std::size_t>(m.factors.size());
-  const bool shape_ok = m.channel_count >= 1 && m.outcome >= 0 && m.outcome < m.channel_count &&
-                        m.factor_names.size() == n && static_cast<std::size_t>(m.factor_std.size()) == n;
-  if (!shape_ok || (g_ != 0 && m.channel_count != g_)) {
-    ++counters_.refused;
+  // One file has one column layout: a channel count other than the file's first is refused here, even
+  // when it comes on another stream (another feature) of the same file.
+  if (g_ != 0 && m.channel_count != g_) {
+    ++refused_here_;
+    problem_ = "channel count " + std::to_string(m.channel_count) + " differs from the file's " + std::to_string(g_);
     return AddStatus::Refused;
+  }
+  std::vector<dds::FactorSet> sets;
+  switch (sets_.add(m, sets)) {
+    case dds::FactorSetAssembler::AddStatus::Refused:
+      problem_.clear();  // the assembler's reason is the latest
+      return AddStatus::Refused;
+    case dds::FactorSetAssembler::AddStatus::Duplicate: return AddStatus::Duplicate;
+    case dds::FactorSetAssembler::AddStatus::Accepted: break;
   }
   if (g_ == 0) {
     g_ = m.channel_count;
@@ -25,48 +36,35 @@ FactorRowAssembler::AddStatus FactorRowAssembler::add(const dds::FactorMessage& 
     outcome_names_.assign(static_cast<std::size_t>(g_), {});
     seen_.assign(static_cast<std::size_t>(g_), false);
   }
+  // Names come from the first message of each outcome, so a header forced early (partial row) still
+  // names every outcome seen so far, pending or not.
   const auto k = static_cast<std::size_t>(m.outcome);
   if (!seen_[k]) {
     seen_[k] = true;
-    ++seen_count_;
     names_[k] = m.factor_names;
     outcome_names_[k] = m.outcome_name;
   }
-  ++counters_.messages;
+  if (sets.empty()) return AddStatus::Stored;
+  emit(sets);
+  return AddStatus::Completed;
+}
 
-  auto it = pending_.find(m.sample_index);
-  if (it == pending_.end()) {
-    it = pending_.emplace(m.sample_index, Pending{}).first;
-    it->second.time_ns = m.time_ns;
-    it->second.parts.resize(static_cast<std::size_t>(g_));
-  }
-  Part& part = it->second.parts[k];
-  if (part.present) {
-    ++counters_.duplicates;
-  } else {
-    part.present = true;
-    ++it->second.present;
-  }
-  part.values.assign(m.factors.data(), m.factors.data() + n);
-  part.sds.assign(m.factor_std.data(), m.factor_std.data() + n);
-  part.nis = m.nis_mean;
-  if (m.factor_names != names_[k]) {
-    part.names = m.factor_names;
-  } else {
-    part.names.clear();
-  }
+void FactorRowAssembler::emit(const std::vector<dds::FactorSet>& sets) {
+  if (sets.empty()) return;
+  if (!header_fixed_) fix_header();
+  for (const auto& set : sets) ready_.push_back(format(set));
+}
 
-  if (it->second.present == g_) {
-    if (!header_fixed_) fix_header();
-    emit(it, true);
-    return AddStatus::Completed;
-  }
-  // An outcome that never arrives must not grow memory without bound: write the oldest row partially.
-  while (pending_.size() > max_pending_) {
-    if (!header_fixed_) fix_header();
-    emit(pending_.begin(), false);
-  }
-  return AddStatus::Stored;
+FactorRowAssembler::Counters FactorRowAssembler::counters() const {
+  const dds::FactorSetCounters c = sets_.counters();
+  Counters out;
+  out.messages = c.accepted;
+  out.refused = c.refused + refused_here_;
+  out.duplicates = c.duplicates;
+  out.rows_complete = c.complete;
+  out.rows_partial = c.partial;
+  out.dropped_factors = dropped_factors_;
+  return out;
 }
 
 void FactorRowAssembler::fix_header() {
@@ -94,44 +92,38 @@ void FactorRowAssembler::fix_header() {
   }
 }
 
-std::vector<std::string> FactorRowAssembler::format(std::uint64_t index, const Pending& p) {
+std::vector<std::string> FactorRowAssembler::format(const dds::FactorSet& set) {
   std::vector<std::string> cells(header_.size());
-  cells[0] = format_integer(index);
-  cells[1] = format_integer(p.time_ns);
-  cells[2] = io::format_utc(p.time_ns);
+  cells[0] = format_integer(set.index);
+  cells[1] = format_integer(set.time_ns);
+  cells[2] = io::format_utc(set.time_ns);
   const std::size_t values_at = 3, sds_at = 3 + factor_total_, nis_at = 3 + 2 * factor_total_;
-  for (std::size_t k = 0; k < p.parts.size(); ++k) {
-    const Part& part = p.parts[k];
-    if (!part.present) continue;
-    cells[nis_at + k] = format_number(part.nis);
-    for (std::size_t i = 0; i < part.values.size(); ++i) {
-      std::size_t pos = 0;
-      if (part.names.empty()) {
-        if (i >= names_[k].size() || !seen_[k] || position_[k].empty()) {
-          ++counters_.dropped_factors;
-          continue;
-        }
-        pos = i;
-      } else {
-        // The layout changed under the same outcome: place values by name, drop unknown names.
-        const auto found = position_[k].find(part.names[i]);
+  for (std::size_t k = 0; k < set.present.size(); ++k) {
+    if (!set.present[k]) continue;
+    cells[nis_at + k] = format_number(set.outcomes[k].nis_mean);
+    const auto first = static_cast<std::size_t>(set.factor_offset[k]);
+    const auto count = static_cast<std::size_t>(set.factor_offset[k + 1]) - first;
+    const bool same_layout =
+        count == names_[k].size() &&
+        std::equal(names_[k].begin(), names_[k].end(), set.factor_names.begin() + static_cast<std::ptrdiff_t>(first));
+    for (std::size_t i = 0; i < count; ++i) {
+      std::size_t pos = i;
+      if (!same_layout || position_[k].empty()) {
+        // The layout changed under the same outcome (or the outcome had no columns when the header was
+        // fixed): place values by name, drop unknown names.
+        const auto found = position_[k].find(set.factor_names[first + i]);
         if (found == position_[k].end()) {
-          ++counters_.dropped_factors;
+          ++dropped_factors_;
           continue;
         }
         pos = found->second;
       }
-      cells[values_at + offset_[k] + pos] = format_number(part.values[i]);
-      cells[sds_at + offset_[k] + pos] = format_number(part.sds[i]);
+      const auto at = static_cast<Eigen::Index>(first + i);
+      cells[values_at + offset_[k] + pos] = format_number(set.factors[at]);
+      cells[sds_at + offset_[k] + pos] = format_number(set.factor_std[at]);
     }
   }
   return cells;
-}
-
-void FactorRowAssembler::emit(std::map<std::uint64_t, Pending>::iterator it, bool complete) {
-  ready_.push_back(format(it->first, it->second));
-  ++(complete ? counters_.rows_complete : counters_.rows_partial);
-  pending_.erase(it);
 }
 
 std::vector<std::vector<std::string>> FactorRowAssembler::take_rows() {
@@ -141,9 +133,9 @@ std::vector<std::vector<std::string>> FactorRowAssembler::take_rows() {
 }
 
 void FactorRowAssembler::flush_pending() {
-  if (pending_.empty()) return;
-  if (!header_fixed_) fix_header();
-  while (!pending_.empty()) emit(pending_.begin(), pending_.begin()->second.present == g_);
+  std::vector<dds::FactorSet> sets;
+  sets_.flush(sets);
+  emit(sets);
 }
 
 }  // namespace causal::recorder

@@ -1,14 +1,17 @@
-// Assembles the G per-outcome CausalFactors messages of one sample index into one CSV row:
+// Turns the factor sets of one recorded stream into CSV rows:
 //   index,time_ns,time_utc,<factor names of outcome 1..G>,<sd_ + each name>,<nis_ + outcome name ...>
-// A row is ready once all G outcomes of its index arrived; at exit (or when too many rows are pending
-// because an outcome never comes) pending rows are written partially, with empty cells.
+// The G per-outcome messages of one index are collected by dds::FactorSetAssembler (ReleasePartial
+// policy): a row is ready once all G outcomes of its index arrived and every older row is out; each index
+// is written at most once (re-sent or replayed indices are counted as duplicates); at exit (or when too
+// many rows are pending because an outcome never comes) pending rows are written partially, with empty
+// cells.
 #pragma once
 
 #include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/factor_set_assembler.hpp"
 
 #include <cstddef>
 #include <cstdint>
-#include <map>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -18,15 +21,16 @@ namespace causal::recorder {
 class FactorRowAssembler {
  public:
   enum class AddStatus {
-    Stored,     // kept, its row still waits for other outcomes
-    Completed,  // its row is complete and ready in take_rows()
-    Refused     // inconsistent message (see counters().refused), nothing kept
+    Stored,     // kept, no row ready yet (its row waits for other outcomes or an older row)
+    Completed,  // kept, and rows are ready in take_rows()
+    Duplicate,  // its index was already written, or its (index, outcome) is pending: dropped
+    Refused     // inconsistent message (see counters().refused, last_problem()), nothing kept
   };
 
   struct Counters {
     std::uint64_t messages = 0;        // accepted messages
-    std::uint64_t refused = 0;         // bad outcome / channel count / vector lengths
-    std::uint64_t duplicates = 0;      // same (index, outcome) again while its row was pending: replaced
+    std::uint64_t refused = 0;         // bad outcome / channel count / vector lengths / non-finite values
+    std::uint64_t duplicates = 0;      // index already written, or (index, outcome) already pending: dropped
     std::uint64_t rows_complete = 0;
     std::uint64_t rows_partial = 0;    // written with empty cells (exit or overflow)
     std::uint64_t dropped_factors = 0; // factor values whose name has no column in the header
@@ -39,7 +43,7 @@ class FactorRowAssembler {
   // m.outcome is 0-based (as from_causal_factors() returns it).
   AddStatus add(const dds::FactorMessage& m);
 
-  // Rows ready to be written, oldest first; each has header().size() cells. Clears the queue.
+  // Rows ready to be written, in index order; each has header().size() cells. Clears the queue.
   std::vector<std::vector<std::string>> take_rows();
 
   // Moves every pending row (complete or not) to the ready queue, by index. Call at exit.
@@ -48,41 +52,31 @@ class FactorRowAssembler {
   // The header is fixed once every outcome was seen (or at the first forced partial row).
   bool has_header() const { return header_fixed_; }
   const std::vector<std::string>& header() const { return header_; }
-  const Counters& counters() const { return counters_; }
-  std::size_t pending() const { return pending_.size(); }
+  Counters counters() const;
+  const std::string& last_problem() const { return problem_.empty() ? sets_.last_problem() : problem_; }
+  std::size_t pending() const { return sets_.pending(); }
   int channel_count() const { return g_; }
+  // Per stream: counters and the condition-level indices never written (see dds::FactorStreamReport).
+  std::vector<dds::FactorStreamReport> streams() const { return sets_.streams(); }
 
  private:
-  struct Part {
-    bool present = false;
-    std::vector<double> values, sds;
-    double nis = 0.0;
-    std::vector<std::string> names;  // only when they differ from the outcome's first names
-  };
-  struct Pending {
-    std::int64_t time_ns = 0;
-    std::vector<Part> parts;  // G
-    int present = 0;
-  };
-
   void fix_header();
-  std::vector<std::string> format(std::uint64_t index, const Pending& p);
-  void emit(std::map<std::uint64_t, Pending>::iterator it, bool complete);
+  std::vector<std::string> format(const dds::FactorSet& set);
+  void emit(const std::vector<dds::FactorSet>& sets);
 
-  std::size_t max_pending_;
+  dds::FactorSetAssembler sets_;
   int g_ = 0;  // channel count, from the first accepted message
   std::vector<std::vector<std::string>> names_;  // factor names per outcome (first seen)
   std::vector<std::string> outcome_names_;
   std::vector<bool> seen_;
-  int seen_count_ = 0;
   bool header_fixed_ = false;
   std::vector<std::string> header_;
   std::vector<std::size_t> offset_;  // first value column of outcome k, relative to the factor block
   std::vector<std::unordered_map<std::string, std::size_t>> position_;  // name -> offset within outcome k
   std::size_t factor_total_ = 0;
-  std::map<std::uint64_t, Pending> pending_;
   std::vector<std::vector<std::string>> ready_;
-  Counters counters_;
+  std::uint64_t refused_here_ = 0, dropped_factors_ = 0;
+  std::string problem_;
 };
 
 }  // namespace causal::recorder

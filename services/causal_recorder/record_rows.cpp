@@ -114,6 +114,35 @@ std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r
           r.text()};
 }
 
+bool RepeatFilter::accept(const std::string& id, std::string signature) {
+  auto [it, created] = last_.try_emplace(id, signature);
+  if (created) return true;
+  if (it->second == signature) return false;
+  it->second = std::move(signature);
+  return true;
+}
+
+std::string alarm_signature(const causal_twin::Alarm& a) {
+  return std::string(to_string(a.state())) + '\x1f' + to_string(a.severity()) + '\x1f' +
+         std::to_string(a.sample_index());
+}
+
+std::string recommendation_signature(const causal_twin::Recommendation& r) {
+  std::string s;
+  for (const auto& cell : recommendation_row(r)) s += cell + '\x1f';
+  return s;
+}
+
+std::string describe(const TopicCounts& c) {
+  return "received " + std::to_string(c.received) + ", written " + std::to_string(c.written) + ", duplicates " +
+         std::to_string(c.duplicates) + ", refused " + std::to_string(c.refused);
+}
+
+std::string describe_missing(const std::vector<dds::IndexRange>& missing, const std::string& unit) {
+  if (missing.empty()) return {};
+  return "lost " + unit + " " + dds::describe_ranges(missing);
+}
+
 void IndexClock::record(std::uint64_t index, std::int64_t time_ns) {
   times_[index] = time_ns;
   while (times_.size() > capacity_) times_.erase(times_.begin());

@@ -2,6 +2,7 @@
 // CsvFile quotes them). Kept out of the DDS node so the tests can check them without DDS.
 #pragma once
 
+#include "causal/dds/index_ledger.hpp"
 #include "causal_twin.h"
 
 #include <cstddef>
@@ -9,6 +10,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace causal::recorder {
@@ -39,6 +41,35 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& alarm, std::optiona
 // Every field of Recommendation, in IDL order.
 const std::vector<std::string>& recommendation_header();
 std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r);
+
+// Exactly once for the last-value topics (alarms, recommendations): a message whose signature equals the
+// last one written for its id is a repeat (a transient-local replay to a re-matched reader, a re-send
+// after a restart) and is not written again.
+class RepeatFilter {
+ public:
+  // True when signature differs from the last one accepted for id (it is then the last one).
+  bool accept(const std::string& id, std::string signature);
+  std::size_t ids() const { return last_.size(); }
+
+ private:
+  std::unordered_map<std::string, std::string> last_;
+};
+// What makes an alarm message new: its state, severity and sample_index.
+std::string alarm_signature(const causal_twin::Alarm& a);
+// A recommendation is new unless every recorded field is the same.
+std::string recommendation_signature(const causal_twin::Recommendation& r);
+
+// What one recorded topic stream saw, for the exit log.
+struct TopicCounts {
+  std::uint64_t received = 0;
+  std::uint64_t written = 0;
+  std::uint64_t duplicates = 0;  // already written: not written again
+  std::uint64_t refused = 0;     // did not fit the file (or were inconsistent)
+};
+// "received 12, written 9, duplicates 2, refused 1"
+std::string describe(const TopicCounts& c);
+// "lost snapshots 120..131, 140" ("" when nothing is missing); unit names the index ("snapshots").
+std::string describe_missing(const std::vector<dds::IndexRange>& missing, const std::string& unit);
 
 // Sample index -> UTC time of one asset's observation stream, so an alarm's sample_index can be placed
 // in time. Keeps the newest `capacity` indices.

@@ -109,16 +109,23 @@ void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
     it->second.file = open(name, condition_header(in));
   }
   ConditionTable& t = it->second;
+  ++t.counts.received;
   // Non-finite values are recorded as "nan"/"inf" (a historian keeps what was sent); only a vector
   // that does not fit the file's columns is refused.
   if (in.values().size() + 3 != t.file->columns()) {
-    if (t.refused++ == 0) {
+    if (t.counts.refused++ == 0) {
       spdlog::warn("{}: condition vector {} has {} values, the file has {} channels: refused (counted)", name,
                    in.snapshot_index(), in.values().size(), t.file->columns() - 3);
     }
     return;
   }
+  if (t.written.contains(in.snapshot_index())) {  // re-sent after a restart, or replayed history
+    ++t.counts.duplicates;
+    return;
+  }
   t.file->write_row(condition_row(in));
+  t.written.record(in.snapshot_index());
+  ++t.counts.written;
 }
 
 void RecorderNode::on_factors(const causal_twin::CausalFactors& in) {
@@ -142,8 +149,8 @@ void RecorderNode::on_factors(const causal_twin::CausalFactors& in) {
   }
   if (it->second.assembler.add(m) == FactorRowAssembler::AddStatus::Refused) {
     if (it->second.assembler.counters().refused == 1) {
-      spdlog::warn("{}: outcome {} message refused (channel count {} differs from the file's {})",
-                   it->second.file_name, m.outcome + 1, m.channel_count, it->second.assembler.channel_count());
+      spdlog::warn("{}: outcome {} message refused: {}", it->second.file_name, m.outcome + 1,
+                   it->second.assembler.last_problem());
     }
     return;
   }
@@ -161,12 +168,24 @@ void RecorderNode::write_ready_rows(FactorTable& table) {
 void RecorderNode::on_alarm(const causal_twin::Alarm& in) {
   std::optional<std::int64_t> evidence_time;
   if (auto it = clocks_.find(in.asset_group()); it != clocks_.end()) evidence_time = it->second.time_of(in.sample_index());
+  ++alarm_counts_.received;
+  if (!alarm_repeats_.accept(in.alarm_id(), alarm_signature(in))) {  // last value replayed or re-sent
+    ++alarm_counts_.duplicates;
+    return;
+  }
   alarms_->write_row(alarm_row(in, evidence_time));
+  ++alarm_counts_.written;
   spdlog::info("alarm {} {} {}: {}", in.alarm_id(), to_string(in.state()), to_string(in.severity()), in.reason());
 }
 
 void RecorderNode::on_recommendation(const causal_twin::Recommendation& in) {
+  ++recommendation_counts_.received;
+  if (!recommendation_repeats_.accept(in.recommendation_id(), recommendation_signature(in))) {
+    ++recommendation_counts_.duplicates;
+    return;
+  }
   recommendations_->write_row(recommendation_row(in));
+  ++recommendation_counts_.written;
 }
 
 void RecorderNode::flush_all() {
@@ -189,18 +208,30 @@ void RecorderNode::finish() {
     summary += (summary.empty() ? "" : ", ") + name + " " + std::to_string(rows);
   };
   for (const auto& [name, t] : conditions_) add(name, t.file->rows_written());
-  for (const auto& [key, t] : factor_tables_) {
-    add(t.file_name, t.file ? t.file->rows_written() : 0);
-    const auto& c = t.assembler.counters();
-    if (c.rows_partial + c.refused + c.duplicates + c.dropped_factors > 0) {
-      spdlog::warn("{}: {} partial rows (an outcome missing), {} messages refused, {} duplicates, {} factor values "
-                   "without a column",
-                   t.file_name, c.rows_partial, c.refused, c.duplicates, c.dropped_factors);
-    }
-  }
+  for (const auto& [key, t] : factor_tables_) add(t.file_name, t.file ? t.file->rows_written() : 0);
+  // Per topic: what came, what was written, what was dropped as already written or refused, and the
+  // snapshot ranges never received (the source's index sequence has a gap there).
   for (const auto& [name, t] : conditions_) {
-    if (t.refused > 0) spdlog::warn("{}: {} condition vectors refused (channel count changed)", name, t.refused);
+    const std::string lost = describe_missing(t.written.missing(), "snapshots");
+    spdlog::log(lost.empty() && t.counts.refused == 0 ? spdlog::level::info : spdlog::level::warn,
+                "condition vectors {}: {}{}", name, describe(t.counts), lost.empty() ? "" : "; " + lost);
   }
+  for (const auto& [key, t] : factor_tables_) {
+    const auto c = t.assembler.counters();
+    // Messages in, rows out: G messages make one row.
+    std::string extra;
+    if (c.rows_partial > 0) extra += " (" + std::to_string(c.rows_partial) + " partial rows: an outcome missing)";
+    if (c.dropped_factors > 0) extra += "; " + std::to_string(c.dropped_factors) + " factor values without a column";
+    for (const auto& stream : t.assembler.streams()) {
+      if (const std::string lost = describe_missing(stream.missing, "snapshots"); !lost.empty()) extra += "; " + lost;
+    }
+    spdlog::log(extra.empty() && c.refused == 0 ? spdlog::level::info : spdlog::level::warn,
+                "causal factors {}: received {}, duplicates {}, refused {} messages; {} rows written{}", t.file_name,
+                c.messages + c.duplicates + c.refused, c.duplicates, c.refused,
+                t.file ? t.file->rows_written() : 0, extra);
+  }
+  spdlog::info("alarms: {}", describe(alarm_counts_));
+  spdlog::info("recommendations: {}", describe(recommendation_counts_));
   add(kAlarmsFile, alarms_->rows_written());
   add(kRecommendationsFile, recommendations_->rows_written());
   spdlog::info("rows written: {}", summary);

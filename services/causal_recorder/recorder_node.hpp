@@ -1,6 +1,8 @@
 // causal-recorder's DDS node (the historian): condition vectors, causal factors, alarms and
-// recommendations in; CSV files out, flushed after every batch. Entities are built in the constructor,
-// run() records until idle/max-runtime/stop(), then writes pending partial factor rows and a summary.
+// recommendations in; CSV files out, flushed after every batch, every row exactly once (re-sent and
+// replayed messages are counted as duplicates). Entities are built in the constructor, run() records
+// until idle/max-runtime/stop(), then writes pending partial factor rows and per topic what it received,
+// wrote, dropped as duplicate or refused, and the snapshot ranges it never got.
 #pragma once
 
 #include "factor_row_assembler.hpp"
@@ -41,7 +43,8 @@ class RecorderNode {
  private:
   struct ConditionTable {
     std::unique_ptr<report::CsvFile> file;
-    std::uint64_t refused = 0;
+    TopicCounts counts;
+    dds::IndexLedger written;  // snapshot indices written: a second vector of one of them is a duplicate
   };
   struct FactorTable {
     explicit FactorTable(std::size_t max_pending) : assembler(max_pending) {}
@@ -77,6 +80,8 @@ class RecorderNode {
   std::map<std::string, std::string> file_assets_;    // raw asset id -> file-name component
   std::set<std::string> used_file_assets_;
   std::unique_ptr<report::CsvFile> alarms_, recommendations_;
+  RepeatFilter alarm_repeats_, recommendation_repeats_;
+  TopicCounts alarm_counts_, recommendation_counts_;
   std::uint64_t sample_level_skipped_ = 0, invalid_msgs_ = 0;
 };
 

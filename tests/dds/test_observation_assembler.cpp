@@ -1,6 +1,8 @@
 // causal::recommender::ObservationAssembler (services/alarm_recommender/observation_assembler.cpp): G per-outcome
-// CausalFactors messages of one index -> one Observation, whatever their arrival order; condition vectors joined
-// by time; bounded waiting (max_pending) and bounded memory for indices that never complete.
+// CausalFactors messages of one index -> one Observation, whatever their arrival order, each index once and in
+// index order (the collection itself is dds::FactorSetAssembler's, tested in test_factor_set_assembler.cpp);
+// condition vectors joined by time; bounded waiting (max_pending) and bounded memory for indices that never
+// complete.
 #include "observation_assembler.hpp"
 
 #include <gtest/gtest.h>
@@ -125,13 +127,17 @@ TEST(ObservationAssembler, InterleavedIndicesAreAssembledSeparately) {
   const SvarLayout l = make_layout(3);
   ObservationAssembler asm_(4);
   std::mt19937_64 rng(9);
+  // Each outcome is one DDS instance of one writer, so its messages come in index order; the outcomes
+  // interleave freely, up to 5 indices apart: several indices are in assembly at once. (An order that
+  // breaks per-instance order cannot occur: an index older than one already emitted is a duplicate.)
   std::vector<std::pair<int, std::uint64_t>> msgs;  // (outcome, index) for indices 0..29
-  for (std::uint64_t n = 0; n < 30; ++n) {
-    for (int k = 0; k < 3; ++k) msgs.emplace_back(k, n);
-  }
-  // Shuffle within windows of 5 indices: several indices are in assembly at once.
-  for (std::size_t w = 0; w < msgs.size(); w += 15) {
-    std::shuffle(msgs.begin() + static_cast<std::ptrdiff_t>(w), msgs.begin() + static_cast<std::ptrdiff_t>(w + 15), rng);
+  std::vector<std::uint64_t> next(3, 0);
+  std::uniform_int_distribution<int> pick(0, 2);
+  while (msgs.size() < 90) {
+    const int k = pick(rng);
+    const std::uint64_t lowest = *std::min_element(next.begin(), next.end());
+    if (next[static_cast<std::size_t>(k)] >= 30 || next[static_cast<std::size_t>(k)] >= lowest + 5) continue;
+    msgs.emplace_back(k, next[static_cast<std::size_t>(k)]++);
   }
   std::vector<AssembledObservation> out;
   for (const auto& [k, n] : msgs) asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, n), out);
@@ -140,6 +146,7 @@ TEST(ObservationAssembler, InterleavedIndicesAreAssembledSeparately) {
   for (const auto& a : out) by_index[a.observation.index] = &a;
   ASSERT_EQ(by_index.size(), 30u) << "each index exactly once";
   for (const auto& [n, a] : by_index) expect_observation(*a, l, causal_twin::SAMPLE_LEVEL, n);
+  for (std::uint64_t n = 0; n < 30; ++n) EXPECT_EQ(out[n].observation.index, n) << "in index order";
 }
 
 TEST(ObservationAssembler, FixedLagMessagesAreIgnored) {
@@ -342,7 +349,8 @@ TEST(ObservationAssembler, GroupsAndTimeScalesAreSeparateStreams) {
 TEST(ObservationAssembler, LostOutcomeMessagesDoNotPinMemory) {
   const int g = 3;
   const SvarLayout l = make_layout(g);
-  ObservationAssembler asm_(4);
+  constexpr std::size_t kMaxSets = 8;
+  ObservationAssembler asm_(4, kMaxSets);
   std::vector<AssembledObservation> out;
   const std::uint64_t lost = 1000;
   for (std::uint64_t n = 0; n < lost; ++n) {
@@ -351,18 +359,90 @@ TEST(ObservationAssembler, LostOutcomeMessagesDoNotPinMemory) {
     asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 1, n), out);
   }
   EXPECT_TRUE(out.empty());
-  // Incomplete indices are given up (bounded state): at most a small window of them is still held.
-  EXPECT_GT(asm_.dropped_incomplete(), 0u);
-  EXPECT_LE(asm_.dropped_incomplete(), lost);
-  EXPECT_GE(asm_.dropped_incomplete(), lost - 100) << "more than 100 incomplete indices held in memory";
-  // The stream still works afterwards.
+  // Incomplete indices are given up (bounded state): exactly kMaxSets of them are still held.
+  EXPECT_EQ(asm_.dropped_incomplete(), lost - kMaxSets);
+  // The stream still works afterwards: a complete index comes out at once, the held ones are given up
+  // (every outcome is past them, they can never complete).
   for (int k = 0; k < g; ++k) asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, lost + 5), out);
   ASSERT_EQ(out.size(), 1u);
   expect_observation(out[0], l, causal_twin::SAMPLE_LEVEL, lost + 5);
-  // The newest incomplete index is still assemblable when its lost message turns up late.
+  EXPECT_EQ(asm_.dropped_incomplete(), lost);
+  // The lost message of an index that was given up turns up late: a duplicate, never a second observation
+  // behind a newer one (the old assembler emitted it, out of order).
   asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 2, lost - 1), out);
-  ASSERT_EQ(out.size(), 2u);
-  expect_observation(out[1], l, causal_twin::SAMPLE_LEVEL, lost - 1);
+  asm_.flush(out);
+  EXPECT_EQ(out.size(), 1u);
+  EXPECT_EQ(asm_.factor_counters().duplicates, 1u);
+}
+
+TEST(ObservationAssembler, ReSentAndReplayedIndicesGiveNoSecondObservation) {
+  const int g = 3;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  auto send = [&](std::uint64_t n) {
+    for (int k = 0; k < g; ++k) asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, n), out);
+  };
+  for (std::uint64_t n = 0; n < 10; ++n) send(n);
+  for (std::uint64_t n = 7; n < 12; ++n) send(n);  // estimator restarted from index 7
+  for (std::uint64_t n = 0; n < 12; ++n) send(n);  // a transient-local history replayed
+  send(12);
+  ASSERT_EQ(out.size(), 13u) << "each index exactly once";
+  for (std::uint64_t n = 0; n < 13; ++n) expect_observation(out[n], l, causal_twin::SAMPLE_LEVEL, n);
+  const auto c = asm_.factor_counters();
+  EXPECT_EQ(c.duplicates, (3u + 12u) * g);
+  EXPECT_EQ(c.accepted, 13u * g);
+  EXPECT_EQ(c.accepted + c.duplicates + c.refused, (10u + 5u + 12u + 1u) * g) << "sent == counted";
+}
+
+TEST(ObservationAssembler, ObservationIndexIsTheSnapshotIndexNotACount) {
+  const int g = 2;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  // A consumer that joins late sees snapshots 533, 534 and (after a gap in the source) 540.
+  for (std::uint64_t n : {533u, 534u, 540u}) {
+    asm_.add_condition("ims2", "rms", kT0 + static_cast<std::int64_t>(n) * kStep, condition_values(g, n), out);
+    for (int k = 0; k < g; ++k) asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, k, n), out);
+  }
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0].observation.index, 533u);
+  EXPECT_EQ(out[1].observation.index, 534u);
+  EXPECT_EQ(out[2].observation.index, 540u);
+  for (const auto& a : out) expect_observation(a, l, causal_twin::CONDITION_LEVEL, a.observation.index);
+}
+
+TEST(ObservationAssembler, TwoAssetGroupsInterleavedOnBothTimeScales) {
+  const int g = 2;
+  const SvarLayout l = make_layout(g);
+  ObservationAssembler asm_(4);
+  std::vector<AssembledObservation> out;
+  std::map<std::pair<std::string, int>, std::vector<std::uint64_t>> seen;
+  for (std::uint64_t n = 0; n < 6; ++n) {
+    for (const std::string group : {"ims2", "other"}) {
+      asm_.add_condition(group, "rms", kT0 + static_cast<std::int64_t>(n) * kStep, condition_values(g, n), out);
+    }
+    // Outcomes of both groups and both scales interleaved, outcome 2 first.
+    for (int k = g - 1; k >= 0; --k) {
+      for (const std::string group : {"ims2", "other"}) {
+        asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, k, n, causal_twin::FILTER, group), out);
+        asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, 1024 * n, causal_twin::FILTER, group), out);
+      }
+    }
+  }
+  asm_.flush(out);
+  ASSERT_EQ(out.size(), 24u);
+  for (const auto& a : out) {
+    seen[{a.asset_group, static_cast<int>(a.time_scale)}].push_back(a.observation.index);
+    if (a.time_scale == causal_twin::CONDITION_LEVEL) {
+      EXPECT_TRUE((a.observation.features.array() == condition_values(g, a.observation.index).array()).all());
+    }
+  }
+  for (const std::string group : {"ims2", "other"}) {
+    EXPECT_EQ(seen[std::make_pair(group, static_cast<int>(causal_twin::CONDITION_LEVEL))], (std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5}));
+    EXPECT_EQ(seen[std::make_pair(group, static_cast<int>(causal_twin::SAMPLE_LEVEL))], (std::vector<std::uint64_t>{0, 1024, 2048, 3072, 4096, 5120}));
+  }
+  EXPECT_EQ(asm_.factor_counters().complete, 24u);
 }
 
 // Per-outcome covariance blocks: a distinct, recognisable SPD block per (outcome, index).

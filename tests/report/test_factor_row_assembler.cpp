@@ -1,5 +1,5 @@
-// Factor row assembly: G per-outcome messages of one index -> one CSV row (outcome-major), partial rows
-// at exit, bounded pending rows, refusals and layout changes.
+// Factor row assembly: G per-outcome messages of one index -> one CSV row (outcome-major), each index
+// once, partial rows at exit, bounded pending rows, refusals, duplicates, gaps and layout changes.
 #include "factor_row_assembler.hpp"
 
 #include "csv_format.hpp"
@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <random>
 
@@ -213,15 +214,72 @@ TEST(FactorRowAssembler, RefusesInconsistentMessagesAndCountsDuplicates) {
   EXPECT_EQ(a.add(ragged), FactorRowAssembler::AddStatus::Refused);
   EXPECT_EQ(a.counters().refused, 3u);
 
+  FactorMessage nan = message(0, 2);
+  nan.factors[0] = std::nan("");
+  EXPECT_EQ(a.add(nan), FactorRowAssembler::AddStatus::Refused);
+  EXPECT_NE(a.last_problem().find("non-finite"), std::string::npos) << a.last_problem();
+  EXPECT_EQ(a.counters().refused, 4u);
+
+  // A second copy of a pending outcome is a duplicate: the first copy stays (the old assembler let the
+  // later copy replace it, so one row could mix two sends of an outcome).
   FactorMessage first = message(0, 2);
   first.nis_mean = 99.0;
-  a.add(first);
-  a.add(message(0, 2));  // the later copy replaces the earlier one
+  EXPECT_EQ(a.add(first), FactorRowAssembler::AddStatus::Stored);
+  EXPECT_EQ(a.add(message(0, 2)), FactorRowAssembler::AddStatus::Duplicate);
   EXPECT_EQ(a.counters().duplicates, 1u);
-  a.add(message(0, 3));
+  EXPECT_EQ(a.add(message(0, 3)), FactorRowAssembler::AddStatus::Completed);
   const auto rows = a.take_rows();
   ASSERT_EQ(rows.size(), 1u);
-  check_outcome(rows[0], 0, 2, true);
+  check_outcome(rows[0], 0, 1, true);
+  check_outcome(rows[0], 0, 3, true);
+  EXPECT_EQ(num(rows[0][3 + 2 * names_of(1).size() * kG + 1]), 99.0) << "outcome 2's NIS from the first copy";
+  EXPECT_EQ(a.counters().messages, 3u);
+}
+
+TEST(FactorRowAssembler, ReSentAndReplayedIndicesAreWrittenOnce) {
+  FactorRowAssembler a;
+  std::uint64_t sent = 0;
+  auto send = [&](std::uint64_t n, int k) {
+    ++sent;
+    return a.add(message(n, k));
+  };
+  for (std::uint64_t n = 0; n < 8; ++n) {
+    for (int k = 1; k <= kG; ++k) send(n, k);
+  }
+  // Estimator restart from index 5, then a late-joining replay of 0..7 outcome by outcome, then new data.
+  for (std::uint64_t n = 5; n < 8; ++n) {
+    for (int k = 1; k <= kG; ++k) EXPECT_EQ(send(n, k), FactorRowAssembler::AddStatus::Duplicate);
+  }
+  for (int k = 1; k <= kG; ++k) {
+    for (std::uint64_t n = 0; n < 8; ++n) EXPECT_EQ(send(n, k), FactorRowAssembler::AddStatus::Duplicate);
+  }
+  for (int k = kG; k >= 1; --k) send(8, k);  // outcomes out of order
+  const auto rows = a.take_rows();
+  ASSERT_EQ(rows.size(), 9u);
+  for (std::uint64_t n = 0; n < 9; ++n) {
+    EXPECT_EQ(rows[n][0], std::to_string(n));
+    for (int k = 1; k <= kG; ++k) check_outcome(rows[n], n, k, true);
+  }
+  const auto c = a.counters();
+  EXPECT_EQ(c.duplicates, (3u + 8u) * kG);
+  EXPECT_EQ(c.messages + c.duplicates + c.refused, sent) << "every message counted once";
+  EXPECT_EQ(c.rows_complete, 9u);
+}
+
+TEST(FactorRowAssembler, ConditionLevelGapsAreReportedAsMissing) {
+  FactorRowAssembler a;
+  for (std::uint64_t n : {118u, 119u, 132u, 133u, 135u}) {
+    for (int k = 1; k <= kG; ++k) {
+      FactorMessage m = message(n, k);
+      m.time_scale = causal_twin::CONDITION_LEVEL;
+      a.add(m);
+    }
+  }
+  EXPECT_EQ(a.take_rows().size(), 5u) << "rows are not held back for indices that never come";
+  const auto streams = a.streams();
+  ASSERT_EQ(streams.size(), 1u);
+  EXPECT_TRUE(streams[0].gaps_tracked);
+  EXPECT_EQ(streams[0].missing, (std::vector<causal::dds::IndexRange>{{120, 131}, {134, 134}}));
 }
 
 TEST(FactorRowAssembler, ChangedFactorOrderIsPlacedByName) {

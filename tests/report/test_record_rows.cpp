@@ -106,3 +106,36 @@ TEST(IndexClock, RemembersTheNewestIndices) {
   EXPECT_FALSE(clock.time_of(1).has_value());
   EXPECT_EQ(clock.time_of(4), kT0 + 4 * kMin);
 }
+
+TEST(RepeatFilter, OnlyAChangeOfTheLastSignaturePerIdIsNew) {
+  RepeatFilter f;
+  causal_twin::Alarm a = make_alarm();
+  EXPECT_TRUE(f.accept(a.alarm_id(), alarm_signature(a)));
+  EXPECT_FALSE(f.accept(a.alarm_id(), alarm_signature(a))) << "replayed last value";
+  causal_twin::Alarm other = a;
+  other.alarm_id("another");
+  EXPECT_TRUE(f.accept(other.alarm_id(), alarm_signature(other))) << "same content, other id";
+  a.reason("new wording");  // not part of the signature: still the same state change
+  EXPECT_FALSE(f.accept(a.alarm_id(), alarm_signature(a)));
+  a.sample_index(18);
+  EXPECT_TRUE(f.accept(a.alarm_id(), alarm_signature(a))) << "new evidence";
+  a.severity(causal_twin::CRITICAL);
+  EXPECT_TRUE(f.accept(a.alarm_id(), alarm_signature(a)));
+  a.state(causal_twin::CLEARED);
+  EXPECT_TRUE(f.accept(a.alarm_id(), alarm_signature(a)));
+  EXPECT_EQ(f.ids(), 2u);
+
+  causal_twin::Recommendation r;
+  r.recommendation_id("x/1");
+  r.text("reduce load");
+  EXPECT_TRUE(f.accept(r.recommendation_id(), recommendation_signature(r)));
+  EXPECT_FALSE(f.accept(r.recommendation_id(), recommendation_signature(r)));
+  r.effect_low(-0.3);
+  EXPECT_TRUE(f.accept(r.recommendation_id(), recommendation_signature(r))) << "any field differs";
+}
+
+TEST(TopicCounts, DescribedForTheExitLog) {
+  EXPECT_EQ(describe(TopicCounts{12, 9, 2, 1}), "received 12, written 9, duplicates 2, refused 1");
+  EXPECT_EQ(describe_missing({{120, 131}, {140, 140}}, "snapshots"), "lost snapshots 120..131, 140");
+  EXPECT_EQ(describe_missing({}, "snapshots"), "");
+}

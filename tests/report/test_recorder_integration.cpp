@@ -1,4 +1,4 @@
-// causal-recorder against real DDS publishers (private domains 161/162, loopback transport), then
+// causal-recorder against real DDS publishers (private domains 161..163, loopback transport), then
 // causal-report on what it recorded. Every wait is bounded; only processes started here are signalled,
 // by pid; leftover Fast DDS shared-memory files of dead processes are cleaned with `fastdds shm clean`.
 #include "csv_format.hpp"
@@ -436,6 +436,74 @@ TEST_F(RecorderIntegration, SigtermRecordsWhatArrivedIncludingPartialRows) {
   }
   EXPECT_EQ(partial[3 + 2 * per * kG + 1], "");  // nis of outcome 2
   EXPECT_NE(slurp(dir_ / "recorder.log").find("1 partial rows"), std::string::npos);
+}
+
+// Exactly once: what an estimator restart or a replayed history sends again is counted, not written again,
+// and the snapshots the recorder never got are named in its exit log.
+TEST_F(RecorderIntegration, ReSentMessagesAreWrittenOnceAndGapsAreLogged) {
+  const pid_t recorder = start_recorder(163, {"--idle-exit", "1.5"});
+  ASSERT_GT(recorder, 0);
+  open_publisher(163);
+  if (HasFatalFailure()) return;
+  // Condition vectors 0, 1, 3, 4 (2 never sent), then 0 and 1 again (the estimator restarted).
+  for (std::uint64_t n : {0u, 1u, 3u, 4u, 0u, 1u}) {
+    causal_twin::ConditionVector c;
+    c.asset_group(asset_);
+    c.feature("rms");
+    c.snapshot_index(n);
+    c.time_ns(kT0 + static_cast<std::int64_t>(n) * kDt);
+    c.channel_names({channel(1), channel(2), channel(3)});
+    c.values({feature_value(n, 1), feature_value(n, 2), feature_value(n, 3)});
+    ASSERT_EQ(writers_->conditions.write(c, stop_), causal::dds::WriteResult::Ok);
+  }
+  // Factors of indices 0..2 and 4 (3 never sent), then index 1 again.
+  for (std::uint64_t n : {0u, 1u, 2u, 4u, 1u}) {
+    for (int k = 1; k <= kG; ++k) publish(factors(n, k, causal_twin::FILTER));
+  }
+  causal_twin::Alarm a;
+  a.alarm_id(asset_ + "/1/feature_drift/1");
+  a.asset_group(asset_);
+  a.channel(1);
+  a.channel_name(channel(1));
+  a.kind("feature_drift");
+  a.severity(causal_twin::ADVISORY);
+  a.state(causal_twin::RAISED);
+  a.raised_time_ns(kT0 + 3 * kDt);
+  a.sample_index(3);
+  a.reason("drift");
+  publish_alarm(a);
+  // The same state again (a replayed last value): received, not written. KEEP_LAST 1 per alarm id, so it
+  // must be acknowledged before the next state replaces it.
+  ASSERT_EQ(writers_->alarms.write(a, stop_), causal::dds::WriteResult::Ok);
+  ASSERT_TRUE(writers_->alarms.wait_for_acknowledgments(10s));
+  a.state(causal_twin::ESCALATED);
+  a.severity(causal_twin::WARNING);
+  a.sample_index(4);
+  publish_alarm(a);
+  // Acknowledged by the live reader = in its history: recorded before it exits (idle exit).
+  ASSERT_TRUE(writers_->conditions.wait_for_acknowledgments(10s));
+  ASSERT_TRUE(writers_->factors.wait_for_acknowledgments(10s));
+  ASSERT_EQ(wait_exit(recorder, 30s), 0) << slurp(dir_ / "recorder.log");
+  const std::string log = slurp(dir_ / "recorder.log");
+
+  const auto cond = lines_of(dir_ / "run" / ("conditions_" + file_asset_ + "_rms.csv"));
+  ASSERT_EQ(cond.size(), 5u) << log;
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(split(cond[i + 1])[0], std::to_string(std::vector<int>{0, 1, 3, 4}[i]));
+  const auto f = lines_of(dir_ / "run" / ("factors_" + file_asset_ + "_condition_filter.csv"));
+  ASSERT_EQ(f.size(), 5u) << log;
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(split(f[i + 1])[0], std::to_string(std::vector<int>{0, 1, 2, 4}[i]));
+  EXPECT_EQ(lines_of(dir_ / "run" / "alarms.csv").size(), 3u) << log;
+
+  EXPECT_NE(log.find("condition vectors conditions_" + file_asset_ +
+                     "_rms.csv: received 6, written 4, duplicates 2, refused 0; lost snapshots 2"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("causal factors factors_" + file_asset_ +
+                     "_condition_filter.csv: received 15, duplicates 3, refused 0 messages; 4 rows written; "
+                     "lost snapshots 3"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("alarms: received 3, written 2, duplicates 1, refused 0"), std::string::npos) << log;
 }
 
 TEST(ReportErrors, MissingInputsExitWithCodeTwoAndSayWhat) {
