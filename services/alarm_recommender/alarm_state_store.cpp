@@ -100,7 +100,8 @@ AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bo
       }
       if (out.engine->factor_names() != factor_names) {
         throw causal::StateError("it was written for factors " + joined(out.engine->factor_names()) +
-                                 ", the stream has " + joined(factor_names));
+                                 ", the stream has " + joined(factor_names) +
+                                 " (did causal-estimator restart without its state and learn another causal order?)");
       }
       out.resumed = true;
       for (const auto& [id, e] : s.last_events) out.republish.push_back(e);
