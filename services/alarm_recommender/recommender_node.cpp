@@ -85,7 +85,7 @@ int RecommenderNode::run() {
                  st.raised, active.size());
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
-  if (store_.duplicates() > 0) spdlog::info("{} re-sent observations dropped (already processed)", store_.duplicates());
+  spdlog::info("{} re-sent observations dropped (index not after the last one processed)", store_.duplicates());
   if (store_.enabled()) {
     spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.save_failures());
   }
