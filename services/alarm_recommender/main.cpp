@@ -17,6 +17,12 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--state-dir", o.state_dir,
+                 "directory for crash/restart checkpoints of the alarm engines, one file per asset group and time "
+                 "scale (<group>.<condition|sample>.alarms.state): baselines, detectors, alarm id counters, active "
+                 "alarms and the last event of every alarm, re-published at restart; re-sent observations are "
+                 "dropped. Empty = no persistence")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "alarm-recommender", o.dds.log_level, [&] {
     auto params = causal::recommender::load_recommender_params(o.params_file);

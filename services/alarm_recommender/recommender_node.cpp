@@ -21,7 +21,8 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
       recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationWriter),
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
-      advisor_(params_.advice) {
+      advisor_(params_.advice),
+      store_(options_.state_dir) {
   loop_.attach(factors_.get());
   loop_.attach(conditions_.get());
   loop_.attach(whatif_requests_.get());
@@ -61,6 +62,7 @@ int RecommenderNode::run() {
   ready.clear();
   assembler_.flush(ready);
   handle(ready);
+  store_.flush();
   for (const auto& [key, st] : engines_) {
     const auto active = st.engine->active_alarms();
     spdlog::info("asset '{}' {} level: {} observations, {} alarms raised, {} still active", key.first,
@@ -68,6 +70,10 @@ int RecommenderNode::run() {
                  st.raised, active.size());
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
+  spdlog::info("{} re-sent observations dropped (index not after the last one processed)", store_.duplicates());
+  if (store_.enabled()) {
+    spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.save_failures());
+  }
   if (const auto c = assembler_.factor_counters(); c.dropped + c.duplicates + c.refused > 0) {
     spdlog::warn("causal factors: {} messages assembled into {} observations; {} duplicates (re-sent or replayed "
                  "indices, dropped), {} refused{}, {} factor sets never completed (lost outcome messages)",
@@ -104,13 +110,33 @@ void RecommenderNode::observe(AssembledObservation& a) {
     EngineState st;
     const alarms::AlarmParams p =
         sample ? alarms::AlarmParams::sample_level(params_.sample_baseline_publications) : params_.condition;
-    st.engine = std::make_unique<alarms::AlarmEngine>(a.asset_group, a.channel_names, a.factor_names, p);
+    auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p);  // checkpoint if any
+    st.engine = std::move(opened.engine);
     st.channel_names = a.channel_names;
+    st.baseline_logged = st.engine->baseline_ready();
     it = engines_.emplace(key, std::move(st)).first;
-    spdlog::info("asset '{}' {} level: learning the baseline from the first {} observations", a.asset_group,
-                 sample ? "sample" : "condition", p.warmup_observations + p.baseline_observations);
+    if (opened.resumed) {
+      spdlog::info("asset '{}' {} level: resumed from checkpoint: {} observations, {} active alarms", a.asset_group,
+                   sample ? "sample" : "condition", it->second.engine->observations_seen(),
+                   it->second.engine->active_alarms().size());
+      // Transient-local readers that join after the restart must see the alarms raised before it.
+      for (const auto& e : opened.republish) {
+        dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
+        if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
+      }
+      spdlog::info("asset '{}': {} alarm messages re-published from the checkpoint", a.asset_group,
+                   opened.republish.size());
+    } else {
+      spdlog::info("asset '{}' {} level: learning the baseline from the first {} observations", a.asset_group,
+                   sample ? "sample" : "condition", p.warmup_observations + p.baseline_observations);
+    }
   }
   EngineState& st = it->second;
+  if (store_.is_duplicate(a.asset_group, sample, a.observation.index)) {
+    spdlog::debug("asset '{}' {} level: observation {} already processed (re-sent), dropped", a.asset_group,
+                  sample ? "sample" : "condition", a.observation.index);
+    return;
+  }
   advisor_.update(a);
   if (!sample && advisor_.has_model(a.asset_group)) {
     const int full = advisor_.full_covariance(a.asset_group) ? 1 : 0;
@@ -121,7 +147,9 @@ void RecommenderNode::observe(AssembledObservation& a) {
                         : "factor standard deviations only (no covariance blocks: correlations ignored)");
     }
   }
-  for (const auto& e : st.engine->observe(a.observation)) {
+  const auto events = st.engine->observe(a.observation);
+  store_.record(a.asset_group, sample, a.observation.index, events);  // checkpoint before publishing
+  for (const auto& e : events) {
     if (e.state == alarms::AlarmState::Raised) ++st.raised;
     publish_event(a, e);
     if (e.state == alarms::AlarmState::Raised && !sample && params_.advice.enabled) recommend(a, st, e);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "advisor.hpp"
+#include "alarm_state_store.hpp"
 #include "observation_assembler.hpp"
 #include "recommender_params.hpp"
 
@@ -24,6 +25,7 @@ struct RecommenderOptions {
   std::string params_file;
   double idle_exit_s = 0.0;
   double max_runtime_s = 0.0;
+  std::string state_dir;  // checkpoints of the alarm engines (empty: none), see alarm_state_store.hpp
 };
 
 class RecommenderNode {
@@ -58,6 +60,7 @@ class RecommenderNode {
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
   Advisor advisor_;
+  AlarmStateStore store_;
   std::map<std::pair<std::string, int>, EngineState> engines_;
   causal_twin::Alarm alarm_msg_;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;

@@ -183,6 +183,7 @@ PipelineResult run_condition_pipeline(const ConditionSeries& series, const Pipel
     filter.std_devs(sd.data());
     o.factors = Eigen::Map<const Eigen::VectorXd>(x.data(), total);
     o.factor_std = Eigen::Map<const Eigen::VectorXd>(sd.data(), total);
+    if (options.on_observation) options.on_observation(o);
     auto events = engine.observe(o);
     for (Eigen::Index c = 0; c < g; ++c) {
       const auto d = engine.channel_diagnostics(static_cast<int>(c));

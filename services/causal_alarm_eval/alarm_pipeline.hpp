@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct PipelineOptions {
   // Reporting only: the first alarm of a channel counts as sustained when it is still active at the end
   // of the run or stayed active for at least this many observations.
   int sustained_observations = 36;
+  // Called with every observation the engine is fed, in order (e.g. tests that replay the real stream
+  // through engines of their own, such as the checkpoint tests). Empty = not called.
+  std::function<void(const causal::alarms::Observation&)> on_observation;
 };
 
 struct ChannelSummary {

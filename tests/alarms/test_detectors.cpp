@@ -1,12 +1,15 @@
-// ClippedCusum, WindowMean and PersistenceLatch against direct reference computations.
+// ClippedCusum, WindowMean and PersistenceLatch against direct reference computations, and their
+// checkpoints against the uninterrupted detector.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
 #include "causal/alarms/detectors.hpp"
+#include "causal/state_archive.hpp"
 
 using namespace causal::alarms;
 
@@ -88,4 +91,70 @@ TEST(PersistenceLatch, RaisesAfterConsecutiveAndClearsAfterConsecutive) {
   EXPECT_EQ(l.update(1, 4, 2), T::None);
   EXPECT_EQ(l.update(1, 4, 2), T::Clear);
   EXPECT_FALSE(l.active());
+}
+
+// ---- checkpoints: save mid-stream, restore into a default-constructed object (other settings), continue:
+// every value must equal the uninterrupted detector's, bit for bit.
+namespace {
+template <typename D>
+D restored_copy(const D& d) {
+  causal::StateWriter w;
+  d.save(w);
+  causal::StateReader r(w.bytes());
+  D out;
+  out.restore(r);
+  EXPECT_TRUE(r.at_end());
+  return out;
+}
+}  // namespace
+
+TEST(DetectorCheckpoint, CusumWindowLatchContinueAsUninterrupted) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n(0.5, 2.0);
+  ClippedCusum c(1.0, 3.0, 7.0), c2;
+  WindowMean w(7), w2;
+  PersistenceLatch l(2, 3), l2;
+  for (int i = 0; i < 3000; ++i) {
+    if (i % 250 == 123) {  // cut at varied phases of the window and of excursions
+      c2 = restored_copy(c);
+      w2 = restored_copy(w);
+      l2 = restored_copy(l);
+    }
+    const double z = n(rng);
+    const auto ti = static_cast<std::uint64_t>(i);
+    c.update(z, ti, 1000 * i);
+    w.push(z * z);
+    const auto tr = l.update(c.value(), 4.0, 2.0);
+    if (i < 123) continue;  // the copies exist from the first cut on
+    c2.update(z, ti, 1000 * i);
+    w2.push(z * z);
+    ASSERT_EQ(l2.update(c2.value(), 4.0, 2.0), tr) << i;
+    ASSERT_EQ(c2.value(), c.value()) << i;
+    ASSERT_EQ(c2.onset_index(), c.onset_index()) << i;
+    ASSERT_EQ(c2.onset_time_ns(), c.onset_time_ns()) << i;
+    ASSERT_EQ(w2.mean(), w.mean()) << i;
+    ASSERT_EQ(w2.median(), w.median()) << i;
+    ASSERT_EQ(w2.count(), w.count()) << i;
+    ASSERT_EQ(l2.active(), l.active()) << i;
+    ASSERT_EQ(l2.above_count(), l.above_count()) << i;
+    ASSERT_EQ(l2.below_count(), l.below_count()) << i;
+  }
+}
+
+TEST(DetectorCheckpoint, ForeignOrInconsistentSectionsAreRefused) {
+  causal::StateWriter w;
+  WindowMean(4).save(w);
+  causal::StateReader r(w.bytes());
+  ClippedCusum c;
+  EXPECT_THROW(c.restore(r), causal::StateError);  // a window where a CUSUM is expected
+
+  causal::StateWriter bad;  // a window whose write position lies outside its buffer
+  bad.begin("window_mean", 1);
+  bad.put(std::vector<double>(4, 0.0));
+  bad.put(4);
+  bad.put(4);
+  bad.put(0.0);
+  causal::StateReader rb(bad.bytes());
+  WindowMean m;
+  EXPECT_THROW(m.restore(rb), causal::StateError);
 }

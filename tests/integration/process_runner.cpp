@@ -77,6 +77,12 @@ int ServiceProcess::terminate(std::chrono::milliseconds grace) {
   return wait(std::chrono::seconds(5)).value_or(-1);
 }
 
+int ServiceProcess::kill_hard() {
+  if (exit_code_) return *exit_code_;
+  kill(pid_, SIGKILL);
+  return wait(std::chrono::seconds(5)).value_or(-1);
+}
+
 std::string ServiceProcess::output() const {
   std::ifstream in(log_path_);
   std::stringstream ss;

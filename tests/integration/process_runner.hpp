@@ -24,6 +24,8 @@ class ServiceProcess {
   bool running();
   // SIGTERM, wait up to `grace`, then SIGKILL. Returns the exit code.
   int terminate(std::chrono::milliseconds grace = std::chrono::seconds(10));
+  // SIGKILL at once, as a crash would end it (no signal handler, no clean-up). Returns the exit code.
+  int kill_hard();
   std::string output() const;  // everything it printed so far
   const std::string& name() const { return name_; }
   pid_t pid() const { return pid_; }

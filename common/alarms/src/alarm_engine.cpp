@@ -349,6 +349,7 @@ bool AlarmEngine::baseline_ready() const { return impl_->ready; }
 int AlarmEngine::channel_count() const { return impl_->channels(); }
 const std::string& AlarmEngine::asset_group() const { return impl_->group; }
 const std::vector<std::string>& AlarmEngine::channel_names() const { return impl_->names; }
+const std::vector<std::string>& AlarmEngine::factor_names() const { return impl_->factor_names; }
 const AlarmParams& AlarmEngine::params() const { return impl_->p; }
 double AlarmEngine::cusum_threshold() const { return impl_->h; }
 double AlarmEngine::nis_threshold() const { return impl_->nis_thr; }

@@ -1,6 +1,9 @@
 #include "causal/alarms/alarm_event.hpp"
 
 #include <cstdio>
+#include <utility>
+
+#include "causal/state_archive.hpp"
 
 namespace causal::alarms {
 
@@ -20,6 +23,56 @@ const char* to_string(AlarmState s) {
     case AlarmState::Cleared: return "cleared";
   }
   return "?";
+}
+
+void save(causal::StateWriter& out, const AlarmEvent& e) {
+  out.begin("alarm_event", 1);
+  out.put(e.alarm_id);
+  out.put(e.channel);
+  out.put(static_cast<std::int32_t>(e.severity));
+  out.put(static_cast<std::int32_t>(e.state));
+  out.put(e.kind);
+  out.put(e.raised_time_ns);
+  out.put(e.cleared_time_ns);
+  out.put(e.index);
+  out.put(e.onset_index);
+  out.put(e.onset_time_ns);
+  out.put(e.root_cause_channel);
+  out.put(e.factor_names);
+  out.put(e.factor_baseline);
+  out.put(e.factor_now);
+  out.put(e.score);
+  out.put(e.threshold);
+  out.put(e.reason);
+}
+
+void restore(causal::StateReader& in, AlarmEvent& event) {
+  in.expect("alarm_event", 1);
+  AlarmEvent e;
+  in.read(e.alarm_id);
+  in.read(e.channel);
+  const auto severity = in.get<std::int32_t>();
+  const auto state = in.get<std::int32_t>();
+  if (severity < static_cast<int>(Severity::Advisory) || severity > static_cast<int>(Severity::Critical) ||
+      state < static_cast<int>(AlarmState::Raised) || state > static_cast<int>(AlarmState::Cleared)) {
+    throw causal::StateError("checkpoint: alarm_event '" + e.alarm_id + "' has an unknown severity or state");
+  }
+  e.severity = static_cast<Severity>(severity);
+  e.state = static_cast<AlarmState>(state);
+  in.read(e.kind);
+  in.read(e.raised_time_ns);
+  in.read(e.cleared_time_ns);
+  in.read(e.index);
+  in.read(e.onset_index);
+  in.read(e.onset_time_ns);
+  in.read(e.root_cause_channel);
+  in.read(e.factor_names);
+  in.read(e.factor_baseline);
+  in.read(e.factor_now);
+  in.read(e.score);
+  in.read(e.threshold);
+  in.read(e.reason);
+  event = std::move(e);
 }
 
 std::string format_utc_seconds(std::int64_t time_ns) {

@@ -2,10 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "causal/alarms/statistics.hpp"
+#include "causal/state_archive.hpp"
 
 namespace causal::alarms {
 
@@ -14,7 +19,97 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("AlarmParams: " + what);
 }
 bool prob_ok(double p) { return p > 0.0 && p < 0.5; }
+
+// Every field of AlarmParams with its name (P = AlarmParams or const AlarmParams). Checkpoints and the
+// comparison of a checkpoint's parameters with the configured ones go through this one list.
+template <typename P, typename F>
+void for_each_param(P& p, F&& f) {
+  f("warmup_observations", p.warmup_observations);
+  f("baseline_observations", p.baseline_observations);
+  f("min_baseline_coverage", p.min_baseline_coverage);
+  f("baseline_confidence", p.baseline_confidence);
+  f("cusum_k", p.cusum_k);
+  f("target_arl0", p.target_arl0);
+  f("clip_sigma", p.clip_sigma);
+  f("cusum_cap_factor", p.cusum_cap_factor);
+  f("clear_fraction", p.clear_fraction);
+  f("raise_persistence", p.raise_persistence);
+  f("clear_persistence", p.clear_persistence);
+  f("level_window", p.level_window);
+  f("feature_enabled", p.feature_enabled);
+  f("feature_log_transform", p.feature_log_transform);
+  f("warning_ratio", p.warning_ratio);
+  f("critical_ratio", p.critical_ratio);
+  f("stopped_ratio", p.stopped_ratio);
+  f("innovation_enabled", p.innovation_enabled);
+  f("nis_enabled", p.nis_enabled);
+  f("nis_two_sided", p.nis_two_sided);
+  f("nis_window", p.nis_window);
+  f("nis_false_alarm_prob", p.nis_false_alarm_prob);
+  f("warning_sigma", p.warning_sigma);
+  f("critical_sigma", p.critical_sigma);
+  f("factor_enabled", p.factor_enabled);
+  f("factor_false_alarm_prob", p.factor_false_alarm_prob);
+  f("factor_persistence", p.factor_persistence);
+  f("onset_tolerance", p.onset_tolerance);
+  f("own_evidence_z", p.own_evidence_z);
+  f("explain_top_factors", p.explain_top_factors);
+}
+constexpr std::uint32_t kParamCount = 30;
+// Tripwire (x86-64 layout): a field added to AlarmParams usually changes its size. List it in
+// for_each_param (or checkpoints would ignore it), bump kParamCount, then update this size.
+static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 176,
+              "AlarmParams changed: update for_each_param and kParamCount");
+
 }  // namespace
+
+void save(causal::StateWriter& out, const AlarmParams& params) {
+  out.begin("alarm_params", 1);
+  out.put(kParamCount);
+  for_each_param(params, [&](const char* name, const auto& value) {
+    out.put(name);
+    out.put(value);
+  });
+}
+
+void restore(causal::StateReader& in, AlarmParams& params) {
+  in.expect("alarm_params", 1);
+  const auto count = in.get<std::uint32_t>();
+  if (count != kParamCount) {
+    throw causal::StateError("checkpoint: " + std::to_string(count) + " alarm parameters saved, this build has " +
+                             std::to_string(kParamCount));
+  }
+  AlarmParams p;
+  for_each_param(p, [&](const char* name, auto& value) {
+    const auto saved = in.get<std::string>();
+    if (saved != name) {
+      throw causal::StateError("checkpoint: alarm parameter '" + saved + "' where this build expects '" + name + "'");
+    }
+    in.read(value);
+  });
+  params = p;
+}
+
+std::string param_differences(const AlarmParams& a, const AlarmParams& b) {
+  // Printed with 17 significant digits, two doubles print the same only when they are equal.
+  auto printed = [](const AlarmParams& p) {
+    std::vector<std::pair<std::string, std::string>> out;
+    for_each_param(p, [&](const char* name, const auto& value) {
+      std::ostringstream os;
+      os.precision(17);
+      os << std::boolalpha << value;
+      out.emplace_back(name, os.str());
+    });
+    return out;
+  };
+  const auto pa = printed(a), pb = printed(b);
+  std::string diff;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    if (pa[i].second == pb[i].second) continue;
+    diff += (diff.empty() ? "" : ", ") + pa[i].first + ": " + pa[i].second + " -> " + pb[i].second;
+  }
+  return diff;
+}
 
 void AlarmParams::validate() const {
   require(warmup_observations >= 0, "warmup_observations must be >= 0");

@@ -4,8 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "causal/alarms/statistics.hpp"
+#include "causal/state_archive.hpp"
 
 namespace causal::alarms {
 
@@ -30,6 +32,32 @@ void ClippedCusum::reset() {
   s_ = 0.0;
   onset_index_ = 0;
   onset_time_ns_ = 0;
+}
+
+void ClippedCusum::save(causal::StateWriter& out) const {
+  out.begin("clipped_cusum", 1);
+  out.put(k_);
+  out.put(clip_);
+  out.put(cap_);
+  out.put(s_);
+  out.put(onset_index_);
+  out.put(onset_time_ns_);
+}
+
+void ClippedCusum::restore(causal::StateReader& in) {
+  in.expect("clipped_cusum", 1);
+  ClippedCusum c;
+  in.read(c.k_);
+  in.read(c.clip_);
+  in.read(c.cap_);
+  in.read(c.s_);
+  in.read(c.onset_index_);
+  in.read(c.onset_time_ns_);
+  // The constructor's promises (k > 0, clip > k, cap > 0) and a statistic inside [0, cap].
+  if (!(c.k_ > 0.0 && c.clip_ > c.k_ && c.cap_ > 0.0 && c.s_ >= 0.0 && c.s_ <= c.cap_)) {
+    throw causal::StateError("checkpoint: clipped_cusum section holds invalid values");
+  }
+  *this = c;
 }
 
 WindowMean::WindowMean(int window) {
@@ -68,6 +96,28 @@ double WindowMean::median() const {
   return causal::alarms::median(std::vector<double>(buf_.begin(), buf_.begin() + count_));
 }
 
+void WindowMean::save(causal::StateWriter& out) const {
+  out.begin("window_mean", 1);
+  out.put(buf_);
+  out.put(next_);
+  out.put(count_);
+  out.put(sum_);
+}
+
+void WindowMean::restore(causal::StateReader& in) {
+  in.expect("window_mean", 1);
+  WindowMean w;
+  in.read(w.buf_);
+  in.read(w.next_);
+  in.read(w.count_);
+  in.read(w.sum_);
+  const int n = static_cast<int>(w.buf_.size());
+  if (w.next_ < 0 || w.count_ < 0 || w.count_ > n || (n > 0 && w.next_ >= n) || (n == 0 && w.next_ != 0)) {
+    throw causal::StateError("checkpoint: window_mean section is inconsistent (position outside the window)");
+  }
+  *this = std::move(w);
+}
+
 PersistenceLatch::PersistenceLatch(int raise_count, int clear_count)
     : raise_count_(raise_count), clear_count_(clear_count) {
   if (raise_count < 1 || clear_count < 1) throw std::invalid_argument("PersistenceLatch: counts must be >= 1");
@@ -97,6 +147,29 @@ PersistenceLatch::Transition PersistenceLatch::update(double statistic, double r
 void PersistenceLatch::reset() {
   above_ = below_ = 0;
   active_ = false;
+}
+
+void PersistenceLatch::save(causal::StateWriter& out) const {
+  out.begin("persistence_latch", 1);
+  out.put(raise_count_);
+  out.put(clear_count_);
+  out.put(above_);
+  out.put(below_);
+  out.put(active_);
+}
+
+void PersistenceLatch::restore(causal::StateReader& in) {
+  in.expect("persistence_latch", 1);
+  PersistenceLatch l;
+  in.read(l.raise_count_);
+  in.read(l.clear_count_);
+  in.read(l.above_);
+  in.read(l.below_);
+  in.read(l.active_);
+  if (l.raise_count_ < 1 || l.clear_count_ < 1 || l.above_ < 0 || l.below_ < 0) {
+    throw causal::StateError("checkpoint: persistence_latch section holds invalid counts");
+  }
+  *this = l;
 }
 
 }  // namespace causal::alarms

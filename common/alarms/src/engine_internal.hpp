@@ -107,6 +107,19 @@ struct Episode {
   }
 };
 
+// Checkpoints of the engine's pieces (engine_checkpoint.cpp). restore() throws causal::StateError on a
+// truncated, foreign or inconsistent section.
+void save(causal::StateWriter& out, const SignalMonitor& s);
+void restore(causal::StateReader& in, SignalMonitor& s);
+void save(causal::StateWriter& out, const FactorMonitor& f);
+void restore(causal::StateReader& in, FactorMonitor& f);
+void save(causal::StateWriter& out, const AlarmSlot& slot);
+void restore(causal::StateReader& in, AlarmSlot& slot);
+void save(causal::StateWriter& out, const ChannelState& cs);
+void restore(causal::StateReader& in, ChannelState& cs, int factor_count);
+void save(causal::StateWriter& out, const Episode& e);
+void restore(causal::StateReader& in, Episode& e, int channels);
+
 }  // namespace causal::alarms::detail
 
 namespace causal::alarms {
@@ -132,6 +145,11 @@ struct AlarmEngine::Impl {
   Severity severity_for(int c, int kind) const;
   std::vector<int> explain_factors(int c, int root) const;
   std::string reason(int c, int kind, AlarmState state, int root, const Observation& obs) const;
+  // Everything that changes after construction (engine_checkpoint.cpp); the configuration (group, names,
+  // params) is written by AlarmEngine::save before it, and restore_state() runs on an engine constructed
+  // from that configuration, so the derived structure (latch counts, factor references) is rebuilt.
+  void save_state(causal::StateWriter& out) const;
+  void restore_state(causal::StateReader& in);
 };
 
 }  // namespace causal::alarms

@@ -1,9 +1,11 @@
 #include "causal/alarms/statistics.hpp"
 
 #include "causal/normal_quantile.hpp"
+#include "causal/state_archive.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
@@ -48,6 +50,30 @@ RobustStats robust_stats(const std::vector<double>& v, double relative_floor, do
   s.scale = scale;
   s.valid = true;
   return s;
+}
+
+void save(causal::StateWriter& out, const RobustStats& stats) {
+  out.begin("robust_stats", 1);
+  out.put(stats.location);
+  out.put(stats.scale);
+  out.put(stats.lag1_autocorr);
+  out.put(static_cast<std::uint64_t>(stats.count));
+  out.put(stats.valid);
+}
+
+void restore(causal::StateReader& in, RobustStats& stats) {
+  in.expect("robust_stats", 1);
+  RobustStats s;
+  in.read(s.location);
+  in.read(s.scale);
+  in.read(s.lag1_autocorr);
+  s.count = static_cast<std::size_t>(in.get<std::uint64_t>());
+  in.read(s.valid);
+  // robust_stats() promises a positive, finite scale (its fallbacks): every z divides by it.
+  if (!(std::isfinite(s.scale) && s.scale > 0.0) || (s.valid && !std::isfinite(s.location))) {
+    throw causal::StateError("checkpoint: robust_stats section holds an invalid location or scale");
+  }
+  stats = s;
 }
 
 double normal_upper_quantile(double p) {

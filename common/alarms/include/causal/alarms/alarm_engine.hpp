@@ -38,6 +38,11 @@
 #include "causal/alarms/alarm_params.hpp"
 #include "causal/alarms/observation.hpp"
 
+namespace causal {
+class StateWriter;  // causal/state_archive.hpp (checkpoints)
+class StateReader;
+}  // namespace causal
+
 namespace causal::alarms {
 
 // State of one monitored scalar signal (diagnostics).
@@ -81,6 +86,7 @@ class AlarmEngine {
   int channel_count() const;
   const std::string& asset_group() const;
   const std::vector<std::string>& channel_names() const;
+  const std::vector<std::string>& factor_names() const;
   const AlarmParams& params() const;
   double cusum_threshold() const;     // h
   double nis_threshold() const;
@@ -91,6 +97,19 @@ class AlarmEngine {
   ChannelDiagnostics channel_diagnostics(int channel) const;
   // Latest event of every active alarm (state Raised or Escalated), channel order.
   std::vector<AlarmEvent> active_alarms() const;
+
+  // ---- checkpoints (crash and restart safety) -------------------------------------------------------
+  // Writes the engine's whole state: asset group, channel and factor names, parameters, baselines (or the
+  // values collected so far), every detector, latch, episode onset and counter, the alarm id counters
+  // and the latest event of every alarm. An engine restored from it and fed the rest of a stream emits
+  // exactly the events, ids, active alarms and diagnostics of the engine that never stopped.
+  void save(causal::StateWriter& out) const;
+  // Restores an engine written by save(), refusing one written with other parameters: a baseline and
+  // detectors designed under other thresholds cannot continue as if nothing had changed. Throws
+  // causal::StateError (truncated or foreign checkpoint; the message names every differing parameter).
+  static AlarmEngine restore(causal::StateReader& in, const AlarmParams& params);
+  // Same, with the parameters stored in the checkpoint (offline inspection, tools).
+  static AlarmEngine restore(causal::StateReader& in);
 
  private:
   struct Impl;

@@ -6,6 +6,11 @@
 #include <string>
 #include <vector>
 
+namespace causal {
+class StateWriter;  // causal/state_archive.hpp (checkpoints)
+class StateReader;
+}  // namespace causal
+
 namespace causal::alarms {
 
 enum class Severity { Advisory = 0, Warning = 1, Critical = 2 };
@@ -42,6 +47,12 @@ struct AlarmEvent {
 
 const char* to_string(Severity s);
 const char* to_string(AlarmState s);
+
+// Checkpoint of one event, every field (the engine keeps each alarm's latest event; services keep the last
+// published one to republish after a restart). restore() throws causal::StateError on a truncated or
+// foreign section, or an unknown severity / state.
+void save(causal::StateWriter& out, const AlarmEvent& event);
+void restore(causal::StateReader& in, AlarmEvent& event);
 
 // "YYYY-MM-DD hh:mm:ss UTC" (std only; the alarm library does not depend on causal_io).
 std::string format_utc_seconds(std::int64_t time_ns);

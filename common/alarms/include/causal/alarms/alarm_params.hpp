@@ -4,7 +4,17 @@
 // in false-alarm probabilities / average run lengths, or in physical level ratios.
 #pragma once
 
+#include <string>
+
+namespace causal {
+class StateWriter;  // causal/state_archive.hpp (checkpoints)
+class StateReader;
+}  // namespace causal
+
 namespace causal::alarms {
+
+// Every field below is also listed, by name, in alarm_params.cpp (for_each_param): checkpoints carry the
+// parameters they were written with, and a restore under other parameters is refused.
 
 struct AlarmParams {
   // ---------------------------------------------------------------- baseline ------------------------
@@ -152,5 +162,12 @@ struct AlarmParams {
   // off (see factor_enabled).
   static AlarmParams sample_level(int baseline_publications);
 };
+
+// Checkpoint of every parameter, by name. restore() throws causal::StateError on a truncated or foreign
+// section, or when the saved names are not this build's (a parameter added or removed).
+void save(causal::StateWriter& out, const AlarmParams& params);
+void restore(causal::StateReader& in, AlarmParams& params);
+// "name: a -> b" for every parameter whose value differs, comma-separated; empty when all are equal.
+std::string param_differences(const AlarmParams& a, const AlarmParams& b);
 
 }  // namespace causal::alarms

@@ -6,6 +6,11 @@
 #include <cstdint>
 #include <vector>
 
+namespace causal {
+class StateWriter;  // causal/state_archive.hpp (checkpoints)
+class StateReader;
+}  // namespace causal
+
 namespace causal::alarms {
 
 // One-sided upper CUSUM on a standardised signal z (baseline ~ N(0,1)):
@@ -33,6 +38,11 @@ class ClippedCusum {
   std::uint64_t onset_index() const { return onset_index_; }  // valid while in_excursion()
   std::int64_t onset_time_ns() const { return onset_time_ns_; }
 
+  // Checkpoint of the whole state, settings included, so the restored chart continues bit for bit.
+  // restore() throws causal::StateError on a truncated or foreign section.
+  void save(causal::StateWriter& out) const;
+  void restore(causal::StateReader& in);
+
  private:
   double k_ = 1.0, clip_ = 4.0, cap_ = 1e300;
   double s_ = 0.0;
@@ -52,6 +62,12 @@ class WindowMean {
   bool full() const { return count_ == static_cast<int>(buf_.size()); }
   int window() const { return static_cast<int>(buf_.size()); }
   double median() const;  // median of the values in the window (NaN when empty)
+
+  // Checkpoint of the buffer and the running sum as they are (not recomputed: the restored window must
+  // give the same rounding as the uninterrupted one). restore() throws causal::StateError on a truncated,
+  // foreign or inconsistent section.
+  void save(causal::StateWriter& out) const;
+  void restore(causal::StateReader& in);
 
  private:
   std::vector<double> buf_;
@@ -73,6 +89,10 @@ class PersistenceLatch {
   int above_count() const { return above_; }
   int below_count() const { return below_; }
   void reset();
+
+  // Checkpoint of the counts and the latch (a restored active alarm keeps its hysteresis progress).
+  void save(causal::StateWriter& out) const;
+  void restore(causal::StateReader& in);
 
  private:
   int raise_count_ = 1, clear_count_ = 1;

@@ -6,6 +6,11 @@
 #include <cstddef>
 #include <vector>
 
+namespace causal {
+class StateWriter;  // causal/state_archive.hpp (checkpoints)
+class StateReader;
+}  // namespace causal
+
 namespace causal::alarms {
 
 // Median of the finite values of `v` (NaN when there are none). Takes a copy: callers keep their order.
@@ -19,6 +24,11 @@ struct RobustStats {
   std::size_t count = 0;     // finite values used
   bool valid = false;        // false when fewer than 2 finite values were available
 };
+
+// Checkpoint of a learned baseline (the values themselves are not kept once the baseline is learned, so
+// a restart must carry the estimate). restore() throws causal::StateError on a truncated or foreign section.
+void save(causal::StateWriter& out, const RobustStats& stats);
+void restore(causal::StateReader& in, RobustStats& stats);
 
 // Median and 1.4826 * MAD of the finite values of `v` (time order kept for the autocorrelation).
 // Why MAD: the baseline may contain a few outliers (sensor glitches, a transient); MAD has a 50 %

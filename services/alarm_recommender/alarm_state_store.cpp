@@ -1,0 +1,173 @@
+#include "alarm_state_store.hpp"
+
+#include "causal/state_archive.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+namespace causal::recommender {
+
+namespace {
+
+constexpr const char* kTag = "alarm_recommender_stream";
+constexpr std::uint32_t kVersion = 1;
+
+const char* level_name(bool sample_level) { return sample_level ? "sample" : "condition"; }
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return "[" + s + "]";
+}
+
+}  // namespace
+
+AlarmStateStore::AlarmStateStore(std::string state_dir, std::chrono::milliseconds sample_level_interval)
+    : dir_(std::move(state_dir)), sample_interval_(sample_level_interval) {
+  if (dir_.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec || !std::filesystem::is_directory(dir_)) {
+    throw std::invalid_argument("--state-dir '" + dir_ + "' is not a usable directory" +
+                                (ec ? ": " + ec.message() : std::string()));
+  }
+}
+
+std::string AlarmStateStore::sanitise(const std::string& asset_group) {
+  std::string out;
+  bool replaced = asset_group.empty();
+  for (char c : asset_group) {
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
+                      c == '-' || c == '_';
+    out += keep ? c : '_';
+    replaced = replaced || !keep;
+  }
+  // A leading '.' would hide the file and ".." would be a directory name: replace it too.
+  if (!out.empty() && out[0] == '.') {
+    out[0] = '_';
+    replaced = true;
+  }
+  if (replaced) {
+    std::uint32_t h = 2166136261u;  // FNV-1a 32 of the original name: distinct groups, distinct files
+    for (unsigned char c : asset_group) h = (h ^ c) * 16777619u;
+    char hex[10];
+    std::snprintf(hex, sizeof hex, "-%08x", h);
+    out += hex;
+  }
+  return out;
+}
+
+std::string AlarmStateStore::path(const std::string& asset_group, bool sample_level) const {
+  return (std::filesystem::path(dir_) / (sanitise(asset_group) + "." + level_name(sample_level) + ".alarms.state"))
+      .string();
+}
+
+AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bool sample_level,
+                                              const std::vector<std::string>& channel_names,
+                                              const std::vector<std::string>& factor_names,
+                                              const alarms::AlarmParams& params) {
+  Opened out;
+  Stream& s = streams_[{asset_group, sample_level}];
+  s = Stream{};
+  const std::string file = enabled() ? path(asset_group, sample_level) : std::string();
+  try {
+    std::optional<std::string> bytes;
+    if (enabled()) bytes = causal::load_state_file(file);  // nullopt: no checkpoint yet
+    if (bytes) {
+      StateReader in(std::move(*bytes));
+      in.expect(kTag, kVersion);
+      const auto group = in.get<std::string>();
+      const auto sample = in.get<bool>();
+      if (group != asset_group || sample != sample_level) {
+        throw causal::StateError("it belongs to asset group '" + group + "' at " + level_name(sample) + " level");
+      }
+      if (in.get<bool>()) s.last_index = in.get<std::uint64_t>();
+      const auto events = in.get<std::uint64_t>();
+      for (std::uint64_t i = 0; i < events; ++i) {
+        alarms::AlarmEvent e;
+        alarms::restore(in, e);
+        s.last_events[e.alarm_id] = e;
+      }
+      out.engine = std::make_unique<alarms::AlarmEngine>(alarms::AlarmEngine::restore(in, params));
+      if (!in.at_end()) throw causal::StateError("unexpected data after the engine");
+      if (out.engine->channel_names() != channel_names) {
+        throw causal::StateError("it was written for channels " + joined(out.engine->channel_names()) +
+                                 ", the stream has " + joined(channel_names));
+      }
+      if (out.engine->factor_names() != factor_names) {
+        throw causal::StateError("it was written for factors " + joined(out.engine->factor_names()) +
+                                 ", the stream has " + joined(factor_names) +
+                                 " (did causal-estimator restart without its state and learn another causal order?)");
+      }
+      out.resumed = true;
+      for (const auto& [id, e] : s.last_events) out.republish.push_back(e);
+    }
+  } catch (const causal::StateError& e) {
+    streams_.erase({asset_group, sample_level});
+    throw causal::StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
+                             ". Move it away to start this asset group over (the baseline is then re-learned "
+                             "and alarm ids restart at 1)");
+  }
+  if (!out.engine) out.engine = std::make_unique<alarms::AlarmEngine>(asset_group, channel_names, factor_names, params);
+  s.engine = out.engine.get();
+  return out;
+}
+
+bool AlarmStateStore::is_duplicate(const std::string& asset_group, bool sample_level, std::uint64_t index) {
+  const auto it = streams_.find({asset_group, sample_level});
+  if (it == streams_.end() || !it->second.last_index || index > *it->second.last_index) return false;
+  ++duplicates_;
+  return true;
+}
+
+void AlarmStateStore::record(const std::string& asset_group, bool sample_level, std::uint64_t index,
+                             const std::vector<alarms::AlarmEvent>& events) {
+  const Key key{asset_group, sample_level};
+  const auto it = streams_.find(key);
+  if (it == streams_.end()) throw std::logic_error("AlarmStateStore::record before open for '" + asset_group + "'");
+  Stream& s = it->second;
+  s.last_index = index;
+  for (const auto& e : events) s.last_events[e.alarm_id] = e;
+  s.unsaved = true;
+  if (!enabled()) return;
+  // Condition level: one observation per snapshot (minutes apart), so every one is written. Sample level:
+  // throttled, but an observation with events is written at once, before they are published.
+  const bool due = !sample_level || !events.empty() || !s.last_save || Clock::now() - *s.last_save >= sample_interval_;
+  if (due) save(key, s);
+}
+
+void AlarmStateStore::flush() {
+  if (!enabled()) return;
+  for (auto& [key, s] : streams_)
+    if (s.unsaved && s.engine != nullptr) save(key, s);
+}
+
+void AlarmStateStore::save(const Key& key, Stream& s) {
+  StateWriter out;
+  out.begin(kTag, kVersion);
+  out.put(key.first);
+  out.put(key.second);
+  out.put(s.last_index.has_value());
+  out.put(s.last_index.value_or(0));
+  out.put(static_cast<std::uint64_t>(s.last_events.size()));
+  for (const auto& [id, e] : s.last_events) alarms::save(out, e);
+  s.engine->save(out);
+  const std::string file = path(key.first, key.second);
+  try {
+    causal::save_state_file(file, out.bytes());
+    ++saves_;
+    s.unsaved = false;
+    s.last_save = Clock::now();
+  } catch (const causal::StateError& e) {
+    // Logged on the first failure and then every 100th: a full disk must not flood the log.
+    if (save_failures_++ % 100 == 0) {
+      spdlog::error("checkpoint not written ({} failures so far): {}", save_failures_, e.what());
+    }
+  }
+}
+
+}  // namespace causal::recommender
