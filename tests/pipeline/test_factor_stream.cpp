@@ -448,6 +448,74 @@ TEST(FactorStreamAutomatic, TooFewUsableSamplesKeepsTheConfiguredNoise) {
   for (const auto& r : out) EXPECT_DOUBLE_EQ(r.r, 0.7);
 }
 
+// On main one value of 1e300 in the calibration window made tune_noise return q = inf and the stream threw
+// (std::invalid_argument from the filter), ending the service for every asset group. Now the outcomes that
+// cannot be tuned run the configured noise and warnings() says so, naming each one.
+TEST(FactorStreamAutomatic, AbsurdValueInTheWindowFallsBackToTheConfiguredNoiseAndSaysSo) {
+  const SvarLayout layout(spec(3, 1, false));
+  RowMajorMatrix y = causal::test::simulate_svar(layout, 1000, 61);
+  y(100, 1) = 1e300;
+  FactorStream stream(auto_params(layout.spec(), 64, 400));
+  std::vector<FactorReport> out;
+  ASSERT_NO_THROW(feed_all(stream, y, causal::test::irregular_blocks(y.rows()), {}));
+  ASSERT_TRUE(stream.calibrated());
+  for (int k = 0; k < 3; ++k) {
+    const auto& t = stream.tuning()[static_cast<std::size_t>(k)];
+    const auto& n = stream.noise()[static_cast<std::size_t>(k)];
+    if (t.usable) {
+      EXPECT_DOUBLE_EQ(n.q, t.noise.q);
+    } else {
+      EXPECT_DOUBLE_EQ(n.q, 1e-3) << "outcome " << k;
+      EXPECT_DOUBLE_EQ(n.r, 0.7) << "outcome " << k;
+    }
+  }
+  // Every outcome regresses on channel 2 or is channel 2: none can be tuned, each one is named.
+  ASSERT_EQ(stream.warnings().size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NE(stream.warnings()[static_cast<std::size_t>(k)].find("outcome " + std::to_string(k + 1)), std::string::npos);
+  }
+}
+
+// A dead channel with automatic noise gave NaN standard deviations on main (r tuned to ~1e-308). Its outcome
+// now runs the configured noise; no report holds a NaN or a clamped (degenerate) standard deviation.
+TEST(FactorStreamAutomatic, DeadChannelGivesNoNaN) {
+  const SvarLayout layout(spec(3, 1, false));
+  RowMajorMatrix y = causal::test::simulate_svar(layout, 2000, 62);
+  y.col(2).setZero();
+  FactorStream stream(auto_params(layout.spec(), 64, 400));
+  const auto out = feed_all(stream, y, causal::test::irregular_blocks(y.rows()), {});
+  ASSERT_EQ(out.size(), 3u * (2000 / 64));
+  for (const auto& r : out) {
+    EXPECT_TRUE(r.factors.allFinite() && r.std_devs.allFinite()) << r.outcome << " at " << r.sample_index;
+    EXPECT_EQ(r.degenerate_std, 0u) << r.outcome << " at " << r.sample_index;
+  }
+  EXPECT_FALSE(stream.tuning()[2].usable);
+  ASSERT_EQ(stream.warnings().size(), 1u);
+  EXPECT_NE(stream.warnings()[0].find("outcome 3"), std::string::npos) << stream.warnings()[0];
+}
+
+// A channel scaled by 1e-9 from the start: with the absolute p0 = 0.5 its outcome's prior is ~1e18 times its
+// noise, every candidate's filter pass loses all precision (non-finite likelihood) and on main the first
+// (failed) grid point was kept, giving NaN standard deviations. Now that outcome is a reported failure and
+// runs the configured noise; nothing is NaN and no variance had to be clamped.
+TEST(FactorStreamAutomatic, ChannelScaledBy1e9GivesNoNaN) {
+  const SvarLayout layout(spec(3, 1, false));
+  RowMajorMatrix y = causal::test::simulate_svar(layout, 2000, 63);
+  y.col(1) *= 1e-9;
+  FactorStream stream(auto_params(layout.spec(), 64, 400));
+  const auto out = feed_all(stream, y, causal::test::irregular_blocks(y.rows()), {});
+  ASSERT_EQ(out.size(), 3u * (2000 / 64));
+  for (const auto& r : out) {
+    EXPECT_TRUE(r.factors.allFinite() && r.std_devs.allFinite()) << r.outcome << " at " << r.sample_index;
+    EXPECT_EQ(r.degenerate_std, 0u) << r.outcome << " at " << r.sample_index;
+  }
+  EXPECT_FALSE(stream.tuning()[1].usable);
+  EXPECT_GT(stream.tuning()[1].failed_candidates, 0);
+  EXPECT_TRUE(stream.tuning()[0].usable && stream.tuning()[2].usable);
+  ASSERT_EQ(stream.warnings().size(), 1u);
+  EXPECT_NE(stream.warnings()[0].find("outcome 2"), std::string::npos) << stream.warnings()[0];
+}
+
 // ---- parameter and shape errors ----------------------------------------------------------------------------
 
 TEST(FactorStream, InvalidParametersThrow) {
