@@ -71,7 +71,8 @@ Data simulate(std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   Data d;
   d.truth = sim::random_svar(rng, kG, 1);
-  const Eigen::MatrixXd e = sim::draw_noise(rng, static_cast<int>(kRows), Eigen::VectorXd::Ones(kG), sim::NoiseKind::uniform);
+  const Eigen::MatrixXd e =
+      sim::draw_noise(rng, static_cast<int>(kRows), Eigen::VectorXd::Ones(kG), sim::NoiseKind::uniform);
   d.y = sim::simulate(d.truth, e);
   return d;
 }
@@ -138,13 +139,15 @@ Eigen::VectorXd true_factors(const AssetPipeline& pipe, const sim::TrueSvar& tru
   const auto& regs = pipe.sample_stream()->layout().regressors(k);
   Eigen::VectorXd x(static_cast<Eigen::Index>(regs.size()));
   for (std::size_t i = 0; i < regs.size(); ++i) {
-    x[static_cast<Eigen::Index>(i)] = regs[i].lag == 0 ? truth.a0(k, regs[i].channel) : truth.lags[0](k, regs[i].channel);
+    const int j = regs[i].channel;
+    x[static_cast<Eigen::Index>(i)] = regs[i].lag == 0 ? truth.a0(k, j) : truth.lags[0](k, j);
   }
   return x;
 }
 
 bool bitwise_equal(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
 }
 
 // No NaN in any report: factors and standard deviations always finite and positive, innovation statistics
@@ -298,7 +301,8 @@ TEST_P(FaultInOneChannel, ScreenedExactlyAndEveryOutcomeKeepsTracking) {
     const FactorReport& last = out.sample_reports[out.sample_reports.size() - kG + static_cast<std::size_t>(k)];
     ASSERT_EQ(last.outcome, k);
     const Eigen::VectorXd truth = true_factors(*bad_pipe, d.truth, k);
-    EXPECT_LE(((last.factors - truth).array() / last.std_devs.array()).abs().maxCoeff(), kTruthSd) << "outcome " << k + 1;
+    const double off = ((last.factors - truth).array() / last.std_devs.array()).abs().maxCoeff();
+    EXPECT_LE(off, kTruthSd) << "outcome " << k + 1;
   }
 }
 

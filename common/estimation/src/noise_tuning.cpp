@@ -162,12 +162,12 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
   double r_ref = sum_sq / static_cast<double>(usable);
   if (!std::isfinite(r_ref)) {
     result.message = "outcome " + std::to_string(k + 1) + ": the mean square of y over the window is not finite "
-                     "(absurd values in the window); configured noise kept";
+                     "(absurd values in the window); not tuned, use configured noise";
     return result;
   }
   if (!(r_ref > 0.0)) {
     result.message = "outcome " + std::to_string(k + 1) + " is identically zero over the window (dead channel?); "
-                     "configured noise kept";
+                     "not tuned, use configured noise";
     return result;
   }
   if (d == 0) {
@@ -236,7 +236,7 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
   result.failed_candidates = t.failed;
   if (!std::isfinite(best.loglik)) {
     result.message = "outcome " + std::to_string(k + 1) + ": no candidate q/r gave a finite likelihood (" +
-                     std::to_string(t.failed) + " failed); configured noise kept";
+                     std::to_string(t.failed) + " failed); not tuned, use configured noise";
     return result;
   }
   result.noise.r = best.r_hat;
@@ -259,7 +259,7 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
        << " limit of the log10(q/r) range [" << lo << ", " << hi << "]";
   }
   if (t.failed > 0) os << "; " << t.failed << " candidates failed (non-finite likelihood)";
-  if (!result.usable) os << "; NOT usable (non-finite q, r or likelihood): configured noise kept";
+  if (!result.usable) os << "; NOT usable (non-finite q, r or likelihood): not tuned, use configured noise";
   result.message = os.str();
   return result;
 }

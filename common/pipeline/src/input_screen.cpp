@@ -120,7 +120,6 @@ double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vect
     c.last = Last::OutOfRange;
     c.healthy_run = 0;
     if (++c.high_run >= params_.sudden_run && params_.sudden_run > 0 && !k.quarantined) {
-      c.scaled = true;
       k.quarantined = true;
       std::ostringstream os;
       os << c.high_run << " values in a row above " << params_.scale_explosion << " x its calibration scale "
@@ -147,7 +146,6 @@ double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vect
         os << "stuck at " << x << " for " << c.same_run << " values: quarantined";
         why = os.str();
       }
-      c.stuck = true;
     }
   }
   if (params_.scale_window > 0 && params_.sudden_run > 0 && k.reference_scale > 0.0) {
@@ -160,10 +158,10 @@ double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vect
         std::ostringstream os;
         if (constant) os << "stuck at " << x << " for " << c.low_run << " values";
         else os << c.low_run << " values in a row";
-        os << " below " << params_.scale_collapse << " x its calibration scale " << k.reference_scale << ": quarantined";
+        os << " below " << params_.scale_collapse << " x its calibration scale " << k.reference_scale
+           << ": quarantined";
         why = os.str();
       }
-      (constant ? c.stuck : c.scaled) = true;
     }
   }
   if (params_.scale_window > 0) {
@@ -179,7 +177,6 @@ double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vect
              << ", " << params_.scale_explosion << "] x its calibration " << reference << ": quarantined";
           why = os.str();
         }
-        c.scaled = true;
       }
     }
   }
@@ -193,7 +190,6 @@ double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vect
     c.healthy_run = 0;
   } else if (++c.healthy_run >= params_.recovery_samples && k.quarantined) {
     k.quarantined = false;
-    c.stuck = c.scaled = false;
     ++k.recovered;
     std::ostringstream os;
     os << c.healthy_run << " healthy values in a row: back in use";

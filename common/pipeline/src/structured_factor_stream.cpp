@@ -94,7 +94,8 @@ void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
       }
       centre[j] = sum / static_cast<double>(count);
       if (!std::isfinite(centre[j])) {  // absurd values that overflow the sum: never centre on inf
-        add_problem("channel " + std::to_string(j + 1) + " has a non-finite mean over the calibration window: inputs are not centred");
+        add_problem("channel " + std::to_string(j + 1) +
+                    " has a non-finite mean over the calibration window: inputs are not centred");
         centre.resize(0);
         break;
       }

@@ -119,7 +119,6 @@ class InputScreen {
     Last last = Last::Good;
     double last_value = 0.0;
     std::size_t same_run = 0;       // length of the current run of identical values
-    bool stuck = false, scaled = false;
     std::size_t healthy_run = 0;    // consecutive values without stuck / scale evidence
     std::size_t high_run = 0;       // consecutive values above scale_explosion x reference
     std::size_t low_run = 0;        // consecutive values below scale_collapse x reference
