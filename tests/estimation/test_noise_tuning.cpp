@@ -84,6 +84,44 @@ TEST(NoiseTuning, TooFewSamplesIsReportedNotThrown) {
   EXPECT_EQ(res.evaluations, 0);
 }
 
+// Data never throws. One value of 1e300 in channel 2: outcome 2's mean square overflows (not tuned, said why);
+// every outcome that regresses on channel 2 gets S = inf and a NaN likelihood at that sample, which makes every
+// candidate a FAILED one (never the optimum): not usable either. Nothing usable carries a non-finite value.
+TEST(NoiseTuning, AbsurdValueIsAReportedFailureNotAThrowNorAnInfiniteQ) {
+  SvarLayout layout(acyclic_spec());
+  test::Simulation sim = test::simulate_svar(layout, {NoiseParams{2e-5, 1e-2, 1.0}}, 3000, 17);
+  sim.y(100, 1) = 1e300;
+  std::vector<NoiseTuningResult> res;
+  ASSERT_NO_THROW(res = tune_noise_all(layout, sim.y, {}));
+  for (int k = 0; k < 4; ++k) {
+    SCOPED_TRACE(res[k].message);
+    if (res[k].usable) {
+      EXPECT_TRUE(std::isfinite(res[k].noise.q) && std::isfinite(res[k].noise.r) && res[k].noise.r > 0.0);
+      EXPECT_TRUE(std::isfinite(res[k].log_likelihood));
+    }
+  }
+  EXPECT_FALSE(res[1].usable);
+  EXPECT_NE(res[1].message.find("not finite"), std::string::npos);
+  // Outcome 3 regresses on channel 2 (1 -> 2 -> 3 at once, and at lag 1): its candidates fail.
+  EXPECT_FALSE(res[2].usable);
+  EXPECT_GT(res[2].failed_candidates, 0);
+  EXPECT_NE(res[2].message.find("not tuned"), std::string::npos);
+}
+
+// A dead outcome (identically 0) has no scale to tune r against: reported, not a likelihood at r -> 0.
+TEST(NoiseTuning, DeadOutcomeIsReportedAndTheOthersStillTune) {
+  SvarLayout layout(acyclic_spec());
+  test::Simulation sim = test::simulate_svar(layout, {NoiseParams{2e-5, 1e-2, 1.0}}, 3000, 18);
+  sim.y.col(3).setZero();
+  const std::vector<NoiseTuningResult> res = tune_noise_all(layout, sim.y, {});
+  EXPECT_FALSE(res[3].usable);
+  EXPECT_NE(res[3].message.find("identically zero"), std::string::npos) << res[3].message;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_TRUE(res[k].usable) << res[k].message;
+    EXPECT_NEAR(res[k].noise.r / 1e-2, 1.0, 0.15) << "outcome " << k;  // channel 4 is no regressor of 1..3
+  }
+}
+
 TEST(NoiseTuning, InvalidArgumentsThrow) {
   SvarLayout layout(acyclic_spec());
   const Eigen::MatrixXd y = Eigen::MatrixXd::Ones(100, 4);

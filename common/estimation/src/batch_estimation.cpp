@@ -62,6 +62,7 @@ EstimationRun forward_backward(const SvarLayout& layout, const std::vector<Noise
     }
     job.store = smooth ? store.get() : nullptr;
     detail::run_group_forward(job);
+    run.clamped_variances += static_cast<std::uint64_t>(job.clamped_variances);
     if (smooth) {
       std::array<double*, detail::kLanes> x{}, sd{};
       for (int w = 0; w < grp.count; ++w) {

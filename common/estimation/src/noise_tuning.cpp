@@ -16,6 +16,9 @@ constexpr double kLog2Pi = 1.8378770664093454836;  // log(2 pi)
 constexpr double kSearchTol = 0.01;                // decades of lambda
 constexpr double kRoundRTol = 1e-3;                // relative change of r_hat that ends the rounds
 constexpr double kRoundLambdaTol = 0.05;           // decades
+// r_hat below this fraction of the outcome's mean square means the filter "explains" the window to rounding
+// (12 decades: far below any sensor's noise floor relative to its signal): a degenerate, failed candidate.
+constexpr double kMinRelativeR = 1e-12;
 
 struct Point {
   double log10_lambda;
@@ -30,10 +33,13 @@ struct Tuner {
   const Eigen::MatrixXd& samples;
   const std::vector<SampleStatus>& status;
   detail::LanePlan plan;
+  double mean_square;  // of y_k over the usable samples: the scale a sane r_hat is compared with
   int passes = 0;
+  int failed = 0;      // candidates with a non-finite or degenerate likelihood
 
-  Tuner(const SvarLayout& l, int outcome, const Eigen::MatrixXd& s, const std::vector<SampleStatus>& st)
-      : layout(l), k(outcome), samples(s), status(st), plan(detail::make_replicated_plan(l, outcome)) {}
+  Tuner(const SvarLayout& l, int outcome, const Eigen::MatrixXd& s, const std::vector<SampleStatus>& st, double ms)
+      : layout(l), k(outcome), samples(s), status(st), plan(detail::make_replicated_plan(l, outcome)),
+        mean_square(ms) {}
 
   detail::GroupForward pass(const std::array<NoiseParams, detail::kLanes>& noise) {
     detail::GroupForward job;
@@ -61,8 +67,15 @@ struct Tuner {
       const detail::GroupForward job = pass(noise);
       const auto n = static_cast<double>(job.updates);
       for (std::size_t w = 0; w < m; ++w) {
-        const double r_hat = std::max(job.sum_e2_over_s[w] / n, std::numeric_limits<double>::min());
-        const double ll = -0.5 * (n * (kLog2Pi + std::log(r_hat)) + job.sum_log_s[w] + n);
+        const double r_hat = job.sum_e2_over_s[w] / n;
+        double ll = -0.5 * (n * (kLog2Pi + std::log(r_hat)) + job.sum_log_s[w] + n);
+        // A candidate whose filter lost precision (NaN / inf sums) or explains the window exactly (r_hat
+        // vanishing next to the data's mean square: the likelihood is unbounded, not informative) FAILED: it
+        // must never win the comparison, whatever NaN ordering would do.
+        if (!std::isfinite(ll) || !std::isfinite(r_hat) || !(r_hat > kMinRelativeR * mean_square)) {
+          ll = -std::numeric_limits<double>::infinity();
+          ++failed;
+        }
         out.push_back({log10_lambdas[first + w], ll, r_hat});
       }
     }
@@ -110,7 +123,7 @@ double innovation_log_likelihood(const SvarLayout& layout, int k, const Eigen::M
   check_outcome(layout, k, "innovation_log_likelihood");
   const std::vector<SampleStatus> status = detail::classify_all(layout, samples, discontinuity);
   if (layout.factor_count(k) == 0) return empty_outcome_loglik(samples, k, status, noise.r, updates);
-  Tuner t(layout, k, samples, status);
+  Tuner t(layout, k, samples, status, 0.0);
   return t.exact(noise, updates);
 }
 
@@ -147,17 +160,27 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
     return result;
   }
   double r_ref = sum_sq / static_cast<double>(usable);
-  if (!(r_ref > 0.0)) r_ref = 1.0;
+  if (!std::isfinite(r_ref)) {
+    result.message = "outcome " + std::to_string(k + 1) + ": the mean square of y over the window is not finite "
+                     "(absurd values in the window); not tuned, use configured noise";
+    return result;
+  }
+  if (!(r_ref > 0.0)) {
+    result.message = "outcome " + std::to_string(k + 1) + " is identically zero over the window (dead channel?); "
+                     "not tuned, use configured noise";
+    return result;
+  }
   if (d == 0) {
     result.noise.r = r_ref;
     result.noise.q = 0.0;
     result.log_likelihood = empty_outcome_loglik(samples, k, status, r_ref, nullptr);
     result.converged = true;
+    result.usable = std::isfinite(result.log_likelihood);
     result.message = "outcome " + std::to_string(k + 1) + " has no factors: r = mean square of y";
     return result;
   }
 
-  Tuner t(layout, k, samples, status);
+  Tuner t(layout, k, samples, status, r_ref);
   const int budget = options.max_evaluations - 1;  // keep one pass for the exact final likelihood
   const double lo = options.log10_ratio_min, hi = options.log10_ratio_max;
 
@@ -196,6 +219,7 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
       b = std::min(b, round_best.log10_lambda + step);
     }
     if (b - a < kSearchTol) search_done = true;
+    if (!std::isfinite(round_best.loglik)) break;  // every candidate of this round failed: keep the last good one
     const double r_change = std::abs(round_best.r_hat / r_ref - 1.0);
     const double lambda_change = std::abs(round_best.log10_lambda - center);
     best = round_best;
@@ -208,11 +232,20 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
     }
   }
 
+  result.evaluations = t.passes;
+  result.failed_candidates = t.failed;
+  if (!std::isfinite(best.loglik)) {
+    result.message = "outcome " + std::to_string(k + 1) + ": no candidate q/r gave a finite likelihood (" +
+                     std::to_string(t.failed) + " failed); not tuned, use configured noise";
+    return result;
+  }
   result.noise.r = best.r_hat;
   result.noise.q = std::pow(10.0, best.log10_lambda) * best.r_hat;
   result.noise.p0 = options.p0;
   result.log_likelihood = t.exact(result.noise, nullptr);
   result.evaluations = t.passes;
+  result.usable = std::isfinite(result.noise.q) && result.noise.q >= 0.0 && std::isfinite(result.noise.r) &&
+                  result.noise.r > 0.0 && std::isfinite(result.log_likelihood);
   result.converged = search_done && rounds_done;
   result.at_range_limit = best.log10_lambda - lo < 0.05 || hi - best.log10_lambda < 0.05;
 
@@ -225,6 +258,8 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
     os << "; optimum at the " << (best.log10_lambda - lo < 0.05 ? "lower" : "upper")
        << " limit of the log10(q/r) range [" << lo << ", " << hi << "]";
   }
+  if (t.failed > 0) os << "; " << t.failed << " candidates failed (non-finite likelihood)";
+  if (!result.usable) os << "; NOT usable (non-finite q, r or likelihood): not tuned, use configured noise";
   result.message = os.str();
   return result;
 }

@@ -134,7 +134,16 @@ struct ForwardOp {
           V4* sd = lanes(sdbuf.data() + b * x.size());
           for (int i = 0; i < d; ++i) {
             const V4 v = pv[i * d + i];
-            for (int w = 0; w < kLanes; ++w) sd[i][w] = std::sqrt(v[w]);
+            // Rounding can leave a variance <= 0 after many updates of an ill-scaled outcome: report 0 and
+            // count it (the caller decides what to say) rather than a silent NaN from sqrt.
+            for (int w = 0; w < kLanes; ++w) {
+              if (v[w] > 0.0 || std::isnan(v[w])) {
+                sd[i][w] = std::sqrt(v[w]);
+              } else {
+                sd[i][w] = 0.0;
+                if (w < count) ++job.clamped_variances;
+              }
+            }
           }
         }
         if (n - block_start + 1 == kBlock || n + 1 == n_samples) {

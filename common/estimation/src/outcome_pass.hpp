@@ -41,6 +41,7 @@ struct GroupForward {
   std::array<double, kLanes> sum_log_s{};
   std::array<double, kLanes> sum_e2_over_s{};
   std::int64_t updates = 0;
+  std::int64_t clamped_variances = 0;  // sd outputs whose variance was <= 0 (rounding) and were reported as 0
 };
 
 inline std::size_t store_doubles_per_sample(int d) {

@@ -190,7 +190,10 @@ void SvarKalmanFilter::std_devs(double* out) const {
     for (int w = 0; w < grp.count; ++w) {
       double* o = out + layout_.offset(grp.outcome[w]);
       for (int i = 0; i < grp.d; ++i) {
-        o[i] = std::sqrt(p_[grp.p_off + (static_cast<std::size_t>(i) * grp.d + i) * detail::kLanes + w]);
+        // A variance <= 0 can only come from rounding (ill-scaled outcome): 0, never a NaN from sqrt. Callers
+        // that publish flag zero standard deviations (FactorReport::degenerate_std).
+        const double v = p_[grp.p_off + (static_cast<std::size_t>(i) * grp.d + i) * detail::kLanes + w];
+        o[i] = v > 0.0 || std::isnan(v) ? std::sqrt(v) : 0.0;
       }
     }
   }

@@ -34,8 +34,12 @@ bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
             model_for(params_.condition_model, params_.condition_graph), params_.condition_structure);
         conditions_ = std::make_unique<ConditionStream>(params_.condition, g);
       }
+      auto frame_screen = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);
+      auto condition_screen = std::make_unique<InputScreen>(params_.condition_screen, g, ScreenLevel::Condition);
       sample_ = std::move(sample);
       condition_model_ = std::move(condition);
+      frame_screen_ = std::move(frame_screen);
+      condition_screen_ = std::move(condition_screen);
     } catch (const std::invalid_argument& e) {
       check = {false, std::string("the configured model does not fit this asset group: ") + e.what()};
       return false;
@@ -56,13 +60,17 @@ FrameCheck AssetPipeline::feed_frame(const Eigen::Ref<const RowMajorMatrix>& row
                                      PipelineOutput& out) {
   FrameCheck check;
   if (!fix_channels(static_cast<int>(rows.cols()), check)) return check;
+  // Bad values and quarantined channels become NaN here, before any stream sees them.
+  screened_rows_ = rows;
+  frame_screen_->screen(screened_rows_.data(), static_cast<std::size_t>(screened_rows_.rows()), out.quality_events);
+  const RowMajorMatrix& screened = screened_rows_;
   // Lost frames break the sample stream: treat the frame as a discontinuity so no lag spans the hole.
   const bool restart = discontinuity || gap;
-  if (sample_) sample_->feed(rows, restart, first_time_ns, 1e9 / sample_rate_hz, out.sample_reports);
+  if (sample_) sample_->feed(screened, restart, first_time_ns, 1e9 / sample_rate_hz, out.sample_reports);
   if (conditions_) {
     if (gap) conditions_->drop_open_window();
     const std::size_t before = out.conditions.size();
-    conditions_->feed(rows.data(), static_cast<std::size_t>(rows.rows()), restart, end_of_segment, first_time_ns,
+    conditions_->feed(screened.data(), static_cast<std::size_t>(screened.rows()), restart, end_of_segment, first_time_ns,
                       1e9 / sample_rate_hz, out.conditions);
     for (std::size_t i = before; i < out.conditions.size(); ++i) feed_condition_model(out.conditions[i], out);
   }
@@ -82,10 +90,17 @@ FrameCheck AssetPipeline::feed_condition(const Eigen::VectorXd& values, bool dis
   ConditionSample s;
   s.time_ns = time_ns;
   s.values = values;
-  s.model_input = condition_model_input(values, params_.condition.log_transform);
+  condition_screen_->screen(s.values.data(), 1, out.quality_events);
+  s.model_input = condition_model_input(s.values, params_.condition.log_transform);
   s.discontinuity = discontinuity;
   feed_condition_model(s, out);
   return check;
+}
+
+const std::vector<ChannelQualityCounters>& AssetPipeline::quality_counters(ScreenLevel level) const {
+  static const std::vector<ChannelQualityCounters> kNone;
+  const InputScreen* screen = level == ScreenLevel::Sample ? frame_screen_.get() : condition_screen_.get();
+  return screen ? screen->counters() : kNone;
 }
 
 void AssetPipeline::finish(PipelineOutput& out) {

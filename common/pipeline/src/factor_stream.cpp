@@ -4,6 +4,21 @@
 #include <stdexcept>
 
 namespace causal::pipeline {
+namespace {
+
+// validate_noise_params without the exception: tuned values come from data, not from the parameters.
+bool valid_noise(const NoiseParams& n) {
+  return std::isfinite(n.q) && n.q >= 0.0 && std::isfinite(n.r) && n.r > 0.0 && std::isfinite(n.p0) && n.p0 > 0.0;
+}
+
+// Standard deviations that are 0 (a variance <= 0 clamped) or not finite: the outcome lost precision.
+std::uint32_t degenerate_entries(const Eigen::VectorXd& std_devs) {
+  std::uint32_t n = 0;
+  for (Eigen::Index i = 0; i < std_devs.size(); ++i) n += !(std_devs[i] > 0.0 && std::isfinite(std_devs[i]));
+  return n;
+}
+
+}  // namespace
 
 FactorStream::FactorStream(FactorStreamParams params)
     : params_(std::move(params)), layout_(params_.model), g_(layout_.channels()), stats_(layout_.channels()) {
@@ -61,11 +76,16 @@ void FactorStream::calibrate(std::vector<FactorReport>& out) {
   tuning_ = tune_noise_all(layout_, samples, buffer_disc_, options);
   noise_.clear();
   for (int k = 0; k < g_; ++k) {
-    // A window with too few usable samples cannot be tuned (tune_noise then runs no filter pass and
-    // returns library defaults): keep the configured values for that outcome.
+    // A window that cannot be tuned (too few usable samples, a dead outcome, absurd values, no finite
+    // likelihood) must not stop the stream: keep the configured values for that outcome and say so.
     const auto& t = tuning_[static_cast<std::size_t>(k)];
-    const bool tuned = t.evaluations > 0 && t.noise.r > 0.0;
+    const bool tuned = t.usable && t.evaluations > 0 && valid_noise(t.noise);
     noise_.push_back(tuned ? t.noise : params_.noise.fixed);
+    if (!tuned) {
+      warnings_.push_back("outcome " + std::to_string(k + 1) + ": automatic noise failed, configured noise (q = " +
+                          std::to_string(params_.noise.fixed.q) + ", r = " + std::to_string(params_.noise.fixed.r) +
+                          ") used: " + t.message);
+    }
   }
   smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
   // Replay the calibration window so no sample is lost.
@@ -104,6 +124,7 @@ FactorReport FactorStream::make_report(EstimateKind kind, int k, std::uint64_t i
   const auto d = static_cast<Eigen::Index>(layout_.factor_count(k));
   r.factors = all_factors.segment(off, d);
   r.std_devs = all_std.segment(off, d);
+  r.degenerate_std = degenerate_entries(r.std_devs);
   r.rejected = smoother_->filter().counters().rejected_non_finite;
   r.q = noise_[static_cast<std::size_t>(k)].q;
   r.r = noise_[static_cast<std::size_t>(k)].r;

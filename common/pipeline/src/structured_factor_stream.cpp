@@ -93,6 +93,12 @@ void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
         break;
       }
       centre[j] = sum / static_cast<double>(count);
+      if (!std::isfinite(centre[j])) {  // absurd values that overflow the sum: never centre on inf
+        add_problem("channel " + std::to_string(j + 1) +
+                    " has a non-finite mean over the calibration window: inputs are not centred");
+        centre.resize(0);
+        break;
+      }
     }
     learned_.centre = centre;
   }
@@ -114,6 +120,9 @@ void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
     options.prune_threshold = setting_.prune_threshold;
     try {
       const analysis::VarLingamResult result = analysis::var_lingam(samples, options);
+      if (!result.b0.allFinite()) {  // data so ill-scaled that the fit lost all precision: not an order
+        throw std::invalid_argument("VAR-LiNGAM gave non-finite coefficients (ill-scaled calibration window)");
+      }
       ModelSpec restricted = result.restrict(params.model);
       FactorStreamParams candidate = params;
       candidate.model = restricted;

@@ -26,6 +26,9 @@ struct EstimationRun {                     // N samples, F = total_factors, G = 
   Eigen::MatrixXd innovation_variances;    // N x G (NaN where no update)
   std::vector<SampleStatus> status;        // N
   FilterCounters counters;
+  // Filtered standard deviations reported as 0 because rounding left their variance <= 0 (ill-scaled data);
+  // non-zero means those outcomes lost precision and should not be trusted.
+  std::uint64_t clamped_variances = 0;
 };
 
 // Row n = x[n|n] (the prediction where sample n was not used); identical to stepping SvarKalmanFilter.

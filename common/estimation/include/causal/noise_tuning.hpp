@@ -46,10 +46,16 @@ struct NoiseTuningResult {
   std::string message;             // human-readable summary (and why not converged / limit hit)
   bool at_range_limit = false;     // optimum within 0.05 decade of log10_ratio_min or _max
   long updates = 0;                // Updated samples in the window (terms of the likelihood)
+  // `noise` is a usable tuned value: finite q >= 0, r > 0 and a finite log-likelihood. False: the window
+  // could not be tuned (too few samples, a dead outcome, absurd values, no candidate with a finite
+  // likelihood); keep the configured noise, `message` says why. Never throws for such data.
+  bool usable = false;
+  int failed_candidates = 0;       // candidates whose likelihood was not finite (never taken as the optimum)
 };
 
 // Tunes outcome k on the calibration window `samples` (N x G, discontinuity empty or N flags). Throws
-// std::invalid_argument for bad shapes / options; too few usable samples (< 2 d_k + 10) is not an exception:
+// std::invalid_argument for bad shapes / options; data never throws: too few usable samples (< 2 d_k + 10), an
+// outcome that is identically zero, a non-finite mean square or no finite likelihood give usable = false,
 // converged = false, NoiseParams{} (with p0 = options.p0) and an explanatory message.
 NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::MatrixXd& samples,
                              const std::vector<bool>& discontinuity, const NoiseTuningOptions& options = {});

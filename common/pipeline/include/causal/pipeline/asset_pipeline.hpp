@@ -5,6 +5,7 @@
 
 #include "causal/pipeline/condition_stream.hpp"
 #include "causal/pipeline/factor_stream.hpp"
+#include "causal/pipeline/input_screen.hpp"
 #include "causal/pipeline/structured_factor_stream.hpp"
 
 #include <memory>
@@ -27,16 +28,22 @@ struct AssetPipelineParams {
   ConditionStreamParams condition;
   FactorStreamParams condition_model; // model.channels is set from the data
   StructureSetting condition_structure;
+  // Input screens (input_screen.hpp): every raw frame row and every ready-made condition vector is screened
+  // per channel before any stream sees it.
+  InputScreenParams frame_screen = InputScreenParams::for_samples();
+  InputScreenParams condition_screen = InputScreenParams::for_conditions();
 };
 
 struct PipelineOutput {
   std::vector<FactorReport> sample_reports;
   std::vector<FactorReport> condition_reports;
   std::vector<ConditionSample> conditions;  // computed here from raw frames (to publish)
+  std::vector<QualityEvent> quality_events;  // input screen decisions (bad values, quarantine, recovery)
   void clear() {
     sample_reports.clear();
     condition_reports.clear();
     conditions.clear();
+    quality_events.clear();
   }
 };
 
@@ -69,6 +76,9 @@ class AssetPipeline {
   const LearnedStructure* condition_structure() const {
     return condition_model_ ? &condition_model_->structure() : nullptr;
   }
+  // Per-channel input screen counters (Sample: raw frame rows, Condition: ready-made condition vectors); empty
+  // before the first frame or vector has fixed the channel count.
+  const std::vector<ChannelQualityCounters>& quality_counters(ScreenLevel level = ScreenLevel::Sample) const;
   std::uint64_t dropped_condition_windows() const { return conditions_ ? conditions_->dropped_windows() : 0; }
 
  private:
@@ -81,6 +91,8 @@ class AssetPipeline {
   std::unique_ptr<StructuredFactorStream> sample_;
   std::unique_ptr<ConditionStream> conditions_;
   std::unique_ptr<StructuredFactorStream> condition_model_;
+  std::unique_ptr<InputScreen> frame_screen_, condition_screen_;
+  RowMajorMatrix screened_rows_;  // the screened copy of the frame being fed
 };
 
 }  // namespace causal::pipeline

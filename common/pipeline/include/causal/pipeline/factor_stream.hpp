@@ -60,6 +60,9 @@ struct FactorReport {
   double last_innovation_variance = 0.0;
   std::uint64_t rejected = 0;        // cumulative non-finite samples
   double q = 0.0, r = 0.0;
+  // std_devs entries that are 0 (a variance <= 0 from rounding, clamped) or not finite: this outcome's filter
+  // lost precision (ill-scaled input) and its factors should not be trusted. 0 normally.
+  std::uint32_t degenerate_std = 0;
 };
 
 class FactorStream {
@@ -77,6 +80,9 @@ class FactorStream {
   bool calibrated() const { return smoother_ != nullptr; }
   const std::vector<NoiseParams>& noise() const { return noise_; }
   const std::vector<NoiseTuningResult>& tuning() const { return tuning_; }
+  // Data problems the stream worked around (e.g. automatic noise failed for an outcome and the configured
+  // noise runs instead), one human-readable line each; the service decides how to log them.
+  const std::vector<std::string>& warnings() const { return warnings_; }
   FilterCounters counters() const;
   std::uint64_t samples_seen() const { return next_index_; }
 
@@ -98,6 +104,7 @@ class FactorStream {
   int g_;
   std::vector<NoiseParams> noise_;
   std::vector<NoiseTuningResult> tuning_;
+  std::vector<std::string> warnings_;
   std::unique_ptr<FixedLagSmoother> smoother_;  // lag 0 when only the filter is wanted
   InnovationStats stats_;
   // Calibration buffer (automatic noise only).

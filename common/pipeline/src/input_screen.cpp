@@ -1,0 +1,215 @@
+#include "causal/pipeline/input_screen.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace causal::pipeline {
+
+const char* to_string(ScreenLevel level) {
+  return level == ScreenLevel::Sample ? "sample" : "condition";
+}
+
+const char* to_string(QualityEventKind kind) {
+  switch (kind) {
+    case QualityEventKind::NonFinite: return "non_finite";
+    case QualityEventKind::OutOfRange: return "out_of_range";
+    case QualityEventKind::Stuck: return "stuck";
+    case QualityEventKind::ScaleChange: return "scale_change";
+    case QualityEventKind::Recovered: return "recovered";
+  }
+  return "unknown";
+}
+
+InputScreen::InputScreen(InputScreenParams params, int channels, ScreenLevel level)
+    : params_(params), level_(level) {
+  if (channels < 1) throw std::invalid_argument("input screen needs at least one channel");
+  if (!(params_.max_abs_value > 0.0)) throw std::invalid_argument("input screen: max_abs_value must be > 0");
+  if (params_.scale_window > 0) {
+    if (!(params_.scale_collapse > 0.0 && params_.scale_collapse < 1.0) || !(params_.scale_explosion > 1.0) ||
+        !std::isfinite(params_.scale_explosion)) {
+      throw std::invalid_argument("input screen: need 0 < scale_collapse < 1 < scale_explosion (finite)");
+    }
+    if (params_.recovery_samples < params_.scale_window) {
+      throw std::invalid_argument("input screen: recovery_samples must be >= scale_window");
+    }
+  }
+  if ((params_.stuck_samples > 0 || params_.scale_window > 0) && params_.recovery_samples == 0) {
+    throw std::invalid_argument("input screen: recovery_samples must be >= 1 when a channel can be quarantined");
+  }
+  channels_.resize(static_cast<std::size_t>(channels));
+  counters_.resize(static_cast<std::size_t>(channels));
+  for (auto& c : channels_) c.block.reserve(params_.scale_window);
+}
+
+void InputScreen::emit(std::vector<QualityEvent>& events, int j, QualityEventKind kind, std::uint64_t index,
+                       std::uint64_t count, std::string reason) const {
+  QualityEvent e;
+  e.level = level_;
+  e.channel = j;
+  e.kind = kind;
+  e.index = index;
+  e.count = count;
+  std::ostringstream os;
+  os << to_string(level_) << " channel " << (j + 1) << " at " << (level_ == ScreenLevel::Sample ? "row " : "vector ")
+     << index << ": " << reason;
+  e.reason = os.str();
+  events.push_back(std::move(e));
+}
+
+// Closes a full scale block: sets the reference from the first block with a non-zero median, afterwards
+// returns true when the block's median |x| is outside [collapse, explosion] x reference.
+bool InputScreen::scale_block_bad(int j, ChannelState& c) {
+  auto& block = c.block;
+  const std::size_t mid = block.size() / 2;
+  std::nth_element(block.begin(), block.begin() + static_cast<std::ptrdiff_t>(mid), block.end());
+  double median = block[mid];
+  if (block.size() % 2 == 0) {
+    const double below = *std::max_element(block.begin(), block.begin() + static_cast<std::ptrdiff_t>(mid));
+    median = 0.5 * (median + below);
+  }
+  block.clear();
+  ChannelQualityCounters& k = counters_[static_cast<std::size_t>(j)];
+  if (k.reference_scale == 0.0) {
+    // A block of mostly zeros cannot be a reference (a dead channel is the stuck check's business).
+    if (median > 0.0) k.reference_scale = median;
+    return false;
+  }
+  const double ratio = median / k.reference_scale;
+  return ratio < params_.scale_collapse || ratio > params_.scale_explosion;
+}
+
+double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vector<QualityEvent>& events) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  ChannelState& c = channels_[static_cast<std::size_t>(j)];
+  ChannelQualityCounters& k = counters_[static_cast<std::size_t>(j)];
+  ++k.screened;
+  if (!std::isfinite(x)) {
+    ++k.non_finite;
+    if (c.last != Last::NonFinite) {
+      emit(events, j, QualityEventKind::NonFinite, index, k.non_finite, "non-finite value replaced by NaN");
+    }
+    c.last = Last::NonFinite;
+    return kNaN;
+  }
+  const double high = params_.scale_explosion * k.reference_scale;
+  const bool exploded = params_.scale_window > 0 && k.reference_scale > 0.0 && std::abs(x) > high;
+  if (std::abs(x) > params_.max_abs_value && !exploded) {
+    ++k.out_of_range;
+    if (c.last != Last::OutOfRange) {
+      std::ostringstream os;
+      os << "|" << x << "| above the physical limit " << params_.max_abs_value << ": replaced by NaN";
+      emit(events, j, QualityEventKind::OutOfRange, index, k.out_of_range, os.str());
+    }
+    c.last = Last::OutOfRange;
+    return kNaN;
+  }
+  bool evidence = false;
+  QualityEventKind cause = QualityEventKind::Stuck;
+  std::string why;
+  if (exploded) {  // above the physical limit, the relative one or both: one out-of-range value either way
+    ++k.out_of_range;
+    if (c.last != Last::OutOfRange) {
+      std::ostringstream os;
+      os << "|" << x << "| above " << params_.scale_explosion << " x its calibration scale " << k.reference_scale
+         << (std::abs(x) > params_.max_abs_value ? " and above the physical limit" : "") << ": replaced by NaN";
+      emit(events, j, QualityEventKind::OutOfRange, index, k.out_of_range, os.str());
+    }
+    c.last = Last::OutOfRange;
+    c.healthy_run = 0;
+    if (++c.high_run >= params_.sudden_run && params_.sudden_run > 0 && !k.quarantined) {
+      k.quarantined = true;
+      std::ostringstream os;
+      os << c.high_run << " values in a row above " << params_.scale_explosion << " x its calibration scale "
+         << k.reference_scale << ": quarantined";
+      emit(events, j, QualityEventKind::ScaleChange, index, ++k.scale_change, os.str());
+    }
+    return kNaN;
+  }
+  c.high_run = 0;
+  c.last = Last::Good;
+
+  // Health checks on the measurement itself.
+  if (params_.stuck_samples > 0) {
+    if (c.same_run > 0 && x == c.last_value) {
+      ++c.same_run;
+    } else {
+      c.same_run = 1;
+      c.last_value = x;
+    }
+    if (c.same_run >= params_.stuck_samples) {
+      evidence = true;
+      if (!k.quarantined) {
+        std::ostringstream os;
+        os << "stuck at " << x << " for " << c.same_run << " values: quarantined";
+        why = os.str();
+      }
+    }
+  }
+  if (params_.scale_window > 0 && params_.sudden_run > 0 && k.reference_scale > 0.0) {
+    c.low_run = std::abs(x) < params_.scale_collapse * k.reference_scale ? c.low_run + 1 : 0;
+    if (c.low_run >= params_.sudden_run) {
+      evidence = true;
+      const bool constant = c.same_run >= c.low_run;
+      if (!k.quarantined && why.empty()) {
+        cause = constant ? QualityEventKind::Stuck : QualityEventKind::ScaleChange;
+        std::ostringstream os;
+        if (constant) os << "stuck at " << x << " for " << c.low_run << " values";
+        else os << c.low_run << " values in a row";
+        os << " below " << params_.scale_collapse << " x its calibration scale " << k.reference_scale
+           << ": quarantined";
+        why = os.str();
+      }
+    }
+  }
+  if (params_.scale_window > 0) {
+    c.block.push_back(std::abs(x));
+    if (c.block.size() >= params_.scale_window) {
+      const double reference = k.reference_scale;
+      if (scale_block_bad(j, c)) {
+        evidence = true;
+        if (!k.quarantined && why.empty()) {
+          cause = QualityEventKind::ScaleChange;
+          std::ostringstream os;
+          os << "robust scale (median |x| over " << params_.scale_window << " values) left [" << params_.scale_collapse
+             << ", " << params_.scale_explosion << "] x its calibration " << reference << ": quarantined";
+          why = os.str();
+        }
+      }
+    }
+  }
+  const bool was_quarantined = k.quarantined;
+  if (!why.empty() && !was_quarantined) {
+    k.quarantined = true;
+    const std::uint64_t count = cause == QualityEventKind::Stuck ? ++k.stuck : ++k.scale_change;
+    emit(events, j, cause, index, count, why);
+  }
+  if (evidence) {
+    c.healthy_run = 0;
+  } else if (++c.healthy_run >= params_.recovery_samples && k.quarantined) {
+    k.quarantined = false;
+    ++k.recovered;
+    std::ostringstream os;
+    os << c.healthy_run << " healthy values in a row: back in use";
+    emit(events, j, QualityEventKind::Recovered, index, k.recovered, os.str());
+    return x;  // the value that completed the recovery run is healthy
+  }
+  if (k.quarantined) {
+    ++k.quarantined_values;
+    return kNaN;
+  }
+  return x;
+}
+
+void InputScreen::screen(double* rows, std::size_t n, std::vector<QualityEvent>& events) {
+  const int g = channels();
+  for (std::size_t i = 0; i < n; ++i) {
+    double* row = rows + i * static_cast<std::size_t>(g);
+    const std::uint64_t index = next_index_++;
+    for (int j = 0; j < g; ++j) row[j] = screen_value(j, row[j], index, events);
+  }
+}
+
+}  // namespace causal::pipeline

@@ -1,0 +1,417 @@
+// causal::pipeline::InputScreen and its use by AssetPipeline: one bad value, one broken channel or one broken
+// asset group never throws, never puts a NaN in a report and never disturbs another asset group.
+//
+// Data: a 4-channel structural VAR with constant, known coefficients (tests/analysis/svar_sim.hpp, its own
+// simulator), so "tracking the true factors" is checked against the truth, not against this code. Faults go
+// into ONE channel (channel 3, 0-based 2) from row kStart for kLength rows. Expected events and counters are
+// derived by hand from the screen's documented rules (input_screen.hpp) and the injected data.
+//
+// What is identical and what only close. The filter uses a sample only when ALL channels are finite (its
+// documented contract), so every row the screen turns into NaN is skipped by every outcome of that group:
+//  * every report before the first faulty row is bitwise identical to the clean run's;
+//  * afterwards every outcome's factors stay within a few of their standard deviations of the clean run's
+//    (kSingleValueSd, kChannelFaultSd) and within kTruthSd of the true coefficients at the end of the run
+//    (after the channel recovered);
+//  * another asset group fed in the same process is bitwise identical to its run alone.
+#include "causal/pipeline/asset_pipeline.hpp"
+#include "causal/pipeline/input_screen.hpp"
+
+#include "../analysis/svar_sim.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+namespace {
+
+using causal::pipeline::AssetPipeline;
+using causal::pipeline::AssetPipelineParams;
+using causal::pipeline::ChannelQualityCounters;
+using causal::pipeline::FactorReport;
+using causal::pipeline::InputScreen;
+using causal::pipeline::InputScreenParams;
+using causal::pipeline::PipelineOutput;
+using causal::pipeline::QualityEvent;
+using causal::pipeline::QualityEventKind;
+using causal::pipeline::RowMajorMatrix;
+using causal::pipeline::ScreenLevel;
+namespace sim = causal::analysis::test;
+
+constexpr int kG = 4;
+constexpr int kBad = 2;                    // the faulty channel (0-based)
+constexpr Eigen::Index kRows = 24576;
+constexpr Eigen::Index kStart = 8192;      // first faulty row (a multiple of the 1024-value scale block)
+constexpr Eigen::Index kLength = 4096;     // faulty rows
+constexpr Eigen::Index kEnd = kStart + kLength;
+constexpr Eigen::Index kFrame = 512;
+// Tolerances in units of each factor's reported standard deviation (about 0.03 here). One rejected row moves
+// the factors by 0.03 sd (measured); a channel quarantined for 8000 rows (fault + recovery) costs the group
+// those rows (every outcome skips them) plus the values passed before detection: up to 2.7 sd (measured).
+// The clean run itself ends 1.3 sd from the truth.
+constexpr double kSingleValueSd = 0.1;
+constexpr double kChannelFaultSd = 3.5;
+constexpr double kTruthSd = 3.0;
+const InputScreenParams kScreen = InputScreenParams::for_samples();
+
+enum class Fault { Huge, NaN, PosInf, Dead, Tiny, Exploded };
+
+struct Data {
+  sim::TrueSvar truth;
+  RowMajorMatrix y;
+};
+
+Data simulate(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  Data d;
+  d.truth = sim::random_svar(rng, kG, 1);
+  const Eigen::MatrixXd e =
+      sim::draw_noise(rng, static_cast<int>(kRows), Eigen::VectorXd::Ones(kG), sim::NoiseKind::uniform);
+  d.y = sim::simulate(d.truth, e);
+  return d;
+}
+
+RowMajorMatrix inject(RowMajorMatrix y, Fault f) {
+  auto col = y.col(kBad);
+  switch (f) {
+    case Fault::Huge: col[kStart] = 1e300; break;
+    case Fault::NaN: col[kStart] = std::numeric_limits<double>::quiet_NaN(); break;
+    case Fault::PosInf: col[kStart] = std::numeric_limits<double>::infinity(); break;
+    case Fault::Dead: col.segment(kStart, kLength).setZero(); break;
+    case Fault::Tiny: col.segment(kStart, kLength) *= 1e-9; break;
+    case Fault::Exploded: col.segment(kStart, kLength) *= 1e6; break;
+  }
+  return y;
+}
+
+// Sample level only, automatic noise (the path that threw on main), the true causal order configured.
+AssetPipelineParams params_for(const sim::TrueSvar& truth, bool condition_level = false) {
+  AssetPipelineParams p;
+  p.sample.model.lag_order = 1;
+  p.sample.model.include_self_lags = true;
+  std::vector<int> position(kG);
+  for (int i = 0; i < kG; ++i) position[static_cast<std::size_t>(truth.order[static_cast<std::size_t>(i)])] = i;
+  p.sample.model.instantaneous_allowed.assign(kG, std::vector<bool>(kG, false));
+  for (int k = 0; k < kG; ++k)
+    for (int j = 0; j < kG; ++j) p.sample.model.instantaneous_allowed[k][j] = position[j] < position[k];
+  p.sample.noise.automatic = true;
+  p.sample.noise.fixed = causal::NoiseParams{1e-6, 1.0, 1.0};
+  p.sample.noise.calibration_samples = 2048;
+  p.sample.publish_every = 256;
+  p.condition_level = condition_level;
+  p.condition.min_samples = 256;
+  p.condition_model.model.lag_order = 1;
+  p.condition_model.model.include_self_lags = true;
+  p.condition_model.noise.fixed = causal::NoiseParams{1e-4, 1e-2, 1.0};
+  p.condition_model.publish_every = 1;
+  return p;
+}
+
+// Frames of kFrame rows; with the condition level every 4096 rows form one segment (snapshot).
+void feed(AssetPipeline& pipe, const RowMajorMatrix& y, Eigen::Index frame, PipelineOutput& out) {
+  const Eigen::Index rows = std::min(kFrame, y.rows() - frame * kFrame);
+  const Eigen::Index first = frame * kFrame;
+  const bool end = (first + rows) % 4096 == 0;
+  const auto check = pipe.feed_frame(y.middleRows(first, rows), frame == 0, end, false,
+                                     1'000'000'000LL * first, 20'000.0, out);
+  ASSERT_TRUE(check.ok) << check.problem;
+}
+
+struct PipelineRun {
+  std::unique_ptr<AssetPipeline> pipe;  // kept for its counters and layout
+  PipelineOutput out;
+};
+
+PipelineRun run(const AssetPipelineParams& p, const RowMajorMatrix& y) {
+  PipelineRun r{std::make_unique<AssetPipeline>(p), {}};
+  for (Eigen::Index f = 0; f * kFrame < y.rows(); ++f) feed(*r.pipe, y, f, r.out);
+  r.pipe->finish(r.out);
+  return r;
+}
+
+Eigen::VectorXd true_factors(const AssetPipeline& pipe, const sim::TrueSvar& truth, int k) {
+  const auto& regs = pipe.sample_stream()->layout().regressors(k);
+  Eigen::VectorXd x(static_cast<Eigen::Index>(regs.size()));
+  for (std::size_t i = 0; i < regs.size(); ++i) {
+    const int j = regs[i].channel;
+    x[static_cast<Eigen::Index>(i)] = regs[i].lag == 0 ? truth.a0(k, j) : truth.lags[0](k, j);
+  }
+  return x;
+}
+
+bool bitwise_equal(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
+
+// No NaN in any report: factors and standard deviations always finite and positive, innovation statistics
+// finite whenever the interval had updates (an interval without updates reports count 0 and NaN means).
+void expect_clean_reports(const std::vector<FactorReport>& reports) {
+  for (const FactorReport& r : reports) {
+    ASSERT_TRUE(r.factors.allFinite()) << "outcome " << r.outcome << " at " << r.sample_index;
+    ASSERT_TRUE(r.std_devs.allFinite()) << "outcome " << r.outcome << " at " << r.sample_index;
+    ASSERT_EQ(r.degenerate_std, 0u) << "outcome " << r.outcome << " at " << r.sample_index;
+    if (r.innovation_count > 0) {
+      ASSERT_TRUE(std::isfinite(r.innovation_mean) && std::isfinite(r.nis_mean)) << r.sample_index;
+    }
+    ASSERT_TRUE(std::isfinite(r.q) && std::isfinite(r.r) && r.r > 0.0);
+  }
+}
+
+struct Expected {
+  std::vector<std::pair<QualityEventKind, std::uint64_t>> events;  // kind, index
+  ChannelQualityCounters counters;
+};
+
+// Hand-derived from the rules in input_screen.hpp (blocks of 1024 values aligned with kStart and kEnd).
+Expected expected_for(Fault f, const RowMajorMatrix& bad, const RowMajorMatrix& clean) {
+  Expected e;
+  auto& c = e.counters;
+  c.screened = kRows;
+  const std::uint64_t s = kStart, end = kEnd, recover = kEnd + kScreen.recovery_samples - 1;
+  switch (f) {
+    case Fault::Huge:
+      e.events = {{QualityEventKind::OutOfRange, s}};
+      c.out_of_range = 1;
+      break;
+    case Fault::NaN:
+    case Fault::PosInf:
+      e.events = {{QualityEventKind::NonFinite, s}};
+      c.non_finite = 1;
+      break;
+    case Fault::Dead:  // sudden_run equal zeros: stuck; the last all-zero block ends at kEnd - 1
+      e.events = {{QualityEventKind::Stuck, s + kScreen.sudden_run - 1}, {QualityEventKind::Recovered, recover}};
+      c.stuck = 1;
+      c.recovered = 1;
+      c.quarantined_values = recover - (s + kScreen.sudden_run - 1);
+      break;
+    case Fault::Tiny:  // sudden_run values below 1e-3 x reference (|y| < 1e3 for every scaled value)
+      e.events = {{QualityEventKind::ScaleChange, s + kScreen.sudden_run - 1}, {QualityEventKind::Recovered, recover}};
+      c.scale_change = 1;
+      c.recovered = 1;
+      c.quarantined_values = recover - (s + kScreen.sudden_run - 1);
+      break;
+    case Fault::Exploded: {
+      // Reference: median |x| of the channel's first block (clean data), computed here independently.
+      std::vector<double> block(kScreen.scale_window);
+      for (std::size_t i = 0; i < block.size(); ++i) block[i] = std::abs(clean(static_cast<Eigen::Index>(i), kBad));
+      std::sort(block.begin(), block.end());
+      const double ref = 0.5 * (block[block.size() / 2 - 1] + block[block.size() / 2]);
+      std::size_t run = 0;
+      bool quarantined = false, last_high = false;
+      for (std::uint64_t i = s; i < end; ++i) {
+        const double x = bad(static_cast<Eigen::Index>(i), kBad);
+        const bool high = std::abs(x) > kScreen.max_abs_value || std::abs(x) > kScreen.scale_explosion * ref;
+        if (high) {
+          ++c.out_of_range;
+          if (!last_high) e.events.push_back({QualityEventKind::OutOfRange, i});
+          if (++run >= kScreen.sudden_run && !quarantined) {
+            quarantined = true;
+            e.events.push_back({QualityEventKind::ScaleChange, i});
+          }
+        } else {
+          run = 0;
+          if (quarantined) ++c.quarantined_values;
+        }
+        last_high = high;
+      }
+      c.quarantined_values += recover - end;  // the clean rows before recovery
+      c.scale_change = 1;
+      c.recovered = 1;
+      e.events.push_back({QualityEventKind::Recovered, recover});
+      break;
+    }
+  }
+  return e;
+}
+
+class FaultInOneChannel : public ::testing::TestWithParam<Fault> {};
+
+TEST_P(FaultInOneChannel, ScreenedExactlyAndEveryOutcomeKeepsTracking) {
+  const Data d = simulate(20261123);
+  const RowMajorMatrix bad = inject(d.y, GetParam());
+  const AssetPipelineParams p = params_for(d.truth);
+  const PipelineOutput clean = run(p, d.y).out;
+  PipelineRun faulty;
+  ASSERT_NO_THROW(faulty = run(p, bad));
+  const PipelineOutput& out = faulty.out;
+  const AssetPipeline* bad_pipe = faulty.pipe.get();
+
+  // Events and counters: exact.
+  const Expected want = expected_for(GetParam(), bad, d.y);
+  ASSERT_EQ(out.quality_events.size(), want.events.size());
+  for (std::size_t i = 0; i < want.events.size(); ++i) {
+    const QualityEvent& ev = out.quality_events[i];
+    SCOPED_TRACE(ev.reason);
+    EXPECT_EQ(ev.channel, kBad);
+    EXPECT_EQ(ev.level, ScreenLevel::Sample);
+    EXPECT_EQ(ev.kind, want.events[i].first);
+    EXPECT_EQ(ev.index, want.events[i].second);
+    EXPECT_FALSE(ev.reason.empty());
+  }
+  const auto& counters = bad_pipe->quality_counters();
+  ASSERT_EQ(counters.size(), static_cast<std::size_t>(kG));
+  for (int j = 0; j < kG; ++j) {
+    const ChannelQualityCounters& got = counters[static_cast<std::size_t>(j)];
+    ChannelQualityCounters w;
+    w.screened = static_cast<std::uint64_t>(kRows);
+    if (j == kBad) w = want.counters;
+    SCOPED_TRACE("channel " + std::to_string(j));
+    EXPECT_EQ(got.screened, w.screened);
+    EXPECT_EQ(got.non_finite, w.non_finite);
+    EXPECT_EQ(got.out_of_range, w.out_of_range);
+    EXPECT_EQ(got.quarantined_values, w.quarantined_values);
+    EXPECT_EQ(got.stuck, w.stuck);
+    EXPECT_EQ(got.scale_change, w.scale_change);
+    EXPECT_EQ(got.recovered, w.recovered);
+    EXPECT_FALSE(got.quarantined);
+  }
+  EXPECT_TRUE(clean.quality_events.empty());
+
+  // Reports: none with a NaN; same count and cadence as the clean run.
+  expect_clean_reports(out.sample_reports);
+  expect_clean_reports(clean.sample_reports);
+  ASSERT_EQ(out.sample_reports.size(), clean.sample_reports.size());
+  EXPECT_TRUE(bad_pipe->sample_stream()->warnings().empty());  // the calibration window was clean
+  // Differences in units of the clean run's reported standard deviation of each factor.
+  const bool single_value = GetParam() == Fault::Huge || GetParam() == Fault::NaN || GetParam() == Fault::PosInf;
+  const double close_sd = single_value ? kSingleValueSd : kChannelFaultSd;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < out.sample_reports.size(); ++i) {
+    const FactorReport& a = out.sample_reports[i];
+    const FactorReport& b = clean.sample_reports[i];
+    ASSERT_EQ(a.sample_index, b.sample_index);
+    ASSERT_EQ(a.outcome, b.outcome);
+    if (a.sample_index < static_cast<std::uint64_t>(kStart)) {
+      ASSERT_TRUE(bitwise_equal(a.factors, b.factors)) << a.sample_index;
+      ASSERT_TRUE(bitwise_equal(a.std_devs, b.std_devs)) << a.sample_index;
+    } else {
+      worst = std::max(worst, ((a.factors - b.factors).array() / b.std_devs.array()).abs().maxCoeff());
+    }
+  }
+  EXPECT_LE(worst, close_sd) << "largest factor difference to the clean run after the fault, in sd";
+  // Every outcome tracks the truth at the end, the faulty channel's own outcome included.
+  for (int k = 0; k < kG; ++k) {
+    const FactorReport& last = out.sample_reports[out.sample_reports.size() - kG + static_cast<std::size_t>(k)];
+    ASSERT_EQ(last.outcome, k);
+    const Eigen::VectorXd truth = true_factors(*bad_pipe, d.truth, k);
+    const double off = ((last.factors - truth).array() / last.std_devs.array()).abs().maxCoeff();
+    EXPECT_LE(off, kTruthSd) << "outcome " << k + 1;
+  }
+}
+
+std::string fault_name(const ::testing::TestParamInfo<Fault>& info) {
+  static const char* const kNames[] = {"Huge1e300", "NaN", "PosInf", "DeadChannel", "Scaled1e_9", "Scaled1e6"};
+  return kNames[static_cast<int>(info.param)];
+}
+
+INSTANTIATE_TEST_SUITE_P(Faults, FaultInOneChannel,
+                         ::testing::Values(Fault::Huge, Fault::NaN, Fault::PosInf, Fault::Dead, Fault::Tiny,
+                                           Fault::Exploded),
+                         fault_name);
+
+// Two asset groups in one process, frames interleaved: the good one's output is bitwise what it is alone.
+TEST(InputScreenIsolation, ABrokenAssetGroupNeverChangesAnotherOne) {
+  const Data good = simulate(11), broken = simulate(12);
+  RowMajorMatrix worst = inject(inject(broken.y, Fault::Exploded), Fault::Huge);
+  worst.col(0).segment(100, 3000).setZero();       // dead inside the calibration windows
+  worst(5, 1) = std::numeric_limits<double>::quiet_NaN();
+  const PipelineOutput alone = run(params_for(good.truth, true), good.y).out;
+  AssetPipeline a(params_for(good.truth, true)), b(params_for(broken.truth, true));
+  PipelineOutput out_a, out_b;
+  for (Eigen::Index f = 0; f * kFrame < kRows; ++f) {
+    feed(b, worst, f, out_b);
+    feed(a, good.y, f, out_a);
+  }
+  b.finish(out_b);
+  a.finish(out_a);
+  EXPECT_FALSE(out_b.quality_events.empty());
+  EXPECT_TRUE(out_a.quality_events.empty());
+  ASSERT_EQ(out_a.sample_reports.size(), alone.sample_reports.size());
+  ASSERT_EQ(out_a.condition_reports.size(), alone.condition_reports.size());
+  ASSERT_EQ(out_a.conditions.size(), alone.conditions.size());
+  for (std::size_t i = 0; i < alone.sample_reports.size(); ++i) {
+    ASSERT_TRUE(bitwise_equal(out_a.sample_reports[i].factors, alone.sample_reports[i].factors)) << i;
+    ASSERT_TRUE(bitwise_equal(out_a.sample_reports[i].std_devs, alone.sample_reports[i].std_devs)) << i;
+  }
+  for (std::size_t i = 0; i < alone.condition_reports.size(); ++i) {
+    ASSERT_TRUE(bitwise_equal(out_a.condition_reports[i].factors, alone.condition_reports[i].factors)) << i;
+  }
+  for (std::size_t i = 0; i < alone.conditions.size(); ++i) {
+    ASSERT_TRUE(bitwise_equal(out_a.conditions[i].values, alone.conditions[i].values)) << i;
+  }
+  expect_clean_reports(out_b.sample_reports);
+}
+
+// Ready-made condition vectors get their own screen (for_conditions()): one absurd value in channel 2 is one
+// out-of-range event and one rejected vector; channel 3 frozen from vector 24 on is stuck at its 10th equal
+// value (vector 33) and quarantined to the end; the condition reports keep their cadence and hold no NaN.
+TEST(InputScreenConditions, ReadyMadeVectorsAreScreenedPerChannel) {
+  AssetPipelineParams p;
+  p.sample_level = false;
+  p.condition_model.model.lag_order = 1;
+  p.condition_model.model.include_self_lags = true;
+  p.condition_model.noise.fixed = causal::NoiseParams{1e-4, 1e-2, 1.0};
+  p.condition_model.publish_every = 1;
+  AssetPipeline pipe(p);
+  PipelineOutput out;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> level(0.05, 0.08);
+  Eigen::VectorXd frozen(kG);
+  for (int i = 0; i < 40; ++i) {
+    Eigen::VectorXd v(kG);
+    for (int j = 0; j < kG; ++j) v[j] = level(rng);
+    if (i == 20) v[1] = 1e300;
+    if (i == 24) frozen = v;
+    if (i >= 24) v[2] = frozen[2];
+    ASSERT_TRUE(pipe.feed_condition(v, i == 0, 1000LL * i, out).ok);
+  }
+  pipe.finish(out);
+  ASSERT_EQ(out.quality_events.size(), 2u);
+  EXPECT_EQ(out.quality_events[0].level, ScreenLevel::Condition);
+  EXPECT_EQ(out.quality_events[0].kind, QualityEventKind::OutOfRange);
+  EXPECT_EQ(out.quality_events[0].channel, 1);
+  EXPECT_EQ(out.quality_events[0].index, 20u);
+  EXPECT_EQ(out.quality_events[1].kind, QualityEventKind::Stuck);
+  EXPECT_EQ(out.quality_events[1].channel, 2);
+  EXPECT_EQ(out.quality_events[1].index, 33u);
+  const auto& c = pipe.quality_counters(ScreenLevel::Condition);
+  ASSERT_EQ(c.size(), static_cast<std::size_t>(kG));
+  EXPECT_EQ(c[1].out_of_range, 1u);
+  EXPECT_EQ(c[2].stuck, 1u);
+  EXPECT_EQ(c[2].quarantined_values, 7u);  // vectors 33..39
+  EXPECT_TRUE(c[2].quarantined);
+  for (const auto& frame_counters : pipe.quality_counters(ScreenLevel::Sample)) {
+    EXPECT_EQ(frame_counters.screened, 0u);  // no frame was fed
+  }
+  ASSERT_EQ(out.condition_reports.size(), 40u * kG);
+  expect_clean_reports(out.condition_reports);
+  // Rejected vectors: 20 and 33..39, counted by the filter.
+  EXPECT_EQ(out.condition_reports.back().rejected, 8u);
+}
+
+TEST(InputScreenParameters, InvalidThresholdsThrowAtConstructionAndRefuseTheFirstFrame) {
+  InputScreenParams bad;
+  bad.scale_collapse = 2.0;
+  EXPECT_THROW(InputScreen(bad, 4, ScreenLevel::Sample), std::invalid_argument);
+  bad = InputScreenParams{};
+  bad.recovery_samples = bad.scale_window - 1;
+  EXPECT_THROW(InputScreen(bad, 4, ScreenLevel::Sample), std::invalid_argument);
+  EXPECT_THROW(InputScreen(InputScreenParams{}, 0, ScreenLevel::Sample), std::invalid_argument);
+  AssetPipelineParams p;
+  p.sample.noise.fixed = causal::NoiseParams{1e-6, 1.0, 1.0};
+  p.frame_screen.max_abs_value = 0.0;
+  AssetPipeline pipe(p);
+  PipelineOutput out;
+  const auto check = pipe.feed_frame(RowMajorMatrix::Ones(8, kG), true, false, false, 0, 20'000.0, out);
+  EXPECT_FALSE(check.ok);
+  EXPECT_NE(check.problem.find("max_abs_value"), std::string::npos) << check.problem;
+}
+
+}  // namespace
