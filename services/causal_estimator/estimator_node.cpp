@@ -119,8 +119,11 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
     a.pipeline.set_channel_names(a.channel_names);
   }
   out_.clear();
-  const auto check = a.pipeline.feed_frame(dds::samples_view(frame), frame.discontinuity(), frame.end_of_segment(),
-                                           gap, frame.first_sample_time_ns(), frame.sample_rate_hz(), out_);
+  // Indices come from the source, so reports keep them across a restart or a lost frame.
+  const std::uint64_t snapshot_index = 0;  // TODO(lead): frame.snapshot_index() once the IDL carries it
+  const auto check = a.pipeline.feed_frame(dds::samples_view(frame), frame.first_sample_index(), snapshot_index,
+                                           frame.discontinuity(), frame.end_of_segment(), gap,
+                                           frame.first_sample_time_ns(), frame.sample_rate_hz(), out_);
   if (!check.ok) {
     ++a.refused_frames;
     spdlog::warn("asset '{}': frame {} refused: {}", frame.asset_group(), frame.sequence_number(), check.problem);
@@ -145,7 +148,8 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   }
   if (a.feature.empty()) a.feature = in.feature();
   out_.clear();
-  const auto check = a.pipeline.feed_condition(dds::values_of(in), in.discontinuity(), in.time_ns(), out_);
+  const auto check =
+      a.pipeline.feed_condition(dds::values_of(in), in.snapshot_index(), in.discontinuity(), in.time_ns(), out_);
   if (!check.ok) {
     ++a.refused_frames;
     spdlog::warn("asset '{}': condition vector {} refused: {}", in.asset_group(), in.snapshot_index(), check.problem);

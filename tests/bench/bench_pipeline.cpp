@@ -28,10 +28,12 @@ void BM_SampleLevelFactorStream(benchmark::State& state) {
   for (Eigen::Index i = 0; i < frame.size(); ++i) frame.data()[i] = normal(rng);
   std::vector<causal::pipeline::FactorReport> out;
   std::int64_t t = 0;
+  std::uint64_t index = 0;
   for (auto _ : state) {
     out.clear();
-    stream.feed(frame, false, t, 50'000.0, out);
+    stream.feed(frame, index, false, t, 50'000.0, out);
     t += kFrame * 50'000;
+    index += kFrame;
     benchmark::DoNotOptimize(out.data());
   }
   state.SetItemsProcessed(state.iterations() * kFrame);
