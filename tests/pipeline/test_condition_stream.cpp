@@ -2,6 +2,7 @@
 // (RMS of a sine over whole periods), with the documented closing rules, drop counting and log transform.
 #include "causal/pipeline/condition_stream.hpp"
 
+#include "checkpoint_test_util.hpp"
 #include "matrix_asserts.hpp"
 
 #include <gtest/gtest.h>
@@ -281,6 +282,59 @@ TEST(ConditionModelInput, ConstantZeroChannelGivesNaNModelInput) {
 
 TEST(ConditionStream, NeedsAtLeastOneChannel) {
   EXPECT_THROW(ConditionStream(params(0, 1), 0), std::invalid_argument);
+}
+
+// Checkpoint: cut between any two frames (inside a snapshot, right after its end, inside a count-closed
+// window), save, restore into a fresh stream, feed the rest: the vectors and counters equal the
+// uninterrupted run's bit for bit. Frames: 3 segments of 5 frames of 100 rows, the 2nd too short (dropped).
+TEST(ConditionStream, CheckpointBetweenAnyTwoFramesGivesTheUninterruptedVectors) {
+  const std::vector<double> amp{1.0, 0.5}, off{0.2, 0.0};
+  const RowMajor y = sines(1500, amp, off, {7, 3});
+  struct Frame {
+    int at, rows;
+    std::uint64_t snapshot;
+    bool disc, end;
+  };
+  std::vector<Frame> frames;
+  for (int seg = 0; seg < 3; ++seg) {
+    const int rows = seg == 1 ? 40 : 100;  // segment 1: 200 rows < min_samples
+    for (int f = 0; f < 5; ++f) frames.push_back({seg * 500 + f * 100, rows, std::uint64_t(20 + seg), f == 0, f == 4});
+  }
+  for (std::size_t window : {std::size_t{0}, std::size_t{256}}) {
+    auto feed = [&](ConditionStream& s, std::size_t from, std::size_t to, std::vector<ConditionSample>& out) {
+      for (std::size_t i = from; i < to; ++i) {
+        const Frame& f = frames[i];
+        s.feed(y.data() + f.at * 2, static_cast<std::size_t>(f.rows), 9000 + static_cast<std::uint64_t>(f.at),
+               f.snapshot, f.disc, f.end, kT0 + f.at * 50'000LL, 50e3, out);
+      }
+    };
+    ConditionStream whole(params(window, 250), 2);
+    std::vector<ConditionSample> want;
+    feed(whole, 0, frames.size(), want);
+    ASSERT_GE(want.size(), 2u);
+    for (std::size_t cut = 0; cut <= frames.size(); ++cut) {
+      SCOPED_TRACE("window " + std::to_string(window) + ", cut before frame " + std::to_string(cut));
+      ConditionStream first(params(window, 250), 2);
+      std::vector<ConditionSample> got;
+      feed(first, 0, cut, got);
+      ConditionStream second(params(window, 250), 2);
+      causal::test::restore_from(second, causal::test::checkpoint_of(first));
+      feed(second, cut, frames.size(), got);
+      causal::test::expect_identical(got, want);
+      EXPECT_EQ(second.dropped_windows(), whole.dropped_windows());
+      EXPECT_EQ(second.produced(), whole.produced());
+    }
+  }
+  ConditionStream saved(params(0, 250), 2);
+  const std::string bytes = causal::test::checkpoint_of(saved);
+  ConditionStream other_window(params(256, 250), 2), other_channels(params(0, 250), 3);
+  EXPECT_THROW(causal::test::restore_from(other_window, bytes), causal::StateError);
+  try {
+    causal::test::restore_from(other_channels, bytes);
+    ADD_FAILURE() << "3 channels accepted a 2-channel checkpoint";
+  } catch (const causal::StateError& e) {
+    EXPECT_STREQ(e.what(), "checkpoint has 2 channels, this condition stream has 3");
+  }
 }
 
 }  // namespace
