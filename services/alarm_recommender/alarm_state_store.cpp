@@ -1,5 +1,7 @@
 #include "alarm_state_store.hpp"
 
+#include "causal/io/file_names.hpp"
+
 #include "causal/state_archive.hpp"
 
 #include <spdlog/spdlog.h>
@@ -37,29 +39,7 @@ AlarmStateStore::AlarmStateStore(std::string state_dir, std::chrono::millisecond
   }
 }
 
-std::string AlarmStateStore::sanitise(const std::string& asset_group) {
-  std::string out;
-  bool replaced = asset_group.empty();
-  for (char c : asset_group) {
-    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
-                      c == '-' || c == '_';
-    out += keep ? c : '_';
-    replaced = replaced || !keep;
-  }
-  // A leading '.' would hide the file and ".." would be a directory name: replace it too.
-  if (!out.empty() && out[0] == '.') {
-    out[0] = '_';
-    replaced = true;
-  }
-  if (replaced) {
-    std::uint32_t h = 2166136261u;  // FNV-1a 32 of the original name: distinct groups, distinct files
-    for (unsigned char c : asset_group) h = (h ^ c) * 16777619u;
-    char hex[10];
-    std::snprintf(hex, sizeof hex, "-%08x", h);
-    out += hex;
-  }
-  return out;
-}
+std::string AlarmStateStore::sanitise(const std::string& asset_group) { return io::safe_file_component(asset_group); }
 
 std::string AlarmStateStore::path(const std::string& asset_group, bool sample_level) const {
   return (std::filesystem::path(dir_) / (sanitise(asset_group) + "." + level_name(sample_level) + ".alarms.state"))

@@ -25,6 +25,8 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       conditions_in_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputReader),
       factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsWriter),
       conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter),
+      quality_alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
+      store_(options_.state_dir),
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
@@ -40,7 +42,21 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
   auto it = assets_.find(asset_group);
   if (it == assets_.end()) {
     it = assets_.emplace(asset_group, Asset(params_)).first;
-    spdlog::info("new asset group '{}'", asset_group);
+    Asset& a = it->second;
+    try {
+      if (store_.restore(asset_group, a.pipeline)) {
+        const auto& last = a.pipeline.last_source_index();
+        spdlog::info("asset group '{}' resumed from checkpoint {}: last snapshot {}, last sample {}", asset_group,
+                     store_.path(asset_group), last.has_snapshot ? std::to_string(last.snapshot) : "none",
+                     last.has_sample ? std::to_string(last.sample) : "none");
+      } else {
+        spdlog::info("new asset group '{}'", asset_group);
+      }
+    } catch (const std::exception& e) {
+      // Only this asset group stops: the others carry on (bad input is isolated).
+      a.refused = e.what();
+      spdlog::error("asset group '{}': {}; its input is refused (counted) until this is fixed", asset_group, e.what());
+    }
   }
   return it->second;
 }
@@ -90,6 +106,15 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
     return;
   }
   Asset& a = asset(frame.asset_group());
+  if (!a.refused.empty()) {
+    ++a.refused_inputs;
+    return;
+  }
+  if (a.pipeline.already_fed_frame(frame.first_sample_index(), frame.samples_per_channel())) {
+    ++a.skipped;  // processed before a restart (a resending source, or the transient-local history)
+    a.last_sequence = frame.sequence_number();
+    return;
+  }
   // Sequence numbers run 0, 1, 2, ... per publisher; a jump means frames were lost on the way, a return to
   // 0 a restarted publisher (its first frame is flagged as a discontinuity anyway).
   bool gap = false;
@@ -105,8 +130,19 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
     a.pipeline.set_channel_names(a.channel_names);
   }
   out_.clear();
-  const auto check = a.pipeline.feed_frame(dds::samples_view(frame), frame.discontinuity(), frame.end_of_segment(),
-                                           gap, frame.first_sample_time_ns(), frame.sample_rate_hz(), out_);
+  // Indices come from the source, so reports keep them across a restart or a lost frame.
+  pipeline::FrameCheck check;
+  try {
+    check = a.pipeline.feed_frame(dds::samples_view(frame), frame.first_sample_index(), frame.snapshot_index(),
+                                  frame.discontinuity(), frame.end_of_segment(), gap, frame.first_sample_time_ns(),
+                                  frame.sample_rate_hz(), out_);
+  } catch (const std::exception& e) {
+    // A fault in one asset group's estimation must not end the others: this group stops, loudly.
+    a.refused = std::string("estimation failed: ") + e.what();
+    spdlog::error("asset '{}': {}; its input is refused from now on (counted)", frame.asset_group(), a.refused);
+    ++a.refused_inputs;
+    return;
+  }
   if (!check.ok) {
     ++a.refused_frames;
     spdlog::warn("asset '{}': frame {} refused: {}", frame.asset_group(), frame.sequence_number(), check.problem);
@@ -114,6 +150,8 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
   }
   ++a.frames;
   if (a.feature.empty()) a.feature = io::to_string(params_.condition.feature);
+  publish_quality(frame.asset_group(), a, frame.snapshot_index(), frame.first_sample_time_ns(), frame.end_of_segment());
+  if (frame.end_of_segment()) checkpoint(frame.asset_group(), a);
   publish(frame.asset_group(), a);
 }
 
@@ -125,19 +163,45 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
     return;
   }
   Asset& a = asset(in.asset_group());
+  if (!a.refused.empty()) {
+    ++a.refused_inputs;
+    return;
+  }
+  if (a.pipeline.already_fed_condition(in.snapshot_index())) {
+    ++a.skipped;
+    return;
+  }
   if (a.channel_names.empty()) {
     a.channel_names.assign(in.channel_names().begin(), in.channel_names().end());
     a.pipeline.set_channel_names(a.channel_names);
   }
   if (a.feature.empty()) a.feature = in.feature();
   out_.clear();
-  const auto check = a.pipeline.feed_condition(dds::values_of(in), in.discontinuity(), in.time_ns(), out_);
+  pipeline::FrameCheck check;
+  try {
+    check = a.pipeline.feed_condition(dds::values_of(in), in.snapshot_index(), in.discontinuity(), in.time_ns(), out_);
+  } catch (const std::exception& e) {
+    a.refused = std::string("estimation failed: ") + e.what();
+    spdlog::error("asset '{}': {}; its input is refused from now on (counted)", in.asset_group(), a.refused);
+    ++a.refused_inputs;
+    return;
+  }
   if (!check.ok) {
     ++a.refused_frames;
     spdlog::warn("asset '{}': condition vector {} refused: {}", in.asset_group(), in.snapshot_index(), check.problem);
     return;
   }
   ++a.conditions_in;
+  // The accepted vector goes on to the estimator's own topic: the one stream of condition vectors that the
+  // recommender, the recorder and the HMI read, whatever the source.
+  pipeline::ConditionSample accepted;
+  accepted.snapshot_index = in.snapshot_index();
+  accepted.time_ns = in.time_ns();
+  accepted.values = dds::values_of(in);
+  accepted.discontinuity = in.discontinuity();
+  out_.conditions.insert(out_.conditions.begin(), std::move(accepted));
+  publish_quality(in.asset_group(), a, in.snapshot_index(), in.time_ns(), true);
+  checkpoint(in.asset_group(), a);
   publish(in.asset_group(), a);
 }
 
@@ -246,9 +310,38 @@ void EstimatorNode::report_rejections() {
   rejected_no_room_ = no_room;
 }
 
+void EstimatorNode::publish_quality(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,
+                                    bool end_of_snapshot) {
+  std::vector<causal_twin::Alarm> alarms;
+  quality_.on_events(name, a.channel_names, out_.quality_events, snapshot, time_ns, alarms);
+  if (end_of_snapshot) quality_.end_of_snapshot(name, snapshot, time_ns, alarms);
+  for (const auto& e : out_.quality_events) {
+    spdlog::warn("asset '{}' {} data quality: {}", name, pipeline::to_string(e.level), e.reason);
+  }
+  for (auto& alarm : alarms) {
+    spdlog::log(alarm.state() == causal_twin::CLEARED ? spdlog::level::info : spdlog::level::warn,
+                "DATA QUALITY {} {}: {}", alarm.state() == causal_twin::CLEARED ? "CLEARED" : "RAISED", alarm.alarm_id(),
+                alarm.reason());
+    auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
+    outbound_.push("alarm/data_quality", dds::OutboundQueue::Class::Essential,
+                   [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+  }
+}
+
+void EstimatorNode::checkpoint(const std::string& name, Asset& a) {
+  // Before the snapshot's output is queued: whatever a reader receives is covered by the checkpoint.
+  if (!store_.save(name, a.pipeline)) {
+    spdlog::error("asset '{}': checkpoint not written ({}); a crash now would lose this asset group's state", name,
+                  store_.last_error());
+  }
+}
+
 int EstimatorNode::finish_all() {
   report_rejections();
   for (auto& [name, a] : assets_) {
+    if (!a.refused.empty()) continue;
+    // Saved before finish(): a restart continues the streams as they were, not flushed.
+    checkpoint(name, a);
     out_.clear();
     a.pipeline.finish(out_);
     publish(name, a);
@@ -274,10 +367,17 @@ int EstimatorNode::finish_all() {
                  "condition-level factor messages out, {} non-finite samples rejected",
                  name, a.frames, a.lost_frames, a.refused_frames, a.conditions_in, a.sample_msgs, a.condition_msgs,
                  s ? s->counters().rejected_non_finite : 0);
+    if (a.skipped > 0) spdlog::info("asset '{}': {} inputs processed before a restart skipped", name, a.skipped);
+    if (!a.refused.empty()) {
+      spdlog::error("asset '{}': {} inputs refused: {}", name, a.refused_inputs, a.refused);
+    }
     frames += a.frames;
     lost += a.lost_frames;
-    refused += a.refused_frames;
+    refused += a.refused_frames + a.refused_inputs;
     conditions_received += a.conditions_in;
+  }
+  if (store_.enabled()) {
+    spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.failures());
   }
   if (foreign_frames_ > 0) spdlog::info("{} frames of other shards ignored", foreign_frames_);
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);

@@ -11,6 +11,8 @@
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal/pipeline/asset_pipeline.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "data_quality_alarms.hpp"
+#include "estimator_state_store.hpp"
 
 #include <chrono>
 #include <map>
@@ -32,7 +34,8 @@ struct EstimatorOptions {
   std::vector<std::string> wait_for;
   double wait_timeout_s = 30.0;
   std::size_t outbound_capacity = 65536;
-  bool verbose = false;  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
+  bool verbose = false;
+  std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
 
 // FNV-1a: a stable hash, so every estimator agrees on the shard of an asset group.
@@ -56,6 +59,9 @@ class EstimatorNode {
     std::string feature;  // feature name of the condition-level model
     bool tuning_logged = false;
     bool sample_structure_logged = false, condition_structure_logged = false;
+    std::string refused;                // why this asset group's input is refused (unusable checkpoint, a fault)
+    std::uint64_t skipped = 0;          // input already processed before a restart (source index), skipped
+    std::uint64_t refused_inputs = 0;   // input of a refused group
   };
 
   bool mine(const std::string& asset_group) const;
@@ -63,6 +69,9 @@ class EstimatorNode {
   void on_frame(const causal_twin::VibrationFrame& frame);
   void on_condition(const causal_twin::ConditionVector& in);
   void publish(const std::string& name, Asset& a);
+  void publish_quality(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,
+                       bool end_of_snapshot);
+  void checkpoint(const std::string& name, Asset& a);
   void log_structure(const std::string& name, const Asset& a, const char* level,
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
@@ -76,11 +85,14 @@ class EstimatorNode {
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
   dds::TypedWriter<causal_twin::CausalFactorsPubSubType> factors_;
   dds::TypedWriter<causal_twin::ConditionVectorPubSubType> conditions_out_;
+  dds::TypedWriter<causal_twin::AlarmPubSubType> quality_alarms_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   std::map<std::string, Asset> assets_;
   pipeline::PipelineOutput out_;
   causal_twin::CausalFactors factor_msg_;
   causal_twin::ConditionVector condition_msg_;
+  EstimatorStateStore store_;
+  DataQualityAlarms quality_;
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
   std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits
   dds::OutboundQueue outbound_;  // last: its drain thread stops before the writers are destroyed

@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
                  "message is dropped (counted), condition-level output is never dropped (input waits instead)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_flag("--verbose", o.verbose, "log every condition-level factor vector");
+  app.add_option("--state-dir", o.state_dir,
+                 "checkpoint every asset group's state here after each snapshot and resume from it after a restart "
+                 "(input already processed is skipped); empty = no checkpoints");
   CLI11_PARSE(app, argc, argv);
   if (o.shard_index >= o.shard_count) {
     std::cerr << "error: --shard-index must be < --shard-count\n";

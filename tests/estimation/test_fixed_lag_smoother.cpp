@@ -1,11 +1,13 @@
 // FixedLagSmoother: x[n | n+L] must equal RTS run on data[0..n+L] at index n (streaming and batch forms).
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
 #include "causal/batch_estimation.hpp"
 #include "causal/fixed_lag_smoother.hpp"
+#include "causal/state_archive.hpp"
 #include "matrix_asserts.hpp"
 #include "svar_test_support.hpp"
 
@@ -196,6 +198,59 @@ TEST(FixedLagSmoother, DecimatedReleasesEqualRtsAtTheReleasedIndices) {
     for (std::uint64_t i = m - 1; i < static_cast<std::uint64_t>(kN); i += m) want.push_back(i);
     EXPECT_EQ(got, want) << "m = " << m;
   }
+}
+
+// Checkpoint: smoother + filter restored into a fresh smoother continue bit for bit (every released sample
+// and the final flush), for cuts before the lag is full, at a release, and with decimation; another lag or
+// decimation throws.
+TEST(FixedLagSmootherCheckpoint, RestoredSmootherContinuesBitForBit) {
+  const SvarLayout layout(spec_g(3, 1));
+  const std::vector<NoiseParams> noise{NoiseParams{1e-4, 0.05, 0.5}};
+  const auto sim = test::simulate_svar(layout, noise, 90, 12);
+  std::vector<bool> disc(90, false);
+  disc[0] = disc[50] = true;
+  auto same = [](const SmoothedSample& a, const SmoothedSample& b) {
+    const auto bytes = sizeof(double) * static_cast<std::size_t>(a.estimates.size());
+    return a.index == b.index && a.estimates.size() == b.estimates.size() &&
+           std::memcmp(a.estimates.data(), b.estimates.data(), bytes) == 0 &&
+           std::memcmp(a.std_devs.data(), b.std_devs.data(), bytes) == 0;
+  };
+  for (const std::uint64_t m : {1u, 4u}) {
+    for (int cut : {0, 3, 7, 8, 9, 31, 50, 89}) {
+      SCOPED_TRACE("release_every " + std::to_string(m) + ", cut at " + std::to_string(cut));
+      FixedLagSmoother whole(layout, noise, 8, m), first(layout, noise, 8, m);
+      for (int n = 0; n < cut; ++n) {
+        const Eigen::RowVectorXd row = sim.y.row(n);
+        whole.step(row.data(), disc[n]);
+        first.step(row.data(), disc[n]);
+      }
+      StateWriter w;
+      first.save(w);
+      FixedLagSmoother restored(layout, noise, 8, m);
+      StateReader r(w.bytes());
+      restored.restore(r);
+      EXPECT_TRUE(r.at_end());
+      for (int n = cut; n < 90; ++n) {
+        const Eigen::RowVectorXd row = sim.y.row(n);
+        const auto a = restored.step(row.data(), disc[n]);
+        const auto b = whole.step(row.data(), disc[n]);
+        ASSERT_EQ(a.has_value(), b.has_value()) << "sample " << n;
+        if (a) {
+          ASSERT_TRUE(same(*a, *b)) << "sample " << n;
+        }
+      }
+      const auto fa = restored.flush(), fb = whole.flush();
+      ASSERT_EQ(fa.size(), fb.size());
+      for (std::size_t i = 0; i < fa.size(); ++i) EXPECT_TRUE(same(fa[i], fb[i])) << "flushed " << i;
+    }
+  }
+  FixedLagSmoother saved(layout, noise, 8, 4);
+  StateWriter w;
+  saved.save(w);
+  FixedLagSmoother other_lag(layout, noise, 6, 4), other_m(layout, noise, 8, 1);
+  StateReader r1(w.bytes()), r2(w.bytes());
+  EXPECT_THROW(other_lag.restore(r1), StateError);
+  EXPECT_THROW(other_m.restore(r2), StateError);
 }
 
 }  // namespace

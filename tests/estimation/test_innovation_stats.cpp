@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "causal/innovation_stats.hpp"
+#include "causal/state_archive.hpp"
 #include "causal/svar_kalman_filter.hpp"
 
 namespace causal {
@@ -40,6 +41,34 @@ TEST(InnovationStats, FedFromFilter) {
   EXPECT_EQ(stats.outcome(0).count(), 1u);
   EXPECT_DOUBLE_EQ(stats.outcome(0).mean_nis(), 0.25);
   EXPECT_DOUBLE_EQ(stats.outcome(1).mean_nis(), 0.4);
+}
+
+TEST(InnovationStats, CheckpointKeepsTheRunningSumsAndChecksTheShape) {
+  // An accumulator restored mid-way continues with the same sums (hand-computed means below).
+  InnovationAccumulator a, b;
+  a.add(1.0, 2.0);
+  a.add(-3.0, 1.0);
+  StateWriter w;
+  a.save(w);
+  StateReader r(w.bytes());
+  b.restore(r);
+  b.add(2.0, 4.0);
+  a.add(2.0, 4.0);
+  EXPECT_EQ(b.count(), 3u);
+  EXPECT_DOUBLE_EQ(b.mean(), 0.0);                            // (1 - 3 + 2) / 3
+  EXPECT_DOUBLE_EQ(b.mean_nis(), (0.5 + 9.0 + 1.0) / 3.0);    // hand-computed
+  EXPECT_EQ(b.mean_square(), a.mean_square());
+
+  // InnovationStats: one accumulator per outcome; a checkpoint of 2 outcomes does not fit 3.
+  InnovationStats stats(2), same_shape(2);
+  StateWriter ws;
+  stats.save(ws);
+  InnovationStats three(3);
+  StateReader rs(ws.bytes());
+  EXPECT_THROW(three.restore(rs), StateError);
+  StateReader rs2(ws.bytes());
+  EXPECT_NO_THROW(same_shape.restore(rs2));
+  EXPECT_TRUE(rs2.at_end());
 }
 
 }  // namespace

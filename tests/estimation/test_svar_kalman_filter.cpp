@@ -2,10 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <stdexcept>
 
+#include "causal/state_archive.hpp"
 #include "causal/svar_kalman_filter.hpp"
 #include "matrix_asserts.hpp"
 #include "svar_test_support.hpp"
@@ -318,6 +320,79 @@ TEST(SvarKalmanFilter, InvalidNoiseThrows) {
     ADD_FAILURE();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("noise[2].r = -2"), std::string::npos) << e.what();
+  }
+}
+
+// Checkpoint: a filter restored into a fresh object (built with other noise: q, r, p0 come from the
+// checkpoint) continues bit for bit like the uninterrupted one, for every cut of a run with a discontinuity,
+// a rejected sample, lag order 2 and outcomes of different dimension (lane padding). Another model throws.
+TEST(SvarKalmanFilterCheckpoint, RestoredFilterContinuesBitForBit) {
+  ModelSpec spec = spec_g(5, 2);
+  spec.instantaneous_allowed.assign(5, std::vector<bool>(5, true));
+  spec.instantaneous_allowed[0][3] = false;  // outcomes 0 and 2 lose a factor: two lane groups
+  spec.instantaneous_allowed[2][1] = false;
+  const SvarLayout layout(spec);
+  std::vector<NoiseParams> noise;
+  for (int k = 0; k < 5; ++k) noise.push_back(NoiseParams{1e-5 * (k + 1), 0.05 + 0.01 * k, 0.7});
+  const auto sim = test::simulate_svar(layout, noise, 120, 8);
+  Eigen::MatrixXd y = sim.y;
+  y(40, 2) = kNaN;
+  auto disc = [](int n) { return n == 0 || n == 70; };
+  auto bits = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+  };
+  for (int cut : {0, 1, 2, 39, 40, 41, 70, 71, 119}) {
+    SCOPED_TRACE("cut at " + std::to_string(cut));
+    SvarKalmanFilter whole(layout, noise), first(layout, noise);
+    for (int n = 0; n < cut; ++n) {
+      const Eigen::RowVectorXd row = y.row(n);
+      whole.step(row.data(), disc(n));
+      first.step(row.data(), disc(n));
+    }
+    StateWriter w;
+    first.save(w);
+    SvarKalmanFilter restored(layout, {NoiseParams{1.0, 1.0, 1.0}});
+    StateReader r(w.bytes());
+    restored.restore(r);
+    EXPECT_TRUE(r.at_end());
+    for (int n = cut; n < 120; ++n) {
+      const Eigen::RowVectorXd row = y.row(n);
+      ASSERT_EQ(restored.step(row.data(), disc(n)), whole.step(row.data(), disc(n))) << "sample " << n;
+      for (int k = 0; k < 5; ++k) {
+        ASSERT_TRUE(bits(restored.estimate(k), whole.estimate(k))) << "sample " << n << " outcome " << k;
+        ASSERT_TRUE(bits(restored.covariance(k), whole.covariance(k))) << "sample " << n << " outcome " << k;
+        const double e1 = restored.last_innovation(k), e2 = whole.last_innovation(k);
+        ASSERT_EQ(std::memcmp(&e1, &e2, sizeof e1), 0) << "sample " << n;
+      }
+    }
+    EXPECT_EQ(restored.samples_seen(), whole.samples_seen());
+    EXPECT_EQ(restored.counters().updated, whole.counters().updated);
+    EXPECT_EQ(restored.counters().warm_up, whole.counters().warm_up);
+    EXPECT_EQ(restored.counters().rejected_non_finite, whole.counters().rejected_non_finite);
+    EXPECT_EQ(restored.noise(3).q, noise[3].q);
+  }
+}
+
+TEST(SvarKalmanFilterCheckpoint, AnotherModelOrADamagedCheckpointThrows) {
+  SvarKalmanFilter filter(SvarLayout(spec_g(4, 1)), {NoiseParams{}});
+  StateWriter w;
+  filter.save(w);
+  auto message = [&](const ModelSpec& spec) -> std::string {
+    SvarKalmanFilter other(SvarLayout(spec), {NoiseParams{}});
+    StateReader r(w.bytes());
+    try {
+      other.restore(r);
+    } catch (const StateError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message(spec_g(8, 1)), "checkpoint has 4 channels, this filter has 8");
+  EXPECT_EQ(message(spec_g(4, 2)), "checkpoint has lag order 1, this filter has 2");
+  for (std::size_t n = 0; n < w.bytes().size(); n += 7) {
+    SvarKalmanFilter other(SvarLayout(spec_g(4, 1)), {NoiseParams{}});
+    StateReader r(w.bytes().substr(0, n));
+    EXPECT_THROW(other.restore(r), StateError) << "truncated to " << n;
   }
 }
 

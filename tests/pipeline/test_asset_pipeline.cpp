@@ -62,7 +62,7 @@ TEST(AssetPipeline, FirstFrameFixesTheChannelCountAndAChangeIsRefused) {
   AssetPipeline pipe(params(true, true));
   PipelineOutput out;
   const RowMajorMatrix three = RowMajorMatrix::Random(64, 3);
-  FrameCheck c = pipe.feed_frame(three, true, false, false, kT0, kRate, out);
+  FrameCheck c = pipe.feed_frame(three, 0, 0, true, false, false, kT0, kRate, out);
   EXPECT_TRUE(c.ok) << c.problem;
   EXPECT_EQ(pipe.channels(), 3);
   ASSERT_NE(pipe.sample_stream(), nullptr);
@@ -71,7 +71,7 @@ TEST(AssetPipeline, FirstFrameFixesTheChannelCountAndAChangeIsRefused) {
   out.clear();
 
   const RowMajorMatrix four = RowMajorMatrix::Random(64, 4);
-  c = pipe.feed_frame(four, false, true, false, kT0 + 64 * 50'000, kRate, out);
+  c = pipe.feed_frame(four, 64, 0, false, true, false, kT0 + 64 * 50'000, kRate, out);
   EXPECT_FALSE(c.ok);
   EXPECT_NE(c.problem.find("4"), std::string::npos) << c.problem;
   EXPECT_NE(c.problem.find("3"), std::string::npos) << c.problem;
@@ -83,7 +83,7 @@ TEST(AssetPipeline, FirstFrameFixesTheChannelCountAndAChangeIsRefused) {
 
   Eigen::VectorXd cond(5);
   cond.setOnes();
-  c = pipe.feed_condition(cond, false, kT0, out);
+  c = pipe.feed_condition(cond, 0, false, kT0, out);
   EXPECT_FALSE(c.ok);
   EXPECT_NE(c.problem.find("5"), std::string::npos) << c.problem;
   EXPECT_TRUE(out.condition_reports.empty());
@@ -93,18 +93,20 @@ TEST(AssetPipeline, FewerThanTwoChannelsIsRefusedAndDoesNotFixTheCount) {
   AssetPipeline pipe(params(true, true));
   PipelineOutput out;
   const RowMajorMatrix one = RowMajorMatrix::Random(16, 1);
-  const FrameCheck c = pipe.feed_frame(one, true, false, false, kT0, kRate, out);
+  const FrameCheck c = pipe.feed_frame(one, 0, 0, true, false, false, kT0, kRate, out);
   EXPECT_FALSE(c.ok);
   EXPECT_NE(c.problem.find("2 channels"), std::string::npos) << c.problem;
   EXPECT_EQ(pipe.channels(), 0);
   EXPECT_EQ(pipe.sample_stream(), nullptr);
   const RowMajorMatrix two = RowMajorMatrix::Random(16, 2);
-  EXPECT_TRUE(pipe.feed_frame(two, true, false, false, kT0, kRate, out).ok);
+  EXPECT_TRUE(pipe.feed_frame(two, 0, 0, true, false, false, kT0, kRate, out).ok);
   EXPECT_EQ(pipe.channels(), 2);
 }
 
 // Four snapshots of 4 frames each; the third frame of snapshot 2 arrives after lost frames (gap). The sample
 // level must restart its lags there, the condition level must drop snapshot 2 and restart its lags after.
+// Indices are the source's: samples numbered from 1,000,000 with the lost frames' samples skipped, snapshots
+// 40, 43, 46, 49; reports and vectors must carry exactly those.
 TEST(AssetPipeline, GapRestartsSampleLagsAndDropsTheOpenConditionWindow) {
   const int g = 3, frame = 128, frames_per_snap = 4, snaps = 4;
   const SvarLayout layout(sample_spec(g));
@@ -116,14 +118,17 @@ TEST(AssetPipeline, GapRestartsSampleLagsAndDropsTheOpenConditionWindow) {
   std::vector<std::int64_t> frame_time;
   const std::int64_t snap_period = 600'000'000'000LL;  // 10 min between snapshots
   int gap_frame = 2 * frames_per_snap + 2;
-  std::vector<int> kept_rows;  // rows the condition level may use (the dropped window excluded)
+  const std::uint64_t first_index = 1'000'000, lost = 3 * frame;
+  auto source_index = [&](std::uint64_t row) { return first_index + row + (row >= std::uint64_t(gap_frame * frame) ? lost : 0); };
+  auto snapshot_of = [](std::uint64_t snap) { return 40 + 3 * snap; };
   for (int f = 0; f < frames_per_snap * snaps; ++f) {
     const int snap = f / frames_per_snap, pos = f % frames_per_snap;
     const bool first = pos == 0, last = pos == frames_per_snap - 1, gap = f == gap_frame;
     const std::int64_t t = kT0 + snap * snap_period + pos * frame * 50'000LL;
     frame_time.push_back(t);
     if (first || gap) disc[static_cast<std::size_t>(f * frame)] = true;
-    const FrameCheck c = pipe.feed_frame(y.middleRows(f * frame, frame), first, last, gap, t, kRate, out);
+    const FrameCheck c = pipe.feed_frame(y.middleRows(f * frame, frame), source_index(std::uint64_t(f * frame)),
+                                         snapshot_of(std::uint64_t(snap)), first, last, gap, t, kRate, out);
     ASSERT_TRUE(c.ok) << c.problem;
   }
   pipe.finish(out);
@@ -134,12 +139,12 @@ TEST(AssetPipeline, GapRestartsSampleLagsAndDropsTheOpenConditionWindow) {
   ASSERT_EQ(out.sample_reports.size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {
     const auto& r = out.sample_reports[i];
-    EXPECT_EQ(r.sample_index, expected[i].index);
+    EXPECT_EQ(r.sample_index, source_index(expected[i].index));
     EXPECT_MATRIX_NEAR(r.factors, expected[i].factors, 1e-12);
     EXPECT_EQ(r.innovation_count, expected[i].innovation_count);
     // time = first time of the frame holding the sample + offset / rate.
-    const int f = static_cast<int>(r.sample_index) / frame;
-    EXPECT_EQ(r.time_ns, frame_time[static_cast<std::size_t>(f)] + (static_cast<std::int64_t>(r.sample_index) % frame) * 50'000);
+    const int f = static_cast<int>(expected[i].index) / frame;
+    EXPECT_EQ(r.time_ns, frame_time[static_cast<std::size_t>(f)] + (static_cast<std::int64_t>(expected[i].index) % frame) * 50'000);
   }
 
   // Condition level: snapshots 0, 1 complete; snapshot 2 loses its open window at the gap, and its remaining
@@ -151,6 +156,7 @@ TEST(AssetPipeline, GapRestartsSampleLagsAndDropsTheOpenConditionWindow) {
   for (int i = 0; i < 4; ++i) {
     const ConditionSample& c = out.conditions[static_cast<std::size_t>(i)];
     SCOPED_TRACE("condition vector " + std::to_string(i));
+    EXPECT_EQ(c.snapshot_index, snapshot_of(std::uint64_t(i)));
     EXPECT_EQ(c.samples, static_cast<std::size_t>(rows_of[i][1]));
     EXPECT_EQ(c.discontinuity, disc_of[i]);
     EXPECT_EQ(c.time_ns, frame_time[static_cast<std::size_t>(rows_of[i][0] / frame)]);
@@ -173,9 +179,9 @@ TEST(AssetPipeline, GapRestartsSampleLagsAndDropsTheOpenConditionWindow) {
   ASSERT_EQ(out.condition_reports.size(), cexp.size());
   for (std::size_t i = 0; i < cexp.size(); ++i) {
     const auto& r = out.condition_reports[i];
-    EXPECT_EQ(r.sample_index, cexp[i].index);
+    EXPECT_EQ(r.sample_index, snapshot_of(cexp[i].index));
     EXPECT_EQ(r.outcome, cexp[i].outcome);
-    EXPECT_EQ(r.time_ns, out.conditions[r.sample_index].time_ns);
+    EXPECT_EQ(r.time_ns, out.conditions[cexp[i].index].time_ns);
     EXPECT_MATRIX_NEAR(r.factors, cexp[i].factors, 1e-12);
     EXPECT_EQ(r.innovation_count, cexp[i].innovation_count);
   }
@@ -199,7 +205,9 @@ TEST(AssetPipeline, FeedConditionRunsTheConditionModelOnLogValues) {
   for (int i = 0; i < n; ++i) {
     Eigen::VectorXd values = z.row(i).transpose().array().exp();
     if (i == 30) values[2] = -1.0;  // non-positive: log gives NaN, the filter rejects and counts it
-    const FrameCheck c = pipe.feed_condition(values, zdisc[static_cast<std::size_t>(i)], kT0 + i * 1000LL, out);
+    // Snapshot indices from the source, with holes (snapshots the source skipped): reports must carry them.
+    const FrameCheck c = pipe.feed_condition(values, 500 + 2 * std::uint64_t(i), zdisc[static_cast<std::size_t>(i)],
+                                             kT0 + i * 1000LL, out);
     ASSERT_TRUE(c.ok) << c.problem;
   }
   pipe.finish(out);
@@ -214,8 +222,8 @@ TEST(AssetPipeline, FeedConditionRunsTheConditionModelOnLogValues) {
   ASSERT_EQ(filt.size(), static_cast<std::size_t>(n * g));
   ASSERT_EQ(filt.size(), expected.size());
   for (std::size_t i = 0; i < filt.size(); ++i) {
-    EXPECT_EQ(filt[i].sample_index, expected[i].index);
-    EXPECT_EQ(filt[i].time_ns, kT0 + static_cast<std::int64_t>(filt[i].sample_index) * 1000);
+    EXPECT_EQ(filt[i].sample_index, 500 + 2 * expected[i].index);
+    EXPECT_EQ(filt[i].time_ns, kT0 + static_cast<std::int64_t>(expected[i].index) * 1000);
     EXPECT_MATRIX_NEAR(filt[i].factors, expected[i].factors, 1e-10);  // log(exp(z)) vs z: rounding only
     EXPECT_EQ(filt[i].rejected, expected[i].rejected);
   }
@@ -227,7 +235,7 @@ TEST(AssetPipeline, FeedConditionRefusedWhenTheConditionLevelIsDisabled) {
   AssetPipeline pipe(params(true, false));
   PipelineOutput out;
   Eigen::VectorXd v = Eigen::VectorXd::Ones(3);
-  const FrameCheck c = pipe.feed_condition(v, true, kT0, out);
+  const FrameCheck c = pipe.feed_condition(v, 0, true, kT0, out);
   EXPECT_FALSE(c.ok);
   EXPECT_NE(c.problem.find("disabled"), std::string::npos) << c.problem;
   EXPECT_TRUE(out.condition_reports.empty());
@@ -239,7 +247,7 @@ TEST(AssetPipeline, SampleLevelOnlyProducesNoConditions) {
   const RowMajorMatrix y = causal::test::simulate_svar(layout, 256, 5);
   AssetPipeline pipe(params(true, false));
   PipelineOutput out;
-  ASSERT_TRUE(pipe.feed_frame(y, true, true, false, kT0, kRate, out).ok);
+  ASSERT_TRUE(pipe.feed_frame(y, 0, 0, true, true, false, kT0, kRate, out).ok);
   pipe.finish(out);
   EXPECT_EQ(out.sample_reports.size(), 256u / 32u * g);
   EXPECT_TRUE(out.conditions.empty());
@@ -255,7 +263,7 @@ TEST(AssetPipeline, SampleTimesUseTheSampleRate) {
   AssetPipeline pipe(params(true, false));
   PipelineOutput out;
   const double rate = 25'600.0;  // 39062.5 ns per sample
-  ASSERT_TRUE(pipe.feed_frame(y, true, false, false, kT0, rate, out).ok);
+  ASSERT_TRUE(pipe.feed_frame(y, 0, 0, true, false, false, kT0, rate, out).ok);
   ASSERT_EQ(out.sample_reports.size(), 512u / 32u * g);
   for (const auto& r : out.sample_reports) {
     EXPECT_EQ(r.time_ns, kT0 + std::llround(static_cast<double>(r.sample_index) * 1e9 / rate));

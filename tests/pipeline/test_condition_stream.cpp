@@ -2,6 +2,7 @@
 // (RMS of a sine over whole periods), with the documented closing rules, drop counting and log transform.
 #include "causal/pipeline/condition_stream.hpp"
 
+#include "checkpoint_test_util.hpp"
 #include "matrix_asserts.hpp"
 
 #include <gtest/gtest.h>
@@ -53,14 +54,17 @@ ConditionStreamParams params(std::size_t window, std::size_t min_samples, bool l
   return p;
 }
 
-// Feeds y in frames of `frame` rows; the first has discontinuity, the last end_of_segment (if asked).
+// Feeds y in frames of `frame` rows; the first has discontinuity, the last end_of_segment (if asked). The
+// source numbers the segment `snapshot` and its first sample `first_sample`.
 void feed_segment(ConditionStream& s, const RowMajor& y, int frame, std::int64_t t0, bool end_of_segment,
-                  std::vector<ConditionSample>& out, std::int64_t period_ns = 50'000) {
+                  std::vector<ConditionSample>& out, std::uint64_t snapshot = 0, std::uint64_t first_sample = 0,
+                  std::int64_t period_ns = 50'000) {
   for (int at = 0; at < y.rows(); at += frame) {
     const int rows = std::min<int>(frame, static_cast<int>(y.rows()) - at);
     const bool last = at + rows == y.rows();
-    s.feed(y.data() + static_cast<std::ptrdiff_t>(at) * y.cols(), static_cast<std::size_t>(rows), at == 0,
-           end_of_segment && last, t0 + at * period_ns, static_cast<double>(period_ns), out);
+    s.feed(y.data() + static_cast<std::ptrdiff_t>(at) * y.cols(), static_cast<std::size_t>(rows),
+           first_sample + static_cast<std::uint64_t>(at), snapshot, at == 0, end_of_segment && last,
+           t0 + at * period_ns, static_cast<double>(period_ns), out);
   }
 }
 
@@ -87,10 +91,13 @@ TEST(ConditionStream, SegmentsClosedAtEndOfSegment) {
   const std::vector<double> off{0.0, 0.0};
   for (int seg = 0; seg < 4; ++seg) {
     const std::vector<double> amp{1.0 + seg, 0.5};
-    feed_segment(s, sines(1000, amp, off, {5, 9}), 128, kT0 + seg * 600'000'000'000LL, true, out);
+    // The source numbers its snapshots 10, 12, 14, 16 (it skipped some): the vectors carry those numbers.
+    const auto snapshot = static_cast<std::uint64_t>(10 + 2 * seg);
+    feed_segment(s, sines(1000, amp, off, {5, 9}), 128, kT0 + seg * 600'000'000'000LL, true, out, snapshot,
+                 snapshot * 1000);
     ASSERT_EQ(out.size(), static_cast<std::size_t>(seg + 1)) << "segment " << seg << " closed at its last frame";
     const ConditionSample& c = out.back();
-    EXPECT_EQ(c.snapshot_index, static_cast<std::uint64_t>(seg));
+    EXPECT_EQ(c.snapshot_index, snapshot);
     EXPECT_EQ(c.time_ns, kT0 + seg * 600'000'000'000LL);
     EXPECT_EQ(c.samples, 1000u);
     EXPECT_EQ(c.discontinuity, seg == 0) << "consecutive snapshots continue the condition-level series";
@@ -113,7 +120,7 @@ TEST(ConditionStream, ANewDiscontinuityClosesTheOpenSegment) {
   EXPECT_MATRIX_NEAR(out[0].values, sine_rms(a1, off), 1e-12);
   // The second segment closes at the next discontinuity too (a zero-row frame only to mark it).
   const RowMajor none(0, 2);
-  s.feed(none.data(), 0, true, false, kT0 + 2'000'000'000, 50e3, out);
+  s.feed(none.data(), 0, 2000, 2, true, false, kT0 + 2'000'000'000, 50e3, out);
   ASSERT_EQ(out.size(), 2u);
   EXPECT_EQ(out[1].samples, 1200u);
   EXPECT_EQ(out[1].time_ns, kT0 + 1'000'000'000);
@@ -123,20 +130,23 @@ TEST(ConditionStream, ANewDiscontinuityClosesTheOpenSegment) {
 
 TEST(ConditionStream, WindowSamplesClosesWindowsOnAContinuousStream) {
   // A continuous sensor: no discontinuity after the first frame, never end_of_segment. Frames of 64 samples,
-  // windows of 256: every window covers 4 frames and whole sine periods.
+  // windows of 256: every window covers 4 frames and whole sine periods. The source had published 5
+  // windows' worth of samples before: window w starts at sample (5 + w) * 256, so its index is 5 + w
+  // (the frames' snapshot index, 7, is not used for windows closed by sample count).
   const std::vector<double> amp{1.5, 0.2}, off{0.1, 0.0};
   const int window = 256;
   const RowMajor y = sines(window * 5, amp, off, {5 * 4, 5 * 16});  // 4 and 16 cycles per window
   ConditionStream s(params(window, 100), 2);
   std::vector<ConditionSample> out;
   for (int at = 0; at < y.rows(); at += 64) {
-    s.feed(y.data() + at * 2, 64, at == 0, false, kT0 + at * 50'000LL, 50e3, out);
+    s.feed(y.data() + at * 2, 64, static_cast<std::uint64_t>(5 * window + at), 7, at == 0, false,
+           kT0 + at * 50'000LL, 50e3, out);
   }
   ASSERT_EQ(out.size(), 5u);
   for (std::size_t w = 0; w < out.size(); ++w) {
     EXPECT_EQ(out[w].samples, static_cast<std::size_t>(window));
     EXPECT_EQ(out[w].time_ns, kT0 + static_cast<std::int64_t>(w) * window * 50'000LL);
-    EXPECT_EQ(out[w].snapshot_index, w);
+    EXPECT_EQ(out[w].snapshot_index, 5 + w);
     EXPECT_EQ(out[w].discontinuity, w == 0);
     EXPECT_MATRIX_NEAR(out[w].values, sine_rms(amp, off), 1e-12);
   }
@@ -150,7 +160,7 @@ TEST(ConditionStream, WindowSamplesHoldsWhenFramesAreLongerThanTheWindow) {
   const RowMajor y = sines(window * 4, amp, off, {4 * 3, 4 * 7});
   ConditionStream s(params(window, 100), 2);
   std::vector<ConditionSample> out;
-  s.feed(y.data(), static_cast<std::size_t>(y.rows()), true, false, kT0, 50e3, out);
+  s.feed(y.data(), static_cast<std::size_t>(y.rows()), 0, 0, true, false, kT0, 50e3, out);
   ASSERT_EQ(out.size(), 4u) << "one 1024-sample frame with window_samples = 256";
   for (const auto& c : out) {
     EXPECT_EQ(c.samples, static_cast<std::size_t>(window));
@@ -162,17 +172,18 @@ TEST(ConditionStream, ShortSegmentsAreDroppedAndCounted) {
   ConditionStream s(params(0, 256), 2);
   std::vector<ConditionSample> out;
   const std::vector<double> amp{1.0, 1.0}, off{0.0, 0.0};
-  feed_segment(s, sines(255, amp, off, {1, 2}), 100, kT0, true, out);
+  feed_segment(s, sines(255, amp, off, {1, 2}), 100, kT0, true, out, 0);
   EXPECT_TRUE(out.empty());
   EXPECT_EQ(s.dropped_windows(), 1u);
-  feed_segment(s, sines(256, amp, off, {1, 2}), 100, kT0 + 1'000'000, true, out);  // exactly min_samples: kept
+  feed_segment(s, sines(256, amp, off, {1, 2}), 100, kT0 + 1'000'000, true, out, 1);  // exactly min_samples: kept
   ASSERT_EQ(out.size(), 1u);
-  EXPECT_EQ(out[0].snapshot_index, 0u) << "indices count produced vectors only";
+  EXPECT_EQ(out[0].snapshot_index, 1u) << "the source's snapshot index: a dropped snapshot does not shift it";
   EXPECT_EQ(out[0].time_ns, kT0 + 1'000'000);
-  feed_segment(s, sines(10, amp, off, {1, 2}), 100, kT0 + 2'000'000, false, out);  // closed by the next one
-  feed_segment(s, sines(300, amp, off, {1, 2}), 100, kT0 + 3'000'000, true, out);
+  feed_segment(s, sines(10, amp, off, {1, 2}), 100, kT0 + 2'000'000, false, out, 2);  // closed by the next one
+  feed_segment(s, sines(300, amp, off, {1, 2}), 100, kT0 + 3'000'000, true, out, 3);
   ASSERT_EQ(out.size(), 2u);
-  EXPECT_EQ(out[1].snapshot_index, 1u);
+  EXPECT_EQ(out[1].snapshot_index, 3u);
+  EXPECT_EQ(s.produced(), 2u);
   EXPECT_EQ(out[1].samples, 300u);
   EXPECT_EQ(s.dropped_windows(), 2u);
 }
@@ -271,6 +282,59 @@ TEST(ConditionModelInput, ConstantZeroChannelGivesNaNModelInput) {
 
 TEST(ConditionStream, NeedsAtLeastOneChannel) {
   EXPECT_THROW(ConditionStream(params(0, 1), 0), std::invalid_argument);
+}
+
+// Checkpoint: cut between any two frames (inside a snapshot, right after its end, inside a count-closed
+// window), save, restore into a fresh stream, feed the rest: the vectors and counters equal the
+// uninterrupted run's bit for bit. Frames: 3 segments of 5 frames of 100 rows, the 2nd too short (dropped).
+TEST(ConditionStream, CheckpointBetweenAnyTwoFramesGivesTheUninterruptedVectors) {
+  const std::vector<double> amp{1.0, 0.5}, off{0.2, 0.0};
+  const RowMajor y = sines(1500, amp, off, {7, 3});
+  struct Frame {
+    int at, rows;
+    std::uint64_t snapshot;
+    bool disc, end;
+  };
+  std::vector<Frame> frames;
+  for (int seg = 0; seg < 3; ++seg) {
+    const int rows = seg == 1 ? 40 : 100;  // segment 1: 200 rows < min_samples
+    for (int f = 0; f < 5; ++f) frames.push_back({seg * 500 + f * 100, rows, std::uint64_t(20 + seg), f == 0, f == 4});
+  }
+  for (std::size_t window : {std::size_t{0}, std::size_t{256}}) {
+    auto feed = [&](ConditionStream& s, std::size_t from, std::size_t to, std::vector<ConditionSample>& out) {
+      for (std::size_t i = from; i < to; ++i) {
+        const Frame& f = frames[i];
+        s.feed(y.data() + f.at * 2, static_cast<std::size_t>(f.rows), 9000 + static_cast<std::uint64_t>(f.at),
+               f.snapshot, f.disc, f.end, kT0 + f.at * 50'000LL, 50e3, out);
+      }
+    };
+    ConditionStream whole(params(window, 250), 2);
+    std::vector<ConditionSample> want;
+    feed(whole, 0, frames.size(), want);
+    ASSERT_GE(want.size(), 2u);
+    for (std::size_t cut = 0; cut <= frames.size(); ++cut) {
+      SCOPED_TRACE("window " + std::to_string(window) + ", cut before frame " + std::to_string(cut));
+      ConditionStream first(params(window, 250), 2);
+      std::vector<ConditionSample> got;
+      feed(first, 0, cut, got);
+      ConditionStream second(params(window, 250), 2);
+      causal::test::restore_from(second, causal::test::checkpoint_of(first));
+      feed(second, cut, frames.size(), got);
+      causal::test::expect_identical(got, want);
+      EXPECT_EQ(second.dropped_windows(), whole.dropped_windows());
+      EXPECT_EQ(second.produced(), whole.produced());
+    }
+  }
+  ConditionStream saved(params(0, 250), 2);
+  const std::string bytes = causal::test::checkpoint_of(saved);
+  ConditionStream other_window(params(256, 250), 2), other_channels(params(0, 250), 3);
+  EXPECT_THROW(causal::test::restore_from(other_window, bytes), causal::StateError);
+  try {
+    causal::test::restore_from(other_channels, bytes);
+    ADD_FAILURE() << "3 channels accepted a 2-channel checkpoint";
+  } catch (const causal::StateError& e) {
+    EXPECT_STREQ(e.what(), "checkpoint has 2 channels, this condition stream has 3");
+  }
 }
 
 }  // namespace

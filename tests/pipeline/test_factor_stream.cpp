@@ -57,7 +57,7 @@ std::vector<FactorReport> feed_all(FactorStream& stream, const RowMajorMatrix& y
   Eigen::Index at = 0;
   for (Eigen::Index s : sizes) {
     const bool d = !disc_rows.empty() && disc_rows[static_cast<std::size_t>(at)];
-    stream.feed(y.middleRows(at, s), d, kT0 + static_cast<std::int64_t>(at) * 50'000, kPeriod, out);
+    stream.feed(y.middleRows(at, s), static_cast<std::uint64_t>(at), d, kT0 + static_cast<std::int64_t>(at) * 50'000, kPeriod, out);
     at += s;
   }
   if (finish) stream.finish(out);
@@ -121,7 +121,7 @@ TEST(FactorStream, ReportCountIsFloorOfSamplesOverCadence) {
     for (int n : {0, 1, 64, 65, 999, 1000}) {
       FactorStream stream(fixed_params(layout.spec(), pe));
       std::vector<FactorReport> out;
-      stream.feed(y.topRows(n), true, kT0, kPeriod, out);
+      stream.feed(y.topRows(n), 0, true, kT0, kPeriod, out);
       stream.finish(out);
       EXPECT_EQ(out.size(), static_cast<std::size_t>(n) / pe * 3) << "N=" << n << " publish_every=" << pe;
       for (std::size_t i = 0; i < out.size(); ++i) {
@@ -146,7 +146,7 @@ TEST(FactorStream, ReportTimeIsFirstTimePlusIndexTimesPeriod) {
   FactorStream one(fixed_params(layout.spec(), 37));
   std::vector<FactorReport> out;
   const double period = 1e9 / 25600.0;
-  one.feed(y, true, kT0, period, out);
+  one.feed(y, 0, true, kT0, period, out);
   ASSERT_EQ(out.size(), static_cast<std::size_t>(n / 37 * 3));
   for (const auto& r : out) {
     EXPECT_EQ(r.time_ns, kT0 + std::llround(static_cast<double>(r.sample_index) * period));
@@ -244,10 +244,10 @@ TEST(FactorStream, FixedLagReportWaitsForItsLag) {
   FactorStream stream(fixed_params(layout.spec(), 20, lag));
   std::vector<FactorReport> out;
   // Samples 0..28: filter report at 19, its twin needs sample 29.
-  stream.feed(y.topRows(29), true, kT0, kPeriod, out);
+  stream.feed(y.topRows(29), 0, true, kT0, kPeriod, out);
   EXPECT_EQ(causal::test::of_kind(out, EstimateKind::Filter).size(), 3u);
   EXPECT_EQ(causal::test::of_kind(out, EstimateKind::FixedLag).size(), 0u);
-  stream.feed(y.middleRows(29, 1), false, kT0 + 29 * 50'000, kPeriod, out);
+  stream.feed(y.middleRows(29, 1), 29, false, kT0 + 29 * 50'000, kPeriod, out);
   const auto smooth = causal::test::of_kind(out, EstimateKind::FixedLag);
   ASSERT_EQ(smooth.size(), 3u);
   for (const auto& s : smooth) {
@@ -336,7 +336,7 @@ TEST(FactorStreamAutomatic, NoiseEqualsTuneNoiseAllAndNoSampleIsLost) {
   std::vector<FactorReport> out;
   Eigen::Index at = 0;
   for (Eigen::Index s : causal::test::irregular_blocks(n)) {
-    stream.feed(y.middleRows(at, s), at == 0, kT0 + static_cast<std::int64_t>(at) * 50'000, kPeriod, out);
+    stream.feed(y.middleRows(at, s), static_cast<std::uint64_t>(at), at == 0, kT0 + static_cast<std::int64_t>(at) * 50'000, kPeriod, out);
     at += s;
     if (static_cast<std::size_t>(at) < cal) {
       EXPECT_FALSE(stream.calibrated()) << "after " << at << " samples";
@@ -402,7 +402,7 @@ TEST(FactorStreamAutomatic, FinishCalibratesOnWhatWasBuffered) {
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 57);
   FactorStream stream(auto_params(layout.spec(), 64, 400));
   std::vector<FactorReport> out;
-  stream.feed(y, true, kT0, kPeriod, out);
+  stream.feed(y, 0, true, kT0, kPeriod, out);
   EXPECT_TRUE(out.empty());
   EXPECT_FALSE(stream.calibrated());
   stream.finish(out);
@@ -432,7 +432,7 @@ TEST(FactorStreamAutomatic, TooFewUsableSamplesKeepsTheConfiguredNoise) {
   const RowMajorMatrix y = causal::test::simulate_svar(layout, 15, 59);
   FactorStream stream(auto_params(layout.spec(), 5, 400));
   std::vector<FactorReport> out;
-  stream.feed(y, true, kT0, kPeriod, out);
+  stream.feed(y, 0, true, kT0, kPeriod, out);
   stream.finish(out);
   ASSERT_TRUE(stream.calibrated());
   ASSERT_EQ(stream.tuning().size(), 3u);
@@ -473,7 +473,7 @@ TEST(FactorStream, BlockWithWrongChannelCountThrows) {
   FactorStream stream(fixed_params(spec(3, 1, false), 10));
   std::vector<FactorReport> out;
   const RowMajorMatrix four = RowMajorMatrix::Ones(5, 4);
-  EXPECT_THROW(stream.feed(four, true, kT0, kPeriod, out), std::invalid_argument);
+  EXPECT_THROW(stream.feed(four, 0, true, kT0, kPeriod, out), std::invalid_argument);
   EXPECT_EQ(stream.samples_seen(), 0u);
 }
 

@@ -45,7 +45,7 @@ std::vector<FactorReport> feed_all(FactorStream& stream, const RowMajorMatrix& y
   std::vector<FactorReport> out;
   Eigen::Index at = 0;
   for (Eigen::Index s : causal::test::irregular_blocks(y.rows())) {
-    stream.feed(y.middleRows(at, s), at == 0, kT0 + static_cast<std::int64_t>(at) * 50'000, kPeriod, out);
+    stream.feed(y.middleRows(at, s), static_cast<std::uint64_t>(at), at == 0, kT0 + static_cast<std::int64_t>(at) * 50'000, kPeriod, out);
     at += s;
   }
   stream.finish(out);

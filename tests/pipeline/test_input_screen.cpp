@@ -118,7 +118,8 @@ void feed(AssetPipeline& pipe, const RowMajorMatrix& y, Eigen::Index frame, Pipe
   const Eigen::Index rows = std::min(kFrame, y.rows() - frame * kFrame);
   const Eigen::Index first = frame * kFrame;
   const bool end = (first + rows) % 4096 == 0;
-  const auto check = pipe.feed_frame(y.middleRows(first, rows), frame == 0, end, false,
+  const auto check = pipe.feed_frame(y.middleRows(first, rows), static_cast<std::uint64_t>(first),
+                                     static_cast<std::uint64_t>(first / 4096), frame == 0, end, false,
                                      1'000'000'000LL * first, 20'000.0, out);
   ASSERT_TRUE(check.ok) << check.problem;
 }
@@ -370,7 +371,7 @@ TEST(InputScreenConditions, ReadyMadeVectorsAreScreenedPerChannel) {
     if (i == 20) v[1] = 1e300;
     if (i == 24) frozen = v;
     if (i >= 24) v[2] = frozen[2];
-    ASSERT_TRUE(pipe.feed_condition(v, i == 0, 1000LL * i, out).ok);
+    ASSERT_TRUE(pipe.feed_condition(v, static_cast<std::uint64_t>(i), i == 0, 1000LL * i, out).ok);
   }
   pipe.finish(out);
   ASSERT_EQ(out.quality_events.size(), 2u);
@@ -409,7 +410,7 @@ TEST(InputScreenParameters, InvalidThresholdsThrowAtConstructionAndRefuseTheFirs
   p.frame_screen.max_abs_value = 0.0;
   AssetPipeline pipe(p);
   PipelineOutput out;
-  const auto check = pipe.feed_frame(RowMajorMatrix::Ones(8, kG), true, false, false, 0, 20'000.0, out);
+  const auto check = pipe.feed_frame(RowMajorMatrix::Ones(8, kG), 0, 0, true, false, false, 0, 20'000.0, out);
   EXPECT_FALSE(check.ok);
   EXPECT_NE(check.problem.find("max_abs_value"), std::string::npos) << check.problem;
 }

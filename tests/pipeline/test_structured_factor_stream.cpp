@@ -83,8 +83,8 @@ std::vector<FactorReport> feed_all(Stream& stream, const RowMajorMatrix& y, cons
   Eigen::Index at = 0;
   for (Eigen::Index s : causal::test::irregular_blocks(y.rows())) {
     const bool d = at == 0 || (!disc_rows.empty() && disc_rows[static_cast<std::size_t>(at)]);
-    stream.feed(y.middleRows(at, s), d, kT0 + static_cast<std::int64_t>(static_cast<double>(at) * kPeriod), kPeriod,
-                out);
+    stream.feed(y.middleRows(at, s), static_cast<std::uint64_t>(at), d,
+                kT0 + static_cast<std::int64_t>(static_cast<double>(at) * kPeriod), kPeriod, out);
     at += s;
   }
   stream.finish(out);

@@ -323,6 +323,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   ASSERT_EQ(writers_->recommendations.write(r, stop_), causal::dds::WriteResult::Ok);
   ASSERT_TRUE(wait_rows("recommendations.csv", 1));
 
+  writers_.reset();  // the publishers leave: the recorder exits once they are gone and it is idle
   ASSERT_EQ(wait_exit(recorder, 30s), 0) << slurp(dir_ / "recorder.log");
   const std::string log = slurp(dir_ / "recorder.log");
   EXPECT_NE(log.find("rows written:"), std::string::npos) << log;
@@ -483,6 +484,7 @@ TEST_F(RecorderIntegration, ReSentMessagesAreWrittenOnceAndGapsAreLogged) {
   // Acknowledged by the live reader = in its history: recorded before it exits (idle exit).
   ASSERT_TRUE(writers_->conditions.wait_for_acknowledgments(10s));
   ASSERT_TRUE(writers_->factors.wait_for_acknowledgments(10s));
+  writers_.reset();  // the publishers leave: the recorder exits once they are gone and it is idle
   ASSERT_EQ(wait_exit(recorder, 30s), 0) << slurp(dir_ / "recorder.log");
   const std::string log = slurp(dir_ / "recorder.log");
 

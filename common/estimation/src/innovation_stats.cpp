@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
+#include "causal/state_archive.hpp"
 #include "causal/svar_kalman_filter.hpp"
 
 namespace causal {
@@ -35,6 +37,42 @@ void InnovationStats::add(const SvarKalmanFilter& filter) {
 
 void InnovationStats::reset() {
   for (auto& a : acc_) a.reset();
+}
+
+void InnovationAccumulator::save(StateWriter& w) const {
+  w.begin("innovation_accumulator", 1);
+  w.put(count_);
+  w.put(sum_e_);
+  w.put(sum_e2_);
+  w.put(sum_nis_);
+}
+
+void InnovationAccumulator::restore(StateReader& r) {
+  r.expect("innovation_accumulator", 1);
+  InnovationAccumulator a;
+  a.count_ = r.get<std::uint64_t>();
+  a.sum_e_ = r.get<double>();
+  a.sum_e2_ = r.get<double>();
+  a.sum_nis_ = r.get<double>();
+  *this = a;
+}
+
+void InnovationStats::save(StateWriter& w) const {
+  w.begin("innovation_stats", 1);
+  w.put(static_cast<std::int32_t>(channels()));
+  for (const auto& a : acc_) a.save(w);
+}
+
+void InnovationStats::restore(StateReader& r) {
+  r.expect("innovation_stats", 1);
+  const auto saved = r.get<std::int32_t>();
+  if (saved != channels()) {
+    throw StateError("checkpoint has innovation statistics of " + std::to_string(saved) + " outcomes, this one has " +
+                     std::to_string(channels()));
+  }
+  std::vector<InnovationAccumulator> acc(acc_.size());
+  for (auto& a : acc) a.restore(r);
+  acc_ = std::move(acc);
 }
 
 }  // namespace causal

@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "causal/state_archive.hpp"
+#include "causal/state_checks.hpp"
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 #include "segment_tracker.hpp"
@@ -208,6 +210,66 @@ void SvarKalmanFilter::set_noise(int k, const NoiseParams& noise) {
   if (gi < 0) return;
   q_[gi * detail::kLanes + plan_->lane_of[k]] = noise.q;
   r_[gi * detail::kLanes + plan_->lane_of[k]] = noise.r;
+}
+
+void SvarKalmanFilter::save(StateWriter& w) const {
+  w.begin("svar_kalman_filter", 1);
+  save_model_spec(w, layout_.spec());
+  for (const NoiseParams& n : noise_) {
+    w.put(n.q);
+    w.put(n.r);
+    w.put(n.p0);
+  }
+  w.put(x_);
+  w.put(p_);
+  w.put(e_);
+  w.put(s_);
+  w.put(window_);
+  w.put(static_cast<std::int32_t>(history_));
+  w.put(steps_);
+  w.put(counters_.updated);
+  w.put(counters_.warm_up);
+  w.put(counters_.rejected_non_finite);
+}
+
+void SvarKalmanFilter::restore(StateReader& r) {
+  r.expect("svar_kalman_filter", 1);
+  expect_same_model(read_model_spec(r), layout_.spec(), "filter");
+  // Everything is read into copies first: a damaged checkpoint leaves this filter as it was.
+  std::vector<NoiseParams> noise(noise_.size());
+  for (std::size_t k = 0; k < noise.size(); ++k) {
+    noise[k].q = r.get<double>();
+    noise[k].r = r.get<double>();
+    noise[k].p0 = r.get<double>();
+    try {
+      validate_noise_params(noise[k], "noise[" + std::to_string(k) + "]");
+    } catch (const std::invalid_argument& e) {
+      throw StateError(std::string("checkpoint holds invalid filter noise: ") + e.what());
+    }
+  }
+  std::vector<double> x(x_.size()), p(p_.size()), e(e_.size()), s(s_.size()), window(window_.size());
+  read_same_size(r, x, "filter state");
+  read_same_size(r, p, "filter covariance");
+  read_same_size(r, e, "last innovations");
+  read_same_size(r, s, "last innovation variances");
+  read_same_size(r, window, "lag window");
+  const auto history = r.get<std::int32_t>();
+  if (history < 0 || history > m_) throw StateError("checkpoint: filter lag history out of range");
+  const auto steps = r.get<std::uint64_t>();
+  FilterCounters counters;
+  counters.updated = r.get<std::uint64_t>();
+  counters.warm_up = r.get<std::uint64_t>();
+  counters.rejected_non_finite = r.get<std::uint64_t>();
+
+  for (std::size_t k = 0; k < noise.size(); ++k) set_noise(static_cast<int>(k), noise[k]);
+  x_ = std::move(x);
+  p_ = std::move(p);
+  e_ = std::move(e);
+  s_ = std::move(s);
+  window_ = std::move(window);
+  history_ = history;
+  steps_ = steps;
+  counters_ = counters;
 }
 
 }  // namespace causal

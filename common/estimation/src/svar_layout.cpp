@@ -1,6 +1,10 @@
 #include "causal/svar_layout.hpp"
 
+#include "causal/state_archive.hpp"
+
 #include <algorithm>
+#include <cstdint>
+#include <memory>
 #include <stdexcept>
 
 namespace causal {
@@ -95,6 +99,64 @@ std::vector<std::string> SvarLayout::factor_names() const {
     for (int i = 0; i < factor_count(k); ++i) names.push_back(factor_name(k, i));
   }
   return names;
+}
+
+void save_model_spec(StateWriter& w, const ModelSpec& spec) {
+  w.begin("model_spec", 1);
+  w.put(static_cast<std::int32_t>(spec.channels));
+  w.put(static_cast<std::int32_t>(spec.lag_order));
+  w.put(spec.include_self_lags);
+  w.put(spec.allowed);
+  w.put(spec.instantaneous_allowed);
+}
+
+ModelSpec read_model_spec(StateReader& r) {
+  r.expect("model_spec", 1);
+  ModelSpec spec;
+  spec.channels = r.get<std::int32_t>();
+  spec.lag_order = r.get<std::int32_t>();
+  spec.include_self_lags = r.get<bool>();
+  r.read(spec.allowed);
+  r.read(spec.instantaneous_allowed);
+  return spec;
+}
+
+void expect_same_model(const ModelSpec& saved, const ModelSpec& current, const std::string& owner) {
+  auto differ = [&](const std::string& what, const std::string& a, const std::string& b) {
+    throw StateError("checkpoint has " + what + " " + a + ", this " + owner + " has " + b);
+  };
+  if (saved.channels != current.channels) {
+    throw StateError("checkpoint has " + std::to_string(saved.channels) + " channels, this " + owner + " has " +
+                     std::to_string(current.channels));
+  }
+  if (saved.lag_order != current.lag_order) {
+    differ("lag order", std::to_string(saved.lag_order), std::to_string(current.lag_order));
+  }
+  if (saved.include_self_lags != current.include_self_lags) {
+    differ("self lags", saved.include_self_lags ? "on" : "off", current.include_self_lags ? "on" : "off");
+  }
+  std::unique_ptr<SvarLayout> a;
+  try {
+    a = std::make_unique<SvarLayout>(saved);
+  } catch (const std::invalid_argument& e) {
+    throw StateError(std::string("checkpoint holds an invalid model: ") + e.what());
+  }
+  const SvarLayout b(current);
+  for (int k = 0; k < current.channels; ++k) {
+    const auto& ra = a->regressors(k);
+    const auto& rb = b.regressors(k);
+    bool same = ra.size() == rb.size();
+    for (std::size_t i = 0; same && i < ra.size(); ++i) same = ra[i].channel == rb[i].channel && ra[i].lag == rb[i].lag;
+    if (!same) {
+      auto names = [&](const SvarLayout& l) {
+        std::string t;
+        for (int i = 0; i < l.factor_count(k); ++i) t += (i ? " " : "") + l.factor_name(k, i);
+        return "[" + t + "]";
+      };
+      throw StateError("checkpoint has another causal graph for outcome " + std::to_string(k + 1) + ": factors " +
+                       names(*a) + ", this " + owner + " has " + names(b));
+    }
+  }
 }
 
 }  // namespace causal

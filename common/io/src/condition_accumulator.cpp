@@ -5,6 +5,8 @@
 #include <string>
 
 #include "causal/io/condition_features.hpp"
+#include "causal/state_archive.hpp"
+#include "causal/state_checks.hpp"
 #include "moments.hpp"
 
 namespace causal::io {
@@ -106,6 +108,30 @@ Eigen::VectorXd ConditionAccumulator::value(ConditionFeature feature) const {
     }
   }
   return out;
+}
+
+void ConditionAccumulator::save(StateWriter& w) const {
+  w.begin("condition_accumulator", 1);
+  w.put(static_cast<std::int32_t>(channels_));
+  w.put(static_cast<std::uint64_t>(count_));
+  w.put(static_cast<std::uint64_t>(rejected_));
+  for (const auto* v : {&mean_, &m2_, &m3_, &m4_, &abs_sum_, &abs_comp_, &peak_}) w.put(*v);
+}
+
+void ConditionAccumulator::restore(StateReader& r) {
+  r.expect("condition_accumulator", 1);
+  const auto g = r.get<std::int32_t>();
+  if (g != channels_) {
+    throw StateError("checkpoint has a condition accumulator of " + std::to_string(g) + " channels, this one has " +
+                     std::to_string(channels_));
+  }
+  ConditionAccumulator a(channels_);
+  a.count_ = static_cast<std::size_t>(r.get<std::uint64_t>());
+  a.rejected_ = static_cast<std::size_t>(r.get<std::uint64_t>());
+  for (auto* v : {&a.mean_, &a.m2_, &a.m3_, &a.m4_, &a.abs_sum_, &a.abs_comp_, &a.peak_}) {
+    read_same_size(r, *v, "condition accumulator moments");
+  }
+  *this = std::move(a);
 }
 
 }  // namespace causal::io

@@ -1,6 +1,8 @@
 #include "causal/pipeline/asset_pipeline.hpp"
 
 #include "causal/analysis/causal_graph.hpp"
+#include "causal/state_archive.hpp"
+#include "causal/state_checks.hpp"
 
 #include <stdexcept>
 
@@ -8,38 +10,42 @@ namespace causal::pipeline {
 
 AssetPipeline::AssetPipeline(AssetPipelineParams params) : params_(std::move(params)) {}
 
+AssetPipeline::Streams AssetPipeline::build_streams(int g) const {
+  // Resolve the configured graphs against this asset group's channels.
+  const std::vector<std::string> names = channel_names_.size() == static_cast<std::size_t>(g)
+                                             ? channel_names_ : std::vector<std::string>{};
+  auto model_for = [&](const FactorStreamParams& base, const std::string& graph) {
+    FactorStreamParams p = base;
+    p.model.channels = g;
+    if (!graph.empty()) p.model = analysis::parse_causal_graph(graph, g, names).apply_to(p.model);
+    return p;
+  };
+  Streams s;
+  if (params_.sample_level) {
+    s.sample = std::make_unique<StructuredFactorStream>(model_for(params_.sample, params_.sample_graph),
+                                                        params_.sample_structure);
+  }
+  if (params_.condition_level) {
+    s.condition_model = std::make_unique<StructuredFactorStream>(
+        model_for(params_.condition_model, params_.condition_graph), params_.condition_structure);
+    s.conditions = std::make_unique<ConditionStream>(params_.condition, g);
+  }
+  return s;
+}
+
 bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
   if (channels_ == 0) {
     if (g < 2) {
       check = {false, "an asset group needs at least 2 channels for causal factors, got " + std::to_string(g)};
       return false;
     }
-    // Resolve the configured graphs against this asset group's channels; a bad graph refuses the data.
-    const std::vector<std::string> names = channel_names_.size() == static_cast<std::size_t>(g)
-                                               ? channel_names_ : std::vector<std::string>{};
-    auto model_for = [&](const FactorStreamParams& base, const std::string& graph) {
-      FactorStreamParams p = base;
-      p.model.channels = g;
-      if (!graph.empty()) p.model = analysis::parse_causal_graph(graph, g, names).apply_to(p.model);
-      return p;
-    };
     try {
-      std::unique_ptr<StructuredFactorStream> sample, condition;
-      if (params_.sample_level) {
-        sample = std::make_unique<StructuredFactorStream>(model_for(params_.sample, params_.sample_graph),
-                                                          params_.sample_structure);
-      }
-      if (params_.condition_level) {
-        condition = std::make_unique<StructuredFactorStream>(
-            model_for(params_.condition_model, params_.condition_graph), params_.condition_structure);
-        conditions_ = std::make_unique<ConditionStream>(params_.condition, g);
-      }
-      auto frame_screen = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);
-      auto condition_screen = std::make_unique<InputScreen>(params_.condition_screen, g, ScreenLevel::Condition);
-      sample_ = std::move(sample);
-      condition_model_ = std::move(condition);
-      frame_screen_ = std::move(frame_screen);
-      condition_screen_ = std::move(condition_screen);
+      Streams s = build_streams(g);  // a bad graph refuses the data
+      sample_ = std::move(s.sample);
+      conditions_ = std::move(s.conditions);
+      condition_model_ = std::move(s.condition_model);
+      frame_screen_ = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);
+      condition_screen_ = std::make_unique<InputScreen>(params_.condition_screen, g, ScreenLevel::Condition);
     } catch (const std::invalid_argument& e) {
       check = {false, std::string("the configured model does not fit this asset group: ") + e.what()};
       return false;
@@ -55,9 +61,9 @@ bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
   return true;
 }
 
-FrameCheck AssetPipeline::feed_frame(const Eigen::Ref<const RowMajorMatrix>& rows, bool discontinuity,
-                                     bool end_of_segment, bool gap, std::int64_t first_time_ns, double sample_rate_hz,
-                                     PipelineOutput& out) {
+FrameCheck AssetPipeline::feed_frame(const Eigen::Ref<const RowMajorMatrix>& rows, std::uint64_t first_sample_index,
+                                     std::uint64_t snapshot_index, bool discontinuity, bool end_of_segment, bool gap,
+                                     std::int64_t first_time_ns, double sample_rate_hz, PipelineOutput& out) {
   FrameCheck check;
   if (!fix_channels(static_cast<int>(rows.cols()), check)) return check;
   // Bad values and quarantined channels become NaN here, before any stream sees them.
@@ -66,34 +72,44 @@ FrameCheck AssetPipeline::feed_frame(const Eigen::Ref<const RowMajorMatrix>& row
   const RowMajorMatrix& screened = screened_rows_;
   // Lost frames break the sample stream: treat the frame as a discontinuity so no lag spans the hole.
   const bool restart = discontinuity || gap;
-  if (sample_) sample_->feed(screened, restart, first_time_ns, 1e9 / sample_rate_hz, out.sample_reports);
+  const double period_ns = 1e9 / sample_rate_hz;
+  if (sample_) sample_->feed(screened, first_sample_index, restart, first_time_ns, period_ns, out.sample_reports);
   if (conditions_) {
     if (gap) conditions_->drop_open_window();
     const std::size_t before = out.conditions.size();
-    conditions_->feed(screened.data(), static_cast<std::size_t>(screened.rows()), restart, end_of_segment, first_time_ns,
-                      1e9 / sample_rate_hz, out.conditions);
+    conditions_->feed(screened.data(), static_cast<std::size_t>(screened.rows()), first_sample_index, snapshot_index,
+                      restart, end_of_segment, first_time_ns, period_ns, out.conditions);
     for (std::size_t i = before; i < out.conditions.size(); ++i) feed_condition_model(out.conditions[i], out);
   }
+  if (rows.rows() > 0) {
+    last_.has_sample = true;
+    last_.sample = first_sample_index + static_cast<std::uint64_t>(rows.rows()) - 1;
+  }
+  last_.has_snapshot = true;
+  last_.snapshot = snapshot_index;
   return check;
 }
 
 void AssetPipeline::feed_condition_model(const ConditionSample& s, PipelineOutput& out) {
   const RowMajorMatrix y = s.model_input.transpose();
-  condition_model_->feed(y, s.discontinuity, s.time_ns, 0.0, out.condition_reports);
+  condition_model_->feed(y, s.snapshot_index, s.discontinuity, s.time_ns, 0.0, out.condition_reports);
 }
 
-FrameCheck AssetPipeline::feed_condition(const Eigen::VectorXd& values, bool discontinuity, std::int64_t time_ns,
-                                         PipelineOutput& out) {
+FrameCheck AssetPipeline::feed_condition(const Eigen::VectorXd& values, std::uint64_t snapshot_index,
+                                         bool discontinuity, std::int64_t time_ns, PipelineOutput& out) {
   FrameCheck check;
   if (!fix_channels(static_cast<int>(values.size()), check)) return check;
   if (!condition_model_) return {false, "condition level is disabled in the parameters"};
   ConditionSample s;
+  s.snapshot_index = snapshot_index;
   s.time_ns = time_ns;
   s.values = values;
   condition_screen_->screen(s.values.data(), 1, out.quality_events);
   s.model_input = condition_model_input(s.values, params_.condition.log_transform);
   s.discontinuity = discontinuity;
   feed_condition_model(s, out);
+  last_.has_snapshot = true;
+  last_.snapshot = snapshot_index;
   return check;
 }
 
@@ -106,6 +122,106 @@ const std::vector<ChannelQualityCounters>& AssetPipeline::quality_counters(Scree
 void AssetPipeline::finish(PipelineOutput& out) {
   if (sample_) sample_->finish(out.sample_reports);
   if (condition_model_) condition_model_->finish(out.condition_reports);
+}
+
+void AssetPipeline::save(StateWriter& w) const {
+  w.begin("asset_pipeline", 1);
+  w.put(params_.sample_level);
+  w.put(params_.condition_level);
+  w.put(params_.sample_graph);
+  w.put(params_.condition_graph);
+  w.put(static_cast<std::int32_t>(channels_));
+  w.put(channel_names_);
+  w.put(last_.has_sample);
+  w.put(last_.sample);
+  w.put(last_.has_snapshot);
+  w.put(last_.snapshot);
+  if (channels_ == 0) return;  // nothing fed yet: no streams
+  w.put(sample_ != nullptr);
+  if (sample_) sample_->save(w);
+  w.put(conditions_ != nullptr);
+  if (conditions_) conditions_->save(w);
+  w.put(condition_model_ != nullptr);
+  if (condition_model_) condition_model_->save(w);
+}
+
+namespace {
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string t;
+  for (const auto& n : names) t += (t.empty() ? "" : ", ") + n;
+  return t;
+}
+
+}  // namespace
+
+void AssetPipeline::restore(StateReader& r) {
+  r.expect("asset_pipeline", 1);
+  const std::string me = "asset group";
+  expect_saved(r, "the sample level", params_.sample_level, me);
+  expect_saved(r, "the condition level", params_.condition_level, me);
+  expect_saved(r, "sample-level graph", params_.sample_graph, me);
+  expect_saved(r, "condition-level graph", params_.condition_graph, me);
+  const auto g = r.get<std::int32_t>();
+  std::vector<std::string> names;
+  r.read(names);
+  SourceIndex last;
+  last.has_sample = r.get<bool>();
+  last.sample = r.get<std::uint64_t>();
+  last.has_snapshot = r.get<bool>();
+  last.snapshot = r.get<std::uint64_t>();
+
+  // The channel count and names come from the checkpoint; an asset group that already knows its own (it
+  // was fed, or told its names) must have the same ones.
+  auto differ = [&](int mine) {
+    return StateError("checkpoint has " + std::to_string(g) + " channels, this " + me + " has " + std::to_string(mine));
+  };
+  if (channels_ > 0 && g != channels_) throw differ(channels_);
+  const int named = static_cast<int>(channel_names_.size());
+  if (g > 0 && named > 0 && g != named) throw differ(named);
+  if (!channel_names_.empty() && !names.empty() && names != channel_names_) {
+    throw StateError("checkpoint has channels " + joined(names) + ", this " + me + " has " + joined(channel_names_));
+  }
+  if (g == 0) {  // saved before the first frame: only the names and indices
+    if (channel_names_.empty()) channel_names_ = names;
+    last_ = last;
+    return;
+  }
+  if (g < 2) throw StateError("checkpoint has " + std::to_string(g) + " channels (at least 2 needed)");
+
+  // Rebuild the streams from this pipeline's params (with the checkpoint's names, which resolve the graphs
+  // as they were resolved when the checkpoint's streams were built), then restore them.
+  const std::vector<std::string> own_names = channel_names_;
+  if (channel_names_.empty()) channel_names_ = names;
+  Streams s;
+  try {
+    s = build_streams(g);
+    auto restore_part = [&](auto& part, const char* what) {
+      const bool saved = r.get<bool>();
+      if (saved != (part != nullptr)) {
+        throw StateError(std::string("checkpoint ") + (saved ? "has" : "lacks") + " the " + what + " of this " + me);
+      }
+      if (part) part->restore(r);
+    };
+    restore_part(s.sample, "sample-level stream");
+    restore_part(s.conditions, "condition stream");
+    restore_part(s.condition_model, "condition-level stream");
+  } catch (const std::invalid_argument& e) {
+    channel_names_ = own_names;
+    throw StateError(std::string("checkpoint: the configured model does not fit its asset group: ") + e.what());
+  } catch (...) {
+    channel_names_ = own_names;
+    throw;
+  }
+  channels_ = g;
+  sample_ = std::move(s.sample);
+  conditions_ = std::move(s.conditions);
+  condition_model_ = std::move(s.condition_model);
+  // The input screens are not checkpointed: they re-learn their reference scale after a restart (a channel
+  // in quarantine at the crash is quarantined again within its detection window).
+  frame_screen_ = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);
+  condition_screen_ = std::make_unique<InputScreen>(params_.condition_screen, g, ScreenLevel::Condition);
+  last_ = last;
 }
 
 }  // namespace causal::pipeline

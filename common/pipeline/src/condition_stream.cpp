@@ -1,5 +1,8 @@
 #include "causal/pipeline/condition_stream.hpp"
 
+#include "causal/state_archive.hpp"
+#include "causal/state_checks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -39,7 +42,8 @@ void ConditionStream::close(std::vector<ConditionSample>& out) {
     return;
   }
   ConditionSample s;
-  s.snapshot_index = next_index_++;
+  s.snapshot_index = params_.window_samples > 0 ? window_first_sample_ / params_.window_samples : window_snapshot_;
+  ++produced_;
   s.time_ns = window_time_ns_;
   s.values = acc_.value(params_.feature);
   s.model_input = condition_model_input(s.values, params_.log_transform);
@@ -50,7 +54,8 @@ void ConditionStream::close(std::vector<ConditionSample>& out) {
   out.push_back(std::move(s));
 }
 
-void ConditionStream::feed(const double* rows, std::size_t n, bool discontinuity, bool end_of_segment,
+void ConditionStream::feed(const double* rows, std::size_t n, std::uint64_t first_sample_index,
+                           std::uint64_t snapshot_index, bool discontinuity, bool end_of_segment,
                            std::int64_t first_time_ns, double period_ns, std::vector<ConditionSample>& out) {
   // A new segment closes the previous window (a snapshot whose last frame did not say end_of_segment).
   if (discontinuity) close(out);
@@ -59,6 +64,8 @@ void ConditionStream::feed(const double* rows, std::size_t n, bool discontinuity
     if (!window_open_) {
       window_open_ = true;
       window_time_ns_ = first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(done) * period_ns));
+      window_first_sample_ = first_sample_index + done;
+      window_snapshot_ = snapshot_index;
     }
     // Fill the open window up to window_samples (counted in rows fed, rejected non-finite rows included).
     std::size_t take = n - done;
@@ -69,6 +76,57 @@ void ConditionStream::feed(const double* rows, std::size_t n, bool discontinuity
     if (params_.window_samples > 0 && fed_in_window_ >= params_.window_samples) close(out);
   }
   if (end_of_segment) close(out);
+}
+
+void ConditionStream::save(StateWriter& w) const {
+  w.begin("condition_stream", 1);
+  w.put(params_.feature);
+  w.put(params_.log_transform);
+  w.put(static_cast<std::uint64_t>(params_.window_samples));
+  w.put(static_cast<std::uint64_t>(params_.min_samples));
+  w.put(static_cast<std::int32_t>(channels_));
+  acc_.save(w);
+  w.put(window_time_ns_);
+  w.put(window_first_sample_);
+  w.put(window_snapshot_);
+  w.put(window_open_);
+  w.put(static_cast<std::uint64_t>(fed_in_window_));
+  w.put(next_discontinuity_);
+  w.put(produced_);
+  w.put(dropped_);
+}
+
+void ConditionStream::restore(StateReader& r) {
+  r.expect("condition_stream", 1);
+  const std::string me = "condition stream";
+  const auto feature = r.get<io::ConditionFeature>();
+  if (feature != params_.feature) {
+    throw StateError("checkpoint has condition feature " + io::to_string(feature) + ", this " + me + " has " +
+                     io::to_string(params_.feature));
+  }
+  expect_saved(r, "log transform", params_.log_transform, me);
+  expect_saved(r, "window_samples", static_cast<std::uint64_t>(params_.window_samples), me);
+  expect_saved(r, "min_samples", static_cast<std::uint64_t>(params_.min_samples), me);
+  const auto g = r.get<std::int32_t>();
+  if (g != channels_) {
+    throw StateError("checkpoint has " + std::to_string(g) + " channels, this " + me + " has " +
+                     std::to_string(channels_));
+  }
+  // Into copies first: on StateError this stream stays as it was.
+  ConditionStream c(params_, channels_);
+  c.acc_.restore(r);
+  c.window_time_ns_ = r.get<std::int64_t>();
+  c.window_first_sample_ = r.get<std::uint64_t>();
+  c.window_snapshot_ = r.get<std::uint64_t>();
+  c.window_open_ = r.get<bool>();
+  c.fed_in_window_ = static_cast<std::size_t>(r.get<std::uint64_t>());
+  c.next_discontinuity_ = r.get<bool>();
+  c.produced_ = r.get<std::uint64_t>();
+  c.dropped_ = r.get<std::uint64_t>();
+  if (params_.window_samples > 0 && c.fed_in_window_ >= params_.window_samples) {
+    throw StateError("checkpoint: condition window fill out of range");
+  }
+  *this = std::move(c);
 }
 
 }  // namespace causal::pipeline

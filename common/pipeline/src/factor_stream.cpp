@@ -1,5 +1,8 @@
 #include "causal/pipeline/factor_stream.hpp"
 
+#include "causal/state_archive.hpp"
+#include "causal/state_checks.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -19,6 +22,74 @@ std::uint32_t degenerate_entries(const Eigen::VectorXd& std_devs) {
 }
 
 }  // namespace
+
+namespace {
+
+void put_noise(StateWriter& w, const NoiseParams& n) {
+  w.put(n.q);
+  w.put(n.r);
+  w.put(n.p0);
+}
+
+NoiseParams get_noise(StateReader& r) {
+  NoiseParams n;
+  n.q = r.get<double>();
+  n.r = r.get<double>();
+  n.p0 = r.get<double>();
+  return n;
+}
+
+void put_report(StateWriter& w, const FactorReport& r) {
+  w.put(r.kind);
+  w.put(static_cast<std::int32_t>(r.outcome));
+  w.put(r.sample_index);
+  w.put(r.time_ns);
+  w.put(r.factors);
+  w.put(r.std_devs);
+  w.put(r.covariance);
+  w.put(r.innovation_count);
+  for (double v : {r.innovation_mean, r.nis_mean, r.last_innovation, r.last_innovation_variance}) w.put(v);
+  w.put(r.rejected);
+  w.put(r.q);
+  w.put(r.r);
+}
+
+FactorReport get_report(StateReader& in) {
+  FactorReport r;
+  r.kind = in.get<EstimateKind>();
+  r.outcome = in.get<std::int32_t>();
+  r.sample_index = in.get<std::uint64_t>();
+  r.time_ns = in.get<std::int64_t>();
+  in.read(r.factors);
+  in.read(r.std_devs);
+  in.read(r.covariance);
+  r.innovation_count = in.get<std::uint64_t>();
+  for (double* v : {&r.innovation_mean, &r.nis_mean, &r.last_innovation, &r.last_innovation_variance}) in.read(*v);
+  r.rejected = in.get<std::uint64_t>();
+  r.q = in.get<double>();
+  r.r = in.get<double>();
+  return r;
+}
+
+}  // namespace
+
+void save_stream_params(StateWriter& w, const FactorStreamParams& params) {
+  w.put(params.noise.automatic);
+  put_noise(w, params.noise.fixed);
+  w.put(static_cast<std::uint64_t>(params.noise.calibration_samples));
+  w.put(static_cast<std::uint64_t>(params.publish_every));
+  w.put(static_cast<std::int32_t>(params.fixed_lag));
+}
+
+void expect_same_stream_params(StateReader& r, const FactorStreamParams& params, const std::string& owner) {
+  expect_saved(r, "automatic noise", params.noise.automatic, owner);
+  expect_saved(r, "configured q", params.noise.fixed.q, owner);
+  expect_saved(r, "configured r", params.noise.fixed.r, owner);
+  expect_saved(r, "configured p0", params.noise.fixed.p0, owner);
+  expect_saved(r, "calibration_samples", static_cast<std::uint64_t>(params.noise.calibration_samples), owner);
+  expect_saved(r, "publish_every", static_cast<std::uint64_t>(params.publish_every), owner);
+  expect_saved(r, "fixed lag", static_cast<std::int32_t>(params.fixed_lag), owner);
+}
 
 FactorStream::FactorStream(FactorStreamParams params)
     : params_(std::move(params)), layout_(params_.model), g_(layout_.channels()), stats_(layout_.channels()) {
@@ -45,7 +116,7 @@ FilterCounters FactorStream::counters() const {
   return smoother_ ? smoother_->filter().counters() : FilterCounters{};
 }
 
-void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity,
+void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index, bool discontinuity,
                         std::int64_t first_time_ns, double period_ns, std::vector<FactorReport>& out) {
   if (block.cols() != g_) {
     throw std::invalid_argument("block has " + std::to_string(block.cols()) + " channels, the model has " +
@@ -55,14 +126,16 @@ void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, bool disc
     const double* y = block.data() + row * block.outerStride();
     const bool disc = discontinuity && row == 0;
     const std::int64_t t = first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(row) * period_ns));
+    const std::uint64_t source_index = first_index + static_cast<std::uint64_t>(row);
     ++buffered_index_;
     if (smoother_) {
-      process(y, disc, t, out);
+      process(y, disc, t, source_index, out);
       continue;
     }
     buffer_.insert(buffer_.end(), y, y + g_);
     buffer_disc_.push_back(disc);
     buffer_time_.push_back(t);
+    buffer_index_.push_back(source_index);
     if (buffer_disc_.size() >= params_.noise.calibration_samples) calibrate(out);
   }
 }
@@ -91,14 +164,16 @@ void FactorStream::calibrate(std::vector<FactorReport>& out) {
   // Replay the calibration window so no sample is lost.
   for (Eigen::Index i = 0; i < n; ++i) {
     process(buffer_.data() + i * g_, buffer_disc_[static_cast<std::size_t>(i)],
-            buffer_time_[static_cast<std::size_t>(i)], out);
+            buffer_time_[static_cast<std::size_t>(i)], buffer_index_[static_cast<std::size_t>(i)], out);
   }
   buffer_.clear();
   buffer_disc_.clear();
   buffer_time_.clear();
+  buffer_index_.clear();
 }
 
-void FactorStream::process(const double* y, bool discontinuity, std::int64_t time_ns, std::vector<FactorReport>& out) {
+void FactorStream::process(const double* y, bool discontinuity, std::int64_t time_ns, std::uint64_t source_index,
+                           std::vector<FactorReport>& out) {
   std::uint64_t released_index = 0;
   const bool released =
       smoother_->step_into(y, discontinuity, &released_index, all_factors_.data(), all_std_.data());
@@ -109,7 +184,7 @@ void FactorStream::process(const double* y, bool discontinuity, std::int64_t tim
   }
   if (++since_report_ >= params_.publish_every) {
     since_report_ = 0;
-    emit_filter(index, time_ns, out);
+    emit_filter(index, source_index, time_ns, out);
   }
 }
 
@@ -131,14 +206,15 @@ FactorReport FactorStream::make_report(EstimateKind kind, int k, std::uint64_t i
   return r;
 }
 
-void FactorStream::emit_filter(std::uint64_t index, std::int64_t time_ns, std::vector<FactorReport>& out) {
+void FactorStream::emit_filter(std::uint64_t index, std::uint64_t source_index, std::int64_t time_ns,
+                               std::vector<FactorReport>& out) {
   const auto& filter = smoother_->filter();
   Eigen::VectorXd factors(all_factors_.size()), stds(all_std_.size());
   filter.estimates(factors.data());
   filter.std_devs(stds.data());
   Pending pending{index, time_ns, {}};
   for (int k = 0; k < g_; ++k) {
-    FactorReport r = make_report(EstimateKind::Filter, k, index, time_ns, factors, stds);
+    FactorReport r = make_report(EstimateKind::Filter, k, source_index, time_ns, factors, stds);
     // The filter's P is block-diagonal by outcome, so P_k is the whole covariance of this report's factors.
     r.covariance = filter.covariance(k);
     const auto& acc = stats_.outcome(k);
@@ -160,8 +236,8 @@ void FactorStream::emit_smoothed(const SmoothedSample& s, std::vector<FactorRepo
   if (pending_.empty() || pending_.front().index != s.index) return;
   const Pending& p = pending_.front();
   for (int k = 0; k < g_; ++k) {
-    FactorReport r = make_report(EstimateKind::FixedLag, k, s.index, p.time_ns, s.estimates, s.std_devs);
     const FactorReport& twin = p.filter_reports[static_cast<std::size_t>(k)];
+    FactorReport r = make_report(EstimateKind::FixedLag, k, twin.sample_index, p.time_ns, s.estimates, s.std_devs);
     r.innovation_count = twin.innovation_count;
     r.innovation_mean = twin.innovation_mean;
     r.nis_mean = twin.nis_mean;
@@ -180,6 +256,120 @@ void FactorStream::finish(std::vector<FactorReport>& out) {
   for (const SmoothedSample& s : smoother_->flush()) {
     if (params_.fixed_lag > 0) emit_smoothed(s, out);
   }
+}
+
+void FactorStream::save(StateWriter& w) const {
+  w.begin("factor_stream", 1);
+  save_model_spec(w, params_.model);
+  save_stream_params(w, params_);
+
+  w.put(calibrated());
+  if (calibrated()) {
+    for (const NoiseParams& n : noise_) put_noise(w, n);
+    smoother_->save(w);
+  }
+  w.put(static_cast<std::uint64_t>(tuning_.size()));
+  for (const NoiseTuningResult& t : tuning_) {
+    put_noise(w, t.noise);
+    w.put(t.log_likelihood);
+    w.put(static_cast<std::int32_t>(t.evaluations));
+    w.put(t.converged);
+    w.put(t.message);
+    w.put(t.at_range_limit);
+    w.put(static_cast<std::int64_t>(t.updates));
+  }
+  stats_.save(w);
+  w.put(buffer_);
+  w.put(buffer_disc_);
+  w.put(buffer_time_);
+  w.put(buffer_index_);
+  w.put(static_cast<std::uint64_t>(pending_.size()));
+  for (const Pending& p : pending_) {
+    w.put(p.index);
+    w.put(p.time_ns);
+    w.put(static_cast<std::uint64_t>(p.filter_reports.size()));
+    for (const FactorReport& r : p.filter_reports) put_report(w, r);
+  }
+  w.put(next_index_);
+  w.put(buffered_index_);
+  w.put(static_cast<std::uint64_t>(since_report_));
+}
+
+void FactorStream::restore(StateReader& r) {
+  r.expect("factor_stream", 1);
+  const std::string me = "factor stream";
+  expect_same_model(read_model_spec(r), params_.model, me);
+  expect_same_stream_params(r, params_, me);
+
+  // Everything into locals first: on StateError this stream stays as it was.
+  std::vector<NoiseParams> noise;
+  std::unique_ptr<FixedLagSmoother> smoother;
+  if (r.get<bool>()) {
+    for (int k = 0; k < g_; ++k) noise.push_back(get_noise(r));
+    try {
+      smoother = std::make_unique<FixedLagSmoother>(layout_, noise, params_.fixed_lag, params_.publish_every);
+    } catch (const std::invalid_argument& e) {
+      throw StateError(std::string("checkpoint holds invalid noise: ") + e.what());
+    }
+    smoother->restore(r);
+  } else if (!params_.noise.automatic) {
+    throw StateError("checkpoint: an uncalibrated stream with configured noise");
+  }
+  const auto n_tuning = r.get<std::uint64_t>();
+  if (n_tuning != 0 && n_tuning != static_cast<std::uint64_t>(g_)) throw StateError("checkpoint: tuning of another shape");
+  std::vector<NoiseTuningResult> tuning(static_cast<std::size_t>(n_tuning));
+  for (NoiseTuningResult& t : tuning) {
+    t.noise = get_noise(r);
+    t.log_likelihood = r.get<double>();
+    t.evaluations = r.get<std::int32_t>();
+    t.converged = r.get<bool>();
+    t.message = r.get<std::string>();
+    t.at_range_limit = r.get<bool>();
+    t.updates = static_cast<long>(r.get<std::int64_t>());
+  }
+  InnovationStats stats(g_);
+  stats.restore(r);
+  std::vector<double> buffer;
+  std::vector<bool> buffer_disc;
+  std::vector<std::int64_t> buffer_time;
+  std::vector<std::uint64_t> buffer_index;
+  r.read(buffer);
+  r.read(buffer_disc);
+  r.read(buffer_time);
+  r.read(buffer_index);
+  const std::size_t buffered = buffer_disc.size();
+  if (buffer.size() != buffered * static_cast<std::size_t>(g_) || buffer_time.size() != buffered ||
+      buffer_index.size() != buffered || (smoother && buffered > 0)) {
+    throw StateError("checkpoint: inconsistent calibration buffer of the factor stream");
+  }
+  // Filter reports wait at most `fixed_lag` samples for their twin: at most fixed_lag + 1 are pending.
+  const auto n_pending = r.get<std::uint64_t>();
+  if (n_pending > static_cast<std::uint64_t>(params_.fixed_lag) + 1) throw StateError("checkpoint: too many pending reports");
+  std::deque<Pending> pending(static_cast<std::size_t>(n_pending));
+  for (Pending& p : pending) {
+    p.index = r.get<std::uint64_t>();
+    p.time_ns = r.get<std::int64_t>();
+    const auto n = r.get<std::uint64_t>();
+    if (n != static_cast<std::uint64_t>(g_)) throw StateError("checkpoint: pending report of another shape");
+    for (std::uint64_t k = 0; k < n; ++k) p.filter_reports.push_back(get_report(r));
+  }
+  const auto next_index = r.get<std::uint64_t>();
+  const auto buffered_index = r.get<std::uint64_t>();
+  const auto since_report = r.get<std::uint64_t>();
+  if (since_report >= params_.publish_every) throw StateError("checkpoint: factor stream report counter out of range");
+
+  noise_ = std::move(noise);
+  tuning_ = std::move(tuning);
+  smoother_ = std::move(smoother);
+  stats_ = std::move(stats);
+  buffer_ = std::move(buffer);
+  buffer_disc_ = std::move(buffer_disc);
+  buffer_time_ = std::move(buffer_time);
+  buffer_index_ = std::move(buffer_index);
+  pending_ = std::move(pending);
+  next_index_ = next_index;
+  buffered_index_ = buffered_index;
+  since_report_ = static_cast<std::size_t>(since_report);
 }
 
 }  // namespace causal::pipeline

@@ -1,6 +1,8 @@
 #include "causal/pipeline/structured_factor_stream.hpp"
 
 #include "causal/analysis/var_lingam.hpp"
+#include "causal/state_archive.hpp"
+#include "causal/state_checks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -34,14 +36,15 @@ std::size_t StructuredFactorStream::minimum_calibration_samples() const {
   return 10 * static_cast<std::size_t>(g_) * static_cast<std::size_t>(params_.model.lag_order + 1);
 }
 
-void StructuredFactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity,
-                                  std::int64_t first_time_ns, double period_ns, std::vector<FactorReport>& out) {
+void StructuredFactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index,
+                                  bool discontinuity, std::int64_t first_time_ns, double period_ns,
+                                  std::vector<FactorReport>& out) {
   if (block.cols() != g_) {
     throw std::invalid_argument("block has " + std::to_string(block.cols()) + " channels, the model has " +
                                 std::to_string(g_));
   }
   if (stream_) {
-    feed_centred(block, discontinuity, first_time_ns, period_ns, out);
+    feed_centred(block, first_index, discontinuity, first_time_ns, period_ns, out);
     return;
   }
   Eigen::Index row = 0;
@@ -50,23 +53,25 @@ void StructuredFactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block,
     buffer_.insert(buffer_.end(), y, y + g_);
     buffer_disc_.push_back(discontinuity && row == 0);
     buffer_time_.push_back(first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(row) * period_ns)));
+    buffer_index_.push_back(first_index + static_cast<std::uint64_t>(row));
     if (buffer_disc_.size() >= setting_.calibration_samples) learn(out);
   }
   if (row < block.rows()) {
     const std::int64_t t = first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(row) * period_ns));
-    feed_centred(block.bottomRows(block.rows() - row), false, t, period_ns, out);
+    feed_centred(block.bottomRows(block.rows() - row), first_index + static_cast<std::uint64_t>(row), false, t,
+                 period_ns, out);
   }
 }
 
-void StructuredFactorStream::feed_centred(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity,
-                                          std::int64_t first_time_ns, double period_ns,
+void StructuredFactorStream::feed_centred(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index,
+                                          bool discontinuity, std::int64_t first_time_ns, double period_ns,
                                           std::vector<FactorReport>& out) {
   if (learned_.centre.size() == 0) {
-    stream_->feed(block, discontinuity, first_time_ns, period_ns, out);
+    stream_->feed(block, first_index, discontinuity, first_time_ns, period_ns, out);
     return;
   }
   scratch_ = block.rowwise() - learned_.centre.transpose();
-  stream_->feed(scratch_, discontinuity, first_time_ns, period_ns, out);
+  stream_->feed(scratch_, first_index, discontinuity, first_time_ns, period_ns, out);
 }
 
 void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
@@ -141,11 +146,12 @@ void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto s = static_cast<std::size_t>(i);
     feed_centred(Eigen::Map<const RowMajorMatrix>(buffer_.data() + s * static_cast<std::size_t>(g_), 1, g_),
-                 buffer_disc_[s], buffer_time_[s], 0.0, out);
+                 buffer_index_[s], buffer_disc_[s], buffer_time_[s], 0.0, out);
   }
   buffer_.clear();
   buffer_disc_.clear();
   buffer_time_.clear();
+  buffer_index_.clear();
 }
 
 void StructuredFactorStream::finish(std::vector<FactorReport>& out) {
@@ -154,6 +160,94 @@ void StructuredFactorStream::finish(std::vector<FactorReport>& out) {
     learn(out);
   }
   stream_->finish(out);
+}
+
+void StructuredFactorStream::save(StateWriter& w) const {
+  w.begin("structured_factor_stream", 1);
+  save_model_spec(w, params_.model);
+  save_stream_params(w, params_);
+  w.put(static_cast<std::uint64_t>(setting_.calibration_samples));
+  w.put(setting_.centre);
+  w.put(setting_.learn_order);
+  w.put(setting_.prune_threshold);
+
+  w.put(learned_.ready);
+  w.put(static_cast<std::uint64_t>(learned_.samples));
+  w.put(learned_.centre);
+  w.put(learned_.order);
+  w.put(learned_.b0);
+  w.put(learned_.instantaneous_allowed);
+  w.put(learned_.problem);
+  w.put(stream_ != nullptr);
+  if (stream_) {
+    save_model_spec(w, stream_->layout().spec());  // the model the stream runs with (learned order applied)
+    stream_->save(w);
+  }
+  w.put(buffer_);
+  w.put(buffer_disc_);
+  w.put(buffer_time_);
+  w.put(buffer_index_);
+}
+
+void StructuredFactorStream::restore(StateReader& r) {
+  r.expect("structured_factor_stream", 1);
+  const std::string me = "structured factor stream";
+  expect_same_model(read_model_spec(r), params_.model, me);
+  expect_same_stream_params(r, params_, me);
+  expect_saved(r, "structure calibration_samples", static_cast<std::uint64_t>(setting_.calibration_samples), me);
+  expect_saved(r, "centring", setting_.centre, me);
+  expect_saved(r, "causal-order learning", setting_.learn_order, me);
+  expect_saved(r, "prune threshold", setting_.prune_threshold, me);
+
+  // Everything into locals first: on StateError this object stays as it was.
+  LearnedStructure learned;
+  learned.ready = r.get<bool>();
+  learned.samples = static_cast<std::size_t>(r.get<std::uint64_t>());
+  r.read(learned.centre);
+  r.read(learned.order);
+  r.read(learned.b0);
+  r.read(learned.instantaneous_allowed);
+  r.read(learned.problem);
+  if (learned.centre.size() != 0 && learned.centre.size() != g_) {
+    throw StateError("checkpoint: learned centre of " + std::to_string(learned.centre.size()) + " channels, this " +
+                     me + " has " + std::to_string(g_));
+  }
+  std::unique_ptr<FactorStream> stream;
+  if (r.get<bool>()) {
+    FactorStreamParams running = params_;
+    running.model = read_model_spec(r);
+    // The learned model may only restrict the instantaneous links of the configured one.
+    if (running.model.channels != g_ || running.model.lag_order != params_.model.lag_order ||
+        running.model.include_self_lags != params_.model.include_self_lags) {
+      throw StateError("checkpoint: the learned model does not derive from this " + me + "'s model");
+    }
+    try {
+      stream = std::make_unique<FactorStream>(running);
+    } catch (const std::invalid_argument& e) {
+      throw StateError(std::string("checkpoint holds an invalid learned model: ") + e.what());
+    }
+    stream->restore(r);
+  }
+  if (learned.ready != (stream != nullptr)) throw StateError("checkpoint: structure state of the stream is inconsistent");
+  std::vector<double> buffer;
+  std::vector<bool> buffer_disc;
+  std::vector<std::int64_t> buffer_time;
+  std::vector<std::uint64_t> buffer_index;
+  r.read(buffer);
+  r.read(buffer_disc);
+  r.read(buffer_time);
+  r.read(buffer_index);
+  const std::size_t buffered = buffer_disc.size();
+  if (buffer.size() != buffered * static_cast<std::size_t>(g_) || buffer_time.size() != buffered ||
+      buffer_index.size() != buffered || (stream && buffered > 0)) {
+    throw StateError("checkpoint: inconsistent structure calibration window");
+  }
+  learned_ = std::move(learned);
+  stream_ = std::move(stream);
+  buffer_ = std::move(buffer);
+  buffer_disc_ = std::move(buffer_disc);
+  buffer_time_ = std::move(buffer_time);
+  buffer_index_ = std::move(buffer_index);
 }
 
 }  // namespace causal::pipeline

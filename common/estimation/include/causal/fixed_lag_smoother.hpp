@@ -58,6 +58,14 @@ class FixedLagSmoother {
   bool released(std::uint64_t index) const { return (index + 1) % release_every_ == 0; }
   void reset();
 
+  // Checkpoint (state_archive.hpp), section "fixed_lag_smoother". Saved: lag and release_every (restore
+  // checks them), the filter (SvarKalmanFilter::save), the L ring slots of lagged states, cross-covariances
+  // and variances as held, the ring position, the number of valid slots, the next index to release and the
+  // last sample status. Restoring into a smoother of another model, lag or decimation throws StateError and
+  // leaves it unchanged; a damaged checkpoint throws StateError too.
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
+
  private:
   template <int D>
   struct Select;

@@ -10,6 +10,8 @@
 namespace causal {
 
 class SvarKalmanFilter;
+class StateWriter;
+class StateReader;
 
 class InnovationAccumulator {
  public:
@@ -20,6 +22,10 @@ class InnovationAccumulator {
   double mean() const;                // mean e          (NaN when empty)
   double mean_square() const;         // mean e^2        (NaN when empty)
   double mean_nis() const;            // mean e^2 / s    (NaN when empty)
+
+  // Checkpoint: the count and the three running sums (section "innovation_accumulator").
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
 
  private:
   std::uint64_t count_ = 0;
@@ -34,6 +40,11 @@ class InnovationStats {
   const InnovationAccumulator& outcome(int k) const { return acc_.at(k); }
   int channels() const { return static_cast<int>(acc_.size()); }
   void reset();
+
+  // Checkpoint (section "innovation_stats"): the channel count (restore throws StateError when it differs)
+  // and every outcome's accumulator.
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
 
  private:
   std::vector<InnovationAccumulator> acc_;

@@ -39,6 +39,8 @@ struct FilterCounters {
 };
 
 class FixedLagSmoother;
+class StateWriter;
+class StateReader;
 namespace detail {
 struct LanePlan;
 }
@@ -68,6 +70,15 @@ class SvarKalmanFilter {
   void set_noise(int k, const NoiseParams& noise);
   // Back to the prior x = 0, P = p0 I, empty lag history, zero counters.
   void reset();
+
+  // Checkpoint (state_archive.hpp), section "svar_kalman_filter". Saved: the model spec (restore checks it),
+  // q, r, p0 of every outcome, the states x and covariances P as held (lane-interleaved, padding lanes
+  // included, so a restored filter continues bit for bit), the lag window and its valid history, the last
+  // innovations and their variances, the step count and the counters. Not saved: the scratch of the last
+  // update (regressors, P h, per-lane innovations), which is rewritten before it is read. restore() throws
+  // StateError for a checkpoint of another model or a damaged one, and then leaves the filter unchanged.
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
 
  private:
   friend class FixedLagSmoother;

@@ -16,6 +16,9 @@
 
 namespace causal {
 
+class StateWriter;
+class StateReader;
+
 // One regressor of an outcome's equation: y_channel[n - lag]. channel is 0-based; lag 0 = instantaneous.
 struct Regressor {
   int channel;
@@ -66,5 +69,13 @@ class SvarLayout {
   int total_ = 0;
   int max_count_ = 0;
 };
+
+// Checkpoints (state_archive.hpp): every filter writes its model spec with its state, so that a checkpoint is
+// only restored into a filter of the same model.
+void save_model_spec(StateWriter& w, const ModelSpec& spec);
+ModelSpec read_model_spec(StateReader& r);  // throws StateError for a truncated or invalid spec
+// Throws StateError unless `saved` and `current` define the same factors (channels, lag order, self lags and
+// the regressors of every outcome, i.e. the masks in effect): "checkpoint has 4 channels, this <owner> has 8".
+void expect_same_model(const ModelSpec& saved, const ModelSpec& current, const std::string& owner);
 
 }  // namespace causal

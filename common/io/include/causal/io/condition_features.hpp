@@ -18,6 +18,11 @@
 #include <string_view>
 #include <vector>
 
+namespace causal {
+class StateWriter;
+class StateReader;
+}  // namespace causal
+
 namespace causal::io {
 
 enum class ConditionFeature { Rms, MeanAbs, Kurtosis, Peak };
@@ -50,6 +55,13 @@ class ConditionAccumulator {
   std::size_t rejected() const noexcept { return rejected_; }  // skipped (non-finite) sample rows
   Eigen::VectorXd value(ConditionFeature feature) const;
   void reset();
+
+  // Checkpoint (causal/state_archive.hpp), section "condition_accumulator": the channel count (restore
+  // throws StateError when it differs, leaving the accumulator unchanged), the accepted and rejected row
+  // counts and the per-channel running moments, compensated |x| sums and peaks, so that a window cut by a
+  // restart yields the same features bit for bit.
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
 
  private:
   int channels_;

@@ -1,6 +1,10 @@
 // Everything causal-estimator computes for one asset group: sample-level factors from raw frames,
 // condition vectors from raw frames, and condition-level factors from those (or from condition vectors
 // that arrive ready-made, e.g. replayed feature tables).
+//
+// Indices are the source's (one index everywhere): sample-level reports carry the sensor's sample index,
+// condition vectors and condition-level reports the source's snapshot index, so a restart or a lost frame
+// does not shift them. save() / restore() checkpoint the whole asset group (crash and restart safety).
 #pragma once
 
 #include "causal/pipeline/condition_stream.hpp"
@@ -52,19 +56,35 @@ struct FrameCheck {
   std::string problem;
 };
 
+// Where the input stood: the source's index of the last sample fed through feed_frame (the last row of the
+// last frame) and the last snapshot index fed (a frame's snapshot_index or a feed_condition vector's).
+// Saved in the checkpoint, so a restarted service can skip input it already processed.
+struct SourceIndex {
+  bool has_sample = false;
+  std::uint64_t sample = 0;
+  bool has_snapshot = false;
+  std::uint64_t snapshot = 0;
+};
+
 class AssetPipeline {
  public:
   explicit AssetPipeline(AssetPipelineParams params);
   // Names used to resolve the configured graphs; call before the first feed (else 1-based numbers only).
   void set_channel_names(std::vector<std::string> names) { channel_names_ = std::move(names); }
 
-  // A raw frame: rows N x G (sample-major), `gap` = frames were lost before this one. The first frame fixes
-  // G; a frame with another channel count is refused (FrameCheck.ok = false) and nothing is fed.
-  FrameCheck feed_frame(const Eigen::Ref<const RowMajorMatrix>& rows, bool discontinuity, bool end_of_segment,
-                        bool gap, std::int64_t first_time_ns, double sample_rate_hz, PipelineOutput& out);
-  // A ready-made condition vector (feature values per channel, e.g. from a replayed feature table).
-  FrameCheck feed_condition(const Eigen::VectorXd& values, bool discontinuity, std::int64_t time_ns,
-                            PipelineOutput& out);
+  // A raw frame: rows N x G (sample-major); first_sample_index = the source's index of row 0 in the asset
+  // group's sample stream (sample-level reports carry first_sample_index + row); snapshot_index = the
+  // source's snapshot (segment) the frame belongs to (condition vectors of its segment carry it; with
+  // condition.window_samples > 0 they carry the window's first sample index / window_samples instead);
+  // `gap` = frames were lost before this one. The first frame fixes G; a frame with another channel count
+  // is refused (FrameCheck.ok = false) and nothing is fed.
+  FrameCheck feed_frame(const Eigen::Ref<const RowMajorMatrix>& rows, std::uint64_t first_sample_index,
+                        std::uint64_t snapshot_index, bool discontinuity, bool end_of_segment, bool gap,
+                        std::int64_t first_time_ns, double sample_rate_hz, PipelineOutput& out);
+  // A ready-made condition vector (feature values per channel, e.g. from a replayed feature table) with the
+  // source's snapshot index, which its condition-level reports carry.
+  FrameCheck feed_condition(const Eigen::VectorXd& values, std::uint64_t snapshot_index, bool discontinuity,
+                            std::int64_t time_ns, PipelineOutput& out);
   void finish(PipelineOutput& out);
 
   int channels() const { return channels_; }
@@ -81,7 +101,38 @@ class AssetPipeline {
   const std::vector<ChannelQualityCounters>& quality_counters(ScreenLevel level = ScreenLevel::Sample) const;
   std::uint64_t dropped_condition_windows() const { return conditions_ ? conditions_->dropped_windows() : 0; }
 
+  // The last source indices fed (see SourceIndex), and dedupe after a restart: true when the frame's rows
+  // [first_sample_index, first_sample_index + rows) / the condition vector were fed before. Frames are fed
+  // whole, so a re-sent frame lies either wholly before or wholly after the last sample fed. Assumes the
+  // source's indices only grow: a restarted source that numbers from 0 again must not be deduplicated.
+  const SourceIndex& last_source_index() const { return last_; }
+  bool already_fed_frame(std::uint64_t first_sample_index, std::size_t rows) const {
+    return rows > 0 && last_.has_sample && first_sample_index + rows - 1 <= last_.sample;
+  }
+  bool already_fed_condition(std::uint64_t snapshot_index) const {
+    return last_.has_snapshot && snapshot_index <= last_.snapshot;
+  }
+
+  // Checkpoint (causal/state_archive.hpp), section "asset_pipeline". Saved: which levels run and the
+  // configured graphs, the channel count and names, the last source indices, and every stream's state
+  // (StructuredFactorStream::save for both levels, ConditionStream::save). restore() takes the channel
+  // count and names from the checkpoint, rebuilds the streams from this pipeline's params (resolving the
+  // graphs as feed_frame would), restores them, and only then replaces the current state: on StateError
+  // (another channel count, e.g. "checkpoint has 4 channels, this asset group has 8", other parameters, a
+  // damaged checkpoint) the pipeline is unchanged. Feeding the rest of the input after save -> restore
+  // into a fresh pipeline gives bit for bit the output of an uninterrupted run.
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
+
  private:
+  struct Streams {
+    std::unique_ptr<StructuredFactorStream> sample;
+    std::unique_ptr<ConditionStream> conditions;
+    std::unique_ptr<StructuredFactorStream> condition_model;
+  };
+  // The streams for G = g channels from params_ (graphs resolved with channel_names_); throws
+  // std::invalid_argument when the configured model does not fit.
+  Streams build_streams(int g) const;
   bool fix_channels(int g, FrameCheck& check);
   void feed_condition_model(const ConditionSample& s, PipelineOutput& out);
 
@@ -93,6 +144,7 @@ class AssetPipeline {
   std::unique_ptr<StructuredFactorStream> condition_model_;
   std::unique_ptr<InputScreen> frame_screen_, condition_screen_;
   RowMajorMatrix screened_rows_;  // the screened copy of the frame being fed
+  SourceIndex last_;
 };
 
 }  // namespace causal::pipeline

@@ -9,6 +9,11 @@
 #include <cstdint>
 #include <vector>
 
+namespace causal {
+class StateWriter;
+class StateReader;
+}  // namespace causal
+
 namespace causal::pipeline {
 
 struct ConditionStreamParams {
@@ -21,7 +26,12 @@ struct ConditionStreamParams {
 };
 
 struct ConditionSample {
-  std::uint64_t snapshot_index = 0;    // 0-based count of condition vectors produced
+  // The source's index of this vector: the snapshot (segment) index the source gave its frames, or, when
+  // windows are closed by sample count (window_samples > 0, a continuous sensor), the source index of the
+  // window's first sample / window_samples. A restart or a dropped window does not shift it. (By sample
+  // count the index is unique while windows stay aligned to the source's sample grid; a discontinuity in
+  // the middle of a window starts a shifted one that can share its index with the next.)
+  std::uint64_t snapshot_index = 0;
   std::int64_t time_ns = 0;            // time of the segment's first sample
   Eigen::VectorXd values;              // feature per channel
   Eigen::VectorXd model_input;         // what the condition-level filter sees (log(values) or values)
@@ -36,14 +46,25 @@ Eigen::VectorXd condition_model_input(const Eigen::VectorXd& values, bool log_tr
 class ConditionStream {
  public:
   ConditionStream(ConditionStreamParams params, int channels);
-  // rows: N x G sample-major samples, period_ns apart. Appends finished condition samples to `out`.
-  // With window_samples > 0 a frame is split so that every window holds exactly window_samples samples.
-  void feed(const double* rows, std::size_t n, bool discontinuity, bool end_of_segment, std::int64_t first_time_ns,
-            double period_ns, std::vector<ConditionSample>& out);
+  // rows: N x G sample-major samples, period_ns apart; row 0 has the source's sample index
+  // first_sample_index and belongs to the source's snapshot `snapshot_index` (see ConditionSample). Appends
+  // finished condition samples to `out`. With window_samples > 0 a frame is split so that every window
+  // holds exactly window_samples samples.
+  void feed(const double* rows, std::size_t n, std::uint64_t first_sample_index, std::uint64_t snapshot_index,
+            bool discontinuity, bool end_of_segment, std::int64_t first_time_ns, double period_ns,
+            std::vector<ConditionSample>& out);
   // A gap in the frame sequence (lost frames): the open window is discarded (features of a partial
   // snapshot would be biased) and the next vector restarts the condition-level lags.
   void drop_open_window();
   std::uint64_t dropped_windows() const { return dropped_; }
+  std::uint64_t produced() const { return produced_; }  // condition vectors produced so far
+
+  // Checkpoint (state_archive.hpp), section "condition_stream". Saved: the parameters and channel count
+  // (restore throws StateError when this stream was built with others, leaving it unchanged), the open
+  // window (accumulated moments, start time, source indices, rows fed), whether the next vector restarts
+  // the lags, and the produced / dropped counters: a window cut by a restart gives the same vector.
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
 
  private:
   void close(std::vector<ConditionSample>& out);
@@ -52,10 +73,12 @@ class ConditionStream {
   int channels_;
   io::ConditionAccumulator acc_;
   std::int64_t window_time_ns_ = 0;
+  std::uint64_t window_first_sample_ = 0;  // source index of the open window's first sample
+  std::uint64_t window_snapshot_ = 0;      // source snapshot index of the frame that opened it
   bool window_open_ = false;
   std::size_t fed_in_window_ = 0;  // rows fed into the open window (the accumulator counts accepted ones)
   bool next_discontinuity_ = true;
-  std::uint64_t next_index_ = 0;
+  std::uint64_t produced_ = 0;
   std::uint64_t dropped_ = 0;
 };
 

@@ -7,7 +7,10 @@
 //  * a publication cadence: every `publish_every` samples one report per outcome with the factors, their
 //    standard deviations and the innovation statistics since the previous report; the fixed-lag smoother
 //    reports the same sample indices once its lag has passed;
-//  * per-sample times, so each report carries the UTC time of the sample it refers to.
+//  * per-sample times and source indices, so each report carries the UTC time and the index (as numbered by
+//    the source: the sensor's sample index, or the snapshot index at condition level) of the sample it
+//    refers to; a restart or a lost frame does not shift them;
+//  * checkpoints: save() / restore() (state_archive.hpp) let a restarted service continue bit for bit.
 #pragma once
 
 #include "causal/fixed_lag_smoother.hpp"
@@ -25,6 +28,11 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+namespace causal {
+class StateWriter;
+class StateReader;
+}  // namespace causal
 
 namespace causal::pipeline {
 
@@ -48,7 +56,7 @@ struct FactorStreamParams {
 struct FactorReport {
   EstimateKind kind = EstimateKind::Filter;
   int outcome = 0;                   // 0-based k
-  std::uint64_t sample_index = 0;    // sample the estimate refers to (0-based, counts every fed sample)
+  std::uint64_t sample_index = 0;    // source index of the sample the estimate refers to (feed's first_index + row)
   std::int64_t time_ns = 0;          // its UTC time
   Eigen::VectorXd factors;           // outcome k's factors (layout order)
   Eigen::VectorXd std_devs;
@@ -65,14 +73,21 @@ struct FactorReport {
   std::uint32_t degenerate_std = 0;
 };
 
+// Checkpoint helpers shared by the streams: write the parameters, and check on restore that an object is
+// built with the same ones (StateError naming the first that differs, e.g. "checkpoint has publish_every 1024,
+// this factor stream has 512"). The model spec is checked separately (expect_same_model).
+void save_stream_params(StateWriter& w, const FactorStreamParams& params);
+void expect_same_stream_params(StateReader& r, const FactorStreamParams& params, const std::string& owner);
+
 class FactorStream {
  public:
   explicit FactorStream(FactorStreamParams params);  // throws std::invalid_argument for invalid params
 
-  // Feeds the rows of an N x G block; row 0 is at first_time_ns, rows are period_ns apart, `discontinuity`
-  // applies to row 0. Reports are appended to `out`.
-  void feed(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity, std::int64_t first_time_ns,
-            double period_ns, std::vector<FactorReport>& out);
+  // Feeds the rows of an N x G block; row 0 has the source index first_index (row i: first_index + i) and
+  // is at first_time_ns, rows are period_ns apart, `discontinuity` applies to row 0. Reports are appended
+  // to `out`. The publication cadence counts fed samples (every publish_every-th), not source indices.
+  void feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index, bool discontinuity,
+            std::int64_t first_time_ns, double period_ns, std::vector<FactorReport>& out);
   // End of stream: calibrates on what was buffered (if still calibrating) and flushes the smoother.
   void finish(std::vector<FactorReport>& out);
 
@@ -84,17 +99,29 @@ class FactorStream {
   // noise runs instead), one human-readable line each; the service decides how to log them.
   const std::vector<std::string>& warnings() const { return warnings_; }
   FilterCounters counters() const;
-  std::uint64_t samples_seen() const { return next_index_; }
+  std::uint64_t samples_seen() const { return next_index_; }  // samples through the filter (not buffered ones)
+
+  // Checkpoint (state_archive.hpp), section "factor_stream". Saved: the parameters (model spec, noise
+  // setting, publish_every, fixed_lag: restore throws StateError when this stream was built with others),
+  // the noise in use and the tuning results, the smoother with its filter (once calibrated), the innovation
+  // statistics since the last report, the calibration buffer (samples, discontinuities, times, source
+  // indices), the filter reports waiting for their fixed-lag twins, and the sample counters. Feeding the
+  // rest of a stream after restore() gives bit for bit the reports of an uninterrupted run. On StateError
+  // (other parameters, damaged checkpoint) the stream is left unchanged.
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
 
  private:
   struct Pending {  // a filter report waiting for its fixed-lag twin
-    std::uint64_t index;
+    std::uint64_t index;         // fed-sample count of the report (what the smoother releases)
     std::int64_t time_ns;
-    std::vector<FactorReport> filter_reports;
+    std::vector<FactorReport> filter_reports;  // carry the source index
   };
   void calibrate(std::vector<FactorReport>& out);
-  void process(const double* y, bool discontinuity, std::int64_t time_ns, std::vector<FactorReport>& out);
-  void emit_filter(std::uint64_t index, std::int64_t time_ns, std::vector<FactorReport>& out);
+  void process(const double* y, bool discontinuity, std::int64_t time_ns, std::uint64_t source_index,
+               std::vector<FactorReport>& out);
+  void emit_filter(std::uint64_t index, std::uint64_t source_index, std::int64_t time_ns,
+                   std::vector<FactorReport>& out);
   void emit_smoothed(const SmoothedSample& s, std::vector<FactorReport>& out);
   FactorReport make_report(EstimateKind kind, int k, std::uint64_t index, std::int64_t time_ns,
                            const Eigen::VectorXd& all_factors, const Eigen::VectorXd& all_std) const;
@@ -111,6 +138,7 @@ class FactorStream {
   std::vector<double> buffer_;
   std::vector<bool> buffer_disc_;
   std::vector<std::int64_t> buffer_time_;
+  std::vector<std::uint64_t> buffer_index_;  // source indices
   std::deque<Pending> pending_;
   std::uint64_t next_index_ = 0;      // index of the next sample processed by the filter
   std::uint64_t buffered_index_ = 0;  // samples seen including the calibration buffer

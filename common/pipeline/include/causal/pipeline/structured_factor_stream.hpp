@@ -52,9 +52,9 @@ class StructuredFactorStream {
   // window, a window too short for VAR-LiNGAM (< 10 x G x (M + 1) samples) or a negative prune threshold.
   StructuredFactorStream(FactorStreamParams params, StructureSetting setting);
 
-  // Same contract as FactorStream::feed.
-  void feed(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity, std::int64_t first_time_ns,
-            double period_ns, std::vector<FactorReport>& out);
+  // Same contract as FactorStream::feed (row i has the source index first_index + i).
+  void feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index, bool discontinuity,
+            std::int64_t first_time_ns, double period_ns, std::vector<FactorReport>& out);
   // End of stream: learns on a partial window if still calibrating, then finishes the FactorStream.
   void finish(std::vector<FactorReport>& out);
 
@@ -62,10 +62,19 @@ class StructuredFactorStream {
   const LearnedStructure& structure() const { return learned_; }
   std::size_t minimum_calibration_samples() const;
 
+  // Checkpoint (state_archive.hpp), section "structured_factor_stream". Saved: the configured model and
+  // stream parameters and the structure setting (restore throws StateError when this object was built with
+  // others), what was learned (centre, causal order, B0, the instantaneous mask in effect, problems), the
+  // model the FactorStream runs with and its state (FactorStream::save) once it is built, and the calibration
+  // window (samples, discontinuities, times, source indices) while it fills. restore() rebuilds the
+  // FactorStream with the learned model before restoring it; on StateError this object is unchanged.
+  void save(StateWriter& w) const;
+  void restore(StateReader& r);
+
  private:
   void learn(std::vector<FactorReport>& out);
-  void feed_centred(const Eigen::Ref<const RowMajorMatrix>& block, bool discontinuity, std::int64_t first_time_ns,
-                    double period_ns, std::vector<FactorReport>& out);
+  void feed_centred(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index, bool discontinuity,
+                    std::int64_t first_time_ns, double period_ns, std::vector<FactorReport>& out);
 
   FactorStreamParams params_;
   StructureSetting setting_;
@@ -76,6 +85,7 @@ class StructuredFactorStream {
   std::vector<double> buffer_;
   std::vector<bool> buffer_disc_;
   std::vector<std::int64_t> buffer_time_;
+  std::vector<std::uint64_t> buffer_index_;  // source indices
   RowMajorMatrix scratch_;
 };
 

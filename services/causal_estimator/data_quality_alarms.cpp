@@ -1,0 +1,79 @@
+#include "data_quality_alarms.hpp"
+
+namespace causal::estimator {
+
+namespace {
+
+std::string key_of(const std::string& group, int channel, const std::string& kind) {
+  return group + '\x1f' + std::to_string(channel) + '\x1f' + kind;
+}
+
+}  // namespace
+
+void DataQualityAlarms::on_events(const std::string& asset_group, const std::vector<std::string>& channel_names,
+                                  const std::vector<pipeline::QualityEvent>& events, std::uint64_t snapshot_index,
+                                  std::int64_t time_ns, std::vector<causal_twin::Alarm>& out) {
+  using Kind = pipeline::QualityEventKind;
+  for (const auto& e : events) {
+    const bool bad_value = e.kind == Kind::NonFinite || e.kind == Kind::OutOfRange;
+    const std::string kind = bad_value ? pipeline::to_string(e.kind) : "channel_quarantined";
+    const std::string key = key_of(asset_group, e.channel, kind);
+    if (e.kind == Kind::Recovered) {
+      const auto it = open_.find(key);
+      if (it == open_.end()) continue;
+      it->second.msg.state(causal_twin::CLEARED);
+      it->second.msg.cleared_time_ns(time_ns);
+      it->second.msg.sample_index(snapshot_index);
+      it->second.msg.reason(e.reason);
+      out.push_back(it->second.msg);
+      open_.erase(it);
+      continue;
+    }
+    auto it = open_.find(key);
+    if (it != open_.end()) {  // already raised: remember that it is still happening
+      it->second.seen_in_snapshot = true;
+      continue;
+    }
+    const std::string name = e.channel >= 0 && static_cast<std::size_t>(e.channel) < channel_names.size()
+                                 ? channel_names[static_cast<std::size_t>(e.channel)]
+                                 : std::to_string(e.channel + 1);
+    causal_twin::Alarm a;
+    a.alarm_id(asset_group + "/" + name + "/" + kind + "/s" + std::to_string(snapshot_index));
+    a.asset_group(asset_group);
+    a.channel(static_cast<uint16_t>(e.channel + 1));
+    a.channel_name(name);
+    a.severity(bad_value ? causal_twin::ADVISORY : causal_twin::WARNING);
+    a.state(causal_twin::RAISED);
+    a.kind(kind);
+    a.category("data_quality");
+    a.raised_time_ns(time_ns);
+    a.sample_index(snapshot_index);
+    a.score(static_cast<double>(e.count));
+    a.reason(e.reason + (bad_value ? " (rejected: the value is not used; other channels carry on)"
+                                   : " (channel quarantined: its values are not used until it recovers)"));
+    out.push_back(a);
+    open_.emplace(key, Open{a, bad_value, true});
+    ++raised_;
+  }
+}
+
+void DataQualityAlarms::end_of_snapshot(const std::string& asset_group, std::uint64_t snapshot_index,
+                                        std::int64_t time_ns, std::vector<causal_twin::Alarm>& out) {
+  const std::string prefix = asset_group + '\x1f';
+  for (auto it = open_.lower_bound(prefix); it != open_.end() && it->first.compare(0, prefix.size(), prefix) == 0;) {
+    Open& o = it->second;
+    if (o.bad_value && !o.seen_in_snapshot) {
+      o.msg.state(causal_twin::CLEARED);
+      o.msg.cleared_time_ns(time_ns);
+      o.msg.sample_index(snapshot_index);
+      o.msg.reason("no bad value in snapshot " + std::to_string(snapshot_index));
+      out.push_back(o.msg);
+      it = open_.erase(it);
+      continue;
+    }
+    o.seen_in_snapshot = false;
+    ++it;
+  }
+}
+
+}  // namespace causal::estimator

@@ -1,0 +1,42 @@
+// The estimator's data-quality alarms (Alarm.category "data_quality"): what the input screen found in one
+// asset group's data (common/pipeline/input_screen.hpp), as alarms on causal_twin/alarm, so a bad value or a
+// dead channel is visible to the operator, not only in a log.
+//  * bad values (non_finite, out_of_range): an ADVISORY alarm per channel and kind, raised at the first bad
+//    value and cleared at the end of the first snapshot without one;
+//  * a quarantined channel (stuck, scale_change): a WARNING alarm, cleared when the screen releases it.
+// Ids are "<asset group>/<channel>/<kind>/s<snapshot index>" (the snapshot it was raised in, from the source):
+// deterministic, and never reused after a restart.
+#pragma once
+
+#include "causal/pipeline/input_screen.hpp"
+#include "causal_twin.h"
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace causal::estimator {
+
+class DataQualityAlarms {
+ public:
+  // Appends the alarm messages (raised / cleared) the screen's events of one frame or vector cause.
+  void on_events(const std::string& asset_group, const std::vector<std::string>& channel_names,
+                 const std::vector<pipeline::QualityEvent>& events, std::uint64_t snapshot_index, std::int64_t time_ns,
+                 std::vector<causal_twin::Alarm>& out);
+  // At the end of a snapshot: clears the bad-value alarms of this group that saw no bad value in it.
+  void end_of_snapshot(const std::string& asset_group, std::uint64_t snapshot_index, std::int64_t time_ns,
+                       std::vector<causal_twin::Alarm>& out);
+  std::uint64_t raised() const { return raised_; }
+
+ private:
+  struct Open {
+    causal_twin::Alarm msg;
+    bool bad_value = false;     // cleared by a clean snapshot (else by a recovery event)
+    bool seen_in_snapshot = false;
+  };
+  std::map<std::string, Open> open_;  // by "<group>\x1f<channel>\x1f<alarm kind>"
+  std::uint64_t raised_ = 0;
+};
+
+}  // namespace causal::estimator

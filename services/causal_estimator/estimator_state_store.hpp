@@ -1,0 +1,44 @@
+// Crash and restart safety of causal-estimator (--state-dir DIR): one checkpoint per asset group,
+// DIR/<asset group>.estimator.state, holding the whole AssetPipeline (filters, smoothers, calibration, learned
+// structure and centre, condition windows, the last source indices fed). Written after every completed
+// snapshot (a frame with end_of_segment, or a ready-made condition vector) and at exit, BEFORE that snapshot's
+// output is queued for DDS: whatever a reader received is covered by the checkpoint. At restart the pipeline is
+// restored and input it already processed (source index not after the last one fed) is skipped, so a replay
+// that resends from the start, or a transient-local history, is not processed twice.
+//
+// Files are written atomically (temporary file + rename): a kill -9 while saving leaves the previous one. Not
+// fsync'ed: survives a process crash, not a power loss.
+#pragma once
+
+#include "causal/pipeline/asset_pipeline.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace causal::estimator {
+
+class EstimatorStateStore {
+ public:
+  // dir empty: no persistence. Otherwise the directory is created; throws std::invalid_argument when it cannot be.
+  explicit EstimatorStateStore(std::string dir);
+  bool enabled() const { return !dir_.empty(); }
+  std::string path(const std::string& asset_group) const;
+
+  // Restores `pipeline` from the asset group's checkpoint. False when there is none (or no persistence).
+  // Throws causal::StateError naming the file when one exists but cannot be used (damaged, other parameters,
+  // other channel count): silently starting over would re-learn the baseline on whatever data comes now.
+  bool restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline) const;
+  // Saves; returns false (and counts it) when the file cannot be written, with the reason in last_error().
+  bool save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline);
+
+  std::uint64_t saves() const { return saves_; }
+  std::uint64_t failures() const { return failures_; }
+  const std::string& last_error() const { return last_error_; }
+
+ private:
+  std::string dir_;
+  std::uint64_t saves_ = 0, failures_ = 0;
+  std::string last_error_;
+};
+
+}  // namespace causal::estimator
