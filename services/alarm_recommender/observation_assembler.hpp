@@ -36,7 +36,10 @@ class ObservationAssembler {
   // max_pending_sets: factor sets per stream in assembly (FactorSetAssembler, Drop policy): a set still
   // missing an outcome when that many sets are pending is given up (the alarm engine needs all G
   // outcomes), so a lost message delays the observations behind it by at most that many sets.
-  explicit ObservationAssembler(std::size_t max_pending = 4, std::size_t max_pending_sets = 8)
+  // Defaults: 64 each. Reliable delivery is in order per writer, but a reader that has no room for one
+  // instance refuses its samples and gets them again later while the other instances flow on, so outcomes
+  // (and the two topics) can be apart by a writer's and a reader's per-instance history (16 + 16 here).
+  explicit ObservationAssembler(std::size_t max_pending = 64, std::size_t max_pending_sets = 64)
       : max_pending_(max_pending), sets_(max_pending_sets, dds::FactorSetAssembler::IncompletePolicy::Drop) {}
 
   // Filter estimates only (the alarm engine runs in real time); other kinds are ignored. Each index of a

@@ -351,7 +351,9 @@ int EstimatorNode::finish_all() {
   const bool stopping = loop_.stopped();
   const auto drain_wait = stopping ? std::chrono::seconds(2) : std::chrono::seconds(30);
   if (!outbound_.drain(drain_wait)) {
-    spdlog::warn("{} messages still queued for DDS after {} s: not delivered", outbound_.size(), drain_wait.count());
+    spdlog::warn("{} messages still queued for DDS after {} s: given up (counted as failed)", outbound_.size(),
+                 drain_wait.count());
+    outbound_.abort();
   }
   const auto ack_wait = stopping ? std::chrono::seconds(1) : std::chrono::seconds(10);
   if (!factors_.wait_for_acknowledgments(ack_wait)) {

@@ -11,6 +11,7 @@ OutboundQueue::OutboundQueue(std::size_t capacity) : capacity_(capacity) {
 }
 
 OutboundQueue::~OutboundQueue() {
+  abort_.store(true);
   closing_.store(true);
   changed_.notify_all();
   if (thread_.joinable()) thread_.join();
@@ -19,6 +20,11 @@ OutboundQueue::~OutboundQueue() {
 bool OutboundQueue::push(const std::string& stream, Class cls, WriteFn write, const std::atomic<bool>& stop) {
   std::unique_lock<std::mutex> lock(mutex_);
   auto& c = counters_[stream];
+  if (abort_.load()) {
+    ++c.queued;
+    ++c.failed;
+    return false;
+  }
   while (items_.size() >= capacity_) {
     // Make room by dropping the oldest droppable item, if there is one.
     const auto victim = std::find_if(items_.begin(), items_.end(), [](const Item& i) { return i.cls == Class::Droppable; });
@@ -58,7 +64,7 @@ void OutboundQueue::run() {
       ++in_flight_;
       changed_.notify_all();
     }
-    const WriteResult result = item.write(closing_);
+    const WriteResult result = abort_.load() ? WriteResult::Stopped : item.write(abort_);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       --in_flight_;
@@ -71,6 +77,13 @@ void OutboundQueue::run() {
       changed_.notify_all();
     }
   }
+}
+
+void OutboundQueue::abort() {
+  abort_.store(true);
+  changed_.notify_all();
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return items_.empty() && in_flight_ == 0; });
 }
 
 bool OutboundQueue::drain(std::chrono::milliseconds timeout) {

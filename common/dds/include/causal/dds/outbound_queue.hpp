@@ -48,6 +48,9 @@ class OutboundQueue {
 
   // Waits until everything queued has been written (or failed), or `timeout` passes. True when empty.
   bool drain(std::chrono::milliseconds timeout);
+  // Gives up: the write in progress is abandoned and every queued item is counted as failed (waits until the
+  // drain thread has let go of them). Call when the service must end now (signal, max runtime).
+  void abort();
 
   std::size_t size() const;
   std::size_t high_water() const;
@@ -69,6 +72,7 @@ class OutboundQueue {
   std::size_t high_water_ = 0;
   std::map<std::string, StreamCounters> counters_;
   std::atomic<bool> closing_{false};
+  std::atomic<bool> abort_{false};  // the stop flag of every write
   std::thread thread_;
 };
 
