@@ -6,6 +6,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cstring>
+#include <stdexcept>
+
 namespace causal::estimator {
 
 std::uint64_t shard_hash(const std::string& asset_group) {
@@ -44,7 +47,12 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
     it = assets_.emplace(asset_group, Asset(params_)).first;
     Asset& a = it->second;
     try {
-      if (store_.restore(asset_group, a.pipeline)) {
+      std::vector<std::string> resend;
+      if (store_.restore(asset_group, a.pipeline, resend)) {
+        resend_restored(asset_group, resend);
+        a.awaiting_continuation = true;
+        a.continuation_deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(
+                                                                          static_cast<long>(options_.resume_grace_s * 1000));
         const auto& last = a.pipeline.last_source_index();
         spdlog::info("asset group '{}' resumed from checkpoint {}: last snapshot {}, last sample {}", asset_group,
                      store_.path(asset_group), last.has_snapshot ? std::to_string(last.snapshot) : "none",
@@ -115,6 +123,10 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
     a.last_sequence = frame.sequence_number();
     return;
   }
+  {
+    const auto& last = a.pipeline.last_source_index();
+    if (!continues(frame.asset_group(), a, !last.has_sample || frame.first_sample_index() == last.sample + 1)) return;
+  }
   // Sequence numbers run 0, 1, 2, ... per publisher; a jump means frames were lost on the way, a return to
   // 0 a restarted publisher (its first frame is flagged as a discontinuity anyway).
   bool gap = false;
@@ -151,8 +163,7 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
   ++a.frames;
   if (a.feature.empty()) a.feature = io::to_string(params_.condition.feature);
   publish_quality(frame.asset_group(), a, frame.snapshot_index(), frame.first_sample_time_ns(), frame.end_of_segment());
-  if (frame.end_of_segment()) checkpoint(frame.asset_group(), a);
-  publish(frame.asset_group(), a);
+  publish(frame.asset_group(), a, frame.end_of_segment());
 }
 
 void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
@@ -170,6 +181,10 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   if (a.pipeline.already_fed_condition(in.snapshot_index())) {
     ++a.skipped;
     return;
+  }
+  {
+    const auto& last = a.pipeline.last_source_index();
+    if (!continues(in.asset_group(), a, !last.has_snapshot || in.snapshot_index() == last.snapshot + 1)) return;
   }
   if (a.channel_names.empty()) {
     a.channel_names.assign(in.channel_names().begin(), in.channel_names().end());
@@ -201,8 +216,7 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   accepted.discontinuity = in.discontinuity();
   out_.conditions.insert(out_.conditions.begin(), std::move(accepted));
   publish_quality(in.asset_group(), a, in.snapshot_index(), in.time_ns(), true);
-  checkpoint(in.asset_group(), a);
-  publish(in.asset_group(), a);
+  publish(in.asset_group(), a, true);
 }
 
 void EstimatorNode::log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r) {
@@ -248,15 +262,47 @@ void EstimatorNode::log_structure(const std::string& name, const Asset& a, const
   if (!learned->problem.empty()) spdlog::warn("{} {}: {}", name, level, learned->problem);
 }
 
-void EstimatorNode::publish(const std::string& name, Asset& a) {
+namespace {
+
+// A message in its wire form (CDR, as Fast DDS-Gen's type support writes it), for the checkpoint's resend list.
+template <typename PubSubType>
+std::string to_bytes(const typename PubSubType::type& msg) {
+  PubSubType type;
+  auto* m = const_cast<typename PubSubType::type*>(&msg);
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(m)());
+  if (!type.serialize(m, &payload)) throw std::runtime_error("cannot serialize a message for the checkpoint");
+  return std::string(reinterpret_cast<const char*>(payload.data), payload.length);
+}
+
+template <typename PubSubType>
+bool from_bytes(const std::string& bytes, typename PubSubType::type& msg) {
+  PubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes.size()));
+  std::memcpy(payload.data, bytes.data(), bytes.size());
+  payload.length = static_cast<std::uint32_t>(bytes.size());
+  return type.deserialize(&payload, &msg);
+}
+
+}  // namespace
+
+void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snapshot) {
   const std::atomic<bool>& stop = loop_.stop_flag();
   using Class = dds::OutboundQueue::Class;
+  struct Item {
+    const char* stream;
+    Class cls;
+    dds::OutboundQueue::WriteFn write;
+  };
+  std::vector<Item> items;
+  std::vector<std::string> resend;  // the snapshot's condition-level output, kept in its checkpoint
+  const bool keep = end_of_snapshot && store_.enabled();
   for (const auto& c : out_.conditions) {
     dds::ConditionHeader h{name, a.feature, c.snapshot_index, c.time_ns, a.channel_names, c.discontinuity};
     auto msg = std::make_shared<causal_twin::ConditionVector>();
     dds::to_condition_vector(h, c.values, *msg);
-    outbound_.push("condition_vector", Class::Essential,
-                   [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, stop);
+    if (keep) resend.push_back("C" + to_bytes<causal_twin::ConditionVectorPubSubType>(*msg));
+    items.push_back({"condition_vector", Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }});
   }
   auto send = [&](const std::vector<pipeline::FactorReport>& reports, const pipeline::FactorStream* stream,
                   causal_twin::TimeScale scale, std::uint64_t& counter) {
@@ -266,17 +312,21 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
     for (const auto& r : reports) {
       auto msg = std::make_shared<causal_twin::CausalFactors>();
       dds::to_causal_factors(ctx, r, *msg);
+      if (keep && condition) resend.push_back("F" + to_bytes<causal_twin::CausalFactorsPubSubType>(*msg));
       // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
-      if (outbound_.push(condition ? "causal_factors/condition" : "causal_factors/sample",
-                         condition ? Class::Essential : Class::Droppable,
-                         [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, stop)) {
-        ++counter;
-      }
+      items.push_back({condition ? "causal_factors/condition" : "causal_factors/sample",
+                       condition ? Class::Essential : Class::Droppable,
+                       [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }});
+      ++counter;
       if (condition && options_.verbose) log_condition_report(name, a, r);
     }
   };
   send(out_.sample_reports, a.pipeline.sample_stream(), causal_twin::SAMPLE_LEVEL, a.sample_msgs);
   send(out_.condition_reports, a.pipeline.condition_stream(), causal_twin::CONDITION_LEVEL, a.condition_msgs);
+  // The checkpoint comes before the output leaves: what a reader received is always covered by it, and the
+  // output that may not have left when the process died is in it, to send again.
+  if (end_of_snapshot) checkpoint(name, a, resend);
+  for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), stop);
   log_structure(name, a, "sample level", a.pipeline.sample_structure(), a.sample_structure_logged);
   log_structure(name, a, "condition level", a.pipeline.condition_structure(), a.condition_structure_logged);
   const auto* s = a.pipeline.sample_stream();
@@ -328,9 +378,54 @@ void EstimatorNode::publish_quality(const std::string& name, Asset& a, std::uint
   }
 }
 
-void EstimatorNode::checkpoint(const std::string& name, Asset& a) {
-  // Before the snapshot's output is queued: whatever a reader receives is covered by the checkpoint.
-  if (!store_.save(name, a.pipeline)) {
+bool EstimatorNode::continues(const std::string& name, Asset& a, bool is_continuation) {
+  if (!a.awaiting_continuation) return true;
+  if (is_continuation) {
+    a.awaiting_continuation = false;
+    if (a.ahead_dropped > 0) {
+      spdlog::info("asset '{}': the source resent the continuation of the checkpoint ({} inputs ahead of it were "
+                   "held off and come again)", name, a.ahead_dropped);
+    }
+    return true;
+  }
+  if (std::chrono::steady_clock::now() < a.continuation_deadline) {
+    ++a.ahead_dropped;
+    return false;
+  }
+  a.awaiting_continuation = false;
+  spdlog::warn("asset '{}': the source did not resend the continuation of the checkpoint within {:.0f} s: going on "
+               "from what it sends now (the gap is counted as lost)", name, options_.resume_grace_s);
+  return true;
+}
+
+void EstimatorNode::resend_restored(const std::string& name, const std::vector<std::string>& resend) {
+  std::size_t sent = 0;
+  for (const auto& bytes : resend) {
+    if (bytes.empty()) continue;
+    const std::string body = bytes.substr(1);
+    if (bytes[0] == 'C') {
+      auto msg = std::make_shared<causal_twin::ConditionVector>();
+      if (!from_bytes<causal_twin::ConditionVectorPubSubType>(body, *msg)) continue;
+      outbound_.push("condition_vector", dds::OutboundQueue::Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, loop_.stop_flag());
+    } else if (bytes[0] == 'F') {
+      auto msg = std::make_shared<causal_twin::CausalFactors>();
+      if (!from_bytes<causal_twin::CausalFactorsPubSubType>(body, *msg)) continue;
+      outbound_.push("causal_factors/condition", dds::OutboundQueue::Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, loop_.stop_flag());
+    } else {
+      continue;
+    }
+    ++sent;
+  }
+  if (sent > 0) {
+    spdlog::info("asset '{}': the last checkpointed snapshot's {} output messages sent again (readers that have them "
+                 "drop them by index)", name, sent);
+  }
+}
+
+void EstimatorNode::checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend) {
+  if (!store_.save(name, a.pipeline, resend)) {
     spdlog::error("asset '{}': checkpoint not written ({}); a crash now would lose this asset group's state", name,
                   store_.last_error());
   }
@@ -341,10 +436,10 @@ int EstimatorNode::finish_all() {
   for (auto& [name, a] : assets_) {
     if (!a.refused.empty()) continue;
     // Saved before finish(): a restart continues the streams as they were, not flushed.
-    checkpoint(name, a);
+    checkpoint(name, a, {});
     out_.clear();
     a.pipeline.finish(out_);
-    publish(name, a);
+    publish(name, a, false);
   }
   // Deliver what is queued, then wait for the readers' acknowledgements. After a stop (signal, max runtime)
   // the readers may be leaving too: wait briefly, so shutdown stays bounded.

@@ -7,6 +7,8 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <algorithm>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -91,10 +93,28 @@ int RecorderNode::run() {
 }
 
 std::size_t RecorderNode::take_available() {
-  return conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
-         factors_in_.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
-         alarms_in_.take_all([this](const auto& a, const auto&) { on_alarm(a); }) +
-         recommendations_in_.take_all([this](const auto& r, const auto&) { on_recommendation(r); });
+  // Alarms and recommendations: one instance per id, and a keyed reader hands out a batch instance by
+  // instance, not in publication order. Sorted back into publication order (writer, sequence number), the
+  // recording is the same on every run.
+  using Key = std::pair<std::string, std::uint64_t>;
+  auto key_of = [](const eprosima::fastdds::dds::SampleInfo& info) {
+    std::ostringstream w;
+    w << info.sample_identity.writer_guid();
+    return Key{w.str(), info.sample_identity.sequence_number().to64long()};
+  };
+  std::vector<std::pair<Key, causal_twin::Alarm>> alarms;
+  std::vector<std::pair<Key, causal_twin::Recommendation>> recs;
+  const std::size_t n = conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
+                        factors_in_.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
+                        alarms_in_.take_all([&](const auto& a, const auto& info) { alarms.emplace_back(key_of(info), a); }) +
+                        recommendations_in_.take_all(
+                            [&](const auto& r, const auto& info) { recs.emplace_back(key_of(info), r); });
+  auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
+  std::stable_sort(alarms.begin(), alarms.end(), by_key);
+  std::stable_sort(recs.begin(), recs.end(), by_key);
+  for (const auto& [k, a] : alarms) on_alarm(a);
+  for (const auto& [k, r] : recs) on_recommendation(r);
+  return n;
 }
 
 void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {

@@ -82,6 +82,18 @@ std::size_t ParticipantDirectory::readers_named(const std::string& topic, const 
   return n;
 }
 
+std::vector<eprosima::fastrtps::rtps::GUID_t> ParticipantDirectory::reader_guids_named(const std::string& topic,
+                                                                                     const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<eprosima::fastrtps::rtps::GUID_t> out;
+  for (const auto& [guid, t] : readers_) {
+    if (t != topic) continue;
+    const auto it = names_.find(guid.guidPrefix);
+    if (it != names_.end() && it->second == name) out.push_back(guid);
+  }
+  return out;
+}
+
 std::string ParticipantDirectory::name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = names_.find(prefix);

@@ -33,6 +33,9 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   // Remote readers of `topic` whose participant is named `name` and is alive (Fast DDS 2.9 does not
   // implement DataWriter::get_matched_subscriptions, so readers are tracked from discovery).
   std::size_t readers_named(const std::string& topic, const std::string& name) const;
+  // Their GUIDs (a restarted participant's readers have new ones).
+  std::vector<eprosima::fastrtps::rtps::GUID_t> reader_guids_named(const std::string& topic,
+                                                                   const std::string& name) const;
 
  private:
   mutable std::mutex mutex_;
