@@ -33,6 +33,33 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
+  if (options_.standby) {
+    standing_by_ = true;
+    primary_progress_ = std::make_unique<dds::TypedReader<causal_twin::ConditionVectorPubSubType>>(
+        participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader);
+  }
+}
+
+void EstimatorNode::watch_primary() {
+  if (!standing_by_) return;
+  const auto own = conditions_out_.get()->guid();
+  primary_progress_->take_all([&](const causal_twin::ConditionVector& c, const auto& info) {
+    if (info.sample_identity.writer_guid() != own) standby_.primary_published(c.asset_group(), c.snapshot_index());
+  });
+  const auto now = std::chrono::steady_clock::now();
+  if (participant_.directory().writers_named(dds::topics::kConditionVector, "causal-estimator") > 0) {
+    primary_seen_ = now;
+    return;
+  }
+  if (std::chrono::duration<double>(now - primary_seen_).count() < options_.takeover_after_s) return;
+  // The primary is gone: publish what it may not have, then go on as the primary.
+  standing_by_ = false;
+  primary_progress_.reset();  // never read our own output
+  auto items = standby_.take_over(2);
+  spdlog::warn("no primary causal-estimator for {:.0f} s: taking over; {} retained messages published again from two "
+               "snapshots before the primary's last one (readers drop what they have)",
+               options_.takeover_after_s, items.size());
+  for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), loop_.stop_flag());
 }
 
 bool EstimatorNode::mine(const std::string& asset_group) const {
@@ -87,9 +114,12 @@ int EstimatorNode::run() {
     }
   }
   const dds::RunLimits limits{options_.idle_exit_s, options_.max_runtime_s};
+  primary_seen_ = std::chrono::steady_clock::now();
+  if (standing_by_) spdlog::info("hot standby: publishing nothing while a primary causal-estimator is alive");
   const auto end = loop_.run(
       limits,
       [this] {
+        watch_primary();
         const std::size_t n =
             frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }, loop_.stop_flag()) +
             conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }, loop_.stop_flag());
@@ -294,6 +324,7 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
     dds::OutboundQueue::WriteFn write;
   };
   std::vector<Item> items;
+  std::vector<std::uint64_t> indices;  // the snapshot (or sample) index of every item
   std::vector<std::string> resend;  // the snapshot's condition-level output, kept in its checkpoint
   const bool keep = end_of_snapshot && store_.enabled();
   for (const auto& c : out_.conditions) {
@@ -303,6 +334,7 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
     if (keep) resend.push_back("C" + to_bytes<causal_twin::ConditionVectorPubSubType>(*msg));
     items.push_back({"condition_vector", Class::Essential,
                      [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }});
+    indices.push_back(c.snapshot_index);
   }
   auto send = [&](const std::vector<pipeline::FactorReport>& reports, const pipeline::FactorStream* stream,
                   causal_twin::TimeScale scale, std::uint64_t& counter) {
@@ -317,6 +349,7 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
       items.push_back({condition ? "causal_factors/condition" : "causal_factors/sample",
                        condition ? Class::Essential : Class::Droppable,
                        [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }});
+      indices.push_back(r.sample_index);
       ++counter;
       if (condition && options_.verbose) log_condition_report(name, a, r);
     }
@@ -326,6 +359,19 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
   // The checkpoint comes before the output leaves: what a reader received is always covered by it, and the
   // output that may not have left when the process died is in it, to send again.
   if (end_of_snapshot) checkpoint(name, a, resend);
+  if (standing_by_) {
+    // Kept for a takeover: the condition-level output (essential), by the snapshot it refers to.
+    std::vector<StandbyBuffer::Item> kept;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (items[i].cls != Class::Essential) {
+        ++standby_unpublished_;
+        continue;
+      }
+      kept.push_back({items[i].stream, items[i].cls, std::move(items[i].write), indices[i]});
+    }
+    standby_.retain(name, std::move(kept));
+    return;
+  }
   for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), stop);
   log_structure(name, a, "sample level", a.pipeline.sample_structure(), a.sample_structure_logged);
   log_structure(name, a, "condition level", a.pipeline.condition_structure(), a.condition_structure_logged);
@@ -372,6 +418,7 @@ void EstimatorNode::publish_quality(const std::string& name, Asset& a, std::uint
     spdlog::log(alarm.state() == causal_twin::CLEARED ? spdlog::level::info : spdlog::level::warn,
                 "DATA QUALITY {} {}: {}", alarm.state() == causal_twin::CLEARED ? "CLEARED" : "RAISED", alarm.alarm_id(),
                 alarm.reason());
+    if (standing_by_) continue;  // the primary publishes them
     auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
     outbound_.push("alarm/data_quality", dds::OutboundQueue::Class::Essential,
                    [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
@@ -495,6 +542,11 @@ int EstimatorNode::finish_all() {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
   }
   spdlog::info("outbound queue high-water mark: {} of {} messages", outbound_.high_water(), options_.outbound_capacity);
+  if (options_.standby) {
+    spdlog::info("hot standby: {}; {} sample-level messages not kept while standing by, {} retained messages "
+                 "pushed out by newer ones", standing_by_ ? "never took over (the primary stayed)" : "took over",
+                 standby_unpublished_, standby_.discarded());
+  }
   return (lost + refused + invalid_msgs_ + rejected_no_instance_ + unpublished) > 0 ? 4 : 0;
 }
 

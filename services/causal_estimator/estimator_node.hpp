@@ -13,9 +13,11 @@
 #include "causal_twinPubSubTypes.h"
 #include "data_quality_alarms.hpp"
 #include "estimator_state_store.hpp"
+#include "standby_buffer.hpp"
 
 #include <chrono>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,7 +36,9 @@ struct EstimatorOptions {
   std::vector<std::string> wait_for;
   double wait_timeout_s = 30.0;
   std::size_t outbound_capacity = 65536;
-  double resume_grace_s = 10.0;  // after a restore: how long to wait for the source to resend the continuation
+  double resume_grace_s = 10.0;
+  bool standby = false;          // hot standby: publish nothing while a primary estimator is alive (StandbyBuffer)
+  double takeover_after_s = 6.0; // the primary's absence (> its 5 s lease) after which the standby takes over  // after a restore: how long to wait for the source to resend the continuation
   bool verbose = false;
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
@@ -81,6 +85,8 @@ class EstimatorNode {
   void publish_quality(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,
                        bool end_of_snapshot);
   void checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend);
+  // Standby: follows the primary's progress and takes over when it has been gone for takeover_after_s.
+  void watch_primary();
   // False when the input is ahead of a restored checkpoint and the continuation is still awaited.
   bool continues(const std::string& name, Asset& a, bool is_continuation);
   void log_structure(const std::string& name, const Asset& a, const char* level,
@@ -103,6 +109,12 @@ class EstimatorNode {
   causal_twin::CausalFactors factor_msg_;
   causal_twin::ConditionVector condition_msg_;
   EstimatorStateStore store_;
+  // Hot standby (options_.standby): the primary's published output, read until the takeover.
+  std::unique_ptr<dds::TypedReader<causal_twin::ConditionVectorPubSubType>> primary_progress_;
+  StandbyBuffer standby_{65536};
+  bool standing_by_ = false;
+  std::chrono::steady_clock::time_point primary_seen_;
+  std::uint64_t standby_unpublished_ = 0;  // sample-level output not kept while standing by
   DataQualityAlarms quality_;
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
   std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits

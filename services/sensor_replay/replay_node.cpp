@@ -62,8 +62,10 @@ template <typename Writer>
 bool ReplayNode::readers_present(const Writer& writer, bool first) {
   const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
   const std::size_t want = static_cast<std::size_t>(options_.wait_subscribers);
-  bool missing = writer.matched_readers() < want;
-  for (const auto& w : wanted_) missing = missing || writer.matched_readers_named(w.name) < w.count;
+  // At the start every reader asked for must be there; later one of each name is enough (a hot-standby
+  // estimator carries on alone), and none of a name means pause until it is back (a restart).
+  bool missing = writer.matched_readers() < (first ? want : std::min<std::size_t>(want, 1));
+  for (const auto& w : wanted_) missing = missing || writer.matched_readers_named(w.name) < (first ? w.count : 1);
   if (!missing) return true;
   if (first) {
     spdlog::info("waiting up to {:.0f} s for {} reader(s){}{} on domain {}", options_.wait_timeout_s, want,
@@ -72,8 +74,12 @@ bool ReplayNode::readers_present(const Writer& writer, bool first) {
     spdlog::warn("a reader it waits for has gone ({}): pausing until it is back (up to {:.0f} s)",
                  fmt::join(options_.wait_for, ", "), options_.wait_timeout_s);
   }
-  const bool ok = writer.wait_for_readers(want, timeout, stop_) &&
-                  dds::wait_for_named_readers(writer, wanted_, timeout, stop_).empty();
+  std::vector<dds::NamedReaders> need = wanted_;
+  if (!first) {
+    for (auto& w : need) w.count = 1;
+  }
+  const bool ok = writer.wait_for_readers(first ? want : std::min<std::size_t>(want, 1), timeout, stop_) &&
+                  dds::wait_for_named_readers(writer, need, timeout, stop_).empty();
   if (!ok && !stop_.load()) {
     readers_missing_ = true;
     spdlog::error("the readers did not match within {:.0f} s: is causal-estimator running on domain {} with the same "

@@ -4,6 +4,7 @@
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
+#include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
 
 #include <stdexcept>
@@ -71,6 +72,28 @@ void ParticipantDirectory::on_subscriber_discovery(eprosima::fastdds::dds::Domai
   }
 }
 
+void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant*,
+                                                  eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) {
+  using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (info.status == Status::REMOVED_WRITER) {
+    writers_.erase(info.info.guid());
+  } else {
+    writers_[info.info.guid()] = info.info.topicName().to_string();
+  }
+}
+
+std::size_t ParticipantDirectory::writers_named(const std::string& topic, const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& [guid, t] : writers_) {
+    if (t != topic || guid.guidPrefix == local_) continue;
+    const auto it = names_.find(guid.guidPrefix);
+    if (it != names_.end() && it->second == name) ++n;
+  }
+  return n;
+}
+
 std::size_t ParticipantDirectory::readers_named(const std::string& topic, const std::string& name) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::size_t n = 0;
@@ -103,6 +126,7 @@ std::string ParticipantDirectory::name_of(const eprosima::fastrtps::rtps::GuidPr
 void ParticipantDirectory::set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name) {
   std::lock_guard<std::mutex> lock(mutex_);
   names_[prefix] = name;
+  local_ = prefix;
 }
 
 Participant::~Participant() {

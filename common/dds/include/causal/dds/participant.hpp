@@ -27,6 +27,10 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
   void on_subscriber_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
                                eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override;
+  void on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
+  // Writers of `topic` in OTHER participants named `name` that are alive.
+  std::size_t writers_named(const std::string& topic, const std::string& name) const;
   // Name of the participant with this GUID prefix ("" when unknown).
   std::string name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
   void set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name);
@@ -40,7 +44,9 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
  private:
   mutable std::mutex mutex_;
   std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> names_;
+  eprosima::fastrtps::rtps::GuidPrefix_t local_;
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> readers_;  // reader -> topic
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::string> writers_;  // writer -> topic
 };
 
 struct DdsSettings {
