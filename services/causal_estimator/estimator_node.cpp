@@ -55,10 +55,12 @@ void EstimatorNode::watch_primary() {
   // The primary is gone: publish what it may not have, then go on as the primary.
   standing_by_ = false;
   primary_progress_.reset();  // never read our own output
-  auto items = standby_.take_over(2);
-  spdlog::warn("no primary causal-estimator for {:.0f} s: taking over; {} retained messages published again from two "
+  // From before the primary's last condition vector by the smoother's lag (its fixed-lag reports trail) + 2.
+  const auto margin = static_cast<std::uint64_t>(std::max(0, params_.condition_model.fixed_lag)) + 2;
+  auto items = standby_.take_over(margin);
+  spdlog::warn("no primary causal-estimator for {:.0f} s: taking over; {} retained messages published again from {} "
                "snapshots before the primary's last one (readers drop what they have)",
-               options_.takeover_after_s, items.size());
+               options_.takeover_after_s, items.size(), margin);
   for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), loop_.stop_flag());
 }
 
@@ -538,6 +540,17 @@ int EstimatorNode::finish_all() {
   spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={}", frames + refused, lost,
                refused + invalid_msgs_ + rejected_no_instance_);
   spdlog::info("summary topic=causal_twin/condition_input received={}", conditions_received);
+  // Snapshots whose condition window was dropped (too few usable samples: a channel quarantined for the whole
+  // snapshot, a gap): stated here and in the data-quality alarms, never published as a vector.
+  std::uint64_t dropped_windows = 0;
+  for (const auto& [name, a] : assets_) {
+    if (a.pipeline.dropped_condition_windows() > 0) {
+      spdlog::warn("asset '{}': {} snapshots without a condition vector (too few usable samples in the window)", name,
+                   a.pipeline.dropped_condition_windows());
+    }
+    dropped_windows += a.pipeline.dropped_condition_windows();
+  }
+  spdlog::info("summary topic=causal_twin/condition_vector windows_dropped={}", dropped_windows);
   for (const auto& [stream, c] : streams) {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
   }
@@ -547,7 +560,7 @@ int EstimatorNode::finish_all() {
                  "pushed out by newer ones", standing_by_ ? "never took over (the primary stayed)" : "took over",
                  standby_unpublished_, standby_.discarded());
   }
-  return (lost + refused + invalid_msgs_ + rejected_no_instance_ + unpublished) > 0 ? 4 : 0;
+  return (lost + refused + invalid_msgs_ + rejected_no_instance_ + unpublished + dropped_windows) > 0 ? 4 : 0;
 }
 
 }  // namespace causal::estimator

@@ -99,7 +99,14 @@ TEST(FullRawReplay, EverySnapshotAndEverySampleLevelFactorVectorRecordedOnce) {
   const double total_s = std::chrono::duration<double>(Clock::now() - started).count();
   ASSERT_TRUE(est_code.has_value()) << estimator.output();
   ASSERT_TRUE(rec_code.has_value()) << recorder.output();
-  EXPECT_EQ(*est_code, 0) << estimator.output();
+  // Snapshots without a condition vector (a window with too few usable samples, e.g. every channel of the last
+  // IMS file quarantined: the machine had stopped, the sensors read 0) are stated by the estimator, and its exit
+  // code says data was refused.
+  const std::uint64_t windows_dropped =
+      summary_count(estimator.output(), "causal_twin/condition_vector", "windows_dropped").value_or(~0ULL);
+  ASSERT_NE(windows_dropped, ~0ULL) << "the estimator must state the snapshots it could not publish:\n"
+                                    << estimator.output();
+  EXPECT_EQ(*est_code, windows_dropped > 0 ? 4 : 0) << estimator.output();
   EXPECT_EQ(*rec_code, 0) << recorder.output();
   std::printf("[ delivery ] replay done after %.1f s, every service exited after %.1f s\n", replay_s, total_s);
 
@@ -109,9 +116,11 @@ TEST(FullRawReplay, EverySnapshotAndEverySampleLevelFactorVectorRecordedOnce) {
   EXPECT_EQ(summary_count(rep_log, "causal_twin/vibration_frame", "snapshots"), std::optional<std::uint64_t>(snapshots));
   EXPECT_EQ(summary_count(rep_log, "causal_twin/vibration_frame", "sent"), std::optional<std::uint64_t>(frames));
   EXPECT_EQ(summary_count(est_log, "causal_twin/vibration_frame", "received"), std::optional<std::uint64_t>(frames));
-  EXPECT_EQ(summary_count(est_log, "causal_twin/condition_vector", "sent"), std::optional<std::uint64_t>(snapshots))
-      << "condition vectors the estimator published: one per snapshot expected (a snapshot it does not publish "
-         "must at least be stated in its summary)";
+  EXPECT_EQ(summary_count(est_log, "causal_twin/condition_vector", "sent"),
+            std::optional<std::uint64_t>(snapshots - windows_dropped))
+      << "condition vectors the estimator published: one per snapshot, less the ones it states it could not publish";
+  std::printf("[ delivery ] the estimator states %llu snapshot(s) without a condition vector\n",
+              static_cast<unsigned long long>(windows_dropped));
   const auto losses = nonzero_losses(rep_log + est_log);
   for (const auto& l : losses) ADD_FAILURE() << "a summary reports a loss: " << l;
   EXPECT_EQ(est_log.find("lost snapshots"), std::string::npos);
@@ -128,9 +137,9 @@ TEST(FullRawReplay, EverySnapshotAndEverySampleLevelFactorVectorRecordedOnce) {
   std::printf("[ delivery ] conditions: %llu rows, %zu distinct, missing snapshots: %s\n",
               static_cast<unsigned long long>(conditions.rows), conditions.indices.size(),
               absent.empty() ? "none" : ranges_text(absent).c_str());
-  EXPECT_EQ(conditions.rows, snapshots);
+  EXPECT_EQ(conditions.rows + windows_dropped, snapshots);
   EXPECT_TRUE(conditions.repeated.empty()) << "condition rows recorded twice, the first " << conditions.repeated.front();
-  EXPECT_TRUE(conditions.indices == all_snapshots) << "snapshots without a condition row: " << ranges_text(absent);
+  EXPECT_EQ(absent.size(), windows_dropped) << "snapshots without a condition row: " << ranges_text(absent);
   for (const char* kind : {"filter", "fixed-lag"}) {
     const std::string name = std::string("factors_ims2-shaft1_sample_") + kind + ".csv";
     const RecordedFile f = read_recorded(work / "rec" / name);
