@@ -183,6 +183,14 @@ inline std::string grab(const std::string& log, const std::string& pattern) {
   return "?";
 }
 
+// The last match of `pattern`'s group 1 in a log (e.g. the last progress line), or "?".
+inline std::string grab_last(const std::string& log, const std::string& pattern) {
+  const std::regex re(pattern);
+  std::string last = "?";
+  for (auto it = std::sregex_iterator(log.begin(), log.end(), re); it != std::sregex_iterator(); ++it) last = (*it)[1].str();
+  return last;
+}
+
 // Ids an alarm-recommender log says it raised ("ALARM raised <id> [").
 inline std::vector<std::string> raised_ids(const std::string& log) {
   std::vector<std::string> out;
