@@ -186,6 +186,14 @@ TEST(BadValueIsolation, CorruptedGroupLeavesTheOtherByteIdenticalAndRaisesDataQu
       run_services(work / "both", ft::domain_id(1), {{kGroupA, ft::feature_table()}}, bad_table.string());
   expect_all_exit_zero(both, "groups A and B");
 
+  // No restart and no checkpoint here: an input skipped as "processed before a restart" is an input lost (a
+  // vector delivered after a later one of its asset group; the recorder then reports the gap).
+  for (const RunResult* r : {&alone, &both}) {
+    EXPECT_EQ(r->estimator_log.find("inputs processed before a restart skipped"), std::string::npos)
+        << ft::grab_last(r->estimator_log, R"((asset '[^\n]*skipped))") << "\n"
+        << ft::grab_last(r->recorder_log, R"((condition vectors [^\n]*lost snapshots[^\n]*))");
+  }
+
   // Group A: every recorded file byte-identical, and complete (0..983 once each).
   const auto rec_alone = work / "alone" / "rec", rec_both = work / "both" / "rec";
   const std::string cond = "conditions_" + kGroupA + "_meanabs.csv";
