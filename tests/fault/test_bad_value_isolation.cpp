@@ -178,12 +178,12 @@ TEST(BadValueIsolation, CorruptedGroupLeavesTheOtherByteIdenticalAndRaisesDataQu
   ft::fs::create_directories(work / "alone");
   ft::fs::create_directories(work / "both");
 
-  const RunResult alone = run_services(work / "alone", ft::domain_id(0), {{kGroupA, ft::feature_table()}});
+  const RunResult alone = run_services(work / "alone", ft::domain_id(6), {{kGroupA, ft::feature_table()}});
   expect_all_exit_zero(alone, "group A alone");
   // A reader in this process as well: the recording has no category column, the Alarm messages do.
-  causal::test::DdsObserver observer(ft::domain_id(1));
+  causal::test::DdsObserver observer(ft::domain_id(7));
   const RunResult both =
-      run_services(work / "both", ft::domain_id(1), {{kGroupA, ft::feature_table()}}, bad_table.string());
+      run_services(work / "both", ft::domain_id(7), {{kGroupA, ft::feature_table()}}, bad_table.string());
   expect_all_exit_zero(both, "groups A and B");
 
   // No restart and no checkpoint here: an input skipped as "processed before a restart" is an input lost (a

@@ -145,12 +145,12 @@ void crash_and_compare(Victim victim, const std::string& label) {
   const ft::fs::path work = ft::work_dir("crash_" + label);
   ft::fs::create_directories(work / "reference");
   ft::fs::create_directories(work / "crashed");
-  const RunOutcome ref = run_pipeline(work / "reference", ft::domain_id(2), Victim::None);
+  const RunOutcome ref = run_pipeline(work / "reference", ft::domain_id(6 + 2 * static_cast<int>(victim)), Victim::None);
   EXPECT_EQ(ref.replay, 0) << ref.replay_log;
   EXPECT_EQ(ref.estimator, 0) << ref.estimator_log;
   EXPECT_EQ(ref.recommender, 0) << ref.recommender_log;
   EXPECT_EQ(ref.recorder, 0) << ref.recorder_log;
-  const RunOutcome run = run_pipeline(work / "crashed", ft::domain_id(3), victim);
+  const RunOutcome run = run_pipeline(work / "crashed", ft::domain_id(7 + 2 * static_cast<int>(victim)), victim);
   EXPECT_EQ(run.killed, 128 + 9);
   EXPECT_EQ(run.replay, 0) << run.replay_log;
   EXPECT_EQ(run.estimator, 0) << run.estimator_log;

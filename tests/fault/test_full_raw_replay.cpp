@@ -75,7 +75,7 @@ TEST(FullRawReplay, EverySnapshotAndEverySampleLevelFactorVectorRecordedOnce) {
               expected_sample_indices.size());
 
   const fs::path work = work_dir("raw");
-  const std::string d = std::to_string(delivery_domain_id(20));
+  const std::string d = std::to_string(delivery_domain_id(5));
   const auto started = Clock::now();
   ServiceProcess recorder("causal-recorder",
                           {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(), "--sample-level",

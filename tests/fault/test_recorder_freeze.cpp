@@ -116,7 +116,7 @@ TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
   const double paced_s = static_cast<double>(features.time_ns.back() - features.time_ns.front()) * 1e-9 / kSpeed;
 
   const fs::path work = work_dir("freeze");
-  const std::string d = std::to_string(delivery_domain_id(1));
+  const std::string d = std::to_string(delivery_domain_id(3));
   ConditionArrivals reader(std::stoi(d));
   ServiceProcess recorder("causal-recorder",
                           {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(), "--idle-exit", "6",

@@ -62,6 +62,7 @@ void OutboundQueue::run() {
       item = std::move(items_.front());
       items_.pop_front();
       ++in_flight_;
+      write_started_ = std::chrono::steady_clock::now();
       changed_.notify_all();
     }
     const WriteResult result = abort_.load() ? WriteResult::Stopped : item.write(abort_);
@@ -94,6 +95,12 @@ bool OutboundQueue::drain(std::chrono::milliseconds timeout) {
 std::size_t OutboundQueue::size() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return items_.size() + in_flight_;
+}
+
+std::chrono::steady_clock::duration OutboundQueue::blocked_for() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (in_flight_ == 0) return std::chrono::steady_clock::duration::zero();
+  return std::chrono::steady_clock::now() - write_started_;
 }
 
 std::size_t OutboundQueue::high_water() const {

@@ -53,6 +53,8 @@ class OutboundQueue {
   void abort();
 
   std::size_t size() const;
+  // How long the write in progress has been waiting (a reader not acknowledging); zero when none waits.
+  std::chrono::steady_clock::duration blocked_for() const;
   std::size_t high_water() const;
   std::map<std::string, StreamCounters> counters() const;
 
@@ -69,6 +71,7 @@ class OutboundQueue {
   std::condition_variable changed_;
   std::deque<Item> items_;
   std::size_t in_flight_ = 0;
+  std::chrono::steady_clock::time_point write_started_;  // of the write in progress (in_flight_ == 1)
   std::size_t high_water_ = 0;
   std::map<std::string, StreamCounters> counters_;
   std::atomic<bool> closing_{false};
