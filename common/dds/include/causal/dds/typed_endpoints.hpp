@@ -121,6 +121,16 @@ class TypedWriter {
     return writer_->wait_for_acknowledgments(d) == ReturnCode_t::RETCODE_OK;
   }
 
+  // Ends the instance of `key_sample` (its key fields) cleanly: readers see NOT_ALIVE_DISPOSED, so a source
+  // that is done is told apart from one that was lost (NOT_ALIVE_NO_WRITERS). Call it after the instance's
+  // last write. False (and last_error) when the writer refused.
+  bool dispose(Sample& key_sample) {
+    const ReturnCode_t rc = writer_->dispose(&key_sample, eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
+    if (rc == ReturnCode_t::RETCODE_OK) return true;
+    last_error_ = rc();
+    return false;
+  }
+
   eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
   // DDS return code of the last failed write attempt (ReturnCode_t value), for diagnostics.
   int last_error() const { return last_error_; }
@@ -209,6 +219,23 @@ class TypedReader {
   template <typename Fn>
   std::size_t take_all(Fn&& fn, const std::atomic<bool>& stop) {
     return take_all(std::forward<Fn>(fn), &stop);
+  }
+
+  // take_all, and the samples without data go to on_state(const SampleInfo&): an instance was disposed by its
+  // writer (NOT_ALIVE_DISPOSED) or lost every writer (NOT_ALIVE_NO_WRITERS). Returns the valid samples taken.
+  template <typename Fn, typename StateFn>
+  std::size_t take_all_and_states(Fn&& fn, StateFn&& on_state, const std::atomic<bool>& stop) {
+    std::size_t taken = 0;
+    eprosima::fastdds::dds::SampleInfo info;
+    while (!stop.load() && reader_->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) {
+        fn(static_cast<const Sample&>(sample_), static_cast<const eprosima::fastdds::dds::SampleInfo&>(info));
+        ++taken;
+      } else {
+        on_state(static_cast<const eprosima::fastdds::dds::SampleInfo&>(info));
+      }
+    }
+    return taken;
   }
 
   // Samples the reader's resource limits refused (sample_rejected status, counted per sample by a listener),

@@ -1,0 +1,56 @@
+// DDS side of SourceHealth: maps a reader's instances to their sources (asset groups), turns instance state
+// changes into "ended cleanly" (NOT_ALIVE_DISPOSED) or "writer lost" (NOT_ALIVE_NO_WRITERS), and the health
+// changes into HEALTH alarms on causal_twin/alarm (category "health", severity WARNING), id
+// "<group>/source/health/s<last snapshot>". The service writes the alarms and decides what to log.
+//
+// Why a wall-clock check in the service and not the DDS Deadline QoS: QoS lives in deploy/dds/qos.xml only,
+// and a reader's requested deadline must be matched by every writer's offered one (else they never match),
+// so every source would have to ship the same period; the missed-deadline status also names only the last
+// instance, not every silent one, and never says when the source is back. The deadline is a key of the
+// service's parameter file instead (health.deadline_s).
+#pragma once
+
+#include "causal/dds/source_health.hpp"
+#include "causal_twin.h"
+
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace causal::dds {
+
+class HealthWatch {
+ public:
+  // what: the watched input, for the reasons ("frames/condition inputs", "causal factors").
+  HealthWatch(double deadline_s, std::string what);
+
+  // A valid sample of `source` (snapshot index of the source).
+  void on_sample(const std::string& source, std::uint64_t snapshot_index,
+                 const eprosima::fastdds::dds::SampleInfo& info);
+  // A sample without data (valid_data false): the instance was disposed or lost its writers.
+  void on_state(const eprosima::fastdds::dds::SampleInfo& info);
+  // Deadline check; the run loop calls it at every wake-up.
+  void check();
+  // The alarm messages (raised and cleared) since the last call.
+  std::vector<causal_twin::Alarm> take_alarms();
+
+  const SourceHealth& health() const { return health_; }
+  std::uint64_t unknown_instances() const { return unknown_instances_; }  // state change of an instance never seen
+
+ private:
+  void convert(std::vector<HealthChange>& changes);
+
+  SourceHealth health_;
+  std::string what_;
+  std::map<std::array<unsigned char, 16>, std::string> sources_;  // instance handle -> source
+  std::map<std::string, causal_twin::Alarm> open_;                // source -> its raised alarm
+  std::vector<HealthChange> changes_;
+  std::vector<causal_twin::Alarm> alarms_;
+  std::uint64_t unknown_instances_ = 0;
+};
+
+}  // namespace causal::dds
