@@ -27,6 +27,7 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter),
       quality_alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
       store_(options_.state_dir),
+      health_(options_.health_deadline_s, "frames/condition inputs"),
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
@@ -82,10 +83,26 @@ int EstimatorNode::run() {
   const auto end = loop_.run(
       limits,
       [this] {
+        // Samples without data are instance state changes: a source that ended (disposed) or was lost.
+        const auto state = [this](const auto& info) {
+          spdlog::debug("input instance state change: {}", static_cast<int>(info.instance_state));
+          health_.on_state(info);
+        };
         const std::size_t n =
-            frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }, loop_.stop_flag()) +
-            conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }, loop_.stop_flag());
+            frames_.take_all_and_states(
+                [this](const auto& f, const auto& info) {
+                  if (mine(f.asset_group())) health_.on_sample(f.asset_group(), f.snapshot_index(), info);
+                  on_frame(f);
+                },
+                state, loop_.stop_flag()) +
+            conditions_in_.take_all_and_states(
+                [this](const auto& c, const auto& info) {
+                  if (mine(c.asset_group())) health_.on_sample(c.asset_group(), c.snapshot_index(), info);
+                  on_condition(c);
+                },
+                state, loop_.stop_flag());
         report_rejections();
+        publish_health();
         return n;
       },
       // Idle exit only once every source has left: a source that is merely blocked or paced must not end the run.
@@ -272,6 +289,14 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
                          [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, stop)) {
         ++counter;
       }
+      auto& key = factor_instances_[fmt::format("{}/{}/{}/{}", name, msg->outcome(), static_cast<int>(msg->kind()),
+                                                static_cast<int>(scale))];
+      if (key.asset_group().empty()) {
+        key.asset_group(name);
+        key.outcome(msg->outcome());
+        key.kind(msg->kind());
+        key.time_scale(scale);
+      }
       if (condition && options_.verbose) log_condition_report(name, a, r);
     }
   };
@@ -336,6 +361,31 @@ void EstimatorNode::checkpoint(const std::string& name, Asset& a) {
   }
 }
 
+void EstimatorNode::publish_health() {
+  health_.check(participant_.directory());
+  for (auto& alarm : health_.take_alarms()) {
+    const bool cleared = alarm.state() == causal_twin::CLEARED;
+    spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
+                alarm.alarm_id(), alarm.reason());
+    auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
+    outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
+                   [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+  }
+}
+
+void EstimatorNode::dispose_outputs() {
+  // After the drain (the queue's thread writes nothing more): a disposed instance must not get data later.
+  // Readers that see instance states get NOT_ALIVE_DISPOSED ("done"); alarm-recommender tells a clean end by
+  // how this participant leaves (causal/dds/health_watch.hpp).
+  std::size_t refused = 0;
+  for (auto& [key, sample] : factor_instances_) refused += factors_.dispose(sample) ? 0 : 1;
+  if (refused > 0) {
+    spdlog::warn("{} of {} factor streams could not be disposed (DDS return code {}): their readers will see them "
+                 "as lost",
+                 refused, factor_instances_.size(), factors_.last_error());
+  }
+}
+
 int EstimatorNode::finish_all() {
   report_rejections();
   for (auto& [name, a] : assets_) {
@@ -359,6 +409,7 @@ int EstimatorNode::finish_all() {
   if (!factors_.wait_for_acknowledgments(ack_wait)) {
     spdlog::warn("not every factor message was acknowledged within {} s", ack_wait.count());
   }
+  dispose_outputs();  // after the acknowledgements: Fast DDS 2.9 readers never acknowledge a dispose
   conditions_out_.wait_for_acknowledgments(ack_wait);
 
   // The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).
@@ -399,6 +450,9 @@ int EstimatorNode::finish_all() {
   for (const auto& [stream, c] : streams) {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
   }
+  const auto& h = health_.health();
+  spdlog::info("summary health sources={} raised={} cleared={} active={} deadline_s={}", h.sources(), h.raised(),
+               h.cleared(), h.active_alarms(), h.deadline_s());
   spdlog::info("outbound queue high-water mark: {} of {} messages", outbound_.high_water(), options_.outbound_capacity);
   return (lost + refused + invalid_msgs_ + rejected_no_instance_ + unpublished) > 0 ? 4 : 0;
 }

@@ -5,6 +5,7 @@
 
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/health_watch.hpp"
 #include "causal/dds/outbound_queue.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
@@ -35,6 +36,7 @@ struct EstimatorOptions {
   double wait_timeout_s = 30.0;
   std::size_t outbound_capacity = 65536;
   bool verbose = false;
+  double health_deadline_s = 30.0;  // estimator.yaml health.deadline_s (HealthWatch)
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
 
@@ -72,6 +74,8 @@ class EstimatorNode {
   void publish_quality(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,
                        bool end_of_snapshot);
   void checkpoint(const std::string& name, Asset& a);
+  void publish_health();    // HEALTH alarms of silent or lost inputs (HealthWatch), raised and cleared
+  void dispose_outputs();   // at a clean exit: readers see our factor streams ended, not lost
   void log_structure(const std::string& name, const Asset& a, const char* level,
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
@@ -93,6 +97,8 @@ class EstimatorNode {
   causal_twin::ConditionVector condition_msg_;
   EstimatorStateStore store_;
   DataQualityAlarms quality_;
+  dds::HealthWatch health_;
+  std::map<std::string, causal_twin::CausalFactors> factor_instances_;  // key fields of every factor instance written
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
   std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits
   dds::OutboundQueue outbound_;  // last: its drain thread stops before the writers are destroyed

@@ -27,6 +27,7 @@ HealthWatch::HealthWatch(double deadline_s, std::string what) : health_(deadline
 void HealthWatch::on_sample(const std::string& source, std::uint64_t snapshot_index,
                             const eprosima::fastdds::dds::SampleInfo& info) {
   sources_[key_of(info.instance_handle)] = source;
+  writers_[source] = info.sample_identity.writer_guid().guidPrefix;
   health_.on_data(source, snapshot_index, SourceHealth::Clock::now(), changes_);
   convert(changes_);
 }
@@ -46,8 +47,21 @@ void HealthWatch::on_state(const eprosima::fastdds::dds::SampleInfo& info) {
   convert(changes_);
 }
 
-void HealthWatch::check() {
-  health_.check(SourceHealth::Clock::now(), changes_);
+void HealthWatch::check(const ParticipantDirectory& directory) {
+  const auto now = SourceHealth::Clock::now();
+  departures_.clear();
+  directory.departures_since(departures_seen_, departures_);
+  for (const auto& d : departures_) {
+    for (const auto& [source, prefix] : writers_) {
+      if (prefix != d.prefix) continue;
+      if (d.dropped) {
+        health_.on_writer_lost(source, now, changes_);
+      } else {
+        health_.on_ended(source, now, changes_);
+      }
+    }
+  }
+  health_.check(now, changes_);
   convert(changes_);
 }
 

@@ -57,6 +57,9 @@ void ParticipantDirectory::on_participant_discovery(eprosima::fastdds::dds::Doma
     names_[prefix] = info.info.m_participantName.to_string();
   } else {
     names_.erase(prefix);  // REMOVED_PARTICIPANT, DROPPED_PARTICIPANT (lease expired), IGNORED_PARTICIPANT
+    if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+      departures_.push_back({prefix, info.status == Status::DROPPED_PARTICIPANT});
+    }
   }
 }
 
@@ -69,6 +72,11 @@ void ParticipantDirectory::on_subscriber_discovery(eprosima::fastdds::dds::Domai
   } else {
     readers_[info.info.guid()] = info.info.topicName().to_string();
   }
+}
+
+void ParticipantDirectory::departures_since(std::size_t& cursor, std::vector<Departure>& out) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (; cursor < departures_.size(); ++cursor) out.push_back(departures_[cursor]);
 }
 
 std::size_t ParticipantDirectory::readers_named(const std::string& topic, const std::string& name) const {

@@ -1,6 +1,6 @@
-// DDS side of SourceHealth: maps a reader's instances to their sources (asset groups), turns instance state
-// changes into "ended cleanly" (NOT_ALIVE_DISPOSED) or "writer lost" (NOT_ALIVE_NO_WRITERS), and the health
-// changes into HEALTH alarms on causal_twin/alarm (category "health", severity WARNING), id
+// DDS side of SourceHealth: remembers which participant wrote each source's (asset group's) last sample, turns
+// that participant's departure into "ended cleanly" (it left saying goodbye: REMOVED_PARTICIPANT) or "writer
+// lost" (its lease expired: DROPPED_PARTICIPANT, e.g. a killed sensor), and the health changes into HEALTH alarms on causal_twin/alarm (category "health", severity WARNING), id
 // "<group>/source/health/s<last snapshot>". The service writes the alarms and decides what to log.
 //
 // Why a wall-clock check in the service and not the DDS Deadline QoS: QoS lives in deploy/dds/qos.xml only,
@@ -8,8 +8,14 @@
 // so every source would have to ship the same period; the missed-deadline status also names only the last
 // instance, not every silent one, and never says when the source is back. The deadline is a key of the
 // service's parameter file instead (health.deadline_s).
+//
+// Why participant departures and not the instance states (NOT_ALIVE_DISPOSED / NOT_ALIVE_NO_WRITERS): with
+// Fast DDS 2.9 and our KEEP_ALL readers, take_next_sample never returned a data-less sample for either (a
+// disposed instance, a writer that left), so the reader cannot see them. Departures are reported by discovery
+// for every participant; on_state() still handles instance states for a Fast DDS that delivers them.
 #pragma once
 
+#include "causal/dds/participant.hpp"
 #include "causal/dds/source_health.hpp"
 #include "causal_twin.h"
 
@@ -33,8 +39,8 @@ class HealthWatch {
                  const eprosima::fastdds::dds::SampleInfo& info);
   // A sample without data (valid_data false): the instance was disposed or lost its writers.
   void on_state(const eprosima::fastdds::dds::SampleInfo& info);
-  // Deadline check; the run loop calls it at every wake-up.
-  void check();
+  // Departures of writers' participants, then the deadline check; the run loop calls it at every wake-up.
+  void check(const ParticipantDirectory& directory);
   // The alarm messages (raised and cleared) since the last call.
   std::vector<causal_twin::Alarm> take_alarms();
 
@@ -47,6 +53,9 @@ class HealthWatch {
   SourceHealth health_;
   std::string what_;
   std::map<std::array<unsigned char, 16>, std::string> sources_;  // instance handle -> source
+  std::map<std::string, eprosima::fastrtps::rtps::GuidPrefix_t> writers_;  // source -> participant of its last sample
+  std::size_t departures_seen_ = 0;
+  std::vector<ParticipantDirectory::Departure> departures_;
   std::map<std::string, causal_twin::Alarm> open_;                // source -> its raised alarm
   std::vector<HealthChange> changes_;
   std::vector<causal_twin::Alarm> alarms_;

@@ -34,10 +34,20 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   // implement DataWriter::get_matched_subscriptions, so readers are tracked from discovery).
   std::size_t readers_named(const std::string& topic, const std::string& name) const;
 
+  // Remote participants that left, in order: `dropped` when their lease expired (killed, cut off: they never
+  // said goodbye), not when they left cleanly (REMOVED_PARTICIPANT). Appends those after `cursor` to `out`
+  // and moves the cursor (each consumer keeps its own).
+  struct Departure {
+    eprosima::fastrtps::rtps::GuidPrefix_t prefix;
+    bool dropped = false;
+  };
+  void departures_since(std::size_t& cursor, std::vector<Departure>& out) const;
+
  private:
   mutable std::mutex mutex_;
   std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> names_;
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> readers_;  // reader -> topic
+  std::vector<Departure> departures_;  // a few bytes per departed participant
 };
 
 struct DdsSettings {
