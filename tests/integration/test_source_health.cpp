@@ -1,0 +1,147 @@
+// Liveliness and deadlines over DDS with real processes ("nothing stalls"): a sensor-replay paced at one
+// snapshot per second feeds causal-estimator (health.deadline_s = 4). Checked on causal_twin/alarm with a
+// reader in this test:
+//  * the replay is killed (SIGKILL) mid-run -> the estimator raises exactly one HEALTH alarm for the group
+//    (category health, WARNING, id "<group>/source/health/s<last snapshot>") within the deadline + 3 s;
+//  * a new replay of the same group resumes -> that alarm clears (same id);
+//  * that replay ends cleanly (it disposes its instance) -> no new HEALTH alarm, even well past the deadline
+//    (without the dispose, its writer leaving would count as lost and raise one at once).
+#include "dds_observer.hpp"
+#include "process_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+namespace fs = std::filesystem;
+using causal::test::DdsObserver;
+using causal::test::ServiceProcess;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr double kDeadlineS = 4.0;
+constexpr double kMarginS = 3.0;  // the estimator checks every 200 ms; alarm delivery over loopback
+const std::string kGroup = "health-it";
+
+std::string shipped_params_with_deadline(const fs::path& dir) {
+  std::ifstream in(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/config/estimator.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = std::regex_replace(ss.str(), std::regex("deadline_s: *[0-9.]+"),
+                                              "deadline_s: " + std::to_string(kDeadlineS));
+  const fs::path p = dir / "estimator.yaml";
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+bool wait_for_text(ServiceProcess& p, const std::string& text, std::chrono::seconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  while (Clock::now() < deadline) {
+    if (p.output().find(text) != std::string::npos) return true;
+    if (!p.running()) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+std::vector<causal_twin::Alarm> health_alarms(const DdsObserver& o) {
+  std::vector<causal_twin::Alarm> out;
+  for (const auto& a : o.alarms()) {
+    if (a.category() == "health") out.push_back(a);
+  }
+  return out;
+}
+
+// Waits (bounded) until the observer holds `count` health alarm messages; returns when they were all there.
+std::optional<Clock::time_point> wait_for_health(const DdsObserver& o, std::size_t count, std::chrono::seconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  while (Clock::now() < deadline) {
+    if (health_alarms(o).size() >= count) return Clock::now();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+TEST(SourceHealthOverDds, KilledReplayRaisesWithinDeadlineResumedClearsCleanEndRaisesNothing) {
+  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
+  const fs::path work = fs::temp_directory_path() / ("causal_it_health_" + std::to_string(getpid()));
+  fs::remove_all(work);
+  fs::create_directories(work);
+  // A private domain in 150..199, from the pid like the other integration tests.
+  const std::string d = std::to_string(150 + static_cast<int>((static_cast<unsigned>(getpid()) * 11u + 23u) % 50u));
+  DdsObserver observer(std::stoi(d));
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", shipped_params_with_deadline(work),
+                            "--max-runtime", "150"},
+                           (work / "estimator.log").string());
+  auto replay = [&](const std::string& log, int first, int count) {
+    // IMS snapshots are 10 min apart: --speed 600 publishes one per second.
+    return std::make_unique<ServiceProcess>(
+        "sensor-replay",
+        std::vector<std::string>{SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
+                                 "--feature-name", "meanabs", "--asset-group", kGroup, "--channel-names", "bearing1",
+                                 "bearing2", "bearing3", "bearing4", "--speed", "600", "--first-snapshot",
+                                 std::to_string(first), "--max-snapshots", std::to_string(count), "--wait-for",
+                                 "causal-estimator", "--wait-timeout", "60"},
+        (work / log).string());
+  };
+
+  // 1. Killed mid-run: raised within the deadline (+ margin) of the kill, exactly once.
+  auto first = replay("replay1.log", 0, 60);
+  ASSERT_TRUE(wait_for_text(*first, "replaying", std::chrono::seconds(60))) << first->output();
+  ASSERT_TRUE(wait_for_text(estimator, "new asset group 'health-it'", std::chrono::seconds(30))) << estimator.output();
+  std::this_thread::sleep_for(std::chrono::seconds(3));  // a few snapshots
+  const auto killed_at = Clock::now();
+  EXPECT_EQ(first->kill_hard(), 128 + 9);
+  const auto raised_seen = wait_for_health(observer, 1, std::chrono::seconds(30));
+  ASSERT_TRUE(raised_seen.has_value()) << estimator.output();
+  const double after_s = std::chrono::duration<double>(*raised_seen - killed_at).count();
+  EXPECT_LE(after_s, kDeadlineS + kMarginS) << "health alarm " << after_s << " s after the kill";
+  auto alarms = health_alarms(observer);
+  ASSERT_EQ(alarms.size(), 1u);
+  const causal_twin::Alarm raised = alarms[0];
+  EXPECT_EQ(raised.state(), causal_twin::RAISED);
+  EXPECT_EQ(raised.severity(), causal_twin::WARNING);
+  EXPECT_EQ(raised.asset_group(), kGroup);
+  EXPECT_EQ(raised.alarm_id(), kGroup + "/source/health/s" + std::to_string(raised.sample_index()));
+  EXPECT_LT(raised.sample_index(), 60u);
+  EXPECT_NE(raised.reason().find("silent"), std::string::npos) << raised.reason();
+  // The lease expiry (NOT_ALIVE_NO_WRITERS, 5 s after the kill) must not raise a second alarm.
+  std::this_thread::sleep_for(std::chrono::seconds(7));
+  EXPECT_EQ(health_alarms(observer).size(), 1u);
+
+  // 2. A new replay of the same group resumes: the alarm clears (same id).
+  auto second = replay("replay2.log", 100, 5);
+  const auto cleared_seen = wait_for_health(observer, 2, std::chrono::seconds(60));
+  ASSERT_TRUE(cleared_seen.has_value()) << second->output() << estimator.output();
+  alarms = health_alarms(observer);
+  ASSERT_EQ(alarms.size(), 2u);
+  EXPECT_EQ(alarms[1].alarm_id(), raised.alarm_id());
+  EXPECT_EQ(alarms[1].state(), causal_twin::CLEARED);
+
+  // 3. It ends cleanly: nothing new, even past the deadline.
+  const auto code = second->wait(std::chrono::seconds(60));
+  ASSERT_TRUE(code.has_value()) << second->output();
+  EXPECT_EQ(*code, 0) << second->output();
+  std::this_thread::sleep_for(std::chrono::duration<double>(kDeadlineS + kMarginS));
+  alarms = health_alarms(observer);
+  EXPECT_EQ(alarms.size(), 2u);
+  for (std::size_t i = 2; i < alarms.size(); ++i) ADD_FAILURE() << "unexpected: " << alarms[i].alarm_id() << " " << alarms[i].reason();
+
+  const int estimator_code = estimator.terminate();
+  const std::string log = estimator.output();
+  EXPECT_NE(log.find("summary health sources=1 raised=1 cleared=1 active=0"), std::string::npos) << log;
+  std::printf("health alarm %.2f s after the kill (deadline %.0f s); estimator exit %d\n", after_s, kDeadlineS,
+              estimator_code);
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}
