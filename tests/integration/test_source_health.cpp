@@ -5,7 +5,10 @@
 //    (category health, WARNING, id "<group>/source/health/s<last snapshot>") within the deadline + 3 s;
 //  * a new replay of the same group resumes -> that alarm clears (same id);
 //  * that replay ends cleanly (it disposes its instance) -> no new HEALTH alarm, even well past the deadline
-//    (without the dispose, its writer leaving would count as lost and raise one at once).
+//    (its participant leaves cleanly; a lost one would raise at once).
+// And the same one level down, in alarm-recommender (health.deadline_s = 4): the estimator killed -> a HEALTH
+// alarm "<group>/estimator/health/s<N>" within the deadline + 3 s; a new estimator clears it; everything ends
+// cleanly -> nothing new.
 #include "dds_observer.hpp"
 #include "process_runner.hpp"
 
@@ -37,6 +40,35 @@ std::string shipped_params_with_deadline(const fs::path& dir) {
   const std::string text = std::regex_replace(ss.str(), std::regex("deadline_s: *[0-9.]+"),
                                               "deadline_s: " + std::to_string(kDeadlineS));
   const fs::path p = dir / "estimator.yaml";
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+// Condition level only, nothing learned first: factors from the first condition vector on.
+std::string quick_estimator_params(const fs::path& dir) {
+  const fs::path p = dir / "estimator_quick.yaml";
+  std::ofstream(p) << "sample_level:\n  enabled: false\n  lag_order: 1\n  include_self_lags: false\n"
+                      "  instantaneous_graph: \"\"\n"
+                      "  noise: {mode: fixed, q: 1.0e-6, r: 1.0e-2, p0: 1.0, calibration_samples: 4096}\n"
+                      "  structure: {calibration_samples: 0, centre: false, causal_order: configured, prune_threshold: 0.0}\n"
+                      "  publish_every: 1024\n  fixed_lag: 0\n"
+                      "condition_level:\n  enabled: true\n  feature: meanabs\n  log_transform: true\n"
+                      "  window_samples: 0\n  min_samples: 256\n  lag_order: 1\n  include_self_lags: true\n"
+                      "  instantaneous_graph: \"\"\n"
+                      "  noise: {mode: fixed, q: 1.0e-4, r: 1.0e-2, p0: 1.0, calibration_samples: 100}\n"
+                      "  structure: {calibration_samples: 0, centre: false, causal_order: configured, prune_threshold: 0.0}\n"
+                      "  publish_every: 1\n  fixed_lag: 0\n"
+                      "health:\n  deadline_s: 30\n";
+  return p.string();
+}
+
+std::string shipped_alarm_params_with_deadline(const fs::path& dir) {
+  std::ifstream in(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/config/alarms.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = std::regex_replace(ss.str(), std::regex("deadline_s: *[0-9.]+"),
+                                              "deadline_s: " + std::to_string(kDeadlineS));
+  const fs::path p = dir / "alarms.yaml";
   std::ofstream(p) << text;
   return p.string();
 }
@@ -142,6 +174,75 @@ TEST(SourceHealthOverDds, KilledReplayRaisesWithinDeadlineResumedClearsCleanEndR
   EXPECT_NE(log.find("summary health sources=1 raised=1 cleared=1 active=0"), std::string::npos) << log;
   std::printf("health alarm %.2f s after the kill (deadline %.0f s); estimator exit %d\n", after_s, kDeadlineS,
               estimator_code);
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}
+
+TEST(SourceHealthOverDds, KilledEstimatorRaisesInTheRecommenderRestartedClearsCleanEndRaisesNothing) {
+  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
+  const fs::path work = fs::temp_directory_path() / ("causal_it_health_rec_" + std::to_string(getpid()));
+  fs::remove_all(work);
+  fs::create_directories(work);
+  const std::string d = std::to_string(150 + static_cast<int>((static_cast<unsigned>(getpid()) * 11u + 37u) % 50u));
+  DdsObserver observer(std::stoi(d));
+  ServiceProcess recommender("alarm-recommender",
+                             {ALARM_RECOMMENDER_BIN, "--domain", d, "--params", shipped_alarm_params_with_deadline(work),
+                              "--max-runtime", "150"},
+                             (work / "recommender.log").string());
+  const std::string est_params = quick_estimator_params(work);
+  auto estimator = [&](const std::string& log) {
+    return std::make_unique<ServiceProcess>(
+        "causal-estimator",
+        std::vector<std::string>{CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", est_params, "--idle-exit", "2",
+                                 "--max-runtime", "150", "--wait-for", "alarm-recommender"},
+        (work / log).string());
+  };
+  auto first = estimator("estimator1.log");
+  // One snapshot per second, 25 in all: the kill lands mid-run, the second estimator sees the rest.
+  ServiceProcess replay("sensor-replay",
+                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
+                         "--feature-name", "meanabs", "--asset-group", kGroup, "--channel-names", "bearing1",
+                         "bearing2", "bearing3", "bearing4", "--speed", "600", "--max-snapshots", "25", "--wait-for",
+                         "causal-estimator", "--wait-timeout", "60"},
+                        (work / "replay.log").string());
+  ASSERT_TRUE(wait_for_text(*first, "new asset group 'health-it'", std::chrono::seconds(60))) << first->output();
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  const auto killed_at = Clock::now();
+  EXPECT_EQ(first->kill_hard(), 128 + 9);
+  const auto raised_seen = wait_for_health(observer, 1, std::chrono::seconds(30));
+  ASSERT_TRUE(raised_seen.has_value()) << recommender.output();
+  const double after_s = std::chrono::duration<double>(*raised_seen - killed_at).count();
+  EXPECT_LE(after_s, kDeadlineS + kMarginS) << "health alarm " << after_s << " s after the kill";
+  auto alarms = health_alarms(observer);
+  ASSERT_EQ(alarms.size(), 1u);
+  const causal_twin::Alarm raised = alarms[0];
+  EXPECT_EQ(raised.state(), causal_twin::RAISED);
+  EXPECT_EQ(raised.severity(), causal_twin::WARNING);
+  EXPECT_EQ(raised.alarm_id(), kGroup + "/estimator/health/s" + std::to_string(raised.sample_index()));
+  EXPECT_NE(raised.reason().find("causal factors"), std::string::npos) << raised.reason();
+
+  // A new estimator (the replay waits for it, its ring holds the snapshots meanwhile): cleared.
+  auto second = estimator("estimator2.log");
+  const auto cleared_seen = wait_for_health(observer, 2, std::chrono::seconds(60));
+  ASSERT_TRUE(cleared_seen.has_value()) << second->output() << recommender.output();
+  alarms = health_alarms(observer);
+  ASSERT_EQ(alarms.size(), 2u);
+  EXPECT_EQ(alarms[1].alarm_id(), raised.alarm_id());
+  EXPECT_EQ(alarms[1].state(), causal_twin::CLEARED);
+
+  // Everything ends cleanly: the estimator's departure is not a fault.
+  const auto replay_code = replay.wait(std::chrono::seconds(90));
+  ASSERT_TRUE(replay_code.has_value()) << replay.output();
+  EXPECT_EQ(*replay_code, 0) << replay.output();
+  ASSERT_TRUE(second->wait(std::chrono::seconds(60)).has_value()) << second->output();
+  std::this_thread::sleep_for(std::chrono::duration<double>(kDeadlineS + kMarginS));
+  alarms = health_alarms(observer);
+  EXPECT_EQ(alarms.size(), 2u);
+  for (std::size_t i = 2; i < alarms.size(); ++i) ADD_FAILURE() << "unexpected: " << alarms[i].alarm_id() << " " << alarms[i].reason();
+  recommender.terminate();
+  const std::string log = recommender.output();
+  EXPECT_NE(log.find("summary health sources=1 raised=1 cleared=1 active=0"), std::string::npos) << log;
+  std::printf("recommender: health alarm %.2f s after the estimator was killed (deadline %.0f s)\n", after_s, kDeadlineS);
   if (!HasFailure()) fs::remove_all(work);
   causal::test::clean_stale_shared_memory();
 }

@@ -22,13 +22,21 @@ std::int64_t wall_ns() {
 
 }  // namespace
 
-HealthWatch::HealthWatch(double deadline_s, std::string what) : health_(deadline_s), what_(std::move(what)) {}
+HealthWatch::HealthWatch(double deadline_s, std::string what, std::string watched)
+    : health_(deadline_s), what_(std::move(what)), watched_(std::move(watched)) {}
 
 void HealthWatch::on_sample(const std::string& source, std::uint64_t snapshot_index,
                             const eprosima::fastdds::dds::SampleInfo& info) {
   sources_[key_of(info.instance_handle)] = source;
   writers_[source] = info.sample_identity.writer_guid().guidPrefix;
   health_.on_data(source, snapshot_index, SourceHealth::Clock::now(), changes_);
+  convert(changes_);
+}
+
+void HealthWatch::on_sample(const std::string& source, const eprosima::fastdds::dds::SampleInfo& info) {
+  sources_[key_of(info.instance_handle)] = source;
+  writers_[source] = info.sample_identity.writer_guid().guidPrefix;
+  health_.on_data(source, SourceHealth::Clock::now(), changes_);
   convert(changes_);
 }
 
@@ -86,7 +94,7 @@ void HealthWatch::convert(std::vector<HealthChange>& changes) {
       continue;
     }
     causal_twin::Alarm a;
-    a.alarm_id(c.source + "/source/health/s" + (c.has_index ? std::to_string(c.last_index) : std::string("none")));
+    a.alarm_id(c.source + "/" + watched_ + "/health/s" + (c.has_index ? std::to_string(c.last_index) : std::string("none")));
     a.asset_group(c.source);
     a.channel(0);
     a.severity(causal_twin::WARNING);
@@ -97,7 +105,7 @@ void HealthWatch::convert(std::vector<HealthChange>& changes) {
     a.sample_index(c.last_index);
     a.score(c.silent_s);                  // seconds silent when raised
     a.threshold(health_.deadline_s());    // the deadline (0 = none: the writer was lost)
-    a.channel_name("source");
+    a.channel_name(watched_);
     a.reason(what_ + ": " + c.reason);
     open_[c.source] = a;
     alarms_.push_back(std::move(a));

@@ -1,7 +1,9 @@
 // DDS side of SourceHealth: remembers which participant wrote each source's (asset group's) last sample, turns
 // that participant's departure into "ended cleanly" (it left saying goodbye: REMOVED_PARTICIPANT) or "writer
-// lost" (its lease expired: DROPPED_PARTICIPANT, e.g. a killed sensor), and the health changes into HEALTH alarms on causal_twin/alarm (category "health", severity WARNING), id
-// "<group>/source/health/s<last snapshot>". The service writes the alarms and decides what to log.
+// lost" (its lease expired: DROPPED_PARTICIPANT, e.g. a killed sensor), and the health changes into HEALTH
+// alarms on causal_twin/alarm (category "health", severity WARNING), id "<group>/<watched>/health/s<last
+// snapshot>" (causal-estimator: "source", its input; alarm-recommender: "estimator", the causal factors;
+// distinct, since both can be silent at once). The service writes the alarms and decides what to log.
 //
 // Why a wall-clock check in the service and not the DDS Deadline QoS: QoS lives in deploy/dds/qos.xml only,
 // and a reader's requested deadline must be matched by every writer's offered one (else they never match),
@@ -31,12 +33,14 @@ namespace causal::dds {
 
 class HealthWatch {
  public:
-  // what: the watched input, for the reasons ("frames/condition inputs", "causal factors").
-  HealthWatch(double deadline_s, std::string what);
+  // what: the watched input, for the reasons ("frames/condition inputs", "causal factors"); watched: the
+  // alarm id's part naming who is silent ("source", "estimator").
+  HealthWatch(double deadline_s, std::string what, std::string watched);
 
-  // A valid sample of `source` (snapshot index of the source).
+  // A valid sample of `source` (snapshot index of the source, when the sample has one).
   void on_sample(const std::string& source, std::uint64_t snapshot_index,
                  const eprosima::fastdds::dds::SampleInfo& info);
+  void on_sample(const std::string& source, const eprosima::fastdds::dds::SampleInfo& info);
   // A sample without data (valid_data false): the instance was disposed or lost its writers.
   void on_state(const eprosima::fastdds::dds::SampleInfo& info);
   // Departures of writers' participants, then the deadline check; the run loop calls it at every wake-up.
@@ -51,7 +55,7 @@ class HealthWatch {
   void convert(std::vector<HealthChange>& changes);
 
   SourceHealth health_;
-  std::string what_;
+  std::string what_, watched_;
   std::map<std::array<unsigned char, 16>, std::string> sources_;  // instance handle -> source
   std::map<std::string, eprosima::fastrtps::rtps::GuidPrefix_t> writers_;  // source -> participant of its last sample
   std::size_t departures_seen_ = 0;
