@@ -289,14 +289,6 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
                          [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, stop)) {
         ++counter;
       }
-      auto& key = factor_instances_[fmt::format("{}/{}/{}/{}", name, msg->outcome(), static_cast<int>(msg->kind()),
-                                                static_cast<int>(scale))];
-      if (key.asset_group().empty()) {
-        key.asset_group(name);
-        key.outcome(msg->outcome());
-        key.kind(msg->kind());
-        key.time_scale(scale);
-      }
       if (condition && options_.verbose) log_condition_report(name, a, r);
     }
   };
@@ -373,19 +365,6 @@ void EstimatorNode::publish_health() {
   }
 }
 
-void EstimatorNode::dispose_outputs() {
-  // After the drain (the queue's thread writes nothing more): a disposed instance must not get data later.
-  // Readers that see instance states get NOT_ALIVE_DISPOSED ("done"); alarm-recommender tells a clean end by
-  // how this participant leaves (causal/dds/health_watch.hpp).
-  std::size_t refused = 0;
-  for (auto& [key, sample] : factor_instances_) refused += factors_.dispose(sample) ? 0 : 1;
-  if (refused > 0) {
-    spdlog::warn("{} of {} factor streams could not be disposed (DDS return code {}): their readers will see them "
-                 "as lost",
-                 refused, factor_instances_.size(), factors_.last_error());
-  }
-}
-
 int EstimatorNode::finish_all() {
   report_rejections();
   for (auto& [name, a] : assets_) {
@@ -409,7 +388,6 @@ int EstimatorNode::finish_all() {
   if (!factors_.wait_for_acknowledgments(ack_wait)) {
     spdlog::warn("not every factor message was acknowledged within {} s", ack_wait.count());
   }
-  dispose_outputs();  // after the acknowledgements: Fast DDS 2.9 readers never acknowledge a dispose
   conditions_out_.wait_for_acknowledgments(ack_wait);
 
   // The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).

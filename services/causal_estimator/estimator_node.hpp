@@ -75,7 +75,6 @@ class EstimatorNode {
                        bool end_of_snapshot);
   void checkpoint(const std::string& name, Asset& a);
   void publish_health();    // HEALTH alarms of silent or lost inputs (HealthWatch), raised and cleared
-  void dispose_outputs();   // at a clean exit: readers see our factor streams ended, not lost
   void log_structure(const std::string& name, const Asset& a, const char* level,
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
@@ -98,7 +97,6 @@ class EstimatorNode {
   EstimatorStateStore store_;
   DataQualityAlarms quality_;
   dds::HealthWatch health_;
-  std::map<std::string, causal_twin::CausalFactors> factor_instances_;  // key fields of every factor instance written
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
   std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits
   dds::OutboundQueue outbound_;  // last: its drain thread stops before the writers are destroyed

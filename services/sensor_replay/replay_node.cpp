@@ -17,16 +17,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// Ends the stream the DDS way (dispose: readers that see instance states get NOT_ALIVE_DISPOSED, "done", not
-// NOT_ALIVE_NO_WRITERS, "lost"). Called after every sample was acknowledged, and not waited for: Fast DDS 2.9
-// readers with our KEEP_ALL profiles never acknowledge a dispose. The estimator tells a clean end from a lost
-// source by how this participant leaves (causal/dds/health_watch.hpp), which needs nothing from here.
-template <typename Writer, typename Sample>
-void end_stream(Writer& writer, Sample& last_sample, const char* what) {
-  if (!writer.dispose(last_sample)) {
-    spdlog::debug("could not dispose the {} stream (DDS return code {})", what, writer.last_error());
-  }
-}
 }  // namespace
 
 ReplayNode::ReplayNode(ReplayOptions options)
@@ -170,7 +160,6 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
   if (!frames_->wait_for_acknowledgments(std::chrono::seconds(30))) {
     spdlog::warn("not every frame was acknowledged within 30 s");
   }
-  if (frames_sent > 0) end_stream(*frames_, frame, "frame");
   spdlog::info("published {} frames ({} samples per channel) in {:.2f} s{}", frames_sent, samples_sent,
                seconds_since(started_), stop_.load() ? " (stopped early)" : "");
   spdlog::info("summary topic=causal_twin/vibration_frame sent={} snapshots={}", frames_sent, snapshots_sent);
@@ -212,7 +201,6 @@ int ReplayNode::run_features() {
   if (!conditions_->wait_for_acknowledgments(std::chrono::seconds(30))) {
     spdlog::warn("not every condition vector was acknowledged within 30 s");
   }
-  if (sent > 0) end_stream(*conditions_, out, "condition vector");
   spdlog::info("published {} condition vectors in {:.2f} s{}", sent, seconds_since(started_),
                stop_.load() ? " (stopped early)" : "");
   spdlog::info("summary topic=causal_twin/condition_input sent={}", sent);

@@ -101,16 +101,6 @@ int SimNode::run() {
     spdlog::warn("not every frame was acknowledged by the readers within {:.1f} s",
                  std::chrono::duration<double>(ack_wait).count());
   }
-  // End every group's stream the DDS way (dispose), after the acknowledgements and without waiting: see
-  // sensor-replay's end_stream (Fast DDS 2.9 readers never acknowledge it; the estimator sees a clean end from
-  // how this participant leaves).
-  if (sent_ > 0) {
-    causal_twin::VibrationFrame key;
-    for (const auto& g : groups_) {
-      key.asset_group(g.header.asset_group);
-      frames_.dispose(key);
-    }
-  }
   spdlog::info("{} frames published in {:.2f} s{}", sent_, std::chrono::duration<double>(Clock::now() - started_).count(),
                stop_.load() ? " (stopped early)" : "");
   print_summary();

@@ -6,6 +6,7 @@
 //  * a new replay of the same group resumes -> that alarm clears (same id);
 //  * that replay ends cleanly (it disposes its instance) -> no new HEALTH alarm, even well past the deadline
 //    (its participant leaves cleanly; a lost one would raise at once).
+// With no deadline (0), the kill is seen as a lost writer when its participant's lease (5 s) expires.
 // And the same one level down, in alarm-recommender (health.deadline_s = 4): the estimator killed -> a HEALTH
 // alarm "<group>/estimator/health/s<N>" within the deadline + 3 s; a new estimator clears it; everything ends
 // cleanly -> nothing new.
@@ -33,12 +34,12 @@ constexpr double kDeadlineS = 4.0;
 constexpr double kMarginS = 3.0;  // the estimator checks every 200 ms; alarm delivery over loopback
 const std::string kGroup = "health-it";
 
-std::string shipped_params_with_deadline(const fs::path& dir) {
+std::string shipped_params_with_deadline(const fs::path& dir, double deadline_s = kDeadlineS) {
   std::ifstream in(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/config/estimator.yaml");
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = std::regex_replace(ss.str(), std::regex("deadline_s: *[0-9.]+"),
-                                              "deadline_s: " + std::to_string(kDeadlineS));
+                                              "deadline_s: " + std::to_string(deadline_s));
   const fs::path p = dir / "estimator.yaml";
   std::ofstream(p) << text;
   return p.string();
@@ -243,6 +244,43 @@ TEST(SourceHealthOverDds, KilledEstimatorRaisesInTheRecommenderRestartedClearsCl
   const std::string log = recommender.output();
   EXPECT_NE(log.find("summary health sources=1 raised=1 cleared=1 active=0"), std::string::npos) << log;
   std::printf("recommender: health alarm %.2f s after the estimator was killed (deadline %.0f s)\n", after_s, kDeadlineS);
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}
+
+TEST(SourceHealthOverDds, WithoutDeadlineAKilledReplayIsALostWriterWhenItsLeaseExpires) {
+  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
+  const fs::path work = fs::temp_directory_path() / ("causal_it_health_lost_" + std::to_string(getpid()));
+  fs::remove_all(work);
+  fs::create_directories(work);
+  const std::string d = std::to_string(150 + static_cast<int>((static_cast<unsigned>(getpid()) * 11u + 5u) % 50u));
+  DdsObserver observer(std::stoi(d));
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", shipped_params_with_deadline(work, 0.0),
+                            "--max-runtime", "120"},
+                           (work / "estimator.log").string());
+  ServiceProcess replay("sensor-replay",
+                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
+                         "--feature-name", "meanabs", "--asset-group", kGroup, "--channel-names", "bearing1",
+                         "bearing2", "bearing3", "bearing4", "--speed", "600", "--max-snapshots", "60", "--wait-for",
+                         "causal-estimator", "--wait-timeout", "60"},
+                        (work / "replay.log").string());
+  ASSERT_TRUE(wait_for_text(estimator, "new asset group 'health-it'", std::chrono::seconds(60))) << estimator.output();
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  const auto killed_at = Clock::now();
+  EXPECT_EQ(replay.kill_hard(), 128 + 9);
+  const auto raised_seen = wait_for_health(observer, 1, std::chrono::seconds(30));
+  ASSERT_TRUE(raised_seen.has_value()) << estimator.output();
+  const double after_s = std::chrono::duration<double>(*raised_seen - killed_at).count();
+  // Not before the lease (5 s, localhost.xml) can have expired, and within one more lease period.
+  EXPECT_GE(after_s, 4.5);
+  EXPECT_LE(after_s, 10.0) << "health alarm " << after_s << " s after the kill";
+  const auto alarms = health_alarms(observer);
+  ASSERT_EQ(alarms.size(), 1u);
+  EXPECT_EQ(alarms[0].state(), causal_twin::RAISED);
+  EXPECT_NE(alarms[0].reason().find("writer was lost"), std::string::npos) << alarms[0].reason();
+  estimator.terminate();
+  std::printf("lost writer seen %.2f s after the kill (lease 5 s)\n", after_s);
   if (!HasFailure()) fs::remove_all(work);
   causal::test::clean_stale_shared_memory();
 }

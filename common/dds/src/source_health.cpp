@@ -81,7 +81,7 @@ void SourceHealth::on_data(const std::string& source, std::uint64_t index, Clock
 void SourceHealth::on_ended(const std::string& source, Clock::time_point now, std::vector<HealthChange>& out) {
   Source& s = sources_[source];
   s.state = State::Ended;
-  clear(source, s, now, "ended cleanly (its writer disposed it)", out);
+  clear(source, s, now, "ended cleanly (its writer left)", out);
 }
 
 void SourceHealth::on_writer_lost(const std::string& source, Clock::time_point now, std::vector<HealthChange>& out) {

@@ -2,7 +2,7 @@
 // asset group's input stream), fed with what the DDS reader saw, checked against the clock. It decides when
 // a source is silent and when it is back; the service turns the changes into HEALTH alarms and log lines.
 //  * data arrived                 -> healthy; an open alarm clears;
-//  * the writer ended it cleanly  -> not a fault (the instance was disposed): no alarm, an open one clears;
+//  * the writer ended it cleanly  -> not a fault (its participant left cleanly): no alarm, an open one clears;
 //  * the writer was lost          -> alarm at once (NOT_ALIVE_NO_WRITERS: a killed or disconnected source);
 //  * no data for deadline_s       -> alarm, while the writer is still alive (a stalled source).
 // Standard library only, and the clock is passed in, so the logic is tested with a fake clock.
@@ -36,7 +36,7 @@ class SourceHealth {
   // Data of `source` arrived at `now`, with its source index when it has one.
   void on_data(const std::string& source, Clock::time_point now, std::vector<HealthChange>& out);
   void on_data(const std::string& source, std::uint64_t index, Clock::time_point now, std::vector<HealthChange>& out);
-  // The writer disposed the source's instance: the stream ended cleanly.
+  // The source ended cleanly (its writer left saying goodbye, or disposed the instance).
   void on_ended(const std::string& source, Clock::time_point now, std::vector<HealthChange>& out);
   // Every writer of the source left without ending it (killed, lease expired, disconnected).
   void on_writer_lost(const std::string& source, Clock::time_point now, std::vector<HealthChange>& out);

@@ -121,16 +121,6 @@ class TypedWriter {
     return writer_->wait_for_acknowledgments(d) == ReturnCode_t::RETCODE_OK;
   }
 
-  // Ends the instance of `key_sample` (its key fields) cleanly: readers see NOT_ALIVE_DISPOSED, so a source
-  // that is done is told apart from one that was lost (NOT_ALIVE_NO_WRITERS). Call it after the instance's
-  // last write. False (and last_error) when the writer refused.
-  bool dispose(Sample& key_sample) {
-    const ReturnCode_t rc = writer_->dispose(&key_sample, eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
-    if (rc == ReturnCode_t::RETCODE_OK) return true;
-    last_error_ = rc();
-    return false;
-  }
-
   eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
   // DDS return code of the last failed write attempt (ReturnCode_t value), for diagnostics.
   int last_error() const { return last_error_; }
