@@ -117,11 +117,11 @@ kill "$tail_pid" 2>/dev/null || true; wait "$tail_pid" 2>/dev/null || true; tail
 
 echo
 echo "=== delivery summary (per topic, from each service's own counters) ==="
-printf '%-34s %-18s %s\n' "topic" "service" "counts"
+printf '%-36s %-18s %s\n' "topic" "service" "counts"
 for n in sensor-replay causal-estimator alarm-recommender causal-recorder; do
   [ -s "$logs/$n.log" ] || continue
-  grep -o 'summary topic=.*' "$logs/$n.log" | while read -r _ topic rest; do
-    printf '%-34s %-18s %s\n' "${topic#topic=}" "$n" "$rest"
+  { grep -o 'summary topic=.*' "$logs/$n.log" || true; } | while read -r _ topic rest; do
+    printf '%-36s %-18s %s\n' "${topic#topic=}" "$n" "$rest"
   done
 done
 for n in sensor-replay causal-estimator alarm-recommender causal-recorder; do

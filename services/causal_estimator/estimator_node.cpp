@@ -6,6 +6,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cstring>
+#include <stdexcept>
+
 namespace causal::estimator {
 
 std::uint64_t shard_hash(const std::string& asset_group) {
@@ -31,6 +34,35 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
+  if (options_.standby) {
+    standing_by_ = true;
+    primary_progress_ = std::make_unique<dds::TypedReader<causal_twin::ConditionVectorPubSubType>>(
+        participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader);
+  }
+}
+
+void EstimatorNode::watch_primary() {
+  if (!standing_by_) return;
+  const auto own = conditions_out_.get()->guid();
+  primary_progress_->take_all([&](const causal_twin::ConditionVector& c, const auto& info) {
+    if (info.sample_identity.writer_guid() != own) standby_.primary_published(c.asset_group(), c.snapshot_index());
+  });
+  const auto now = std::chrono::steady_clock::now();
+  if (participant_.directory().writers_named(dds::topics::kConditionVector, "causal-estimator") > 0) {
+    primary_seen_ = now;
+    return;
+  }
+  if (std::chrono::duration<double>(now - primary_seen_).count() < options_.takeover_after_s) return;
+  // The primary is gone: publish what it may not have, then go on as the primary.
+  standing_by_ = false;
+  primary_progress_.reset();  // never read our own output
+  // From before the primary's last condition vector by the smoother's lag (its fixed-lag reports trail) + 2.
+  const auto margin = static_cast<std::uint64_t>(std::max(0, params_.condition_model.fixed_lag)) + 2;
+  auto items = standby_.take_over(margin);
+  spdlog::warn("no primary causal-estimator for {:.0f} s: taking over; {} retained messages published again from {} "
+               "snapshots before the primary's last one (readers drop what they have)",
+               options_.takeover_after_s, items.size(), margin);
+  for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), loop_.stop_flag());
 }
 
 bool EstimatorNode::mine(const std::string& asset_group) const {
@@ -45,7 +77,12 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
     it = assets_.emplace(asset_group, Asset(params_)).first;
     Asset& a = it->second;
     try {
-      if (store_.restore(asset_group, a.pipeline)) {
+      std::vector<std::string> resend;
+      if (store_.restore(asset_group, a.pipeline, resend)) {
+        resend_restored(asset_group, resend);
+        a.awaiting_continuation = true;
+        a.continuation_deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(
+                                                                          static_cast<long>(options_.resume_grace_s * 1000));
         const auto& last = a.pipeline.last_source_index();
         spdlog::info("asset group '{}' resumed from checkpoint {}: last snapshot {}, last sample {}", asset_group,
                      store_.path(asset_group), last.has_snapshot ? std::to_string(last.snapshot) : "none",
@@ -80,9 +117,12 @@ int EstimatorNode::run() {
     }
   }
   const dds::RunLimits limits{options_.idle_exit_s, options_.max_runtime_s};
+  primary_seen_ = std::chrono::steady_clock::now();
+  if (standing_by_) spdlog::info("hot standby: publishing nothing while a primary causal-estimator is alive");
   const auto end = loop_.run(
       limits,
       [this] {
+        watch_primary();
         // Samples without data are instance state changes: a source that ended (disposed) or was lost.
         const auto state = [this](const auto& info) {
           spdlog::debug("input instance state change: {}", static_cast<int>(info.instance_state));
@@ -132,6 +172,10 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
     a.last_sequence = frame.sequence_number();
     return;
   }
+  {
+    const auto& last = a.pipeline.last_source_index();
+    if (!continues(frame.asset_group(), a, !last.has_sample || frame.first_sample_index() == last.sample + 1)) return;
+  }
   // Sequence numbers run 0, 1, 2, ... per publisher; a jump means frames were lost on the way, a return to
   // 0 a restarted publisher (its first frame is flagged as a discontinuity anyway).
   bool gap = false;
@@ -168,8 +212,7 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
   ++a.frames;
   if (a.feature.empty()) a.feature = io::to_string(params_.condition.feature);
   publish_quality(frame.asset_group(), a, frame.snapshot_index(), frame.first_sample_time_ns(), frame.end_of_segment());
-  if (frame.end_of_segment()) checkpoint(frame.asset_group(), a);
-  publish(frame.asset_group(), a);
+  publish(frame.asset_group(), a, frame.end_of_segment());
 }
 
 void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
@@ -187,6 +230,10 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   if (a.pipeline.already_fed_condition(in.snapshot_index())) {
     ++a.skipped;
     return;
+  }
+  {
+    const auto& last = a.pipeline.last_source_index();
+    if (!continues(in.asset_group(), a, !last.has_snapshot || in.snapshot_index() == last.snapshot + 1)) return;
   }
   if (a.channel_names.empty()) {
     a.channel_names.assign(in.channel_names().begin(), in.channel_names().end());
@@ -218,8 +265,7 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   accepted.discontinuity = in.discontinuity();
   out_.conditions.insert(out_.conditions.begin(), std::move(accepted));
   publish_quality(in.asset_group(), a, in.snapshot_index(), in.time_ns(), true);
-  checkpoint(in.asset_group(), a);
-  publish(in.asset_group(), a);
+  publish(in.asset_group(), a, true);
 }
 
 void EstimatorNode::log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r) {
@@ -265,15 +311,49 @@ void EstimatorNode::log_structure(const std::string& name, const Asset& a, const
   if (!learned->problem.empty()) spdlog::warn("{} {}: {}", name, level, learned->problem);
 }
 
-void EstimatorNode::publish(const std::string& name, Asset& a) {
+namespace {
+
+// A message in its wire form (CDR, as Fast DDS-Gen's type support writes it), for the checkpoint's resend list.
+template <typename PubSubType>
+std::string to_bytes(const typename PubSubType::type& msg) {
+  PubSubType type;
+  auto* m = const_cast<typename PubSubType::type*>(&msg);
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(m)());
+  if (!type.serialize(m, &payload)) throw std::runtime_error("cannot serialize a message for the checkpoint");
+  return std::string(reinterpret_cast<const char*>(payload.data), payload.length);
+}
+
+template <typename PubSubType>
+bool from_bytes(const std::string& bytes, typename PubSubType::type& msg) {
+  PubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes.size()));
+  std::memcpy(payload.data, bytes.data(), bytes.size());
+  payload.length = static_cast<std::uint32_t>(bytes.size());
+  return type.deserialize(&payload, &msg);
+}
+
+}  // namespace
+
+void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snapshot) {
   const std::atomic<bool>& stop = loop_.stop_flag();
   using Class = dds::OutboundQueue::Class;
+  struct Item {
+    const char* stream;
+    Class cls;
+    dds::OutboundQueue::WriteFn write;
+  };
+  std::vector<Item> items;
+  std::vector<std::uint64_t> indices;  // the snapshot (or sample) index of every item
+  std::vector<std::string> resend;  // the snapshot's condition-level output, kept in its checkpoint
+  const bool keep = end_of_snapshot && store_.enabled();
   for (const auto& c : out_.conditions) {
     dds::ConditionHeader h{name, a.feature, c.snapshot_index, c.time_ns, a.channel_names, c.discontinuity};
     auto msg = std::make_shared<causal_twin::ConditionVector>();
     dds::to_condition_vector(h, c.values, *msg);
-    outbound_.push("condition_vector", Class::Essential,
-                   [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, stop);
+    if (keep) resend.push_back("C" + to_bytes<causal_twin::ConditionVectorPubSubType>(*msg));
+    items.push_back({"condition_vector", Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }});
+    indices.push_back(c.snapshot_index);
   }
   auto send = [&](const std::vector<pipeline::FactorReport>& reports, const pipeline::FactorStream* stream,
                   causal_twin::TimeScale scale, std::uint64_t& counter) {
@@ -283,17 +363,35 @@ void EstimatorNode::publish(const std::string& name, Asset& a) {
     for (const auto& r : reports) {
       auto msg = std::make_shared<causal_twin::CausalFactors>();
       dds::to_causal_factors(ctx, r, *msg);
+      if (keep && condition) resend.push_back("F" + to_bytes<causal_twin::CausalFactorsPubSubType>(*msg));
       // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
-      if (outbound_.push(condition ? "causal_factors/condition" : "causal_factors/sample",
-                         condition ? Class::Essential : Class::Droppable,
-                         [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, stop)) {
-        ++counter;
-      }
+      items.push_back({condition ? "causal_factors/condition" : "causal_factors/sample",
+                       condition ? Class::Essential : Class::Droppable,
+                       [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }});
+      indices.push_back(r.sample_index);
+      ++counter;
       if (condition && options_.verbose) log_condition_report(name, a, r);
     }
   };
   send(out_.sample_reports, a.pipeline.sample_stream(), causal_twin::SAMPLE_LEVEL, a.sample_msgs);
   send(out_.condition_reports, a.pipeline.condition_stream(), causal_twin::CONDITION_LEVEL, a.condition_msgs);
+  // The checkpoint comes before the output leaves: what a reader received is always covered by it, and the
+  // output that may not have left when the process died is in it, to send again.
+  if (end_of_snapshot) checkpoint(name, a, resend);
+  if (standing_by_) {
+    // Kept for a takeover: the condition-level output (essential), by the snapshot it refers to.
+    std::vector<StandbyBuffer::Item> kept;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (items[i].cls != Class::Essential) {
+        ++standby_unpublished_;
+        continue;
+      }
+      kept.push_back({items[i].stream, items[i].cls, std::move(items[i].write), indices[i]});
+    }
+    standby_.retain(name, std::move(kept));
+    return;
+  }
+  for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), stop);
   log_structure(name, a, "sample level", a.pipeline.sample_structure(), a.sample_structure_logged);
   log_structure(name, a, "condition level", a.pipeline.condition_structure(), a.condition_structure_logged);
   const auto* s = a.pipeline.sample_stream();
@@ -339,15 +437,61 @@ void EstimatorNode::publish_quality(const std::string& name, Asset& a, std::uint
     spdlog::log(alarm.state() == causal_twin::CLEARED ? spdlog::level::info : spdlog::level::warn,
                 "DATA QUALITY {} {}: {}", alarm.state() == causal_twin::CLEARED ? "CLEARED" : "RAISED", alarm.alarm_id(),
                 alarm.reason());
+    if (standing_by_) continue;  // the primary publishes them
     auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
     outbound_.push("alarm/data_quality", dds::OutboundQueue::Class::Essential,
                    [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
   }
 }
 
-void EstimatorNode::checkpoint(const std::string& name, Asset& a) {
-  // Before the snapshot's output is queued: whatever a reader receives is covered by the checkpoint.
-  if (!store_.save(name, a.pipeline)) {
+bool EstimatorNode::continues(const std::string& name, Asset& a, bool is_continuation) {
+  if (!a.awaiting_continuation) return true;
+  if (is_continuation) {
+    a.awaiting_continuation = false;
+    if (a.ahead_dropped > 0) {
+      spdlog::info("asset '{}': the source resent the continuation of the checkpoint ({} inputs ahead of it were "
+                   "held off and come again)", name, a.ahead_dropped);
+    }
+    return true;
+  }
+  if (std::chrono::steady_clock::now() < a.continuation_deadline) {
+    ++a.ahead_dropped;
+    return false;
+  }
+  a.awaiting_continuation = false;
+  spdlog::warn("asset '{}': the source did not resend the continuation of the checkpoint within {:.0f} s: going on "
+               "from what it sends now (the gap is counted as lost)", name, options_.resume_grace_s);
+  return true;
+}
+
+void EstimatorNode::resend_restored(const std::string& name, const std::vector<std::string>& resend) {
+  std::size_t sent = 0;
+  for (const auto& bytes : resend) {
+    if (bytes.empty()) continue;
+    const std::string body = bytes.substr(1);
+    if (bytes[0] == 'C') {
+      auto msg = std::make_shared<causal_twin::ConditionVector>();
+      if (!from_bytes<causal_twin::ConditionVectorPubSubType>(body, *msg)) continue;
+      outbound_.push("condition_vector", dds::OutboundQueue::Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, loop_.stop_flag());
+    } else if (bytes[0] == 'F') {
+      auto msg = std::make_shared<causal_twin::CausalFactors>();
+      if (!from_bytes<causal_twin::CausalFactorsPubSubType>(body, *msg)) continue;
+      outbound_.push("causal_factors/condition", dds::OutboundQueue::Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, loop_.stop_flag());
+    } else {
+      continue;
+    }
+    ++sent;
+  }
+  if (sent > 0) {
+    spdlog::info("asset '{}': the last checkpointed snapshot's {} output messages sent again (readers that have them "
+                 "drop them by index)", name, sent);
+  }
+}
+
+void EstimatorNode::checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend) {
+  if (!store_.save(name, a.pipeline, resend)) {
     spdlog::error("asset '{}': checkpoint not written ({}); a crash now would lose this asset group's state", name,
                   store_.last_error());
   }
@@ -359,6 +503,7 @@ void EstimatorNode::publish_health() {
     const bool cleared = alarm.state() == causal_twin::CLEARED;
     spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
                 alarm.alarm_id(), alarm.reason());
+    if (standing_by_) continue;  // the primary publishes them (as with the data-quality alarms)
     auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
     outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
                    [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
@@ -370,10 +515,10 @@ int EstimatorNode::finish_all() {
   for (auto& [name, a] : assets_) {
     if (!a.refused.empty()) continue;
     // Saved before finish(): a restart continues the streams as they were, not flushed.
-    checkpoint(name, a);
+    checkpoint(name, a, {});
     out_.clear();
     a.pipeline.finish(out_);
-    publish(name, a);
+    publish(name, a, false);
   }
   // Deliver what is queued, then wait for the readers' acknowledgements. After a stop (signal, max runtime)
   // the readers may be leaving too: wait briefly, so shutdown stays bounded.
@@ -425,6 +570,17 @@ int EstimatorNode::finish_all() {
   spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={}", frames + refused, lost,
                refused + invalid_msgs_ + rejected_no_instance_);
   spdlog::info("summary topic=causal_twin/condition_input received={}", conditions_received);
+  // Snapshots whose condition window was dropped (too few usable samples: a channel quarantined for the whole
+  // snapshot, a gap): stated here and in the data-quality alarms, never published as a vector.
+  std::uint64_t dropped_windows = 0;
+  for (const auto& [name, a] : assets_) {
+    if (a.pipeline.dropped_condition_windows() > 0) {
+      spdlog::warn("asset '{}': {} snapshots without a condition vector (too few usable samples in the window)", name,
+                   a.pipeline.dropped_condition_windows());
+    }
+    dropped_windows += a.pipeline.dropped_condition_windows();
+  }
+  spdlog::info("summary topic=causal_twin/condition_vector windows_dropped={}", dropped_windows);
   for (const auto& [stream, c] : streams) {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
   }
@@ -432,7 +588,12 @@ int EstimatorNode::finish_all() {
   spdlog::info("summary health sources={} raised={} cleared={} active={} deadline_s={}", h.sources(), h.raised(),
                h.cleared(), h.active_alarms(), h.deadline_s());
   spdlog::info("outbound queue high-water mark: {} of {} messages", outbound_.high_water(), options_.outbound_capacity);
-  return (lost + refused + invalid_msgs_ + rejected_no_instance_ + unpublished) > 0 ? 4 : 0;
+  if (options_.standby) {
+    spdlog::info("hot standby: {}; {} sample-level messages not kept while standing by, {} retained messages "
+                 "pushed out by newer ones", standing_by_ ? "never took over (the primary stayed)" : "took over",
+                 standby_unpublished_, standby_.discarded());
+  }
+  return (lost + refused + invalid_msgs_ + rejected_no_instance_ + unpublished + dropped_windows) > 0 ? 4 : 0;
 }
 
 }  // namespace causal::estimator

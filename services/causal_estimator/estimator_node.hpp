@@ -14,9 +14,11 @@
 #include "causal_twinPubSubTypes.h"
 #include "data_quality_alarms.hpp"
 #include "estimator_state_store.hpp"
+#include "standby_buffer.hpp"
 
 #include <chrono>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,6 +37,9 @@ struct EstimatorOptions {
   std::vector<std::string> wait_for;
   double wait_timeout_s = 30.0;
   std::size_t outbound_capacity = 65536;
+  double resume_grace_s = 10.0;
+  bool standby = false;          // hot standby: publish nothing while a primary estimator is alive (StandbyBuffer)
+  double takeover_after_s = 6.0; // the primary's absence (> its 5 s lease) after which the standby takes over  // after a restore: how long to wait for the source to resend the continuation
   bool verbose = false;
   double health_deadline_s = 30.0;  // estimator.yaml health.deadline_s (HealthWatch)
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
@@ -64,16 +69,28 @@ class EstimatorNode {
     std::string refused;                // why this asset group's input is refused (unusable checkpoint, a fault)
     std::uint64_t skipped = 0;          // input already processed before a restart (source index), skipped
     std::uint64_t refused_inputs = 0;   // input of a refused group
+    // After a restore from a checkpoint: input that does not continue where the checkpoint ends is held off
+    // (dropped, counted) until the continuation arrives or the grace period ends: a restarted estimator may
+    // receive a few snapshots of the live stream before its source has rewound to the checkpoint.
+    bool awaiting_continuation = false;
+    std::chrono::steady_clock::time_point continuation_deadline;
+    std::uint64_t ahead_dropped = 0;
   };
 
   bool mine(const std::string& asset_group) const;
   Asset& asset(const std::string& asset_group);
   void on_frame(const causal_twin::VibrationFrame& frame);
   void on_condition(const causal_twin::ConditionVector& in);
-  void publish(const std::string& name, Asset& a);
+  // Queues the output in out_; at the end of a snapshot, checkpoints first (state + the condition-level output).
+  void publish(const std::string& name, Asset& a, bool end_of_snapshot);
+  void resend_restored(const std::string& name, const std::vector<std::string>& resend);
   void publish_quality(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,
                        bool end_of_snapshot);
-  void checkpoint(const std::string& name, Asset& a);
+  void checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend);
+  // Standby: follows the primary's progress and takes over when it has been gone for takeover_after_s.
+  void watch_primary();
+  // False when the input is ahead of a restored checkpoint and the continuation is still awaited.
+  bool continues(const std::string& name, Asset& a, bool is_continuation);
   void publish_health();    // HEALTH alarms of silent or lost inputs (HealthWatch), raised and cleared
   void log_structure(const std::string& name, const Asset& a, const char* level,
                      const pipeline::LearnedStructure* learned, bool& logged) const;
@@ -95,6 +112,12 @@ class EstimatorNode {
   causal_twin::CausalFactors factor_msg_;
   causal_twin::ConditionVector condition_msg_;
   EstimatorStateStore store_;
+  // Hot standby (options_.standby): the primary's published output, read until the takeover.
+  std::unique_ptr<dds::TypedReader<causal_twin::ConditionVectorPubSubType>> primary_progress_;
+  StandbyBuffer standby_{65536};
+  bool standing_by_ = false;
+  std::chrono::steady_clock::time_point primary_seen_;
+  std::uint64_t standby_unpublished_ = 0;  // sample-level output not kept while standing by
   DataQualityAlarms quality_;
   dds::HealthWatch health_;
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;

@@ -22,19 +22,21 @@ std::string EstimatorStateStore::path(const std::string& asset_group) const {
   return (std::filesystem::path(dir_) / (io::safe_file_component(asset_group) + ".estimator.state")).string();
 }
 
-bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline) const {
+bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline,
+                                  std::vector<std::string>& resend) const {
   if (!enabled()) return false;
   const std::string file = path(asset_group);
   const auto payload = load_state_file(file);
   if (!payload) return false;
   try {
     StateReader r(*payload);
-    r.expect("estimator_asset", 1);
+    r.expect("estimator_asset", 2);
     const std::string saved_group = r.get<std::string>();
     if (saved_group != asset_group) {
       throw StateError("it belongs to asset group '" + saved_group + "'");
     }
     pipeline.restore(r);
+    r.read(resend);
   } catch (const StateError& e) {
     throw StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
                      " (move it away to start this asset group over)");
@@ -42,13 +44,15 @@ bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::Asse
   return true;
 }
 
-bool EstimatorStateStore::save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline) {
+bool EstimatorStateStore::save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
+                               const std::vector<std::string>& resend) {
   if (!enabled()) return true;
   try {
     StateWriter w;
-    w.begin("estimator_asset", 1);
+    w.begin("estimator_asset", 2);
     w.put(asset_group);
     pipeline.save(w);
+    w.put(resend);
     save_state_file(path(asset_group), w.bytes());
     ++saves_;
     return true;

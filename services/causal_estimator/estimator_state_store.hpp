@@ -1,10 +1,11 @@
 // Crash and restart safety of causal-estimator (--state-dir DIR): one checkpoint per asset group,
 // DIR/<asset group>.estimator.state, holding the whole AssetPipeline (filters, smoothers, calibration, learned
-// structure and centre, condition windows, the last source indices fed). Written after every completed
-// snapshot (a frame with end_of_segment, or a ready-made condition vector) and at exit, BEFORE that snapshot's
-// output is queued for DDS: whatever a reader received is covered by the checkpoint. At restart the pipeline is
-// restored and input it already processed (source index not after the last one fed) is skipped, so a replay
-// that resends from the start, or a transient-local history, is not processed twice.
+// structure and centre, condition windows, the last source indices fed) and the condition-level output of the
+// last snapshot (serialized DDS messages). Written after every completed snapshot (a frame with end_of_segment,
+// or a ready-made condition vector) and at exit, BEFORE that snapshot's output is queued for DDS. At restart the
+// pipeline is restored, the last snapshot's output is sent again (it may not have left the process; consumers
+// drop what they already have by index), and input already processed (source index not after the last one
+// fed) is skipped, so a source that resends is not processed twice.
 //
 // Files are written atomically (temporary file + rename): a kill -9 while saving leaves the previous one. Not
 // fsync'ed: survives a process crash, not a power loss.
@@ -14,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace causal::estimator {
 
@@ -27,9 +29,13 @@ class EstimatorStateStore {
   // Restores `pipeline` from the asset group's checkpoint. False when there is none (or no persistence).
   // Throws causal::StateError naming the file when one exists but cannot be used (damaged, other parameters,
   // other channel count): silently starting over would re-learn the baseline on whatever data comes now.
-  bool restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline) const;
-  // Saves; returns false (and counts it) when the file cannot be written, with the reason in last_error().
-  bool save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline);
+  // `resend` receives the saved output messages (opaque byte strings, see save()).
+  bool restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline,
+               std::vector<std::string>& resend) const;
+  // Saves the pipeline and `resend` (serialized messages to send again after a restart); returns false (and
+  // counts it) when the file cannot be written, with the reason in last_error().
+  bool save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
+            const std::vector<std::string>& resend);
 
   std::uint64_t saves() const { return saves_; }
   std::uint64_t failures() const { return failures_; }

@@ -32,6 +32,12 @@ int main(int argc, char** argv) {
                  "message is dropped (counted), condition-level output is never dropped (input waits instead)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_flag("--verbose", o.verbose, "log every condition-level factor vector");
+  app.add_flag("--standby", o.standby,
+               "hot standby: process the same input as the primary estimator but publish nothing while it is alive; "
+               "take over (publishing the recent output the primary may not have sent) once it has been gone for "
+               "--takeover-after seconds. Run the sources with --wait-for causal-estimator:2");
+  app.add_option("--takeover-after", o.takeover_after_s, "seconds without a primary before the standby takes over")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--state-dir", o.state_dir,
                  "checkpoint every asset group's state here after each snapshot and resume from it after a restart "
                  "(input already processed is skipped); empty = no checkpoints");

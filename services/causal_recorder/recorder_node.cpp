@@ -7,6 +7,8 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <algorithm>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -86,15 +88,32 @@ int RecorderNode::run() {
   // Samples already delivered to our readers (acknowledged to their writers) are recorded even when a
   // signal ended the loop: the writers consider them delivered.
   take_available();
-  finish();
-  return 0;
+  return finish();
 }
 
 std::size_t RecorderNode::take_available() {
-  return conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
-         factors_in_.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
-         alarms_in_.take_all([this](const auto& a, const auto&) { on_alarm(a); }) +
-         recommendations_in_.take_all([this](const auto& r, const auto&) { on_recommendation(r); });
+  // Alarms and recommendations: one instance per id, and a keyed reader hands out a batch instance by
+  // instance, not in publication order. Sorted back into publication order (writer, sequence number), the
+  // recording is the same on every run.
+  using Key = std::pair<std::string, std::uint64_t>;
+  auto key_of = [](const eprosima::fastdds::dds::SampleInfo& info) {
+    std::ostringstream w;
+    w << info.sample_identity.writer_guid();
+    return Key{w.str(), info.sample_identity.sequence_number().to64long()};
+  };
+  std::vector<std::pair<Key, causal_twin::Alarm>> alarms;
+  std::vector<std::pair<Key, causal_twin::Recommendation>> recs;
+  const std::size_t n = conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
+                        factors_in_.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
+                        alarms_in_.take_all([&](const auto& a, const auto& info) { alarms.emplace_back(key_of(info), a); }) +
+                        recommendations_in_.take_all(
+                            [&](const auto& r, const auto& info) { recs.emplace_back(key_of(info), r); });
+  auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
+  std::stable_sort(alarms.begin(), alarms.end(), by_key);
+  std::stable_sort(recs.begin(), recs.end(), by_key);
+  for (const auto& [k, a] : alarms) on_alarm(a);
+  for (const auto& [k, r] : recs) on_recommendation(r);
+  return n;
 }
 
 void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
@@ -197,7 +216,7 @@ void RecorderNode::flush_all() {
   recommendations_->flush();
 }
 
-void RecorderNode::finish() {
+int RecorderNode::finish() {
   for (auto& [key, t] : factor_tables_) {
     t.assembler.flush_pending();
     write_ready_rows(t);
@@ -211,8 +230,13 @@ void RecorderNode::finish() {
   for (const auto& [key, t] : factor_tables_) add(t.file_name, t.file ? t.file->rows_written() : 0);
   // Per topic: what came, what was written, what was dropped as already written or refused, and the
   // snapshot ranges never received (the source's index sequence has a gap there).
+  std::uint64_t lost_total = 0, refused_total = invalid_msgs_;
   for (const auto& [name, t] : conditions_) {
     const std::string lost = describe_missing(t.written.missing(), "snapshots");
+    lost_total += t.written.missing_count();
+    refused_total += t.counts.refused;
+    spdlog::info("summary topic=causal_twin/condition_vector file={} written={} duplicates={} lost={} refused={}", name,
+                 t.file->rows_written(), t.counts.duplicates, t.written.missing_count(), t.counts.refused);
     spdlog::log(lost.empty() && t.counts.refused == 0 ? spdlog::level::info : spdlog::level::warn,
                 "condition vectors {}: {}{}", name, describe(t.counts), lost.empty() ? "" : "; " + lost);
   }
@@ -222,9 +246,15 @@ void RecorderNode::finish() {
     std::string extra;
     if (c.rows_partial > 0) extra += " (" + std::to_string(c.rows_partial) + " partial rows: an outcome missing)";
     if (c.dropped_factors > 0) extra += "; " + std::to_string(c.dropped_factors) + " factor values without a column";
+    std::uint64_t missing = 0;
     for (const auto& stream : t.assembler.streams()) {
       if (const std::string lost = describe_missing(stream.missing, "snapshots"); !lost.empty()) extra += "; " + lost;
+      for (const auto& r : stream.missing) missing += r.last - r.first + 1;
     }
+    lost_total += missing;
+    refused_total += c.refused;
+    spdlog::info("summary topic=causal_twin/causal_factors file={} rows={} duplicates={} lost={} refused={}", t.file_name,
+                 t.file ? t.file->rows_written() : 0, c.duplicates, missing, c.refused);
     spdlog::log(extra.empty() && c.refused == 0 ? spdlog::level::info : spdlog::level::warn,
                 "causal factors {}: received {}, duplicates {}, refused {} messages; {} rows written{}", t.file_name,
                 c.messages + c.duplicates + c.refused, c.duplicates, c.refused,
@@ -240,6 +270,8 @@ void RecorderNode::finish() {
                  sample_level_skipped_);
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
+  // Exit code 4 when the recording has holes or refused messages: the operator must know it is incomplete.
+  return (lost_total + refused_total) > 0 ? 4 : 0;
 }
 
 }  // namespace causal::recorder

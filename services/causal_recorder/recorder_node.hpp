@@ -63,7 +63,7 @@ class RecorderNode {
   const std::string& file_asset(const std::string& asset_group);
   std::unique_ptr<report::CsvFile> open(const std::string& file_name, const std::vector<std::string>& header);
   void flush_all();
-  void finish();
+  int finish();  // writes what is pending, logs the summary; returns the exit code (4: holes or refusals)
 
   RecorderOptions options_;
   std::filesystem::path out_dir_;

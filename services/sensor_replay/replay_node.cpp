@@ -29,14 +29,44 @@ ReplayNode::ReplayNode(ReplayOptions options)
         participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameWriter);
   }
   for (const auto& spec : options_.wait_for) wanted_.push_back(dds::parse_named_readers(spec));
+  if (!wanted_.empty()) {
+    progress_ = std::make_unique<dds::TypedReader<causal_twin::ConditionVectorPubSubType>>(
+        participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader);
+  }
+}
+
+template <typename Writer>
+std::optional<std::size_t> ReplayNode::rewind_point(const Writer& writer, std::size_t first, std::size_t next) {
+  if (!progress_) return std::nullopt;
+  progress_->take_all([this](const causal_twin::ConditionVector& c, const auto&) {
+    if (c.asset_group() == options_.asset_group && (!published_ || c.snapshot_index() > *published_)) {
+      published_ = c.snapshot_index();
+    }
+  });
+  bool appeared = false;
+  for (const auto& w : wanted_) {
+    for (const auto& guid : writer.readers_named(w.name)) appeared = known_readers_.insert(guid).second || appeared;
+  }
+  const bool first_look = !readers_known_;
+  readers_known_ = true;
+  if (!appeared || first_look) return std::nullopt;
+  const std::size_t resume = published_ ? std::max<std::size_t>(first, static_cast<std::size_t>(*published_ + 1)) : first;
+  if (resume >= next) return std::nullopt;
+  ++rewinds_;
+  spdlog::warn("a new {} appeared (a restart?): resending from snapshot {} (the last one published for '{}' was {})",
+               fmt::join(options_.wait_for, "/"), resume, options_.asset_group,
+               published_ ? std::to_string(*published_) : "none");
+  return resume;
 }
 
 template <typename Writer>
 bool ReplayNode::readers_present(const Writer& writer, bool first) {
   const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
   const std::size_t want = static_cast<std::size_t>(options_.wait_subscribers);
-  bool missing = writer.matched_readers() < want;
-  for (const auto& w : wanted_) missing = missing || writer.matched_readers_named(w.name) < w.count;
+  // At the start every reader asked for must be there; later one of each name is enough (a hot-standby
+  // estimator carries on alone), and none of a name means pause until it is back (a restart).
+  bool missing = writer.matched_readers() < (first ? want : std::min<std::size_t>(want, 1));
+  for (const auto& w : wanted_) missing = missing || writer.matched_readers_named(w.name) < (first ? w.count : 1);
   if (!missing) return true;
   if (first) {
     spdlog::info("waiting up to {:.0f} s for {} reader(s){}{} on domain {}", options_.wait_timeout_s, want,
@@ -45,8 +75,12 @@ bool ReplayNode::readers_present(const Writer& writer, bool first) {
     spdlog::warn("a reader it waits for has gone ({}): pausing until it is back (up to {:.0f} s)",
                  fmt::join(options_.wait_for, ", "), options_.wait_timeout_s);
   }
-  const bool ok = writer.wait_for_readers(want, timeout, stop_) &&
-                  dds::wait_for_named_readers(writer, wanted_, timeout, stop_).empty();
+  std::vector<dds::NamedReaders> need = wanted_;
+  if (!first) {
+    for (auto& w : need) w.count = 1;
+  }
+  const bool ok = writer.wait_for_readers(first ? want : std::min<std::size_t>(want, 1), timeout, stop_) &&
+                  dds::wait_for_named_readers(writer, need, timeout, stop_).empty();
   if (!ok && !stop_.load()) {
     readers_missing_ = true;
     spdlog::error("the readers did not match within {:.0f} s: is causal-estimator running on domain {} with the same "
@@ -124,7 +158,14 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
   std::uint64_t frames_sent = 0, samples_sent = 0, snapshots_sent = 0;
   const double sample_period_ns = 1e9 / options_.sample_rate_hz;
 
+  std::vector<std::uint64_t> snapshot_start(last, 0);  // first sample index of every snapshot sent
   for (std::size_t i = first; i < last && !stop_.load(); ++i) {
+    if (!readers_present(*frames_, false)) return stop_.load() ? 0 : 3;
+    if (const auto resume = rewind_point(*frames_, first, i)) {
+      i = *resume;
+      header.first_sample_index = snapshot_start[i];
+    }
+    snapshot_start[i] = header.first_sample_index;
     const Snapshot snap = source.load(i);
     const Eigen::Index n = snap.samples.rows();
     header.source = snap.name;
@@ -134,7 +175,6 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
       header.discontinuity = (row == 0);  // every snapshot starts a new contiguous segment
       header.end_of_segment = (row + rows == n);
       if (!pace(header.first_sample_time_ns)) break;
-      if (row == 0 && !readers_present(*frames_, false)) return stop_.load() ? 0 : 3;
       header.snapshot_index = i;
       dds::to_frame(header, snap.samples, row, rows, frame);
       const auto result = frames_->write(frame, stop_);
@@ -162,7 +202,8 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
   }
   spdlog::info("published {} frames ({} samples per channel) in {:.2f} s{}", frames_sent, samples_sent,
                seconds_since(started_), stop_.load() ? " (stopped early)" : "");
-  spdlog::info("summary topic=causal_twin/vibration_frame sent={} snapshots={}", frames_sent, snapshots_sent);
+  spdlog::info("summary topic=causal_twin/vibration_frame sent={} snapshots={} rewinds={}", frames_sent, snapshots_sent,
+               rewinds_);
   return 0;
 }
 
@@ -182,11 +223,12 @@ int ReplayNode::run_features() {
   causal_twin::ConditionVector out;
   std::size_t sent = 0;
   for (std::size_t i = first; i < last && !stop_.load(); ++i) {
+    if (!readers_present(*conditions_, false)) return stop_.load() ? 0 : 3;
+    if (const auto resume = rewind_point(*conditions_, first, i)) i = *resume;
     header.snapshot_index = i;
     header.time_ns = table.time_ns[i];
     header.discontinuity = (i == first);
     if (!pace(header.time_ns)) break;
-    if (!readers_present(*conditions_, false)) return stop_.load() ? 0 : 3;
     dds::to_condition_vector(header, values.row(static_cast<Eigen::Index>(i)).transpose(), out);
     const auto result = conditions_->write(out, stop_);
     if (result == dds::WriteResult::Stopped) break;
@@ -203,7 +245,7 @@ int ReplayNode::run_features() {
   }
   spdlog::info("published {} condition vectors in {:.2f} s{}", sent, seconds_since(started_),
                stop_.load() ? " (stopped early)" : "");
-  spdlog::info("summary topic=causal_twin/condition_input sent={}", sent);
+  spdlog::info("summary topic=causal_twin/condition_input sent={} rewinds={}", sent, rewinds_);
   return 0;
 }
 

@@ -14,6 +14,8 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <set>
 
 namespace causal::replay {
 
@@ -32,12 +34,23 @@ class ReplayNode {
   // True when the readers asked for are matched (waiting, bounded, when they are not); false on stop/timeout.
   template <typename Writer>
   bool readers_present(const Writer& writer, bool first);
+  // Restart safety: when a new reader of a named participant appears after publishing began (an estimator
+  // that restarted), the snapshot to resume from: the one after the last snapshot the estimators published
+  // for this asset group (causal_twin/condition_vector), so nothing it received but had not processed is lost.
+  // The estimator skips what its checkpoint already holds. nullopt: carry on.
+  template <typename Writer>
+  std::optional<std::size_t> rewind_point(const Writer& writer, std::size_t first, std::size_t next);
 
   ReplayOptions options_;
   dds::Participant participant_;
   std::unique_ptr<dds::TypedWriter<causal_twin::VibrationFramePubSubType>> frames_;
   std::unique_ptr<dds::TypedWriter<causal_twin::ConditionVectorPubSubType>> conditions_;
   std::vector<dds::NamedReaders> wanted_;
+  std::unique_ptr<dds::TypedReader<causal_twin::ConditionVectorPubSubType>> progress_;  // the estimators' output
+  std::set<eprosima::fastrtps::rtps::GUID_t> known_readers_;
+  bool readers_known_ = false;
+  std::optional<std::uint64_t> published_;  // highest snapshot index the estimators published for this group
+  std::uint64_t rewinds_ = 0;
   bool readers_missing_ = false;  // set when a wait timed out (exit 3)
   std::atomic<bool> stop_{false};
   std::mutex mutex_;

@@ -61,13 +61,13 @@ TEST(AlarmRestart, KillNineResumesRepublishesAndNeverReusesIds) {
   auto first = recommender("alarm1.log", false);
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
-                            "--wait-subscribers", "1"},
+                            "--wait-for", "alarm-recommender"},
                            (work / "estimator.log").string());
   // 60 snapshots per second of wall clock: the kill lands mid-run, the run lasts ~20 s.
   ServiceProcess replay("sensor-replay",
                         {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
                          "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
-                         "--speed", "36000", "--wait-subscribers", "2", "--wait-timeout", "60"},
+                         "--speed", "36000", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
                         (work / "replay.log").string());
   ASSERT_TRUE(wait_for(*first, "ALARM raised", std::chrono::seconds(120))) << first->output();
   EXPECT_EQ(first->kill_hard(), 128 + 9);

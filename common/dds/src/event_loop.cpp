@@ -2,6 +2,7 @@
 
 #include <fastdds/dds/core/condition/StatusCondition.hpp>
 
+#include <algorithm>
 #include <thread>
 
 namespace causal::dds {
@@ -56,7 +57,8 @@ RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()
     });
   }
   auto last_data = started;
-  bool any_data = false;
+  auto sources_left = started;  // when the last source left (idle time counts from the later of the two)
+  bool any_data = false, had_sources = true;
   RunEnd end = RunEnd::Stopped;
   while (wait(std::chrono::milliseconds(200))) {
     const std::size_t n = poll();
@@ -65,8 +67,14 @@ RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()
       last_data = now;
       any_data = true;
     }
-    if (limits.idle_exit_s > 0 && any_data && sources() == 0 &&
-        std::chrono::duration<double>(now - last_data).count() > limits.idle_exit_s) {
+    const bool has_sources = sources() > 0;
+    if (had_sources && !has_sources) sources_left = now;
+    had_sources = has_sources;
+    // A process that was frozen (SIGSTOP) wakes up with old timestamps: it is not idle until its sources
+    // have been gone, and nothing has arrived, for the whole idle time.
+    const auto quiet_since = std::max(last_data, sources_left);
+    if (limits.idle_exit_s > 0 && any_data && !has_sources &&
+        std::chrono::duration<double>(now - quiet_since).count() > limits.idle_exit_s) {
       end = RunEnd::Idle;
       break;
     }

@@ -4,6 +4,7 @@
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
+#include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
 
 #include <stdexcept>
@@ -79,6 +80,28 @@ void ParticipantDirectory::departures_since(std::size_t& cursor, std::vector<Dep
   for (; cursor < departures_.size(); ++cursor) out.push_back(departures_[cursor]);
 }
 
+void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant*,
+                                                  eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) {
+  using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (info.status == Status::REMOVED_WRITER) {
+    writers_.erase(info.info.guid());
+  } else {
+    writers_[info.info.guid()] = info.info.topicName().to_string();
+  }
+}
+
+std::size_t ParticipantDirectory::writers_named(const std::string& topic, const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& [guid, t] : writers_) {
+    if (t != topic || guid.guidPrefix == local_) continue;
+    const auto it = names_.find(guid.guidPrefix);
+    if (it != names_.end() && it->second == name) ++n;
+  }
+  return n;
+}
+
 std::size_t ParticipantDirectory::readers_named(const std::string& topic, const std::string& name) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::size_t n = 0;
@@ -90,6 +113,18 @@ std::size_t ParticipantDirectory::readers_named(const std::string& topic, const 
   return n;
 }
 
+std::vector<eprosima::fastrtps::rtps::GUID_t> ParticipantDirectory::reader_guids_named(const std::string& topic,
+                                                                                     const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<eprosima::fastrtps::rtps::GUID_t> out;
+  for (const auto& [guid, t] : readers_) {
+    if (t != topic) continue;
+    const auto it = names_.find(guid.guidPrefix);
+    if (it != names_.end() && it->second == name) out.push_back(guid);
+  }
+  return out;
+}
+
 std::string ParticipantDirectory::name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = names_.find(prefix);
@@ -99,6 +134,7 @@ std::string ParticipantDirectory::name_of(const eprosima::fastrtps::rtps::GuidPr
 void ParticipantDirectory::set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name) {
   std::lock_guard<std::mutex> lock(mutex_);
   names_[prefix] = name;
+  local_ = prefix;
 }
 
 Participant::~Participant() {

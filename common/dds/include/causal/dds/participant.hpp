@@ -27,12 +27,19 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
   void on_subscriber_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
                                eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override;
+  void on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
+  // Writers of `topic` in OTHER participants named `name` that are alive.
+  std::size_t writers_named(const std::string& topic, const std::string& name) const;
   // Name of the participant with this GUID prefix ("" when unknown).
   std::string name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
   void set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name);
   // Remote readers of `topic` whose participant is named `name` and is alive (Fast DDS 2.9 does not
   // implement DataWriter::get_matched_subscriptions, so readers are tracked from discovery).
   std::size_t readers_named(const std::string& topic, const std::string& name) const;
+  // Their GUIDs (a restarted participant's readers have new ones).
+  std::vector<eprosima::fastrtps::rtps::GUID_t> reader_guids_named(const std::string& topic,
+                                                                   const std::string& name) const;
 
   // Remote participants that left, in order: `dropped` when their lease expired (killed, cut off: they never
   // said goodbye), not when they left cleanly (REMOVED_PARTICIPANT). Appends those after `cursor` to `out`
@@ -46,8 +53,10 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
  private:
   mutable std::mutex mutex_;
   std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> names_;
+  eprosima::fastrtps::rtps::GuidPrefix_t local_;
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> readers_;  // reader -> topic
   std::vector<Departure> departures_;  // a few bytes per departed participant
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::string> writers_;  // writer -> topic
 };
 
 struct DdsSettings {

@@ -100,6 +100,11 @@ class TypedWriter {
     return std::min(named, matched_readers());
   }
 
+  // The discovered readers of this writer's topic in participants named `name` (see ParticipantDirectory).
+  std::vector<eprosima::fastrtps::rtps::GUID_t> readers_named(const std::string& name) const {
+    return participant_.directory().reader_guids_named(writer_->get_topic()->get_name(), name);
+  }
+
   // Waits (bounded) until at least `count` readers of participants named `name` are matched. A reader of any
   // other participant (a recorder, a test observer) does not count: data must not start flowing before the
   // consumer that needs it is there. Returns false on timeout or stop.
