@@ -17,7 +17,7 @@ command -v tc >/dev/null || { echo "SKIP: tc (iproute2) not installed"; exit 77;
 ip netns exec "$ns_b" tc qdisc add dev "$veth_b" root tbf rate 4mbit burst 32kb latency 400ms \
   || { echo "SKIP: tc tbf is not available in this kernel"; exit 77; }
 
-domain=$(( 200 + tag % 30 ))
+domain=$(( 220 + tag % 4 ))  # fault tests own 200..231; this one 220..223
 common_a=(--domain "$domain" --dds-transport "$work/host_a.xml")
 common_b=(--domain "$domain" --dds-transport "$work/host_b.xml")
 ip netns exec "$ns_a" "$bin/causal_recorder/causal-recorder" "${common_a[@]}" --out "$work/rec" --sample-level \
