@@ -23,7 +23,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
       advisor_(params_.advice),
       store_(options_.state_dir),
-      health_(params_.health_deadline_s, "causal factors", "estimator") {
+      health_(params_.health_deadline_s, "causal factors", "estimator", {dds::topics::kCausalFactors}) {
   loop_.attach(factors_.get());
   loop_.attach(conditions_.get());
   loop_.attach(whatif_requests_.get());

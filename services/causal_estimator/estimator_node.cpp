@@ -30,7 +30,8 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter),
       quality_alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
       store_(options_.state_dir),
-      health_(options_.health_deadline_s, "frames/condition inputs", "source"),
+      health_(options_.health_deadline_s, "frames/condition inputs", "source",
+              {dds::topics::kVibrationFrame, dds::topics::kConditionInput}),
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());

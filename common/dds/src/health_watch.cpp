@@ -22,8 +22,8 @@ std::int64_t wall_ns() {
 
 }  // namespace
 
-HealthWatch::HealthWatch(double deadline_s, std::string what, std::string watched)
-    : health_(deadline_s), what_(std::move(what)), watched_(std::move(watched)) {}
+HealthWatch::HealthWatch(double deadline_s, std::string what, std::string watched, std::vector<std::string> topics)
+    : health_(deadline_s), what_(std::move(what)), watched_(std::move(watched)), topics_(std::move(topics)) {}
 
 void HealthWatch::on_sample(const std::string& source, std::uint64_t snapshot_index,
                             const eprosima::fastdds::dds::SampleInfo& info) {
@@ -60,10 +60,16 @@ void HealthWatch::check(const ParticipantDirectory& directory) {
   departures_.clear();
   directory.departures_since(departures_seen_, departures_);
   for (const auto& d : departures_) {
+    std::size_t others = 0;  // writers of our topics still alive (a restarted source, a standby)
+    if (d.dropped) {
+      for (const auto& t : topics_) others += directory.live_writers(t);
+    }
     for (const auto& [source, prefix] : writers_) {
       if (prefix != d.prefix) continue;
-      if (d.dropped) {
+      if (d.dropped && others == 0) {
         health_.on_writer_lost(source, now, changes_);
+      } else if (d.dropped) {
+        continue;  // another writer may carry on: the deadline decides
       } else {
         health_.on_ended(source, now, changes_);
       }

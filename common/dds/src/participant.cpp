@@ -91,6 +91,15 @@ void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::Domain
   }
 }
 
+std::size_t ParticipantDirectory::live_writers(const std::string& topic) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& [guid, t] : writers_) {
+    if (t == topic && guid.guidPrefix != local_ && names_.count(guid.guidPrefix) > 0) ++n;
+  }
+  return n;
+}
+
 std::size_t ParticipantDirectory::writers_named(const std::string& topic, const std::string& name) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::size_t n = 0;

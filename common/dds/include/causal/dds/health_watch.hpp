@@ -37,8 +37,10 @@ namespace causal::dds {
 class HealthWatch {
  public:
   // what: the watched input, for the reasons ("frames/condition inputs", "causal factors"); watched: the
-  // alarm id's part naming who is silent ("source", "estimator").
-  HealthWatch(double deadline_s, std::string what, std::string watched);
+  // alarm id's part naming who is silent ("source", "estimator"); topics: the topics read. A lost writer
+  // raises at once only when no other writer of these topics is alive; otherwise (a restarted source already
+  // back, a hot standby about to take over) the deadline decides, so a recovery within it raises nothing.
+  HealthWatch(double deadline_s, std::string what, std::string watched, std::vector<std::string> topics);
 
   // A valid sample of `source` (snapshot index of the source, when the sample has one).
   void on_sample(const std::string& source, std::uint64_t snapshot_index,
@@ -59,6 +61,7 @@ class HealthWatch {
 
   SourceHealth health_;
   std::string what_, watched_;
+  std::vector<std::string> topics_;
   std::map<std::array<unsigned char, 16>, std::string> sources_;  // instance handle -> source
   std::map<std::string, eprosima::fastrtps::rtps::GuidPrefix_t> writers_;  // source -> participant of its last sample
   std::size_t departures_seen_ = 0;

@@ -31,6 +31,9 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
                               eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
   // Writers of `topic` in OTHER participants named `name` that are alive.
   std::size_t writers_named(const std::string& topic, const std::string& name) const;
+  // Remote writers of `topic` in participants that are alive, whatever their name (a restarted source, a hot
+  // standby that may take over).
+  std::size_t live_writers(const std::string& topic) const;
   // Name of the participant with this GUID prefix ("" when unknown).
   std::string name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
   void set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name);
