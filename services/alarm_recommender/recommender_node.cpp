@@ -22,7 +22,8 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationWriter),
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
       advisor_(params_.advice),
-      store_(options_.state_dir) {
+      store_(options_.state_dir),
+      health_(params_.health_deadline_s, "causal factors", "estimator", {dds::topics::kCausalFactors}) {
   loop_.attach(factors_.get());
   loop_.attach(conditions_.get());
   loop_.attach(whatif_requests_.get());
@@ -41,7 +42,13 @@ int RecommenderNode::run() {
       ++conditions_received_;
       assembler_.add_condition(c.asset_group(), c.feature(), c.time_ns(), dds::values_of(c), ready);
     });
-    n += factors_.take_all([&](const causal_twin::CausalFactors& f, const auto&) {
+    n += factors_.take_all_and_states([&](const causal_twin::CausalFactors& f, const auto& info) {
+      // Condition-level factors carry the snapshot index (the health alarm's id names the last one).
+      if (f.time_scale() == causal_twin::CONDITION_LEVEL) {
+        health_.on_sample(f.asset_group(), f.sample_index(), info);
+      } else {
+        health_.on_sample(f.asset_group(), info);
+      }
       if (const auto problem = dds::validate_causal_factors(f); !problem.empty()) {
         ++invalid_msgs_;
         spdlog::warn("causal factors from '{}' refused: {}", f.asset_group(), problem);
@@ -49,8 +56,9 @@ int RecommenderNode::run() {
       }
       ++factors_received_;
       assembler_.add_factors(dds::from_causal_factors(f), ready);
-    });
+    }, [this](const auto& info) { health_.on_state(info); }, loop_.stop_flag());
     handle(ready);
+    publish_health();
     n += whatif_requests_.take_all([this](const causal_twin::WhatIfRequest& r, const auto&) { answer(r); });
     return n;
   };
@@ -92,9 +100,22 @@ int RecommenderNode::run() {
   spdlog::info("summary topic=causal_twin/causal_factors received={} rejected={}", factors_received_, invalid_msgs_);
   spdlog::info("summary topic=causal_twin/condition_vector received={}", conditions_received_);
   spdlog::info("summary topic=causal_twin/alarm sent={}", alarms_published_);
+  const auto& h = health_.health();
+  spdlog::info("summary health sources={} raised={} cleared={} active={} deadline_s={}", h.sources(), h.raised(),
+               h.cleared(), h.active_alarms(), h.deadline_s());
   spdlog::info("summary topic=causal_twin/recommendation sent={}", recommendations_published_);
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete()) > 0 ? 4 : 0;
+}
+
+void RecommenderNode::publish_health() {
+  health_.check(participant_.directory());
+  for (auto& alarm : health_.take_alarms()) {
+    const bool cleared = alarm.state() == causal_twin::CLEARED;
+    spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
+                alarm.alarm_id(), alarm.reason());
+    if (alarms_.write(alarm, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
+  }
 }
 
 void RecommenderNode::handle(std::vector<AssembledObservation>& ready) {

@@ -9,6 +9,7 @@
 
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/dds/event_loop.hpp"
+#include "causal/dds/health_watch.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
 #include "causal/dds/typed_endpoints.hpp"
@@ -47,6 +48,7 @@ class RecommenderNode {
   void publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e);
   void recommend(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e);
   void answer(const causal_twin::WhatIfRequest& request);
+  void publish_health();  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
 
   RecommenderOptions options_;
   RecommenderParams params_;
@@ -61,6 +63,7 @@ class RecommenderNode {
   ObservationAssembler assembler_;
   Advisor advisor_;
   AlarmStateStore store_;
+  dds::HealthWatch health_;
   std::map<std::pair<std::string, int>, EngineState> engines_;
   causal_twin::Alarm alarm_msg_;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;

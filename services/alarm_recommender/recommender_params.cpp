@@ -9,7 +9,7 @@ namespace causal::recommender {
 RecommenderParams load_recommender_params(const std::string& path) {
   using config::Section;
   const Section root = Section::load_file(path);
-  root.only({"condition_level", "sample_level", "recommendations"});
+  root.only({"condition_level", "sample_level", "recommendations", "health"});
   RecommenderParams r;
 
   const Section c = root.child("condition_level");
@@ -70,6 +70,12 @@ RecommenderParams load_recommender_params(const std::string& path) {
   if (r.advice.coverage >= 1.0) a.fail("coverage", "must be in (0, 1)");
   r.advice.draws = static_cast<int>(a.integer("draws", 10, 1000000));
   r.advice.model_log_features = a.boolean("model_log_features");
+
+  const Section h = root.child("health");
+  h.only({"deadline_s"});
+  r.health_deadline_s = h.non_negative("deadline_s");
+  // A deadline far beyond any plant cadence is a typo (e.g. milliseconds), not a choice: one day at most.
+  if (r.health_deadline_s > 86400.0) h.fail("deadline_s", "must be <= 86400 s (one day)");
   return r;
 }
 

@@ -15,6 +15,9 @@ struct RecommenderParams {
   bool sample_enabled = true;
   int sample_baseline_publications = 50;
   AdvisorParams advice;
+  // health.deadline_s: how long an asset group's causal factors may stay silent while the estimator is alive
+  // before a HEALTH alarm is raised (0 = no deadline; a lost estimator still raises one).
+  double health_deadline_s = 30.0;
 };
 
 // Throws causal::config::ConfigError naming the file and key (also for values AlarmParams::validate refuses).

@@ -30,6 +30,8 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter),
       quality_alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
       store_(options_.state_dir),
+      health_(options_.health_deadline_s, "frames/condition inputs", "source",
+              {dds::topics::kVibrationFrame, dds::topics::kConditionInput}),
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
@@ -122,10 +124,26 @@ int EstimatorNode::run() {
       limits,
       [this] {
         watch_primary();
+        // Samples without data are instance state changes: a source that ended (disposed) or was lost.
+        const auto state = [this](const auto& info) {
+          spdlog::debug("input instance state change: {}", static_cast<int>(info.instance_state));
+          health_.on_state(info);
+        };
         const std::size_t n =
-            frames_.take_all([this](const auto& f, const auto&) { on_frame(f); }, loop_.stop_flag()) +
-            conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }, loop_.stop_flag());
+            frames_.take_all_and_states(
+                [this](const auto& f, const auto& info) {
+                  if (mine(f.asset_group())) health_.on_sample(f.asset_group(), f.snapshot_index(), info);
+                  on_frame(f);
+                },
+                state, loop_.stop_flag()) +
+            conditions_in_.take_all_and_states(
+                [this](const auto& c, const auto& info) {
+                  if (mine(c.asset_group())) health_.on_sample(c.asset_group(), c.snapshot_index(), info);
+                  on_condition(c);
+                },
+                state, loop_.stop_flag());
         report_rejections();
+        publish_health();
         return n;
       },
       // Idle exit only once every source has left: a source that is merely blocked or paced must not end the run.
@@ -480,6 +498,19 @@ void EstimatorNode::checkpoint(const std::string& name, Asset& a, const std::vec
   }
 }
 
+void EstimatorNode::publish_health() {
+  health_.check(participant_.directory());
+  for (auto& alarm : health_.take_alarms()) {
+    const bool cleared = alarm.state() == causal_twin::CLEARED;
+    spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
+                alarm.alarm_id(), alarm.reason());
+    if (standing_by_) continue;  // the primary publishes them (as with the data-quality alarms)
+    auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
+    outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
+                   [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+  }
+}
+
 int EstimatorNode::finish_all() {
   report_rejections();
   for (auto& [name, a] : assets_) {
@@ -554,6 +585,9 @@ int EstimatorNode::finish_all() {
   for (const auto& [stream, c] : streams) {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
   }
+  const auto& h = health_.health();
+  spdlog::info("summary health sources={} raised={} cleared={} active={} deadline_s={}", h.sources(), h.raised(),
+               h.cleared(), h.active_alarms(), h.deadline_s());
   spdlog::info("outbound queue high-water mark: {} of {} messages", outbound_.high_water(), options_.outbound_capacity);
   if (options_.standby) {
     spdlog::info("hot standby: {}; {} sample-level messages not kept while standing by, {} retained messages "

@@ -5,6 +5,7 @@
 
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/health_watch.hpp"
 #include "causal/dds/outbound_queue.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
@@ -40,6 +41,7 @@ struct EstimatorOptions {
   bool standby = false;          // hot standby: publish nothing while a primary estimator is alive (StandbyBuffer)
   double takeover_after_s = 6.0; // the primary's absence (> its 5 s lease) after which the standby takes over  // after a restore: how long to wait for the source to resend the continuation
   bool verbose = false;
+  double health_deadline_s = 30.0;  // estimator.yaml health.deadline_s (HealthWatch)
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
 
@@ -89,6 +91,7 @@ class EstimatorNode {
   void watch_primary();
   // False when the input is ahead of a restored checkpoint and the continuation is still awaited.
   bool continues(const std::string& name, Asset& a, bool is_continuation);
+  void publish_health();    // HEALTH alarms of silent or lost inputs (HealthWatch), raised and cleared
   void log_structure(const std::string& name, const Asset& a, const char* level,
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
@@ -116,6 +119,7 @@ class EstimatorNode {
   std::chrono::steady_clock::time_point primary_seen_;
   std::uint64_t standby_unpublished_ = 0;  // sample-level output not kept while standing by
   DataQualityAlarms quality_;
+  dds::HealthWatch health_;
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
   std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits
   dds::OutboundQueue outbound_;  // last: its drain thread stops before the writers are destroyed

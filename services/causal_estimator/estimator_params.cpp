@@ -53,7 +53,7 @@ std::string graph_text(const Section& s) {
 
 pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
   const Section root = Section::load_file(path);
-  root.only({"sample_level", "condition_level"});
+  root.only({"sample_level", "condition_level", "health"});
   pipeline::AssetPipelineParams p;
 
   const Section sample = root.child("sample_level");
@@ -79,6 +79,18 @@ pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
   if (!p.sample_level && !p.condition_level) {
     root.fail("sample_level.enabled", "both time scales are disabled: nothing to estimate");
   }
+  return p;
+}
+
+EstimatorHealthParams load_estimator_health(const std::string& path) {
+  const Section root = Section::load_file(path);
+  root.only({"sample_level", "condition_level", "health"});
+  const Section h = root.child("health");
+  h.only({"deadline_s"});
+  EstimatorHealthParams p;
+  p.deadline_s = h.non_negative("deadline_s");
+  // A deadline far beyond any plant cadence is a typo (e.g. milliseconds), not a choice: one day at most.
+  if (p.deadline_s > 86400.0) h.fail("deadline_s", "must be <= 86400 s (one day)");
   return p;
 }
 

@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
   }
   return causal::dds::run_service(signals, "causal-estimator", o.dds.log_level, [&] {
     auto params = causal::estimator::load_estimator_params(o.params_file);
+    o.health_deadline_s = causal::estimator::load_estimator_health(o.params_file).deadline_s;
     return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(params));
   });
 }

@@ -11,6 +11,7 @@
 
 namespace {
 
+using causal::estimator::load_estimator_health;
 using causal::estimator::load_estimator_params;
 using causal::test::config_error;
 using causal::test::mutated_copy;
@@ -53,6 +54,7 @@ TEST(EstimatorParams, ShippedFileLoads) {
     EXPECT_DOUBLE_EQ(loaded.prune_threshold, node["prune_threshold"].as<double>());
   }
 
+  EXPECT_DOUBLE_EQ(load_estimator_health(kShipped).deadline_s, doc["health"]["deadline_s"].as<double>());
   // (Compared with the file itself, not with copied numbers: the shipped values may be retuned.)
 }
 
@@ -121,6 +123,12 @@ const Mutation kMutations[] = {
        d["condition_level"]["enabled"] = false;
      },
      "sample_level.enabled", "disabled"},
+    {"missing_health", [](YAML::Node& d) { d.remove("health"); }, "health", "missing"},
+    {"missing_deadline", [](YAML::Node& d) { d["health"].remove("deadline_s"); }, "health.deadline_s", "missing"},
+    {"deadline_negative", [](YAML::Node& d) { d["health"]["deadline_s"] = -1; }, "health.deadline_s", ">= 0"},
+    {"deadline_too_long", [](YAML::Node& d) { d["health"]["deadline_s"] = 30000000; }, "health.deadline_s",
+     "one day"},
+    {"unknown_health_key", [](YAML::Node& d) { d["health"]["lease_s"] = 5; }, "health.lease_s", "unknown key"},
 };
 
 class EstimatorParamsMutation : public ::testing::TestWithParam<Mutation> {};
@@ -128,7 +136,11 @@ class EstimatorParamsMutation : public ::testing::TestWithParam<Mutation> {};
 TEST_P(EstimatorParamsMutation, ThrowsConfigErrorNamingFileAndKey) {
   const Mutation& m = GetParam();
   const std::string path = mutated_copy(kShipped, std::string("est_") + m.name + ".yaml", m.apply);
-  const std::string msg = config_error([&] { load_estimator_params(path); });
+  // Both loaders of the file: the estimator's parameters and its health section.
+  const std::string msg = config_error([&] {
+    load_estimator_params(path);
+    load_estimator_health(path);
+  });
   EXPECT_HAS(msg, path + ": ");
   EXPECT_HAS(msg, std::string(": ") + m.key + ":");
   EXPECT_HAS(msg, m.problem);
@@ -151,6 +163,11 @@ TEST(EstimatorParams, EveryFeatureNameIsAccepted) {
                                        [f](YAML::Node& d) { d["condition_level"]["feature"] = f; });
     EXPECT_EQ(causal::io::to_string(load_estimator_params(p).condition.feature), f);
   }
+}
+
+TEST(EstimatorParams, ZeroDeadlineTurnsTheDeadlineOff) {
+  const std::string p = mutated_copy(kShipped, "est_deadline_off.yaml", [](YAML::Node& d) { d["health"]["deadline_s"] = 0; });
+  EXPECT_EQ(load_estimator_health(p).deadline_s, 0.0);
 }
 
 TEST(EstimatorParams, MissingFileIsAConfigError) {

@@ -60,6 +60,7 @@ TEST(RecommenderParams, ShippedFileLoads) {
   EXPECT_DOUBLE_EQ(r.advice.coverage, a["coverage"].as<double>());
   EXPECT_EQ(r.advice.draws, a["draws"].as<int>());
   EXPECT_EQ(r.advice.model_log_features, a["model_log_features"].as<bool>());
+  EXPECT_DOUBLE_EQ(r.health_deadline_s, doc["health"]["deadline_s"].as<double>());
 }
 
 // The advisor must model what the estimator models: the two shipped files agree.
@@ -127,6 +128,10 @@ const Mutation kMutations[] = {
      "baseline_observations", "must be in 8.."},
     {"probability_above_half", [](YAML::Node& d) { d["condition_level"]["nis_false_alarm_prob"] = 0.7; },
      "nis_false_alarm_prob", "inconsistent"},
+    {"missing_health", [](YAML::Node& d) { d.remove("health"); }, "health", "missing"},
+    {"deadline_negative", [](YAML::Node& d) { d["health"]["deadline_s"] = -5; }, "health.deadline_s", ">= 0"},
+    {"deadline_too_long", [](YAML::Node& d) { d["health"]["deadline_s"] = 1e9; }, "health.deadline_s", "one day"},
+    {"unknown_health_key", [](YAML::Node& d) { d["health"]["deadlin_s"] = 5; }, "health.deadlin_s", "unknown key"},
 };
 
 class RecommenderParamsMutation : public ::testing::TestWithParam<Mutation> {};

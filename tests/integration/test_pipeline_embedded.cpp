@@ -42,7 +42,8 @@ std::string write_estimator_params(const fs::path& dir) {
                       "  window_samples: 0\n  min_samples: 256\n  lag_order: 1\n  include_self_lags: true\n  instantaneous_graph: \"\"\n"
                       "  noise: {mode: fixed, q: 1.0e-4, r: 1.0e-2, p0: 1.0, calibration_samples: 100}\n"
                       "  structure: {calibration_samples: 0, centre: false, causal_order: configured, prune_threshold: 0.0}\n"
-                      "  publish_every: 1\n  fixed_lag: 2\n";
+                      "  publish_every: 1\n  fixed_lag: 2\n"
+                      "health:\n  deadline_s: 30\n";
   return p.string();
 }
 

@@ -74,7 +74,8 @@ std::string write_estimator_params(const fs::path& dir, const Scenario& sc) {
                       "  instantaneous_graph: \"" << sc.graph << "\"\n"
                       "  noise: {mode: fixed, q: 1.0e-4, r: 1.0e-2, p0: 1.0, calibration_samples: 100}\n"
                       "  structure: " << sc.structure << "\n"
-                      "  publish_every: 1\n  fixed_lag: 0\n";
+                      "  publish_every: 1\n  fixed_lag: 0\n"
+                      "health:\n  deadline_s: 30\n";
   return p.string();
 }
 

@@ -58,6 +58,9 @@ void ParticipantDirectory::on_participant_discovery(eprosima::fastdds::dds::Doma
     names_[prefix] = info.info.m_participantName.to_string();
   } else {
     names_.erase(prefix);  // REMOVED_PARTICIPANT, DROPPED_PARTICIPANT (lease expired), IGNORED_PARTICIPANT
+    if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+      departures_.push_back({prefix, info.status == Status::DROPPED_PARTICIPANT});
+    }
   }
 }
 
@@ -72,6 +75,11 @@ void ParticipantDirectory::on_subscriber_discovery(eprosima::fastdds::dds::Domai
   }
 }
 
+void ParticipantDirectory::departures_since(std::size_t& cursor, std::vector<Departure>& out) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (; cursor < departures_.size(); ++cursor) out.push_back(departures_[cursor]);
+}
+
 void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant*,
                                                   eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) {
   using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
@@ -81,6 +89,15 @@ void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::Domain
   } else {
     writers_[info.info.guid()] = info.info.topicName().to_string();
   }
+}
+
+std::size_t ParticipantDirectory::live_writers(const std::string& topic) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& [guid, t] : writers_) {
+    if (t == topic && guid.guidPrefix != local_ && names_.count(guid.guidPrefix) > 0) ++n;
+  }
+  return n;
 }
 
 std::size_t ParticipantDirectory::writers_named(const std::string& topic, const std::string& name) const {

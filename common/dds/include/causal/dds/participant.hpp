@@ -31,6 +31,9 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
                               eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
   // Writers of `topic` in OTHER participants named `name` that are alive.
   std::size_t writers_named(const std::string& topic, const std::string& name) const;
+  // Remote writers of `topic` in participants that are alive, whatever their name (a restarted source, a hot
+  // standby that may take over).
+  std::size_t live_writers(const std::string& topic) const;
   // Name of the participant with this GUID prefix ("" when unknown).
   std::string name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
   void set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name);
@@ -41,11 +44,21 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   std::vector<eprosima::fastrtps::rtps::GUID_t> reader_guids_named(const std::string& topic,
                                                                    const std::string& name) const;
 
+  // Remote participants that left, in order: `dropped` when their lease expired (killed, cut off: they never
+  // said goodbye), not when they left cleanly (REMOVED_PARTICIPANT). Appends those after `cursor` to `out`
+  // and moves the cursor (each consumer keeps its own).
+  struct Departure {
+    eprosima::fastrtps::rtps::GuidPrefix_t prefix;
+    bool dropped = false;
+  };
+  void departures_since(std::size_t& cursor, std::vector<Departure>& out) const;
+
  private:
   mutable std::mutex mutex_;
   std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> names_;
   eprosima::fastrtps::rtps::GuidPrefix_t local_;
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> readers_;  // reader -> topic
+  std::vector<Departure> departures_;  // a few bytes per departed participant
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> writers_;  // writer -> topic
 };
 

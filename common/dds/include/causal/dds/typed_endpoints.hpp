@@ -216,6 +216,23 @@ class TypedReader {
     return take_all(std::forward<Fn>(fn), &stop);
   }
 
+  // take_all, and the samples without data go to on_state(const SampleInfo&): an instance was disposed by its
+  // writer (NOT_ALIVE_DISPOSED) or lost every writer (NOT_ALIVE_NO_WRITERS). Returns the valid samples taken.
+  template <typename Fn, typename StateFn>
+  std::size_t take_all_and_states(Fn&& fn, StateFn&& on_state, const std::atomic<bool>& stop) {
+    std::size_t taken = 0;
+    eprosima::fastdds::dds::SampleInfo info;
+    while (!stop.load() && reader_->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) {
+        fn(static_cast<const Sample&>(sample_), static_cast<const eprosima::fastdds::dds::SampleInfo&>(info));
+        ++taken;
+      } else {
+        on_state(static_cast<const eprosima::fastdds::dds::SampleInfo&>(info));
+      }
+    }
+    return taken;
+  }
+
   // Samples the reader's resource limits refused (sample_rejected status, counted per sample by a listener),
   // so a refusal is never silent. For lack of room (max_samples, max_samples_per_instance; Fast DDS also counts
   // the writer's samples still missing before it against the per-instance room, so many interleaved instances
