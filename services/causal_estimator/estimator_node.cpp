@@ -498,7 +498,45 @@ void EstimatorNode::checkpoint(const std::string& name, Asset& a, const std::vec
   }
 }
 
+void EstimatorNode::watch_output() {
+  // A reader that does not acknowledge (frozen, or far behind) makes the drain thread wait; the filters go on
+  // (the outbound queue). Make it visible: a HEALTH alarm while a write has waited longer than stuck_after_s.
+  const double blocked = std::chrono::duration<double>(outbound_.blocked_for()).count();
+  if (!stuck_alarm_ && blocked > options_.stuck_after_s && !standing_by_) {
+    const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::system_clock::now().time_since_epoch()).count();
+    causal_twin::Alarm a;
+    a.alarm_id("causal-estimator/output/reader_not_keeping_up/t" + std::to_string(now_ns / 1000000000));
+    a.kind("reader_not_keeping_up");
+    a.category("health");
+    a.severity(causal_twin::WARNING);
+    a.state(causal_twin::RAISED);
+    a.raised_time_ns(now_ns);
+    a.score(blocked);
+    a.threshold(options_.stuck_after_s);
+    a.reason(fmt::format("a reader of the estimator's output has not acknowledged for {:.1f} s (readers: {}); its "
+                         "delivery waits, up to the reader's 5 s lease, the filters go on and {} messages are queued",
+                         blocked, fmt::join(participant_.directory().reader_names(dds::topics::kCausalFactors), ", "),
+                         outbound_.size()));
+    stuck_alarm_ = a;
+  } else if (stuck_alarm_ && blocked == 0.0) {
+    stuck_alarm_->state(causal_twin::CLEARED);
+    stuck_alarm_->cleared_time_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                      std::chrono::system_clock::now().time_since_epoch()).count());
+    stuck_alarm_->reason("every reader acknowledges again");
+  } else {
+    return;
+  }
+  const bool cleared = stuck_alarm_->state() == causal_twin::CLEARED;
+  spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
+              stuck_alarm_->alarm_id(), stuck_alarm_->reason());
+  // Written directly, not through the (blocked) queue: the alarm writer keeps the last value per id and never waits.
+  quality_alarms_.write(*stuck_alarm_, loop_.stop_flag());
+  if (cleared) stuck_alarm_.reset();
+}
+
 void EstimatorNode::publish_health() {
+  watch_output();
   health_.check(participant_.directory());
   for (auto& alarm : health_.take_alarms()) {
     const bool cleared = alarm.state() == causal_twin::CLEARED;

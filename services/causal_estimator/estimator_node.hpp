@@ -38,6 +38,7 @@ struct EstimatorOptions {
   double wait_timeout_s = 30.0;
   std::size_t outbound_capacity = 65536;
   double resume_grace_s = 10.0;
+  double stuck_after_s = 3.0;    // a write waiting this long on a reader raises a HEALTH alarm
   bool standby = false;          // hot standby: publish nothing while a primary estimator is alive (StandbyBuffer)
   double takeover_after_s = 6.0; // the primary's absence (> its 5 s lease) after which the standby takes over  // after a restore: how long to wait for the source to resend the continuation
   bool verbose = false;
@@ -91,7 +92,8 @@ class EstimatorNode {
   void watch_primary();
   // False when the input is ahead of a restored checkpoint and the continuation is still awaited.
   bool continues(const std::string& name, Asset& a, bool is_continuation);
-  void publish_health();    // HEALTH alarms of silent or lost inputs (HealthWatch), raised and cleared
+  void publish_health();
+  void watch_output();      // HEALTH alarm while a reader keeps the drain thread waiting (stuck_after_s)    // HEALTH alarms of silent or lost inputs (HealthWatch), raised and cleared
   void log_structure(const std::string& name, const Asset& a, const char* level,
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
@@ -117,7 +119,8 @@ class EstimatorNode {
   StandbyBuffer standby_{65536};
   bool standing_by_ = false;
   std::chrono::steady_clock::time_point primary_seen_;
-  std::uint64_t standby_unpublished_ = 0;  // sample-level output not kept while standing by
+  std::uint64_t standby_unpublished_ = 0;
+  std::optional<causal_twin::Alarm> stuck_alarm_;  // raised while a reader does not acknowledge  // sample-level output not kept while standing by
   DataQualityAlarms quality_;
   dds::HealthWatch health_;
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;

@@ -38,6 +38,10 @@ int main(int argc, char** argv) {
                "--takeover-after seconds. Run the sources with --wait-for causal-estimator:2");
   app.add_option("--takeover-after", o.takeover_after_s, "seconds without a primary before the standby takes over")
       ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--stuck-after", o.stuck_after_s,
+                 "raise a HEALTH alarm when a reader has kept an output write waiting this many seconds (cleared when "
+                 "it acknowledges again)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--state-dir", o.state_dir,
                  "checkpoint every asset group's state here after each snapshot and resume from it after a restart "
                  "(input already processed is skipped); empty = no checkpoints");

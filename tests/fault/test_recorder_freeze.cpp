@@ -216,6 +216,13 @@ TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
   EXPECT_EQ(summary_count(est_log, "causal_twin/condition_vector", "sent"), std::optional<std::uint64_t>(rows));
   const auto losses = nonzero_losses(est_log + alarm_log);
   EXPECT_TRUE(losses.empty()) << "a summary reports a loss: " << losses.front();
+  // The stuck reader was visible while it lasted: a HEALTH alarm raised by the estimator, and cleared.
+  const auto raised = est_log.find("HEALTH RAISED causal-estimator/output/reader_not_keeping_up");
+  EXPECT_NE(raised, std::string::npos) << "no HEALTH alarm for the frozen reader:\n" << est_log;
+  if (raised != std::string::npos) {
+    EXPECT_NE(est_log.find("HEALTH CLEARED causal-estimator/output/reader_not_keeping_up", raised), std::string::npos)
+        << est_log;
+  }
 
   // 5. The recorder states what it lost: rows written + snapshots named lost = 984, no row twice, and the
   // snapshots it names are exactly the ones missing from its file.

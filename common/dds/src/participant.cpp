@@ -7,6 +7,7 @@
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace causal::dds {
@@ -109,6 +110,18 @@ std::size_t ParticipantDirectory::writers_named(const std::string& topic, const 
     if (it != names_.end() && it->second == name) ++n;
   }
   return n;
+}
+
+std::vector<std::string> ParticipantDirectory::reader_names(const std::string& topic) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::string> out;
+  for (const auto& [guid, t] : readers_) {
+    if (t != topic) continue;
+    const auto it = names_.find(guid.guidPrefix);
+    if (it != names_.end()) out.push_back(it->second);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 std::size_t ParticipantDirectory::readers_named(const std::string& topic, const std::string& name) const {

@@ -29,6 +29,8 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
                                eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override;
   void on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
                               eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
+  // Participant names of the remote readers of `topic` (one entry per reader, sorted).
+  std::vector<std::string> reader_names(const std::string& topic) const;
   // Writers of `topic` in OTHER participants named `name` that are alive.
   std::size_t writers_named(const std::string& topic, const std::string& name) const;
   // Remote writers of `topic` in participants that are alive, whatever their name (a restarted source, a hot
