@@ -8,6 +8,8 @@
 // alarm is active or escalating, and after a clear.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -120,7 +122,9 @@ std::vector<AlarmEvent> run_with_cuts(const Stream& s, const std::set<std::size_
   auto reference = fresh(s);
   auto engine = fresh(s);
   std::vector<AlarmEvent> all;
-  const std::string file = ::testing::TempDir() + "alarm_engine_checkpoint_test.state";
+  // One file per process and test: ctest -j runs the tests of this binary side by side.
+  const std::string file = ::testing::TempDir() + "alarm_engine_checkpoint_" + std::to_string(::getpid()) + "_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".state";
   for (std::size_t t = 0; t < s.obs.size(); ++t) {
     if (cuts.count(t) > 0) {
       std::string bytes = checkpoint_of(engine);

@@ -24,8 +24,8 @@ namespace causal::test::delivery {
 
 namespace fs = std::filesystem;
 
-// 200..215: the range given to these tests (the other fault tests use 216..230, the integration tests
-// 100..199), so concurrent ctest runs do not hear each other; the pid keeps runs of this binary apart.
+// The fault tests' domain ids are 200..231, one fixed id per test (list in tests/fault/CMakeLists.txt), so
+// ctest -j never puts two tests on one domain; the integration tests use 100..199.
 inline int delivery_domain_id(int salt) {
   return 200 + salt;  // a fixed id per test: ctest -j runs tests side by side (see CMakeLists.txt)
 }

@@ -1,8 +1,9 @@
-// Helpers of the crash and isolation fault tests: a private domain id in 216..230, the services' command
+// Helpers of the crash and isolation fault tests: a private domain id (delivery_checks.hpp), the services' command
 // lines as deploy/launch.sh runs them, bounded waits, and readers of what causal-recorder wrote (its CSV files),
 // so a test compares recordings of real runs over DDS.
 #pragma once
 
+#include "delivery_checks.hpp"
 #include "process_runner.hpp"
 
 #include <unistd.h>
@@ -23,30 +24,15 @@ namespace causal::test::fault {
 
 namespace fs = std::filesystem;
 
-// 216..230: this suite's slice of the project's test range (150..230); 200..215 belongs to the other fault
-// tests. The pid keeps concurrent runs apart, the salt the runs inside one test.
-inline int domain_id(int salt) {
-  return 200 + salt;  // a fixed id per test: ctest -j runs tests side by side (see CMakeLists.txt)
-}
-
-inline fs::path work_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("causal_fault_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+inline int domain_id(int salt) { return delivery::delivery_domain_id(salt); }
+using delivery::work_dir;
 
 inline std::string feature_table() {
   return std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
 }
 inline std::string transport() { return std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"; }
 
-inline std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using delivery::read_text;
 
 // Bounded poll: true once `done` holds, false at the deadline.
 inline bool wait_until(const std::function<bool()>& done, std::chrono::seconds bound) {
