@@ -94,7 +94,7 @@ TEST(PipelineEmbedded, ThreeServicesReplayTheSliceAndRaiseTheBearingOneAlarm) {
                            (work / "estimator.log").string());
   ServiceProcess replay("sensor-replay",
                         {SENSOR_REPLAY_BIN, "--domain", d, "--ims-dir", slice, "--frame-samples",
-                         std::to_string(kFrameSamples), "--wait-for", "causal-estimator", "--wait-timeout", "60"},
+                         std::to_string(kFrameSamples), "--wait-for", "causal-estimator", "--wait-for", "test-observer", "--wait-timeout", "60"},
                         (work / "replay.log").string());
 
   const auto replay_code = replay.wait(std::chrono::seconds(180));
