@@ -222,9 +222,9 @@ TEST(ManyAssetGroups, ExactCountsFrom256GroupsThroughOneEstimator) {
 
 // SIGTERM to both while sensor-sim is still publishing and the estimator is busy: both exit cleanly (rc 0)
 // within 60 s, nothing is reported lost, and every factor message the estimator says it published arrived.
-// Both stop taking and print their summaries within 2 s of the signal; alone they are gone 2.2-3.9 s after it.
-// With the 2-core machine loaded by another fault test, the Fast DDS teardown of 256 instances after both
-// stopped at once took up to 40 s (measured): an open problem, bounded here rather than hidden.
+// Both stop taking and print their summaries within 2 s of the signal and are usually gone within 0.4 s. Once,
+// on the loaded 2-core machine, the Fast DDS teardown after both stopped at once hung (one process was still
+// there 20 min later): run_service now bounds the teardown (kTeardownBound, 5 s), so the 60 s here is slack.
 TEST(ManyAssetGroups, SigtermWhileBusyEndsEveryProcessWithinAMinute) {
   const fs::path work = work_dir("sigterm");
   const std::string d = std::to_string(fault_domain_id(2));
