@@ -14,6 +14,7 @@ PACKAGES=(
   libyaml-cpp-dev                  # parameter files
   zlib1g-dev                       # gzip-compressed embedded snapshots
   gnuplot-nox                      # causal-report's plots
+  graphviz                         # causal-report's causal graph (dot places edge labels without overlap)
   iproute2                         # network-namespace tests (ip netns)
 )
 
