@@ -15,6 +15,8 @@ PACKAGES=(
   zlib1g-dev                       # gzip-compressed embedded snapshots
   gnuplot-nox                      # causal-report's plots
   graphviz                         # causal-report's causal graph (dot places edge labels without overlap)
+  libcpp-httplib-dev               # /metrics endpoints (HTTP server; Debian has no prometheus-cpp package)
+  prometheus curl                  # metrics test: a real Prometheus scrapes the running pipeline; promtool lints
   iproute2                         # network-namespace tests (ip netns)
 )
 
