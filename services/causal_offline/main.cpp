@@ -56,6 +56,10 @@ int main(int argc, char** argv) {
   bool raw_units = false;
   app.add_flag("--no-standardise", raw_units,
                "Estimate in the file's units (q, r, p0 too) instead of on robustly standardised channels");
+  app.add_option("--every", opt.every,
+                 "Write every K-th sample only (0, K, 2K, ...; the estimates are those of the full run): the "
+                 "factor output is K times smaller in memory and on disk")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_flag("--quiet", quiet, "No progress messages on stderr");
   try {
     app.parse(argc, argv);

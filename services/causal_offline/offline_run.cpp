@@ -95,6 +95,8 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
   sopt.auto_noise = options.auto_noise;
   sopt.calibration_samples = options.calibration_samples;
   sopt.tuning.p0 = options.noise.p0;
+  sopt.output.every = options.every;
+  sopt.output.innovations = false;  // not written: 2 G doubles per sample saved
   const StandardisedRun res = estimate_standardised(layout, y, {}, sopt, table.channel_names);
   switch (res.status) {
     case EstimationStatus::Ok: break;
@@ -104,8 +106,10 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
     default: throw BadInput(path + ": " + res.message);
   }
   if (options.standardise) {
-    log << "scales (robust, first " << (options.calibration_samples > 0 ? std::min<Eigen::Index>(options.calibration_samples, y.rows()) : y.rows())
-        << " rows; factors reported in the file's units):";
+    const Eigen::Index cal_rows = options.calibration_samples > 0
+                                      ? std::min<Eigen::Index>(options.calibration_samples, y.rows())
+                                      : y.rows();
+    log << "scales (robust, first " << cal_rows << " rows; factors reported in the file's units):";
     for (int j = 0; j < g; ++j) log << " " << table.channel_names[j] << "=" << res.scales.scale[j];
     log << "\n";
   }
@@ -125,8 +129,8 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
   for (const auto& nm : names) buf += ",sd_" + nm;
   buf += "\n";
   const Eigen::Index f = layout.total_factors();
-  for (Eigen::Index i = 0; i < y.rows(); ++i) {
-    buf += std::to_string(i);
+  for (Eigen::Index i = 0; i < run.estimates.rows(); ++i) {
+    buf += std::to_string(i * options.every);
     for (Eigen::Index c = 0; c < f; ++c) {
       buf += ',';
       put_number(buf, run.estimates(i, c));

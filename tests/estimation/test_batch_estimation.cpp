@@ -131,6 +131,12 @@ TEST(BatchEstimation, DecimatedOutputKeepsExactlyTheFullRunsRows) {
       }
     }
   }
+  // Without innovations: the same estimates, no per-sample innovation storage.
+  const EstimationRun lean = run_rts_smoother(layout, noise, data.sim.y, data.disc, BatchOutput{7, false});
+  EXPECT_EQ(lean.innovations.rows(), 0);
+  EXPECT_EQ(lean.innovation_variances.rows(), 0);
+  EXPECT_EQ(lean.estimates, dec[1].estimates);
+  EXPECT_EQ(lean.std_devs, dec[1].std_devs);
   EXPECT_THROW(run_filter(layout, noise, data.sim.y, data.disc, BatchOutput{0}), std::invalid_argument);
 }
 

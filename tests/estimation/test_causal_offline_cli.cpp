@@ -211,6 +211,24 @@ TEST_F(CausalOfflineCli, NonFiniteEstimateExitsNonZeroNamingFactorChannelAndRow)
   EXPECT_EQ(slurp(out).find("nan"), std::string::npos);
 }
 
+// --every K writes samples 0, K, 2K, ... with exactly the values of the full run.
+TEST_F(CausalOfflineCli, EveryKWritesTheFullRunsRows) {
+  ModelSpec spec;
+  spec.channels = 3;
+  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 301, 8);
+  const fs::path in = write("in.csv", channels_csv(sim.y));
+  const fs::path full = dir_ / "full.csv", dec = dir_ / "dec.csv";
+  ASSERT_EQ(run("\"" + in.string() + "\" -o \"" + full.string() + "\" --auto-noise").exit_code, 0);
+  const Result res = run("\"" + in.string() + "\" -o \"" + dec.string() + "\" --auto-noise --every 10");
+  ASSERT_EQ(res.exit_code, 0) << res.err;
+  const auto f = parse_csv(slurp(full)), d = parse_csv(slurp(dec));
+  ASSERT_EQ(f.size(), 302u);
+  ASSERT_EQ(d.size(), 32u);  // header + samples 0, 10, ..., 300
+  EXPECT_EQ(d[0], f[0]);
+  for (std::size_t i = 1; i < d.size(); ++i) EXPECT_EQ(d[i], f[1 + 10 * (i - 1)]) << i;
+  EXPECT_EQ(run("\"" + in.string() + "\" --every 0").exit_code, 2);
+}
+
 TEST_F(CausalOfflineCli, MalformedFilesExitWithCode2AndNameTheLine) {
   const fs::path text = write("text.csv", "a,b,c\n1,2,3\n1,oops,3\n");
   Result res = run("\"" + text.string() + "\"");

@@ -31,8 +31,9 @@ EstimationRun prepare(const SvarLayout& layout, const Eigen::MatrixXd& samples,
   const Eigen::Index rows = kept_rows(n, output.every);
   run.estimates.resize(rows, layout.total_factors());
   run.std_devs.resize(rows, layout.total_factors());
-  run.innovations = Eigen::MatrixXd::Constant(n, layout.channels(), kNaN);
-  run.innovation_variances = Eigen::MatrixXd::Constant(n, layout.channels(), kNaN);
+  const Eigen::Index innovation_rows = output.innovations ? n : 0;
+  run.innovations = Eigen::MatrixXd::Constant(innovation_rows, layout.channels(), kNaN);
+  run.innovation_variances = Eigen::MatrixXd::Constant(innovation_rows, layout.channels(), kNaN);
   for (SampleStatus s : run.status) {
     switch (s) {
       case SampleStatus::Updated: ++run.counters.updated; break;
@@ -49,7 +50,7 @@ void step(SvarKalmanFilter& f, const Eigen::MatrixXd& samples, const std::vector
   const int g = static_cast<int>(samples.cols());
   for (int j = 0; j < g; ++j) row[j] = samples(i, j);
   const SampleStatus st = f.step(row.data(), !discontinuity.empty() && discontinuity[i]);
-  if (run == nullptr || st != SampleStatus::Updated) return;
+  if (run == nullptr || st != SampleStatus::Updated || run->innovations.rows() == 0) return;
   for (int k = 0; k < g; ++k) {
     run->innovations(i, k) = f.last_innovation(k);
     run->innovation_variances(i, k) = f.last_innovation_variance(k);
@@ -201,7 +202,7 @@ EstimationRun run_fixed_lag_smoother(const SvarLayout& layout, const std::vector
     for (int j = 0; j < g; ++j) row[j] = samples(i, j);
     const bool disc = !discontinuity.empty() && discontinuity[i];
     if (auto out = smoother.step(row.data(), disc)) store(*out);
-    if (run.status[i] == SampleStatus::Updated) {
+    if (run.status[i] == SampleStatus::Updated && output.innovations) {
       for (int k = 0; k < g; ++k) {
         run.innovations(i, k) = smoother.filter().last_innovation(k);
         run.innovation_variances(i, k) = smoother.filter().last_innovation_variance(k);

@@ -202,9 +202,11 @@ StandardisedRun estimate_standardised(const SvarLayout& layout, const Eigen::Mat
 
   EstimationRun run;
   switch (options.estimator) {
-    case EstimatorKind::Filter: run = run_filter(layout, out.noise, z, discontinuity); break;
-    case EstimatorKind::FixedLag: run = run_fixed_lag_smoother(layout, out.noise, z, discontinuity, options.lag); break;
-    case EstimatorKind::Rts: run = run_rts_smoother(layout, out.noise, z, discontinuity); break;
+    case EstimatorKind::Filter: run = run_filter(layout, out.noise, z, discontinuity, options.output); break;
+    case EstimatorKind::FixedLag:
+      run = run_fixed_lag_smoother(layout, out.noise, z, discontinuity, options.lag, options.output);
+      break;
+    case EstimatorKind::Rts: run = run_rts_smoother(layout, out.noise, z, discontinuity, options.output); break;
   }
   to_user_units(layout, out.scales.scale, run);
 
@@ -227,11 +229,11 @@ StandardisedRun estimate_standardised(const SvarLayout& layout, const Eigen::Mat
     const FactorRef& ref = refs[bad_col];
     out.status = EstimationStatus::NonFiniteOutput;
     out.channel = ref.outcome;
-    out.row = bad_row;
+    out.row = bad_row * options.output.every;
     out.factor = names[bad_col];
     out.message = "factor " + out.factor + " (outcome " + channel_label(ref.outcome, channel_names) +
                   ", regressor " + channel_label(ref.regressor.channel, channel_names) + ") is not finite at row " +
-                  std::to_string(bad_row) + " (0-based data row): the estimate lost all precision";
+                  std::to_string(out.row) + " (0-based data row): the estimate lost all precision";
     return out;
   }
   out.run = std::move(run);

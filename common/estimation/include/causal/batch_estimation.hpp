@@ -13,7 +13,8 @@
 // its copy (kRtsBlock * sum_k (d_k^2 + d_k) doubles, lanes padded to 4), last block first, carrying the
 // smoothed state across blocks: O(N / kRtsBlock + kRtsBlock * d^2) instead of O(N d^2), for one extra forward
 // pass. Results are identical to smoothing from a full history. The outputs are 2 * F doubles per kept row
-// (BatchOutput::every decimates them) plus 2 * G doubles and a status per sample (innovations).
+// (BatchOutput::every decimates them) plus a status and, unless switched off, 2 * G doubles (innovations)
+// per sample.
 #pragma once
 
 #include <Eigen/Core>
@@ -31,14 +32,16 @@ constexpr Eigen::Index kRtsBlock = 2048;
 // Which estimates are kept. every = k keeps samples 0, k, 2k, ...: row i of estimates / std_devs is sample
 // i * k (ceil(N / k) rows). Decimation does not change any kept value, only what is stored.
 struct BatchOutput {
-  Eigen::Index every = 1;  // >= 1
+  Eigen::Index every = 1;    // >= 1
+  bool innovations = true;   // false: innovations / innovation_variances are left 0 x G (saves 2 G doubles
+                             // per sample when only the factors are wanted)
 };
 
 struct EstimationRun {                     // N samples, F = total_factors, G = channels
   Eigen::MatrixXd estimates;               // ceil(N / every) x F
   Eigen::MatrixXd std_devs;                // ceil(N / every) x F
-  Eigen::MatrixXd innovations;             // N x G (NaN where no update)
-  Eigen::MatrixXd innovation_variances;    // N x G (NaN where no update)
+  Eigen::MatrixXd innovations;             // N x G (NaN where no update); 0 x G if not wanted
+  Eigen::MatrixXd innovation_variances;    // N x G (NaN where no update); 0 x G if not wanted
   std::vector<SampleStatus> status;        // N
   FilterCounters counters;
   // Standard deviations (filtered or smoothed) reported as 0 because rounding left their variance <= 0

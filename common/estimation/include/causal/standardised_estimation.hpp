@@ -60,6 +60,7 @@ struct StandardisedOptions {
   bool auto_noise = false;           // tune q, r per outcome on the calibration window (p0 from tuning.p0)
   Eigen::Index calibration_samples = 0;  // first rows used for the scales and tuning; 0 = all
   NoiseTuningOptions tuning;
+  BatchOutput output;                // decimation of the stored estimates (the estimates are the full run's)
 };
 
 enum class EstimationStatus {
@@ -76,7 +77,7 @@ struct StandardisedRun {
   EstimationStatus status = EstimationStatus::Ok;
   std::string message;               // what went wrong, naming channel (1-based and by name) and row
   int channel = -1;                  // 0-based channel the status is about, -1 if none
-  Eigen::Index row = -1;             // 0-based row of a NonFiniteOutput
+  Eigen::Index row = -1;             // 0-based sample (data row) of a NonFiniteOutput
   std::string factor;                // factor name of a NonFiniteOutput
   ChannelScales scales;
   std::vector<NoiseParams> noise;    // per outcome, standardised units, as used
