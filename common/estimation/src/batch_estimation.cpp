@@ -52,8 +52,8 @@ void step(SvarKalmanFilter& f, const Eigen::MatrixXd& samples, const std::vector
   const SampleStatus st = f.step(row.data(), !discontinuity.empty() && discontinuity[i]);
   if (run == nullptr || st != SampleStatus::Updated || run->innovations.rows() == 0) return;
   for (int k = 0; k < g; ++k) {
-    run->innovations(i, k) = f.last_innovation(k);
-    run->innovation_variances(i, k) = f.last_innovation_variance(k);
+    run->innovations(i, k) = FilterAccess::e(f)[k];
+    run->innovation_variances(i, k) = FilterAccess::s(f)[k];
   }
 }
 
@@ -87,7 +87,10 @@ EstimationRun filter_pass(const SvarLayout& layout, const std::vector<NoiseParam
   const detail::LanePlan& plan = FilterAccess::plan(f);
   const std::size_t nx = plan.x_size;
   const Eigen::Index n = samples.rows();
-  const Eigen::Index block = std::min<Eigen::Index>(kRtsBlock, std::max<Eigen::Index>(n, 1));
+  // Outputs are column-major: writing one sample at a time would touch 2 F cache lines per sample, so a few
+  // samples are buffered (small enough to stay in L1) and then written column by column.
+  constexpr Eigen::Index kOutBlock = 64;
+  const Eigen::Index block = std::min<Eigen::Index>(kOutBlock, std::max<Eigen::Index>(n, 1));
   std::vector<double> row(samples.cols()), xbuf(static_cast<std::size_t>(block) * nx), sdbuf(xbuf.size());
   for (Eigen::Index lo = 0; lo < n; lo += block) {
     const Eigen::Index count = std::min(block, n - lo);
@@ -101,7 +104,7 @@ EstimationRun filter_pass(const SvarLayout& layout, const std::vector<NoiseParam
       double* sd = sdbuf.data() + t * nx;
       for (const detail::LaneGroup& grp : plan.groups) {
         for (int i = 0; i < grp.d; ++i) {
-          for (int w = 0; w < kLanes; ++w) {
+          for (int w = 0; w < grp.count; ++w) {
             const double v = p[grp.p_off + (static_cast<std::size_t>(i) * grp.d + i) * kLanes + w];
             // Rounding can leave a variance <= 0 after many updates of an ill-scaled outcome: report 0 and count
             // it (the caller decides what to say); a NaN stays NaN, visible to the caller's output check.

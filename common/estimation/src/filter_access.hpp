@@ -17,6 +17,9 @@ struct FilterAccess {
   // Lane-interleaved states / covariances of all groups (LaneGroup::x_off / p_off index into them).
   static const std::vector<double>& x(const SvarKalmanFilter& f) { return f.x_; }
   static const std::vector<double>& p(const SvarKalmanFilter& f) { return f.p_; }
+  // Innovations and their variances per outcome at the last Updated step.
+  static const std::vector<double>& e(const SvarKalmanFilter& f) { return f.e_; }
+  static const std::vector<double>& s(const SvarKalmanFilter& f) { return f.s_; }
   // Innovation and its variance of lane w of group gi at the last Updated step.
   static double lane_e(const SvarKalmanFilter& f, int gi, int w) { return f.e_lane_[gi * kLanes + w]; }
   static double lane_s(const SvarKalmanFilter& f, int gi, int w) { return f.s_lane_[gi * kLanes + w]; }
