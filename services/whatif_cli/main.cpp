@@ -102,7 +102,9 @@ int run_intervene(const Args& a, const causal::whatif::FittedModel& m) {
   const UncertaintyOptions opt = uncertainty_options(a);
   const UncertainEffect u = predict_intervention_with_uncertainty(*m.layout, m.posterior, q, opt);
   causal::whatif::print_intervention(std::cout, m, q, u, opt);
-  return u.point.status == AnalysisStatus::ok ? 0 : kExitNoAnswer;
+  const BoundedAnswer answer = answer_intervention(*m.layout, m.posterior, q, AnswerRule{}, opt);
+  causal::whatif::print_bounded_answer(std::cout, m, q, answer);
+  return answer.answered() ? 0 : kExitNoAnswer;
 }
 
 int run_counterfactual(const Args& a, const causal::whatif::FittedModel& m) {
@@ -129,6 +131,9 @@ int run_counterfactual(const Args& a, const causal::whatif::FittedModel& m) {
     std::cerr << "causal-whatif: no counterfactual: " << to_string(r.status) << ": " << r.message << "\n";
     return kExitNoAnswer;
   }
+  // Stability goes to stderr so a counterfactual CSV on stdout stays clean.
+  std::cerr << "counterfactual model: largest companion spectral radius over the window " << r.spectral_radius
+            << (r.spectral_radius >= 1.0 ? " (>= 1: the change grows over the window instead of settling)" : "") << "\n";
   // Back to original units; the held channel is written as the exact value asked for and the observed
   // columns straight from the file (no centering round trip).
   Eigen::MatrixXd cf_raw = r.counterfactual.rowwise() + m.center.transpose();

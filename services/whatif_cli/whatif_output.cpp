@@ -1,5 +1,7 @@
 #include "whatif_output.hpp"
 
+#include <causal/analysis/effect_units.hpp>
+
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
@@ -106,6 +108,21 @@ void print_intervention(std::ostream& out, const FittedModel& m, const analysis:
   if (impulse) out << "(an impulse leaves no steady-state change when the system is stable; 'cumulative' = sum over all samples)\n";
 }
 
+void print_bounded_answer(std::ostream& out, const FittedModel& m, const analysis::InterventionQuery& q,
+                          const analysis::BoundedAnswer& a) {
+  out << "\nanswer (" << analysis::to_string(a.kind) << "): " << a.reason << "\n";
+  if (!a.answered()) return;
+  const analysis::EffectUnits units{false, ""};  // the CSV's own units; percent of the last row's level
+  const Eigen::Index last = m.centered.rows() - 1;
+  for (int k = 0; k < static_cast<int>(m.names.size()); ++k) {
+    if (k == q.channel) continue;
+    const double level = m.centered(last, k) + m.center(k);
+    out << "  " << m.names[static_cast<std::size_t>(k)] << ": " << num(a.effect.median(k)) << " ["
+        << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k)) << "]; " << analysis::answer_line(a, k, level, units)
+        << "\n";
+  }
+}
+
 void write_counterfactual_csv(std::ostream& out, const std::vector<std::string>& names, int from,
                               const Eigen::MatrixXd& counterfactual, const Eigen::MatrixXd& observed) {
   out << "n";
@@ -123,7 +140,7 @@ void write_counterfactual_csv(std::ostream& out, const std::vector<std::string>&
 void print_recommendations(std::ostream& out, const FittedModel& m, int target,
                            const std::vector<analysis::Recommendation>& recs) {
   out << "\nrecommendations for " << m.names[static_cast<std::size_t>(target)]
-      << " (ranked by predicted steady-state change, largest reduction first):\n";
+      << " (ranked by the interval bound in the helpful direction: the reduction we are sure of first):\n";
   if (recs.empty()) {
     out << "  none: no other channel is above its baseline, so there is nothing to reduce.\n";
     return;
