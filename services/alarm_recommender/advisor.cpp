@@ -279,7 +279,7 @@ WhatIfAnswer Advisor::what_if(const std::string& asset_group, int channel, doubl
                 a.kind == analysis::AnswerKind::steady_state ? "at steady state"
                                                               : ("after " + std::to_string(a.horizon_snapshots) + " snapshots").c_str(),
                 sustained ? "" : ", in total", 100.0 * a.coverage,
-                a.kind == analysis::AnswerKind::steady_state ? "stable" : a.spectral_radius < 1.0 ? "near a unit root" : "past a unit root",
+                analysis::stability_words(a),
                 a.spectral_radius, a.unstable_draws, a.draws);
   ans.summary = head;
   ans.text = what + head;

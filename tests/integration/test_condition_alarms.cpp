@@ -97,7 +97,7 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
   question.sustained(true);
   const auto reply = observer.ask(question, std::chrono::seconds(20));
   ASSERT_TRUE(reply.has_value()) << "no what-if reply; alarm log:\n" << alarm.output();
-  std::printf("what-if [%s]: %s%s\n", reply->answer_kind().c_str(), reply->text().c_str(), reply->error().c_str());
+  std::printf("what-if [%s]: %s\n", reply->answer_kind().c_str(), (reply->ok() ? reply->text() : reply->error()).c_str());
   if (reply->ok()) {
     EXPECT_TRUE(reply->answer_kind() == "steady_state" || reply->answer_kind() == "horizon") << reply->answer_kind();
     EXPECT_TRUE(contains(reply->text(), "draws unstable")) << reply->text();

@@ -55,8 +55,9 @@ DrawEffect evaluate(const StructuralModel& model, const InterventionQuery& query
   const InterventionEffect e = predict_intervention(model, q);
   DrawEffect out;
   out.status = e.status;
-  // A model that does not settle on its own describes trending data: its steady state (even where the
-  // intervened system has one) extrapolates to a regime the data never showed, so the draw counts as unstable.
+  // A model that does not settle on its own describes trending data: a steady state of its intervened
+  // system extrapolates to a regime the data never showed (and on simulated explosive systems it was
+  // confidently wrong-signed), so the draw counts as unstable.
   if (out.status == AnalysisStatus::ok && !(own_radius(model) < 1.0 - 1e-9)) out.status = AnalysisStatus::unstable;
   out.immediate = e.immediate;
   if (query.kind == InterventionKind::sustained) {
@@ -119,7 +120,8 @@ BoundedAnswer answer_intervention(const SvarLayout& layout, const FactorPosterio
   const StructuralModel point_model = assemble_structural_model(layout, posterior.mean);
   const InterventionEffect point = predict_intervention(point_model, point_query);
   out.status = point.status;
-  out.spectral_radius = std::max(point.spectral_radius, own_radius(point_model));  // NaN stays NaN
+  // The larger of the model and the intervened system (NaN stays NaN: std::max keeps its first argument).
+  out.spectral_radius = std::max(point.spectral_radius, own_radius(point_model));
   if (point.status == AnalysisStatus::not_identifiable || point.status == AnalysisStatus::non_finite_input) {
     out.reason = std::string("no effect can be predicted: ") + point.message;
     return out;

@@ -44,6 +44,13 @@ std::string impossible_intervention(double delta, double current, const EffectUn
   return "";
 }
 
+const char* stability_words(const BoundedAnswer& a) {
+  if (a.kind == AnswerKind::steady_state) return "stable";
+  if (!(a.spectral_radius < 1.0)) return "past a unit root";
+  // A horizon answer below 0.95 is given because too many draws do not settle, not because of the estimate.
+  return a.spectral_radius >= 0.95 ? "near a unit root" : "not reliably stable";
+}
+
 std::string answer_line(const BoundedAnswer& answer, int channel, double current, const EffectUnits& units) {
   if (!answer.answered()) return "refused: " + answer.reason;
   const auto k = static_cast<Eigen::Index>(channel);
@@ -60,9 +67,7 @@ std::string answer_line(const BoundedAnswer& answer, int channel, double current
                          : "after " + std::to_string(answer.horizon_snapshots) + " snapshots: ";
   char buf[160];
   std::snprintf(buf, sizeof buf, " (%g %%), model %s rho=%.3f, %d/%d draws unstable", 100.0 * answer.coverage,
-                answer.kind == AnswerKind::steady_state ? "stable"
-                : answer.spectral_radius < 1.0      ? "near a unit root"
-                                                    : "past a unit root",
+                stability_words(answer),
                 answer.spectral_radius, answer.unstable_draws, answer.draws);
   line += percent_text(med) + " [" + bare(lo) + ", " + bare(hi) + "]" + buf;
   if (!units.log_level && answer.effect.lower(k) < -current) line += " (the level cannot fall below 0: -100 % is the floor)";

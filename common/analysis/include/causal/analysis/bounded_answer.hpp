@@ -9,8 +9,9 @@
 // The rule (documented in README "Prescriptive analytics"), with rho the companion spectral radius at the
 // posterior mean, the larger of the model as estimated and the system that runs after the intervention
 // (intervened for a sustained shift), and "unstable share" the share of ALL posterior draws where either
-// has rho >= 1 (a model that does not settle on its own describes trending data: a steady state of its
-// intervened system would extrapolate to a regime the data never showed):
+// has rho >= 1. Why the model itself too: a model that does not settle describes trending data, and a
+// steady state of its intervened system extrapolates to a regime the data never showed (on simulated
+// explosive systems such answers came out confidently wrong-signed):
 //   steady_state  rho <= max_stable_radius AND unstable share <= max_unstable_share: the long-run effect
 //                 (sustained: W3; impulse: cumulative W4) from the draws that settle; the unstable ones
 //                 are counted and reported with the answer.

@@ -34,6 +34,10 @@ std::string percent_text(double percent);
 // else the reason.
 std::string impossible_intervention(double delta, double current, const EffectUnits& units);
 
+// "stable" (steady-state answer), "near a unit root" (rho >= 0.95), "not reliably stable" (a horizon answer
+// because of the unstable draws), "past a unit root" (rho >= 1).
+const char* stability_words(const BoundedAnswer& answer);
+
 // The one line, e.g.
 //   "after 12 snapshots: -8.1 % [-12.0, -3.9] (90 %), model near a unit root rho=0.993, 37/400 draws unstable"
 //   "at steady state: -8.1 % [-12.0, -3.9] (90 %), model stable rho=0.93, 0/400 draws unstable"
