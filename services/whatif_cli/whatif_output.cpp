@@ -112,14 +112,17 @@ void print_bounded_answer(std::ostream& out, const FittedModel& m, const analysi
                           const analysis::BoundedAnswer& a) {
   out << "\nanswer (" << analysis::to_string(a.kind) << "): " << a.reason << "\n";
   if (!a.answered()) return;
-  const analysis::EffectUnits units{false, ""};  // the CSV's own units; percent of the last row's level
-  const Eigen::Index last = m.centered.rows() - 1;
+  // The CSV's own units (a raw column has no level to take a percent of: it may be centred or negative).
+  const std::string when = a.kind == analysis::AnswerKind::steady_state
+                               ? std::string("at steady state")
+                               : "after " + std::to_string(a.horizon_snapshots) + " samples";
+  char tail[160];
+  std::snprintf(tail, sizeof tail, " (%g %%), model %s rho=%.3f, %d/%d draws unstable", 100.0 * a.coverage,
+                analysis::stability_words(a), a.spectral_radius, a.unstable_draws, a.draws);
   for (int k = 0; k < static_cast<int>(m.names.size()); ++k) {
     if (k == q.channel) continue;
-    const double level = m.centered(last, k) + m.center(k);
-    out << "  " << m.names[static_cast<std::size_t>(k)] << ": " << num(a.effect.median(k)) << " ["
-        << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k)) << "]; " << analysis::answer_line(a, k, level, units)
-        << "\n";
+    out << "  " << m.names[static_cast<std::size_t>(k)] << " " << when << ": " << num(a.effect.median(k)) << " ["
+        << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k)) << "]" << tail << "\n";
   }
 }
 
