@@ -2,17 +2,24 @@
 #include "recommender_node.hpp"
 #include "recommender_params.hpp"
 
+#include "causal/config/config_search.hpp"
+
 #include <CLI/CLI.hpp>
+#include <stdexcept>
 #include <spdlog/spdlog.h>
 
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
   causal::recommender::RecommenderOptions o;
-  o.params_file = causal::dds::default_dds_dir() + "/../config/alarms.yaml";
+  // Flag, $CAUSAL_TWIN_CONFIG_DIR, /etc/causal-twin, <prefix>/share/causal-twin/config, build tree (in that order).
+  const causal::config::ConfigChoice params_choice =
+      causal::config::find_config_file("alarms.yaml", "", causal::config::ConfigKind::Parameters);
+  o.params_file = params_choice.path;
   CLI::App app{"alarm-recommender: learns each asset group's healthy baseline, raises explained alarms with their\n"
                "root cause from the causal factors and innovations, and publishes them."};
   causal::dds::add_common_options(app, o.dds);
-  app.add_option("--params", o.params_file, "YAML parameter file")->check(CLI::ExistingFile)->capture_default_str();
+  app.add_option("--params", o.params_file, "YAML parameter file; default: " + params_choice.describe("alarms.yaml"))
+      ->check(CLI::ExistingFile);
   app.add_option("--idle-exit", o.idle_exit_s, "exit once data has arrived, every publisher of factors/condition vectors has left, and nothing arrived for this many seconds (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
@@ -25,6 +32,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "alarm-recommender", o.dds, [&] {
+    if (o.params_file.empty()) throw std::invalid_argument(params_choice.describe("alarms.yaml") + ": give --params FILE");
     auto params = causal::recommender::load_recommender_params(o.params_file);
     return std::make_unique<causal::recommender::RecommenderNode>(std::move(o), std::move(params));
   });

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "alarm_pipeline.hpp"
+#include "causal/config/cli_conventions.hpp"
 #include "causal/alarms/statistics.hpp"
 #include "sample_level_demo.hpp"
 
@@ -78,15 +79,20 @@ int run_sample_level_mode(const std::string& dir, const SampleLevelOptions& so, 
 
 int main(int argc, char** argv) {
   CLI::App app{"Offline condition-level alarm evaluation: features -> causal Kalman filter -> alarm engine"};
+  causal::config::add_version_flag(app);
   std::string table, ims_dir, feature = "meanabs", group = "ims", trace_csv;
   PipelineOptions opt;
   bool no_tune = false, quiet = false, print_reasons = false;
   int check_channel = 0, check_by = -1, check_quiet_before = -1;  // check_channel 0 = no check
   auto* src = app.add_option_group("source", "where the condition features come from");
-  src->add_option("--features", table, "feature table CSV (derived_per_file_stats or merged_dataset style)");
+  src->add_option("--features", table,
+                  "feature table CSV (derived_per_file_stats or merged_dataset style, or a causal-recorder "
+                  "conditions_<group>_<feature>.csv; '-' = stdin)");
   src->add_option("--ims-dir", ims_dir, "raw IMS snapshot directory (features computed with causal_io)");
   src->require_option(1);
-  app.add_option("--feature", feature, "condition feature: rms, meanabs, kurtosis, peak ('' = merged_dataset columns)");
+  app.add_option("--feature-name,--feature", feature,
+                 "condition feature: rms, meanabs, kurtosis, peak ('' = merged_dataset columns)")
+      ->capture_default_str();
   app.add_option("--asset-group", group, "asset-group id used in alarm ids");
   app.add_option("--warmup", opt.params.warmup_observations, "observations ignored at the start")->capture_default_str();
   app.add_option("--baseline", opt.params.baseline_observations, "healthy baseline length in observations")->capture_default_str();

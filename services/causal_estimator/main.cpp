@@ -2,18 +2,25 @@
 #include "estimator_node.hpp"
 #include "estimator_params.hpp"
 
+#include "causal/config/config_search.hpp"
+
 #include <CLI/CLI.hpp>
+#include <stdexcept>
 #include <spdlog/spdlog.h>
 
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
   causal::estimator::EstimatorOptions o;
-  o.params_file = causal::dds::default_dds_dir() + "/../config/estimator.yaml";
+  // Flag, $CAUSAL_TWIN_CONFIG_DIR, /etc/causal-twin, <prefix>/share/causal-twin/config, build tree (in that order).
+  const causal::config::ConfigChoice params_choice =
+      causal::config::find_config_file("estimator.yaml", "", causal::config::ConfigKind::Parameters);
+  o.params_file = params_choice.path;
   CLI::App app{"causal-estimator: learns time-varying causal factors between the channels of each asset group\n"
                "(Kalman filter and fixed-lag smoother, sample level and condition level) and publishes them.\n"
                "Exit codes: 0 done, 2 invalid configuration, 3 named readers never matched, 4 data lost or refused."};
   causal::dds::add_common_options(app, o.dds);
-  app.add_option("--params", o.params_file, "YAML parameter file")->check(CLI::ExistingFile)->capture_default_str();
+  app.add_option("--params", o.params_file, "YAML parameter file; default: " + params_choice.describe("estimator.yaml"))
+      ->check(CLI::ExistingFile);
   app.add_option("--shard-index", o.shard_index, "this estimator's shard (0-based)")->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--shard-count", o.shard_count, "number of estimators sharing the asset groups")
@@ -51,6 +58,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   return causal::dds::run_service(signals, "causal-estimator", o.dds, [&] {
+    if (o.params_file.empty()) throw std::invalid_argument(params_choice.describe("estimator.yaml") + ": give --params FILE");
     auto params = causal::estimator::load_estimator_params(o.params_file);
     o.health_deadline_s = causal::estimator::load_estimator_health(o.params_file).deadline_s;
     return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(params));

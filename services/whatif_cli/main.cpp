@@ -9,6 +9,7 @@
 #include <causal/analysis/uncertainty.hpp>
 #include <causal/io/channel_csv.hpp>
 #include <causal/io/input_error.hpp>
+#include <causal/config/cli_conventions.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -23,8 +24,8 @@ constexpr int kExitNoAnswer = 3;  // model cannot answer: unstable / not identif
 
 const char* const kHelpFooter = R"(
 What it does
-  Reads the CSV (header of channel names; an optional first column n/index/time/timestamp/time_ns is not a
-  channel), subtracts each channel's calibration-window mean (--no-center to keep raw values), fits the
+  Reads the CSV (header of channel names; leading n/index/snapshot/time/timestamp/time_ns/time_utc columns
+  are not channels, so causal-recorder's conditions_<group>_<feature>.csv reads as it is; '-' = stdin), subtracts each channel's calibration-window mean (--no-center to keep raw values), fits the
   time-varying structural VAR
       y_k[n] = sum_{j!=k} x_kj y_j[n] + sum_l sum_j xL{l}_kj y_j[n-l] + e_k[n]   (j = k lags: --self-lags)
   with the per-outcome Kalman filter over ALL rows, and answers one question from the filtered factors.
@@ -39,14 +40,15 @@ Instantaneous links
   allowed links yourself; they must be acyclic (a cycle is reported and rejected).
 
 Modes (one at a time; without one, only the model summary is printed)
-  --intervene J --delta D          do(y_J := y_J + D) for ONE sample (impulse): change of every channel at
-                                   once, its cumulative sum over all later samples, and the interval.
-  --intervene J --delta D --sustained
-                                   the shift is held from now on: change at once and at steady state.
+  --intervene J --delta D          the shift is held from now on (sustained, the default, as in causal-ask):
+                                   change at once and at steady state.
+  --intervene J --delta D --impulse
+                                   do(y_J := y_J + D) for ONE sample: change of every channel at once, its
+                                   cumulative sum over all later samples, and the interval.
   --counterfactual --channel J --hold C --from N --to M
                                    what every channel would have been over rows N..M had y_J been C there
                                    (same noise as observed; the per-row filtered model, or the --at model
-                                   with --snapshot-model). CSV to --output or stdout.
+                                   with --snapshot-model). CSV to --out or stdout.
   --recommend --target K           rank "reduce channel j by --fraction of its excess over baseline" by the
                                    drop of K we are sure of (the interval bound), in plain sentences.
   Intervals come from the factor covariance of the filter at --at (Monte Carlo with a fixed seed, or the
@@ -74,7 +76,8 @@ struct Args {
   std::string interval = "mc";
   std::string intervene;
   double delta = 0.0;
-  bool sustained = false;
+  bool impulse = false;  // sustained by default, like causal-ask
+  bool sustained = false;  // accepted for old scripts: it is the default
   bool counterfactual = false;
   std::string channel;
   double hold = 0.0;
@@ -102,7 +105,7 @@ int run_intervene(const Args& a, const causal::whatif::FittedModel& m) {
   InterventionQuery q;
   q.channel = causal::whatif::resolve_channel(a.intervene, m.names);
   q.delta = a.delta;
-  q.kind = a.sustained ? InterventionKind::sustained : InterventionKind::impulse;
+  q.kind = a.impulse ? InterventionKind::impulse : InterventionKind::sustained;
   const UncertaintyOptions opt = uncertainty_options(a);
   const UncertainEffect u = predict_intervention_with_uncertainty(*m.layout, m.posterior, q, opt);
   causal::whatif::print_intervention(std::cout, m, q, u, opt);
@@ -147,9 +150,9 @@ int run_counterfactual(const Args& a, const causal::whatif::FittedModel& m) {
     causal::whatif::write_counterfactual_csv(std::cout, m.names, q.from, cf_raw, observed_raw);
   } else {
     std::ofstream file(a.output);
-    if (!file) throw std::invalid_argument("cannot write --output " + a.output);
+    if (!file) throw std::invalid_argument("cannot write --out " + a.output);
     causal::whatif::write_counterfactual_csv(file, m.names, q.from, cf_raw, observed_raw);
-    if (!file) throw std::invalid_argument("writing --output " + a.output + " failed");
+    if (!file) throw std::invalid_argument("writing --out " + a.output + " failed");
     std::cout << "counterfactual of rows " << q.from << ".." << q.to << " with " << m.names[static_cast<std::size_t>(j)]
               << " held at " << a.hold << " written to " << a.output << "\n";
   }
@@ -198,7 +201,11 @@ int main(int argc, char** argv) {
                "estimated on a channels CSV"};
   app.footer(kHelpFooter);
   Args a;
-  app.add_option("--csv", a.csv, "channels CSV (header row of names, one row per sample)")->required()->check(CLI::ExistingFile);
+  causal::config::add_version_flag(app);
+  app.add_option("--csv", a.csv,
+                 "channels CSV (header row of names, one row per sample; a causal-recorder conditions CSV; '-' = stdin)")
+      ->required()
+      ->check(CLI::ExistingFile | CLI::IsMember({"-"}));
   auto* g_model = "Model";
   app.add_option("--lag-order", a.model.lag_order, "lag order M")->default_val(1)->check(CLI::Range(1, 20))->group(g_model);
   app.add_flag("--self-lags", a.model.self_lags, "also regress each channel on its own past")->group(g_model);
@@ -223,7 +230,10 @@ int main(int argc, char** argv) {
   auto* intervene = app.add_option("--intervene", a.intervene, "channel to shift (name or 1-based index)")->group(g_what);
   auto* delta = app.add_option("--delta", a.delta, "size of the shift (negative = reduce)")->needs(intervene)->group(g_what);
   intervene->needs(delta);
-  app.add_flag("--sustained", a.sustained, "hold the shift from now on (default: one-sample impulse)")->needs(intervene)->group(g_what);
+  auto* impulse = app.add_flag("--impulse", a.impulse, "shift for one sample only (default: sustained, held from now "
+                               "on, the same default as causal-ask)")->needs(intervene)->group(g_what);
+  app.add_flag("--sustained", a.sustained, "hold the shift from now on (the default; kept for old scripts)")
+      ->needs(intervene)->excludes(impulse)->group(g_what);
 
   auto* g_cf = "Counterfactual";
   auto* cf = app.add_flag("--counterfactual", a.counterfactual, "compute a counterfactual series")->group(g_cf);
@@ -232,7 +242,7 @@ int main(int argc, char** argv) {
   auto* from = app.add_option("--from", a.from, "first row of the window (0-based, >= lag order)")->needs(cf)->group(g_cf);
   auto* to = app.add_option("--to", a.to, "last row of the window (0-based, inclusive)")->needs(cf)->group(g_cf);
   cf->needs(ch)->needs(hold)->needs(from)->needs(to);
-  app.add_option("--output", a.output, "write the counterfactual CSV here (default: stdout)")->needs(cf)->group(g_cf);
+  app.add_option("--out,--output", a.output, "write the counterfactual CSV here (default: stdout)")->needs(cf)->group(g_cf);
   app.add_flag("--snapshot-model", a.snapshot_model, "use the --at model for every row instead of each row's own")->needs(cf)->group(g_cf);
 
   auto* g_rec = "Recommendations";

@@ -98,10 +98,18 @@ std::vector<double> table_row(const std::string& out, const std::string& name) {
   return {};
 }
 
+// Sustained is the default (as in causal-ask); the CSV comes on standard input here ("--csv -").
 TEST(WhatifCli, SustainedShiftMatchesTrueSystem) {
   const Scenario& s = scenario();
-  const CliRun r = run_cli("--csv " + s.csv + " --self-lags --lingam --calibration 1000 --intervene 3 --delta -0.02 --sustained");
+  const std::string model = " --self-lags --lingam --calibration 1000 --intervene 3 --delta -0.02";
+  const CliRun r = run_cli("--csv -" + model + " < " + s.csv);
   ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("sustained from now on"), std::string::npos) << r.out;
+  const CliRun explicit_sustained = run_cli("--csv " + s.csv + model + " --sustained");
+  EXPECT_EQ(explicit_sustained.out, r.out);
+  const CliRun impulse = run_cli("--csv " + s.csv + model + " --impulse");
+  ASSERT_EQ(impulse.exit_code, 0) << impulse.out;
+  EXPECT_NE(impulse.out.find("for one sample (impulse)"), std::string::npos) << impulse.out;
   // The estimated order is printed with names and equals the true one.
   std::string order;
   for (std::size_t i = 0; i < s.truth.order.size(); ++i) order += (i ? " -> " : "") + kNames[s.truth.order[i]];
@@ -129,7 +137,7 @@ TEST(WhatifCli, CounterfactualWritesSeries) {
   const Scenario& s = scenario();
   const std::string out = s.dir + "/cf.csv";
   const CliRun r = run_cli("--csv " + s.csv + " --self-lags --lingam --calibration 1000 --counterfactual --channel \"bearing 3\" "
-                    "--hold 0.1 --from 2000 --to 2099 --output " + out);
+                    "--hold 0.1 --from 2000 --to 2099 --out " + out);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   // True counterfactual: the same noise with bearing 3 forced to 0 (= 0.1 - offset) over the window.
   Eigen::MatrixXd forced = no_force(3000, 4);
@@ -193,6 +201,9 @@ TEST(WhatifCli, ClearErrors) {
   r = run_cli("--help");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("VAR-LiNGAM"), std::string::npos);
+  r = run_cli("--version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out, std::string(CAUSAL_TWIN_VERSION) + "\n");
 }
 
 }  // namespace

@@ -193,3 +193,34 @@ TEST(ChannelCsv, WriteRejectsInconsistentTables) {
   t.channel_names = {"a", "b"};
   EXPECT_THROW(write_channel_csv(dir.file("no_such_dir/x.csv"), t), InputError);
 }
+
+// causal-recorder's conditions_<group>_<feature>.csv: snapshot,time_ns,time_utc are bookkeeping; the time
+// comes from time_ns exactly (the time_utc text is rounded to the second and must not win).
+TEST(ChannelCsv, ReadsRecorderConditionsFile) {
+  TempDir dir;
+  const std::string path = dir.write("conditions_g_meanabs.csv",
+                                     "snapshot,time_ns,time_utc,bearing1,bearing2\n"
+                                     "7,1076581959000000123,2004-02-12 10:32:39,0.5,-1.25\n"
+                                     "8,1076582559000000456,2004-02-12 10:42:39,0.75,2\n");
+  const ChannelTable t = read_channel_csv(path);
+  ASSERT_EQ(t.channel_names, (std::vector<std::string>{"bearing1", "bearing2"}));
+  ASSERT_EQ(t.time_ns, (std::vector<std::int64_t>{1076581959000000123LL, 1076582559000000456LL}));
+  ASSERT_EQ(t.values.rows(), 2);
+  EXPECT_EQ(t.values(0, 0), 0.5);
+  EXPECT_EQ(t.values(0, 1), -1.25);
+  EXPECT_EQ(t.values(1, 0), 0.75);
+  EXPECT_EQ(t.values(1, 1), 2.0);
+}
+
+// "-" is standard input: the same table as reading the file by name.
+TEST(ChannelCsv, ReadsStandardInput) {
+  TempDir dir;
+  const std::string path = dir.write("in.csv", "time_ns,a,b\n10,1,2\n20,3,4.5\n");
+  const ChannelTable by_name = read_channel_csv(path);
+  ASSERT_NE(std::freopen(path.c_str(), "r", stdin), nullptr);
+  const ChannelTable from_stdin = read_channel_csv("-");
+  EXPECT_EQ(from_stdin.channel_names, by_name.channel_names);
+  EXPECT_EQ(from_stdin.time_ns, (std::vector<std::int64_t>{10, 20}));
+  ASSERT_EQ(from_stdin.values.rows(), 2);
+  EXPECT_EQ(from_stdin.values(1, 1), 4.5);
+}

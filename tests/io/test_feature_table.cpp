@@ -148,3 +148,25 @@ TEST(FeatureTable, SharedTablesMatchReadme) {
   }
   check_real_tables(causal::io::test::shared_ims2());
 }
+
+// causal-recorder's conditions_<group>_<feature>.csv as a merged-style table (no suffix): the channels are
+// the columns after snapshot,time_ns,time_utc, the time is time_ns exactly; also from standard input.
+TEST(FeatureTable, ReadsRecorderConditionsFileAndStdin) {
+  TempDir dir;
+  const std::string path = dir.write("conditions_ims2-shaft1_meanabs.csv",
+                                     "snapshot,time_ns,time_utc,bearing1,bearing2,bearing3\n"
+                                     "0,1076581959000000000,2004-02-12 10:32:39,0.06,0.07,0.08\n"
+                                     "1,1076582559000000001,2004-02-12 10:42:39,0.16,0.17,0.18\n");
+  for (const std::string& source : {path, std::string("-")}) {
+    if (source == "-") {
+      ASSERT_NE(std::freopen(path.c_str(), "r", stdin), nullptr);
+    }
+    // The recorder's file holds one feature: a suffix (as causal-alarm-eval --feature-name meanabs gives) is moot.
+    const FeatureTable t = read_feature_table(source, "_meanabs");
+    ASSERT_EQ(t.channel_names, (std::vector<std::string>{"bearing1", "bearing2", "bearing3"})) << source;
+    ASSERT_EQ(t.time_ns, (std::vector<std::int64_t>{kRunStart, kRunStart + kTenMin + 1})) << source;
+    ASSERT_EQ(t.values.rows(), 2);
+    EXPECT_EQ(t.values(0, 0), 0.06);
+    EXPECT_EQ(t.values(1, 2), 0.18);
+  }
+}

@@ -28,8 +28,12 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
   }
   DomainParticipantQos qos;
   if (factory->get_participant_qos_from_profile(settings.participant_profile, qos) != ReturnCode_t::RETCODE_OK) {
-    throw std::runtime_error("DDS participant profile '" + settings.participant_profile +
-                             "' is not defined in the loaded XML files");
+    if (!settings.participant_profile_required) {
+      qos = factory->get_default_participant_qos();
+    } else {
+      throw std::runtime_error("DDS participant profile '" + settings.participant_profile +
+                               "' is not defined in the loaded XML files");
+    }
   }
   if (!settings.participant_name.empty()) qos.name(settings.participant_name);
   directory_ = std::make_unique<ParticipantDirectory>();

@@ -4,7 +4,11 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "causal/config/cli_conventions.hpp"
+#include "causal/config/config_search.hpp"
+
 #include <csignal>
+#include <filesystem>
 #include <cstdlib>
 #include <pthread.h>
 #include <stdexcept>
@@ -12,26 +16,32 @@
 namespace causal::dds {
 
 std::string default_dds_dir() {
-  if (const char* env = std::getenv("CAUSAL_TWIN_DDS_DIR"); env != nullptr && *env != '\0') return env;
-  return std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds";
+  const config::ConfigChoice qos = config::find_config_file("qos.xml", "", config::ConfigKind::Dds);
+  return qos.found() ? std::filesystem::path(qos.path).parent_path().string() : std::string();
 }
 
 void add_common_options(CLI::App& app, CommonOptions& options) {
-  const std::string dir = default_dds_dir();
-  if (options.qos_file.empty()) options.qos_file = dir + "/qos.xml";
-  if (options.transport_file.empty()) options.transport_file = dir + "/localhost.xml";
+  using config::ConfigKind;
+  using config::find_config_file;
+  const config::ConfigChoice qos = find_config_file("qos.xml", options.qos_file, ConfigKind::Dds);
+  const config::ConfigChoice transport = find_config_file("localhost.xml", options.transport_file, ConfigKind::Dds);
+  options.qos_file = qos.path;
+  options.transport_file = transport.path;
   app.add_option("--domain", options.domain_id, "DDS domain id (0..232); use a private one per plant cell or test")
       ->check(CLI::Range(0, 232))
       ->envname("CAUSAL_TWIN_DOMAIN_ID")
       ->capture_default_str();
-  app.add_option("--dds-qos", options.qos_file, "XML file with the topics' QoS profiles")
+  app.add_option("--qos,--dds-qos", options.qos_file,
+                 "XML file with the topics' QoS profiles; default: " + qos.describe("qos.xml"))
       ->check(CLI::ExistingFile)
-      ->capture_default_str();
-  app.add_option("--dds-transport", options.transport_file,
-                 "XML file with the participant/transport profile (loopback by default; deploy/dds/plant.xml "
-                 "is the template for a plant network)")
+      ->each([&options](const std::string&) { options.qos_from_flag = true; });
+  app.add_option("--transport,--dds-transport", options.transport_file,
+                 "XML file with the participant/transport profile (loopback by default; plant.xml is the template "
+                 "for a plant network, discovery_client.xml for a discovery server); default: " +
+                     transport.describe("localhost.xml") +
+                     "; without --transport and --qos, $FASTRTPS_DEFAULT_PROFILES_FILE replaces it when set")
       ->check(CLI::ExistingFile)
-      ->capture_default_str();
+      ->each([&options](const std::string&) { options.transport_from_flag = true; });
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error, critical or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
       ->capture_default_str();
@@ -41,12 +51,38 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
       ->capture_default_str();
   app.add_option("--metrics-bind", options.metrics_bind, "address the metrics endpoint listens on")
       ->capture_default_str();
-  app.set_version_flag("--version", std::string(CAUSAL_TWIN_VERSION));
+  config::add_version_flag(app);
+}
+
+ProfileFiles choose_profile_files(const CommonOptions& options, const char* default_profiles_env) {
+  ProfileFiles chosen;
+  chosen.files.push_back(options.qos_file);
+  const bool env_set = default_profiles_env != nullptr && *default_profiles_env != '\0';
+  if (env_set && !options.transport_from_flag && !options.qos_from_flag) {
+    // Like every Fast DDS application: the operator's default profiles file decides transport and discovery.
+    chosen.files.emplace_back(default_profiles_env);
+    chosen.from_environment = true;
+  } else {
+    chosen.files.push_back(options.transport_file);
+  }
+  return chosen;
 }
 
 DdsSettings to_dds_settings(const CommonOptions& options, const std::string& participant_name) {
+  if (options.qos_file.empty()) {
+    throw std::invalid_argument(config::find_config_file("qos.xml", "", config::ConfigKind::Dds).describe("qos.xml") +
+                                ": give --qos FILE or set CAUSAL_TWIN_DDS_DIR");
+  }
+  const ProfileFiles chosen = choose_profile_files(options, std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE"));
+  if (!chosen.from_environment && options.transport_file.empty()) {
+    throw std::invalid_argument(
+        config::find_config_file("localhost.xml", "", config::ConfigKind::Dds).describe("localhost.xml") +
+        ": give --transport FILE or set CAUSAL_TWIN_DDS_DIR");
+  }
   DdsSettings s;
-  s.profile_files = {options.qos_file, options.transport_file};
+  s.profile_files = chosen.files;
+  // A generic profiles file need not define our participant profile: its default participant profile is used.
+  s.participant_profile_required = !chosen.from_environment;
   s.domain_id = options.domain_id;
   s.participant_name = participant_name;
   return s;

@@ -18,10 +18,12 @@ namespace {
 
 enum class FirstColumn { Channel, Index, Time, TimeNs };
 
+// Bookkeeping columns before the channels. causal-recorder's conditions_<group>_<feature>.csv starts with
+// snapshot,time_ns,time_utc: all three are bookkeeping, so its files read as channel tables.
 FirstColumn classify_first_column(std::string_view name) {
   const std::string n = detail::to_lower(name);
-  if (n == "n" || n == "index") return FirstColumn::Index;
-  if (n == "time" || n == "timestamp") return FirstColumn::Time;
+  if (n == "n" || n == "index" || n == "snapshot") return FirstColumn::Index;
+  if (n == "time" || n == "timestamp" || n == "time_utc") return FirstColumn::Time;
   if (n == "time_ns") return FirstColumn::TimeNs;
   return FirstColumn::Channel;
 }
@@ -71,8 +73,22 @@ ChannelTable read_channel_csv(const std::string& path) {
 
   const std::size_t header_line = detail::read_csv_header(path, cursor, fields, scratch);
 
-  const FirstColumn first = classify_first_column(fields.front());
-  const std::size_t skip = first == FirstColumn::Channel ? 0 : 1;
+  // Leading bookkeeping columns (see classify_first_column); the time comes from time_ns when there is one
+  // (exact), else from the first time column.
+  std::vector<FirstColumn> leading;
+  while (leading.size() < fields.size() && classify_first_column(fields[leading.size()]) != FirstColumn::Channel) {
+    leading.push_back(classify_first_column(fields[leading.size()]));
+  }
+  const std::size_t skip = leading.size();
+  std::size_t time_col = skip;  // skip = no time column
+  FirstColumn time_kind = FirstColumn::Index;
+  for (std::size_t c = 0; c < skip; ++c) {
+    if (leading[c] == FirstColumn::TimeNs || (leading[c] == FirstColumn::Time && time_col == skip)) {
+      time_col = c;
+      time_kind = leading[c];
+    }
+  }
+  const FirstColumn first = skip == 0 ? FirstColumn::Channel : time_kind;
   ChannelTable table;
   std::set<std::string> seen;
   bool all_numeric = true;
@@ -97,12 +113,12 @@ ChannelTable read_channel_csv(const std::string& path) {
   std::size_t ln = 0;
   while ((ln = detail::next_csv_row(path, cursor, width, fields, scratch)) != 0) {
     if (first == FirstColumn::Time) {
-      const std::optional<std::int64_t> t = parse_time_cell(fields[0]);
-      if (!t) throw InputError(path, ln, "bad time " + detail::quote_token(fields[0]));
+      const std::optional<std::int64_t> t = parse_time_cell(fields[time_col]);
+      if (!t) throw InputError(path, ln, "bad time " + detail::quote_token(fields[time_col]));
       table.time_ns.push_back(*t);
     } else if (first == FirstColumn::TimeNs) {
-      const std::optional<std::int64_t> t = detail::parse_int64(fields[0]);
-      if (!t) throw InputError(path, ln, "bad integer time_ns " + detail::quote_token(fields[0]));
+      const std::optional<std::int64_t> t = detail::parse_int64(fields[time_col]);
+      if (!t) throw InputError(path, ln, "bad integer time_ns " + detail::quote_token(fields[time_col]));
       table.time_ns.push_back(*t);
     }
     for (std::size_t c = skip; c < width; ++c) {

@@ -11,10 +11,14 @@
 namespace causal::io {
 namespace {
 
-bool is_time_name(const std::string& lower) { return lower == "timestamp" || lower == "time"; }
+bool is_time_name(const std::string& lower) {
+  return lower == "timestamp" || lower == "time" || lower == "time_utc";
+}
 
+// causal-recorder's conditions_<group>_<feature>.csv: snapshot,time_ns,time_utc,<channels>.
 bool is_bookkeeping_name(const std::string& lower) {
-  return is_time_name(lower) || lower == "file" || lower == "index" || lower == "n";
+  return is_time_name(lower) || lower == "file" || lower == "index" || lower == "n" || lower == "snapshot" ||
+         lower == "time_ns";
 }
 
 bool ends_with(std::string_view s, std::string_view suffix) {
@@ -34,20 +38,33 @@ FeatureTable read_feature_table(const std::string& path, const std::string& colu
   const std::vector<std::string> header(fields.begin(), fields.end());
   const std::size_t width = header.size();
 
-  // Time column: a column named timestamp/time, else the first column.
+  // Time column: time_ns (integer ns, exact: the recorder's files), else a column named timestamp/time/time_utc,
+  // else the first column.
   std::size_t time_col = 0;
+  bool time_in_ns = false;
   for (std::size_t c = 0; c < width; ++c) {
+    if (detail::to_lower(header[c]) == "time_ns") {
+      time_col = c;
+      time_in_ns = true;
+      break;
+    }
+  }
+  for (std::size_t c = 0; c < width && !time_in_ns; ++c) {
     if (is_time_name(detail::to_lower(header[c]))) {
       time_col = c;
       break;
     }
   }
 
+  // A causal-recorder conditions file (snapshot,time_ns,...) holds one feature, named in its file name: every
+  // other column is a channel whatever the suffix asked for.
+  const bool recorder_layout = time_in_ns && width > 0 && detail::to_lower(header[0]) == "snapshot";
+  const bool every_column = column_suffix.empty() || recorder_layout;
   FeatureTable table;
   std::vector<std::size_t> cols;  // file columns of the channels
   for (std::size_t c = 0; c < width; ++c) {
     if (c == time_col) continue;
-    if (column_suffix.empty()) {
+    if (every_column) {
       if (is_bookkeeping_name(detail::to_lower(header[c]))) continue;
       if (header[c].empty()) throw InputError(path, header_line, "empty column name in column " + std::to_string(c + 1));
       cols.push_back(c);
@@ -71,7 +88,8 @@ FeatureTable read_feature_table(const std::string& path, const std::string& colu
   std::size_t rows = 0;
   std::size_t ln = 0;
   while ((ln = detail::next_csv_row(path, cursor, width, fields, scratch)) != 0) {
-    const std::optional<std::int64_t> t = parse_utc(fields[time_col]);
+    const std::optional<std::int64_t> t =
+        time_in_ns ? detail::parse_int64(fields[time_col]) : parse_utc(fields[time_col]);
     if (!t) {
       throw InputError(path, ln,
                        "bad time stamp " + detail::quote_token(fields[time_col]) +

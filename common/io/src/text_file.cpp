@@ -7,6 +7,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <iterator>
 #include <system_error>
 
 #include "causal/io/input_error.hpp"
@@ -71,6 +73,13 @@ std::string gunzip(const std::string& path, const std::string& in) {
 }  // namespace
 
 std::string read_text_file(const std::string& path) {
+  if (path == "-") {
+    // Standard input: the whole stream (a pipe has no size to seek to), gzip allowed like a file.
+    std::string bytes{std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>()};
+    if (std::cin.bad()) throw InputError("<stdin>", 0, "read error");
+    if (has_gzip_magic(bytes)) return gunzip("<stdin>", bytes);
+    return bytes;
+  }
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);

@@ -67,6 +67,9 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
 struct DdsSettings {
   std::vector<std::string> profile_files;   // XML files loaded in order (QoS file, transport file)
   std::string participant_profile = "causal_twin_participant";
+  // false: a file without participant_profile is fine, the default participant QoS of the loaded files is used
+  // (a generic $FASTRTPS_DEFAULT_PROFILES_FILE with is_default_profile="true").
+  bool participant_profile_required = true;
   int domain_id = 0;                        // DDS domain; 0..232 with the default port mapping
   std::string participant_name;             // Shown by discovery tools; empty = profile's name
 };

@@ -18,24 +18,38 @@
 #include <chrono>
 #include <cstdlib>
 #include <thread>
+#include <vector>
 
 namespace causal::dds {
 
 struct CommonOptions {
   int domain_id = 0;
-  std::string qos_file;        // deploy/dds/qos.xml unless overridden
-  std::string transport_file;  // deploy/dds/localhost.xml unless overridden
+  std::string qos_file;        // qos.xml from the configuration search (causal/config/config_search.hpp)
+  std::string transport_file;  // localhost.xml from the same search
+  bool qos_from_flag = false;        // --qos given on the command line
+  bool transport_from_flag = false;  // --transport given on the command line
   std::string log_level = "info";
   int metrics_port = 0;                       // 0 = no /metrics endpoint
   std::string metrics_bind = "127.0.0.1";     // loopback unless the operator opens it on purpose
 };
 
-// Default folder of the DDS XML files: $CAUSAL_TWIN_DDS_DIR, else the source tree's deploy/dds.
+// Folder of the qos.xml the configuration search chose ("" when none): flag, $CAUSAL_TWIN_DDS_DIR,
+// /etc/causal-twin, <prefix>/share/causal-twin/dds, the source tree only for a build-tree binary.
 std::string default_dds_dir();
 
-// Adds --domain, --dds-qos, --dds-transport, --log-level, --metrics-port, --metrics-bind and --version
-// (the project version) to a CLI11 app.
+// Adds --domain, --qos (alias --dds-qos), --transport (alias --dds-transport), --log-level, --metrics-port,
+// --metrics-bind and --version (the project version) to a CLI11 app. The defaults of --qos and --transport
+// come from the configuration search, and --help says which file was chosen and why.
 void add_common_options(CLI::App& app, CommonOptions& options);
+
+// The XML files a participant loads: qos_file, then transport_file; but when $FASTRTPS_DEFAULT_PROFILES_FILE
+// is set (default_profiles_env, "" or null = unset) and neither --transport nor --qos was given, that file
+// replaces transport_file, as in every Fast DDS application.
+struct ProfileFiles {
+  std::vector<std::string> files;
+  bool from_environment = false;
+};
+ProfileFiles choose_profile_files(const CommonOptions& options, const char* default_profiles_env);
 
 DdsSettings to_dds_settings(const CommonOptions& options, const std::string& participant_name);
 

@@ -23,14 +23,16 @@ struct ChannelTable {
   std::vector<std::int64_t> time_ns;       // N entries, or empty when the file had no time column
 };
 
-// First-column handling:
-//   n | index          -> dropped (not a channel), time_ns stays empty
-//   time | timestamp   -> time_ns filled; each cell is a time stamp accepted by parse_utc()
+// Leading bookkeeping columns (any number, before the first channel; causal-recorder's conditions CSVs
+// start with snapshot,time_ns,time_utc). Time from time_ns when present, else the first time column:
+//   n | index | snapshot -> dropped (not a channel), time_ns stays empty
+//   time | timestamp | time_utc -> time_ns filled; each cell is a time stamp accepted by parse_utc()
 //                         or a plain number of seconds (converted to ns, rounded)
 //   time_ns            -> time_ns filled from integer nanoseconds
 // Throws InputError for: missing/unreadable file, no header, numeric header (header probably missing),
 // empty or duplicate channel names, ragged rows, unparseable numbers or times.
 // A header with no data rows gives a 0 x G table.
+// path "-" reads standard input.
 ChannelTable read_channel_csv(const std::string& path);
 
 // Writes the table so that read_channel_csv() returns it unchanged (values bit-exact, via the shortest

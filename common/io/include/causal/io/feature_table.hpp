@@ -16,14 +16,18 @@ struct FeatureTable {
 
 // Reads a comma-separated feature table (same CSV dialect as channel_csv.hpp).
 //
-// Time column: the first column whose header is "timestamp" or "time" (any case), else the first
-// column. Cells are parsed with parse_utc(): "YYYY-MM-DD hh:mm:ss" or "YYYY.MM.DD.hh.mm.ss".
+// Time column: a column named "time_ns" (integer ns; causal-recorder's conditions_<group>_<feature>.csv,
+// whose snapshot,time_ns,time_utc columns are all bookkeeping), else the first column whose header is
+// "timestamp", "time" or "time_utc" (any case), else the first column. Time cells are parsed with
+// parse_utc(): "YYYY-MM-DD hh:mm:ss" or "YYYY.MM.DD.hh.mm.ss". path "-" reads standard input.
 //
 // column_suffix empty (merged_dataset style, e.g. ",Bearing 1,Bearing 2,..."): every other column is a
-//   channel, except columns named file / index / n / time / timestamp (bookkeeping columns).
+//   channel, except columns named file / index / n / snapshot / time / timestamp / time_ns / time_utc
+//   (bookkeeping columns).
 // column_suffix e.g. "_rms" (derived_per_file_stats style): the channels are the columns whose header
 //   ends with the suffix, in file order; channel name = header minus the suffix ("bearing1_rms" ->
-//   "bearing1"). Other columns are not parsed at all.
+//   "bearing1"). Other columns are not parsed at all. A causal-recorder conditions file (first columns
+//   snapshot,time_ns) holds one feature: the suffix is not applied, every non-bookkeeping column is a channel.
 //
 // Throws InputError (file + line) for: missing file, no header, no channel column (or none with the
 // suffix: the message lists the headers), ragged rows, bad time stamps, time not strictly increasing,
