@@ -19,7 +19,7 @@ bin="${CAUSAL_TWIN_BUILD_DIR:-$root/build}/services"
 domain=$(( 100 + $$ % 100 ))
 source_args=(--ims-dir "$root/deploy/data/ims2-slice")
 speed=0
-transport="$root/deploy/dds/localhost.xml"
+transport=""
 max_runtime=900
 record=""
 feature_args=()
@@ -49,7 +49,17 @@ done
 keep_logs=1
 if [ -z "$logs" ]; then logs="$(mktemp -d)"; keep_logs=0; fi
 mkdir -p "$logs"
-common=(--domain "$domain" --dds-transport "$transport")
+# Without --transport: $FASTRTPS_DEFAULT_PROFILES_FILE when set (the services load it, as every Fast DDS
+# application does), else loopback only.
+if [ -n "$transport" ]; then
+  common=(--domain "$domain" --transport "$transport")
+elif [ -n "${FASTRTPS_DEFAULT_PROFILES_FILE:-}" ]; then
+  transport="$FASTRTPS_DEFAULT_PROFILES_FILE"
+  common=(--domain "$domain")
+else
+  transport="$root/deploy/dds/localhost.xml"
+  common=(--domain "$domain" --transport "$transport")
+fi
 pids=()
 names=()
 tail_pid=""

@@ -57,6 +57,7 @@ void to_whatif_reply(const causal_twin::WhatIfRequest& request, const WhatIfAnsw
   out.effect_percent_low(to_vector(answer.percent_lower));
   out.effect_percent_high(to_vector(answer.percent_upper));
   out.summary(answer.summary);
+  out.channel_names(answer.channel_names);
 }
 
 }  // namespace causal::recommender

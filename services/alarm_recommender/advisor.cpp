@@ -230,6 +230,7 @@ WhatIfAnswer Advisor::what_if(const std::string& asset_group, int channel, doubl
     return ans;
   }
   const AssetModel& m = it->second;
+  ans.channel_names = m.channel_names;
   const int g = m.layout->channels();
   if (channel < 0 || channel >= g) {
     ans.error = "channel " + std::to_string(channel + 1) + " is outside 1.." + std::to_string(g);

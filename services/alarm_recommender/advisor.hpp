@@ -78,6 +78,7 @@ struct WhatIfAnswer {
   AnswerDiagnostics diag;
   std::string summary;
   std::string text;
+  std::vector<std::string> channel_names;  // G, the order of the effects (empty when the group is unknown)
 };
 
 class Advisor {

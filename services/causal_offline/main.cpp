@@ -1,7 +1,8 @@
 // causal-offline: estimate the time-varying SVAR factors of a channels CSV and write them, with standard
 // deviations, to a CSV.
 //
-//   causal-offline data.csv -o factors.csv --estimator rts --lag-order 1 --auto-noise
+//   causal-offline data.csv --out factors.csv --estimator rts --lag-order 1 --auto-noise
+//   causal-offline - < conditions_ims2-shaft1_meanabs.csv        (a recorder CSV on standard input)
 //
 // Channels are divided by a robust scale learned on the calibration window before estimation, and the factors
 // are written in the file's units (causal/standardised_estimation.hpp), so the result does not depend on
@@ -17,6 +18,7 @@
 #include <map>
 #include <sstream>
 
+#include "causal/config/cli_conventions.hpp"
 #include "causal/io/channel_csv.hpp"
 #include "causal/io/input_error.hpp"
 #include "offline_run.hpp"
@@ -29,10 +31,13 @@ int main(int argc, char** argv) {
   bool quiet = false;
   const std::map<std::string, Estimator> estimators{
       {"filter", Estimator::Filter}, {"fixed-lag", Estimator::FixedLag}, {"rts", Estimator::Rts}};
-  app.add_option("input", input, "Channels CSV: header of channel names, one row per sample; an optional "
-                                 "leading n/index/time/timestamp/time_ns column is ignored")
+  causal::config::add_version_flag(app);
+  app.add_option("input,--csv", input,
+                 "Channels CSV: header of channel names, one row per sample; leading n/index/snapshot/time/timestamp/"
+                 "time_ns/time_utc columns are not channels (so a causal-recorder conditions_<group>_<feature>.csv "
+                 "reads as it is); '-' = standard input")
       ->required();
-  app.add_option("-o,--output", output, "Output CSV ('-' = stdout)")->capture_default_str();
+  app.add_option("--out,-o,--output", output, "Output CSV ('-' = stdout)")->capture_default_str();
   app.add_option("--estimator", opt.estimator, "filter | fixed-lag | rts")
       ->transform(CLI::CheckedTransformer(estimators, CLI::ignore_case))
       ->default_str("rts");
@@ -63,9 +68,7 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "No progress messages on stderr");
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
+  } catch (const CLI::Success& e) {  // --help, --help-all, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);

@@ -1,6 +1,8 @@
 // causal-report: renders a causal-recorder folder as PNG figures (gnuplot) and a Markdown summary.
 #include "report_builder.hpp"
 
+#include "causal/config/cli_conventions.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -14,7 +16,8 @@ int main(int argc, char** argv) {
   app.add_option("--run", o.run_dir, "folder written by causal-recorder --out")->required();
   app.add_option("--out", o.out_dir, "folder for the PNGs, report_<asset>.md and the gnuplot scripts (created)")
       ->required();
-  app.add_option("--asset", o.asset, "only this asset group (default: every asset in the folder)");
+  causal::config::add_version_flag(app);
+  app.add_option("--asset-group,--asset", o.asset, "only this asset group (default: every asset in the folder)");
   app.add_option("--gnuplot", o.gnuplot, "gnuplot program (name on PATH or path)")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   return causal::report::build_report(o, std::cout, std::cerr);

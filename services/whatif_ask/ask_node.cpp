@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -106,10 +107,19 @@ void AskNode::print(const causal_twin::WhatIfReply& reply) const {
   const std::string what = steady ? (options_.impulse ? "in total" : "steady state")
                                   : (options_.impulse ? "total, " : "after ") + std::to_string(reply.horizon_snapshots()) +
                                         (options_.impulse ? " snapshots" : " snapshots");
-  std::printf("%-8s %12s %14s %24s %12s %26s\n", "channel", "at once", what.c_str(), "interval", "percent", "interval");
+  // Channels by their names (as in every other tool); the 1-based index only if the recommender sent none.
+  const auto label = [&reply](std::size_t k) {
+    return k < reply.channel_names().size() && !reply.channel_names()[k].empty() ? reply.channel_names()[k]
+                                                                                 : std::to_string(k + 1);
+  };
+  int width = 8;
+  for (std::size_t k = 0; k < reply.effect_median().size(); ++k) width = std::max(width, static_cast<int>(label(k).size()));
+  std::printf("%-*s %12s %14s %24s %12s %26s\n", width, "channel", "at once", what.c_str(), "interval", "percent",
+              "interval");
   for (std::size_t k = 0; k < reply.effect_median().size(); ++k) {
     const auto at = [&](const std::vector<double>& v) { return k < v.size() ? v[k] : std::nan(""); };
-    std::printf("%-8zu %12s %14s %11s .. %-11s %12s %12s .. %-12s\n", k + 1, num(at(reply.effect_immediate()), false).c_str(),
+    std::printf("%-*s %12s %14s %11s .. %-11s %12s %12s .. %-12s\n", width, label(k).c_str(),
+                num(at(reply.effect_immediate()), false).c_str(),
                 num(at(reply.effect_median()), false).c_str(), num(at(reply.effect_low()), false).c_str(),
                 num(at(reply.effect_high()), false).c_str(), num(at(reply.effect_percent()), true).c_str(),
                 num(at(reply.effect_percent_low()), true).c_str(), num(at(reply.effect_percent_high()), true).c_str());

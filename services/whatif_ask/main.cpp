@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
   auto* d = app.add_option("--delta", delta, "change in model units (log-level when the estimator logs features)");
   auto* p = app.add_option("--percent", percent, "change of the channel's level in percent, e.g. -10 (log-level model)");
   d->excludes(p);
-  app.add_flag("--impulse", o.impulse, "a one-snapshot change (default: sustained, reported at steady state)");
+  app.add_flag("--impulse", o.impulse,
+               "a one-snapshot change (default: sustained, held from now on, the same default as causal-whatif)");
   app.add_option("--timeout", o.timeout_s, "seconds to wait for the recommender and its reply")
       ->check(CLI::PositiveNumber)->capture_default_str();
   CLI11_PARSE(app, argc, argv);

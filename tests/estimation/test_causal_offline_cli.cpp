@@ -91,7 +91,7 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
   const fs::path out = dir_ / "factors.csv";
   for (const std::string estimator : {"filter", "fixed-lag", "rts"}) {
     SCOPED_TRACE(estimator);
-    const Result res = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --estimator " + estimator +
+    const Result res = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --estimator " + estimator +
                            " --lag 7 --q 2e-5 --r 0.02 --p0 1 --no-standardise");
     ASSERT_EQ(res.exit_code, 0) << res.err;
     const auto rows = parse_csv(slurp(out));
@@ -114,7 +114,7 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
     }
   }
   // Automatic noise runs and reports the tuned values.
-  const Result tuned = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --auto-noise");
+  const Result tuned = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --auto-noise");
   ASSERT_EQ(tuned.exit_code, 0) << tuned.err;
   EXPECT_NE(tuned.err.find("auto-noise: outcome 3"), std::string::npos) << tuned.err;
 }
@@ -139,7 +139,7 @@ TEST_F(CausalOfflineCli, ChannelUnitsDoNotChangeTheFactors) {
   for (const std::string noise : {"", " --auto-noise --calibration-samples 200"}) {
     SCOPED_TRACE(noise);
     const fs::path base_out = dir_ / "base_factors.csv";
-    const Result base = run("\"" + base_in.string() + "\" -o \"" + base_out.string() + "\"" + noise);
+    const Result base = run("\"" + base_in.string() + "\" --out \"" + base_out.string() + "\"" + noise);
     ASSERT_EQ(base.exit_code, 0) << base.err;
     const auto ref = parse_csv(slurp(base_out));
     ASSERT_EQ(ref.size(), 401u);
@@ -149,7 +149,7 @@ TEST_F(CausalOfflineCli, ChannelUnitsDoNotChangeTheFactors) {
       y.col(1) *= f;
       const fs::path in = write("scaled.csv", channels_csv(y));
       const fs::path out = dir_ / "scaled_factors.csv";
-      const Result res = run("\"" + in.string() + "\" -o \"" + out.string() + "\"" + noise);
+      const Result res = run("\"" + in.string() + "\" --out \"" + out.string() + "\"" + noise);
       ASSERT_EQ(res.exit_code, 0) << res.err;
       const std::string text = slurp(out);
       EXPECT_EQ(text.find("nan"), std::string::npos);
@@ -182,7 +182,7 @@ TEST_F(CausalOfflineCli, DeadOrStuckChannelIsRefusedNamingIt) {
     const fs::path in = write("dead.csv", channels_csv(y));
     for (const std::string extra : {"", " --auto-noise", " --no-standardise --estimator filter"}) {
       SCOPED_TRACE(extra);
-      const Result res = run("\"" + in.string() + "\" -o \"" + (dir_ / "o.csv").string() + "\"" + extra);
+      const Result res = run("\"" + in.string() + "\" --out \"" + (dir_ / "o.csv").string() + "\"" + extra);
       EXPECT_EQ(res.exit_code, 2);
       EXPECT_NE(res.err.find("dead.csv: channel 2 'beta' is constant over the 200 calibration rows"),
                 std::string::npos)
@@ -199,14 +199,14 @@ TEST_F(CausalOfflineCli, NonFiniteEstimateExitsNonZeroNamingFactorChannelAndRow)
   const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 100, 4);
   const fs::path in = write("huge.csv", channels_csv(sim.y * 1e160));
   const fs::path out = dir_ / "o.csv";
-  Result res = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --no-standardise --estimator filter");
+  Result res = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --no-standardise --estimator filter");
   EXPECT_EQ(res.exit_code, 1);
   EXPECT_NE(res.err.find("huge.csv:3: factor x12 (outcome channel 1 'alpha', regressor channel 2 'beta') is not "
                          "finite at row 1"),
             std::string::npos)
       << res.err;
   EXPECT_EQ(slurp(out).find("nan"), std::string::npos);
-  res = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --estimator rts");
+  res = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --estimator rts");
   EXPECT_EQ(res.exit_code, 0) << res.err;
   EXPECT_EQ(slurp(out).find("nan"), std::string::npos);
 }
@@ -218,8 +218,8 @@ TEST_F(CausalOfflineCli, EveryKWritesTheFullRunsRows) {
   const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 301, 8);
   const fs::path in = write("in.csv", channels_csv(sim.y));
   const fs::path full = dir_ / "full.csv", dec = dir_ / "dec.csv";
-  ASSERT_EQ(run("\"" + in.string() + "\" -o \"" + full.string() + "\" --auto-noise").exit_code, 0);
-  const Result res = run("\"" + in.string() + "\" -o \"" + dec.string() + "\" --auto-noise --every 10");
+  ASSERT_EQ(run("\"" + in.string() + "\" --out \"" + full.string() + "\" --auto-noise").exit_code, 0);
+  const Result res = run("\"" + in.string() + "\" --out \"" + dec.string() + "\" --auto-noise --every 10");
   ASSERT_EQ(res.exit_code, 0) << res.err;
   const auto f = parse_csv(slurp(full)), d = parse_csv(slurp(dec));
   ASSERT_EQ(f.size(), 302u);
@@ -227,6 +227,41 @@ TEST_F(CausalOfflineCli, EveryKWritesTheFullRunsRows) {
   EXPECT_EQ(d[0], f[0]);
   for (std::size_t i = 1; i < d.size(); ++i) EXPECT_EQ(d[i], f[1 + 10 * (i - 1)]) << i;
   EXPECT_EQ(run("\"" + in.string() + "\" --every 0").exit_code, 2);
+}
+
+// causal-recorder's conditions CSV (snapshot,time_ns,time_utc before the channels) read from standard input
+// gives the factors of the plain channels file: the bookkeeping columns are not channels.
+TEST_F(CausalOfflineCli, ReadsARecorderConditionsCsvFromStandardInput) {
+  ModelSpec spec;
+  spec.channels = 3;
+  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 120, 5);
+  const fs::path plain = write("plain.csv", channels_csv(sim.y));
+  std::string recorded;
+  std::istringstream lines(channels_csv(sim.y));
+  std::string line;
+  for (long n = -1; std::getline(lines, line); ++n) {
+    recorded += n < 0 ? "snapshot,time_ns,time_utc," + line + "\n"
+                      : std::to_string(n) + "," + std::to_string(1076581959000000000LL + n * 600000000000LL) +
+                            ",2004-02-12 10:32:39," + line + "\n";
+  }
+  const fs::path rec = write("conditions_g_meanabs.csv", recorded);
+  const fs::path plain_out = dir_ / "plain_factors.csv", rec_out = dir_ / "rec_factors.csv";
+  ASSERT_EQ(run("\"" + plain.string() + "\" --out \"" + plain_out.string() + "\" --auto-noise").exit_code, 0);
+  const Result res = run("- --out \"" + rec_out.string() + "\" --auto-noise < \"" + rec.string() + "\"");
+  ASSERT_EQ(res.exit_code, 0) << res.err;
+  const auto a = parse_csv(slurp(plain_out)), b = parse_csv(slurp(rec_out));
+  ASSERT_EQ(a.size(), 121u);
+  ASSERT_EQ(b.size(), a.size());
+  // The recorded file has a time column, which the output may carry in front: compare the factor columns.
+  ASSERT_GE(b[0].size(), a[0].size());
+  const std::size_t shift = b[0].size() - a[0].size();
+  for (std::size_t r = 0; r < a.size(); ++r) {
+    ASSERT_EQ(b[r].size(), a[r].size() + shift) << r;
+    for (std::size_t c = 0; c < a[r].size(); ++c) EXPECT_EQ(b[r][c + shift], a[r][c]) << r << "," << c;
+  }
+  const Result version = run("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_EQ(version.out, std::string(CAUSAL_TWIN_VERSION) + "\n");
 }
 
 TEST_F(CausalOfflineCli, MalformedFilesExitWithCode2AndNameTheLine) {

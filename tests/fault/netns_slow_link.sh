@@ -18,8 +18,8 @@ ip netns exec "$ns_b" tc qdisc add dev "$veth_b" root tbf rate 4mbit burst 32kb 
   || { echo "SKIP: tc tbf is not available in this kernel"; exit 77; }
 
 domain=214  # a fixed id per fault test (tests/fault/CMakeLists.txt)
-common_a=(--domain "$domain" --dds-transport "$work/host_a.xml")
-common_b=(--domain "$domain" --dds-transport "$work/host_b.xml")
+common_a=(--domain "$domain" --transport "$work/host_a.xml")
+common_b=(--domain "$domain" --transport "$work/host_b.xml")
 ip netns exec "$ns_a" "$bin/causal_recorder/causal-recorder" "${common_a[@]}" --out "$work/rec" --sample-level \
   --idle-exit 5 --max-runtime 150 > "$work/recorder.log" 2>&1 & pids+=($!)
 ip netns exec "$ns_b" "$bin/alarm_recommender/alarm-recommender" "${common_b[@]}" --idle-exit 5 --max-runtime 150 \

@@ -116,7 +116,7 @@ struct ReplaySpec {
 RunResult run_services(const ft::fs::path& dir, int domain, const std::vector<ReplaySpec>& parallel,
                        const std::string& staged_b = "") {
   const std::string d = std::to_string(domain);
-  const std::vector<std::string> common = {"--domain", d, "--dds-transport", ft::transport()};
+  const std::vector<std::string> common = {"--domain", d, "--transport", ft::transport()};
   auto with = [&](std::vector<std::string> head, const std::vector<std::string>& tail) {
     head.insert(head.begin() + 1, common.begin(), common.end());
     head.insert(head.end(), tail.begin(), tail.end());

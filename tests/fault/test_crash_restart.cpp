@@ -50,7 +50,7 @@ struct RunOutcome {
 RunOutcome run_pipeline(const ft::fs::path& dir, int domain, Victim victim) {
   const std::string d = std::to_string(domain);
   auto cmd = [&](const char* bin, std::vector<std::string> args) {
-    std::vector<std::string> v = {bin, "--domain", d, "--dds-transport", ft::transport()};
+    std::vector<std::string> v = {bin, "--domain", d, "--transport", ft::transport()};
     v.insert(v.end(), args.begin(), args.end());
     return v;
   };

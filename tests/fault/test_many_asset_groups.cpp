@@ -310,7 +310,7 @@ TEST(ManyAssetGroups, EstimatorHonoursMaxRuntimeWhileItsWritesAreRefused) {
 
   const auto started = Clock::now();
   ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--dds-qos", qos_file, "--params",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--qos", qos_file, "--params",
                             FAULT_ESTIMATOR_PARAMS, "--max-runtime", "4"},
                            (work / "estimator.log").string());
   ServiceProcess sim("sensor-sim",

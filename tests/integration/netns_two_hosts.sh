@@ -10,12 +10,12 @@ tag=$$; net=231
 source "$(dirname "$0")/../support/netns_hosts.sh"
 
 domain=$(( 100 + tag % 100 ))
-common_b=(--domain "$domain" --dds-transport "$work/host_b.xml")
+common_b=(--domain "$domain" --transport "$work/host_b.xml")
 ip netns exec "$ns_b" "$bin/alarm_recommender/alarm-recommender" "${common_b[@]}" --idle-exit 4 --max-runtime 120 \
   > "$work/alarm.log" 2>&1 & pids+=($!)
 ip netns exec "$ns_b" "$bin/causal_estimator/causal-estimator" "${common_b[@]}" --idle-exit 3 --max-runtime 120 \
   --wait-for alarm-recommender > "$work/estimator.log" 2>&1 & pids+=($!)
-ip netns exec "$ns_a" "$bin/sensor_replay/sensor-replay" --domain "$domain" --dds-transport "$work/host_a.xml" \
+ip netns exec "$ns_a" "$bin/sensor_replay/sensor-replay" --domain "$domain" --transport "$work/host_a.xml" \
   --ims-dir "$deploy/data/ims2-slice" --max-snapshots 2 --wait-for causal-estimator --wait-timeout 60 > "$work/replay.log" 2>&1
 replay_rc=$?
 for p in "${pids[@]}"; do wait "$p"; done

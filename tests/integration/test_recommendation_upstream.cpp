@@ -20,6 +20,7 @@
 #include <ostream>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 using causal::test::DdsObserver;
@@ -168,6 +169,11 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
     EXPECT_EQ(*ask_code, 0) << ask.output();
     EXPECT_NE(ask.output().find(reply->text()), std::string::npos) << "CLI and observer got different answers:\n"
                                                                  << ask.output();
+    // Channels by the names the replayed CSV gave them (its header), in the reply and in causal-ask's table.
+    EXPECT_EQ(reply->channel_names(), (std::vector<std::string>{"bearing1", "bearing2", "bearing3", "bearing4"}));
+    for (const char* name : {"bearing1", "bearing2", "bearing3", "bearing4"}) {
+      EXPECT_NE(ask.output().find(std::string("\n") + name + " "), std::string::npos) << name << "\n" << ask.output();
+    }
     ServiceProcess unknown("causal-ask", {CAUSAL_ASK_BIN, "--domain", d, "--asset-group", "no-such-group",
                                           "--intervene", "2", "--percent", "-10", "--timeout", "20"},
                            (work / "ask_unknown.log").string());

@@ -34,7 +34,7 @@ while [ ${#free_ports[@]} -lt 4 ]; do
 done
 est_port=${free_ports[0]}; rec_port=${free_ports[1]}; hist_port=${free_ports[2]}; prom_port=${free_ports[3]}
 
-dds=(--domain "$domain" --dds-transport "$deploy/dds/localhost.xml")
+dds=(--domain "$domain" --transport "$deploy/dds/localhost.xml")
 common=("${dds[@]}" --max-runtime 150)
 svc="$build/services"
 "$svc/causal_recorder/causal-recorder" "${common[@]}" --out "$work/record" --idle-exit 0 \

@@ -529,7 +529,7 @@ TEST(ReportErrors, MissingInputsExitWithCodeTwoAndSayWhat) {
   std::ofstream(dir / "empty" / "conditions_a_rms.csv") << "snapshot,time_ns,time_utc,B1\n0,1,x,1\n";
   EXPECT_EQ(run({"--run", (dir / "empty").string(), "--out", (dir / "o").string(), "--gnuplot", "no-such-gnuplot"}, out), 2);
   EXPECT_NE(out.find("gnuplot not found"), std::string::npos) << out;
-  EXPECT_EQ(run({"--run", (dir / "empty").string(), "--out", (dir / "o").string(), "--asset", "zz"}, out), 2);
+  EXPECT_EQ(run({"--run", (dir / "empty").string(), "--out", (dir / "o").string(), "--asset-group", "zz"}, out), 2);
   EXPECT_NE(out.find("asset 'zz' is not in"), std::string::npos) << out;
   EXPECT_NE(out.find("assets: a"), std::string::npos) << out;
   fs::remove_all(dir);

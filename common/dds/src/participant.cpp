@@ -7,6 +7,8 @@
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
 
+#include "causal_twinTypeObject.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -17,6 +19,11 @@ using eprosima::fastdds::dds::DomainParticipantQos;
 using eprosima::fastrtps::types::ReturnCode_t;
 
 Participant::Participant(const DdsSettings& settings) : domain_id_(settings.domain_id) {
+  // The generated type objects (fastddsgen -typeobject) must be in the TypeObjectFactory before a type is
+  // registered, or its endpoints announce no TypeInformation; the generated code registers them only when a
+  // message object is first constructed, which is after the topics exist.
+  static std::once_flag types_registered;
+  std::call_once(types_registered, [] { registercausal_twinTypes(); });
   if (settings.domain_id < 0 || settings.domain_id > 232) {
     throw std::runtime_error("DDS domain id " + std::to_string(settings.domain_id) + " is outside 0..232");
   }
@@ -29,6 +36,9 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
   DomainParticipantQos qos;
   if (factory->get_participant_qos_from_profile(settings.participant_profile, qos) != ReturnCode_t::RETCODE_OK) {
     if (!settings.participant_profile_required) {
+      // The default participant QoS follows the loaded files' is_default_profile only once Fast DDS has loaded
+      // its own default files ($FASTRTPS_DEFAULT_PROFILES_FILE); make sure it has.
+      factory->load_profiles();
       qos = factory->get_default_participant_qos();
     } else {
       throw std::runtime_error("DDS participant profile '" + settings.participant_profile +
