@@ -4,7 +4,8 @@
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
 #                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
 #                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--metrics-port P]
-# Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
+# Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only
+# (without --transport: $FASTRTPS_DEFAULT_PROFILES_FILE when set; deploy/dds/discovery_client.xml: a discovery server).
 # --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
 # --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
 # --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
@@ -42,7 +43,7 @@ while [ $# -gt 0 ]; do
     --ask) asks+=("$2"); shift 2 ;;
     --logs) logs="$2"; shift 2 ;;
     --metrics-port) metrics_port="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
