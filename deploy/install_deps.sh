@@ -16,6 +16,11 @@ PACKAGES=(
   gnuplot-nox                      # causal-report's plots
   graphviz                         # causal-report's causal graph (dot places edge labels without overlap)
   iproute2                         # network-namespace tests (ip netns)
+  libcpp-httplib-dev               # twin-web's HTTP server (Server-Sent Events)
+  nlohmann-json3-dev               # twin-web's JSON
+  libjs-chart.js                   # twin-web's trend charts, served from /usr/share/javascript (no CDN)
+  chromium fonts-dejavu-core       # the browser test (ctest -L browser): headless Chromium, a font to render
+  nodejs                           # the browser test's driver: Node >= 20 with npm (as on the build image), runs playwright-core
 )
 
 missing=()

@@ -3,11 +3,12 @@
 # every topic carried.
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
 #                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
-#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR]
+#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--web-port P]
 # Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
 # --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
 # --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
 # --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
+# --web-port P also runs twin-web: the live view at http://127.0.0.1:P/, up until 30 s after the run.
 # Exit code: 0 when every service exited 0 (nothing lost, refused or dropped), else the first non-zero code;
 # the summary at the end says per topic: sent, received, dropped, rejected, and which service failed.
 # Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
@@ -24,6 +25,7 @@ feature_args=()
 asset_group="ims2-shaft1"
 asks=()
 logs=""
+web_port=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --domain) domain="$2"; shift 2 ;;
@@ -38,7 +40,8 @@ while [ $# -gt 0 ]; do
     --asset-group) asset_group="$2"; shift 2 ;;
     --ask) asks+=("$2"); shift 2 ;;
     --logs) logs="$2"; shift 2 ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    --web-port) web_port="$2"; shift 2 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -68,9 +71,9 @@ start() {
 }
 
 echo "launch: DDS domain $domain, transport $(basename "$transport"), logs in $logs"
-for n in causal-recorder alarm-recommender causal-estimator sensor-replay causal-ask; do : > "$logs/$n.log"; done
+for n in causal-recorder alarm-recommender causal-estimator sensor-replay causal-ask twin-web; do : > "$logs/$n.log"; done
 tail -q -n +1 -F "$logs"/causal-recorder.log "$logs"/alarm-recommender.log "$logs"/causal-estimator.log \
-  "$logs"/sensor-replay.log "$logs"/causal-ask.log 2>/dev/null &
+  "$logs"/sensor-replay.log "$logs"/causal-ask.log "$logs"/twin-web.log 2>/dev/null &
 tail_pid=$!
 
 estimator_waits=(--wait-for alarm-recommender)
@@ -78,6 +81,17 @@ if [ -x "$bin/causal_recorder/causal-recorder" ] && [ -n "$record" ]; then
   start causal-recorder "$bin/causal_recorder/causal-recorder" "${common[@]}" --out "$record" --idle-exit 6 \
     --max-runtime "$max_runtime"
   estimator_waits+=(--wait-for causal-recorder)
+fi
+if [ -n "$web_port" ]; then
+  # The live view: the estimator waits for it (every snapshot on the page); it stays up 30 s after the run.
+  start twin-web "$bin/twin_web/twin-web" "${common[@]}" --port "$web_port" --idle-exit 30 --max-runtime "$max_runtime"
+  for _ in $(seq 50); do grep -q "serving http://" "$logs/twin-web.log" && break; sleep 0.1; done
+  if ! grep -q "serving http://" "$logs/twin-web.log"; then
+    echo "launch: twin-web did not start on port $web_port (see above)" >&2
+    exit 2
+  fi
+  echo "web: http://127.0.0.1:$web_port/"
+  estimator_waits+=(--wait-for twin-web)
 fi
 # With questions to ask, the recommender stays up a little longer after its sources are gone.
 recommender_idle=5
@@ -124,7 +138,7 @@ for n in sensor-replay causal-estimator alarm-recommender causal-recorder; do
     printf '%-36s %-18s %s\n' "${topic#topic=}" "$n" "$rest"
   done
 done
-for n in sensor-replay causal-estimator alarm-recommender causal-recorder; do
+for n in sensor-replay causal-estimator alarm-recommender causal-recorder twin-web; do
   [ -n "${service_rc[$n]+x}" ] || continue
   rc=${service_rc[$n]}
   if [ "$rc" != 0 ]; then

@@ -4,7 +4,7 @@
 
 (function () {
   const COLOURS = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#8c564b', '#e377c2'];
-  const BAND = { advisory: 'rgba(240,190,30,0.16)', warning: 'rgba(240,130,30,0.22)', critical: 'rgba(215,40,40,0.22)' };
+  const BAND = { advisory: 'rgba(240,190,30,0.14)', warning: 'rgba(240,130,30,0.16)', critical: 'rgba(215,40,40,0.18)' };
   const SEVERITY_RANK = { critical: 3, warning: 2, advisory: 1 };
   const KNOWN_REC_FIELDS = new Set(['id', 'alarm_id', 'current', 'rank', 'target_channel', 'intervene_channel', 'delta',
     'effect_immediate', 'effect_steady_state', 'effect_low', 'effect_high', 'confidence', 'text', 'arrival']);
@@ -21,6 +21,9 @@
     if (text !== undefined && text !== null) e.textContent = String(text);
     return e;
   }
+  // "x; y; z" -> "x" and "A. B." -> "A.": the headline of a long explanation (the rest stays available).
+  const firstClause = (t) => { const s = String(t || ''); const i = s.indexOf('; '); return i > 0 ? s.slice(0, i) : s; };
+  const firstSentence = (t) => { const s = String(t || ''); const i = s.indexOf('. '); return i > 0 ? s.slice(0, i + 1) : s; };
   const fmtTime = (ms) => (ms ? new Date(ms).toISOString().slice(0, 16).replace('T', ' ') + ' UTC' : '');
   const channelName = (g, c) => (g.channels[c - 1] !== undefined ? g.channels[c - 1] : `channel ${c}`);
   // Effects are in model units: log levels (estimator log_transform), shown as level changes in percent.
@@ -92,21 +95,40 @@
     $('stamp').textContent = g.last ? `snapshot ${g.last.index} \u00b7 ${fmtTime(g.last.time_ms)}` : '';
   }
 
+  function union(spans) {
+    const sorted = spans.map((b) => ({ from: b.from, to: b.to })).sort((a, b) => a.from - b.from);
+    const out = [];
+    for (const b of sorted) {
+      const last = out[out.length - 1];
+      if (last && b.from <= last.to) last.to = Math.max(last.to, b.to); else out.push(b);
+    }
+    return out;
+  }
+
   const bandPlugin = {
     id: 'alarmBands',
     beforeDatasetsDraw(c) {
       const bands = c.$alarmBands || [];
       const x = c.scales.x, area = c.chartArea, ctx = c.ctx;
-      ctx.save();
-      for (const b of bands) {
+      const span = (b) => {
         const x0 = Math.max(area.left, x.getPixelForValue(b.from));
         const x1 = Math.min(area.right, x.getPixelForValue(b.to));
-        if (x1 < x0) continue;
-        const w = Math.max(2, x1 - x0);
-        ctx.fillStyle = BAND[b.severity] || BAND.advisory;
-        ctx.fillRect(x0, area.top, w, area.bottom - area.top);
-        ctx.fillStyle = COLOURS[(b.channel - 1) % COLOURS.length];  // which channel: a strip in its colour
-        ctx.fillRect(x0, area.top + 4 * (b.channel - 1), w, 3);
+        return x1 < x0 ? null : [x0, Math.max(2, x1 - x0)];
+      };
+      ctx.save();
+      // One layer per severity (the union of its alarms' spans), so overlapping alarms do not darken the plot.
+      for (const severity of ['advisory', 'warning', 'critical']) {
+        ctx.fillStyle = BAND[severity];
+        for (const u of union(bands.filter((b) => b.severity === severity))) {
+          const s = span(u);
+          if (s) ctx.fillRect(s[0], area.top, s[1], area.bottom - area.top);
+        }
+      }
+      for (const b of bands) {  // which channel: a strip in its colour along the top
+        const s = span(b);
+        if (!s) continue;
+        ctx.fillStyle = COLOURS[(b.channel - 1) % COLOURS.length];
+        ctx.fillRect(s[0], area.top + 4 * (b.channel - 1), s[1], 3);
       }
       ctx.restore();
     },
@@ -127,6 +149,10 @@
       borderWidth: 1.4, pointRadius: 0, tension: 0,
     }));
     const positive = t.values.every((v) => v.every((y) => y > 0));
+    // A robust lower end (the 1st percentile): a stopped machine's last snapshot must not crush the axis.
+    const all = t.values.flat().sort((a, b) => a - b);
+    const p1 = all.length ? all[Math.floor(0.01 * all.length)] : undefined;
+    const yMin = p1 === undefined ? undefined : (positive ? p1 * 0.8 : p1 - 0.05 * Math.abs(all[all.length - 1] - p1));
     const last = n > 0 ? t.index[n - 1] : 0;
     const bands = g.alarms.filter((a) => a.channel >= 1)
       .map((a) => ({ from: a.raised_index, to: a.cleared_index !== null ? a.cleared_index : last, severity: a.severity, channel: a.channel }));
@@ -140,7 +166,12 @@
           interaction: { mode: 'nearest', axis: 'x', intersect: false },
           scales: {
             x: { type: 'linear', title: { display: true, text: 'snapshot' } },
-            y: { type: positive ? 'logarithmic' : 'linear', title: { display: true, text: g.feature || 'condition' } },
+            y: {
+              type: positive ? 'logarithmic' : 'linear',
+              title: { display: true, text: g.feature || 'condition' },
+              // Every tick labelled (Chart.js's log scale labels only 1, 2 and 5): a narrow range still reads.
+              ticks: { callback: (v) => Number(Number(v).toPrecision(2)).toString() },
+            },
           },
           plugins: { legend: { position: 'top' }, tooltip: { callbacks: {} } },
         },
@@ -151,6 +182,7 @@
       chart.options.scales.y.type = positive ? 'logarithmic' : 'linear';
       chart.options.scales.y.title.text = g.feature || 'condition';
     }
+    chart.options.scales.y.min = yMin;
     chart.options.plugins.tooltip.callbacks.title = (items) =>
       (items.length ? `snapshot ${items[0].parsed.x} \u00b7 ${fmtTime(timeOf.get(items[0].parsed.x))}` : '');
     chart.$alarmBands = bands;
@@ -174,7 +206,12 @@
       tr.appendChild(node('td', {}, a.channel_name || (a.channel ? channelName(g, a.channel) : a.category)));
       tr.appendChild(node('td', { title: fmtTime(a.raised_time_ms) }, `#${a.raised_index}`));
       tr.appendChild(node('td', {}, a.root_cause_channel ? (a.root_cause_name || channelName(g, a.root_cause_channel)) : '\u2014'));
-      const reason = node('td', {}, a.reason);
+      // The first clause says what happened; the whole reason (often a paragraph) opens on a click.
+      const reason = node('td', { class: 'reason' });
+      const details = node('details');
+      details.appendChild(node('summary', {}, firstClause(a.reason)));
+      details.appendChild(node('div', {}, a.reason));
+      reason.appendChild(details);
       reason.appendChild(node('div', { class: 'muted' }, `${a.category} \u00b7 ${a.kind} \u00b7 ${a.id}`));
       tr.appendChild(reason);
       return tr;
@@ -197,7 +234,8 @@
     const list = $('recs');
     list.replaceChildren(...recs.map((r) => {
       const li = node('li', { 'data-recommendation-id': r.id });
-      li.appendChild(node('div', {}, r.text || `act on ${channelName(g, r.intervene_channel)}`));
+      const text = r.text || `act on ${channelName(g, r.intervene_channel)}`;
+      li.appendChild(node('div', { title: text }, firstSentence(text)));
       const conf = r.confidence ? ` (${Math.round(100 * r.confidence)} % interval ${pct(r.effect_low)} .. ${pct(r.effect_high)})` : '';
       li.appendChild(node('div', { class: 'detail' },
         `rank ${r.rank}: act on ${channelName(g, r.intervene_channel)}; ${channelName(g, r.target_channel)} at steady state ` +

@@ -5,7 +5,7 @@
 
 window.drawCausalGraph = (function () {
   const NS = 'http://www.w3.org/2000/svg';
-  const W = 440, H = 360, CX = W / 2, CY = H / 2 + 4, R = 128, NODE = 30;
+  const W = 440, H = 360, CX = W / 2, CY = H / 2 + 4, R = 130, NODE = 37;
 
   function el(name, attrs, text) {
     const e = document.createElementNS(NS, name);
@@ -44,7 +44,7 @@ window.drawCausalGraph = (function () {
       const ux = dx / len, uy = dy / len;
       // Start and end on the node rims; bend so j->k, k->j and the lagged link never lie on each other.
       const sx = a.x + ux * NODE, sy = a.y + uy * NODE, ex = b.x - ux * (NODE + 2), ey = b.y - uy * (NODE + 2);
-      const bend = (e.lag === 0 ? 22 : 48);
+      const bend = (e.lag === 0 ? 16 : 56);
       const mx = (sx + ex) / 2 - uy * bend, my = (sy + ey) / 2 + ux * bend;
       const colour = e.factor >= 0 ? '#1f5fa8' : '#c0392b';
       const width = 1.2 + 4.5 * Math.min(1, Math.abs(e.factor) / maxAbs);
@@ -54,9 +54,12 @@ window.drawCausalGraph = (function () {
         'marker-end': `url(#${e.factor >= 0 ? 'arrow-pos' : 'arrow-neg'})`, opacity: 0.85, class: 'edge',
         'data-from': e.from, 'data-to': e.to, 'data-lag': e.lag,
       }));
-      // Label at the curve's midpoint (a quadratic Bezier's point at t = 0.5).
-      const lx = 0.25 * sx + 0.5 * mx + 0.25 * ex, ly = 0.25 * sy + 0.5 * my + 0.25 * ey;
-      const label = (e.factor >= 0 ? '+' : '') + e.factor.toFixed(2) + (e.lag > 0 ? ` (lag ${e.lag})` : '');
+      // Label on the curve (a quadratic Bezier's point at t), the lagged link's nearer its source, so the labels of
+      // the links between one pair of channels stay apart; the line style already says which is lagged.
+      const t = e.lag === 0 ? 0.55 : 0.4;
+      const lx = (1 - t) * (1 - t) * sx + 2 * t * (1 - t) * mx + t * t * ex;
+      const ly = (1 - t) * (1 - t) * sy + 2 * t * (1 - t) * my + t * t * ey;
+      const label = (e.factor >= 0 ? '+' : '') + e.factor.toFixed(2) + (e.lag > 1 ? ` (lag ${e.lag})` : '');
       svg.appendChild(el('text', { x: lx.toFixed(1), y: (ly + 4).toFixed(1), 'text-anchor': 'middle', 'font-size': 11,
         fill: colour, stroke: '#fff', 'stroke-width': 3, 'paint-order': 'stroke' }, label));
     }
@@ -67,11 +70,11 @@ window.drawCausalGraph = (function () {
     channels.forEach((name, i) => {
       const p = pos[i];
       svg.appendChild(el('circle', { cx: p.x, cy: p.y, r: NODE, fill: '#eef3fa', stroke: '#17324f', 'stroke-width': 1.5 }));
-      svg.appendChild(el('text', { x: p.x, y: p.y + 1, 'text-anchor': 'middle', 'font-size': 12, 'font-weight': 600, fill: '#17324f' }, name));
+      svg.appendChild(el('text', { x: p.x, y: p.y + 1, 'text-anchor': 'middle', 'font-size': 11, 'font-weight': 600, fill: '#17324f' }, name));
       const s = selfLags.get(i + 1);
       if (s) {
         svg.appendChild(el('text', { x: p.x, y: p.y + 14, 'text-anchor': 'middle', 'font-size': 9, fill: '#5d6878' },
-          `own past ${s.factor.toFixed(2)}`));
+          `self ${s.factor.toFixed(2)}`));
       }
     });
     if (edges.length === 0) {
