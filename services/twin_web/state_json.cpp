@@ -134,6 +134,33 @@ json group_json(const std::string& id, const GroupState& g) {
 
 }  // namespace
 
+std::string group_to_json(const std::string& id, const GroupState& g) {
+  return group_json(id, g).dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+// Every group in one line each: enough for the page's group buttons (and to see where alarms are).
+std::string overview_to_json(const std::map<std::string, GroupState>& groups,
+                             const std::map<std::string, std::string>& info, std::uint64_t version) {
+  json list = json::array();
+  for (const auto& [id, g] : groups) {
+    std::size_t open = 0;
+    int worst = -1;
+    for (const auto& [aid, a] : g.alarms) {
+      if (!a.open()) continue;
+      ++open;
+      worst = std::max(worst, static_cast<int>(a.last.severity()));
+    }
+    list.push_back({{"id", id},
+                    {"feature", g.feature},
+                    {"channels", g.channels},
+                    {"has_trend", !g.trend.empty()},
+                    {"open_alarms", open},
+                    {"worst_severity", worst < 0 ? json(nullptr) : json(severity_name(static_cast<causal_twin::Severity>(worst)))}});
+  }
+  const json out = {{"version", version}, {"info", info}, {"groups", std::move(list)}};
+  return out.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 std::string state_to_json(const std::map<std::string, GroupState>& groups, const StateCounters& c,
                           const std::map<std::string, std::string>& info, std::uint64_t version) {
   json out;

@@ -7,8 +7,12 @@
 
 namespace causal::web {
 
+// state_json.cpp
 std::string state_to_json(const std::map<std::string, GroupState>& groups, const StateCounters& counters,
-                          const std::map<std::string, std::string>& info, std::uint64_t version);  // state_json.cpp
+                          const std::map<std::string, std::string>& info, std::uint64_t version);
+std::string overview_to_json(const std::map<std::string, GroupState>& groups,
+                             const std::map<std::string, std::string>& info, std::uint64_t version);
+std::string group_to_json(const std::string& id, const GroupState& group);
 
 CausalGraph causal_graph(const GroupState& group) {
   CausalGraph graph;
@@ -30,10 +34,16 @@ CausalGraph causal_graph(const GroupState& group) {
 
 TwinState::TwinState(StateLimits limits) : limits_(limits) {}
 
-GroupState& TwinState::group_locked(const std::string& asset_group) { return groups_[asset_group]; }
+GroupState& TwinState::group_locked(const std::string& asset_group) {
+  auto [it, inserted] = groups_.try_emplace(asset_group);
+  if (inserted) ++overview_version_;
+  return it->second;
+}
 
-void TwinState::changed_locked() {
+void TwinState::changed_locked(GroupState* group, bool overview) {
   ++version_;
+  if (group) ++group->version;
+  if (overview) ++overview_version_;
   changed_.notify_all();
 }
 
@@ -50,7 +60,8 @@ void TwinState::on_condition(const causal_twin::ConditionVector& in) {
     changed_locked();
     return;
   }
-  if (g.channels.empty()) g.channels = in.channel_names();
+  const bool first = g.channels.empty();
+  if (first) g.channels = in.channel_names();
   g.feature = in.feature();
   TrendPoint p{in.snapshot_index(), in.time_ns(), values};
   auto pos = std::lower_bound(g.trend.begin(), g.trend.end(), p.index,
@@ -64,7 +75,7 @@ void TwinState::on_condition(const causal_twin::ConditionVector& in) {
     g.trend.pop_front();
     ++counters_.trend_points_forgotten;
   }
-  changed_locked();
+  changed_locked(&g, first);
 }
 
 void TwinState::on_factors(const causal_twin::CausalFactors& in) {
@@ -90,7 +101,7 @@ void TwinState::on_factors(const causal_twin::CausalFactors& in) {
   f.names = in.factor_names();
   f.values = in.factors();
   f.stddev = in.factor_std();
-  changed_locked();
+  changed_locked(&g);
 }
 
 std::uint64_t TwinState::index_of_time_locked(const GroupState& g, std::int64_t time_ns, std::uint64_t fallback) const {
@@ -132,7 +143,7 @@ void TwinState::on_alarm(const causal_twin::Alarm& in) {
     g.alarms.erase(oldest);
     --closed;
   }
-  changed_locked();
+  changed_locked(&g, true);
 }
 
 void TwinState::on_recommendation(const causal_twin::Recommendation& in) {
@@ -147,7 +158,7 @@ void TwinState::on_recommendation(const causal_twin::Recommendation& in) {
                                    [](const auto& x, const auto& y) { return x.second.arrival < y.second.arrival; });
     g.recommendations.erase(oldest);
   }
-  changed_locked();
+  changed_locked(&g);
 }
 
 std::uint64_t TwinState::version() const {
@@ -167,6 +178,37 @@ std::shared_ptr<const std::string> TwinState::json() const {
     json_version_ = version_;
   }
   return json_;
+}
+
+TwinState::Versions TwinState::versions_locked(const std::string& asset_group) const {
+  const auto it = groups_.find(asset_group);
+  return {overview_version_, it == groups_.end() ? 0 : it->second.version};
+}
+
+TwinState::Versions TwinState::versions(const std::string& asset_group) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return versions_locked(asset_group);
+}
+
+bool TwinState::wait_for_change(const std::string& asset_group, Versions seen, std::chrono::milliseconds timeout) const {
+  std::unique_lock<std::mutex> lock(mutex_);
+  return changed_.wait_for(lock, timeout, [&] { return versions_locked(asset_group) != seen; });
+}
+
+std::string TwinState::page_json(const std::string& asset_group) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const Versions v = versions_locked(asset_group);
+  if (overview_json_version_ != v.overview) {
+    overview_json_ = overview_to_json(groups_, info_, v.overview);
+    overview_json_version_ = v.overview;
+  }
+  std::string out = "{\"version\":\"" + std::to_string(v.overview) + "." + std::to_string(v.group) +
+                    "\",\"overview\":" + overview_json_ + ",\"group\":";
+  const auto it = groups_.find(asset_group);
+  if (it == groups_.end()) return out + "null}";
+  auto& cached = group_json_[asset_group];
+  if (cached.second.empty() || cached.first != v.group) cached = {v.group, group_to_json(asset_group, it->second)};
+  return out + cached.second + "}";
 }
 
 std::vector<std::string> TwinState::channels(const std::string& asset_group) const {
@@ -190,7 +232,7 @@ std::optional<GroupState> TwinState::group(const std::string& asset_group) const
 void TwinState::set_info(std::string key, std::string value) {
   std::lock_guard<std::mutex> lock(mutex_);
   info_[std::move(key)] = std::move(value);
-  changed_locked();
+  changed_locked(nullptr, true);
 }
 
 }  // namespace causal::web

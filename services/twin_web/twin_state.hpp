@@ -70,6 +70,7 @@ struct RecommendationView {
 };
 
 struct GroupState {
+  std::uint64_t version = 0;  // bumped by every change of this group
   std::string feature;
   std::vector<std::string> channels;
   std::deque<TrendPoint> trend;                 // sorted by index
@@ -109,6 +110,19 @@ class TwinState {
   bool wait_for_change(std::uint64_t seen, std::chrono::milliseconds timeout) const;
   // The whole state as JSON (see state_json.cpp), built once per version and shared.
   std::shared_ptr<const std::string> json() const;
+
+  // What one page shows, so that a plant of many asset groups does not send every group to every page: the
+  // overview (every group's id, channels, open alarms; changes when a group appears or an alarm changes) and
+  // one group in full. Versions of the two parts; a page is current when it has both.
+  struct Versions {
+    std::uint64_t overview = 0, group = 0;
+    bool operator==(const Versions& o) const { return overview == o.overview && group == o.group; }
+    bool operator!=(const Versions& o) const { return !(*this == o); }
+  };
+  Versions versions(const std::string& asset_group) const;
+  bool wait_for_change(const std::string& asset_group, Versions seen, std::chrono::milliseconds timeout) const;
+  // {"version": "<overview>.<group>", "overview": {...}, "group": {...} | null}; parts cached per version.
+  std::string page_json(const std::string& asset_group) const;
   // Channel names of a group (empty when the group is unknown or has sent no condition vector yet).
   std::vector<std::string> channels(const std::string& asset_group) const;
   StateCounters counters() const;
@@ -120,7 +134,8 @@ class TwinState {
 
  private:
   GroupState& group_locked(const std::string& asset_group);
-  void changed_locked();
+  void changed_locked(GroupState* group = nullptr, bool overview = false);
+  Versions versions_locked(const std::string& asset_group) const;
   std::uint64_t index_of_time_locked(const GroupState& g, std::int64_t time_ns, std::uint64_t fallback) const;
 
   StateLimits limits_;
@@ -130,9 +145,13 @@ class TwinState {
   std::map<std::string, std::string> info_;
   StateCounters counters_;
   std::uint64_t version_ = 0;
+  std::uint64_t overview_version_ = 0;
   std::uint64_t arrivals_ = 0;
   mutable std::uint64_t json_version_ = ~std::uint64_t{0};
   mutable std::shared_ptr<const std::string> json_;
+  mutable std::uint64_t overview_json_version_ = ~std::uint64_t{0};
+  mutable std::string overview_json_;
+  mutable std::map<std::string, std::pair<std::uint64_t, std::string>> group_json_;  // by group: version, text
 };
 
 }  // namespace causal::web

@@ -157,12 +157,17 @@ void WebServer::routes() {
     res.set_header("Cache-Control", "max-age=3600");
     res.set_content(chartjs_, "text/javascript; charset=utf-8");
   });
-  s.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
-    const auto body = state_.json();
+  // ?group=ID: what the page shows (every group's overview, that group in full); without: everything.
+  s.Get("/api/state", [this](const httplib::Request& req, httplib::Response& res) {
     res.set_header("Cache-Control", "no-store");
+    if (req.has_param("group")) {
+      res.set_content(state_.page_json(req.get_param_value("group")), "application/json");
+      return;
+    }
+    const auto body = state_.json();
     res.set_content(*body, "application/json");
   });
-  s.Get("/api/events", [this](const httplib::Request&, httplib::Response& res) {
+  s.Get("/api/events", [this](const httplib::Request& req, httplib::Response& res) {
     if (event_streams_.fetch_add(1) >= options_.max_event_streams) {
       --event_streams_;
       send_json(res, 503, {{"error", "too many open event streams: poll /api/state"}});
@@ -170,24 +175,26 @@ void WebServer::routes() {
     }
     res.set_header("Cache-Control", "no-store");
     res.set_header("X-Accel-Buffering", "no");
-    // One event per change of the state, at most four a second; a comment line every 15 s keeps proxies open.
-    auto seen = std::make_shared<std::uint64_t>(~std::uint64_t{0});
+    // The page's view of one group (?group=ID; none: the overview alone, to choose one), one event per change
+    // of it, at most four a second; a comment line every 15 s keeps proxies open.
+    const std::string group = req.has_param("group") ? req.get_param_value("group") : std::string();
+    auto seen = std::make_shared<TwinState::Versions>(TwinState::Versions{~std::uint64_t{0}, 0});
     auto quiet = std::make_shared<int>(0);
     res.set_chunked_content_provider(
         "text/event-stream",
-        [this, seen, quiet](std::size_t, httplib::DataSink& sink) {
+        [this, group, seen, quiet](std::size_t, httplib::DataSink& sink) {
           if (stopping_.load()) return false;
-          if (!state_.wait_for_change(*seen, std::chrono::milliseconds(500))) {
+          if (!state_.wait_for_change(group, *seen, std::chrono::milliseconds(500))) {
             if (++*quiet < 30) return true;
             *quiet = 0;
             return sink.write(": keep-alive\n\n", 14);
           }
           *quiet = 0;
-          *seen = state_.version();
-          const auto body = state_.json();
+          *seen = state_.versions(group);
+          const std::string body = state_.page_json(group);
           std::string event;
-          event.reserve(body->size() + 32);
-          event.append("event: state\ndata: ").append(*body).append("\n\n");
+          event.reserve(body.size() + 32);
+          event.append("event: state\ndata: ").append(body).append("\n\n");
           if (!sink.write(event.data(), event.size())) return false;
           std::this_thread::sleep_for(std::chrono::milliseconds(250));
           return !stopping_.load();

@@ -32,8 +32,8 @@ try {
   page.on('console', (m) => { if (m.type() === 'error') result.console_errors.push(m.text()); });
   page.on('pageerror', (e) => result.page_errors.push(String(e)));
   page.on('requestfailed', (r) => {
-    // The event stream is cut when the browser closes; anything else failing is a defect.
-    if (!r.url().endsWith('/api/events')) result.failed_requests.push(`${r.url()}: ${r.failure()?.errorText}`);
+    // An event stream is cut when the page switches groups or the browser closes; anything else failing is a defect.
+    if (new URL(r.url()).pathname !== '/api/events') result.failed_requests.push(`${r.url()}: ${r.failure()?.errorText}`);
   });
   await page.goto(args.url, { waitUntil: 'load' });
   step('page loaded');
@@ -42,8 +42,7 @@ try {
   const points = () => page.evaluate(() => Number(document.getElementById('trend').dataset.points));
   const lastIndex = () => page.evaluate(() => {
     const s = window.twinView.state();
-    const g = s && s.groups.find((x) => x.id === window.twinView.selected());
-    return g && g.last ? g.last.index : -1;
+    return s && s.group && s.group.last ? s.group.last.index : -1;
   });
   await page.waitForFunction(() => Number(document.getElementById('trend').dataset.points) > 0, null, { timeout: 60000 });
   result.points_first = await points();
@@ -84,7 +83,8 @@ try {
   }
   // The page has caught up when it shows the version the server serves now (nothing changes any more).
   await page.waitForFunction(async () => {
-    const s = await (await fetch('/api/state', { cache: 'no-store' })).json();
+    const group = encodeURIComponent(window.twinView.selected());
+    const s = await (await fetch(`/api/state?group=${group}`, { cache: 'no-store' })).json();
     const shown = window.twinView.state();
     return shown && shown.version === s.version;
   }, null, { timeout: 20000, polling: 250 });
@@ -100,6 +100,7 @@ try {
   result.graph_edges = await page.evaluate(() => document.querySelectorAll('#graph path.edge').length);
   result.graph_info = await page.evaluate(() => document.getElementById('graph-info').textContent);
   result.page_version = await page.evaluate(() => window.twinView.state().version);
+  result.connection = await page.evaluate(() => document.getElementById('conn').textContent);
   step('final page read');
 } catch (e) {
   result.error = String(e && e.stack ? e.stack : e);

@@ -230,6 +230,37 @@ TEST(TwinState, VersionChangesWakeWaiters) {
   EXPECT_EQ(s.json(), s.json());  // one serialisation per version, shared
 }
 
+TEST(TwinState, PageViewCarriesOneGroupAndWakesOnlyForIt) {
+  TwinState s;
+  s.on_condition(vec(0, {1, 2, 3}));
+  auto other = vec(0, {4, 5, 6});
+  other.asset_group("h");
+  s.on_condition(other);
+  const auto g0 = s.versions("g"), h0 = s.versions("h");
+  other.snapshot_index(1);
+  s.on_condition(other);  // a new snapshot of h: g's page does not change
+  EXPECT_EQ(s.versions("g"), g0);
+  EXPECT_NE(s.versions("h"), h0);
+  EXPECT_FALSE(s.wait_for_change("g", g0, std::chrono::milliseconds(20)));
+  auto raised = alarm("h/1/a/1", causal_twin::RAISED, 1, 0);
+  raised.asset_group("h");
+  s.on_alarm(raised);  // an alarm anywhere changes every page's overview
+  EXPECT_NE(s.versions("g").overview, g0.overview);
+  EXPECT_TRUE(s.wait_for_change("g", g0, std::chrono::milliseconds(20)));
+
+  const json page = json::parse(s.page_json("g"));
+  const auto v = s.versions("g");
+  EXPECT_EQ(page["version"], std::to_string(v.overview) + "." + std::to_string(v.group));
+  EXPECT_EQ(page["group"]["id"], "g");
+  EXPECT_EQ(page["group"]["trend"]["index"], json({0}));
+  ASSERT_EQ(page["overview"]["groups"].size(), 2u);
+  EXPECT_EQ(page["overview"]["groups"][1]["id"], "h");
+  EXPECT_EQ(page["overview"]["groups"][1]["open_alarms"], 1);
+  EXPECT_EQ(page["overview"]["groups"][1]["worst_severity"], "warning");
+  EXPECT_TRUE(page["overview"]["groups"][0]["worst_severity"].is_null());
+  EXPECT_TRUE(json::parse(s.page_json("unknown"))["group"].is_null());
+}
+
 TEST(WhatIfBridge, SendsResendsAndHandsTheMatchingReplyBack) {
   WhatIfBridge bridge;
   causal_twin::WhatIfRequest q;

@@ -1,5 +1,6 @@
-// The live view: one state (from Server-Sent Events, or polling /api/state when a stream cannot be had) drawn
-// for the selected asset group. Text from the twin is always set as text, never as HTML.
+// The live view: the selected asset group's state (Server-Sent Events from /api/events?group=ID, or polling
+// /api/state?group=ID when a stream cannot be had) with the overview of every group for the group buttons.
+// Text from the twin is always set as text, never as HTML.
 'use strict';
 
 (function () {
@@ -9,9 +10,11 @@
   const KNOWN_REC_FIELDS = new Set(['id', 'alarm_id', 'current', 'rank', 'target_channel', 'intervene_channel', 'delta',
     'effect_immediate', 'effect_steady_state', 'effect_low', 'effect_high', 'confidence', 'text', 'arrival']);
   const $ = (id) => document.getElementById(id);
-  let state = null;
-  let selected = null;
+  let state = null;     // {version, overview: {groups: [...]}, group: {...} | null}
+  let selected = null;  // asset-group id shown (null: none yet)
+  let chosen = false;   // the user picked it (else the first group with data is followed)
   let chart = null;
+  let source = null;
   let polling = null;
   let points = 0;
 
@@ -23,7 +26,7 @@
   }
   // "x; y; z" -> "x" and "A. B." -> "A.": the headline of a long explanation (the rest stays available).
   const firstClause = (t) => { const s = String(t || ''); const i = s.indexOf('; '); return i > 0 ? s.slice(0, i) : s; };
-  const firstSentence = (t) => { const s = String(t || ''); const i = s.indexOf('. '); return i > 0 ? s.slice(0, i + 1) : s; };
+  const firstSentence = (t) => { const s = String(t || ''); const m = /\.\s+(?=[A-Z[])/.exec(s); return m ? s.slice(0, m.index + 1) : s; };
   const fmtTime = (ms) => (ms ? new Date(ms).toISOString().slice(0, 16).replace('T', ' ') + ' UTC' : '');
   const channelName = (g, c) => (g.channels[c - 1] !== undefined ? g.channels[c - 1] : `channel ${c}`);
   // Effects are in model units: log levels (estimator log_transform), shown as level changes in percent.
@@ -36,37 +39,55 @@
     c.classList.toggle('live', live);
   }
 
+  const groupQuery = () => `?group=${encodeURIComponent(selected === null ? '' : selected)}`;
+
   function connect() {
+    if (source) { source.close(); source = null; }
+    if (polling) { clearInterval(polling); polling = null; }
     if (!('EventSource' in window)) { poll(); return; }
-    const es = new EventSource('/api/events');
-    es.addEventListener('state', (ev) => { setConn('live', true); apply(JSON.parse(ev.data)); });
+    const es = new EventSource('/api/events' + groupQuery());
+    source = es;
+    es.addEventListener('state', (ev) => { if (es === source) { setConn('live', true); apply(JSON.parse(ev.data)); } });
     es.onerror = () => {
+      if (es !== source) return;
       if (es.readyState === EventSource.CLOSED) { setConn('polling', false); poll(); } else { setConn('reconnecting', false); }
     };
   }
 
   function poll() {
     if (polling) return;
-    const once = () => fetch('/api/state', { cache: 'no-store' })
+    const once = () => fetch('/api/state' + groupQuery(), { cache: 'no-store' })
       .then((r) => r.json()).then((s) => { setConn('polling', true); apply(s); })
       .catch(() => setConn('offline', false));
     once();
     polling = setInterval(once, 1000);
   }
 
+  function select(id, byUser) {
+    chosen = chosen || byUser;
+    if (id === selected) return;
+    selected = id;
+    const out = $('whatif-result');
+    out.replaceChildren();
+    out.dataset.status = 'idle';
+    connect();  // the next event carries the new group
+  }
+
   function apply(s) {
     state = s;
-    const groups = s.groups || [];
-    if (!selected || !groups.some((g) => g.id === selected)) {
-      const first = groups.find((g) => g.trend && g.trend.index.length > 0) || groups[0];
-      selected = first ? first.id : null;
+    const groups = (s.overview && s.overview.groups) || [];
+    const current = groups.find((x) => x.id === selected);
+    if (!current || (!chosen && !current.has_trend)) {
+      const first = groups.find((x) => x.has_trend) || groups[0];
+      if (first && first.id !== selected) select(first.id, false);
     }
     renderNav(groups);
-    const g = groups.find((x) => x.id === selected);
+    const g = s.group && s.group.id === selected ? s.group : null;
     $('empty').hidden = !!g;
     $('view').hidden = !g;
     if (!g) {
-      $('empty').textContent = `Waiting for data from the twin on DDS domain ${(s.info && s.info.domain) || '?'}\u2026`;
+      const info = (s.overview && s.overview.info) || {};
+      $('empty').textContent = `Waiting for data from the twin on DDS domain ${info.domain || '?'}\u2026`;
       return;
     }
     renderStamp(g);
@@ -84,15 +105,30 @@
       nav.dataset.ids = ids;
       nav.replaceChildren(...groups.map((g) => {
         const b = node('button', { type: 'button', 'data-group': g.id }, g.id || '(twin)');
-        b.addEventListener('click', () => { selected = g.id; if (state) apply(state); });
+        b.appendChild(node('span', { class: 'badge' }));
+        b.addEventListener('click', () => select(g.id, true));
         return b;
       }));
     }
-    for (const b of nav.children) b.classList.toggle('active', b.dataset.group === selected);
+    groups.forEach((g, i) => {
+      const b = nav.children[i];
+      b.classList.toggle('active', g.id === selected);
+      const badge = b.lastChild;  // open alarms, coloured by the worst
+      badge.textContent = g.open_alarms > 0 ? String(g.open_alarms) : '';
+      badge.className = g.open_alarms > 0 ? `badge sev ${g.worst_severity}` : 'badge';
+    });
   }
 
   function renderStamp(g) {
     $('stamp').textContent = g.last ? `snapshot ${g.last.index} \u00b7 ${fmtTime(g.last.time_ms)}` : '';
+  }
+
+  // Log-axis labels at 1, 2, 3 and 5 times a power of ten (Chart.js's own skip 3, which leaves a narrow range
+  // with one label); every label on a linear axis.
+  function logTick(v) {
+    if (this.type !== 'logarithmic') return Number(Number(v).toPrecision(3)).toString();
+    const m = v / Math.pow(10, Math.floor(Math.log10(v)));
+    return [1, 2, 3, 5].some((x) => Math.abs(m - x) < 1e-6) ? Number(Number(v).toPrecision(2)).toString() : '';
   }
 
   function union(spans) {
@@ -169,8 +205,7 @@
             y: {
               type: positive ? 'logarithmic' : 'linear',
               title: { display: true, text: g.feature || 'condition' },
-              // Every tick labelled (Chart.js's log scale labels only 1, 2 and 5): a narrow range still reads.
-              ticks: { callback: (v) => Number(Number(v).toPrecision(2)).toString() },
+              ticks: { callback: logTick },
             },
           },
           plugins: { legend: { position: 'top' }, tooltip: { callbacks: {} } },
@@ -291,7 +326,7 @@
 
   $('whatif').addEventListener('submit', async (ev) => {
     ev.preventDefault();
-    const g = state && (state.groups || []).find((x) => x.id === selected);
+    const g = state && state.group && state.group.id === selected ? state.group : null;
     if (!g) return;
     const out = $('whatif-result');
     const button = $('whatif-ask');
