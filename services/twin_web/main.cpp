@@ -10,7 +10,8 @@ int main(int argc, char** argv) {
                "and recommendations on a DDS domain and serves, per asset group, the condition trends with alarm\n"
                "bands, the current causal graph (condition-level filter, links at |z| >= 2), the open alarms with\n"
                "root cause and reason, the recommendations and a what-if form that asks the running\n"
-               "alarm-recommender. Endpoints: / (the page), /api/state (JSON), /api/events (Server-Sent Events),\n"
+               "alarm-recommender. Endpoints: / (the page); /api/state?group=ID (JSON: that group and one line per\n"
+               "group; without ?group= every group); /api/events?group=ID (the same as Server-Sent Events, on change);\n"
                "POST /api/whatif {asset_group, channel, percent | delta, sustained}."};
   causal::dds::add_common_options(app, o.dds);
   app.add_option("--port", o.web.port, "TCP port to serve on (0: any free port, printed at start)")

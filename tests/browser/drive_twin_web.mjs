@@ -54,10 +54,11 @@ try {
   step(`trend points ${result.points_first} -> ${result.points_second}`);
 
   // A what-if question through the form: a sustained -10 % on channel 2. The model may not be ready in the
-  // first seconds (calibration): a refusal or no reply is asked again, three times at most.
+  // first seconds (calibration): a refusal or no reply is asked again, five times at most.
   await page.selectOption('#whatif-channel', '2');
   await page.fill('#whatif-percent', '-10');
-  for (let attempt = 1; attempt <= 3; ++attempt) {
+  result.whatif_history = [];
+  for (let attempt = 1; attempt <= 5; ++attempt) {
     await page.click('#whatif-ask');
     await page.waitForFunction(() => !['asking', 'idle'].includes(document.getElementById('whatif-result').dataset.status),
       null, { timeout: 20000 });
@@ -65,6 +66,7 @@ try {
     result.whatif_text = await page.evaluate(() => document.getElementById('whatif-result').innerText);
     result.whatif_rows = await page.evaluate(() => document.querySelectorAll('#whatif-result table tr').length);
     result.whatif_attempts = attempt;
+    result.whatif_history.push(`${result.whatif_status}: ${result.whatif_text.split('\n')[0]}`);
     if (result.whatif_status === 'answered') break;
     await sleep(2000);
   }
