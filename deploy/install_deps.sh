@@ -15,8 +15,9 @@ PACKAGES=(
   zlib1g-dev                       # gzip-compressed embedded snapshots
   gnuplot-nox                      # causal-report's plots
   graphviz                         # causal-report's causal graph (dot places edge labels without overlap)
+  libcpp-httplib-dev               # /metrics endpoints and twin-web (HTTP server; Debian has no prometheus-cpp package)
+  prometheus curl                  # metrics test: a real Prometheus scrapes the running pipeline; promtool lints
   iproute2                         # network-namespace tests (ip netns)
-  libcpp-httplib-dev               # twin-web's HTTP server (Server-Sent Events)
   nlohmann-json3-dev               # twin-web's JSON
   libjs-chart.js                   # twin-web's trend charts, served from /usr/share/javascript (no CDN)
   chromium fonts-dejavu-core       # the browser test (ctest -L browser): headless Chromium, a font to render

@@ -36,6 +36,6 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  return causal::dds::run_service(signals, "twin-web", o.dds.log_level,
+  return causal::dds::run_service(signals, "twin-web", o.dds,
                                   [&] { return std::make_unique<causal::web::TwinWebNode>(std::move(o)); });
 }

@@ -113,6 +113,19 @@ json recommendation_json(const RecommendationView& v, const GroupState& g) {
           {"effect_high", number(r.effect_high())},
           {"confidence", number(r.confidence())},
           {"text", r.text()},
+          {"answer_kind", r.answer_kind()},
+          {"horizon_snapshots", r.horizon_snapshots()},
+          {"spectral_radius", number(r.spectral_radius())},
+          {"draws", r.draws()},
+          {"unstable_draws", r.unstable_draws()},
+          {"unstable_draw_share", number(r.unstable_draw_share())},
+          {"effect_median", number(r.effect_median())},
+          {"effect_percent", number(r.effect_percent())},
+          {"effect_percent_low", number(r.effect_percent_low())},
+          {"effect_percent_high", number(r.effect_percent_high())},
+          {"effect_level_change", number(r.effect_level_change())},
+          {"reliable", r.reliable()},
+          {"summary", r.summary()},
           {"arrival", v.arrival}};
 }
 

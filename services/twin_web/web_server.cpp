@@ -92,7 +92,17 @@ json reply_json(const causal_twin::WhatIfReply& reply, const causal_twin::WhatIf
           {"effect_immediate", numbers(reply.effect_immediate())},
           {"effect_steady_state", numbers(reply.effect_steady_state())},
           {"effect_low", numbers(reply.effect_low())},
-          {"effect_high", numbers(reply.effect_high())}};
+          {"effect_high", numbers(reply.effect_high())},
+          {"answer_kind", reply.answer_kind()},
+          {"horizon_snapshots", reply.horizon_snapshots()},
+          {"spectral_radius", std::isfinite(reply.spectral_radius()) ? json(reply.spectral_radius()) : json(nullptr)},
+          {"draws", reply.draws()},
+          {"unstable_draws", reply.unstable_draws()},
+          {"effect_median", numbers(reply.effect_median())},
+          {"effect_percent", numbers(reply.effect_percent())},
+          {"effect_percent_low", numbers(reply.effect_percent_low())},
+          {"effect_percent_high", numbers(reply.effect_percent_high())},
+          {"summary", reply.summary()}};
 }
 
 }  // namespace

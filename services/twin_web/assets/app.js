@@ -8,7 +8,10 @@
   const BAND = { advisory: 'rgba(240,190,30,0.14)', warning: 'rgba(240,130,30,0.16)', critical: 'rgba(215,40,40,0.18)' };
   const SEVERITY_RANK = { critical: 3, warning: 2, advisory: 1 };
   const KNOWN_REC_FIELDS = new Set(['id', 'alarm_id', 'current', 'rank', 'target_channel', 'intervene_channel', 'delta',
-    'effect_immediate', 'effect_steady_state', 'effect_low', 'effect_high', 'confidence', 'text', 'arrival']);
+    'effect_immediate', 'effect_steady_state', 'effect_low', 'effect_high', 'confidence', 'text', 'arrival',
+    'answer_kind', 'horizon_snapshots', 'spectral_radius', 'draws', 'unstable_draws', 'unstable_draw_share',
+    'effect_median', 'effect_percent', 'effect_percent_low', 'effect_percent_high', 'effect_level_change', 'reliable',
+    'summary']);
   const $ = (id) => document.getElementById(id);
   let state = null;     // {version, overview: {groups: [...]}, group: {...} | null}
   let selected = null;  // asset-group id shown (null: none yet)
@@ -32,6 +35,13 @@
   // Effects are in model units: log levels (estimator log_transform), shown as level changes in percent.
   const pct = (v) => (v === null || v === undefined || !isFinite(v) ? 'n/a'
     : `${v >= 0 ? '+' : ''}${(100 * Math.expm1(v)).toFixed(1)} %`);
+  // A value that is already in percent (the recommender's effect_percent fields).
+  // Beyond +1000 % a number says nothing more (a model that does not settle): capped as the twin's own text does.
+  const percent = (v) => (v === null || v === undefined || !isFinite(v) ? 'n/a'
+    : v > 1000 ? '> +1000 %' : `${v >= 0 ? '+' : ''}${v.toFixed(1)} %`);
+  // "steady state", or "after H snapshots" when the model does not settle and the twin answers at a horizon.
+  const answerLabel = (x) => (x.answer_kind === 'horizon' && x.horizon_snapshots ? `after ${x.horizon_snapshots} snapshots`
+    : 'steady state');
 
   function setConn(text, live) {
     const c = $('conn');
@@ -271,10 +281,15 @@
       const li = node('li', { 'data-recommendation-id': r.id });
       const text = r.text || `act on ${channelName(g, r.intervene_channel)}`;
       li.appendChild(node('div', { title: text }, firstSentence(text)));
-      const conf = r.confidence ? ` (${Math.round(100 * r.confidence)} % interval ${pct(r.effect_low)} .. ${pct(r.effect_high)})` : '';
+      const inPercent = r.effect_percent !== undefined && r.effect_percent !== null;
+      const effect = inPercent ? percent(r.effect_percent) : pct(r.effect_steady_state);
+      const low = inPercent ? percent(r.effect_percent_low) : pct(r.effect_low);
+      const high = inPercent ? percent(r.effect_percent_high) : pct(r.effect_high);
+      const conf = r.confidence ? ` (${Math.round(100 * r.confidence)} % interval ${low} .. ${high})` : '';
       li.appendChild(node('div', { class: 'detail' },
-        `rank ${r.rank}: act on ${channelName(g, r.intervene_channel)}; ${channelName(g, r.target_channel)} at steady state ` +
-        `${pct(r.effect_steady_state)}${conf}` + (r.alarm_id ? ` \u00b7 for ${r.alarm_id}` : '')));
+        `rank ${r.rank}: act on ${channelName(g, r.intervene_channel)}; ${channelName(g, r.target_channel)} ${answerLabel(r)} ` +
+        `${effect}${conf}` + (r.reliable === false ? ' \u00b7 no reliable lever' : '') +
+        (r.alarm_id ? ` \u00b7 for ${r.alarm_id}` : '')));
       // Fields this page does not know yet (the data model grows): shown as they come.
       const extra = Object.entries(r).filter(([k, v]) => !KNOWN_REC_FIELDS.has(k) && v !== null && typeof v !== 'object');
       if (extra.length) li.appendChild(node('div', { class: 'detail' }, extra.map(([k, v]) => `${k}: ${v}`).join(' \u00b7 ')));
@@ -310,15 +325,23 @@
     out.appendChild(node('p', { class: 'answer-text' }, a.text));
     const table = node('table', { class: 'answer' });
     const head = node('tr');
-    for (const h of ['channel', 'at once', a.sustained ? 'steady state' : 'in total', 'interval']) head.appendChild(node('th', {}, h));
+    const answered = a.sustained ? answerLabel(a) : 'in total';
+    for (const h of ['channel', 'at once', answered, 'interval']) head.appendChild(node('th', {}, h));
     table.appendChild(head);
     const show = a.percent ? pct : (v) => (v === null ? 'n/a' : v.toPrecision(3));
+    // The recommender's percent of each channel's current level when it gives one; else from the model's units.
+    const hasPercent = Array.isArray(a.effect_percent) && a.effect_percent.length === a.effect_immediate.length;
     a.effect_immediate.forEach((v, k) => {
       const tr = node('tr');
       tr.appendChild(node('td', {}, channelName(g, k + 1)));
       tr.appendChild(node('td', {}, show(v)));
-      tr.appendChild(node('td', {}, show(a.effect_steady_state[k])));
-      tr.appendChild(node('td', {}, `${show(a.effect_low[k])} .. ${show(a.effect_high[k])}`));
+      if (hasPercent) {
+        tr.appendChild(node('td', {}, percent(a.effect_percent[k])));
+        tr.appendChild(node('td', {}, `${percent(a.effect_percent_low[k])} .. ${percent(a.effect_percent_high[k])}`));
+      } else {
+        tr.appendChild(node('td', {}, show(a.effect_steady_state[k])));
+        tr.appendChild(node('td', {}, `${show(a.effect_low[k])} .. ${show(a.effect_high[k])}`));
+      }
       table.appendChild(tr);
     });
     out.appendChild(table);
