@@ -15,6 +15,7 @@ PACKAGES=(
   zlib1g-dev                       # gzip-compressed embedded snapshots
   gnuplot-nox                      # causal-report's plots
   iproute2                         # network-namespace tests (ip netns)
+  openssl libssl-dev               # DDS-Security: the PKI scripts (deploy/security) and the credential checks
 )
 
 missing=()

@@ -69,11 +69,16 @@ struct DdsSettings {
   std::string participant_profile = "causal_twin_participant";
   int domain_id = 0;                        // DDS domain; 0..232 with the default port mapping
   std::string participant_name;             // Shown by discovery tools; empty = profile's name
+  // DDS-Security (security.hpp): the PKI folder ("" = the profile's causal_twin.security_dir if any, "off" =
+  // open) and the identity in it ("" = the one named after participant_name).
+  std::string security_dir;
+  std::string security_identity;
 };
 
 class Participant {
  public:
-  // Throws std::runtime_error naming the file or profile that failed.
+  // Throws std::runtime_error naming the file or profile that failed, std::invalid_argument naming the
+  // security file and its problem (checked before the participant is created).
   explicit Participant(const DdsSettings& settings);
   ~Participant();
   Participant(const Participant&) = delete;
