@@ -115,7 +115,8 @@ class Intruder {
   template <typename PubSub, typename IsOwn>
   void reader(const std::string& topic, const std::string& profile, IsOwn is_own) {
     struct R : Endpoint {
-      R(dds::Participant& p, const std::string& t, const std::string& pr, IsOwn own) : r(p, t, pr), topic(t), own(own) {}
+      R(dds::Participant& p, const std::string& t, const std::string& pr, IsOwn is_own)
+          : r(p, t, pr), topic(t), own(is_own) {}
       void poll(IntruderCounts& c) override {
         r.take_all([&](const auto& s, const auto&) { ++(own(s) ? c.own[topic] : c.foreign[topic]); });
         c.matched[topic] = std::max(c.matched[topic], r.matched_writers());

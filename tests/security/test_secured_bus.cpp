@@ -64,7 +64,9 @@ PipelineRun run_secured_pipeline(int domain, const fs::path& pki, const fs::path
   for (ServiceProcess* p : {&replay, &estimator, &recommender, &recorder}) {
     const auto code = p->wait(std::chrono::seconds(110));
     EXPECT_TRUE(code.has_value()) << p->name() << " did not finish:\n" << p->output();
-    if (code) EXPECT_EQ(*code, 0) << p->name() << ":\n" << p->output();
+    if (code) {
+      EXPECT_EQ(*code, 0) << p->name() << ":\n" << p->output();
+    }
   }
   run.replay = replay.output();
   run.estimator = estimator.output();
@@ -229,5 +231,27 @@ TEST(SecuredBus, ExpiredOrForeignCertificateStopsTheServiceNamingTheFile) {
     EXPECT_NE(recorder.output().find((pki / c.file).string() + ": "), std::string::npos) << recorder.output();
     EXPECT_NE(recorder.output().find(c.problem), std::string::npos) << recorder.output();
   }
+  fs::remove_all(work);
+}
+
+TEST(SecuredBus, RevokedSensorIsRejectedByItsPeers) {
+  const fs::path work = fresh_dir("revoked");
+  const fs::path pki = make_pki(work / "pki");
+  run(script("issue-identity.sh") + " '" + pki.string() + "' retired-sensor sensor");
+  // The retired host keeps its files as they were (no revocation list), so it starts; the plant's services
+  // get the list from revoke-identity.sh and must refuse it.
+  fs::copy(pki, work / "stolen", fs::copy_options::recursive);
+  run(script("revoke-identity.sh") + " '" + pki.string() + "' retired-sensor");
+  ASSERT_TRUE(fs::exists(pki / "identity_ca.crl"));
+  IntruderCounts counts;
+  PipelineRun pipeline;
+  {
+    Intruder retired(221, (work / "stolen").string(), "retired-sensor");
+    pipeline = run_secured_pipeline(221, pki, work);
+    counts = retired.counts();
+  }
+  expect_untouched(pipeline);
+  expect_isolated(counts);
+  EXPECT_GT(counts.sent["causal_twin/vibration_frame"], 0u);
   fs::remove_all(work);
 }
