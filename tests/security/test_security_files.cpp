@@ -153,3 +153,21 @@ TEST_F(SecurityFiles, CommandLineOffOverridesTheProfileAndUnknownServicesNeedAnI
     EXPECT_NE(std::string(e.what()).find("/nonexistent/pki"), std::string::npos) << e.what();
   }
 }
+
+TEST_F(SecurityFiles, ProfileWithItsOwnSecurityPropertiesIsCheckedToo) {
+  // A site that writes the dds.sec.* properties into its XML profile by hand gets the same checks.
+  eprosima::fastdds::dds::DomainParticipantQos qos;
+  causal::dds::add_security_properties(security_files(pki().string(), "recorder"), qos);
+  EXPECT_NE(causal::dds::apply_security("", "", "causal-recorder", qos).find("configured by the DDS profile"),
+            std::string::npos);
+  eprosima::fastdds::dds::DomainParticipantQos broken;
+  auto files = security_files(pki().string(), "recorder");
+  files.private_key = (pki() / "sensor" / "key.pem").string();
+  causal::dds::add_security_properties(files, broken);
+  try {
+    causal::dds::apply_security("", "", "causal-recorder", broken);
+    ADD_FAILURE() << "the sensor's key with the recorder's certificate must be refused";
+  } catch (const std::invalid_argument& e) {
+    expect_refused(e.what(), files.private_key, "does not belong");
+  }
+}
