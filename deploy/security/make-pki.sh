@@ -66,8 +66,11 @@ make_ca identity_ca "Causal Twin Identity CA"
 make_ca permissions_ca "Causal Twin Permissions CA"
 
 # Governance: only authenticated participants join (join access control), discovery and liveliness
-# encrypted, every RTPS message signed, and on every causal_twin topic read/write access control with the
-# payload encrypted (AES-GCM) and each submessage signed by its writer.
+# encrypted, and on every causal_twin topic read/write access control with the payload encrypted (AES-GCM)
+# and every submessage of its endpoints (data, heartbeats, acknowledgements) signed with the endpoint's key.
+# No whole-message (rtps) protection: Debian's Fast DDS 2.9 then aborts now and then (assertion in
+# add_statistics_submessage: the encoded message leaves no room for the statistics submessage; seen in 1 of
+# 4 secured launch.sh runs); the submessage protection above already covers every byte a writer sends.
 cat > "$dir/governance.xml" <<XML
 <?xml version="1.0" encoding="UTF-8"?>
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
@@ -79,7 +82,7 @@ cat > "$dir/governance.xml" <<XML
       <enable_join_access_control>true</enable_join_access_control>
       <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
       <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
-      <rtps_protection_kind>SIGN</rtps_protection_kind>
+      <rtps_protection_kind>NONE</rtps_protection_kind>
       <topic_access_rules>
         <topic_rule>
           <topic_expression>causal_twin/*</topic_expression>

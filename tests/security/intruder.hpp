@@ -127,7 +127,7 @@ class Intruder {
     };
     try {
       endpoints_.push_back(std::make_unique<R>(participant_, topic, profile, is_own));
-    } catch (const std::runtime_error&) {
+    } catch (const std::exception&) {  // refused: by its permissions when secured
       counts_.refused_locally.insert("read " + topic);
     }
   }
@@ -148,7 +148,7 @@ class Intruder {
     };
     try {
       endpoints_.push_back(std::make_unique<W>(participant_, topic, profile, std::move(sample)));
-    } catch (const std::runtime_error&) {
+    } catch (const std::exception&) {  // refused: by its permissions when secured
       counts_.refused_locally.insert("write " + topic);
     }
   }

@@ -5,7 +5,8 @@
 //   publishes (frames, condition inputs and vectors, a critical alarm) reaches no service: every service's
 //   counts equal the open run's truth (984 snapshots, 8 x 984 factor messages);
 // * a sensor's valid certificate does not let it publish (or read) alarms;
-// * an expired or foreign certificate stops a service with exit code 2 and names the file.
+// * an expired or foreign certificate stops a service with exit code 2 and names the file; so does an
+//   identity whose permissions do not cover the service's topics.
 #include "../fault/delivery_checks.hpp"
 #include "intruder.hpp"
 #include "pki_fixture.hpp"
@@ -216,11 +217,13 @@ TEST(SecuredBus, ExpiredOrForeignCertificateStopsTheServiceNamingTheFile) {
   run(script("issue-identity.sh") + " '" + pki.string() + "' old-sensor sensor --expired");
   assemble_identity(pki, "foreign", other / "recorder", other / "recorder", pki / "recorder");
   struct Case {
-    std::string identity, file, problem;
+    std::string identity, names, problem;  // what the message must name, and say
   };
-  for (const Case& c : {Case{"old-sensor", "old-sensor/cert.pem", "expired on"},
-                        Case{"foreign", "foreign/cert.pem", "not issued by the identity CA"},
-                        Case{"missing", "missing/cert.pem", "missing"}}) {
+  for (const Case& c : {Case{"old-sensor", (pki / "old-sensor/cert.pem").string() + ": ", "expired on"},
+                        Case{"foreign", (pki / "foreign/cert.pem").string() + ": ", "not issued by the identity CA"},
+                        Case{"missing", (pki / "missing/cert.pem").string() + ": ", "missing"},
+                        // A valid identity of the wrong role: the recorder may not read alarms as a sensor.
+                        Case{"sensor", "cannot create DataReader for 'causal_twin/", "DDS-Security refused it"}}) {
     ServiceProcess recorder("causal-recorder",
                             {CAUSAL_RECORDER_BIN, "--domain", "221", "--security", pki.string(), "--security-identity",
                              c.identity, "--out", (work / "out").string(), "--max-runtime", "20"},
@@ -228,7 +231,7 @@ TEST(SecuredBus, ExpiredOrForeignCertificateStopsTheServiceNamingTheFile) {
     const auto code = recorder.wait(std::chrono::seconds(30));
     ASSERT_TRUE(code.has_value()) << c.identity << ": the recorder kept running:\n" << recorder.output();
     EXPECT_EQ(*code, 2) << c.identity << ":\n" << recorder.output();
-    EXPECT_NE(recorder.output().find((pki / c.file).string() + ": "), std::string::npos) << recorder.output();
+    EXPECT_NE(recorder.output().find(c.names), std::string::npos) << recorder.output();
     EXPECT_NE(recorder.output().find(c.problem), std::string::npos) << recorder.output();
   }
   fs::remove_all(work);
