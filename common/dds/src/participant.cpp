@@ -36,10 +36,9 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
                              "' is not defined in the loaded XML files");
   }
   if (!settings.participant_name.empty()) qos.name(settings.participant_name);
-  const std::string security = apply_security(settings.security_dir, settings.security_identity,
-                                              qos.name().to_string(), qos);
-  spdlog::info("{}", security);
-  const bool secured = security.rfind("DDS-Security on", 0) == 0;
+  security_note_ = apply_security(settings.security_dir, settings.security_identity, qos.name().to_string(), qos);
+  spdlog::info("{}", security_note_);
+  secured_ = security_note_.rfind("DDS-Security on", 0) == 0;
   directory_ = std::make_unique<ParticipantDirectory>();
   // Discovery callbacks do not depend on the status mask; no other status is routed to this listener.
   participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(settings.domain_id), qos,
@@ -50,7 +49,7 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
     eprosima::fastdds::dds::Log::Flush();
     throw std::runtime_error("cannot create DDS participant on domain " + std::to_string(settings.domain_id) +
                              " from profile '" + settings.participant_profile + "'" +
-                             (secured ? " with DDS-Security (see the Fast DDS error above: e.g. the governance or "
+                             (secured_ ? " with DDS-Security (see the Fast DDS error above: e.g. the governance or "
                                         "permissions have no rule for this domain)"
                                       : ""));
   }

@@ -96,6 +96,9 @@ class Participant {
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
   int domain_id() const { return domain_id_; }
   const ParticipantDirectory& directory() const { return *directory_; }
+  // Whether DDS-Security is on, and how it was set up ("DDS-Security on: identity sensor from DIR ...").
+  bool secured() const { return secured_; }
+  const std::string& security_note() const { return security_note_; }
 
  private:
   eprosima::fastdds::dds::Topic* topic_for(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
@@ -107,6 +110,8 @@ class Participant {
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
   std::mutex mutex_;
   int domain_id_ = 0;
+  bool secured_ = false;
+  std::string security_note_;
 };
 
 }  // namespace causal::dds
