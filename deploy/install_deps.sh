@@ -22,6 +22,7 @@ PACKAGES=(
   libjs-chart.js                   # twin-web's trend charts, served from /usr/share/javascript (no CDN)
   chromium fonts-dejavu-core       # the browser test (ctest -L browser): headless Chromium, a font to render
   nodejs                           # the browser test's driver: Node >= 20 with npm (as on the build image), runs playwright-core
+  openssl libssl-dev               # DDS-Security: the PKI scripts (deploy/security) and the credential checks
 )
 
 missing=()

@@ -3,9 +3,11 @@
 # every topic carried.
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
 #                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
-#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--metrics-port P]
+#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--metrics-port P] [--security DIR]
 #                    [--web-port P]
-# Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
+# Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only,
+# DDS-Security off on loopback (open bus; the plant profile turns it on).
+# --security DIR runs every service secured with the PKI made by deploy/security/make-pki.sh DIR.
 # --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
 # --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
 # --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
@@ -28,6 +30,7 @@ feature_args=()
 asset_group="ims2-shaft1"
 asks=()
 logs=""
+security=""
 metrics_port=""
 web_port=""
 while [ $# -gt 0 ]; do
@@ -44,9 +47,10 @@ while [ $# -gt 0 ]; do
     --asset-group) asset_group="$2"; shift 2 ;;
     --ask) asks+=("$2"); shift 2 ;;
     --logs) logs="$2"; shift 2 ;;
+    --security) security="$2"; shift 2 ;;
     --metrics-port) metrics_port="$2"; shift 2 ;;
     --web-port) web_port="$2"; shift 2 ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -54,6 +58,15 @@ keep_logs=1
 if [ -z "$logs" ]; then logs="$(mktemp -d)"; keep_logs=0; fi
 mkdir -p "$logs"
 common=(--domain "$domain" --dds-transport "$transport")
+if [ -n "$security" ]; then
+  [ -d "$security" ] || { echo "launch.sh: --security $security: no such folder (make one with deploy/security/make-pki.sh $security)" >&2; exit 2; }
+  common+=(--security "$security")
+  security_note="DDS-Security on ($security)"
+elif grep -q "causal_twin.security_dir" "$transport"; then
+  security_note="DDS-Security as set by $(basename "$transport")"
+else
+  security_note="DDS-Security off (open loopback demo: any local process can read and publish)"
+fi
 pids=()
 names=()
 tail_pid=""
@@ -86,7 +99,7 @@ start() {
   names+=("$name")
 }
 
-echo "launch: DDS domain $domain, transport $(basename "$transport"), logs in $logs"
+echo "launch: DDS domain $domain, transport $(basename "$transport"), $security_note, logs in $logs"
 for n in causal-recorder alarm-recommender causal-estimator sensor-replay causal-ask twin-web; do : > "$logs/$n.log"; done
 tail -q -n +1 -F "$logs"/causal-recorder.log "$logs"/alarm-recommender.log "$logs"/causal-estimator.log \
   "$logs"/sensor-replay.log "$logs"/causal-ask.log "$logs"/twin-web.log 2>/dev/null &

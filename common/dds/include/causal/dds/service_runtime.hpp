@@ -26,6 +26,8 @@ struct CommonOptions {
   std::string qos_file;        // deploy/dds/qos.xml unless overridden
   std::string transport_file;  // deploy/dds/localhost.xml unless overridden
   std::string log_level = "info";
+  std::string security_dir;       // --security DIR: PKI folder of deploy/security/make-pki.sh ("off" = open)
+  std::string security_identity;  // --security-identity NAME: the identity folder in it (default: per service)
   int metrics_port = 0;                       // 0 = no /metrics endpoint
   std::string metrics_bind = "127.0.0.1";     // loopback unless the operator opens it on purpose
 };
@@ -33,8 +35,8 @@ struct CommonOptions {
 // Default folder of the DDS XML files: $CAUSAL_TWIN_DDS_DIR, else the source tree's deploy/dds.
 std::string default_dds_dir();
 
-// Adds --domain, --dds-qos, --dds-transport, --log-level, --metrics-port, --metrics-bind and --version
-// (the project version) to a CLI11 app.
+// Adds --domain, --dds-qos, --dds-transport, --log-level, --security, --security-identity, --metrics-port,
+// --metrics-bind and --version (the project version) to a CLI11 app.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
 DdsSettings to_dds_settings(const CommonOptions& options, const std::string& participant_name);
