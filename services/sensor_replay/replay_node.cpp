@@ -27,24 +27,6 @@ std::string duration_text(std::int64_t ns) {
   return fmt::format("{:.3g} s", s);
 }
 
-// A feature table as it is: with no suffix given, every column is a channel, unless the columns are
-// <channel>_<feature> for more than one feature (derived_per_file_stats style: bearing1_meanabs, bearing1_rms,
-// ...); then the columns of `feature` are the channels. Returns the suffix to read with ("" = every column).
-std::string feature_suffix_for(const io::FeatureTable& all_columns, const std::string& feature) {
-  std::set<std::string> features;
-  for (const auto& name : all_columns.channel_names) {
-    const auto cut = name.rfind('_');
-    if (cut == std::string::npos || cut == 0 || cut + 1 == name.size()) return "";  // a plain channel name
-    features.insert(name.substr(cut + 1));
-  }
-  if (features.size() < 2) return "";
-  if (features.count(feature) == 0) {
-    throw std::invalid_argument(fmt::format("the table has the features {} per channel, not '{}': choose one with "
-                                            "--feature-name", fmt::join(features, ", "), feature));
-  }
-  return "_" + feature;
-}
-
 }  // namespace
 
 ReplayNode::ReplayNode(ReplayOptions options)
@@ -238,7 +220,8 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
 int ReplayNode::run_features() {
   io::FeatureTable table = io::read_feature_table(options_.path, options_.feature_suffix);
   if (options_.feature_suffix.empty()) {
-    if (const std::string suffix = feature_suffix_for(table, options_.feature_name); !suffix.empty()) {
+    // A table as it is: one column per channel, or <channel>_<feature> columns of several features.
+    if (const std::string suffix = io::per_feature_suffix(table, options_.feature_name); !suffix.empty()) {
       table = io::read_feature_table(options_.path, suffix);
       spdlog::info("{}: one column per channel and feature: publishing the '{}' columns", options_.path, suffix);
     }
