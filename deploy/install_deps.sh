@@ -15,9 +15,14 @@ PACKAGES=(
   zlib1g-dev                       # gzip-compressed embedded snapshots
   gnuplot-nox                      # causal-report's plots
   graphviz                         # causal-report's causal graph (dot places edge labels without overlap)
-  libcpp-httplib-dev               # /metrics endpoints (HTTP server; Debian has no prometheus-cpp package)
+  libcpp-httplib-dev               # /metrics endpoints and twin-web (HTTP server; Debian has no prometheus-cpp package)
   prometheus curl                  # metrics test: a real Prometheus scrapes the running pipeline; promtool lints
   iproute2                         # network-namespace tests (ip netns)
+  nlohmann-json3-dev               # twin-web's JSON
+  libjs-chart.js                   # twin-web's trend charts, served from /usr/share/javascript (no CDN)
+  chromium fonts-dejavu-core       # the browser test (ctest -L browser): headless Chromium, a font to render
+  nodejs                           # the browser test's driver: Node >= 20 with npm (as on the build image), runs playwright-core
+  openssl libssl-dev               # DDS-Security: the PKI scripts (deploy/security) and the credential checks
 )
 
 missing=()

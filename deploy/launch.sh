@@ -2,15 +2,22 @@
 # Starts the services on one DDS domain, replays a data set through them, stops them all, and prints what
 # every topic carried.
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
-#                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
-#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--metrics-port P]
-# Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only
-# (without --transport: $FASTRTPS_DEFAULT_PROFILES_FILE when set; deploy/dds/discovery_client.xml: a discovery server).
+#                    [--gap-factor K] [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
+#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--metrics-port P] [--security DIR]
+#                    [--web-port P]
+# Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only,
+# DDS-Security off on loopback (open bus; the plant profile turns it on). Without --transport:
+# $FASTRTPS_DEFAULT_PROFILES_FILE when set; --transport deploy/dds/discovery_client.xml: a discovery server.
+# --features FILE takes any IMS-format table as it is (timestamp, one column per channel, any names, 2-16
+# channels); --feature-suffix/--feature-name are optional (a table of <channel>_<feature> columns publishes
+# its meanabs columns unless told otherwise). --gap-factor K: a time interval > K x the median is a gap (3).
+# --security DIR runs every service secured with the PKI made by deploy/security/make-pki.sh DIR.
 # --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
 # --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
 # --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
 # --metrics-port P gives every service a Prometheus endpoint on 127.0.0.1 at consecutive ports from P (one
 #   line "metrics: <service> http://127.0.0.1:<port>/metrics" each).
+# --web-port P also runs twin-web: the live view at http://127.0.0.1:P/, up until 30 s after the run.
 # Exit code: 0 when every service exited 0 (nothing lost, refused or dropped), else the first non-zero code;
 # the summary at the end says per topic: sent, received, dropped, rejected, and which service failed.
 # Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
@@ -27,7 +34,9 @@ feature_args=()
 asset_group="ims2-shaft1"
 asks=()
 logs=""
+security=""
 metrics_port=""
+web_port=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --domain) domain="$2"; shift 2 ;;
@@ -35,6 +44,7 @@ while [ $# -gt 0 ]; do
     --features) source_args=(--features "$2"); shift 2 ;;
     --feature-suffix) feature_args+=(--feature-suffix "$2"); shift 2 ;;
     --feature-name) feature_args+=(--feature-name "$2"); shift 2 ;;
+    --gap-factor) feature_args+=(--gap-factor "$2"); shift 2 ;;
     --speed) speed="$2"; shift 2 ;;
     --transport) transport="$2"; shift 2 ;;
     --max-runtime) max_runtime="$2"; shift 2 ;;
@@ -42,8 +52,10 @@ while [ $# -gt 0 ]; do
     --asset-group) asset_group="$2"; shift 2 ;;
     --ask) asks+=("$2"); shift 2 ;;
     --logs) logs="$2"; shift 2 ;;
+    --security) security="$2"; shift 2 ;;
     --metrics-port) metrics_port="$2"; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    --web-port) web_port="$2"; shift 2 ;;
+    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -60,6 +72,15 @@ elif [ -n "${FASTRTPS_DEFAULT_PROFILES_FILE:-}" ]; then
 else
   transport="$root/deploy/dds/localhost.xml"
   common=(--domain "$domain" --transport "$transport")
+fi
+if [ -n "$security" ]; then
+  [ -d "$security" ] || { echo "launch.sh: --security $security: no such folder (make one with deploy/security/make-pki.sh $security)" >&2; exit 2; }
+  common+=(--security "$security")
+  security_note="DDS-Security on ($security)"
+elif grep -q "causal_twin.security_dir" "$transport"; then
+  security_note="DDS-Security as set by $(basename "$transport")"
+else
+  security_note="DDS-Security off (open loopback demo: any local process can read and publish)"
 fi
 pids=()
 names=()
@@ -93,10 +114,10 @@ start() {
   names+=("$name")
 }
 
-echo "launch: DDS domain $domain, transport $(basename "$transport"), logs in $logs"
-for n in causal-recorder alarm-recommender causal-estimator sensor-replay causal-ask; do : > "$logs/$n.log"; done
+echo "launch: DDS domain $domain, transport $(basename "$transport"), $security_note, logs in $logs"
+for n in causal-recorder alarm-recommender causal-estimator sensor-replay causal-ask twin-web; do : > "$logs/$n.log"; done
 tail -q -n +1 -F "$logs"/causal-recorder.log "$logs"/alarm-recommender.log "$logs"/causal-estimator.log \
-  "$logs"/sensor-replay.log "$logs"/causal-ask.log 2>/dev/null &
+  "$logs"/sensor-replay.log "$logs"/causal-ask.log "$logs"/twin-web.log 2>/dev/null &
 tail_pid=$!
 
 estimator_waits=(--wait-for alarm-recommender)
@@ -104,6 +125,17 @@ if [ -x "$bin/causal_recorder/causal-recorder" ] && [ -n "$record" ]; then
   start causal-recorder "$bin/causal_recorder/causal-recorder" "${common[@]}" --out "$record" --idle-exit 6 \
     --max-runtime "$max_runtime"
   estimator_waits+=(--wait-for causal-recorder)
+fi
+if [ -n "$web_port" ]; then
+  # The live view: the estimator waits for it (every snapshot on the page); it stays up 30 s after the run.
+  start twin-web "$bin/twin_web/twin-web" "${common[@]}" --port "$web_port" --idle-exit 30 --max-runtime "$max_runtime"
+  for _ in $(seq 50); do grep -q "serving http://" "$logs/twin-web.log" && break; sleep 0.1; done
+  if ! grep -q "serving http://" "$logs/twin-web.log"; then
+    echo "launch: twin-web did not start on port $web_port (see above)" >&2
+    exit 2
+  fi
+  echo "web: http://127.0.0.1:$web_port/"
+  estimator_waits+=(--wait-for twin-web)
 fi
 # With questions to ask, the recommender stays up a little longer after its sources are gone.
 recommender_idle=5
@@ -133,11 +165,28 @@ if [ ${#asks[@]} -gt 0 ]; then
       --percent "${q#*:}" --timeout 5 >> "$logs/causal-ask.log" 2>&1 || echo "launch: causal-ask exit code $? (see above)" >> "$logs/causal-ask.log"
   done
 fi
-# The replay has finished; the others drain their queues and exit when idle.
-for i in "${!pids[@]}"; do
-  [ -n "${service_rc[${names[$i]}]+x}" ] && continue
-  rc=0; wait "${pids[$i]}" || rc=$?
-  service_rc[${names[$i]}]=$rc
+# The replay has finished; the others drain their queues and exit when idle, the estimator first. A service
+# exits when idle only after data reached it: when the replay or the estimator failed, the ones downstream may
+# never see any, so they get drain_s seconds and are then stopped (SIGTERM), instead of running to --max-runtime.
+drain_s=20
+bounded=0
+[ "$status" != 0 ] && bounded=1
+[ "${service_rc[causal-estimator]:-0}" != 0 ] && bounded=1
+for n in causal-estimator alarm-recommender causal-recorder; do
+  [ -n "${service_rc[$n]+x}" ] && continue
+  for i in "${!pids[@]}"; do
+    [ "${names[$i]}" = "$n" ] || continue
+    if [ "$bounded" = 1 ]; then
+      for _ in $(seq $((drain_s * 10))); do kill -0 "${pids[$i]}" 2>/dev/null || break; sleep 0.1; done
+      if kill -0 "${pids[$i]}" 2>/dev/null; then
+        echo "launch: stopping $n: still running ${drain_s} s after its input failed" >&2
+        kill -TERM "${pids[$i]}" 2>/dev/null || true
+      fi
+    fi
+    rc=0; wait "${pids[$i]}" || rc=$?
+    service_rc[$n]=$rc
+    [ "$n" = causal-estimator ] && [ "$rc" != 0 ] && bounded=1
+  done
 done
 pids=()
 sleep 0.5  # let tail print the last lines
@@ -152,7 +201,7 @@ for n in sensor-replay causal-estimator alarm-recommender causal-recorder; do
     printf '%-36s %-18s %s\n' "${topic#topic=}" "$n" "$rest"
   done
 done
-for n in sensor-replay causal-estimator alarm-recommender causal-recorder; do
+for n in sensor-replay causal-estimator alarm-recommender causal-recorder twin-web; do
   [ -n "${service_rc[$n]+x}" ] || continue
   rc=${service_rc[$n]}
   if [ "$rc" != 0 ]; then

@@ -2,7 +2,8 @@
 #   tag (unique, e.g. $$), net (second octet of the 10.x test network), deploy (the deploy dir)
 # and gets ns_a/ns_b, veth_a/veth_b, addr_a/addr_b, work (a temp dir), pids (background processes to end),
 # a cleanup trap that ends them and removes both namespaces (and with them the veth pair), and
-# plant_profile ADDR: deploy/dds/plant.xml rewritten for this host (its own address, both hosts as peers).
+# plant_profile ADDR: deploy/dds/plant.xml rewritten for this host (its own address, both hosts as peers),
+# DDS-Security off (these tests measure the transport; tests/security covers the secured bus).
 # Exits 77 (skipped) without permission to create namespaces.
 if [ "$(id -u)" -ne 0 ] || ! ip netns add "ctprobe$$" 2>/dev/null; then
   echo "SKIP: creating network namespaces needs root (CAP_NET_ADMIN)"; exit 77
@@ -33,7 +34,7 @@ plant_profile() {  # $1 = this host's address
       -e "s|<address>192.0.2.10</address>  <!-- this host -->|<address>$1</address>|" \
       -e "s|<locator><udpv4><address>192.0.2.10</address></udpv4></locator>  <!-- sensor / replay host -->|<locator><udpv4><address>$addr_a</address></udpv4></locator>|" \
       -e "s|<locator><udpv4><address>192.0.2.11</address></udpv4></locator>  <!-- estimator host -->|<locator><udpv4><address>$addr_b</address></udpv4></locator>|" \
-      -e "/192.0.2.12/d" "$deploy/dds/plant.xml"
+      -e "/192.0.2.12/d" -e "s|<value>/etc/causal-twin/security</value>|<value>off</value>|" "$deploy/dds/plant.xml"
 }
 plant_profile "$addr_a" > "$work/host_a.xml"; plant_profile "$addr_b" > "$work/host_b.xml"
 grep -q "$addr_a" "$work/host_a.xml" && grep -q "$addr_b" "$work/host_b.xml" && ! grep -q "<address>192.0.2" "$work/host_b.xml" \

@@ -1,11 +1,15 @@
 #include "causal/dds/participant.hpp"
 
+#include "causal/dds/security.hpp"
+
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
+
+#include <spdlog/spdlog.h>
 
 #include "causal_twinTypeObject.h"
 
@@ -46,13 +50,22 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
     }
   }
   if (!settings.participant_name.empty()) qos.name(settings.participant_name);
+  security_note_ = apply_security(settings.security_dir, settings.security_identity, qos.name().to_string(), qos);
+  spdlog::info("{}", security_note_);
+  secured_ = security_note_.rfind("DDS-Security on", 0) == 0;
   directory_ = std::make_unique<ParticipantDirectory>();
   // Discovery callbacks do not depend on the status mask; no other status is routed to this listener.
   participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(settings.domain_id), qos,
                                              directory_.get(), eprosima::fastdds::dds::StatusMask::none());
   if (participant_ == nullptr) {
+    // Fast DDS says why on its own log (a security plugin that refused a file, a governance without a rule
+    // for this domain): flush it before the service exits.
+    eprosima::fastdds::dds::Log::Flush();
     throw std::runtime_error("cannot create DDS participant on domain " + std::to_string(settings.domain_id) +
-                             " from profile '" + settings.participant_profile + "'");
+                             " from profile '" + settings.participant_profile + "'" +
+                             (secured_ ? " with DDS-Security (see the Fast DDS error above: e.g. the governance or "
+                                        "permissions have no rule for this domain)"
+                                      : ""));
   }
   directory_->set_local(participant_->guid().guidPrefix, qos.name().to_string());
   publisher_ = participant_->create_publisher(eprosima::fastdds::dds::PUBLISHER_QOS_DEFAULT);

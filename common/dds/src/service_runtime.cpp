@@ -42,6 +42,13 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
                      "; without --transport and --qos, $FASTRTPS_DEFAULT_PROFILES_FILE replaces it when set")
       ->check(CLI::ExistingFile)
       ->each([&options](const std::string&) { options.transport_from_flag = true; });
+  app.add_option("--security", options.security_dir,
+                 "DDS-Security: PKI folder made by deploy/security/make-pki.sh (authenticated, access-controlled, "
+                 "encrypted bus; 'off' = open). Default: the transport profile's causal_twin.security_dir, else open")
+      ->envname("CAUSAL_TWIN_SECURITY_DIR");
+  app.add_option("--security-identity", options.security_identity,
+                 "identity folder in the PKI (default: sensor, estimator, recommender, recorder or operator, by "
+                 "service)");
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error, critical or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
       ->capture_default_str();
@@ -85,6 +92,8 @@ DdsSettings to_dds_settings(const CommonOptions& options, const std::string& par
   s.participant_profile_required = !chosen.from_environment;
   s.domain_id = options.domain_id;
   s.participant_name = participant_name;
+  s.security_dir = options.security_dir;
+  s.security_identity = options.security_identity;
   return s;
 }
 

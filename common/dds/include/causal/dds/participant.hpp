@@ -72,11 +72,16 @@ struct DdsSettings {
   bool participant_profile_required = true;
   int domain_id = 0;                        // DDS domain; 0..232 with the default port mapping
   std::string participant_name;             // Shown by discovery tools; empty = profile's name
+  // DDS-Security (security.hpp): the PKI folder ("" = the profile's causal_twin.security_dir if any, "off" =
+  // open) and the identity in it ("" = the one named after participant_name).
+  std::string security_dir;
+  std::string security_identity;
 };
 
 class Participant {
  public:
-  // Throws std::runtime_error naming the file or profile that failed.
+  // Throws std::runtime_error naming the file or profile that failed, std::invalid_argument naming the
+  // security file and its problem (checked before the participant is created).
   explicit Participant(const DdsSettings& settings);
   ~Participant();
   Participant(const Participant&) = delete;
@@ -94,6 +99,9 @@ class Participant {
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
   int domain_id() const { return domain_id_; }
   const ParticipantDirectory& directory() const { return *directory_; }
+  // Whether DDS-Security is on, and how it was set up ("DDS-Security on: identity sensor from DIR ...").
+  bool secured() const { return secured_; }
+  const std::string& security_note() const { return security_note_; }
 
  private:
   eprosima::fastdds::dds::Topic* topic_for(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
@@ -105,6 +113,8 @@ class Participant {
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
   std::mutex mutex_;
   int domain_id_ = 0;
+  bool secured_ = false;
+  std::string security_note_;
 };
 
 }  // namespace causal::dds

@@ -29,6 +29,8 @@ struct CommonOptions {
   bool qos_from_flag = false;        // --qos given on the command line
   bool transport_from_flag = false;  // --transport given on the command line
   std::string log_level = "info";
+  std::string security_dir;       // --security DIR: PKI folder of deploy/security/make-pki.sh ("off" = open)
+  std::string security_identity;  // --security-identity NAME: the identity folder in it (default: per service)
   int metrics_port = 0;                       // 0 = no /metrics endpoint
   std::string metrics_bind = "127.0.0.1";     // loopback unless the operator opens it on purpose
 };
@@ -37,9 +39,9 @@ struct CommonOptions {
 // /etc/causal-twin, <prefix>/share/causal-twin/dds, the source tree only for a build-tree binary.
 std::string default_dds_dir();
 
-// Adds --domain, --qos (alias --dds-qos), --transport (alias --dds-transport), --log-level, --metrics-port,
-// --metrics-bind and --version (the project version) to a CLI11 app. The defaults of --qos and --transport
-// come from the configuration search, and --help says which file was chosen and why.
+// Adds --domain, --qos (alias --dds-qos), --transport (alias --dds-transport), --log-level, --security,
+// --security-identity, --metrics-port, --metrics-bind and --version (the project version) to a CLI11 app. The
+// defaults of --qos and --transport come from the configuration search, and --help says which file was chosen.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
 // The XML files a participant loads: qos_file, then transport_file; but when $FASTRTPS_DEFAULT_PROFILES_FILE

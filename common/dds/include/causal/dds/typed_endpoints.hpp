@@ -35,6 +35,11 @@ class TypedWriter {
     auto* topic = participant.topic<PubSubType>(topic_name);
     writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
     if (writer_ == nullptr) {
+      // Secured, the usual cause is the identity's permissions or the governance: a configuration error.
+      if (participant.secured()) {
+        throw std::invalid_argument("cannot create DataWriter for '" + topic_name + "': DDS-Security refused it (" +
+                                    participant.security_note() + "; see the Fast DDS error above)");
+      }
       throw std::runtime_error("cannot create DataWriter for '" + topic_name + "' from QoS profile '" + profile +
                                "' (is the QoS XML loaded?)");
     }
@@ -221,6 +226,10 @@ class TypedReader {
     reader_ = participant.subscriber()->create_datareader_with_profile(
         topic, profile, &rejections_, eprosima::fastdds::dds::StatusMask::sample_rejected());
     if (reader_ == nullptr) {
+      if (participant.secured()) {
+        throw std::invalid_argument("cannot create DataReader for '" + topic_name + "': DDS-Security refused it (" +
+                                    participant.security_note() + "; see the Fast DDS error above)");
+      }
       throw std::runtime_error("cannot create DataReader for '" + topic_name + "' from QoS profile '" + profile +
                                "' (is the QoS XML loaded?)");
     }

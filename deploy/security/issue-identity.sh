@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# Issues one DDS-Security identity from the PKI made by make-pki.sh: a key, a certificate signed by the
+# identity CA and a permissions document for its role, signed (S/MIME) by the permissions CA.
+#   deploy/security/issue-identity.sh DIR NAME ROLE [--days N] [--expired]
+# ROLE is one of: sensor estimator recommender recorder operator (least privilege, see grant_for below).
+# Writes DIR/NAME/{key.pem,cert.pem,permissions.xml,permissions.p7s}; copy that folder, DIR/identity_ca.pem,
+# DIR/permissions_ca.pem and DIR/governance.p7s (and DIR/identity_ca.crl after a revocation) to the host.
+# --expired issues a certificate that expired in 2020 (for tests of the failure message).
+# Exit code: 0 issued, 2 bad usage or the identity exists already.
+set -euo pipefail
+usage() { sed -n '2,9p' "$0"; exit 2; }
+[ $# -ge 3 ] || usage
+dir="$1"; name="$2"; role="$3"; shift 3
+days=825
+expired=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --days) days="$2"; shift 2 ;;
+    --expired) expired=1; shift ;;
+    *) usage ;;
+  esac
+done
+[ -f "$dir/private/ca.cnf" ] || { echo "issue-identity: $dir is not a PKI made by make-pki.sh (no private/ca.cnf)" >&2; exit 2; }
+case "$name" in *[!A-Za-z0-9._-]*|"") echo "issue-identity: name '$name' must be [A-Za-z0-9._-]+" >&2; exit 2 ;; esac
+[ -e "$dir/$name" ] && { echo "issue-identity: $dir/$name exists already (revoke it, then use a new name)" >&2; exit 2; }
+
+# Topics each role may publish / subscribe (names from common/dds/include/causal/dds/topics.hpp).
+t=causal_twin
+case "$role" in
+  sensor)      pub="$t/vibration_frame $t/condition_input"
+               sub="$t/condition_vector" ;;   # progress and rewind after an estimator restart
+  estimator)   pub="$t/causal_factors $t/condition_vector $t/alarm"   # alarms: data quality and health
+               sub="$t/vibration_frame $t/condition_input $t/condition_vector" ;;  # condition_vector: hot standby
+  recommender) pub="$t/alarm $t/recommendation $t/whatif_reply"
+               sub="$t/causal_factors $t/condition_vector $t/whatif_request" ;;
+  recorder)    pub=""
+               sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation" ;;
+  operator)    pub="$t/whatif_request"
+               sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/whatif_reply" ;;
+  *) echo "issue-identity: unknown role '$role' (sensor estimator recommender recorder operator)" >&2; exit 2 ;;
+esac
+
+mkdir -p "$dir/$name"
+out="$dir/$name"
+openssl ecparam -name prime256v1 -genkey -noout -out "$out/key.pem" 2>/dev/null
+chmod 600 "$out/key.pem"
+openssl req -new -key "$out/key.pem" -subj "/O=Causal Twin/OU=$role/CN=$name" -out "$out/req.pem"
+if [ "$expired" = 1 ]; then
+  dates=(-startdate 20200101000000Z -enddate 20200102000000Z)
+else
+  dates=(-days "$days")
+fi
+openssl ca -batch -config "$dir/private/ca.cnf" -name identity_ca "${dates[@]}" -in "$out/req.pem" \
+  -out "$out/cert.pem" -notext 2>/dev/null || { echo "issue-identity: openssl ca failed" >&2; rm -rf "$out"; exit 1; }
+rm -f "$out/req.pem"
+
+# The grant names the certificate's subject exactly as Fast DDS compares it (RFC 2253).
+subject="$(openssl x509 -in "$out/cert.pem" -noout -subject -nameopt RFC2253 | sed 's/^subject=//')"
+not_before="$(date -u +%Y-%m-%dT%H:%M:%S -d "$(openssl x509 -in "$out/cert.pem" -noout -startdate | cut -d= -f2)")"
+not_after="$(date -u +%Y-%m-%dT%H:%M:%S -d "$(openssl x509 -in "$out/cert.pem" -noout -enddate | cut -d= -f2)")"
+topics() { for x in $1; do printf '            <topic>%s</topic>\n' "$x"; done; }
+{
+  cat <<XML
+<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">
+  <permissions>
+    <grant name="$name">
+      <subject_name>$subject</subject_name>
+      <validity>
+        <not_before>$not_before</not_before>
+        <not_after>$not_after</not_after>
+      </validity>
+XML
+  if [ -n "$pub" ]; then
+    printf '      <allow_rule>\n        <domains><id_range><min>0</min><max>232</max></id_range></domains>\n'
+    printf '        <publish>\n          <topics>\n'; topics "$pub"; printf '          </topics>\n        </publish>\n      </allow_rule>\n'
+  fi
+  printf '      <allow_rule>\n        <domains><id_range><min>0</min><max>232</max></id_range></domains>\n'
+  printf '        <subscribe>\n          <topics>\n'; topics "$sub"; printf '          </topics>\n        </subscribe>\n      </allow_rule>\n'
+  cat <<XML
+      <default>DENY</default>
+    </grant>
+  </permissions>
+</dds>
+XML
+} > "$out/permissions.xml"
+openssl smime -sign -text -in "$out/permissions.xml" -out "$out/permissions.p7s" \
+  -signer "$dir/permissions_ca.pem" -inkey "$dir/private/permissions_ca.key"
+echo "issue-identity: $out ($role, $subject, valid until $not_after UTC)"

@@ -1,0 +1,41 @@
+// twin-web: the live twin in the browser. See --help.
+#include "twin_web_node.hpp"
+
+#include <CLI/CLI.hpp>
+
+int main(int argc, char** argv) {
+  causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
+  causal::web::TwinWebOptions o;
+  CLI::App app{"twin-web: the live twin in the browser. Subscribes to the condition vectors, causal factors, alarms\n"
+               "and recommendations on a DDS domain and serves, per asset group, the condition trends with alarm\n"
+               "bands, the current causal graph (condition-level filter, links at |z| >= 2), the open alarms with\n"
+               "root cause and reason, the recommendations and a what-if form that asks the running\n"
+               "alarm-recommender. Endpoints: / (the page); /api/state?group=ID (JSON: that group and one line per\n"
+               "group; without ?group= every group); /api/events?group=ID (the same as Server-Sent Events, on change);\n"
+               "POST /api/whatif {asset_group, channel, percent | delta, sustained}."};
+  causal::dds::add_common_options(app, o.dds);
+  app.add_option("--port", o.web.port, "TCP port to serve on (0: any free port, printed at start)")
+      ->check(CLI::Range(0, 65535))
+      ->capture_default_str();
+  app.add_option("--bind", o.web.bind,
+                 "address to listen on; anything but loopback lets others ask the twin what-if questions")
+      ->capture_default_str();
+  app.add_option("--chartjs", o.web.chartjs, "Chart.js file served to the page (Debian package libjs-chart.js)")
+      ->capture_default_str();
+  app.add_option("--history", o.limits.trend_points, "condition-trend points kept per asset group")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--whatif-timeout", o.web.whatif_timeout_s, "seconds a what-if question waits for its reply")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--idle-exit", o.idle_exit_s,
+                 "exit this many seconds after every publisher left, once data arrived (0 = never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  return causal::dds::run_service(signals, "twin-web", o.dds,
+                                  [&] { return std::make_unique<causal::web::TwinWebNode>(std::move(o)); });
+}

@@ -1,0 +1,198 @@
+// The JSON of /api/state and of the Server-Sent Events: what the page draws, in plain fields. Times are
+// milliseconds since the Unix epoch (JavaScript's unit); channels are 1-based as everywhere in the product.
+// Every number stored is finite (TwinState refuses the rest), so no NaN can reach the page.
+#include "twin_state.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace causal::web {
+
+namespace {
+
+using nlohmann::json;
+
+double ms(std::int64_t ns) { return static_cast<double>(ns) / 1e6; }
+
+const char* severity_name(causal_twin::Severity s) {
+  switch (s) {
+    case causal_twin::ADVISORY: return "advisory";
+    case causal_twin::WARNING: return "warning";
+    case causal_twin::CRITICAL: return "critical";
+  }
+  return "unknown";
+}
+
+const char* state_name(causal_twin::AlarmState s) {
+  switch (s) {
+    case causal_twin::RAISED: return "raised";
+    case causal_twin::ESCALATED: return "escalated";
+    case causal_twin::CLEARED: return "cleared";
+  }
+  return "unknown";
+}
+
+// A double that may be non-finite in a message we pass through (scores, intervals): null instead of NaN.
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json trend_json(const GroupState& g) {
+  json index = json::array(), time = json::array(), values = json::array();
+  for (std::size_t c = 0; c < g.channels.size(); ++c) values.push_back(json::array());
+  for (const auto& p : g.trend) {
+    index.push_back(p.index);
+    time.push_back(ms(p.time_ns));
+    for (std::size_t c = 0; c < p.values.size() && c < values.size(); ++c) values[c].push_back(p.values[c]);
+  }
+  return {{"index", std::move(index)}, {"time_ms", std::move(time)}, {"values", std::move(values)}};
+}
+
+json edge_json(const CausalEdge& e) {
+  return {{"from", e.from}, {"to", e.to}, {"lag", e.lag}, {"factor", e.factor}, {"std", e.stddev}, {"z", e.z},
+          {"significant", std::abs(e.z) >= kSignificantZ}};
+}
+
+json graph_json(const GroupState& g) {
+  const CausalGraph graph = causal_graph(g);
+  json edges = json::array(), self = json::array();
+  for (const auto& e : graph.edges) edges.push_back(edge_json(e));
+  for (const auto& e : graph.self_lags) self.push_back(edge_json(e));
+  std::int64_t newest_ns = 0;
+  for (const auto& [k, f] : g.factors) newest_ns = std::max(newest_ns, f.time_ns);
+  return {{"index", graph.index},  {"time_ms", ms(newest_ns)}, {"outcomes", g.factors.size()},
+          {"min_z", kSignificantZ}, {"edges", std::move(edges)}, {"self_lags", std::move(self)},
+          {"unusable", graph.unusable}};
+}
+
+json alarm_json(const AlarmView& v) {
+  const auto& a = v.last;
+  json factors = json::array();
+  for (std::size_t i = 0; i < a.factor_names().size(); ++i) {
+    factors.push_back({{"name", a.factor_names()[i]},
+                       {"baseline", number(i < a.factor_baseline().size() ? a.factor_baseline()[i] : NAN)},
+                       {"now", number(i < a.factor_now().size() ? a.factor_now()[i] : NAN)}});
+  }
+  return {{"id", a.alarm_id()},
+          {"channel", a.channel()},
+          {"channel_name", a.channel_name()},
+          {"severity", severity_name(a.severity())},
+          {"state", state_name(a.state())},
+          {"open", v.open()},
+          {"kind", a.kind()},
+          {"category", a.category()},
+          {"raised_index", v.raised_index},
+          {"cleared_index", v.cleared_index ? json(*v.cleared_index) : json(nullptr)},
+          {"evidence_index", a.sample_index()},
+          {"raised_time_ms", ms(a.raised_time_ns())},
+          {"cleared_time_ms", a.cleared_time_ns() != 0 ? json(ms(a.cleared_time_ns())) : json(nullptr)},
+          {"root_cause_channel", a.root_cause_channel()},
+          {"root_cause_name", a.root_cause_name()},
+          {"score", number(a.score())},
+          {"threshold", number(a.threshold())},
+          {"factors", std::move(factors)},
+          {"reason", a.reason()},
+          {"arrival", v.arrival}};
+}
+
+json recommendation_json(const RecommendationView& v, const GroupState& g) {
+  const auto& r = v.last;
+  const auto alarm = g.alarms.find(r.alarm_id());
+  // Advice without an alarm (on demand) stays current; advice for an alarm is current while the alarm is open.
+  const bool current = r.alarm_id().empty() || (alarm != g.alarms.end() && alarm->second.open());
+  return {{"id", r.recommendation_id()},
+          {"alarm_id", r.alarm_id()},
+          {"current", current},
+          {"rank", r.rank()},
+          {"target_channel", r.target_channel()},
+          {"intervene_channel", r.intervene_channel()},
+          {"delta", number(r.delta())},
+          {"effect_immediate", number(r.effect_immediate())},
+          {"effect_steady_state", number(r.effect_steady_state())},
+          {"effect_low", number(r.effect_low())},
+          {"effect_high", number(r.effect_high())},
+          {"confidence", number(r.confidence())},
+          {"text", r.text()},
+          {"answer_kind", r.answer_kind()},
+          {"horizon_snapshots", r.horizon_snapshots()},
+          {"spectral_radius", number(r.spectral_radius())},
+          {"draws", r.draws()},
+          {"unstable_draws", r.unstable_draws()},
+          {"unstable_draw_share", number(r.unstable_draw_share())},
+          {"effect_median", number(r.effect_median())},
+          {"effect_percent", number(r.effect_percent())},
+          {"effect_percent_low", number(r.effect_percent_low())},
+          {"effect_percent_high", number(r.effect_percent_high())},
+          {"effect_level_change", number(r.effect_level_change())},
+          {"reliable", r.reliable()},
+          {"summary", r.summary()},
+          {"arrival", v.arrival}};
+}
+
+json group_json(const std::string& id, const GroupState& g) {
+  json alarms = json::array(), recs = json::array();
+  for (const auto& [aid, v] : g.alarms) alarms.push_back(alarm_json(v));
+  for (const auto& [rid, v] : g.recommendations) recs.push_back(recommendation_json(v, g));
+  json last = nullptr;
+  if (!g.trend.empty()) last = {{"index", g.trend.back().index}, {"time_ms", ms(g.trend.back().time_ns)}};
+  return {{"id", id},
+          {"feature", g.feature},
+          {"channels", g.channels},
+          {"last", std::move(last)},
+          {"trend", trend_json(g)},
+          {"graph", graph_json(g)},
+          {"alarms", std::move(alarms)},
+          {"recommendations", std::move(recs)}};
+}
+
+}  // namespace
+
+std::string group_to_json(const std::string& id, const GroupState& g) {
+  return group_json(id, g).dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+// Every group in one line each: enough for the page's group buttons (and to see where alarms are).
+std::string overview_to_json(const std::map<std::string, GroupState>& groups,
+                             const std::map<std::string, std::string>& info, std::uint64_t version) {
+  json list = json::array();
+  for (const auto& [id, g] : groups) {
+    std::size_t open = 0;
+    int worst = -1;
+    for (const auto& [aid, a] : g.alarms) {
+      if (!a.open()) continue;
+      ++open;
+      worst = std::max(worst, static_cast<int>(a.last.severity()));
+    }
+    list.push_back({{"id", id},
+                    {"feature", g.feature},
+                    {"channels", g.channels},
+                    {"has_trend", !g.trend.empty()},
+                    {"open_alarms", open},
+                    {"worst_severity", worst < 0 ? json(nullptr) : json(severity_name(static_cast<causal_twin::Severity>(worst)))}});
+  }
+  const json out = {{"version", version}, {"info", info}, {"groups", std::move(list)}};
+  return out.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string state_to_json(const std::map<std::string, GroupState>& groups, const StateCounters& c,
+                          const std::map<std::string, std::string>& info, std::uint64_t version) {
+  json out;
+  out["version"] = version;
+  out["info"] = info;
+  out["counters"] = {{"condition_vectors", c.condition_vectors},
+                     {"duplicates", c.duplicates},
+                     {"rejected_vectors", c.rejected_vectors},
+                     {"trend_points_forgotten", c.trend_points_forgotten},
+                     {"factor_messages", c.factor_messages},
+                     {"factor_messages_skipped", c.factor_messages_skipped},
+                     {"factor_messages_rejected", c.factor_messages_rejected},
+                     {"alarm_events", c.alarm_events},
+                     {"recommendations", c.recommendations}};
+  json list = json::array();
+  for (const auto& [id, g] : groups) list.push_back(group_json(id, g));
+  out["groups"] = std::move(list);
+  // Strings from DDS are not guaranteed UTF-8: replace invalid bytes instead of throwing.
+  return out.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+}  // namespace causal::web

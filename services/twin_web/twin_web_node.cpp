@@ -1,0 +1,101 @@
+#include "twin_web_node.hpp"
+
+#include "causal/dds/topics.hpp"
+
+#include <spdlog/spdlog.h>
+
+namespace causal::web {
+
+TwinWebNode::TwinWebNode(TwinWebOptions options)
+    : options_(std::move(options)),
+      state_(options_.limits),
+      participant_(dds::to_dds_settings(options_.dds, "twin-web")),
+      conditions_in_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader),
+      factors_in_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
+      alarms_in_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
+      recommendations_in_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
+      replies_in_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader),
+      requests_out_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter) {
+  loop_.attach(conditions_in_.get());
+  loop_.attach(factors_in_.get());
+  loop_.attach(alarms_in_.get());
+  loop_.attach(recommendations_in_.get());
+  loop_.attach(replies_in_.get());
+  state_.set_info("service", "twin-web");
+  state_.set_info("domain", std::to_string(participant_.domain_id()));
+  web_ = std::make_unique<WebServer>(options_.web, state_, whatif_, [this] { return whatif_readers_.load(); });
+}
+
+TwinWebNode::~TwinWebNode() {
+  whatif_.stop();
+  if (web_) web_->stop();
+}
+
+int TwinWebNode::run() {
+  web_->start();
+  const std::string host = web_->bind_address() == "0.0.0.0" ? "127.0.0.1" : web_->bind_address();
+  spdlog::info("twin-web on domain {}: serving http://{}:{}/", participant_.domain_id(), host, web_->port());
+  if (web_->bind_address() != "127.0.0.1" && web_->bind_address() != "localhost") {
+    spdlog::warn("listening on {}: whoever reaches this address can ask the twin what-if questions",
+                 web_->bind_address());
+  }
+  const auto end = loop_.run(
+      {options_.idle_exit_s, options_.max_runtime_s},
+      [this] {
+        send_due_questions();
+        return take_available();
+      },
+      [this] {
+        return conditions_in_.matched_writers() + factors_in_.matched_writers() + alarms_in_.matched_writers() +
+               recommendations_in_.matched_writers();
+      });
+  if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
+  if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
+  whatif_.stop();
+  web_->stop();
+  const StateCounters c = state_.counters();
+  spdlog::info("summary topic={} received={} duplicates={} refused={} forgotten={}", dds::topics::kConditionVector,
+               c.condition_vectors, c.duplicates, c.rejected_vectors, c.trend_points_forgotten);
+  spdlog::info("summary topic={} received={} skipped={} refused={}", dds::topics::kCausalFactors,
+               c.factor_messages + c.factor_messages_skipped + c.factor_messages_rejected, c.factor_messages_skipped,
+               c.factor_messages_rejected);
+  spdlog::info("summary topic={} received={}", dds::topics::kAlarm, c.alarm_events);
+  spdlog::info("summary topic={} received={}", dds::topics::kRecommendation, c.recommendations);
+  spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kWhatIfRequest, requests_sent_,
+               requests_failed_, whatif_.asked(), whatif_.answered());
+  const auto refused = conditions_in_.rejections().total() + factors_in_.rejections().total() +
+                       alarms_in_.rejections().total() + recommendations_in_.rejections().total();
+  if (refused > 0) spdlog::warn("DDS readers refused {} samples (resource limits)", refused);
+  return 0;
+}
+
+std::size_t TwinWebNode::take_available() {
+  std::size_t n = 0;
+  n += conditions_in_.take_all([this](const auto& c, const auto&) { state_.on_condition(c); }, loop_.stop_flag());
+  n += factors_in_.take_all([this](const auto& f, const auto&) { state_.on_factors(f); }, loop_.stop_flag());
+  n += alarms_in_.take_all([this](const auto& a, const auto&) { state_.on_alarm(a); }, loop_.stop_flag());
+  n += recommendations_in_.take_all([this](const auto& r, const auto&) { state_.on_recommendation(r); },
+                                    loop_.stop_flag());
+  n += replies_in_.take_all(
+      [this](const auto& r, const auto&) {
+        ++replies_received_;
+        whatif_.on_reply(r);
+      },
+      loop_.stop_flag());
+  return n;
+}
+
+void TwinWebNode::send_due_questions() {
+  whatif_readers_.store(requests_out_.matched_readers());
+  if (whatif_readers_.load() == 0) return;  // nobody to ask yet: the asker's timeout decides
+  for (auto& request : whatif_.due(WhatIfBridge::Clock::now())) {
+    // Never block the DDS thread for long: a request that cannot go out now is retried a second later.
+    if (requests_out_.write(request, loop_.stop_flag(), std::chrono::milliseconds(200)) == dds::WriteResult::Ok) {
+      ++requests_sent_;
+    } else {
+      ++requests_failed_;
+    }
+  }
+}
+
+}  // namespace causal::web

@@ -1,0 +1,56 @@
+// twin-web's DDS node: reads condition vectors, causal factors, alarms, recommendations and what-if replies
+// into TwinState / WhatIfBridge on the service's run-loop thread, and writes the what-if requests the page
+// asks. The web server (its own threads) only sees the state's serialised copy and the bridge.
+#pragma once
+
+#include "twin_state.hpp"
+#include "web_server.hpp"
+#include "whatif_bridge.hpp"
+
+#include "causal/dds/event_loop.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/service_runtime.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal_twinPubSubTypes.h"
+
+#include <atomic>
+#include <memory>
+
+namespace causal::web {
+
+struct TwinWebOptions {
+  dds::CommonOptions dds;
+  WebOptions web;
+  StateLimits limits;
+  double idle_exit_s = 0.0;    // exit this long after every publisher left, once data came (0 = never)
+  double max_runtime_s = 0.0;  // hard stop (0 = none)
+};
+
+class TwinWebNode {
+ public:
+  explicit TwinWebNode(TwinWebOptions options);  // throws std::runtime_error (DDS, port in use)
+  ~TwinWebNode();
+  int run();
+  void stop() { loop_.stop(); }
+
+ private:
+  std::size_t take_available();
+  void send_due_questions();
+
+  TwinWebOptions options_;
+  TwinState state_;
+  WhatIfBridge whatif_;
+  std::atomic<std::size_t> whatif_readers_{0};
+  dds::Participant participant_;
+  dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
+  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_in_;
+  dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
+  dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
+  dds::TypedReader<causal_twin::WhatIfReplyPubSubType> replies_in_;
+  dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> requests_out_;
+  dds::EventLoop loop_;  // after the readers: detaches their conditions first
+  std::unique_ptr<WebServer> web_;
+  std::uint64_t requests_sent_ = 0, requests_failed_ = 0, replies_received_ = 0;
+};
+
+}  // namespace causal::web

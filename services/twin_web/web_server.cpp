@@ -1,0 +1,250 @@
+#include "web_server.hpp"
+
+#include "twin_web_assets.hpp"
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace causal::web {
+
+namespace {
+
+using nlohmann::json;
+
+void send_json(httplib::Response& res, int status, const json& body) {
+  res.status = status;
+  res.set_header("Cache-Control", "no-store");
+  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string host_name() {
+  char host[128] = "host";
+  gethostname(host, sizeof host - 1);
+  return host;
+}
+
+// The question in the body, checked like causal-ask checks its command line. Returns the error, or "".
+std::string parse_question(const json& body, const std::vector<std::string>& channels, causal_twin::WhatIfRequest& r,
+                           bool& percent) {
+  if (!body.is_object()) return "the body must be a JSON object";
+  if (!body.contains("asset_group") || !body["asset_group"].is_string() || body["asset_group"].get<std::string>().empty()) {
+    return "asset_group (string) is required";
+  }
+  if (!body.contains("channel") || !body["channel"].is_number_integer()) return "channel (1-based integer) is required";
+  const long channel = body["channel"].get<long>();
+  const long max_channel = channels.empty() ? 64 : static_cast<long>(channels.size());
+  if (channel < 1 || channel > max_channel) return "channel must be in 1.." + std::to_string(max_channel);
+  const bool has_percent = body.contains("percent"), has_delta = body.contains("delta");
+  if (has_percent == has_delta) return "give exactly one of percent and delta";
+  const json& v = has_percent ? body["percent"] : body["delta"];
+  if (!v.is_number()) return has_percent ? "percent must be a number" : "delta must be a number";
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) return "the change must be finite";
+  if (has_percent && x <= -100.0) return "percent must be > -100";
+  bool sustained = true;
+  if (body.contains("sustained")) {
+    if (!body["sustained"].is_boolean()) return "sustained must be true or false";
+    sustained = body["sustained"].get<bool>();
+  }
+  percent = has_percent;
+  r.asset_group(body["asset_group"].get<std::string>());
+  r.intervene_channel(static_cast<std::uint16_t>(channel));
+  // A level change in percent on the log-level model, as causal-ask --percent.
+  r.delta(has_percent ? std::log1p(x / 100.0) : x);
+  r.sustained(sustained);
+  return {};
+}
+
+json reply_json(const causal_twin::WhatIfReply& reply, const causal_twin::WhatIfRequest& request, bool percent,
+                const std::vector<std::string>& channels) {
+  auto numbers = [](const std::vector<double>& v) {
+    json a = json::array();
+    for (double x : v) a.push_back(std::isfinite(x) ? json(x) : json(nullptr));
+    return a;
+  };
+  return {{"answered", true},
+          {"ok", reply.ok()},
+          {"error", reply.error()},
+          {"text", reply.text()},
+          {"request_id", reply.request_id()},
+          {"asset_group", reply.asset_group()},
+          {"intervene_channel", request.intervene_channel()},
+          {"delta", request.delta()},
+          {"sustained", request.sustained()},
+          {"percent", percent},
+          {"channels", channels},
+          {"effect_immediate", numbers(reply.effect_immediate())},
+          {"effect_steady_state", numbers(reply.effect_steady_state())},
+          {"effect_low", numbers(reply.effect_low())},
+          {"effect_high", numbers(reply.effect_high())},
+          {"answer_kind", reply.answer_kind()},
+          {"horizon_snapshots", reply.horizon_snapshots()},
+          {"spectral_radius", std::isfinite(reply.spectral_radius()) ? json(reply.spectral_radius()) : json(nullptr)},
+          {"draws", reply.draws()},
+          {"unstable_draws", reply.unstable_draws()},
+          {"effect_median", numbers(reply.effect_median())},
+          {"effect_percent", numbers(reply.effect_percent())},
+          {"effect_percent_low", numbers(reply.effect_percent_low())},
+          {"effect_percent_high", numbers(reply.effect_percent_high())},
+          {"summary", reply.summary()}};
+}
+
+}  // namespace
+
+WebServer::WebServer(WebOptions options, TwinState& state, WhatIfBridge& whatif,
+                     std::function<std::size_t()> whatif_readers)
+    : options_(std::move(options)),
+      state_(state),
+      whatif_(whatif),
+      whatif_readers_(std::move(whatif_readers)),
+      server_(std::make_unique<httplib::Server>()) {
+  if (options_.port < 0 || options_.port > 65535) throw std::invalid_argument("--port must be in 0..65535");
+  chartjs_ = read_file(options_.chartjs);
+  if (chartjs_.empty()) {
+    spdlog::warn("cannot read Chart.js at {} (Debian package libjs-chart.js): the page shows no trend chart",
+                 options_.chartjs);
+  }
+  // Server-Sent Events hold one pool thread per open page: more threads than httplib's default 8, so a few
+  // pages and the what-if questions (which wait for their reply) never starve each other.
+  const std::size_t threads = static_cast<std::size_t>(options_.max_event_streams) + 8;
+  server_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  routes();
+  if (options_.port == 0) {
+    port_ = server_->bind_to_any_port(options_.bind);
+  } else if (server_->bind_to_port(options_.bind, options_.port)) {
+    port_ = options_.port;
+  }
+  if (port_ <= 0) {
+    throw std::runtime_error("cannot listen on " + options_.bind + ":" + std::to_string(options_.port) +
+                             " (address in use, or not an address of this host)");
+  }
+}
+
+WebServer::~WebServer() { stop(); }
+
+void WebServer::start() {
+  thread_ = std::thread([this] { server_->listen_after_bind(); });
+}
+
+void WebServer::stop() {
+  stopping_.store(true);
+  if (server_) server_->stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+void WebServer::routes() {
+  auto& s = *server_;
+  for (const auto& asset : kEmbeddedAssets) {
+    auto serve = [asset](const httplib::Request&, httplib::Response& res) {
+      res.set_header("Cache-Control", "no-cache");
+      res.set_content(asset.body.data(), asset.body.size(), std::string(asset.content_type).c_str());
+    };
+    s.Get(std::string(asset.path), serve);
+    if (asset.path == "/index.html") s.Get("/", serve);
+  }
+  s.Get("/vendor/chart.min.js", [this](const httplib::Request&, httplib::Response& res) {
+    if (chartjs_.empty()) {
+      res.status = 404;
+      res.set_content("Chart.js not installed (" + options_.chartjs + ")", "text/plain");
+      return;
+    }
+    res.set_header("Cache-Control", "max-age=3600");
+    res.set_content(chartjs_, "text/javascript; charset=utf-8");
+  });
+  // ?group=ID: what the page shows (every group's overview, that group in full); without: everything.
+  s.Get("/api/state", [this](const httplib::Request& req, httplib::Response& res) {
+    res.set_header("Cache-Control", "no-store");
+    if (req.has_param("group")) {
+      res.set_content(state_.page_json(req.get_param_value("group")), "application/json");
+      return;
+    }
+    const auto body = state_.json();
+    res.set_content(*body, "application/json");
+  });
+  s.Get("/api/events", [this](const httplib::Request& req, httplib::Response& res) {
+    if (event_streams_.fetch_add(1) >= options_.max_event_streams) {
+      --event_streams_;
+      send_json(res, 503, {{"error", "too many open event streams: poll /api/state"}});
+      return;
+    }
+    res.set_header("Cache-Control", "no-store");
+    res.set_header("X-Accel-Buffering", "no");
+    // The page's view of one group (?group=ID; none: the overview alone, to choose one), one event per change
+    // of it, at most four a second; a comment line every 15 s keeps proxies open.
+    const std::string group = req.has_param("group") ? req.get_param_value("group") : std::string();
+    auto seen = std::make_shared<TwinState::Versions>(TwinState::Versions{~std::uint64_t{0}, 0});
+    auto quiet = std::make_shared<int>(0);
+    res.set_chunked_content_provider(
+        "text/event-stream",
+        [this, group, seen, quiet](std::size_t, httplib::DataSink& sink) {
+          if (stopping_.load()) return false;
+          if (!state_.wait_for_change(group, *seen, std::chrono::milliseconds(500))) {
+            if (++*quiet < 30) return true;
+            *quiet = 0;
+            return sink.write(": keep-alive\n\n", 14);
+          }
+          *quiet = 0;
+          *seen = state_.versions(group);
+          const std::string body = state_.page_json(group);
+          std::string event;
+          event.reserve(body.size() + 32);
+          event.append("event: state\ndata: ").append(body).append("\n\n");
+          if (!sink.write(event.data(), event.size())) return false;
+          std::this_thread::sleep_for(std::chrono::milliseconds(250));
+          return !stopping_.load();
+        },
+        [this](bool) { --event_streams_; });
+  });
+  s.Post("/api/whatif", [this](const httplib::Request& req, httplib::Response& res) {
+    const json body = json::parse(req.body, nullptr, false);
+    if (body.is_discarded()) {
+      send_json(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
+      return;
+    }
+    causal_twin::WhatIfRequest request;
+    bool percent = false;
+    const std::string group = body.is_object() && body.contains("asset_group") && body["asset_group"].is_string()
+                                  ? body["asset_group"].get<std::string>()
+                                  : std::string();
+    const std::vector<std::string> channels = state_.channels(group);
+    if (const std::string problem = parse_question(body, channels, request, percent); !problem.empty()) {
+      send_json(res, 400, {{"answered", false}, {"error", problem}});
+      return;
+    }
+    static const std::string prefix = "twin-web/" + host_name() + "/" + std::to_string(getpid()) + "/";
+    request.request_id(prefix + std::to_string(++next_request_));
+    const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.whatif_timeout_s * 1000.0));
+    const WhatIfBridge::Outcome out = whatif_.ask(request, timeout);
+    if (out.status == WhatIfBridge::Status::Answered) {
+      send_json(res, 200, reply_json(out.reply, request, percent, channels));
+      return;
+    }
+    if (out.status == WhatIfBridge::Status::Stopped) {
+      send_json(res, 503, {{"answered", false}, {"error", "twin-web is stopping"}});
+      return;
+    }
+    const bool reader = whatif_readers_ && whatif_readers_() > 0;
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "no reply within %.0f s%s", options_.whatif_timeout_s,
+                  reader ? "" : ": no alarm-recommender reads what-if requests");
+    send_json(res, 504, {{"answered", false}, {"error", msg}});
+  });
+}
+
+}  // namespace causal::web

@@ -1,0 +1,60 @@
+// twin-web's HTTP side (cpp-httplib, its own thread pool): the embedded page, Chart.js from Debian's
+// libjs-chart.js, the state as JSON (/api/state), the same state pushed as Server-Sent Events (/api/events) and
+// what-if questions (POST /api/whatif). It only reads TwinState's serialised copy and talks to the DDS thread
+// through WhatIfBridge: no DDS call happens on a web thread.
+#pragma once
+
+#include "twin_state.hpp"
+#include "whatif_bridge.hpp"
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace httplib {
+class Server;
+}
+
+namespace causal::web {
+
+struct WebOptions {
+  std::string bind = "127.0.0.1";
+  int port = 8080;  // 0: any free port (logged)
+  std::string chartjs = "/usr/share/javascript/chart.js/chart.min.js";
+  double whatif_timeout_s = 10.0;
+  int max_event_streams = 8;  // open pages at once (each holds one pool thread); more get polling
+};
+
+class WebServer {
+ public:
+  // Binds the socket (throws std::runtime_error when it cannot). `whatif_readers` says how many what-if
+  // readers (alarm-recommenders) the DDS side sees, for a truthful "no reply" message.
+  WebServer(WebOptions options, TwinState& state, WhatIfBridge& whatif, std::function<std::size_t()> whatif_readers);
+  ~WebServer();
+  WebServer(const WebServer&) = delete;
+  WebServer& operator=(const WebServer&) = delete;
+
+  void start();  // serves on its own thread
+  void stop();   // closes the socket and every event stream; joins the thread
+  int port() const { return port_; }
+  const std::string& bind_address() const { return options_.bind; }
+
+ private:
+  void routes();
+
+  WebOptions options_;
+  TwinState& state_;
+  WhatIfBridge& whatif_;
+  std::function<std::size_t()> whatif_readers_;
+  std::unique_ptr<httplib::Server> server_;
+  std::string chartjs_;  // read once at start-up from the package path
+  int port_ = 0;
+  std::atomic<bool> stopping_{false};
+  std::atomic<int> event_streams_{0};
+  std::atomic<std::uint64_t> next_request_{0};
+  std::thread thread_;
+};
+
+}  // namespace causal::web

@@ -1,0 +1,307 @@
+// twin-web's state (services/twin_web/twin_state.hpp), its JSON and the what-if bridge, against hand-built
+// messages and hand-computed expectations: no DDS entities.
+#include "twin_state.hpp"
+#include "whatif_bridge.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <future>
+#include <limits>
+#include <thread>
+
+using causal::web::StateLimits;
+using causal::web::TwinState;
+using causal::web::WhatIfBridge;
+using nlohmann::json;
+
+namespace {
+
+constexpr std::int64_t kMinute = 60LL * 1000000000LL;
+
+causal_twin::ConditionVector vec(std::uint64_t index, std::vector<double> values,
+                                 std::vector<std::string> names = {"a", "b", "c"}) {
+  causal_twin::ConditionVector v;
+  v.asset_group("g");
+  v.feature("rms");
+  v.snapshot_index(index);
+  v.time_ns(static_cast<std::int64_t>(index) * 10 * kMinute);
+  v.channel_names(std::move(names));
+  v.values(std::move(values));
+  return v;
+}
+
+causal_twin::CausalFactors factors(std::uint16_t outcome, std::uint64_t index, std::vector<std::string> names,
+                                   std::vector<double> values, std::vector<double> stddev) {
+  causal_twin::CausalFactors f;
+  f.asset_group("g");
+  f.outcome(outcome);
+  f.kind(causal_twin::FILTER);
+  f.time_scale(causal_twin::CONDITION_LEVEL);
+  f.channel_count(3);
+  f.lag_order(1);
+  f.sample_index(index);
+  f.factor_names(std::move(names));
+  f.factors(std::move(values));
+  f.factor_std(std::move(stddev));
+  return f;
+}
+
+causal_twin::Alarm alarm(const std::string& id, causal_twin::AlarmState state, std::uint64_t index,
+                         std::int64_t raised_time_ns) {
+  causal_twin::Alarm a;
+  a.alarm_id(id);
+  a.asset_group("g");
+  a.channel(1);
+  a.channel_name("a");
+  a.state(state);
+  a.severity(causal_twin::WARNING);
+  a.sample_index(index);
+  a.raised_time_ns(raised_time_ns);
+  a.root_cause_channel(2);
+  a.root_cause_name("b");
+  a.reason("because");
+  return a;
+}
+
+json parse(const TwinState& s) { return json::parse(*s.json()); }
+
+}  // namespace
+
+TEST(TwinState, TrendKeepsIndexOrderAndCountsDuplicatesAndRefusals) {
+  TwinState s;
+  s.on_condition(vec(0, {1, 2, 3}));
+  s.on_condition(vec(2, {7, 8, 9}));
+  s.on_condition(vec(1, {4, 5, 6}));        // late: inserted in order
+  s.on_condition(vec(1, {4, 5, 6}));        // re-sent after a restart
+  s.on_condition(vec(3, {1, NAN, 3}));      // non-finite: refused
+  s.on_condition(vec(3, {1, INFINITY, 3}));
+  s.on_condition(vec(4, {1, 2}, {"a", "b"}));  // two channels in a three-channel group
+  const auto g = s.group("g");
+  ASSERT_TRUE(g);
+  ASSERT_EQ(g->trend.size(), 3u);
+  EXPECT_EQ(g->trend[0].index, 0u);
+  EXPECT_EQ(g->trend[1].index, 1u);
+  EXPECT_EQ(g->trend[2].index, 2u);
+  EXPECT_EQ(g->trend[1].values, (std::vector<double>{4, 5, 6}));
+  const auto c = s.counters();
+  EXPECT_EQ(c.condition_vectors, 7u);
+  EXPECT_EQ(c.duplicates, 1u);
+  EXPECT_EQ(c.rejected_vectors, 3u);
+  const json j = parse(s);
+  ASSERT_EQ(j["groups"].size(), 1u);
+  EXPECT_EQ(j["groups"][0]["trend"]["index"], json({0, 1, 2}));
+  EXPECT_EQ(j["groups"][0]["trend"]["values"][2], json({3.0, 6.0, 9.0}));
+  EXPECT_EQ(j["groups"][0]["last"]["index"], 2);
+  EXPECT_DOUBLE_EQ(j["groups"][0]["trend"]["time_ms"][1].get<double>(), 600000.0);  // 10 min in ms
+}
+
+TEST(TwinState, HistoryIsBoundedOldestFirst) {
+  StateLimits limits;
+  limits.trend_points = 4;
+  TwinState s(limits);
+  for (std::uint64_t i = 0; i < 10; ++i) s.on_condition(vec(i, {1, 2, 3}));
+  const auto g = s.group("g");
+  ASSERT_EQ(g->trend.size(), 4u);
+  EXPECT_EQ(g->trend.front().index, 6u);
+  EXPECT_EQ(g->trend.back().index, 9u);
+  EXPECT_EQ(s.counters().trend_points_forgotten, 6u);
+}
+
+TEST(TwinState, CausalGraphEdgesFromFactorNamesWithZ) {
+  TwinState s;
+  // Outcome 1 (channel a): x12 = 0.5 +- 0.1 (z 5), x13 = -0.1 +- 0.2 (z -0.5), xL12 = -0.9 +- 0.3 (z -3),
+  // xL11 = 0.8 +- 0.1 (own past), and two unusable ones: a malformed name and a zero std.
+  s.on_factors(factors(1, 7, {"x12", "x13", "xL12", "xL11", "y12", "xL13"}, {0.5, -0.1, -0.9, 0.8, 1.0, 0.2},
+                       {0.1, 0.2, 0.3, 0.1, 0.1, 0.0}));
+  const auto g = s.group("g");
+  ASSERT_TRUE(g);
+  const auto graph = causal::web::causal_graph(*g);
+  EXPECT_EQ(graph.index, 7u);
+  EXPECT_EQ(graph.unusable, 2u);
+  ASSERT_EQ(graph.edges.size(), 3u);
+  EXPECT_EQ(graph.edges[0].from, 2);
+  EXPECT_EQ(graph.edges[0].to, 1);
+  EXPECT_EQ(graph.edges[0].lag, 0);
+  EXPECT_DOUBLE_EQ(graph.edges[0].z, 5.0);
+  EXPECT_EQ(graph.edges[1].from, 3);
+  EXPECT_DOUBLE_EQ(graph.edges[1].z, -0.5);
+  EXPECT_EQ(graph.edges[2].lag, 1);
+  EXPECT_DOUBLE_EQ(graph.edges[2].z, -3.0);
+  ASSERT_EQ(graph.self_lags.size(), 1u);
+  EXPECT_EQ(graph.self_lags[0].from, 1);
+  EXPECT_DOUBLE_EQ(graph.self_lags[0].factor, 0.8);
+  const json edges = parse(s)["groups"][0]["graph"]["edges"];
+  ASSERT_EQ(edges.size(), 3u);
+  EXPECT_TRUE(edges[0]["significant"].get<bool>());
+  EXPECT_FALSE(edges[1]["significant"].get<bool>());  // |z| 0.5 < 2
+  EXPECT_TRUE(edges[2]["significant"].get<bool>());   // |z| 3
+}
+
+TEST(TwinState, FactorsOnlyFromTheConditionLevelFilterAndNeverOlder) {
+  TwinState s;
+  auto sample = factors(1, 3, {"x12"}, {0.5}, {0.1});
+  sample.time_scale(causal_twin::SAMPLE_LEVEL);
+  s.on_factors(sample);
+  auto smoother = factors(1, 3, {"x12"}, {0.5}, {0.1});
+  smoother.kind(causal_twin::FIXED_LAG_SMOOTHER);
+  s.on_factors(smoother);
+  s.on_factors(factors(1, 3, {"x12", "x13"}, {0.5}, {0.1}));  // lengths differ
+  EXPECT_EQ(s.counters().factor_messages_skipped, 2u);
+  EXPECT_EQ(s.counters().factor_messages_rejected, 1u);
+  EXPECT_FALSE(s.group("g"));
+  s.on_factors(factors(1, 9, {"x12"}, {0.5}, {0.1}));
+  s.on_factors(factors(1, 8, {"x12"}, {-0.5}, {0.1}));  // older, re-sent: the newest stays
+  EXPECT_DOUBLE_EQ(s.group("g")->factors.at(1).values[0], 0.5);
+  EXPECT_EQ(s.counters().factor_messages, 2u);
+}
+
+TEST(TwinState, AlarmBandsFromRaiseToClearAndLateJoiners) {
+  TwinState s;
+  for (std::uint64_t i = 0; i < 30; ++i) s.on_condition(vec(i, {1, 2, 3}));
+  s.on_alarm(alarm("g/1/a/1", causal_twin::RAISED, 10, 10 * 10 * kMinute));
+  s.on_alarm(alarm("g/1/a/1", causal_twin::CLEARED, 20, 10 * 10 * kMinute));
+  // Joined after the raise: the first event seen is an escalation; the raise is found from its time (snapshot 5).
+  s.on_alarm(alarm("g/1/b/2", causal_twin::ESCALATED, 25, 5 * 10 * kMinute + kMinute));
+  const auto g = s.group("g");
+  const auto& first = g->alarms.at("g/1/a/1");
+  EXPECT_EQ(first.raised_index, 10u);
+  ASSERT_TRUE(first.cleared_index);
+  EXPECT_EQ(*first.cleared_index, 20u);
+  EXPECT_FALSE(first.open());
+  const auto& second = g->alarms.at("g/1/b/2");
+  EXPECT_EQ(second.raised_index, 5u);
+  EXPECT_TRUE(second.open());
+  const json alarms = parse(s)["groups"][0]["alarms"];
+  ASSERT_EQ(alarms.size(), 2u);
+  EXPECT_EQ(alarms[0]["cleared_index"], 20);
+  EXPECT_TRUE(alarms[1]["cleared_index"].is_null());
+  EXPECT_EQ(alarms[1]["severity"], "warning");
+  EXPECT_EQ(alarms[1]["root_cause_name"], "b");
+}
+
+TEST(TwinState, ClosedAlarmsAreBoundedOpenOnesKept) {
+  StateLimits limits;
+  limits.closed_alarms = 2;
+  TwinState s(limits);
+  s.on_alarm(alarm("open", causal_twin::RAISED, 1, 0));
+  for (int i = 0; i < 5; ++i) {
+    const std::string id = "closed" + std::to_string(i);
+    s.on_alarm(alarm(id, causal_twin::RAISED, 2, 0));
+    s.on_alarm(alarm(id, causal_twin::CLEARED, 3, 0));
+  }
+  const auto g = s.group("g");
+  ASSERT_EQ(g->alarms.size(), 3u);
+  EXPECT_TRUE(g->alarms.count("open"));
+  EXPECT_TRUE(g->alarms.count("closed3"));
+  EXPECT_TRUE(g->alarms.count("closed4"));
+}
+
+TEST(TwinState, RecommendationIsCurrentWhileItsAlarmIsOpen) {
+  TwinState s;
+  s.on_alarm(alarm("g/1/a/1", causal_twin::RAISED, 10, 0));
+  causal_twin::Recommendation r;
+  r.recommendation_id("g/1/a/1/1");
+  r.alarm_id("g/1/a/1");
+  r.asset_group("g");
+  r.rank(1);
+  r.text("bring b down");
+  r.effect_low(std::numeric_limits<double>::quiet_NaN());  // passed through as null, never NaN
+  s.on_recommendation(r);
+  json rec = parse(s)["groups"][0]["recommendations"][0];
+  EXPECT_TRUE(rec["current"].get<bool>());
+  EXPECT_EQ(rec["text"], "bring b down");
+  EXPECT_TRUE(rec["effect_low"].is_null());
+  s.on_alarm(alarm("g/1/a/1", causal_twin::CLEARED, 12, 0));
+  rec = parse(s)["groups"][0]["recommendations"][0];
+  EXPECT_FALSE(rec["current"].get<bool>());
+}
+
+TEST(TwinState, VersionChangesWakeWaiters) {
+  TwinState s;
+  const auto v0 = s.version();
+  EXPECT_FALSE(s.wait_for_change(v0, std::chrono::milliseconds(20)));
+  auto later = std::async(std::launch::async, [&] { return s.wait_for_change(v0, std::chrono::seconds(10)); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  s.on_condition(vec(0, {1, 2, 3}));
+  EXPECT_TRUE(later.get());
+  EXPECT_EQ(s.version(), v0 + 1);
+  EXPECT_EQ(s.json(), s.json());  // one serialisation per version, shared
+}
+
+TEST(TwinState, PageViewCarriesOneGroupAndWakesOnlyForIt) {
+  TwinState s;
+  s.on_condition(vec(0, {1, 2, 3}));
+  auto other = vec(0, {4, 5, 6});
+  other.asset_group("h");
+  s.on_condition(other);
+  const auto g0 = s.versions("g"), h0 = s.versions("h");
+  other.snapshot_index(1);
+  s.on_condition(other);  // a new snapshot of h: g's page does not change
+  EXPECT_EQ(s.versions("g"), g0);
+  EXPECT_NE(s.versions("h"), h0);
+  EXPECT_FALSE(s.wait_for_change("g", g0, std::chrono::milliseconds(20)));
+  auto raised = alarm("h/1/a/1", causal_twin::RAISED, 1, 0);
+  raised.asset_group("h");
+  s.on_alarm(raised);  // an alarm anywhere changes every page's overview
+  EXPECT_NE(s.versions("g").overview, g0.overview);
+  EXPECT_TRUE(s.wait_for_change("g", g0, std::chrono::milliseconds(20)));
+
+  const json page = json::parse(s.page_json("g"));
+  const auto v = s.versions("g");
+  EXPECT_EQ(page["version"], std::to_string(v.overview) + "." + std::to_string(v.group));
+  EXPECT_EQ(page["group"]["id"], "g");
+  EXPECT_EQ(page["group"]["trend"]["index"], json({0}));
+  ASSERT_EQ(page["overview"]["groups"].size(), 2u);
+  EXPECT_EQ(page["overview"]["groups"][1]["id"], "h");
+  EXPECT_EQ(page["overview"]["groups"][1]["open_alarms"], 1);
+  EXPECT_EQ(page["overview"]["groups"][1]["worst_severity"], "warning");
+  EXPECT_TRUE(page["overview"]["groups"][0]["worst_severity"].is_null());
+  EXPECT_TRUE(json::parse(s.page_json("unknown"))["group"].is_null());
+}
+
+TEST(WhatIfBridge, SendsResendsAndHandsTheMatchingReplyBack) {
+  WhatIfBridge bridge;
+  causal_twin::WhatIfRequest q;
+  q.request_id("q1");
+  q.asset_group("g");
+  auto asked = std::async(std::launch::async, [&] { return bridge.ask(q, std::chrono::seconds(10)); });
+  std::vector<causal_twin::WhatIfRequest> due;
+  const auto t0 = WhatIfBridge::Clock::now();
+  for (int i = 0; i < 500 && due.empty(); ++i) {
+    due = bridge.due(t0);
+    if (due.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_EQ(due.size(), 1u);
+  EXPECT_EQ(due[0].request_id(), "q1");
+  EXPECT_TRUE(bridge.due(t0 + std::chrono::milliseconds(900)).empty());  // not again within a second
+  EXPECT_EQ(bridge.due(t0 + std::chrono::milliseconds(1100)).size(), 1u);
+  causal_twin::WhatIfReply other;
+  other.request_id("someone-else");
+  bridge.on_reply(other);
+  causal_twin::WhatIfReply mine;
+  mine.request_id("q1");
+  mine.ok(true);
+  mine.text("answer");
+  bridge.on_reply(mine);
+  const auto out = asked.get();
+  EXPECT_EQ(out.status, WhatIfBridge::Status::Answered);
+  EXPECT_EQ(out.reply.text(), "answer");
+  EXPECT_EQ(bridge.asked(), 1u);
+  EXPECT_EQ(bridge.answered(), 1u);
+  EXPECT_TRUE(bridge.due(t0 + std::chrono::seconds(5)).empty());  // answered and gone
+}
+
+TEST(WhatIfBridge, TimesOutWithoutReplyAndStopsWaiters) {
+  WhatIfBridge bridge;
+  causal_twin::WhatIfRequest q;
+  q.request_id("q1");
+  EXPECT_EQ(bridge.ask(q, std::chrono::milliseconds(30)).status, WhatIfBridge::Status::NoReply);
+  q.request_id("q2");
+  auto asked = std::async(std::launch::async, [&] { return bridge.ask(q, std::chrono::seconds(30)); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  bridge.stop();
+  EXPECT_EQ(asked.get().status, WhatIfBridge::Status::Stopped);
+  EXPECT_EQ(bridge.ask(q, std::chrono::seconds(30)).status, WhatIfBridge::Status::Stopped);
+}

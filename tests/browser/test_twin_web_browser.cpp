@@ -1,0 +1,217 @@
+// The live view as a person sees it, in a real headless Chromium (Debian's chromium, driven by playwright-core):
+// sensor-replay paces the 984-snapshot IMS test-2 feature table (mean |x|) at x20000 (about 30 s) through
+// causal-estimator and alarm-recommender, twin-web serves the page, drive_twin_web.mjs opens it. Checked:
+// no console error; the trend grows while the replay runs; an alarm row appears; a what-if question asked with
+// the form is answered; a screenshot is written; and at the end the page and /api/state hold exactly what the
+// test's own DDS observer and the feature table say (984 snapshots per channel, the same open alarms).
+// Fixed DDS domain 90 (the web helper's range), loopback only.
+#include "dds_observer.hpp"
+#include "process_runner.hpp"
+
+#include "causal/io/feature_table.hpp"
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <thread>
+
+namespace fs = std::filesystem;
+using causal::test::DdsObserver;
+using causal::test::ServiceProcess;
+using nlohmann::json;
+
+namespace {
+
+constexpr int kDomain = 90;
+const std::vector<std::string> kChannels = {"bearing1", "bearing2", "bearing3", "bearing4"};
+
+// The port twin-web printed ("serving http://127.0.0.1:PORT/"), waiting for it (bounded).
+int served_port(ServiceProcess& web, std::chrono::seconds timeout) {
+  const std::regex served(R"(serving http://127\.0\.0\.1:(\d+)/)");
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline && web.running()) {
+    std::smatch m;
+    const std::string out = web.output();
+    if (std::regex_search(out, m, served)) return std::stoi(m[1]);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return 0;
+}
+
+// playwright-core in the build folder: `npm ci` from the committed lock file when it is not there yet. The
+// driver script is copied beside it (node resolves packages from the script's folder upwards).
+bool ensure_node_modules(const fs::path& dir, const fs::path& log) {
+  fs::create_directories(dir);
+  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "drive_twin_web.mjs", dir / "drive_twin_web.mjs",
+                fs::copy_options::overwrite_existing);
+  if (fs::exists(dir / "node_modules" / "playwright-core" / "package.json")) return true;
+  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "package.json", dir / "package.json",
+                fs::copy_options::overwrite_existing);
+  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "package-lock.json", dir / "package-lock.json",
+                fs::copy_options::overwrite_existing);
+  ServiceProcess npm("npm", {NPM_BIN, "ci", "--no-audit", "--no-fund", "--prefix", dir.string()}, log.string());
+  const auto code = npm.wait(std::chrono::seconds(240));
+  return code && *code == 0 && fs::exists(dir / "node_modules" / "playwright-core" / "package.json");
+}
+
+json driver_result(const std::string& output) {
+  const auto at = output.rfind("RESULT ");
+  if (at == std::string::npos) return json();
+  const auto end = output.find('\n', at);
+  return json::parse(output.substr(at + 7, end == std::string::npos ? std::string::npos : end - at - 7), nullptr, false);
+}
+
+}  // namespace
+
+TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
+  ASSERT_TRUE(fs::exists(CHROMIUM_BIN)) << CHROMIUM_BIN << " missing: run deploy/install_deps.sh (Debian chromium)";
+  const fs::path node_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "node";
+  const fs::path out_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "output";
+  fs::create_directories(out_dir);
+  ASSERT_TRUE(ensure_node_modules(node_dir, out_dir / "npm.log")) << "npm ci failed, see " << (out_dir / "npm.log");
+
+  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
+  const auto features = causal::io::read_feature_table(table, "_meanabs");
+  const std::size_t snapshots = features.time_ns.size();
+  ASSERT_EQ(snapshots, 984u);
+
+  causal::test::clean_stale_shared_memory();
+  // Nothing of an earlier run may be read as this run's (a log is read before its process truncates it).
+  const fs::path done_file = out_dir / "services_done";
+  for (const char* name : {"services_done", "twin_web.png", "twin-web.log", "alarm-recommender.log",
+                           "causal-estimator.log", "sensor-replay.log", "drive_twin_web.log"}) {
+    fs::remove(out_dir / name);
+  }
+  const std::string d = std::to_string(kDomain);
+  DdsObserver observer(kDomain);
+  ServiceProcess web("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "170"},
+                     (out_dir / "twin-web.log").string());
+  const int port = served_port(web, std::chrono::seconds(20));
+  ASSERT_GT(port, 0) << web.output();
+  ServiceProcess alarm("alarm-recommender",
+                       {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "5", "--max-runtime", "150"},
+                       (out_dir / "alarm-recommender.log").string());
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "150",
+                            "--wait-for", "alarm-recommender", "--wait-for", "twin-web", "--wait-for", "test-observer"},
+                           (out_dir / "causal-estimator.log").string());
+  const std::string url = "http://127.0.0.1:" + std::to_string(port) + "/";
+  ServiceProcess driver("drive_twin_web",
+                        {NODE_BIN, (node_dir / "drive_twin_web.mjs").string(), "--url", url, "--out",
+                         out_dir.string(), "--chromium", CHROMIUM_BIN, "--done-file", done_file.string()},
+                        (out_dir / "drive_twin_web.log").string());
+  // The replay starts once the page is open, so a slow browser start (a loaded CI machine) cannot miss the run.
+  const auto open_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (driver.running() && driver.output().find("drive_twin_web: page loaded") == std::string::npos &&
+         std::chrono::steady_clock::now() < open_deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_NE(driver.output().find("drive_twin_web: page loaded"), std::string::npos) << driver.output();
+  ServiceProcess replay("sensor-replay",
+                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
+                         "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
+                         "--speed", "20000", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
+                        (out_dir / "sensor-replay.log").string());
+  const auto replay_code = replay.wait(std::chrono::seconds(120));
+  ASSERT_TRUE(replay_code.has_value()) << replay.output();
+  EXPECT_EQ(*replay_code, 0) << replay.output();
+  const auto estimator_code = estimator.wait(std::chrono::seconds(60));
+  const auto alarm_code = alarm.wait(std::chrono::seconds(60));
+  ASSERT_TRUE(estimator_code && alarm_code) << estimator.output() << alarm.output();
+  EXPECT_EQ(*estimator_code, 0) << estimator.output();
+  EXPECT_EQ(*alarm_code, 0) << alarm.output();
+  std::ofstream(done_file) << "done\n";
+
+  const auto driver_code = driver.wait(std::chrono::seconds(90));
+  ASSERT_TRUE(driver_code.has_value()) << driver.output();
+  const json r = driver_result(driver.output());
+  ASSERT_TRUE(r.is_object()) << driver.output();
+  EXPECT_EQ(*driver_code, 0) << driver.output();
+  std::printf("browser: points %d -> %d (snapshot %d -> %d), what-if %s in %d attempt(s), first alarm %s at "
+              "snapshot %d, final points %d, open alarms %zu, recommendations shown %d, graph edges %d\n",
+              r.value("points_first", -1), r.value("points_second", -1), r.value("index_first", -1),
+              r.value("index_second", -1), r.value("whatif_status", std::string("?")).c_str(),
+              r.value("whatif_attempts", 0), r.value("first_alarm_id", std::string("?")).c_str(),
+              r.value("first_alarm_at_index", -1), r.value("points_final", -1),
+              r.contains("open_alarm_ids") ? r["open_alarm_ids"].size() : 0u, r.value("recommendation_items", -1),
+              r.value("graph_edges", -1));
+
+  // What the page showed while the replay ran.
+  EXPECT_TRUE(r.value("chart_library", false)) << "Chart.js did not load";
+  EXPECT_EQ(r["console_errors"].size(), 0u) << r["console_errors"].dump(1);
+  EXPECT_EQ(r["page_errors"].size(), 0u) << r["page_errors"].dump(1);
+  EXPECT_EQ(r["failed_requests"].size(), 0u) << r["failed_requests"].dump(1);
+  EXPECT_EQ(r.value("selected_group", std::string()), "ims2-shaft1");
+  EXPECT_EQ(r.value("connection", std::string()), "live") << "the page did not get the state as Server-Sent Events";
+  EXPECT_GT(r.value("points_second", 0), r.value("points_first", 0)) << "the trend did not grow during the replay";
+  EXPECT_LT(r.value("index_second", 1 << 30), static_cast<int>(snapshots) - 1) << "the replay was over before the second read";
+  EXPECT_EQ(r.value("whatif_status", std::string()), "answered") << r["whatif_history"].dump(1);
+  EXPECT_EQ(r.value("whatif_rows", 0), 1 + static_cast<int>(kChannels.size())) << r.value("whatif_text", std::string());
+  EXPECT_FALSE(r.value("first_alarm_id", std::string()).empty());
+  ASSERT_TRUE(fs::exists(out_dir / "twin_web.png"));
+  EXPECT_GT(fs::file_size(out_dir / "twin_web.png"), 20000u) << "a screenshot that small is a blank page";
+
+  // The end state, against independent truth: the feature table's rows and the observer's alarms.
+  httplib::Client client("127.0.0.1", port);
+  const auto res = client.Get("/api/state");
+  ASSERT_TRUE(res) << "GET /api/state failed";
+  ASSERT_EQ(res->status, 200);
+  const json state = json::parse(res->body, nullptr, false);
+  std::printf("browser: /api/state at the end: %zu bytes; what-if attempts: %s\n", res->body.size(),
+              r["whatif_history"].dump().c_str());
+  ASSERT_TRUE(state.is_object());
+  ASSERT_EQ(state["groups"].size(), 1u) << state["groups"].dump().substr(0, 400);
+  const json& g = state["groups"][0];
+  EXPECT_EQ(g["id"], "ims2-shaft1");
+  EXPECT_EQ(g["channels"].get<std::vector<std::string>>(), kChannels);
+  ASSERT_EQ(g["trend"]["index"].size(), snapshots);
+  for (std::size_t c = 0; c < kChannels.size(); ++c) EXPECT_EQ(g["trend"]["values"][c].size(), snapshots);
+  // The trend's values are the table's (the estimator publishes what it accepted, unchanged).
+  for (std::size_t i : {std::size_t{0}, snapshots / 2, snapshots - 1}) {
+    EXPECT_EQ(g["trend"]["index"][i].get<std::size_t>(), i);
+    for (std::size_t c = 0; c < kChannels.size(); ++c) {
+      EXPECT_DOUBLE_EQ(g["trend"]["values"][c][i].get<double>(), features.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c)))
+          << "snapshot " << i << " channel " << c + 1;
+    }
+  }
+  EXPECT_EQ(r.value("points_final", 0), static_cast<int>(snapshots * kChannels.size()));
+  EXPECT_EQ(r.value("index_final", 0), static_cast<int>(snapshots) - 1);
+  EXPECT_EQ(state["counters"]["condition_vectors"].get<std::size_t>(), snapshots);
+  EXPECT_EQ(state["counters"]["rejected_vectors"].get<std::size_t>(), 0u);
+  EXPECT_EQ(state["counters"]["factor_messages"].get<std::size_t>(),
+            observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER));
+
+  std::map<std::string, causal_twin::Alarm> last_event;
+  for (const auto& a : observer.alarms()) last_event[a.alarm_id()] = a;
+  std::set<std::string> open_truth;
+  for (const auto& [id, a] : last_event) {
+    if (a.state() != causal_twin::CLEARED) open_truth.insert(id);
+  }
+  ASSERT_FALSE(last_event.empty()) << "the pipeline raised no alarm: nothing to show";
+  std::set<std::string> served_ids, served_open;
+  for (const auto& a : g["alarms"]) {
+    served_ids.insert(a["id"].get<std::string>());
+    if (a["open"].get<bool>()) served_open.insert(a["id"].get<std::string>());
+  }
+  std::set<std::string> all_truth;
+  for (const auto& [id, a] : last_event) all_truth.insert(id);
+  EXPECT_EQ(served_ids, all_truth);
+  EXPECT_EQ(served_open, open_truth);
+  const auto page_open = r["open_alarm_ids"].get<std::vector<std::string>>();
+  EXPECT_EQ(std::set<std::string>(page_open.begin(), page_open.end()), open_truth);
+  EXPECT_EQ(state["counters"]["alarm_events"].get<std::size_t>(), observer.alarms().size());
+  EXPECT_EQ(state["counters"]["recommendations"].get<std::size_t>(), observer.recommendations().size());
+
+  const int web_code = web.terminate(std::chrono::seconds(10));
+  EXPECT_EQ(web_code, 0) << web.output();
+  EXPECT_NE(web.output().find("summary topic=causal_twin/condition_vector received=984 duplicates=0 refused=0"),
+            std::string::npos)
+      << web.output();
+  causal::test::clean_stale_shared_memory();
+}
