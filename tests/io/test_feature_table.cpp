@@ -169,6 +169,7 @@ TEST(FeatureTable, ReadsRecorderConditionsFileAndStdin) {
     EXPECT_EQ(t.values(0, 0), 0.06);
     EXPECT_EQ(t.values(1, 2), 0.18);
   }
+}
 
 // A table as it is (issue 12): several features per channel only when every column is <channel>_<known feature>
 // with two features or more; any other names are channels.
