@@ -169,6 +169,7 @@ PipelineResult run_condition_pipeline(const ConditionSeries& series, const Pipel
     Observation o;
     o.index = series.index[static_cast<std::size_t>(t)];
     o.time_ns = series.time_ns[static_cast<std::size_t>(t)];
+    o.discontinuity = t > 0 && disc[static_cast<std::size_t>(t)];
     o.features = series.values.row(t).transpose();
     o.innovations = Eigen::VectorXd::Constant(g, kNaN);
     o.innovation_variances = Eigen::VectorXd::Constant(g, kNaN);
@@ -191,6 +192,11 @@ PipelineResult run_condition_pipeline(const ConditionSeries& series, const Pipel
       res.innovation_z(t, c) = d.innovation.last_z;
     }
     for (auto& e : events) {
+      if (e.category != category::kDegradation) {  // operating changes are reported, not faults
+        ++res.operating_changes;
+        res.events.push_back(std::move(e));
+        continue;
+      }
       auto& s = res.summary[static_cast<std::size_t>(e.channel)];
       const auto ci = static_cast<std::size_t>(e.channel);
       if (e.state == AlarmState::Raised && !s.alarmed) {

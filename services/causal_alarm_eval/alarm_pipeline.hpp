@@ -77,6 +77,7 @@ struct PipelineResult {
   std::vector<double> baseline_scale_log;
   std::uint64_t filter_updates = 0;
   std::uint64_t not_running = 0;             // snapshots withheld from the filter (machine stopped)
+  std::uint64_t operating_changes = 0;       // events of category operating_change (in `events`, not in summary)
   double cusum_threshold = 0.0;
   double nis_threshold = 0.0;
   // Per observation and channel (N x G) for plots / diagnostics: standardised feature z, standardised

@@ -159,10 +159,11 @@ int main(int argc, char** argv) {
   };
   if (!quiet) {
     for (const auto& e : res.events) {
-      std::printf("event index=%llu time=\"%s\" %-9s %-8s id=%s channel=%s kind=%s score=%.3f threshold=%.3f root_cause=%s\n",
+      std::printf("event index=%llu time=\"%s\" %-9s %-8s id=%s channel=%s kind=%s category=%s score=%.3f threshold=%.3f root_cause=%s confidence=%.2f\n",
                   static_cast<unsigned long long>(e.index), format_utc_seconds(time_of(e.index)).c_str(),
                   to_string(e.state), to_string(e.severity), e.alarm_id.c_str(), channel_label(series, e.channel).c_str(),
-                  e.kind.c_str(), e.score, e.threshold, channel_label(series, e.root_cause_channel).c_str());
+                  e.kind.c_str(), e.category.c_str(), e.score, e.threshold, channel_label(series, e.root_cause_channel).c_str(),
+                  e.root_cause_confidence);
       if (print_reasons) std::printf("  reason: %s\n", e.reason.c_str());
     }
   }
@@ -197,6 +198,7 @@ int main(int argc, char** argv) {
   bool ok = true;
   if (check_quiet_before >= 0) {
     for (const auto& e : res.events) {
+      if (e.category != category::kDegradation) continue;  // operating changes are not alarms
       if (e.index < static_cast<std::uint64_t>(check_quiet_before)) {
         std::printf("CHECK FAILED: %s %s at snapshot %llu, before %d\n", e.alarm_id.c_str(), to_string(e.state),
                     static_cast<unsigned long long>(e.index), check_quiet_before);

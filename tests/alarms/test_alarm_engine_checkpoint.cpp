@@ -170,6 +170,9 @@ Stream synthetic_stream(bool with_factors, std::uint64_t seed = 3) {
   s.group = "grp";
   s.channels = test::channel_names4();
   s.obs = test::make_run(cfg);
+  // The 8-sigma (+16 %) second fault is a sustained step: kept a fault here (the operating-change rule and
+  // its checkpoint have their own tests in test_alarm_operating_changes.cpp).
+  s.params.operating_step_ratio = 1e3;
   if (with_factors) {
     // Exercise the factor detector's state as well: x23 (channel 2's dependence on 3) leaves its baseline
     // by 30 of its standard deviations during the first fault.

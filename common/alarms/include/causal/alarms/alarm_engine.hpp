@@ -111,8 +111,10 @@ class AlarmEngine {
   // Same, with the parameters stored in the checkpoint (offline inspection, tools).
   static AlarmEngine restore(causal::StateReader& in);
 
- private:
+  // Opaque state (engine_internal.hpp); public only so the library's detector table can name it.
   struct Impl;
+
+ private:
   std::unique_ptr<Impl> impl_;
 };
 
