@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Offline condition-level alarm evaluation: features -> causal Kalman filter -> alarm engine"};
   std::string table, ims_dir, feature = "meanabs", group = "ims", trace_csv;
   PipelineOptions opt;
-  bool no_tune = false, quiet = false, print_reasons = false;
+  bool quiet = false, print_reasons = false;
   int check_channel = 0, check_by = -1, check_quiet_before = -1;  // check_channel 0 = no check
   auto* src = app.add_option_group("source", "where the condition features come from");
   src->add_option("--features", table, "feature table CSV (derived_per_file_stats or merged_dataset style)");
@@ -90,13 +90,9 @@ int main(int argc, char** argv) {
   app.add_option("--asset-group", group, "asset-group id used in alarm ids");
   app.add_option("--warmup", opt.params.warmup_observations, "observations ignored at the start")->capture_default_str();
   app.add_option("--baseline", opt.params.baseline_observations, "healthy baseline length in observations")->capture_default_str();
-  app.add_option("--lag-order", opt.lag_order, "lag order M of the causal model")->capture_default_str();
-  app.add_flag("--self-lags", opt.include_self_lags, "include y_k[n-l] regressors for outcome k");
-  bool raw_log = false;
-  app.add_flag("--raw-log-input", raw_log, "feed the filter the plain log feature (as causal-estimator does), not standardised");
-  app.add_flag("--no-tune", no_tune, "do not tune q, r by maximum likelihood on the baseline; use --q/--r");
-  app.add_option("--q", opt.noise.q, "process noise q (with --no-tune)")->capture_default_str();
-  app.add_option("--r", opt.noise.r, "measurement noise r (with --no-tune)")->capture_default_str();
+  std::string estimator_config = shipped_estimator_config();
+  app.add_option("--estimator-config", estimator_config,
+                 "causal-estimator's parameter file: the condition-level model the services run")->capture_default_str();
   app.add_option("--target-arl0", opt.params.target_arl0, "in-control ARL of the CUSUM detectors")->capture_default_str();
   app.add_flag("--quiet", quiet, "print only the summary (not every event)");
   app.add_flag("--reasons", print_reasons, "print each event's plain-language reason");
@@ -109,6 +105,8 @@ int main(int argc, char** argv) {
   app.add_flag("--sample-level", sample_level, "sample-level mode over raw snapshots (needs --ims-dir)");
   app.add_option("--healthy-snapshots", so.healthy_snapshots, "sample level: snapshots that form the baseline")->capture_default_str();
   app.add_option("--publish-every", so.publish_every, "sample level: samples per factor publication")->capture_default_str();
+  app.add_option("--lag-order", so.lag_order, "sample level: lag order M of the causal model")->capture_default_str();
+  app.add_flag("--self-lags", so.include_self_lags, "sample level: include y_k[n-l] regressors for outcome k");
   CLI11_PARSE(app, argc, argv);
   if (sample_level) {
     if (ims_dir.empty()) {
@@ -116,17 +114,14 @@ int main(int argc, char** argv) {
       return 2;
     }
     so.asset_group = group;
-    so.lag_order = opt.lag_order;
-    so.include_self_lags = opt.include_self_lags;
     return run_sample_level_mode(ims_dir, so, quiet, print_reasons, check_by >= 0 || check_channel > 0 ? check_channel : 0);
   }
   opt.asset_group = group;
-  opt.tune_noise = !no_tune;
-  opt.standardize_input = !raw_log;
 
   ConditionSeries series;
   PipelineResult res;
   try {
+    opt.estimator = load_estimator_config(estimator_config);
     series = table.empty() ? series_from_ims_directory(ims_dir, feature, !quiet) : series_from_feature_table(table, feature);
     res = run_condition_pipeline(series, opt);
   } catch (const std::exception& e) {
@@ -138,13 +133,17 @@ int main(int argc, char** argv) {
   std::printf("causal-alarm-eval: feature %s, %lld observations, %lld channels, source %s\n", series.feature.c_str(),
               static_cast<long long>(n), static_cast<long long>(series.values.cols()),
               table.empty() ? ims_dir.c_str() : table.c_str());
-  std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, filter updates %llu, not running %llu\n",
+  std::printf("chain: estimator %s (condition level) -> observation rule -> AlarmEngine; %llu observations judged, "
+              "%llu vectors refused, %llu operating changes\n", estimator_config.c_str(),
+              static_cast<unsigned long long>(res.observations), static_cast<unsigned long long>(res.refused),
+              static_cast<unsigned long long>(res.operating_changes));
+  std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, not running %llu\n",
               opt.params.warmup_observations, opt.params.warmup_observations + opt.params.baseline_observations,
               opt.params.cusum_k, res.cusum_threshold, opt.params.target_arl0, opt.params.nis_window, res.nis_threshold,
-              static_cast<unsigned long long>(res.filter_updates), static_cast<unsigned long long>(res.not_running));
+              static_cast<unsigned long long>(res.not_running));
   for (std::size_t k = 0; k < res.noise.size(); ++k)
-    std::printf("noise outcome %zu: q=%.3g r=%.3g p0=%.3g%s%s\n", k + 1, res.noise[k].q, res.noise[k].r, res.noise[k].p0,
-                res.tuning_messages[k].empty() ? "" : "  | ", res.tuning_messages[k].c_str());
+    std::printf("noise outcome %zu: q=%.3g r=%.3g p0=%.3g\n", k + 1, res.noise[k].q, res.noise[k].r, res.noise[k].p0);
+  for (const auto& note : res.estimator_notes) std::printf("estimator: %s\n", note.c_str());
 
   for (std::size_t c = 0; c < res.diagnostics.size(); ++c) {
     const auto& d = res.diagnostics[c];
