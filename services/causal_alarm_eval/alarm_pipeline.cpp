@@ -147,7 +147,7 @@ PipelineResult run_condition_pipeline(const ConditionSeries& series, const Pipel
     std::string problem;
     if (!chain.feed(v, series.index[static_cast<std::size_t>(t)], series.discontinuity[static_cast<std::size_t>(t)],
                     series.time_ns[static_cast<std::size_t>(t)], out, &problem)) {
-      ++res.refused;
+      if (res.refused++ == 0) res.refusal = problem;
     }
     absorb();
     // The engine's latest standardised values after this row (during the estimator's calibration window

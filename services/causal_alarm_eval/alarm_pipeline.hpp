@@ -80,6 +80,7 @@ struct PipelineResult {
   std::vector<std::string> factor_names;     // the engine's factors (the estimator's layout, outcome-major)
   std::uint64_t observations = 0;            // observations the engine judged
   std::uint64_t refused = 0;                 // condition vectors the estimator refused
+  std::string refusal;                       // why (the first refusal), empty when none
   std::uint64_t not_running = 0;             // observations skipped by the engine's operating-state gate
   std::uint64_t operating_changes = 0;       // events of category operating_change (raised)
   double cusum_threshold = 0.0;

@@ -1,6 +1,7 @@
 // causal-alarm-eval: runs the condition-level alarm pipeline offline over a whole run-to-failure recording
 // and prints every alarm event and a summary line per channel. With --check-* options it is the ctest
-// "long check": exit status 0 when the recording meets the detection bar, 1 when not, 2 on input errors.
+// "long check": exit status 0 when the recording meets the detection bar, 1 when not, 2 on input errors
+// (including condition vectors the estimator refuses, e.g. a channel count its configuration cannot run).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -77,7 +78,7 @@ int run_sample_level_mode(const std::string& dir, const SampleLevelOptions& so, 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Offline condition-level alarm evaluation: features -> causal Kalman filter -> alarm engine"};
+  CLI::App app{"Offline condition-level alarm evaluation through the services' chain: features -> causal-estimator's condition pipeline -> alarm-recommender's observation rule -> alarm engine"};
   std::string table, ims_dir, feature = "meanabs", group = "ims", trace_csv;
   PipelineOptions opt;
   bool quiet = false, print_reasons = false;
@@ -129,6 +130,10 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  if (res.refused > 0) {  // loudly, as the estimator would (it exits 4): nothing judged on those vectors
+    std::cerr << "causal-alarm-eval: the estimator refused " << res.refused << " of " << series.values.rows()
+              << " condition vectors: " << res.refusal << "\n";
+  }
   const auto n = series.values.rows();
   std::printf("causal-alarm-eval: feature %s, %lld observations, %lld channels, source %s\n", series.feature.c_str(),
               static_cast<long long>(n), static_cast<long long>(series.values.cols()),
@@ -193,6 +198,7 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (res.refused > 0) return 2;
   if (check_by < 0 && check_quiet_before < 0) return 0;
   bool ok = true;
   if (check_quiet_before >= 0) {

@@ -2,6 +2,8 @@
 // threshold, where its change began, what severity its level calls for). AlarmEngine::observe loops over
 // it; adding a kind = one row + its three functions here + its KindIndex (engine_internal.hpp).
 #include <cmath>
+#include <sstream>
+#include <string>
 
 #include "engine_internal.hpp"
 
@@ -53,8 +55,44 @@ void innovation_onset(AlarmEngine::Impl& m, int c, const Observation&, std::uint
   time_ns = cs.innovation.cusum.onset_time_ns();
   m.episode.own[static_cast<std::size_t>(c)].take_earlier(index, time_ns, cs.innovation.level.median());
 }
+std::string feature_describe(const AlarmEngine::Impl& m, int c, const AlarmSlot& slot, const Observation&) {
+  const auto& cs = m.ch[static_cast<std::size_t>(c)];
+  const auto& p = m.p;
+  const std::string& name = m.names[static_cast<std::size_t>(c)];
+  std::ostringstream os;
+  const double level = cs.feature.level.median();
+  const double now_z = cs.feature.last_z;
+  if (p.feature_log_transform) {
+    const double ratio_now = std::exp(cs.feature.last_value - cs.feature.stats.location);
+    const double ratio_level = std::exp(level * cs.feature.stats.scale);
+    os << name << ": condition level " << general(std::exp(cs.feature.last_value)) << " is "
+       << signed_fixed(100.0 * (ratio_now - 1.0), 1) << " % (" << signed_fixed(20.0 * std::log10(ratio_now), 1)
+       << " dB, " << signed_fixed(now_z, 1) << " baseline sigma) above its healthy baseline median "
+       << general(std::exp(cs.feature.stats.location)) << " (median of the last " << p.level_window << ": "
+       << signed_fixed(100.0 * (ratio_level - 1.0), 1) << " %)";
+  } else {
+    os << name << ": condition level " << general(cs.feature.last_value) << " is " << signed_fixed(now_z, 1)
+       << " baseline sigma above its healthy baseline median " << general(cs.feature.stats.location)
+       << " (median of the last " << p.level_window << ": " << signed_fixed(level, 1) << " sigma)";
+  }
+  os << "; CUSUM " << fixed(slot.score, 2) << " >= " << fixed(slot.threshold, 2) << " (designed for 1 false alarm per "
+     << general(p.target_arl0) << " observations); the rise began at " << at(slot.onset_index, slot.onset_time_ns) << ".";
+  return os.str();
+}
+
 Severity innovation_severity(const AlarmEngine::Impl& m, int c) {
   return by_sigma(m.p, m.ch[static_cast<std::size_t>(c)].innovation.level.median());  // upward departures only
+}
+
+std::string innovation_describe(const AlarmEngine::Impl& m, int c, const AlarmSlot& slot, const Observation&) {
+  const auto& cs = m.ch[static_cast<std::size_t>(c)];
+  std::ostringstream os;
+  os << m.names[static_cast<std::size_t>(c)] << ": the part of its signal that the other channels do not explain is now "
+     << signed_fixed(cs.innovation.last_z, 1) << " baseline sigma (median of the last " << m.p.level_window << ": "
+     << signed_fixed(cs.innovation.level.median(), 1) << "); CUSUM " << fixed(slot.score, 2) << " >= "
+     << fixed(slot.threshold, 2) << " (1 false alarm per " << general(m.p.target_arl0)
+     << " observations): its own behaviour changed, starting at " << at(slot.onset_index, slot.onset_time_ns) << ".";
+  return os.str();
 }
 
 // ---- innovation_nis: window mean of clipped squared standardised innovations -------------------------
@@ -70,6 +108,17 @@ void nis_onset(AlarmEngine::Impl&, int, const Observation& obs, std::uint64_t& i
 Severity nis_severity(const AlarmEngine::Impl& m, int c) {
   const double level = m.ch[static_cast<std::size_t>(c)].innovation.level.median();
   return by_sigma(m.p, m.p.nis_two_sided ? std::abs(level) : level);
+}
+
+std::string nis_describe(const AlarmEngine::Impl& m, int c, const AlarmSlot& slot, const Observation& obs) {
+  const auto& p = m.p;
+  std::ostringstream os;
+  os << m.names[static_cast<std::size_t>(c)] << ": the causal model no longer explains this channel: mean normalised "
+     << "innovation squared" << (p.nis_two_sided ? "" : " (upward departures)") << " over the last " << p.nis_window
+     << " observations is " << fixed(slot.score, 2) << " (baseline " << (p.nis_two_sided ? "1" : "0.5") << ", threshold "
+     << fixed(slot.threshold, 2) << " for a false-alarm probability of " << general(p.nis_false_alarm_prob)
+     << " per observation), raised at " << at(obs.index, obs.time_ns) << ".";
+  return os.str();
 }
 
 // ---- factor_shift: max |z| of the channel's causal factors against their baseline --------------------
@@ -97,18 +146,27 @@ Severity factor_severity(const AlarmEngine::Impl& m, int c) {
   return by_sigma(m.p, m.ch[static_cast<std::size_t>(c)].factor_stat);
 }
 
+std::string factor_describe(const AlarmEngine::Impl& m, int c, const AlarmSlot& slot, const Observation&) {
+  std::ostringstream os;
+  os << m.names[static_cast<std::size_t>(c)] << ": the causal factors of its equation left their baseline: max |z| "
+     << fixed(slot.score, 2) << " >= " << fixed(slot.threshold, 2) << " (Bonferroni, " << general(m.p.factor_false_alarm_prob)
+     << " per observation) for " << m.p.factor_persistence << "+ observations since "
+     << at(slot.onset_index, slot.onset_time_ns) << ".";
+  return os.str();
+}
+
 }  // namespace
 
 const std::array<DetectorKind, kKindCount>& detector_table() {
   static const std::array<DetectorKind, kKindCount> table{{
       {kind::kFeatureDrift, "condition feature (log)", "clipped one-sided CUSUM of the baseline-standardised value",
-       category::kDegradation, feature_read, feature_onset, feature_severity},
+       category::kDegradation, feature_read, feature_onset, feature_severity, feature_describe},
       {kind::kInnovationRise, "standardised innovation (or log mean NIS)", "clipped one-sided CUSUM",
-       category::kDegradation, innovation_read, innovation_onset, innovation_severity},
+       category::kDegradation, innovation_read, innovation_onset, innovation_severity, innovation_describe},
       {kind::kInnovationNis, "standardised innovation", "window mean of clipped squared upward departures",
-       category::kDegradation, nis_read, nis_onset, nis_severity},
+       category::kDegradation, nis_read, nis_onset, nis_severity, nis_describe},
       {kind::kFactorShift, "causal factors of the channel's equation", "max |z| against the baseline, Bonferroni",
-       category::kDegradation, factor_read, factor_onset, factor_severity},
+       category::kDegradation, factor_read, factor_onset, factor_severity, factor_describe},
   }};
   return table;
 }

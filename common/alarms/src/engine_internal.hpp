@@ -176,8 +176,17 @@ struct DetectorKind {
   void (*onset)(AlarmEngine::Impl& m, int c, const Observation& obs, std::uint64_t& index, std::int64_t& time_ns);
   // Severity the current level calls for (before persistence, AlarmParams::escalation_persistence).
   Severity (*level_severity)(const AlarmEngine::Impl& m, int c);
+  // The kind's sentence of a raised / escalated alarm's reason: what moved, from what to what, the
+  // statistic against its threshold and its false-alarm design, since when.
+  std::string (*describe)(const AlarmEngine::Impl& m, int c, const AlarmSlot& slot, const Observation& obs);
 };
 const std::array<DetectorKind, kKindCount>& detector_table();
+
+// Number formatting of the reasons (alarm_explain.cpp).
+std::string at(std::uint64_t index, std::int64_t time_ns);  // "observation N (YYYY-MM-DD hh:mm:ss UTC)"
+std::string signed_fixed(double v, int decimals);
+std::string fixed(double v, int decimals);
+std::string general(double v);  // 4 significant digits
 
 }  // namespace causal::alarms::detail
 
