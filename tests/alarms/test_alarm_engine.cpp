@@ -361,7 +361,13 @@ TEST(AlarmEngine, StoppedMachineSnapshotsAreSkipped) {
   obs[400].features *= 0.01;  // all channels but one stopped: not a stop, a (downward) change -> kept
   obs[400].features(2) *= 100.0;
   auto e = make_engine();
-  EXPECT_TRUE(run_all(e, obs).empty());
+  // No alarm; the restart after the stop is a discontinuity: said (operating_change category), re-baselined.
+  const auto ev = run_all(e, obs);
+  for (const auto& x : ev) {
+    EXPECT_EQ(x.category, category::kOperatingChange) << x.reason;
+    EXPECT_EQ(x.kind, kind::kDiscontinuity) << x.reason;
+    EXPECT_EQ(x.onset_index, 303u);
+  }
   EXPECT_EQ(e.not_running_observations(), 3u);
   AlarmParams off;
   off.stopped_ratio = 0.0;  // gate disabled: the wild innovations of consecutive snapshots do alarm

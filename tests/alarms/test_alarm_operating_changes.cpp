@@ -227,3 +227,43 @@ TEST(AlarmOperatingChanges, CheckpointDuringConfirmationContinuesExactly) {
     EXPECT_EQ(got[i].reason, expected[i].reason);
   }
 }
+
+// A change of load moves every bearing at once (+25 %, no gap): all four are re-baselined with the channel
+// whose step started the confirmation, none alarms.
+TEST(AlarmOperatingChanges, StepOnAllChannelsAtOnceIsOneOperatingChange) {
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    SyntheticConfig cfg;
+    cfg.seed = seed;
+    auto obs = make_run(cfg);
+    for (int c = 0; c < 4; ++c) step_level(obs, c, 300, 1.25);
+    auto e = make_engine();
+    const auto ev = run_all(e, obs);
+    EXPECT_TRUE(of_category(ev, category::kDegradation).empty()) << "seed " << seed << ": " << ev.front().reason;
+    const auto oc = of_category(ev, category::kOperatingChange);
+    EXPECT_EQ(oc.size(), 8u) << "seed " << seed;  // 4 channels x (raised, cleared)
+    for (const auto& x : oc) EXPECT_EQ(x.kind, kind::kOperatingChange);
+  }
+}
+
+// A stop (every channel at 10 % of its level for 5 observations: the operating-state gate skips them) and
+// a restart at +20 %: the restart is a discontinuity, re-baselined and said, not alarmed.
+TEST(AlarmOperatingChanges, RestartAfterStopRebaselines) {
+  SyntheticConfig cfg;
+  cfg.seed = 8;
+  auto obs = make_run(cfg);
+  for (auto& o : obs) {
+    if (o.index >= 300 && o.index < 305) o.features *= 0.1;
+    if (o.index >= 305) o.features *= 1.2;
+  }
+  auto e = make_engine();
+  const auto ev = run_all(e, obs);
+  EXPECT_EQ(e.not_running_observations(), 5u);
+  EXPECT_TRUE(of_category(ev, category::kDegradation).empty()) << ev.front().reason;
+  const auto oc = of_category(ev, category::kOperatingChange);
+  ASSERT_EQ(oc.size(), 8u);
+  for (const auto& x : oc) {
+    EXPECT_EQ(x.kind, kind::kDiscontinuity);
+    EXPECT_EQ(x.onset_index, 305u);
+    EXPECT_NE(x.reason.find("a stop"), std::string::npos) << x.reason;
+  }
+}

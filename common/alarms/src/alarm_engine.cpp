@@ -165,15 +165,20 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
     }
     if (checked > 0 && below == checked) {
       ++m.not_running;
+      m.stopped = true;
       return {};
     }
   }
+  // Running again after a stop: the machine restarted, levels may differ (a discontinuity, as a gap).
+  const bool restarted = m.stopped;
+  m.stopped = false;
 
   // ---- gaps: hold the detectors and re-baseline after the confirmation window ----------------------
   std::vector<AlarmEvent> events;
-  if (discontinuity) {
+  if (discontinuity || restarted) {
     ++m.discontinuities;
-    m.start_confirmation(obs, true, -1, obs.discontinuity ? 0.0 : gap_s);
+    m.start_confirmation(obs, true, -1, obs.discontinuity || !discontinuity ? 0.0 : gap_s);
+    m.confirm.restart = restarted && !discontinuity;
   }
   if (m.confirm.active) {
     m.confirm_step(obs, feat, innov, events);

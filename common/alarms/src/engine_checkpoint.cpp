@@ -208,6 +208,7 @@ void save(causal::StateWriter& out, const Confirmation& c) {
   out.begin("alarm_confirmation", 1);
   out.put(c.active);
   out.put(c.gap);
+  out.put(c.restart);
   out.put(c.step_channel);
   out.put(c.gap_s);
   out.put(c.start_index);
@@ -226,6 +227,7 @@ void restore(causal::StateReader& in, Confirmation& c, int channels) {
   Confirmation r;
   in.read(r.active);
   in.read(r.gap);
+  in.read(r.restart);
   in.read(r.step_channel);
   in.read(r.gap_s);
   in.read(r.start_index);
@@ -265,6 +267,7 @@ void AlarmEngine::Impl::save_state(causal::StateWriter& out) const {
   detail::save(out, confirm);
   out.put(discontinuities);
   out.put(operating_changes);
+  out.put(stopped);
 }
 
 void AlarmEngine::Impl::restore_state(causal::StateReader& in) {
@@ -285,6 +288,7 @@ void AlarmEngine::Impl::restore_state(causal::StateReader& in) {
   detail::restore(in, confirm, channels());
   in.read(discontinuities);
   in.read(operating_changes);
+  in.read(stopped);
 }
 
 void AlarmEngine::save(causal::StateWriter& out) const {

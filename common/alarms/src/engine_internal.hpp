@@ -104,6 +104,7 @@ struct ChannelState {
 struct Confirmation {
   bool active = false;
   bool gap = false;              // started by a discontinuity (else by an abrupt step of step_channel)
+  bool restart = false;          // the discontinuity is a restart after not-running observations
   int step_channel = -1;
   double gap_s = 0.0;            // length of the gap that started it (0: flagged by the source)
   std::uint64_t start_index = 0;
@@ -213,6 +214,7 @@ struct AlarmEngine::Impl {
   bool has_last_time = false;
   std::int64_t last_time_ns = 0;
   detail::Confirmation confirm;
+  bool stopped = false;          // the last observation was skipped by the operating-state gate
   std::uint64_t discontinuities = 0;
   std::uint64_t operating_changes = 0;
 

@@ -153,17 +153,23 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
                               std::to_string(w) + " observations (settled below " + fixed(p.settle_trend_sigma, 1) + ")";
     if (confirm.gap) {
       if (cs.any_active() || !settled || !cs.feature.monitored) continue;  // judged by the detectors as before
-      const std::string gap = confirm.gap_s > 0.0 ? "a gap of " + duration(confirm.gap_s) + " (more than " +
-                                                        fixed(p.gap_multiple, 1) + " x the usual interval of " +
-                                                        duration(median_interval_ns * 1e-9) + ")"
-                                                  : "a discontinuity flagged by the source";
+      const std::string gap = confirm.restart       ? "a stop (every channel far below its baseline)"
+                              : confirm.gap_s > 0.0 ? "a gap of " + duration(confirm.gap_s) + " (more than " +
+                                                          fixed(p.gap_multiple, 1) + " x the usual interval of " +
+                                                          duration(median_interval_ns * 1e-9) + ")"
+                                                    : "a discontinuity flagged by the source";
       emit(c, kind::kDiscontinuity,
            name + ": the recording resumed after " + gap + " at " + when + "; its level is " + fixed(pct, 1, true) +
                " % against the old baseline and " + trend + ": re-baselined on the " + std::to_string(w) +
                " observations after the gap (not a fault; alarms judge changes from the new level).");
       rebaseline(c);
       relearn_innovation(c);
-    } else if (c == confirm.step_channel) {
+    } else if (c == confirm.step_channel || (!cs.any_active() && cs.feature.monitored && std::isfinite(new_loc) &&
+                                              std::abs(new_loc - old_loc) >= std::log(p.operating_step_ratio))) {
+      // The step's channel, and any other channel whose level moved by a step as large in the same window
+      // (a change of load moves several bearings at once): settled -> re-baselined; still rising -> the
+      // step's channel alarms, the others are left to their detectors.
+      if (!settled && c != confirm.step_channel) continue;
       if (!settled) {  // progressive: the alarm the step would have raised, raised now with its onset
         cs.slots[detail::kFeature].latch.force_raise();
         begin_alarm(c, detail::kFeature, obs);
@@ -180,7 +186,9 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
         continue;
       }
       emit(c, kind::kOperatingChange,
-           name + ": operating change: its level stepped " + fixed(pct, 1, true) + " % at once at " + when + " and " +
+           name + ": operating change: its level stepped " + fixed(pct, 1, true) + " % at once at " + when +
+               (c == confirm.step_channel ? "" : " (with " + names[static_cast<std::size_t>(confirm.step_channel)] + ")") +
+               " and " +
                trend + ": re-baselined at the new level (a change of load or speed, not a fault; alarms judge "
                "changes from the new level).");
       rebaseline(c);

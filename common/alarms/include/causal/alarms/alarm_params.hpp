@@ -148,8 +148,8 @@ struct AlarmParams {
   // put the asset group under CONFIRMATION for confirmation_observations: every detector is held (no
   // update, no raise, no clear; active alarms stay active) while the values are collected, then the
   // engine decides per channel and says so with an event of category "operating_change":
-  //  * a discontinuity: Observation::discontinuity, or a time gap larger than gap_multiple x the median
-  //    interval of the baseline observations (IMS recorders stop for hours or days; levels after a restart
+  //  * a discontinuity: Observation::discontinuity, the first observation after a stop (stopped_ratio
+  //    gate), or a time gap larger than gap_multiple x the median interval of the baseline observations (IMS recorders stop for hours or days; levels after a restart
   //    differ by 15-20 % although nothing is wrong). Every channel without an active alarm is re-baselined
   //    (kind "discontinuity"): its feature location becomes the median of the confirmation window, unless
   //    the channel trends inside the window (progressive degradation does not pause for a gap: it keeps its
@@ -163,7 +163,11 @@ struct AlarmParams {
   //    onset; the operating changes are +15 % to +40 %). A smaller significant rise is alarmed at
   //    once, as before. After the window: a level that settled (kind "operating_change": no trend, see
   //    settle_trend_sigma) is re-baselined; one that keeps rising is progressive degradation and raises
-  //    its feature_drift alarm then, with the onset at the step.
+  //    its feature_drift alarm then, with the onset at the step. Other channels whose level moved by a
+  //    step as large in the same window and settled (a load change moves several bearings) are re-baselined
+  //    with it. Gaps during the warm-up and baseline are not judged (the baseline is learned across them).
+  //    Known limit: a step DOWN alone starts no confirmation (the detectors are upward): the channel keeps
+  //    its higher baseline until a gap, a stop or another channel's step re-baselines it.
   // 12 observations = 2 h at the 10-minute IMS cadence: long enough for a robust slope (sd of the rise
   // over the window ~0.9 baseline sigma for 12 i.i.d. values), short against the days a bearing degrades.
   int confirmation_observations = 12;
