@@ -73,9 +73,10 @@ int RecommenderNode::run() {
   store_.flush();
   for (const auto& [key, st] : engines_) {
     const auto active = st.engine->active_alarms();
-    spdlog::info("asset '{}' {} level: {} observations, {} alarms raised, {} still active", key.first,
+    spdlog::info("asset '{}' {} level: {} observations, {} alarms raised, {} still active, {} discontinuities, "
+                 "{} operating changes re-baselined", key.first,
                  key.second == causal_twin::SAMPLE_LEVEL ? "sample" : "condition", st.engine->observations_seen(),
-                 st.raised, active.size());
+                 st.raised, active.size(), st.engine->discontinuities(), st.engine->operating_changes());
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
   spdlog::info("{} re-sent observations dropped (index not after the last one processed)", store_.duplicates());

@@ -27,7 +27,7 @@ causal::io::ConditionFeature feature_or_throw(const std::string& feature) {
 
 }  // namespace
 
-ConditionSeries series_from_feature_table(const std::string& path, const std::string& feature) {
+ConditionSeries series_from_feature_table(const std::string& path, const std::string& feature, double gap_multiple) {
   const std::string suffix = feature.empty() ? "" : causal::io::derived_column_suffix(feature_or_throw(feature));
   const auto table = causal::io::read_feature_table(path, suffix);
   ConditionSeries s;
@@ -38,16 +38,18 @@ ConditionSeries series_from_feature_table(const std::string& path, const std::st
   const std::size_t n = table.time_ns.size();
   s.index.resize(n);
   for (std::size_t i = 0; i < n; ++i) s.index[i] = i;
-  // A time gap larger than 2.5 x the median interval restarts the condition-level lags.
+  // A time gap larger than gap_multiple x the median interval is a discontinuity (ConditionVector.discontinuity:
+  // the estimator restarts its lags, the alarm engine re-baselines).
   s.discontinuity.assign(n, false);
   std::vector<double> dt;
   for (std::size_t i = 1; i < n; ++i) dt.push_back(static_cast<double>(s.time_ns[i] - s.time_ns[i - 1]));
   const double med = dt.empty() ? 0.0 : causal::alarms::median(dt);
-  for (std::size_t i = 0; i < n; ++i) s.discontinuity[i] = i == 0 || dt[i - 1] > 2.5 * med;
+  for (std::size_t i = 0; i < n; ++i) s.discontinuity[i] = i == 0 || dt[i - 1] > gap_multiple * med;
   return s;
 }
 
-ConditionSeries series_from_ims_directory(const std::string& dir, const std::string& feature, bool verbose_progress) {
+ConditionSeries series_from_ims_directory(const std::string& dir, const std::string& feature, bool verbose_progress,
+                                          double gap_multiple) {
   const auto f = feature_or_throw(feature);
   const auto listing = causal::io::list_ims_directory(dir);
   const auto& snaps = listing.snapshots;
@@ -68,7 +70,7 @@ ConditionSeries series_from_ims_directory(const std::string& dir, const std::str
     s.time_ns[i] = snaps[i].time_ns;
     if (verbose_progress && (i % 50 == 0 || i + 1 == n)) std::fprintf(stderr, "  read %zu / %zu snapshots\n", i + 1, n);
   }
-  // Run index from time: period = smallest interval; discontinuity where a gap exceeds 2.5 x the median.
+  // Run index from time: period = smallest interval; discontinuity where a gap exceeds gap_multiple x the median.
   std::vector<std::int64_t> dt;
   for (std::size_t i = 1; i < n; ++i) dt.push_back(s.time_ns[i] - s.time_ns[i - 1]);
   const std::int64_t period = dt.empty() ? 1 : *std::min_element(dt.begin(), dt.end());
@@ -76,7 +78,7 @@ ConditionSeries series_from_ims_directory(const std::string& dir, const std::str
   const double med = dt.empty() ? 0.0 : causal::alarms::median(dtd);
   for (std::size_t i = 0; i < n; ++i) {
     s.index[i] = static_cast<std::uint64_t>(std::llround(static_cast<double>(s.time_ns[i] - s.time_ns[0]) / static_cast<double>(period)));
-    s.discontinuity[i] = i == 0 || static_cast<double>(dt[i - 1]) > 2.5 * med;
+    s.discontinuity[i] = i == 0 || static_cast<double>(dt[i - 1]) > gap_multiple * med;
   }
   return s;
 }

@@ -27,16 +27,18 @@ struct ConditionSeries {
 };
 
 // Feature table (derived_per_file_stats style with the feature's column suffix, or merged_dataset style
-// when feature is empty). Snapshot index = row number; a time gap larger than 2.5 x the median interval
-// is a discontinuity.
-ConditionSeries series_from_feature_table(const std::string& path, const std::string& feature);
+// when feature is empty). Snapshot index = row number; a time gap larger than gap_multiple x the median
+// interval is a discontinuity (AlarmParams::gap_multiple, the rule sensor-replay applies too).
+ConditionSeries series_from_feature_table(const std::string& path, const std::string& feature,
+                                          double gap_multiple = causal::alarms::AlarmParams{}.gap_multiple);
 
 // Raw IMS snapshot directory: computes the feature of every snapshot with causal_io. The snapshot index is
 // the run index derived from the time stamps, round((t - t_first) / period) with period = the smallest
 // interval between consecutive files, so a subset keeps the indices of the full run. A gap larger than
-// 2.5 x the median interval is a discontinuity (lags restart there).
+// gap_multiple x the median interval is a discontinuity (lags restart there, the engine re-baselines).
 ConditionSeries series_from_ims_directory(const std::string& dir, const std::string& feature,
-                                          bool verbose_progress = false);
+                                          bool verbose_progress = false,
+                                          double gap_multiple = causal::alarms::AlarmParams{}.gap_multiple);
 
 struct PipelineOptions {
   std::string asset_group = "group";

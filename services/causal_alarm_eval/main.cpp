@@ -123,7 +123,8 @@ int main(int argc, char** argv) {
   PipelineResult res;
   try {
     opt.estimator = load_estimator_config(estimator_config);
-    series = table.empty() ? series_from_ims_directory(ims_dir, feature, !quiet) : series_from_feature_table(table, feature);
+    series = table.empty() ? series_from_ims_directory(ims_dir, feature, !quiet, opt.params.gap_multiple)
+                           : series_from_feature_table(table, feature, opt.params.gap_multiple);
     res = run_condition_pipeline(series, opt);
   } catch (const std::exception& e) {
     std::cerr << "causal-alarm-eval: " << e.what() << "\n";

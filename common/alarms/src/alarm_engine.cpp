@@ -381,6 +381,8 @@ double AlarmEngine::nis_threshold() const { return impl_->nis_thr; }
 std::uint64_t AlarmEngine::observations_seen() const { return impl_->seen; }
 std::uint64_t AlarmEngine::rejected_observations() const { return impl_->rejected; }
 std::uint64_t AlarmEngine::not_running_observations() const { return impl_->not_running; }
+std::uint64_t AlarmEngine::discontinuities() const { return impl_->discontinuities; }
+std::uint64_t AlarmEngine::operating_changes() const { return impl_->operating_changes; }
 
 ChannelDiagnostics AlarmEngine::channel_diagnostics(int channel) const {
   const Impl& m = *impl_;
