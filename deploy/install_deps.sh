@@ -14,6 +14,9 @@ PACKAGES=(
   libyaml-cpp-dev                  # parameter files
   zlib1g-dev                       # gzip-compressed embedded snapshots
   gnuplot-nox                      # causal-report's plots
+  graphviz                         # causal-report's causal graph (dot places edge labels without overlap)
+  libcpp-httplib-dev               # /metrics endpoints (HTTP server; Debian has no prometheus-cpp package)
+  prometheus curl                  # metrics test: a real Prometheus scrapes the running pipeline; promtool lints
   iproute2                         # network-namespace tests (ip netns)
 )
 

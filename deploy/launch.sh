@@ -3,11 +3,13 @@
 # every topic carried.
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
 #                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
-#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR]
+#                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--metrics-port P]
 # Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
 # --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
 # --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
 # --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
+# --metrics-port P gives every service a Prometheus endpoint on 127.0.0.1 at consecutive ports from P (one
+#   line "metrics: <service> http://127.0.0.1:<port>/metrics" each).
 # Exit code: 0 when every service exited 0 (nothing lost, refused or dropped), else the first non-zero code;
 # the summary at the end says per topic: sent, received, dropped, rejected, and which service failed.
 # Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
@@ -24,6 +26,7 @@ feature_args=()
 asset_group="ims2-shaft1"
 asks=()
 logs=""
+metrics_port=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --domain) domain="$2"; shift 2 ;;
@@ -38,7 +41,8 @@ while [ $# -gt 0 ]; do
     --asset-group) asset_group="$2"; shift 2 ;;
     --ask) asks+=("$2"); shift 2 ;;
     --logs) logs="$2"; shift 2 ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    --metrics-port) metrics_port="$2"; shift 2 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -59,10 +63,21 @@ stop_all() {
 }
 trap stop_all EXIT INT TERM
 
+# metrics_for NAME: the next metrics port for service NAME (in metrics_args; empty without --metrics-port).
+metrics_args=()
+metrics_for() {
+  metrics_args=()
+  [ -n "$metrics_port" ] || return 0
+  metrics_args=(--metrics-port "$metrics_port")
+  echo "metrics: $1 http://127.0.0.1:$metrics_port/metrics"
+  metrics_port=$((metrics_port + 1))
+}
+
 # start NAME CMD...: runs a service in the background with its log in $logs/NAME.log
 start() {
   local name="$1"; shift
-  "$@" > "$logs/$name.log" 2>&1 &
+  metrics_for "$name"
+  "$@" "${metrics_args[@]}" > "$logs/$name.log" 2>&1 &
   pids+=($!)
   names+=("$name")
 }
@@ -88,8 +103,10 @@ start causal-estimator "$bin/causal_estimator/causal-estimator" "${common[@]}" -
   --max-runtime "$max_runtime" "${estimator_waits[@]}" --wait-timeout 60
 estimator_pid=${pids[-1]}
 status=0
+metrics_for sensor-replay
 "$bin/sensor_replay/sensor-replay" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-for causal-estimator \
-  "${feature_args[@]}" --wait-timeout 60 --asset-group "$asset_group" > "$logs/sensor-replay.log" 2>&1 || {
+  "${feature_args[@]}" --wait-timeout 60 --asset-group "$asset_group" "${metrics_args[@]}" \
+  > "$logs/sensor-replay.log" 2>&1 || {
   rc=$?; echo "launch: sensor-replay exited with code $rc" >&2; status=$rc; }
 
 declare -A service_rc=()

@@ -21,6 +21,19 @@ void to_recommendation(const std::string& asset_group, const std::string& alarm_
   out.effect_high(item.upper);
   out.confidence(item.coverage);
   out.text(item.text);
+  out.answer_kind(item.diag.kind);
+  out.horizon_snapshots(static_cast<uint16_t>(item.diag.horizon_snapshots));
+  out.spectral_radius(item.diag.spectral_radius);
+  out.draws(static_cast<uint32_t>(item.diag.draws));
+  out.unstable_draws(static_cast<uint32_t>(item.diag.unstable_draws));
+  out.unstable_draw_share(item.diag.unstable_share);
+  out.effect_median(item.effect);
+  out.effect_percent(item.percent);
+  out.effect_percent_low(item.percent_lower);
+  out.effect_percent_high(item.percent_upper);
+  out.effect_level_change(item.level_change);
+  out.reliable(item.reliable);
+  out.summary(item.summary);
 }
 
 void to_whatif_reply(const causal_twin::WhatIfRequest& request, const WhatIfAnswer& answer, causal_twin::WhatIfReply& out) {
@@ -33,6 +46,17 @@ void to_whatif_reply(const causal_twin::WhatIfRequest& request, const WhatIfAnsw
   out.effect_low(to_vector(answer.lower));
   out.effect_high(to_vector(answer.upper));
   out.text(answer.text);
+  out.answer_kind(answer.diag.kind);
+  out.horizon_snapshots(static_cast<uint16_t>(answer.diag.horizon_snapshots));
+  out.spectral_radius(answer.diag.spectral_radius);
+  out.draws(static_cast<uint32_t>(answer.diag.draws));
+  out.unstable_draws(static_cast<uint32_t>(answer.diag.unstable_draws));
+  out.unstable_draw_share(answer.diag.unstable_share);
+  out.effect_median(to_vector(answer.effect));
+  out.effect_percent(to_vector(answer.percent));
+  out.effect_percent_low(to_vector(answer.percent_lower));
+  out.effect_percent_high(to_vector(answer.percent_upper));
+  out.summary(answer.summary);
 }
 
 }  // namespace causal::recommender

@@ -1,5 +1,7 @@
 #include "advisor.hpp"
 
+#include "causal/analysis/bounded_answer.hpp"
+#include "causal/analysis/effect_units.hpp"
 #include "causal/analysis/intervention.hpp"
 #include "causal/analysis/structural_model.hpp"
 
@@ -106,6 +108,34 @@ std::string Advisor::reduction(double model_delta) const {
   return buf;
 }
 
+analysis::EffectUnits Advisor::units() const {
+  analysis::EffectUnits u;
+  u.log_level = params_.model_log_features;
+  return u;
+}
+
+analysis::UncertaintyOptions Advisor::uncertainty() const {
+  analysis::UncertaintyOptions u;
+  u.coverage = params_.coverage;
+  u.draws = params_.draws;
+  return u;
+}
+
+namespace {
+
+AnswerDiagnostics diagnostics(const analysis::BoundedAnswer& a) {
+  AnswerDiagnostics d;
+  d.kind = analysis::to_string(a.kind);
+  d.horizon_snapshots = a.horizon_snapshots;
+  d.spectral_radius = a.spectral_radius;
+  d.draws = a.draws;
+  d.unstable_draws = a.unstable_draws;
+  d.unstable_share = a.unstable_share();
+  return d;
+}
+
+}  // namespace
+
 std::vector<AdviceItem> Advisor::advise(const std::string& asset_group, int target,
                                         const Eigen::VectorXd& baseline_features, std::string& why) const {
   const auto it = models_.find(asset_group);
@@ -140,34 +170,55 @@ std::vector<AdviceItem> Advisor::advise(const std::string& asset_group, int targ
     return {};
   }
   analysis::RecommendationOptions options;
-  options.uncertainty.coverage = params_.coverage;
-  options.uncertainty.draws = params_.draws;
+  options.uncertainty = uncertainty();
   options.channel_names = m.channel_names;
   options.unit = params_.model_log_features ? "log-level" : "";
+  options.rule = params_.rule;
   const auto ranked = analysis::rank_interventions(*m.layout, posterior(m), target, candidates, options);
-  std::vector<AdviceItem> out;
-  for (const auto& r : ranked) {
-    if (static_cast<int>(out.size()) >= params_.max_per_alarm) break;
-    if (r.status != analysis::AnalysisStatus::ok) continue;
+  const auto& names = m.channel_names;
+  const double level = m.features[target];
+  const analysis::EffectUnits u = units();
+  auto item_from = [&](const analysis::Recommendation& r) {
     AdviceItem a;
-    a.rank = static_cast<int>(out.size()) + 1;
     a.target = target;
     a.intervene = r.action.channel;
     a.delta = r.action.delta;
     a.immediate = r.immediate;
     a.steady_state = r.steady_state;
+    a.effect = r.effect;
     a.lower = r.lower;
     a.upper = r.upper;
     a.coverage = r.coverage;
-    const auto& names = m.channel_names;
+    a.percent = analysis::percent_of_level(r.effect, level, u);
+    a.percent_lower = analysis::percent_of_level(r.lower, level, u);
+    a.percent_upper = analysis::percent_of_level(r.upper, level, u);
+    a.level_change = analysis::level_change(r.effect, level, u);
+    a.reliable = r.reliable;
+    a.diag = diagnostics(r.answer);
+    a.summary = analysis::answer_line(r.answer, target, level, u);
+    return a;
+  };
+  std::vector<AdviceItem> out;
+  for (const auto& r : ranked) {
+    if (static_cast<int>(out.size()) >= params_.max_per_alarm || !r.reliable) break;  // reliable ones come first
+    AdviceItem a = item_from(r);
+    a.rank = static_cast<int>(out.size()) + 1;
     a.text = "Reduce " + names[static_cast<std::size_t>(a.intervene)] + " by " + reduction(a.delta) +
-             " (back to its baseline): " + names[static_cast<std::size_t>(target)] + " is predicted to change by " +
-             percent(a.steady_state) + " at steady state (" + std::to_string(static_cast<int>(a.coverage * 100)) +
-             "% interval " + percent(a.lower) + " .. " + percent(a.upper) + "), " + percent(a.immediate) +
-             " at once. [" + r.text + "]";
+             " (back to its baseline): " + names[static_cast<std::size_t>(target)] + " " + a.summary + "; " +
+             analysis::percent_text(analysis::percent_of_level(a.immediate, level, u)) + " at once.";
     out.push_back(std::move(a));
   }
-  if (out.empty()) why = "no candidate intervention has a stable, identifiable prediction";
+  if (out.empty() && !ranked.empty()) {
+    // Honest negative advice: the best candidate, said to be no reliable lever (never "as if it helped").
+    const auto& r = ranked.front();
+    AdviceItem a = item_from(r);
+    a.rank = 1;
+    a.text = "No reliable lever for " + names[static_cast<std::size_t>(target)] + ": reducing " +
+             names[static_cast<std::size_t>(a.intervene)] + " by " + reduction(a.delta) + " (back to its baseline) gives " +
+             names[static_cast<std::size_t>(target)] + " " + a.summary +
+             (r.interval_valid ? "; the interval includes no reduction." : ".");
+    out.push_back(std::move(a));
+  }
   return out;
 }
 
@@ -188,30 +239,54 @@ WhatIfAnswer Advisor::what_if(const std::string& asset_group, int channel, doubl
     ans.error = "delta must be finite";
     return ans;
   }
+  const analysis::EffectUnits u = units();
+  const Eigen::VectorXd levels = m.features.size() == g ? m.features : Eigen::VectorXd::Constant(g, NAN);
+  if (const std::string bad = analysis::impossible_intervention(delta, levels[channel], u); !bad.empty()) {
+    ans.error = "impossible intervention on " + m.channel_names[static_cast<std::size_t>(channel)] + ": " + bad;
+    return ans;
+  }
   analysis::InterventionQuery q;
   q.channel = channel;
   q.delta = delta;
   q.kind = sustained ? analysis::InterventionKind::sustained : analysis::InterventionKind::impulse;
-  analysis::UncertaintyOptions u;
-  u.coverage = params_.coverage;
-  u.draws = params_.draws;
-  const auto eff = analysis::predict_intervention_with_uncertainty(*m.layout, posterior(m), q, u);
-  if (eff.point.status != analysis::AnalysisStatus::ok) {
-    ans.error = std::string(analysis::to_string(eff.point.status)) + ": " + eff.point.message;
+  const auto a = analysis::answer_intervention(*m.layout, posterior(m), q, params_.rule, uncertainty());
+  ans.diag = diagnostics(a);
+  const std::string what = std::string(sustained ? "Sustained " : "One-snapshot ") + "change of " +
+                           m.channel_names[static_cast<std::size_t>(channel)] + " by " + percent(delta);
+  if (!a.answered()) {
+    ans.error = "refused: " + a.reason;
+    ans.summary = analysis::answer_line(a, channel, levels[channel], u);
+    ans.text = what + ": " + ans.summary;
     return ans;
   }
   ans.ok = true;
-  ans.immediate = eff.point.immediate;
-  ans.steady_state = sustained ? eff.point.steady_state : eff.point.cumulative;
-  const auto& iv = sustained ? eff.steady_state : eff.cumulative;
-  ans.lower = eff.interval_valid ? iv.lower : Eigen::VectorXd::Constant(g, NAN);
-  ans.upper = eff.interval_valid ? iv.upper : Eigen::VectorXd::Constant(g, NAN);
-  ans.text = std::string(sustained ? "Sustained " : "One-snapshot ") + "change of " +
-             m.channel_names[static_cast<std::size_t>(channel)] + " by " + percent(delta) + ":";
+  ans.immediate = a.immediate.median;
+  ans.effect = a.effect.median;
+  ans.steady_state = a.kind == analysis::AnswerKind::steady_state ? a.effect.median : Eigen::VectorXd::Constant(g, NAN);
+  ans.lower = a.effect.lower;
+  ans.upper = a.effect.upper;
+  ans.percent.resize(g);
+  ans.percent_lower.resize(g);
+  ans.percent_upper.resize(g);
+  for (int k = 0; k < g; ++k) {
+    ans.percent[k] = analysis::percent_of_level(a.effect.median[k], levels[k], u);
+    ans.percent_lower[k] = analysis::percent_of_level(a.effect.lower[k], levels[k], u);
+    ans.percent_upper[k] = analysis::percent_of_level(a.effect.upper[k], levels[k], u);
+  }
+  // One line: what was asked, the kind of answer with its stability, then every other channel's effect.
+  char head[200];
+  std::snprintf(head, sizeof head, " (%s%s, %g %% intervals, model %s rho=%.3f, %d/%d draws unstable):",
+                a.kind == analysis::AnswerKind::steady_state ? "at steady state"
+                                                              : ("after " + std::to_string(a.horizon_snapshots) + " snapshots").c_str(),
+                sustained ? "" : ", in total", 100.0 * a.coverage,
+                analysis::stability_words(a),
+                a.spectral_radius, a.unstable_draws, a.draws);
+  ans.summary = head;
+  ans.text = what + head;
   for (int k = 0; k < g; ++k) {
     if (k == channel) continue;
-    ans.text += " " + m.channel_names[static_cast<std::size_t>(k)] + " " + percent(ans.immediate[k]) + " at once, " +
-                percent(ans.steady_state[k]) + (sustained ? " at steady state" : " in total") + ";";
+    ans.text += " " + m.channel_names[static_cast<std::size_t>(k)] + " " + analysis::percent_text(ans.percent[k]) + " [" +
+                analysis::percent_text(ans.percent_lower[k]) + ", " + analysis::percent_text(ans.percent_upper[k]) + "];";
   }
   return ans;
 }

@@ -4,7 +4,10 @@
 //
 // Units: the condition-level model runs on log(feature) when the estimator's log_transform is on, so an
 // intervention delta is a change of log level: -0.1 means "reduce that bearing's RMS by 1 - e^-0.1 = 9.5 %".
-// The texts translate to percent. Uncertainty: the filter's factor covariance is block-diagonal by outcome
+// The texts translate to percent of the channel's current level (effect_units.hpp: 100 (e^d - 1), never
+// below -100 %). Every answer follows the bounded-answer rule (bounded_answer.hpp): a steady state only
+// when the model settles with margin, else the effect after H snapshots, else a refusal with the reason;
+// point = median and interval = quantiles of the same posterior draws. Uncertainty: the filter's factor covariance is block-diagonal by outcome
 // and each CausalFactors message carries its outcome's full block P_k, so intervals use the full posterior
 // N(x, blockdiag(P_k)) including within-outcome correlations. When any block is missing (an older
 // estimator, a malformed block) they fall back to diagonal blocks from the standard deviations, which
@@ -13,6 +16,8 @@
 
 #include "observation_assembler.hpp"
 
+#include "causal/analysis/bounded_answer.hpp"
+#include "causal/analysis/effect_units.hpp"
 #include "causal/analysis/recommendation.hpp"
 #include "causal/analysis/uncertainty.hpp"
 #include "causal/svar_layout.hpp"
@@ -35,6 +40,16 @@ struct AdvisorParams {
   double coverage = 0.9;          // interval coverage
   int draws = 2000;               // Monte Carlo draws
   bool model_log_features = true; // the estimator's condition_level.log_transform
+  analysis::AnswerRule rule;      // steady state / horizon / refusal (alarms.yaml recommendations.answer_*)
+};
+
+// Stability and units of one answer, as published (Recommendation, WhatIfReply).
+struct AnswerDiagnostics {
+  std::string kind = "refused";   // analysis::to_string(AnswerKind): steady_state, horizon, refused
+  int horizon_snapshots = 0;      // H of a horizon answer
+  double spectral_radius = 0.0;   // of the intervened model at the estimate
+  int draws = 0, unstable_draws = 0;
+  double unstable_share = 0.0;
 };
 
 struct AdviceItem {
@@ -42,14 +57,26 @@ struct AdviceItem {
   int target = 0;                 // 0-based alarmed channel
   int intervene = 0;              // 0-based channel to act on
   double delta = 0.0;             // model units (log level when model_log_features)
-  double immediate = 0.0, steady_state = 0.0, lower = 0.0, upper = 0.0, coverage = 0.0;
+  double immediate = 0.0;         // median change of the target at once (model units)
+  double steady_state = 0.0;      // median steady-state change; NaN unless diag.kind == steady_state
+  double effect = 0.0;            // median of the answered change (steady state or after H); NaN when refused
+  double lower = 0.0, upper = 0.0, coverage = 0.0;  // interval of `effect`
+  double percent = 0.0, percent_lower = 0.0, percent_upper = 0.0;  // the same in % of the target's current level
+  double level_change = 0.0;      // median in the feature's own units
+  bool reliable = false;          // the interval excludes "no reduction"
+  AnswerDiagnostics diag;
+  std::string summary;            // the one line: horizon, interval, confidence, stability
   std::string text;
 };
 
 struct WhatIfAnswer {
   bool ok = false;
   std::string error;
-  Eigen::VectorXd immediate, steady_state, lower, upper;  // G each, model units
+  // G each, model units; medians and interval of the same draws. steady_state: NaN unless a steady-state answer.
+  Eigen::VectorXd immediate, steady_state, effect, lower, upper;
+  Eigen::VectorXd percent, percent_lower, percent_upper;  // of each channel's current level
+  AnswerDiagnostics diag;
+  std::string summary;
   std::string text;
 };
 
@@ -84,6 +111,8 @@ class Advisor {
   Eigen::VectorXd to_model_units(const Eigen::VectorXd& features) const;
   std::string percent(double model_delta) const;    // signed change, e.g. "-9.5 %"
   std::string reduction(double model_delta) const;  // size of a reduction, e.g. "9.5 %" for delta < 0
+  analysis::EffectUnits units() const;
+  analysis::UncertaintyOptions uncertainty() const;
 
   AdvisorParams params_;
   std::map<std::string, AssetModel> models_;

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
                  "dropped. Empty = no persistence")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  return causal::dds::run_service(signals, "alarm-recommender", o.dds.log_level, [&] {
+  return causal::dds::run_service(signals, "alarm-recommender", o.dds, [&] {
     auto params = causal::recommender::load_recommender_params(o.params_file);
     return std::make_unique<causal::recommender::RecommenderNode>(std::move(o), std::move(params));
   });

@@ -68,7 +68,8 @@ RecommenderParams load_recommender_params(const std::string& path) {
   r.sample_baseline_publications = static_cast<int>(s.integer("baseline_publications", 3, 1000000));
 
   const Section a = root.child("recommendations");
-  a.only({"enabled", "max_per_alarm", "excess_fraction", "min_excess_percent", "coverage", "draws", "model_log_features"});
+  a.only({"enabled", "max_per_alarm", "excess_fraction", "min_excess_percent", "coverage", "draws", "model_log_features",
+          "max_stable_radius", "max_unstable_share", "horizon_snapshots", "refuse_unstable_share"});
   r.advice.enabled = a.boolean("enabled");
   r.advice.max_per_alarm = static_cast<int>(a.integer("max_per_alarm", 1, 64));
   r.advice.excess_fraction = a.positive("excess_fraction");
@@ -78,6 +79,13 @@ RecommenderParams load_recommender_params(const std::string& path) {
   if (r.advice.coverage >= 1.0) a.fail("coverage", "must be in (0, 1)");
   r.advice.draws = static_cast<int>(a.integer("draws", 10, 1000000));
   r.advice.model_log_features = a.boolean("model_log_features");
+  r.advice.rule.max_stable_radius = a.positive("max_stable_radius");
+  if (r.advice.rule.max_stable_radius >= 1.0) a.fail("max_stable_radius", "must be in (0, 1): a steady state needs rho < 1");
+  r.advice.rule.max_unstable_share = a.non_negative("max_unstable_share");
+  if (r.advice.rule.max_unstable_share > 1.0) a.fail("max_unstable_share", "must be in [0, 1]");
+  r.advice.rule.horizon_snapshots = static_cast<int>(a.integer("horizon_snapshots", 1, 100000));
+  r.advice.rule.refuse_unstable_share = a.non_negative("refuse_unstable_share");
+  if (r.advice.rule.refuse_unstable_share > 1.0) a.fail("refuse_unstable_share", "must be in [0, 1]");
 
   const Section h = root.child("health");
   h.only({"deadline_s"});

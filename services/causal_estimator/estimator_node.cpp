@@ -77,6 +77,13 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
   if (it == assets_.end()) {
     it = assets_.emplace(asset_group, Asset(params_)).first;
     Asset& a = it->second;
+    const char* help = "Time to process one input of an asset group (filters, smoothers, output queued)";
+    a.frame_seconds = &metrics::process_metrics().histogram("estimator_processing_seconds", help,
+                                                            {{"asset_group", asset_group}, {"input", "frame"}},
+                                                            metrics::latency_buckets_seconds());
+    a.condition_seconds = &metrics::process_metrics().histogram("estimator_processing_seconds", help,
+                                                                {{"asset_group", asset_group}, {"input", "condition"}},
+                                                                metrics::latency_buckets_seconds());
     try {
       std::vector<std::string> resend;
       if (store_.restore(asset_group, a.pipeline, resend)) {
@@ -192,6 +199,7 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
     a.pipeline.set_channel_names(a.channel_names);
   }
   out_.clear();
+  const auto started = std::chrono::steady_clock::now();
   // Indices come from the source, so reports keep them across a restart or a lost frame.
   pipeline::FrameCheck check;
   try {
@@ -214,6 +222,7 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
   if (a.feature.empty()) a.feature = io::to_string(params_.condition.feature);
   publish_quality(frame.asset_group(), a, frame.snapshot_index(), frame.first_sample_time_ns(), frame.end_of_segment());
   publish(frame.asset_group(), a, frame.end_of_segment());
+  a.frame_seconds->observe(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }
 
 void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
@@ -242,6 +251,7 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   }
   if (a.feature.empty()) a.feature = in.feature();
   out_.clear();
+  const auto started = std::chrono::steady_clock::now();
   pipeline::FrameCheck check;
   try {
     check = a.pipeline.feed_condition(dds::values_of(in), in.snapshot_index(), in.discontinuity(), in.time_ns(), out_);
@@ -267,6 +277,7 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   out_.conditions.insert(out_.conditions.begin(), std::move(accepted));
   publish_quality(in.asset_group(), a, in.snapshot_index(), in.time_ns(), true);
   publish(in.asset_group(), a, true);
+  a.condition_seconds->observe(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }
 
 void EstimatorNode::log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r) {

@@ -3,6 +3,7 @@
 // asset groups whose id hashes to --shard-index, so N estimators share a plant.
 #pragma once
 
+#include "causal/metrics/metrics_registry.hpp"
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/health_watch.hpp"
@@ -76,6 +77,9 @@ class EstimatorNode {
     bool awaiting_continuation = false;
     std::chrono::steady_clock::time_point continuation_deadline;
     std::uint64_t ahead_dropped = 0;
+    // Prometheus: time to process one input (filters, smoothers, output queued), per asset group.
+    metrics::Histogram* frame_seconds = nullptr;
+    metrics::Histogram* condition_seconds = nullptr;
   };
 
   bool mine(const std::string& asset_group) const;

@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
     std::cerr << "error: --shard-index must be < --shard-count\n";
     return 2;
   }
-  return causal::dds::run_service(signals, "causal-estimator", o.dds.log_level, [&] {
+  return causal::dds::run_service(signals, "causal-estimator", o.dds, [&] {
     auto params = causal::estimator::load_estimator_params(o.params_file);
     o.health_deadline_s = causal::estimator::load_estimator_health(o.params_file).deadline_s;
     return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(params));

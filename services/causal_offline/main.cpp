@@ -3,7 +3,13 @@
 //
 //   causal-offline data.csv -o factors.csv --estimator rts --lag-order 1 --auto-noise
 //
-// Exit codes: 0 success, 2 bad input or bad arguments (message names the file and line), 1 other failure.
+// Channels are divided by a robust scale learned on the calibration window before estimation, and the factors
+// are written in the file's units (causal/standardised_estimation.hpp), so the result does not depend on
+// each channel's units; --q/--r/--p0 are then in standardised units (--no-standardise: in the file's units).
+//
+// Exit codes: 0 success; 2 bad input or bad arguments (message names the file and line, or the constant /
+// dead channel); 1 other failure, including an estimate that is not finite (message names factor, channel
+// and row; never NaN output with exit 0).
 #include <CLI/CLI.hpp>
 
 #include <fstream>
@@ -35,9 +41,9 @@ int main(int argc, char** argv) {
   app.add_option("--lag-order", opt.lag_order, "SVAR lag order M")->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_flag("--self-lags", opt.self_lags, "Also regress each channel on its own past values");
-  auto* q = app.add_option("--q", opt.noise.q, "Process noise variance per factor and sample")
+  auto* q = app.add_option("--q", opt.noise.q, "Process noise variance per factor and sample (standardised units)")
                 ->check(CLI::NonNegativeNumber)->capture_default_str();
-  auto* r = app.add_option("--r", opt.noise.r, "Measurement noise variance")->check(CLI::PositiveNumber)
+  auto* r = app.add_option("--r", opt.noise.r, "Measurement noise variance (standardised units: share of the channel's scale^2)")->check(CLI::PositiveNumber)
                 ->capture_default_str();
   app.add_option("--p0", opt.noise.p0, "Initial factor variance (also used when tuning)")
       ->check(CLI::PositiveNumber)->capture_default_str();
@@ -47,6 +53,13 @@ int main(int argc, char** argv) {
                  "Samples at the start of the file used by --auto-noise (0 = all)")
       ->check(CLI::NonNegativeNumber)->needs(autonoise)->capture_default_str();
   autonoise->excludes(q)->excludes(r);
+  bool raw_units = false;
+  app.add_flag("--no-standardise", raw_units,
+               "Estimate in the file's units (q, r, p0 too) instead of on robustly standardised channels");
+  app.add_option("--every", opt.every,
+                 "Write every K-th sample only (0, K, 2K, ...; the estimates are those of the full run): the "
+                 "factor output is K times smaller in memory and on disk")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_flag("--quiet", quiet, "No progress messages on stderr");
   try {
     app.parse(argc, argv);
@@ -59,6 +72,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  opt.standardise = !raw_units;
   std::ostringstream sink;
   std::ostream& log = quiet ? sink : std::cerr;
   try {
@@ -80,6 +94,9 @@ int main(int argc, char** argv) {
   } catch (const causal::offline::BadInput& e) {
     std::cerr << "causal-offline: " << e.what() << "\n";
     return 2;
+  } catch (const causal::offline::EstimationFailed& e) {
+    std::cerr << "causal-offline: " << e.what() << "\n";
+    return 1;
   } catch (const std::invalid_argument& e) {  // e.g. a model spec the data cannot support
     std::cerr << "causal-offline: " << input << ": " << e.what() << "\n";
     return 2;

@@ -8,6 +8,7 @@
 
 #include "causal/batch_estimation.hpp"
 #include "causal/noise_tuning.hpp"
+#include "causal/standardised_estimation.hpp"
 #include "causal/svar_layout.hpp"
 
 namespace causal::offline {
@@ -82,33 +83,45 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
   spec.include_self_lags = options.self_lags;
   const SvarLayout layout(spec);
 
-  std::vector<NoiseParams> noise{options.noise};
-  if (options.auto_noise) {
-    const Eigen::Index cal = options.calibration_samples > 0
-                                 ? std::min<Eigen::Index>(options.calibration_samples, y.rows())
-                                 : y.rows();
-    NoiseTuningOptions topt;
-    topt.p0 = options.noise.p0;
-    noise.clear();
-    for (const NoiseTuningResult& t : tune_noise_all(layout, y.topRows(cal), {}, topt)) {
-      if (t.evaluations == 0) {
-        throw BadInput(path + ": calibration window of " + std::to_string(cal) + " samples is too short: " +
-                       t.message);
-      }
-      log << "auto-noise: " << t.message << "\n";
-      noise.push_back(t.noise);
-    }
-  }
-
-  EstimationRun run;
+  StandardisedOptions sopt;
   switch (options.estimator) {
-    case Estimator::Filter: run = run_filter(layout, noise, y); break;
-    case Estimator::FixedLag: run = run_fixed_lag_smoother(layout, noise, y, {}, options.lag); break;
-    case Estimator::Rts: run = run_rts_smoother(layout, noise, y); break;
+    case Estimator::Filter: sopt.estimator = EstimatorKind::Filter; break;
+    case Estimator::FixedLag: sopt.estimator = EstimatorKind::FixedLag; break;
+    case Estimator::Rts: sopt.estimator = EstimatorKind::Rts; break;
   }
+  sopt.lag = options.lag;
+  sopt.standardise = options.standardise;
+  sopt.noise = options.noise;
+  sopt.auto_noise = options.auto_noise;
+  sopt.calibration_samples = options.calibration_samples;
+  sopt.tuning.p0 = options.noise.p0;
+  sopt.output.every = options.every;
+  sopt.output.innovations = false;  // not written: 2 G doubles per sample saved
+  const StandardisedRun res = estimate_standardised(layout, y, {}, sopt, table.channel_names);
+  switch (res.status) {
+    case EstimationStatus::Ok: break;
+    case EstimationStatus::NonFiniteOutput:
+      throw EstimationFailed(path + ":" + std::to_string(data_row_line(path, static_cast<long>(res.row))) + ": " +
+                             res.message + "; no factors written");
+    default: throw BadInput(path + ": " + res.message);
+  }
+  if (options.standardise) {
+    const Eigen::Index cal_rows = options.calibration_samples > 0
+                                      ? std::min<Eigen::Index>(options.calibration_samples, y.rows())
+                                      : y.rows();
+    log << "scales (robust, first " << cal_rows << " rows; factors reported in the file's units):";
+    for (int j = 0; j < g; ++j) log << " " << table.channel_names[j] << "=" << res.scales.scale[j];
+    log << "\n";
+  }
+  for (const NoiseTuningResult& t : res.tuning) log << "auto-noise: " << t.message << "\n";
+  const EstimationRun& run = res.run;
   log << "estimator " << estimator_name(options.estimator) << ": " << y.rows() << " samples, " << g
       << " channels, " << layout.total_factors() << " factors; updated " << run.counters.updated << ", warm-up "
       << run.counters.warm_up << "\n";
+  if (run.clamped_variances > 0) {
+    log << "warning: " << run.clamped_variances << " filtered variances were <= 0 from rounding and reported "
+        << "as standard deviation 0: those factors lost precision\n";
+  }
 
   const std::vector<std::string> names = layout.factor_names();
   std::string buf = "n";
@@ -116,8 +129,8 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
   for (const auto& nm : names) buf += ",sd_" + nm;
   buf += "\n";
   const Eigen::Index f = layout.total_factors();
-  for (Eigen::Index i = 0; i < y.rows(); ++i) {
-    buf += std::to_string(i);
+  for (Eigen::Index i = 0; i < run.estimates.rows(); ++i) {
+    buf += std::to_string(i * options.every);
     for (Eigen::Index c = 0; c < f; ++c) {
       buf += ',';
       put_number(buf, run.estimates(i, c));

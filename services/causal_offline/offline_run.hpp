@@ -19,9 +19,11 @@ struct OfflineOptions {
   int lag = 50;                  // fixed-lag smoother lag L
   int lag_order = 1;             // M
   bool self_lags = false;
-  NoiseParams noise;             // used unless auto_noise
+  bool standardise = true;       // estimate on channels divided by their robust scale (scale-invariant)
+  NoiseParams noise;             // used unless auto_noise; standardised units unless standardise = false
   bool auto_noise = false;       // tune q, r per outcome (p0 from noise.p0)
-  long calibration_samples = 0;  // first rows used for tuning; 0 = all
+  long calibration_samples = 0;  // first rows used for the scales and tuning; 0 = all
+  long every = 1;                // write samples 0, every, 2 every, ... (the full run's estimates)
 };
 
 // Input the tool refuses (non-finite value, too few channels or samples): exit code 2 like an InputError.
@@ -30,9 +32,16 @@ class BadInput : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The estimate itself failed (a non-finite factor): exit code 1, the message names factor, channel and row.
+class EstimationFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // Runs the estimator on `table` (read from `path`, used in messages) and writes the CSV to `out`:
-//   n,<factor names...>,sd_<factor names...>
-// Progress and the tuned noise go to `log`. Throws BadInput for unusable data (naming file and line).
+//   n,<factor names...>,sd_<factor names...>       (n = 0-based sample index)
+// Progress, the scales and the tuned noise go to `log`. Throws BadInput for unusable data (naming file and
+// line, or the constant channel) and EstimationFailed for a non-finite result (naming factor, channel, row).
 void run_offline(const std::string& path, const causal::io::ChannelTable& table, const OfflineOptions& options,
                  std::ostream& out, std::ostream& log);
 

@@ -26,6 +26,6 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  return causal::dds::run_service(signals, "causal-recorder", o.dds.log_level,
+  return causal::dds::run_service(signals, "causal-recorder", o.dds,
                                   [&] { return std::make_unique<causal::recorder::RecorderNode>(std::move(o)); });
 }

@@ -94,7 +94,11 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& a, std::optional<st
 const std::vector<std::string>& recommendation_header() {
   static const std::vector<std::string> h{
       "recommendation_id", "alarm_id",    "asset_group",  "rank",       "target_channel", "intervene_channel", "delta",
-      "effect_immediate",  "effect_steady_state", "effect_low", "effect_high", "confidence", "text"};
+      "effect_immediate",  "effect_steady_state", "effect_low", "effect_high", "confidence", "text",
+      // appended (issue 11): stability and units of the answer
+      "answer_kind", "horizon_snapshots", "spectral_radius", "draws", "unstable_draws", "unstable_draw_share",
+      "effect_median", "effect_percent", "effect_percent_low", "effect_percent_high", "effect_level_change", "reliable",
+      "summary"};
   return h;
 }
 
@@ -111,7 +115,20 @@ std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r
           format_number(r.effect_low()),
           format_number(r.effect_high()),
           format_number(r.confidence()),
-          r.text()};
+          r.text(),
+          r.answer_kind(),
+          format_integer(static_cast<std::uint64_t>(r.horizon_snapshots())),
+          format_number(r.spectral_radius()),
+          format_integer(static_cast<std::uint64_t>(r.draws())),
+          format_integer(static_cast<std::uint64_t>(r.unstable_draws())),
+          format_number(r.unstable_draw_share()),
+          format_number(r.effect_median()),
+          format_number(r.effect_percent()),
+          format_number(r.effect_percent_low()),
+          format_number(r.effect_percent_high()),
+          format_number(r.effect_level_change()),
+          r.reliable() ? "true" : "false",
+          r.summary()};
 }
 
 bool RepeatFilter::accept(const std::string& id, std::string signature) {

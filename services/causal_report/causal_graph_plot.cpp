@@ -12,8 +12,6 @@ namespace causal::report {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kNodeRadius = 0.25;
 constexpr const char* kPositive = "#1f77b4";
 constexpr const char* kNegative = "#d62728";
 
@@ -21,16 +19,6 @@ std::string fixed(double v, const char* fmt) {
   char buf[48];
   std::snprintf(buf, sizeof buf, fmt, v);
   return buf;
-}
-
-struct Point {
-  double x, y;
-};
-
-// Channel c of g on the unit circle, the first at the top, clockwise.
-Point node(int c, int g) {
-  const double a = kPi / 2.0 - 2.0 * kPi * c / std::max(g, 1);
-  return {std::cos(a), std::sin(a)};
 }
 
 std::string utc(double t) { return causal::io::format_utc(static_cast<std::int64_t>(std::llround(t * 1e9))); }
@@ -82,71 +70,78 @@ std::vector<GraphEdge> significant_edges(const FactorSeries& series, std::size_t
   return out;
 }
 
-std::string causal_graph_script(const std::string& asset, const std::vector<std::string>& channel_names,
-                                const FactorSeries& series, const std::vector<GraphMoment>& moments, double min_z,
-                                const PlotStyle& style, const std::string& png_path) {
+std::vector<GraphEdge> strongest_edges(const FactorSeries& series, std::size_t sample, std::size_t count) {
+  std::vector<GraphEdge> all = significant_edges(series, sample, 0.0);
+  std::stable_sort(all.begin(), all.end(), [](const GraphEdge& a, const GraphEdge& b) {
+    return std::abs(a.value) / std::max(a.sd, 1e-300) > std::abs(b.value) / std::max(b.sd, 1e-300);
+  });
+  if (all.size() > count) all.resize(count);
+  return all;
+}
+
+std::string dot_quote(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string causal_graph_dot(const std::string& asset, const std::vector<std::string>& channel_names,
+                             const FactorSeries& series, const std::vector<GraphMoment>& moments, double min_z) {
   const int g = static_cast<int>(channel_names.size());
-  const int panels = std::max<int>(1, static_cast<int>(moments.size()));
   std::ostringstream s;
-  s << gnuplot_preamble(style, style.width / panels + 90, png_path);  // square panels under a title
-  s << "set multiplot layout 1," << panels << " title "
-    << gnuplot_quote("Causal graph of " + asset + ": arrow j -> k where factor x_kj is at least " + fixed(min_z, "%.3g") +
-                     " sd from 0 (solid: at once, dashed: lagged; blue +, red -; width ~ |value|)")
-    << "\n";
-  s << "unset border\nunset tics\nunset key\nset size ratio -1\nset xrange [-2.0:2.0]\nset yrange [-1.6:1.6]\n";
-  for (const GraphMoment& m : moments) {
-    s << "unset arrow\nunset label\nunset object\n";
-    const double t = m.sample < series.t.size() ? series.t[m.sample] : NAN;
-    s << "set title " << gnuplot_quote(m.label + " (" + (std::isfinite(t) ? utc(t) : std::string("?")) + ")") << "\n";
-    // Self lags (a channel's own persistence) as text under its name.
+  // dot lays out each moment as its own cluster; disconnected clusters are packed side by side, and dot places
+  // edge labels as layout objects of their own, so labels never overlap each other or the nodes.
+  s << "digraph causal_graph {\n"
+    << "  graph [fontname=\"DejaVu Sans\", fontsize=16, labelloc=t, nodesep=0.6, ranksep=0.9, newrank=true, "
+       "dpi=110, pad=0.3, label="
+    << dot_quote("Causal graph of " + asset + ": arrow j -> k where factor x_kj is at least " + fixed(min_z, "%.3g") +
+                 " sd from 0\nsolid: at once, dashed: lagged; blue +, red -; width ~ |value|; grey dotted: the "
+                 "strongest links when none is significant")
+    << "];\n  node [shape=ellipse, style=filled, fillcolor=\"#eeeeee\", color=\"#555555\", fontname=\"DejaVu Sans\", "
+       "fontsize=12];\n  edge [fontname=\"DejaVu Sans\", fontsize=10];\n";
+  for (std::size_t m = 0; m < moments.size(); ++m) {
+    const GraphMoment& mo = moments[m];
+    const double t = mo.sample < series.t.size() ? series.t[mo.sample] : NAN;
+    std::vector<GraphEdge> edges = significant_edges(series, mo.sample, min_z);
+    const bool weak = edges.empty();
+    if (weak) edges = strongest_edges(series, mo.sample, 3);
+    std::string title = mo.label + "\n" + (std::isfinite(t) ? utc(t) : std::string("?"));
+    if (weak) title += "\nno link at " + fixed(min_z, "%.3g") + " sd";
+    s << "  subgraph cluster_" << m << " {\n    label=" << dot_quote(title)
+      << "; fontsize=13; color=\"#cccccc\"; style=rounded;\n";
+    // Self lags (a channel's own persistence) go into the node: they are not arrows between channels.
     std::map<int, std::string> self;
     for (std::size_t f = 0; f < series.names.size(); ++f) {
       const auto name = parse_factor_name(series.names[f], g);
-      if (!name || name->source != name->outcome || m.sample >= series.mean[f].size()) continue;
-      const double v = series.mean[f][m.sample];
-      if (std::isfinite(v)) self[name->outcome - 1] += " " + series.names[f] + " " + fixed(v, "%+.2f");
+      if (!name || name->source != name->outcome || mo.sample >= series.mean[f].size()) continue;
+      const double v = series.mean[f][mo.sample];
+      if (std::isfinite(v)) self[name->outcome - 1] += "\nself " + series.names[f] + " " + fixed(v, "%+.2f");
     }
-    int object = 1;
     for (int c = 0; c < g; ++c) {
-      const Point p = node(c, g);
-      s << "set object " << object++ << " circle at " << fixed(p.x, "%.4f") << "," << fixed(p.y, "%.4f") << " size "
-        << kNodeRadius << " fc rgb '#eeeeee' fs solid border lc rgb '#555555' front\n";
-      s << "set label " << gnuplot_quote(channel_names[static_cast<std::size_t>(c)]) << " at " << fixed(p.x, "%.4f")
-        << "," << fixed(p.y, "%.4f") << " center front font ',9'\n";
-      if (self.count(c)) {  // outside the circle of channels, where no arrow runs
-        const double gap = kNodeRadius + 0.06;
-        const char* just = p.x > 0.3 ? "left" : p.x < -0.3 ? "right" : "center";
-        const double lx = p.x > 0.3 ? p.x + gap : p.x < -0.3 ? p.x - gap : p.x;
-        const double ly = std::abs(p.x) > 0.3 ? p.y : p.y + (p.y >= 0.0 ? gap + 0.04 : -gap - 0.04);
-        s << "set label " << gnuplot_quote("self:" + self[c]) << " at " << fixed(lx, "%.4f") << "," << fixed(ly, "%.4f")
-          << " " << just << " front font ',8' tc rgb '#555555'\n";
-      }
+      s << "    m" << m << "c" << c << " [label=" << dot_quote(channel_names[static_cast<std::size_t>(c)] + self[c])
+        << "];\n";
     }
-    for (const GraphEdge& e : significant_edges(series, m.sample, min_z)) {
+    for (const GraphEdge& e : edges) {
       if (e.from >= g || e.to >= g) continue;
-      const Point a = node(e.from, g), b = node(e.to, g);
-      const double dx = b.x - a.x, dy = b.y - a.y, len = std::hypot(dx, dy);
-      if (len <= 0.0) continue;
-      const double ux = dx / len, uy = dy / len;
-      // Offset to the left of the direction of travel: j -> k and k -> j, and the instantaneous and lagged
-      // links of one pair, never overlap.
-      const double off = 0.05 + 0.07 * e.lag;
-      const double ox = -uy * off, oy = ux * off;
-      const Point from{a.x + ux * kNodeRadius + ox, a.y + uy * kNodeRadius + oy};
-      const Point to{b.x - ux * kNodeRadius + ox, b.y - uy * kNodeRadius + oy};
-      const double width = 1.0 + 4.0 * std::min(std::abs(e.value), 1.0);
-      s << "set arrow from " << fixed(from.x, "%.4f") << "," << fixed(from.y, "%.4f") << " to " << fixed(to.x, "%.4f")
-        << "," << fixed(to.y, "%.4f") << " head filled size 0.08,20 lw " << fixed(width, "%.2f") << " dt "
-        << (e.lag == 0 ? 1 : 2) << " lc rgb '" << (e.value >= 0.0 ? kPositive : kNegative) << "' front\n";
-      // A third of the way along: the labels of j -> k and k -> j land at different places.
-      const Point mid{from.x + (to.x - from.x) / 3.0 + ox, from.y + (to.y - from.y) / 3.0 + oy};
-      s << "set label " << gnuplot_quote(e.name + " " + fixed(e.value, "%+.2f")) << " at " << fixed(mid.x, "%.4f")
-        << "," << fixed(mid.y, "%.4f") << " center front font ',8' tc rgb '"
-        << (e.value >= 0.0 ? kPositive : kNegative) << "'\n";
+      const double z = std::abs(e.value) / std::max(e.sd, 1e-300);
+      const std::string colour = weak ? "#999999" : (e.value >= 0.0 ? kPositive : kNegative);
+      const std::string style = weak ? "dotted" : (e.lag == 0 ? "solid" : "dashed");
+      const double width = weak ? 1.0 : 1.0 + 4.0 * std::min(std::abs(e.value), 1.0);
+      s << "    m" << m << "c" << e.from << " -> m" << m << "c" << e.to << " [color=\"" << colour << "\", fontcolor=\""
+        << colour << "\", style=" << style << ", penwidth=" << fixed(width, "%.2f")
+        << ", label=" << dot_quote(e.name + " " + fixed(e.value, "%+.2f") + (weak ? " (z " + fixed(z, "%.1f") + ")" : ""))
+        << "];\n";
     }
-    s << "plot NaN notitle\n";
+    s << "  }\n";
   }
-  s << "unset multiplot\n";
+  s << "}\n";
   return s.str();
 }
 

@@ -1,9 +1,10 @@
 // 4. Causal graph snapshots: who drives whom at a few moments of the run (healthy, degrading, end), from
-// the recorded condition-level filter factors. The channels sit on a circle; an arrow j -> k is drawn for
-// every cross factor x_kj / xL_kj whose estimate is at least min_z standard deviations from zero at that
-// moment: solid for instantaneous links, dashed for lagged ones, width growing with |value|, blue when
-// positive and red when negative, labelled with the value. Self lags are listed under their channel.
-// Pure text generation, no processes (like gnuplot_plots.hpp).
+// the recorded condition-level filter factors, drawn by Graphviz `dot` (it places edge labels so that they do
+// not overlap). An arrow j -> k is drawn for every cross factor x_kj / xL_kj whose estimate is at least min_z
+// standard deviations from zero at that moment: solid for instantaneous links, dashed for lagged ones, width
+// growing with |value|, blue when positive and red when negative, labelled with the value. A moment without
+// any such link shows its three strongest links grey and dotted, with their z, so an empty panel never hides
+// what the factors say. Self lags are written in their channel's node. Pure text generation, no processes.
 #pragma once
 
 #include "gnuplot_plots.hpp"
@@ -37,9 +38,14 @@ std::vector<GraphMoment> graph_moments(const FactorSeries& series, const std::ve
 // Cross factors of sample `sample` with |value| >= min_z * sd (finite values only); self lags excluded.
 std::vector<GraphEdge> significant_edges(const FactorSeries& series, std::size_t sample, double min_z);
 
-// The figure: one panel per moment.
-std::string causal_graph_script(const std::string& asset, const std::vector<std::string>& channel_names,
-                                const FactorSeries& series, const std::vector<GraphMoment>& moments, double min_z,
-                                const PlotStyle& style, const std::string& png_path);
+// The `strongest` cross factors of `sample` by |value| / sd, largest first (shown when none is significant).
+std::vector<GraphEdge> strongest_edges(const FactorSeries& series, std::size_t sample, std::size_t count);
+
+// Quotes a Graphviz string: backslash-escapes quotes and backslashes, newlines become centred line breaks.
+std::string dot_quote(const std::string& text);
+
+// The figure as a Graphviz `dot` graph: one cluster per moment, side by side.
+std::string causal_graph_dot(const std::string& asset, const std::vector<std::string>& channel_names,
+                             const FactorSeries& series, const std::vector<GraphMoment>& moments, double min_z);
 
 }  // namespace causal::report

@@ -118,6 +118,41 @@ std::string factor_title(const std::string& name, const std::vector<std::string>
   return name + ":  " + source + " \xE2\x86\x92 " + channel(f->outcome);  // U+2192 arrow
 }
 
+namespace {
+// y range of a trend plot that a few values far below the rest (a stopped machine's last snapshot, a dead
+// sensor) cannot crush: from the 1st percentile down by a margin, up to the maximum (high values are what a
+// degradation looks like, so they are never cut). `below` counts the values left out.
+struct RobustRange {
+  bool valid = false;
+  double lo = 0.0, hi = 0.0;
+  std::size_t below = 0;
+};
+
+RobustRange robust_range(const std::vector<std::vector<double>>& channels, bool log_scale) {
+  std::vector<double> v;
+  for (const auto& ch : channels) {
+    for (double x : ch) {
+      if (std::isfinite(x) && (!log_scale || x > 0.0)) v.push_back(x);
+    }
+  }
+  RobustRange r;
+  if (v.size() < 20) return r;
+  std::sort(v.begin(), v.end());
+  const double q01 = v[v.size() / 100], hi = v.back();
+  if (log_scale) {
+    r.lo = q01 / 1.5;
+    r.hi = hi * 1.3;
+  } else {
+    const double pad = 0.08 * std::max(hi - q01, 1e-12);
+    r.lo = q01 - pad;
+    r.hi = hi + pad;
+  }
+  r.below = static_cast<std::size_t>(std::lower_bound(v.begin(), v.end(), r.lo) - v.begin());
+  r.valid = r.hi > r.lo;
+  return r;
+}
+}  // namespace
+
 std::string condition_trends_script(const std::string& asset, const std::vector<ConditionSeries>& features,
                                     const std::vector<AlarmSpan>& alarms, const TimeRange& range,
                                     const PlotStyle& style, const std::string& png_path) {
@@ -148,9 +183,30 @@ std::string condition_trends_script(const std::string& asset, const std::vector<
     }
     s << (positive ? "set logscale y\n" : "unset logscale y\n");
     s << "set ylabel " << gnuplot_quote(c.feature + (positive ? " (log scale)" : "")) << "\n";
+    const RobustRange yr = robust_range(c.values, positive);
+    std::string clipped;
+    if (yr.valid) {
+      s << "set yrange [" << num(yr.lo) << ":" << num(yr.hi) << "]\n";
+      if (positive) {  // gnuplot labels only the decades of a log axis: label 1-2-5 steps, readable at any span
+        s << "set ytics (";
+        const char* sep = "";
+        for (double decade = std::pow(10.0, std::floor(std::log10(yr.lo))); decade <= yr.hi; decade *= 10.0) {
+          for (double m : {1.0, 2.0, 5.0}) {
+            if (m * decade < yr.lo || m * decade > yr.hi) continue;
+            s << sep << num(m * decade, "%.3g");
+            sep = ", ";
+          }
+        }
+        s << ")\n";
+      }
+      if (yr.below > 0) clipped = " (" + std::to_string(yr.below) + " value(s) far below the rest not shown)";
+    } else {
+      s << "set autoscale y\n";
+    }
     s << "set title "
-      << gnuplot_quote((features.size() > 1 ? "" : "Condition trends, asset " + asset + ": ") + c.feature +
-                       " per channel; vertical lines: alarms raised (dashed) / escalated (dotted)")
+      << two_lines((features.size() > 1 ? "" : "Condition trends, asset " + asset + ": ") + c.feature +
+                       " per channel" + clipped,
+                   "vertical lines: alarms raised (dashed) / escalated (dotted)")
       << "\n";
     s << "plot ";
     for (std::size_t ch = 0; ch < c.channels.size(); ++ch) {
@@ -255,50 +311,79 @@ std::string alarm_timeline_script(const std::string& asset, const std::vector<st
   int g = static_cast<int>(channel_names.size());
   for (const auto& a : alarms) g = std::max(g, a.channel);
   g = std::max(g, 1);
-  const int height = std::clamp(140 * g + 260, 500, 1600);
   auto name_of = [&](int c) {
     return c >= 1 && c <= static_cast<int>(channel_names.size()) ? channel_names[static_cast<std::size_t>(c - 1)]
                                                                    : "channel " + std::to_string(c);
   };
-  // Alarms of different detectors on one channel get their own lane inside the channel's row.
-  std::map<std::string, int> lane;
-  for (const auto& a : alarms) lane.emplace(a.kind, 0);
-  int next = 0;
-  for (auto& [kind, l] : lane) l = next++;
-  const double lane_h = 0.8 / std::max(1, next);
+  // One row per (channel, detector), labelled on the y axis: text never sits on the plot, so labels cannot
+  // overlap bars or each other however many alarms there are. A channel without alarms keeps one empty row.
+  struct Row {
+    int channel;
+    std::string kind;
+    std::vector<std::string> roots;  // root causes named by the alarms of this row, first seen first
+  };
+  std::vector<Row> rows;
+  auto row_of = [&](int channel, const std::string& kind) -> std::size_t {
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      if (rows[r].channel == channel && rows[r].kind == kind) return r;
+    }
+    rows.push_back({channel, kind, {}});
+    return rows.size() - 1;
+  };
+  for (const auto& a : alarms) {
+    if (a.raised_utc.empty() || a.channel < 1) continue;
+    auto& roots = rows[row_of(a.channel, a.kind)].roots;
+    if (a.root_cause_name.empty() && a.root_cause_channel <= 0) continue;
+    const std::string root = a.root_cause_name.empty() ? name_of(a.root_cause_channel) : a.root_cause_name;
+    if (std::find(roots.begin(), roots.end(), root) == roots.end()) roots.push_back(root);
+  }
+  for (int c = 1; c <= g; ++c) {
+    bool any = false;
+    for (const auto& r : rows) any = any || r.channel == c;
+    if (!any) rows.push_back({c, "", {}});
+  }
+  std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) {
+    return a.channel != b.channel ? a.channel < b.channel : a.kind < b.kind;
+  });
+  const int n_rows = static_cast<int>(rows.size());
+  const int height = std::clamp(46 * n_rows + 260, 500, 2000);
   const double min_width = std::max(1.0, 0.003 * (range.to - range.from));
 
   std::ostringstream s;
   s << preamble(style, height, png_path);
   s << "$bars << EOD\n";
   std::set<Severity> used;
-  std::ostringstream labels;
   for (const auto& a : alarms) {
     if (a.raised_utc.empty() || a.channel < 1) continue;
-    const double y = a.channel - 0.4 + (lane[a.kind] + 0.5) * lane_h;
+    const int y = static_cast<int>(row_of(a.channel, a.kind)) + 1;
     for (const auto& seg : a.segments) {
       const double width = std::max(seg.to - seg.from, min_width);
       used.insert(seg.severity);
-      s << t_num(seg.from + width / 2) << ' ' << num(y) << ' ' << num(width / 2) << ' ' << num(lane_h * 0.42) << ' '
+      s << t_num(seg.from + width / 2) << ' ' << y << ' ' << num(width / 2) << " 0.34 "
         << colour_int(severity_colour(seg.severity)) << '\n';
     }
-    std::string text = a.kind;
-    if (!a.root_cause_name.empty() || a.root_cause_channel > 0) {
-      text += ", root cause: " + (a.root_cause_name.empty() ? name_of(a.root_cause_channel) : a.root_cause_name);
-    }
-    if (!a.cleared) text += " (still active)";
-    // Alarms raised late in the run are labelled leftwards from their start, so the text stays inside.
-    const bool late = a.raised > range.from + 0.7 * (range.to - range.from);
-    labels << "set label " << gnuplot_quote(text) << " at " << t_num(a.raised) << ", " << num(y)
-           << (late ? " right offset -0.5,0" : " left offset 0.5,0") << " front font ',10'\n";
   }
-  s << "EOD\n" << time_axis(range) << labels.str();
-  s << "set yrange [" << g + 0.5 << ":0.5]\nset ytics (";
-  for (int c = 1; c <= g; ++c) s << (c > 1 ? ", " : "") << gnuplot_quote(name_of(c)) << " " << c;
-  s << ")\nset grid noytics\n";
-  for (int c = 1; c < g; ++c) s << "set arrow from graph 0, first " << c + 0.5 << " to graph 1, first " << c + 0.5
-                                << " nohead lc rgb '#bbbbbb'\n";
-  s << "set title " << gnuplot_quote("Alarm timeline, asset " + asset + ": bars from raised to cleared (or end of data)")
+  s << "EOD\n" << time_axis(range);
+  s << "set yrange [" << n_rows + 0.5 << ":0.5]\nset ytics (";
+  for (int r = 0; r < n_rows; ++r) {
+    const Row& row = rows[static_cast<std::size_t>(r)];
+    std::string text = name_of(row.channel) + (row.kind.empty() ? "  (no alarm)" : "  " + row.kind);
+    if (!row.roots.empty()) {
+      text += "  root: ";
+      for (std::size_t i = 0; i < row.roots.size(); ++i) text += (i ? ", " : "") + row.roots[i];
+    }
+    s << (r ? ", " : "") << gnuplot_quote(text) << " " << r + 1;
+  }
+  s << ") font ',10'\nset grid noytics\n";
+  for (int r = 1; r < n_rows; ++r) {
+    if (rows[static_cast<std::size_t>(r)].channel != rows[static_cast<std::size_t>(r - 1)].channel) {
+      s << "set arrow from graph 0, first " << r + 0.5 << " to graph 1, first " << r + 0.5
+        << " nohead lc rgb '#bbbbbb'\n";
+    }
+  }
+  s << "set title " << two_lines("Alarm timeline, asset " + asset,
+                                 "one row per channel and detector (root cause on the left); bars from raised to "
+                                 "cleared, or to the end of data while still active")
     << "\n";
   if (used.empty()) {
     s << "unset key\nset style textbox opaque noborder\n"

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -32,15 +33,20 @@ std::string tail_of(const fs::path& log, std::size_t max_chars = 600) {
 
 struct Renderer {
   fs::path gnuplot;
+  std::optional<fs::path> dot;  // Graphviz, for the causal graph; the figure is skipped (and said so) without it
   fs::path out_dir;
   PlotStyle style;
   std::ostream& out;
   std::ostream& err;
   bool failed = false;
 
-  // Writes <stem>.gp under out/gnuplot, runs it, checks the PNG. True when the PNG exists.
-  bool render(const std::string& stem, const std::string& script) {
-    const fs::path gp = out_dir / "gnuplot" / (stem + ".gp");
+  // Writes <stem>.gp under out/gnuplot, runs gnuplot on it, checks the PNG. True when the PNG exists.
+  bool render(const std::string& stem, const std::string& script) { return run(stem, ".gp", script, false); }
+  // Writes <stem>.dot under out/gnuplot, runs `dot -Tpng` on it, checks the PNG.
+  bool render_dot(const std::string& stem, const std::string& graph) { return run(stem, ".dot", graph, true); }
+
+  bool run(const std::string& stem, const char* extension, const std::string& script, bool graphviz) {
+    const fs::path gp = out_dir / "gnuplot" / (stem + extension);
     const fs::path log = out_dir / "gnuplot" / (stem + ".log");
     const fs::path png = out_dir / (stem + ".png");
     {
@@ -54,10 +60,11 @@ struct Renderer {
     }
     std::error_code ec;
     fs::remove(png, ec);  // a stale PNG must not pass for a fresh one
-    const ProcessResult r = run_process({gnuplot.string(), gp.string()}, log);
+    const ProcessResult r = graphviz ? run_process({dot->string(), "-Tpng", "-o", png.string(), gp.string()}, log)
+                                     : run_process({gnuplot.string(), gp.string()}, log);
     const bool ok = r.started && !r.timed_out && r.exit_code == 0 && fs::exists(png, ec) && fs::file_size(png, ec) > 0;
     if (!ok) {
-      err << "causal-report: gnuplot failed on " << gp.string()
+      err << "causal-report: " << (graphviz ? "dot" : "gnuplot") << " failed on " << gp.string()
           << (r.timed_out ? " (timed out)" : " (exit " + std::to_string(r.exit_code) + ")") << ":\n"
           << tail_of(log) << "\n";
       failed = true;
@@ -167,11 +174,12 @@ void render_asset(const AssetFiles& files, const fs::path& alarms_file, const st
   } else {
     notes.push_back("no condition-level factors recorded: no factor figures");
   }
-  if (pf != nullptr && !pf->outcome_names.empty()) {
+  if (pf != nullptr && !pf->outcome_names.empty() && !r.dot) {
+    notes.push_back("Graphviz `dot` not found: no causal-graph figure (Debian: apt-get install graphviz)");
+  } else if (pf != nullptr && !pf->outcome_names.empty()) {
     const std::vector<GraphMoment> moments = graph_moments(*pf, spans);
     const std::string stem = "causal_graph_" + asset;
-    if (r.render(stem, causal_graph_script(asset, pf->outcome_names, *pf, moments, kGraphMinZ, r.style,
-                                           (r.out_dir / (stem + ".png")).string()))) {
+    if (r.render_dot(stem, causal_graph_dot(asset, pf->outcome_names, *pf, moments, kGraphMinZ))) {
       std::string when;
       for (const auto& m : moments) when += (when.empty() ? "" : "; ") + m.label;
       figures.emplace_back("Causal graph (" + when + ")", stem + ".png");
@@ -237,7 +245,8 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
     err << "causal-report: cannot create output folder '" << options.out_dir << "': " << ec.message() << "\n";
     return 2;
   }
-  Renderer r{*gnuplot, out_dir, PlotStyle{}, out, err};
+  Renderer r{*gnuplot, find_executable("dot"), out_dir, PlotStyle{}, out, err};
+  if (!r.dot) err << "causal-report: Graphviz 'dot' not found: the causal graph is skipped (apt-get install graphviz)\n";
   // pngcairo draws anti-aliased lines and transparent bands; libgd's png is the fallback.
   const ProcessResult probe =
       run_process({gnuplot->string(), "-e", "set terminal pngcairo"}, out_dir / "gnuplot" / "terminal_probe.log");

@@ -8,7 +8,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   auto options = causal::replay::parse_replay_options(argc, argv, exit_code);
   if (!options) return exit_code;
-  return causal::dds::run_service(signals, "sensor-replay", options->dds.log_level, [&] {
+  return causal::dds::run_service(signals, "sensor-replay", options->dds, [&] {
     return std::make_unique<causal::replay::ReplayNode>(std::move(*options));
   });
 }

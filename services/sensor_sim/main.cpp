@@ -6,7 +6,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   auto options = causal::sim::parse_sim_options(argc, argv, exit_code);
   if (!options) return exit_code;
-  return causal::dds::run_service(signals, "sensor-sim", options->dds.log_level, [&] {
+  return causal::dds::run_service(signals, "sensor-sim", options->dds, [&] {
     return std::make_unique<causal::sim::SimNode>(std::move(*options));
   });
 }

@@ -93,22 +93,26 @@ void AskNode::print(const causal_twin::WhatIfReply& reply) const {
     return;
   }
   std::printf("%s\n", reply.text().c_str());
-  // Effects are in model units; with --percent the model is taken to be on log levels (estimator
-  // log_transform: true), so they are shown as level changes in percent too.
-  const bool pct = options_.percent.has_value();
-  auto show = [pct](double v) {
+  // Effects: the answered change (median of the posterior draws, with its interval from the same draws) in
+  // model units and in percent of each channel's current level, as computed by the recommender.
+  auto num = [](double v, bool pct) {
     char buf[32];
     if (!std::isfinite(v)) return std::string("n/a");
-    std::snprintf(buf, sizeof buf, pct ? "%+.1f %%" : "%+.4g", pct ? 100.0 * std::expm1(v) : v);
+    if (pct && v > 1000.0) return std::string("> +1000 %");
+    std::snprintf(buf, sizeof buf, pct ? "%+.1f %%" : "%+.4g", v);
     return std::string(buf);
   };
-  std::printf("%-8s %14s %14s %26s\n", "channel", "at once", options_.impulse ? "in total" : "steady state",
-              "interval");
-  for (std::size_t k = 0; k < reply.effect_immediate().size(); ++k) {
+  const bool steady = reply.answer_kind() == "steady_state";
+  const std::string what = steady ? (options_.impulse ? "in total" : "steady state")
+                                  : (options_.impulse ? "total, " : "after ") + std::to_string(reply.horizon_snapshots()) +
+                                        (options_.impulse ? " snapshots" : " snapshots");
+  std::printf("%-8s %12s %14s %24s %12s %26s\n", "channel", "at once", what.c_str(), "interval", "percent", "interval");
+  for (std::size_t k = 0; k < reply.effect_median().size(); ++k) {
     const auto at = [&](const std::vector<double>& v) { return k < v.size() ? v[k] : std::nan(""); };
-    std::printf("%-8zu %14s %14s %12s .. %-12s\n", k + 1, show(at(reply.effect_immediate())).c_str(),
-                show(at(reply.effect_steady_state())).c_str(), show(at(reply.effect_low())).c_str(),
-                show(at(reply.effect_high())).c_str());
+    std::printf("%-8zu %12s %14s %11s .. %-11s %12s %12s .. %-12s\n", k + 1, num(at(reply.effect_immediate()), false).c_str(),
+                num(at(reply.effect_median()), false).c_str(), num(at(reply.effect_low()), false).c_str(),
+                num(at(reply.effect_high()), false).c_str(), num(at(reply.effect_percent()), true).c_str(),
+                num(at(reply.effect_percent_low()), true).c_str(), num(at(reply.effect_percent_high()), true).c_str());
   }
 }
 

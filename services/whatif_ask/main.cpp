@@ -23,6 +23,6 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (d->count() > 0) o.delta = delta;
   if (p->count() > 0) o.percent = percent;
-  return causal::dds::run_service(signals, "causal-ask", o.dds.log_level,
+  return causal::dds::run_service(signals, "causal-ask", o.dds,
                                   [&] { return std::make_unique<causal::ask::AskNode>(std::move(o)); });
 }

@@ -48,13 +48,17 @@ Modes (one at a time; without one, only the model summary is printed)
                                    (same noise as observed; the per-row filtered model, or the --at model
                                    with --snapshot-model). CSV to --output or stdout.
   --recommend --target K           rank "reduce channel j by --fraction of its excess over baseline" by the
-                                   predicted steady-state drop of K, with intervals, in plain sentences.
+                                   drop of K we are sure of (the interval bound), in plain sentences.
   Intervals come from the factor covariance of the filter at --at (Monte Carlo with a fixed seed, or the
   delta method). They ignore cross-outcome estimation correlations and model error (e.g. a wrong order).
+  Every intervention also gets the bounded answer (the service's rule, README "Prescriptive analytics"):
+  a steady state only when the model settles (spectral radius <= 0.98, <= 5 % unstable posterior draws),
+  refused past a unit root with > 90 % unstable draws, else the effect after 12 samples; median and
+  interval of the same Monte Carlo draws.
 
-Exit status: 0 answered; 1 unusable input or options; 3 the model cannot answer (unstable intervened
-system, singular instantaneous equations, non-finite values) - the reason is printed; CLI parse errors use
-CLI11's codes.
+Exit status: 0 answered; 1 unusable input or options; 3 the model cannot answer (refused: past a unit root,
+singular instantaneous equations, non-finite values) - the reason is printed; CLI parse errors use CLI11's
+codes.
 )";
 
 struct Args {
@@ -102,7 +106,9 @@ int run_intervene(const Args& a, const causal::whatif::FittedModel& m) {
   const UncertaintyOptions opt = uncertainty_options(a);
   const UncertainEffect u = predict_intervention_with_uncertainty(*m.layout, m.posterior, q, opt);
   causal::whatif::print_intervention(std::cout, m, q, u, opt);
-  return u.point.status == AnalysisStatus::ok ? 0 : kExitNoAnswer;
+  const BoundedAnswer answer = answer_intervention(*m.layout, m.posterior, q, AnswerRule{}, opt);
+  causal::whatif::print_bounded_answer(std::cout, m, q, answer);
+  return answer.answered() ? 0 : kExitNoAnswer;
 }
 
 int run_counterfactual(const Args& a, const causal::whatif::FittedModel& m) {
@@ -129,6 +135,9 @@ int run_counterfactual(const Args& a, const causal::whatif::FittedModel& m) {
     std::cerr << "causal-whatif: no counterfactual: " << to_string(r.status) << ": " << r.message << "\n";
     return kExitNoAnswer;
   }
+  // Stability goes to stderr so a counterfactual CSV on stdout stays clean.
+  std::cerr << "counterfactual model: largest companion spectral radius over the window " << r.spectral_radius
+            << (r.spectral_radius >= 1.0 ? " (>= 1: the change grows over the window instead of settling)" : "") << "\n";
   // Back to original units; the held channel is written as the exact value asked for and the observed
   // columns straight from the file (no centering round trip).
   Eigen::MatrixXd cf_raw = r.counterfactual.rowwise() + m.center.transpose();

@@ -1,5 +1,7 @@
 #include "whatif_output.hpp"
 
+#include <causal/analysis/effect_units.hpp>
+
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
@@ -106,6 +108,24 @@ void print_intervention(std::ostream& out, const FittedModel& m, const analysis:
   if (impulse) out << "(an impulse leaves no steady-state change when the system is stable; 'cumulative' = sum over all samples)\n";
 }
 
+void print_bounded_answer(std::ostream& out, const FittedModel& m, const analysis::InterventionQuery& q,
+                          const analysis::BoundedAnswer& a) {
+  out << "\nanswer (" << analysis::to_string(a.kind) << "): " << a.reason << "\n";
+  if (!a.answered()) return;
+  // The CSV's own units (a raw column has no level to take a percent of: it may be centred or negative).
+  const std::string when = a.kind == analysis::AnswerKind::steady_state
+                               ? std::string("at steady state")
+                               : "after " + std::to_string(a.horizon_snapshots) + " samples";
+  char tail[160];
+  std::snprintf(tail, sizeof tail, " (%g %%), model %s rho=%.3f, %d/%d draws unstable", 100.0 * a.coverage,
+                analysis::stability_words(a), a.spectral_radius, a.unstable_draws, a.draws);
+  for (int k = 0; k < static_cast<int>(m.names.size()); ++k) {
+    if (k == q.channel) continue;
+    out << "  " << m.names[static_cast<std::size_t>(k)] << " " << when << ": " << num(a.effect.median(k)) << " ["
+        << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k)) << "]" << tail << "\n";
+  }
+}
+
 void write_counterfactual_csv(std::ostream& out, const std::vector<std::string>& names, int from,
                               const Eigen::MatrixXd& counterfactual, const Eigen::MatrixXd& observed) {
   out << "n";
@@ -123,7 +143,7 @@ void write_counterfactual_csv(std::ostream& out, const std::vector<std::string>&
 void print_recommendations(std::ostream& out, const FittedModel& m, int target,
                            const std::vector<analysis::Recommendation>& recs) {
   out << "\nrecommendations for " << m.names[static_cast<std::size_t>(target)]
-      << " (ranked by predicted steady-state change, largest reduction first):\n";
+      << " (ranked by the interval bound in the helpful direction: the reduction we are sure of first):\n";
   if (recs.empty()) {
     out << "  none: no other channel is above its baseline, so there is nothing to reduce.\n";
     return;

@@ -3,6 +3,7 @@
 
 #include "whatif_model.hpp"
 
+#include <causal/analysis/bounded_answer.hpp>
 #include <causal/analysis/counterfactual.hpp>
 #include <causal/analysis/recommendation.hpp>
 #include <causal/analysis/uncertainty.hpp>
@@ -23,6 +24,10 @@ void print_intervention(std::ostream& out, const FittedModel& model, const analy
 void write_counterfactual_csv(std::ostream& out, const std::vector<std::string>& names, int from,
                               const Eigen::MatrixXd& counterfactual, const Eigen::MatrixXd& observed);
 
+// The bounded answer (steady state / after H snapshots / refused, bounded_answer.hpp): one line per channel
+// with horizon, interval, confidence and stability, in the CSV's units and percent of the last row's level.
+void print_bounded_answer(std::ostream& out, const FittedModel& model, const analysis::InterventionQuery& query,
+                          const analysis::BoundedAnswer& answer);
 void print_recommendations(std::ostream& out, const FittedModel& model, int target,
                            const std::vector<analysis::Recommendation>& recs);
 

@@ -143,4 +143,26 @@ TEST(Counterfactual, StatusesAndErrors) {
   EXPECT_EQ(counterfactual(loop, f.y, q).status, AnalysisStatus::ok);
 }
 
+// Stability travels with the answer: the companion spectral radius of the model with the held channel's
+// equation replaced. y1 = 0.9 y1[n-1] + e1, y2 = 0.5 y1 + 0.7 y2[n-1] + e2: holding y1 leaves y2's 0.7;
+// without a hold nothing is re-simulated (0); holding y2 leaves y1's 0.9.
+TEST(Counterfactual, ReportsTheSpectralRadiusOfTheIntervenedModel) {
+  StructuralModel m = zero_model(2, 1);
+  m.a0(1, 0) = 0.5;
+  m.lags[0](0, 0) = 0.9;
+  m.lags[0](1, 1) = 0.7;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd data(20, 2);
+  for (Eigen::Index i = 0; i < data.size(); ++i) data.data()[i] = normal(rng);
+  CounterfactualQuery q;
+  q.from = 1;
+  q.to = 19;
+  EXPECT_DOUBLE_EQ(counterfactual(m, data, q).spectral_radius, 0.0);
+  q.holds = {{0, 1.0}};
+  EXPECT_NEAR(counterfactual(m, data, q).spectral_radius, 0.7, 1e-12);
+  q.holds = {{1, 1.0}};
+  EXPECT_NEAR(counterfactual(m, data, q).spectral_radius, 0.9, 1e-12);
+}
+
 }  // namespace

@@ -19,7 +19,8 @@ const std::vector<std::string> kNames{"bearing 1", "bearing 2", "vibration at be
 TEST(Recommendation, SentenceMatchesTheHouseExample) {
   Recommendation rec;
   rec.action = {2, -0.02};
-  rec.steady_state = -0.015;
+  rec.answer.kind = AnswerKind::steady_state;
+  rec.effect = rec.steady_state = -0.015;
   rec.lower = -0.019;
   rec.upper = -0.010;
   rec.immediate = -0.008;
@@ -33,7 +34,8 @@ TEST(Recommendation, SentenceMatchesTheHouseExample) {
 TEST(Recommendation, NarrowIntervalsGetMoreDecimals) {
   Recommendation rec;
   rec.action = {1, -0.000923};
-  rec.steady_state = -0.00171;
+  rec.answer.kind = AnswerKind::steady_state;
+  rec.effect = rec.steady_state = -0.00171;
   rec.lower = -0.00175;
   rec.upper = -0.00168;
   rec.immediate = -0.0008;
@@ -44,10 +46,11 @@ TEST(Recommendation, NarrowIntervalsGetMoreDecimals) {
             "state, 0.00080 at once.");
 }
 
-TEST(Recommendation, SentencesForRisesUncertainAndFailedCases) {
+TEST(Recommendation, SentencesForRisesHorizonUncertainAndRefusedCases) {
   Recommendation rec;
   rec.action = {1, 0.5};
-  rec.steady_state = 1.2;
+  rec.answer.kind = AnswerKind::steady_state;
+  rec.effect = rec.steady_state = 1.2;
   rec.lower = -0.1;
   rec.upper = 2.4;
   rec.immediate = 0.0;
@@ -57,12 +60,14 @@ TEST(Recommendation, SentencesForRisesUncertainAndFailedCases) {
   EXPECT_EQ(up,
             "Raise channel 2 by 0.5: channel 1 is predicted to rise by 1.2 (95% interval -0.1..2.4) at steady state, "
             "no change at once. The interval includes no change: the direction of the effect is uncertain.");
-  rec.status = AnalysisStatus::unstable;
-  rec.immediate = 0.3;
-  EXPECT_NE(describe_recommendation(rec, 0, {}, "").find("does not settle"), std::string::npos);
-  rec.status = AnalysisStatus::not_identifiable;
-  rec.message = "singular";
-  EXPECT_NE(describe_recommendation(rec, 0, {}, "").find("cannot be predicted (singular)"), std::string::npos);
+  rec.answer.kind = AnswerKind::horizon;
+  rec.answer.horizon_snapshots = 12;
+  rec.steady_state = std::nan("");
+  EXPECT_NE(describe_recommendation(rec, 0, {}, "").find("after 12 snapshots (no reliable steady state)"), std::string::npos);
+  rec.answer.kind = AnswerKind::refused;
+  rec.interval_valid = false;
+  rec.message = "past a unit root";
+  EXPECT_NE(describe_recommendation(rec, 0, {}, "").find("cannot be predicted (past a unit root)"), std::string::npos);
 }
 
 // Target y1 = 0.5 y2 + 0.4 y1[n-1] + e1; y2 = 0.8 y3 + e2; y3 = e3 (no other links). A sustained shift of y2
@@ -89,25 +94,64 @@ TEST(Recommendation, RanksByPredictedSteadyStateReduction) {
   const std::vector<Recommendation> recs = rank_interventions(layout, post, 0, {{2, -0.1}, {1, -0.1}}, opt);
   ASSERT_EQ(recs.size(), 2u);
   // Reducing y2 by 0.1: target -0.05 at once, -0.05/0.6 at steady state. Reducing y3 by 0.1: -0.04, -0.04/0.6.
+  // The point is the median of draws with factor sd 1e-3: within 1e-3 of the closed form.
   EXPECT_EQ(recs[0].action.channel, 1);
-  EXPECT_NEAR(recs[0].steady_state, -0.05 / 0.6, 1e-12);
-  EXPECT_NEAR(recs[0].immediate, -0.05, 1e-12);
+  EXPECT_NEAR(recs[0].steady_state, -0.05 / 0.6, 1e-3);
+  EXPECT_NEAR(recs[0].immediate, -0.05, 1e-3);
   EXPECT_EQ(recs[1].action.channel, 2);
-  EXPECT_NEAR(recs[1].steady_state, -0.04 / 0.6, 1e-12);
+  EXPECT_NEAR(recs[1].steady_state, -0.04 / 0.6, 1e-3);
   for (const auto& r : recs) {
     EXPECT_EQ(r.status, AnalysisStatus::ok);
+    EXPECT_EQ(r.answer.kind, AnswerKind::steady_state);
     EXPECT_TRUE(r.interval_valid);
+    EXPECT_TRUE(r.reliable);
     EXPECT_LE(r.lower, r.steady_state);
     EXPECT_GE(r.upper, r.steady_state);
     EXPECT_DOUBLE_EQ(r.coverage, 0.9);
   }
-  EXPECT_EQ(recs[0].text.rfind("Reduce bearing 2 by 0.1 g: bearing 1 is predicted to drop by 0.0833 g (90% interval ", 0), 0u)
-      << recs[0].text;
+  EXPECT_EQ(recs[0].text.rfind("Reduce bearing 2 by 0.1 g: bearing 1 is predicted to drop by 0.08", 0), 0u) << recs[0].text;
+  EXPECT_NE(recs[0].text.find(") at steady state, 0.0500 at once."), std::string::npos) << recs[0].text;
 
   EXPECT_THROW(rank_interventions(layout, post, 0, {{0, -0.1}}, opt), std::invalid_argument);
   EXPECT_THROW(rank_interventions(layout, post, 3, {{1, -0.1}}, opt), std::invalid_argument);
   opt.channel_names = {"a"};
   EXPECT_THROW(rank_interventions(layout, post, 0, {{1, -0.1}}, opt), std::invalid_argument);
+}
+
+// Ranking rule: by the interval bound in the helpful direction, and an interval that includes no change is
+// never ranked as if it helped. y1 = 0.6 y2 + 0.3 y3 + e1 (no lags): cutting y2 by 0.1 gives -0.06 but with a
+// wide interval (sd of x12 = 0.5: upper bound > 0); cutting y3 by 0.1 gives -0.03 with a narrow one.
+TEST(Recommendation, RanksByTheHelpfulBoundAndNeverRecommendsAnUnsureLever) {
+  ModelSpec spec;
+  spec.channels = 3;
+  spec.instantaneous_allowed = {{false, true, true}, {false, false, false}, {false, false, false}};
+  const SvarLayout layout(spec);
+  FactorPosterior post;
+  post.mean = Eigen::VectorXd::Zero(layout.total_factors());
+  const int i12 = layout.factor_index(0, 1, 0), i13 = layout.factor_index(0, 2, 0);
+  post.mean(layout.offset(0) + i12) = 0.6;
+  post.mean(layout.offset(0) + i13) = 0.3;
+  for (int k = 0; k < 3; ++k) post.blocks.push_back(Eigen::MatrixXd::Zero(layout.factor_count(k), layout.factor_count(k)));
+  post.blocks[0](i12, i12) = 0.5 * 0.5;
+  post.blocks[0](i13, i13) = 0.01 * 0.01;
+  RecommendationOptions opt;
+  opt.uncertainty.draws = 1000;
+  const auto recs = rank_interventions(layout, post, 0, {{1, -0.1}, {2, -0.1}}, opt);
+  ASSERT_EQ(recs.size(), 2u);
+  // Closed form: y2 cut -> 0.6 * -0.1 = -0.06, 90 % interval -0.06 -/+ 1.645 * 0.05 = [-0.142, +0.022].
+  EXPECT_EQ(recs[0].action.channel, 2) << "the sure, smaller reduction ranks first";
+  EXPECT_TRUE(recs[0].reliable);
+  EXPECT_NEAR(recs[0].effect, -0.03, 3e-4);
+  EXPECT_EQ(recs[1].action.channel, 1);
+  EXPECT_FALSE(recs[1].reliable) << recs[1].text;
+  EXPECT_NEAR(recs[1].effect, -0.06, 0.01);
+  EXPECT_NEAR(recs[1].upper, -0.06 + 1.645 * 0.05, 0.01);
+  EXPECT_GT(recs[1].upper, 0.0);
+  EXPECT_NE(recs[1].text.find("direction of the effect is uncertain"), std::string::npos) << recs[1].text;
+  for (const auto& r : recs) {
+    EXPECT_LE(r.lower, r.effect);
+    EXPECT_GE(r.upper, r.effect);
+  }
 }
 
 TEST(Recommendation, CandidatesFromExcess) {

@@ -67,6 +67,10 @@ TEST(RecommenderParams, ShippedFileLoads) {
   EXPECT_DOUBLE_EQ(r.advice.coverage, a["coverage"].as<double>());
   EXPECT_EQ(r.advice.draws, a["draws"].as<int>());
   EXPECT_EQ(r.advice.model_log_features, a["model_log_features"].as<bool>());
+  EXPECT_DOUBLE_EQ(r.advice.rule.max_stable_radius, a["max_stable_radius"].as<double>());
+  EXPECT_DOUBLE_EQ(r.advice.rule.max_unstable_share, a["max_unstable_share"].as<double>());
+  EXPECT_EQ(r.advice.rule.horizon_snapshots, a["horizon_snapshots"].as<int>());
+  EXPECT_DOUBLE_EQ(r.advice.rule.refuse_unstable_share, a["refuse_unstable_share"].as<double>());
   EXPECT_DOUBLE_EQ(r.health_deadline_s, doc["health"]["deadline_s"].as<double>());
 }
 
@@ -123,6 +127,12 @@ const Mutation kMutations[] = {
     {"draws_too_few", [](YAML::Node& d) { d["recommendations"]["draws"] = 5; }, "recommendations.draws", "got 5"},
     {"max_per_alarm_zero", [](YAML::Node& d) { d["recommendations"]["max_per_alarm"] = 0; },
      "recommendations.max_per_alarm", "got 0"},
+    {"stable_radius_one", [](YAML::Node& d) { d["recommendations"]["max_stable_radius"] = 1.0; },
+     "recommendations.max_stable_radius", "(0, 1)"},
+    {"horizon_zero", [](YAML::Node& d) { d["recommendations"]["horizon_snapshots"] = 0; },
+     "recommendations.horizon_snapshots", "got 0"},
+    {"missing_horizon", [](YAML::Node& d) { d["recommendations"].remove("horizon_snapshots"); },
+     "recommendations.horizon_snapshots", "missing"},
     {"recommendations_typo", [](YAML::Node& d) { d["recommendations"]["draw"] = 100; }, "recommendations.draw",
      "unknown key"},
     // Values each field accepts on its own but AlarmParams::validate refuses: the message must still name

@@ -10,6 +10,7 @@
 // sampler, own dense (W3) solve).
 #include "advisor.hpp"
 
+#include "causal/analysis/bounded_answer.hpp"
 #include "causal/analysis/recommendation.hpp"
 #include "causal/analysis/uncertainty.hpp"
 
@@ -167,8 +168,18 @@ TEST(Advisor, WhatIfUsesTheFullCovarianceBlocks) {
   const auto b = diag.what_if("ims2", 0, delta, true);
   ASSERT_TRUE(a.ok) << a.error;
   ASSERT_TRUE(b.ok) << b.error;
-  EXPECT_NEAR(a.steady_state[1], 0.7 * delta, 1e-12);
-  EXPECT_NEAR(b.steady_state[1], 0.7 * delta, 1e-12);
+  // The point is the median of the draws (linear in the factors here: the closed form up to Monte Carlo error).
+  EXPECT_EQ(a.diag.kind, "steady_state");
+  EXPECT_NEAR(a.steady_state[1], 0.7 * delta, 0.1 * std::abs(delta) * kSigma);
+  EXPECT_NEAR(b.steady_state[1], 0.7 * delta, 0.1 * std::abs(delta) * kSigma * std::sqrt(2.0));
+  EXPECT_DOUBLE_EQ(a.steady_state[0], delta);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LE(a.lower[k], a.effect[k]);
+    EXPECT_GE(a.upper[k], a.effect[k]);
+  }
+  // Percent of the current level (log-level model): 100 (e^d - 1), the intervened channel exactly -9.5 %.
+  EXPECT_NEAR(a.percent[0], 100.0 * std::expm1(delta), 1e-12);
+  EXPECT_NE(a.text.find("at steady state, 90 % intervals, model stable rho="), std::string::npos) << a.text;
 
   // Channel 2 against the closed forms: full (rho = -0.9) and diagonal (rho = 0). Tolerance: Monte Carlo error
   // of a 5 % quantile with 4000 draws is about 0.035 sd; allow 0.15 sd.
@@ -201,10 +212,11 @@ TEST(Advisor, WhatIfUsesTheFullCovarianceBlocks) {
   u.coverage = kCoverage;
   u.draws = params().draws;
   const causal::analysis::FactorPosterior posterior{mean_factors(l), correlated_blocks(l)};
-  const auto ref = causal::analysis::predict_intervention_with_uncertainty(l, posterior, q, u);
-  ASSERT_TRUE(ref.interval_valid);
-  EXPECT_TRUE((a.lower.array() == ref.steady_state.lower.array()).all());
-  EXPECT_TRUE((a.upper.array() == ref.steady_state.upper.array()).all());
+  const auto ref = causal::analysis::answer_intervention(l, posterior, q, params().rule, u);
+  ASSERT_TRUE(ref.answered());
+  EXPECT_TRUE((a.lower.array() == ref.effect.lower.array()).all());
+  EXPECT_TRUE((a.upper.array() == ref.effect.upper.array()).all());
+  EXPECT_TRUE((a.effect.array() == ref.effect.median.array()).all());
 }
 
 TEST(Advisor, RecommendationIntervalUsesTheFullCovarianceBlocks) {
@@ -226,6 +238,35 @@ TEST(Advisor, RecommendationIntervalUsesTheFullCovarianceBlocks) {
   EXPECT_NEAR(b[0].lower, want_diag.lower, 0.15 * sd_diag);
   EXPECT_NEAR(b[0].upper, want_diag.upper, 0.15 * sd_diag);
   EXPECT_LT(a[0].upper - a[0].lower, 0.5 * (b[0].upper - b[0].lower));
+  // Same draws for point and interval; "reliable" means the interval excludes no reduction; one line in the text.
+  for (const auto* item : {&a[0], &b[0]}) {
+    EXPECT_LE(item->lower, item->effect);
+    EXPECT_GE(item->upper, item->effect);
+    EXPECT_LE(item->percent_lower, item->percent);
+    EXPECT_GE(item->percent_upper, item->percent);
+    EXPECT_GE(item->percent_lower, -100.0);
+    EXPECT_EQ(item->reliable, item->upper < 0.0);
+    EXPECT_EQ(item->diag.kind, "steady_state");
+    EXPECT_NE(item->summary.find("at steady state: "), std::string::npos) << item->summary;
+    EXPECT_NE(item->summary.find(" (90 %), model stable rho="), std::string::npos) << item->summary;
+    EXPECT_NE(item->text.find(item->summary), std::string::npos) << item->text;
+    EXPECT_EQ(item->text.rfind(item->reliable ? "Reduce b1 by 9.5 %" : "No reliable lever for b2", 0), 0u) << item->text;
+  }
+}
+
+TEST(Advisor, ARawLevelCannotBeReducedByMoreThanItsLevel) {
+  const SvarLayout l = make_layout();
+  AdvisorParams p = params();
+  p.model_log_features = false;
+  Advisor adv(p);
+  adv.update(observation(l, true));  // channel 1's level is 0.2
+  const auto bad = adv.what_if("ims2", 0, -0.5, true);
+  EXPECT_FALSE(bad.ok);
+  EXPECT_NE(bad.error.find("impossible intervention on b1"), std::string::npos) << bad.error;
+  EXPECT_NE(bad.error.find("below zero"), std::string::npos) << bad.error;
+  const auto good = adv.what_if("ims2", 0, -0.1, true);
+  ASSERT_TRUE(good.ok) << good.error;
+  EXPECT_NEAR(good.percent[0], -50.0, 1e-12);  // -0.1 of a level 0.2
 }
 
 TEST(Advisor, AChannelWithinItsNormalSpreadIsNoCandidate) {

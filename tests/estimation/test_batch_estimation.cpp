@@ -85,6 +85,61 @@ TEST(BatchEstimation, FilterAndRtsEqualDenseReference) {
   ASSERT_TRUE(rts.innovations.bottomRows(10).isApprox(filt.innovations.bottomRows(10)));
 }
 
+// RTS smooths block by block (kRtsBlock samples, recomputed from filter checkpoints): across block boundaries,
+// a gap and a rejected sample it must still equal the dense textbook smoother over the whole record.
+TEST(BatchEstimation, BlockwiseRtsEqualsDenseReferenceAcrossBlocks) {
+  SvarLayout layout(spec_g(3, 1));
+  const std::vector<NoiseParams> noise = {{1e-6, 0.02, 1.0}, {1e-5, 0.05, 0.5}, {1e-6, 0.01, 2.0}};
+  const int n = static_cast<int>(2 * kRtsBlock + 37);
+  GappyData data = gappy(layout, noise, n, 12);
+  data.disc[kRtsBlock] = true;           // a segment starts exactly at a block boundary
+  data.sim.y(kRtsBlock - 1, 0) = kNaN;   // and the sample before it is rejected
+  ASSERT_LT(data.sim.y.cwiseAbs().maxCoeff(), 1e3);  // NaN-aware: the simulated system stayed stable
+  const test::DenseReference ref(layout, noise, data.sim.y, data.disc);
+  const EstimationRun rts = run_rts_smoother(layout, noise, data.sim.y, data.disc);
+  ASSERT_EQ(rts.estimates.rows(), n);
+  for (int i = 0; i < n; ++i) {
+    ASSERT_MATRIX_NEAR(rts.estimates.row(i).transpose(), ref.x_smooth[i], 1e-9) << "n = " << i;
+    ASSERT_MATRIX_NEAR(rts.std_devs.row(i).transpose(), ref.p_smooth[i].diagonal().cwiseSqrt(), 1e-9);
+  }
+}
+
+// Decimated output keeps exactly the rows of the full run (every = 7: row i is sample 7 i).
+TEST(BatchEstimation, DecimatedOutputKeepsExactlyTheFullRunsRows) {
+  SvarLayout layout(spec_g(4, 1));
+  const std::vector<NoiseParams> noise = {{1e-6, 0.02, 1.0}};
+  const int n = static_cast<int>(kRtsBlock + 500);
+  const GappyData data = gappy(layout, noise, n, 21);
+  const BatchOutput every7{7};
+  const EstimationRun full[] = {run_filter(layout, noise, data.sim.y, data.disc),
+                                run_rts_smoother(layout, noise, data.sim.y, data.disc),
+                                run_fixed_lag_smoother(layout, noise, data.sim.y, data.disc, 9)};
+  const EstimationRun dec[] = {run_filter(layout, noise, data.sim.y, data.disc, every7),
+                               run_rts_smoother(layout, noise, data.sim.y, data.disc, every7),
+                               run_fixed_lag_smoother(layout, noise, data.sim.y, data.disc, 9, every7)};
+  for (int e = 0; e < 3; ++e) {
+    ASSERT_EQ(dec[e].estimates.rows(), (n + 6) / 7);
+    for (Eigen::Index i = 0; i < dec[e].estimates.rows(); ++i) {
+      ASSERT_EQ(dec[e].estimates.row(i), full[e].estimates.row(7 * i)) << e << " " << i;
+      ASSERT_EQ(dec[e].std_devs.row(i), full[e].std_devs.row(7 * i)) << e << " " << i;
+    }
+    ASSERT_EQ(dec[e].innovations.rows(), n);  // innovations stay per sample
+    for (int i = 0; i < n; ++i) {
+      for (int k = 0; k < 4; ++k) {
+        const double a = dec[e].innovations(i, k), b = full[e].innovations(i, k);
+        ASSERT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << e << " " << i << " " << k;
+      }
+    }
+  }
+  // Without innovations: the same estimates, no per-sample innovation storage.
+  const EstimationRun lean = run_rts_smoother(layout, noise, data.sim.y, data.disc, BatchOutput{7, false});
+  EXPECT_EQ(lean.innovations.rows(), 0);
+  EXPECT_EQ(lean.innovation_variances.rows(), 0);
+  EXPECT_EQ(lean.estimates, dec[1].estimates);
+  EXPECT_EQ(lean.std_devs, dec[1].std_devs);
+  EXPECT_THROW(run_filter(layout, noise, data.sim.y, data.disc, BatchOutput{0}), std::invalid_argument);
+}
+
 TEST(BatchEstimation, RtsMatchesDenseReferenceOnGenericDimensionPath) {
   SvarLayout layout(spec_g(5, 3));  // 16 factors per outcome: dynamic-size kernels
   const std::vector<NoiseParams> noise = {{1e-4, 0.05, 1.0}};

@@ -92,7 +92,7 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
   for (const std::string estimator : {"filter", "fixed-lag", "rts"}) {
     SCOPED_TRACE(estimator);
     const Result res = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --estimator " + estimator +
-                           " --lag 7 --q 2e-5 --r 0.02 --p0 1");
+                           " --lag 7 --q 2e-5 --r 0.02 --p0 1 --no-standardise");
     ASSERT_EQ(res.exit_code, 0) << res.err;
     const auto rows = parse_csv(slurp(out));
     ASSERT_EQ(rows.size(), 201u);
@@ -117,6 +117,116 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
   const Result tuned = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --auto-noise");
   ASSERT_EQ(tuned.exit_code, 0) << tuned.err;
   EXPECT_NE(tuned.err.find("auto-noise: outcome 3"), std::string::npos) << tuned.err;
+}
+
+std::string channels_csv(const Eigen::MatrixXd& y) {
+  std::string csv = "alpha,beta,gamma\n";
+  for (Eigen::Index n = 0; n < y.rows(); ++n) {
+    csv += number(y(n, 0)) + "," + number(y(n, 1)) + "," + number(y(n, 2)) + "\n";
+  }
+  return csv;
+}
+
+// Scale invariance end to end: 'beta' in other units (x1e6, x1e-9) gives the factors of the unscaled file
+// times the exact unit relation x_kj -> x_kj s_k / s_j, with fixed and with tuned noise, never NaN.
+TEST_F(CausalOfflineCli, ChannelUnitsDoNotChangeTheFactors) {
+  ModelSpec spec;
+  spec.channels = 3;
+  SvarLayout layout(spec);
+  const test::Simulation sim = test::simulate_svar(layout, {NoiseParams{2e-5, 0.02, 1.0}}, 400, 17);
+  const std::vector<std::string> names = layout.factor_names();
+  const fs::path base_in = write("base.csv", channels_csv(sim.y));
+  for (const std::string noise : {"", " --auto-noise --calibration-samples 200"}) {
+    SCOPED_TRACE(noise);
+    const fs::path base_out = dir_ / "base_factors.csv";
+    const Result base = run("\"" + base_in.string() + "\" -o \"" + base_out.string() + "\"" + noise);
+    ASSERT_EQ(base.exit_code, 0) << base.err;
+    const auto ref = parse_csv(slurp(base_out));
+    ASSERT_EQ(ref.size(), 401u);
+    for (double f : {1e6, 1e-9}) {
+      SCOPED_TRACE(f);
+      Eigen::MatrixXd y = sim.y;
+      y.col(1) *= f;
+      const fs::path in = write("scaled.csv", channels_csv(y));
+      const fs::path out = dir_ / "scaled_factors.csv";
+      const Result res = run("\"" + in.string() + "\" -o \"" + out.string() + "\"" + noise);
+      ASSERT_EQ(res.exit_code, 0) << res.err;
+      const std::string text = slurp(out);
+      EXPECT_EQ(text.find("nan"), std::string::npos);
+      const auto rows = parse_csv(text);
+      ASSERT_EQ(rows.size(), 401u);
+      ASSERT_EQ(rows[0], ref[0]);
+      double worst = 0.0;
+      for (int c = 0; c < 12; ++c) {
+        // names x{k}{j} / xL{k}{j}: channel 2 (beta) as outcome divides by f, as regressor multiplies
+        const std::string& nm = names[c];
+        const int k = nm[nm.size() - 2] - '0', j = nm[nm.size() - 1] - '0';
+        const double u = (k == 2 ? 1.0 / f : 1.0) * (j == 2 ? f : 1.0);
+        for (std::size_t n = 1; n < rows.size(); ++n) {
+          worst = std::max(worst, std::abs(std::stod(rows[n][1 + c]) * u - std::stod(ref[n][1 + c])));
+          worst = std::max(worst, std::abs(std::stod(rows[n][13 + c]) * u - std::stod(ref[n][13 + c])));
+        }
+      }
+      EXPECT_LT(worst, 1e-9);
+    }
+  }
+}
+
+TEST_F(CausalOfflineCli, DeadOrStuckChannelIsRefusedNamingIt) {
+  ModelSpec spec;
+  spec.channels = 3;
+  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 200, 3);
+  for (double level : {0.0, 2.5}) {
+    Eigen::MatrixXd y = sim.y;
+    y.col(1).setConstant(level);
+    const fs::path in = write("dead.csv", channels_csv(y));
+    for (const std::string extra : {"", " --auto-noise", " --no-standardise --estimator filter"}) {
+      SCOPED_TRACE(extra);
+      const Result res = run("\"" + in.string() + "\" -o \"" + (dir_ / "o.csv").string() + "\"" + extra);
+      EXPECT_EQ(res.exit_code, 2);
+      EXPECT_NE(res.err.find("dead.csv: channel 2 'beta' is constant over the 200 calibration rows"),
+                std::string::npos)
+          << res.err;
+    }
+  }
+}
+
+// Raw units at 1e160 overflow the filter: an error exit naming factor, channel, row and file line; never NaN
+// with exit 0. Standardised, the same file is estimated normally.
+TEST_F(CausalOfflineCli, NonFiniteEstimateExitsNonZeroNamingFactorChannelAndRow) {
+  ModelSpec spec;
+  spec.channels = 3;
+  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 100, 4);
+  const fs::path in = write("huge.csv", channels_csv(sim.y * 1e160));
+  const fs::path out = dir_ / "o.csv";
+  Result res = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --no-standardise --estimator filter");
+  EXPECT_EQ(res.exit_code, 1);
+  EXPECT_NE(res.err.find("huge.csv:3: factor x12 (outcome channel 1 'alpha', regressor channel 2 'beta') is not "
+                         "finite at row 1"),
+            std::string::npos)
+      << res.err;
+  EXPECT_EQ(slurp(out).find("nan"), std::string::npos);
+  res = run("\"" + in.string() + "\" -o \"" + out.string() + "\" --estimator rts");
+  EXPECT_EQ(res.exit_code, 0) << res.err;
+  EXPECT_EQ(slurp(out).find("nan"), std::string::npos);
+}
+
+// --every K writes samples 0, K, 2K, ... with exactly the values of the full run.
+TEST_F(CausalOfflineCli, EveryKWritesTheFullRunsRows) {
+  ModelSpec spec;
+  spec.channels = 3;
+  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 301, 8);
+  const fs::path in = write("in.csv", channels_csv(sim.y));
+  const fs::path full = dir_ / "full.csv", dec = dir_ / "dec.csv";
+  ASSERT_EQ(run("\"" + in.string() + "\" -o \"" + full.string() + "\" --auto-noise").exit_code, 0);
+  const Result res = run("\"" + in.string() + "\" -o \"" + dec.string() + "\" --auto-noise --every 10");
+  ASSERT_EQ(res.exit_code, 0) << res.err;
+  const auto f = parse_csv(slurp(full)), d = parse_csv(slurp(dec));
+  ASSERT_EQ(f.size(), 302u);
+  ASSERT_EQ(d.size(), 32u);  // header + samples 0, 10, ..., 300
+  EXPECT_EQ(d[0], f[0]);
+  for (std::size_t i = 1; i < d.size(); ++i) EXPECT_EQ(d[i], f[1 + 10 * (i - 1)]) << i;
+  EXPECT_EQ(run("\"" + in.string() + "\" --every 0").exit_code, 2);
 }
 
 TEST_F(CausalOfflineCli, MalformedFilesExitWithCode2AndNameTheLine) {

@@ -4,6 +4,8 @@
 // Snapshot i is 2004-02-12 10:32:39 + 10 i min; the index of an alarm is computed here from its time.
 // Bar: a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 533, and no alarm
 // of any kind before snapshot 500.
+// Issue 11 on the same run: every recommendation and a live what-if answer are honest (point inside its
+// interval, percent never below -100 %, horizon and stability named; see check_honest_advice below).
 #include "dds_observer.hpp"
 #include "process_runner.hpp"
 
@@ -11,8 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 
 namespace fs = std::filesystem;
 using causal::test::DdsObserver;
@@ -20,7 +24,41 @@ using causal::test::ServiceProcess;
 
 namespace {
 constexpr std::int64_t kTenMinutesNs = 600LL * 1000000000LL;
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Issue 11: no recommendation with its point outside its interval, no percent beyond -100 %, every one names
+// its horizon (or steady state, or refusal) and stability in one line that its text carries.
+void check_honest_advice(const std::vector<causal_twin::Recommendation>& recs) {
+  const std::set<std::string> kinds{"steady_state", "horizon", "refused"};
+  for (const auto& r : recs) {
+    std::printf("recommendation %s [%s, reliable %s]: %s\n", r.recommendation_id().c_str(), r.answer_kind().c_str(),
+                r.reliable() ? "yes" : "no", r.text().c_str());
+    EXPECT_EQ(kinds.count(r.answer_kind()), 1u) << r.answer_kind();
+    EXPECT_TRUE(contains(r.text(), r.summary())) << r.text();
+    EXPECT_GT(r.draws(), 0u);
+    EXPECT_LE(r.unstable_draws(), r.draws());
+    EXPECT_TRUE(contains(r.summary(), "draws unstable")) << r.summary();
+    if (r.answer_kind() == "refused") {
+      EXPECT_FALSE(r.reliable());
+      EXPECT_TRUE(contains(r.summary(), "refused: ")) << r.summary();
+      continue;
+    }
+    EXPECT_TRUE(contains(r.summary(), "rho=")) << r.summary();
+    EXPECT_TRUE(contains(r.summary(), r.answer_kind() == "horizon" ? "after 12 snapshots: " : "at steady state: "))
+        << r.summary();
+    EXPECT_EQ(r.horizon_snapshots(), r.answer_kind() == "horizon" ? 12u : 0u);
+    EXPECT_LE(r.effect_low(), r.effect_median()) << r.text();
+    EXPECT_GE(r.effect_high(), r.effect_median()) << r.text();
+    EXPECT_LE(r.effect_percent_low(), r.effect_percent()) << r.text();
+    EXPECT_GE(r.effect_percent_high(), r.effect_percent()) << r.text();
+    EXPECT_GE(r.effect_percent_low(), -100.0) << r.text();
+    EXPECT_EQ(r.answer_kind() == "steady_state", std::isfinite(r.effect_steady_state())) << r.text();
+    EXPECT_EQ(r.reliable(), r.effect_high() < 0.0) << r.text();
+    EXPECT_EQ(r.reliable(), !contains(r.text(), "No reliable lever")) << r.text();
+  }
 }
+}  // namespace
 
 TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
   const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
@@ -33,7 +71,8 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
   fs::create_directories(work);
   const std::string d = std::to_string(causal::test::private_domain_id(2));
   DdsObserver observer(std::stoi(d));
-  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "5", "--max-runtime", "300"},
+  // idle-exit 15: room for the what-if below after the estimator has left.
+  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "15", "--max-runtime", "300"},
                        (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
@@ -48,6 +87,30 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
   ASSERT_TRUE(replay_code.has_value()) << replay.output();
   EXPECT_EQ(*replay_code, 0) << replay.output();
   ASSERT_TRUE(estimator.wait(std::chrono::seconds(120)).has_value()) << estimator.output();
+  // Issue 11: a what-if on the final IMS model, a sustained 10 % cut of bearing 1's level: answered honestly
+  // (medians inside their intervals, horizon and stability named) or refused with the reason.
+  causal_twin::WhatIfRequest question;
+  question.request_id("it-ims-" + std::to_string(getpid()));
+  question.asset_group("ims2-shaft1");
+  question.intervene_channel(1);
+  question.delta(std::log(0.9));
+  question.sustained(true);
+  const auto reply = observer.ask(question, std::chrono::seconds(20));
+  ASSERT_TRUE(reply.has_value()) << "no what-if reply; alarm log:\n" << alarm.output();
+  std::printf("what-if [%s]: %s\n", reply->answer_kind().c_str(), (reply->ok() ? reply->text() : reply->error()).c_str());
+  if (reply->ok()) {
+    EXPECT_TRUE(reply->answer_kind() == "steady_state" || reply->answer_kind() == "horizon") << reply->answer_kind();
+    EXPECT_TRUE(contains(reply->text(), "draws unstable")) << reply->text();
+    ASSERT_EQ(reply->effect_median().size(), 4u);
+    for (std::size_t k = 0; k < 4; ++k) {
+      EXPECT_LE(reply->effect_low()[k], reply->effect_median()[k]);
+      EXPECT_GE(reply->effect_high()[k], reply->effect_median()[k]);
+      EXPECT_GE(reply->effect_percent_low()[k], -100.0);
+    }
+  } else {
+    EXPECT_EQ(reply->answer_kind(), "refused");
+    EXPECT_TRUE(contains(reply->error(), "refused: ")) << reply->error();
+  }
   ASSERT_TRUE(alarm.wait(std::chrono::seconds(120)).has_value()) << alarm.output();
 
   EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u * 4u);
@@ -81,6 +144,9 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
   }
   EXPECT_TRUE(met) << "no sustained bearing-1 alarm with root cause bearing 1 by snapshot 533; alarm log:\n"
                    << alarm.output();
+  const auto recs = observer.recommendations();
+  EXPECT_FALSE(recs.empty()) << alarm.output();
+  check_honest_advice(recs);
   if (!HasFailure()) fs::remove_all(work);
   causal::test::clean_stale_shared_memory();
 }

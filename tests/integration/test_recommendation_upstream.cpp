@@ -130,15 +130,19 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
   const auto reply = observer.ask(sustained_cut(2), std::chrono::seconds(20));
   ASSERT_TRUE(reply.has_value()) << "no what-if reply; alarm log:\n" << alarm.output();
   ASSERT_TRUE(reply->ok()) << reply->error();
-  ASSERT_EQ(reply->effect_steady_state().size(), 4u);
+  ASSERT_EQ(reply->effect_median().size(), 4u);
   std::printf("[%s] what-if: %s\n", sc.name, reply->text().c_str());
   for (std::size_t k = 0; k < 4; ++k) {
-    std::printf("[%s]   bearing%zu: steady state %+.4f, 90 %% interval [%+.4f, %+.4f] log-level\n", sc.name, k + 1,
-                reply->effect_steady_state()[k], reply->effect_low()[k], reply->effect_high()[k]);
+    std::printf("[%s]   bearing%zu: %s %+.4f, 90 %% interval [%+.4f, %+.4f] log-level\n", sc.name, k + 1,
+                reply->answer_kind().c_str(), reply->effect_median()[k], reply->effect_low()[k], reply->effect_high()[k]);
   }
+  // The answered effect: a steady state, or (the estimated model absorbs bearing 2's ramp in its self lag and
+  // ends near or past a unit root) the effect after 12 snapshots. In the TRUE system both are the same to
+  // 0.3^12 = 5e-7 of the effect, so one truth serves both.
+  ASSERT_TRUE(reply->answer_kind() == "steady_state" || reply->answer_kind() == "horizon") << reply->error();
   // Bearing 1 follows bearing 2 (true steady-state elasticity (0.8 + 0.2) / (1 - 0.3) = 1.43): it must fall.
-  EXPECT_LT(reply->effect_steady_state()[0], 0.0) << reply->text();
-  EXPECT_NEAR(reply->effect_steady_state()[1], std::log(0.9), 1e-12) << "the intervened channel moves by delta";
+  EXPECT_LT(reply->effect_median()[0], 0.0) << reply->text();
+  EXPECT_NEAR(reply->effect_median()[1], std::log(0.9), 1e-12) << "the intervened channel moves by delta";
   if (learned) {
     // Bearings 3 and 4 have no path from bearing 2: the true effect is 0 and must lie in the stated interval,
     // and the point prediction must be small next to bearing 1's (true elasticity 1.43: -0.151 in log units).
@@ -150,7 +154,7 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
     for (int k : {2, 3}) {
       EXPECT_LE(reply->effect_low()[k], 0.0) << reply->text();
       EXPECT_GE(reply->effect_high()[k], 0.0) << reply->text();
-      EXPECT_LT(std::abs(reply->effect_steady_state()[k]), 0.2 * std::abs(reply->effect_steady_state()[0]))
+      EXPECT_LT(std::abs(reply->effect_median()[k]), 0.2 * std::abs(reply->effect_median()[0]))
           << reply->text();
     }
   }
@@ -191,12 +195,15 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
   const auto recs = observer.recommendations();
   bool upstream = false;
   for (const auto& r : recs) {
-    std::printf("[%s] recommendation %s: act on %u, target %u, steady-state effect %.4f [%.4f, %.4f]\n", sc.name,
-                r.recommendation_id().c_str(), r.intervene_channel(), r.target_channel(), r.effect_steady_state(),
-                r.effect_low(), r.effect_high());
+    std::printf("[%s] recommendation %s: act on %u, target %u, %s effect %.4f [%.4f, %.4f]: %s\n", sc.name,
+                r.recommendation_id().c_str(), r.intervene_channel(), r.target_channel(), r.answer_kind().c_str(),
+                r.effect_median(), r.effect_low(), r.effect_high(), r.text().c_str());
+    EXPECT_LE(r.effect_low(), r.effect_median()) << r.text();
+    EXPECT_GE(r.effect_high(), r.effect_median()) << r.text();
     if (r.target_channel() == 1 && r.rank() == 1) {
       EXPECT_EQ(r.intervene_channel(), 2) << r.text();
-      EXPECT_LT(r.effect_steady_state(), 0.0) << r.text();
+      EXPECT_TRUE(r.reliable()) << r.text();
+      EXPECT_LT(r.effect_median(), 0.0) << r.text();
       upstream = r.intervene_channel() == 2;
     }
   }

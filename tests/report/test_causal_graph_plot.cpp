@@ -1,6 +1,6 @@
 // The causal-graph figure (services/causal_report/causal_graph_plot.cpp): which factors become arrows (only
 // cross factors at least min_z sd from 0, with the right direction and lag), which samples are shown, and
-// what the gnuplot script draws for them.
+// what the Graphviz graph draws for them.
 #include "causal_graph_plot.hpp"
 
 #include <gtest/gtest.h>
@@ -93,24 +93,33 @@ TEST(CausalGraphPlot, MomentsAreHealthyHalfwayAndEnd) {
   EXPECT_TRUE(graph_moments(FactorSeries{}, {}).empty());
 }
 
-TEST(CausalGraphPlot, ScriptDrawsOneArrowPerEdgeInEachPanel) {
+TEST(CausalGraphPlot, DotGraphHasOneClusterPerMomentAndOneEdgePerLink) {
   const FactorSeries f = series();
   const std::vector<GraphMoment> moments = {{"healthy", 1}, {"end of run", 4}};
-  const std::string s = causal_graph_script("shaft", f.outcome_names, f, moments, 2.0, PlotStyle{}, "/tmp/g.png");
-  EXPECT_NE(s.find("set multiplot layout 1,2"), std::string::npos);
-  EXPECT_EQ(count(s, "plot NaN notitle"), 2u);
-  EXPECT_EQ(count(s, "set arrow from"), 2u);  // both in the end-of-run panel, none when healthy
-  const std::size_t end_panel = s.find("end of run");
-  ASSERT_NE(end_panel, std::string::npos);
-  EXPECT_GT(s.find("set arrow from"), end_panel);
-  // x12 positive, instantaneous: solid blue; xL21 negative, lagged: dashed red.
-  EXPECT_EQ(count(s, "dt 1 lc rgb '#1f77b4'"), 1u);
-  EXPECT_EQ(count(s, "dt 2 lc rgb '#d62728'"), 1u);
-  EXPECT_NE(s.find("'x12 +0.50'"), std::string::npos);
-  EXPECT_NE(s.find("'xL21 -0.40'"), std::string::npos);
-  EXPECT_NE(s.find("self: xL11 +0.90"), std::string::npos);
-  EXPECT_EQ(count(s, "circle at"), 2u * 3u);  // three channels in each panel
-  EXPECT_NE(s.find("'Bearing 3'"), std::string::npos);
+  const std::string s = causal_graph_dot("shaft", f.outcome_names, f, moments, 2.0);
+  EXPECT_EQ(s.rfind("digraph causal_graph {", 0), 0u);
+  EXPECT_EQ(count(s, "subgraph cluster_"), 2u);
+  // End of run: x12 positive, instantaneous: solid blue 2 -> 1; xL21 negative, lagged: dashed red 1 -> 2.
+  EXPECT_NE(s.find("m1c1 -> m1c0 [color=\"#1f77b4\", fontcolor=\"#1f77b4\", style=solid, penwidth=3.00, "
+                   "label=\"x12 +0.50\"]"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("m1c0 -> m1c1 [color=\"#d62728\", fontcolor=\"#d62728\", style=dashed, penwidth=2.60, "
+                   "label=\"xL21 -0.40\"]"),
+            std::string::npos);
+  EXPECT_NE(s.find("label=\"Bearing 1\\nself xL11 +0.90\"]"), std::string::npos);
+  // Healthy: nothing at 2 sd, so the three strongest links (all |z| = 0.2, kept in factor order) are grey dotted.
+  EXPECT_NE(s.find("healthy\\n"), std::string::npos);
+  EXPECT_NE(s.find("\\nno link at 2 sd"), std::string::npos);
+  EXPECT_EQ(count(s, "style=dotted"), 3u);
+  EXPECT_NE(s.find("m0c1 -> m0c0 [color=\"#999999\""), std::string::npos);
+  EXPECT_NE(s.find("label=\"x12 -0.02 (z 0.2)\""), std::string::npos);
+  EXPECT_EQ(count(s, " -> m1c"), 2u);  // only the two significant links at the end
+  EXPECT_EQ(count(s, "[label=\"Bearing 3"), 2u);  // three channels in each cluster
+}
+
+TEST(CausalGraphPlot, DotQuoteEscapes) {
+  EXPECT_EQ(dot_quote("a\"b\\c\nd"), "\"a\\\"b\\\\c\\nd\"");
 }
 
 }  // namespace

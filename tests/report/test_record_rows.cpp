@@ -94,9 +94,23 @@ TEST(RecordRows, RecommendationRowHasEveryField) {
   r.effect_high(-0.2);
   r.confidence(0.9);
   r.text("reduce load on Bearing 3, then re-check");
-  EXPECT_EQ(recommendation_header().size(), 13u);
+  r.answer_kind("horizon");
+  r.horizon_snapshots(12);
+  r.spectral_radius(0.993);
+  r.draws(400);
+  r.unstable_draws(37);
+  r.unstable_draw_share(0.0925);
+  r.effect_median(-0.3);
+  r.effect_percent(-25.9);
+  r.effect_percent_low(-45.1);
+  r.effect_percent_high(-18.1);
+  r.effect_level_change(-0.02);
+  r.reliable(true);
+  r.summary("after 12 snapshots: -25.9 % [-45.1, -18.1] (90 %)");
+  EXPECT_EQ(recommendation_header().size(), 26u);
   EXPECT_EQ(csv_line(recommendation_row(r)),
-            "x/1,x,g,1,2,3,-0.5,-0.25,-0.4,-0.6,-0.2,0.9,\"reduce load on Bearing 3, then re-check\"\n");
+            "x/1,x,g,1,2,3,-0.5,-0.25,-0.4,-0.6,-0.2,0.9,\"reduce load on Bearing 3, then re-check\",horizon,12,0.993,400,37,"
+            "0.0925,-0.3,-25.9,-45.1,-18.1,-0.02,true,\"after 12 snapshots: -25.9 % [-45.1, -18.1] (90 %)\"\n");
 }
 
 TEST(IndexClock, RemembersTheNewestIndices) {

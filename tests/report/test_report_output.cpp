@@ -104,21 +104,43 @@ TEST(FactorPanelsScript, OnePanelPerFactorWithBandsForBothEstimators) {
   EXPECT_EQ(one.find("$fixedlag"), std::string::npos);
 }
 
-TEST(AlarmTimelineScript, BarsPerSegmentAndRootCauseLabels) {
+TEST(AlarmTimelineScript, OneRowPerChannelAndDetectorLabelledOnTheAxis) {
   std::vector<AlarmSpan> alarms{span("A", 2, Severity::Warning, kT0 + 600, kT0 + 2400, "Bearing 3"),
-                                span("B", 3, Severity::Advisory, kT0 + 1200, std::nullopt, "")};
+                                span("B", 3, Severity::Advisory, kT0 + 1200, std::nullopt, ""),
+                                span("C", 2, Severity::Advisory, kT0 + 3000, std::nullopt, "Bearing 2")};
   alarms[0].segments = {{kT0 + 600, kT0 + 1200, Severity::Warning}, {kT0 + 1200, kT0 + 2400, Severity::Critical}};
+  alarms[1].kind = "innovation_nis";
   const std::string s = alarm_timeline_script("shaft", {"Bearing 1", "Bearing 2", "Bearing 3"}, alarms,
                                               {kT0, kT0 + 3600}, PlotStyle{}, "t.png");
-  EXPECT_NE(s.find("set ytics ('Bearing 1' 1, 'Bearing 2' 2, 'Bearing 3' 3)"), std::string::npos);
+  // Rows: Bearing 1 without alarms, Bearing 2 feature_drift (two episodes, two roots), Bearing 3 innovation_nis.
+  EXPECT_NE(s.find("set ytics ('Bearing 1  (no alarm)' 1, 'Bearing 2  feature_drift  root: Bearing 3, Bearing 2' 2, "
+                   "'Bearing 3  innovation_nis' 3)"),
+            std::string::npos)
+      << s;
   EXPECT_NE(s.find("set yrange [3.5:0.5]"), std::string::npos);
-  // Bars: x centre, y, half width, half height, colour. Warning segment 600..1200 s: centre +900, half 300.
+  // Bars: x centre, y (row), half width, half height, colour. Warning segment 600..1200 s: centre +900, half 300.
   EXPECT_NE(s.find("1076582859.000 2 300 "), std::string::npos);
   EXPECT_NE(s.find(" " + std::to_string(0xD00000) + "\n"), std::string::npos);  // critical segment
-  EXPECT_NE(s.find("'feature_drift, root cause: Bearing 3'"), std::string::npos);
-  EXPECT_NE(s.find("'feature_drift (still active)'"), std::string::npos);
+  EXPECT_EQ(count(s, "set label"), 0u);                                           // no text on the plot area
+  EXPECT_EQ(count(s, "set arrow from graph 0"), 2u);                              // separators between channels
   const std::string none = alarm_timeline_script("shaft", {"B1"}, {}, {kT0, kT0 + 60}, PlotStyle{}, "t.png");
   EXPECT_NE(none.find("no alarms recorded"), std::string::npos);
+}
+
+TEST(ConditionTrendsScript, RobustRangeIgnoresAFewValuesFarBelowButKeepsTheMaximum) {
+  ConditionSeries c;
+  c.feature = "meanabs";
+  c.channels = {"B1"};
+  for (int i = 0; i < 200; ++i) {
+    c.t.push_back(kT0 + 600.0 * i);
+    c.values.resize(1);
+    c.values[0].push_back(i == 199 ? 1e-4 : (i == 198 ? 2.0 : 0.1 + 0.001 * (i % 7)));
+  }
+  const std::string s = condition_trends_script("shaft", {c}, {}, {kT0, kT0 + 600.0 * 200}, PlotStyle{}, "x.png");
+  // 1st percentile of 200 values = the 3rd smallest = 0.1; lower bound 0.1 / 1.5; upper = max 2.0 * 1.3.
+  EXPECT_NE(s.find("set yrange [0.0666666667:2.6]"), std::string::npos) << s;
+  EXPECT_NE(s.find("1 value(s) far below the rest not shown"), std::string::npos);
+  EXPECT_NE(s.find("set ytics (0.1, 0.2, 0.5, 1, 2)\n"), std::string::npos);
 }
 
 TEST(ReportMarkdown, ListsFiguresAndFirstAlarmPerChannel) {

@@ -2,6 +2,7 @@
 
 #include "linear_system.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -95,6 +96,10 @@ CounterfactualResult run(const ModelAt& model_at, int channels, int lag_order, c
                        ": the instantaneous equations have no unique solution";
       result.counterfactual.setConstant(std::numeric_limits<double>::quiet_NaN());
       return result;
+    }
+    if (!held_channels.empty()) {
+      const double rho = check_dynamics(cut).spectral_radius;
+      result.spectral_radius = std::isnan(rho) ? rho : std::max(result.spectral_radius, rho);
     }
     const Eigen::VectorXd d = held_channels.empty() ? Eigen::VectorXd(Eigen::VectorXd::Zero(channels)) : Eigen::VectorXd(solve.solve(rhs));
     dev.row(lag_order + i) = d.transpose();

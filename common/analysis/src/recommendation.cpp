@@ -48,26 +48,19 @@ std::string describe_recommendation(const Recommendation& rec, int target, const
   std::string text = verb + channel_name(rec.action.channel, names) + " by " +
                      with_unit(amount(std::abs(rec.action.delta)), unit) + ": ";
   const std::string target_name = channel_name(target, names);
-  if (rec.status == AnalysisStatus::not_identifiable || rec.status == AnalysisStatus::non_finite_input) {
+  if (!rec.answer.answered()) {
     return text + "the effect on " + target_name + " cannot be predicted (" + rec.message + ").";
   }
   // Two significant digits of the effect, and enough to show the interval's width with one digit.
-  int dec = decimals_for(std::abs(rec.steady_state) > 0.0 && rec.status == AnalysisStatus::ok ? rec.steady_state
-                                                                                              : rec.immediate);
-  if (rec.status == AnalysisStatus::ok && rec.interval_valid && rec.upper > rec.lower) {
+  int dec = decimals_for(std::abs(rec.effect) > 0.0 ? rec.effect : rec.immediate);
+  if (rec.interval_valid && rec.upper > rec.lower) {
     dec = std::clamp(std::max(dec, decimals_for(rec.upper - rec.lower) - 1), 0, 9);
   }
   const bool drop_now = rec.immediate < 0.0;
   const double now = std::abs(rec.immediate);
   const bool no_change_now = now < 0.5 * std::pow(10.0, -dec);
-  if (rec.status == AnalysisStatus::unstable) {
-    return text + target_name + " is predicted to " +
-           (no_change_now ? std::string("not change at once")
-                          : std::string(drop_now ? "drop" : "rise") + " by " + with_unit(fixed(now, dec), unit) + " at once") +
-           ", but the intervened system does not settle, so there is no steady-state prediction.";
-  }
-  const bool drop = rec.steady_state < 0.0;
-  const double size = std::abs(rec.steady_state);
+  const bool drop = rec.effect < 0.0;
+  const double size = std::abs(rec.effect);
   text += target_name + " is predicted to " + (drop ? "drop" : "rise") + " by " + with_unit(fixed(size, dec), unit);
   if (rec.interval_valid) {
     // Interval of the drop (or rise) magnitude, ascending.
@@ -77,7 +70,9 @@ std::string describe_recommendation(const Recommendation& rec, int target, const
     std::snprintf(pct, sizeof pct, "%g", 100.0 * rec.coverage);
     text += std::string(" (") + pct + "% interval " + fixed(lo, dec) + ".." + fixed(hi, dec) + ")";
   }
-  text += " at steady state, ";
+  text += rec.answer.kind == AnswerKind::steady_state
+              ? std::string(" at steady state, ")
+              : " after " + std::to_string(rec.answer.horizon_snapshots) + " snapshots (no reliable steady state), ";
   if (no_change_now) {
     text += "no change at once";
   } else if (drop_now == drop) {
@@ -88,9 +83,6 @@ std::string describe_recommendation(const Recommendation& rec, int target, const
   text += ".";
   if (rec.interval_valid && rec.lower <= 0.0 && rec.upper >= 0.0) {
     text += " The interval includes no change: the direction of the effect is uncertain.";
-  }
-  if (rec.draws_rejected > 0) {
-    text += " (" + std::to_string(rec.draws_rejected) + " of the sampled models did not settle and were left out.)";
   }
   return text;
 }
@@ -116,26 +108,27 @@ std::vector<Recommendation> rank_interventions(const SvarLayout& layout, const F
     query.channel = c.channel;
     query.delta = c.delta;
     query.kind = InterventionKind::sustained;
-    const UncertainEffect u = predict_intervention_with_uncertainty(layout, posterior, query, options.uncertainty);
     Recommendation rec;
     rec.action = c;
-    rec.status = u.point.status;
-    rec.message = u.point.message;
-    rec.immediate = u.point.immediate(target);
-    rec.steady_state = u.point.steady_state(target);
-    rec.interval_valid = u.interval_valid;
-    rec.lower = u.steady_state.lower(target);
-    rec.upper = u.steady_state.upper(target);
-    rec.coverage = u.coverage;
-    rec.draws_rejected = u.draws_rejected;
+    rec.answer = answer_intervention(layout, posterior, query, options.rule, options.uncertainty);
+    rec.status = rec.answer.status;
+    rec.message = rec.answer.reason;
+    rec.immediate = rec.answer.immediate.median(target);
+    rec.effect = rec.answer.effect.median(target);
+    rec.steady_state = rec.answer.kind == AnswerKind::steady_state ? rec.effect : std::nan("");
+    rec.lower = rec.answer.effect.lower(target);
+    rec.upper = rec.answer.effect.upper(target);
+    rec.interval_valid = rec.answer.answered();
+    rec.reliable = rec.interval_valid && rec.upper < 0.0;
+    rec.coverage = rec.answer.coverage;
     rec.text = describe_recommendation(rec, target, options.channel_names, options.unit);
-    out.push_back(rec);
+    out.push_back(std::move(rec));
   }
-  std::stable_sort(out.begin(), out.end(), [](const Recommendation& a, const Recommendation& b) {
-    const bool aok = a.status == AnalysisStatus::ok;
-    const bool bok = b.status == AnalysisStatus::ok;
-    if (aok != bok) return aok;
-    if (aok && a.steady_state != b.steady_state) return a.steady_state < b.steady_state;
+  // 0 reliable, 1 answered but unreliable, 2 refused.
+  const auto tier = [](const Recommendation& r) { return r.reliable ? 0 : r.interval_valid ? 1 : 2; };
+  std::stable_sort(out.begin(), out.end(), [&](const Recommendation& a, const Recommendation& b) {
+    if (tier(a) != tier(b)) return tier(a) < tier(b);
+    if (tier(a) < 2 && a.upper != b.upper) return a.upper < b.upper;
     return a.action.channel < b.action.channel;
   });
   return out;

@@ -1,10 +1,10 @@
 #include "causal/analysis/uncertainty.hpp"
 
-#include <Eigen/Eigenvalues>
+#include "posterior_draws.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -32,42 +32,14 @@ void unstack(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, const Eigen::
   if (lo.size() > 2 * g) out.cumulative = {lo.segment(2 * g, g), hi.segment(2 * g, g), sd.segment(2 * g, g)};
 }
 
-// Linear interpolation between order statistics at p (0..1) of a sorted sample.
-double percentile(const std::vector<double>& sorted, double p) {
-  const double pos = p * static_cast<double>(sorted.size() - 1);
-  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
-  const double w = pos - static_cast<double>(lo);
-  return sorted[lo] * (1.0 - w) + sorted[hi] * w;
-}
-
-// Symmetric square root S with S S^T = P; negative eigenvalues (rounding, fixed factors) clipped to 0 so a
-// semi-definite block still gives valid draws.
-Eigen::MatrixXd psd_sqrt(const Eigen::MatrixXd& p) {
-  if (p.size() == 0) return p;  // fully masked outcome: no factors
-  const Eigen::MatrixXd sym = 0.5 * (p + p.transpose());
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(sym);
-  if (es.info() != Eigen::Success) throw std::invalid_argument("factor covariance block has no eigen-decomposition");
-  return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
-}
-
 void monte_carlo(const SvarLayout& layout, const FactorPosterior& posterior, const InterventionQuery& query,
                  const UncertaintyOptions& options, UncertainEffect& out) {
   const Eigen::Index g = layout.channels();
-  std::vector<Eigen::MatrixXd> roots;
-  for (const auto& block : posterior.blocks) roots.push_back(psd_sqrt(block));
-  std::mt19937_64 rng(options.seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
+  detail::PosteriorSampler sampler(layout, posterior, options.seed);
   const Eigen::Index width = stack(out.point).size();
   std::vector<std::vector<double>> samples(static_cast<std::size_t>(width));
-  Eigen::VectorXd x(posterior.mean.size());
   for (int d = 0; d < options.draws; ++d) {
-    for (int k = 0; k < layout.channels(); ++k) {
-      const int fk = layout.factor_count(k);
-      Eigen::VectorXd z(fk);
-      for (int i = 0; i < fk; ++i) z(i) = normal(rng);
-      x.segment(layout.offset(k), fk) = posterior.mean.segment(layout.offset(k), fk) + roots[static_cast<std::size_t>(k)] * z;
-    }
+    const Eigen::VectorXd& x = sampler.next();
     const InterventionEffect e = predict_intervention(assemble_structural_model(layout, x), query);
     const Eigen::VectorXd v = stack(e);
     if (e.status != AnalysisStatus::ok || !v.allFinite()) {
@@ -86,8 +58,8 @@ void monte_carlo(const SvarLayout& layout, const FactorPosterior& posterior, con
     const double mean = m.mean();
     sd(i) = std::sqrt((m.array() - mean).square().sum() / static_cast<double>(s.size() - 1));
     std::sort(s.begin(), s.end());
-    lo(i) = percentile(s, tail);
-    hi(i) = percentile(s, 1.0 - tail);
+    lo(i) = detail::percentile(s, tail);
+    hi(i) = detail::percentile(s, 1.0 - tail);
   }
   unstack(lo, hi, sd, g, out);
   out.interval_valid = true;

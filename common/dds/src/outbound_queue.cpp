@@ -7,6 +7,9 @@ namespace causal::dds {
 
 OutboundQueue::OutboundQueue(std::size_t capacity) : capacity_(capacity) {
   if (capacity == 0) throw std::invalid_argument("outbound queue capacity must be >= 1");
+  depth_metric_ = metrics::process_metrics().gauge_callback(
+      "outbound_queue_depth", "Messages waiting between the filters and the DDS writers (queued and in flight)", {},
+      [this] { return static_cast<double>(depth_.load()); });
   thread_ = std::thread([this] { run(); });
 }
 
@@ -15,6 +18,28 @@ OutboundQueue::~OutboundQueue() {
   closing_.store(true);
   changed_.notify_all();
   if (thread_.joinable()) thread_.join();
+  depth_metric_.reset();
+}
+
+OutboundQueue::StreamMetrics& OutboundQueue::metrics_of(const std::string& stream) {
+  auto [it, inserted] = metrics_.try_emplace(stream);
+  if (inserted) {
+    auto& m = metrics::process_metrics();
+    const char* help = "Messages through the outbound queue by outcome (dropped: oldest droppable on overflow; "
+                       "failed: the write was given up)";
+    it->second.written = &m.counter("outbound_messages_total", help, {{"stream", stream}, {"outcome", "written"}});
+    it->second.dropped = &m.counter("outbound_messages_total", help, {{"stream", stream}, {"outcome", "dropped"}});
+    it->second.failed = &m.counter("outbound_messages_total", help, {{"stream", stream}, {"outcome", "failed"}});
+  }
+  return it->second;
+}
+
+void OutboundQueue::count(const std::string& stream, StreamCounters& c, std::uint64_t StreamCounters::*field) {
+  ++(c.*field);
+  StreamMetrics& m = metrics_of(stream);
+  if (field == &StreamCounters::written) m.written->inc();
+  else if (field == &StreamCounters::dropped) m.dropped->inc();
+  else if (field == &StreamCounters::failed) m.failed->inc();
 }
 
 bool OutboundQueue::push(const std::string& stream, Class cls, WriteFn write, const std::atomic<bool>& stop) {
@@ -22,32 +47,33 @@ bool OutboundQueue::push(const std::string& stream, Class cls, WriteFn write, co
   auto& c = counters_[stream];
   if (abort_.load()) {
     ++c.queued;
-    ++c.failed;
+    count(stream, c, &StreamCounters::failed);
     return false;
   }
   while (items_.size() >= capacity_) {
     // Make room by dropping the oldest droppable item, if there is one.
     const auto victim = std::find_if(items_.begin(), items_.end(), [](const Item& i) { return i.cls == Class::Droppable; });
     if (victim != items_.end()) {
-      ++counters_[victim->stream].dropped;
+      count(victim->stream, counters_[victim->stream], &StreamCounters::dropped);
       items_.erase(victim);
       break;
     }
     if (cls == Class::Droppable) {  // nothing older to drop: this one goes
       ++c.queued;
-      ++c.dropped;
+      count(stream, c, &StreamCounters::dropped);
       return true;
     }
     // Full of essential items: wait for the drain thread (bounded by the stop flag, re-checked every 100 ms).
     changed_.wait_for(lock, std::chrono::milliseconds(100));
     if (stop.load()) {
-      ++c.failed;
+      count(stream, c, &StreamCounters::failed);
       return false;
     }
   }
   ++c.queued;
   items_.push_back(Item{stream, cls, std::move(write)});
   high_water_ = std::max(high_water_, items_.size());
+  update_depth();
   changed_.notify_all();
   return true;
 }
@@ -63,6 +89,7 @@ void OutboundQueue::run() {
       items_.pop_front();
       ++in_flight_;
       write_started_ = std::chrono::steady_clock::now();
+      update_depth();
       changed_.notify_all();
     }
     const WriteResult result = abort_.load() ? WriteResult::Stopped : item.write(abort_);
@@ -70,11 +97,8 @@ void OutboundQueue::run() {
       std::lock_guard<std::mutex> lock(mutex_);
       --in_flight_;
       auto& c = counters_[item.stream];
-      if (result == WriteResult::Ok) {
-        ++c.written;
-      } else {
-        ++c.failed;
-      }
+      count(item.stream, c, result == WriteResult::Ok ? &StreamCounters::written : &StreamCounters::failed);
+      update_depth();
       changed_.notify_all();
     }
   }

@@ -35,6 +35,13 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error, critical or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
       ->capture_default_str();
+  app.add_option("--metrics-port", options.metrics_port,
+                 "serve Prometheus metrics at http://<metrics-bind>:PORT/metrics (0 = off)")
+      ->check(CLI::Range(0, 65535))
+      ->capture_default_str();
+  app.add_option("--metrics-bind", options.metrics_bind, "address the metrics endpoint listens on")
+      ->capture_default_str();
+  app.set_version_flag("--version", std::string(CAUSAL_TWIN_VERSION));
 }
 
 DdsSettings to_dds_settings(const CommonOptions& options, const std::string& participant_name) {

@@ -2,27 +2,38 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
-#include <memory>
 #include <stdexcept>
+#include <string>
 
 #include "causal/fixed_lag_smoother.hpp"
-#include "outcome_pass.hpp"
+#include "filter_access.hpp"
+#include "rts_pass.hpp"
 
 namespace causal {
 namespace {
 
+using detail::FilterAccess;
+using detail::kLanes;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+Eigen::Index kept_rows(Eigen::Index n, Eigen::Index every) { return n == 0 ? 0 : (n - 1) / every + 1; }
+
 EstimationRun prepare(const SvarLayout& layout, const Eigen::MatrixXd& samples,
-                      const std::vector<bool>& discontinuity) {
+                      const std::vector<bool>& discontinuity, const BatchOutput& output) {
+  if (output.every < 1) {
+    throw std::invalid_argument("BatchOutput.every must be >= 1, got " + std::to_string(output.every));
+  }
   EstimationRun run;
-  run.status = detail::classify_all(layout, samples, discontinuity);
+  run.status = detail::classify_all(layout, samples, discontinuity);  // validates the shapes
   const Eigen::Index n = samples.rows();
-  run.estimates.resize(n, layout.total_factors());
-  run.std_devs.resize(n, layout.total_factors());
-  run.innovations = Eigen::MatrixXd::Constant(n, layout.channels(), kNaN);
-  run.innovation_variances = Eigen::MatrixXd::Constant(n, layout.channels(), kNaN);
+  const Eigen::Index rows = kept_rows(n, output.every);
+  run.estimates.resize(rows, layout.total_factors());
+  run.std_devs.resize(rows, layout.total_factors());
+  const Eigen::Index innovation_rows = output.innovations ? n : 0;
+  run.innovations = Eigen::MatrixXd::Constant(innovation_rows, layout.channels(), kNaN);
+  run.innovation_variances = Eigen::MatrixXd::Constant(innovation_rows, layout.channels(), kNaN);
   for (SampleStatus s : run.status) {
     switch (s) {
       case SampleStatus::Updated: ++run.counters.updated; break;
@@ -33,51 +44,131 @@ EstimationRun prepare(const SvarLayout& layout, const Eigen::MatrixXd& samples,
   return run;
 }
 
-EstimationRun forward_backward(const SvarLayout& layout, const std::vector<NoiseParams>& noise_in,
-                               const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity,
-                               bool smooth) {
-  const std::vector<NoiseParams> noise = detail::expand_noise(noise_in, layout.channels());
-  EstimationRun run = prepare(layout, samples, discontinuity);
-  const Eigen::Index n = samples.rows();
-  const detail::LanePlan plan = detail::make_lane_plan(layout);
-  // RTS history of one group at a time; not zero-initialised (every element is written before it is read).
-  std::unique_ptr<double[]> store;
-  if (smooth) store.reset(new double[static_cast<std::size_t>(n) * detail::store_doubles_per_sample(plan.max_d)]);
-  auto column = [&](Eigen::MatrixXd& m, int k) { return m.data() + static_cast<Eigen::Index>(layout.offset(k)) * n; };
+// Steps the filter with sample i and records its innovations.
+void step(SvarKalmanFilter& f, const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity,
+          Eigen::Index i, std::vector<double>& row, EstimationRun* run) {
+  const int g = static_cast<int>(samples.cols());
+  for (int j = 0; j < g; ++j) row[j] = samples(i, j);
+  const SampleStatus st = f.step(row.data(), !discontinuity.empty() && discontinuity[i]);
+  if (run == nullptr || st != SampleStatus::Updated || run->innovations.rows() == 0) return;
+  for (int k = 0; k < g; ++k) {
+    run->innovations(i, k) = FilterAccess::e(f)[k];
+    run->innovation_variances(i, k) = FilterAccess::s(f)[k];
+  }
+}
+
+// Writes the kept samples of a block (slot t = sample lo + t; lane-interleaved x and sd, `stride` doubles per
+// slot) into the output rows, column by column (the outputs are column-major).
+void scatter(const SvarLayout& layout, const detail::LanePlan& plan, const double* xbuf, const double* sdbuf,
+             std::size_t stride, Eigen::Index lo, Eigen::Index count, Eigen::Index every, EstimationRun& run) {
+  const Eigen::Index first = (lo + every - 1) / every * every;
   for (const detail::LaneGroup& grp : plan.groups) {
-    detail::GroupForward job;
-    job.layout = &layout;
-    job.group = &grp;
-    job.samples = &samples;
-    job.status = &run.status;
-    std::array<double, detail::kLanes> q{};
     for (int w = 0; w < grp.count; ++w) {
-      const int k = grp.outcome[w];
-      job.noise[w] = noise[k];
-      q[w] = noise[k].q;
-      job.x_cols[w] = smooth ? nullptr : column(run.estimates, k);  // RTS writes the estimates itself
-      job.sd_cols[w] = smooth ? nullptr : column(run.std_devs, k);
-      job.e_col[w] = run.innovations.col(k).data();
-      job.s_col[w] = run.innovation_variances.col(k).data();
-    }
-    job.store = smooth ? store.get() : nullptr;
-    detail::run_group_forward(job);
-    run.clamped_variances += static_cast<std::uint64_t>(job.clamped_variances);
-    if (smooth) {
-      std::array<double*, detail::kLanes> x{}, sd{};
-      for (int w = 0; w < grp.count; ++w) {
-        x[w] = column(run.estimates, grp.outcome[w]);
-        sd[w] = column(run.std_devs, grp.outcome[w]);
+      const int off = layout.offset(grp.outcome[w]);
+      for (int i = 0; i < grp.d; ++i) {
+        const std::size_t j = grp.x_off + static_cast<std::size_t>(i) * kLanes + w;
+        double* xc = run.estimates.col(off + i).data();
+        double* sc = run.std_devs.col(off + i).data();
+        for (Eigen::Index n = first; n < lo + count; n += every) {
+          const std::size_t at = static_cast<std::size_t>(n - lo) * stride + j;
+          xc[n / every] = xbuf[at];
+          sc[n / every] = sdbuf[at];
+        }
       }
-      detail::run_group_rts(grp, n, q, store.get(), x, sd);
     }
   }
-  for (int k : plan.empty) {  // no factors: the whole of y_k is innovation
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (run.status[i] != SampleStatus::Updated) continue;
-      run.innovations(i, k) = samples(i, k);
-      run.innovation_variances(i, k) = noise[k].r;
+}
+
+EstimationRun filter_pass(const SvarLayout& layout, const std::vector<NoiseParams>& noise,
+                          const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity,
+                          const BatchOutput& output) {
+  EstimationRun run = prepare(layout, samples, discontinuity, output);
+  SvarKalmanFilter f(layout, noise);
+  const detail::LanePlan& plan = FilterAccess::plan(f);
+  const std::size_t nx = plan.x_size;
+  const Eigen::Index n = samples.rows();
+  // Outputs are column-major: writing one sample at a time would touch 2 F cache lines per sample, so a few
+  // samples are buffered (small enough to stay in L1) and then written column by column.
+  constexpr Eigen::Index kOutBlock = 64;
+  const Eigen::Index block = std::min<Eigen::Index>(kOutBlock, std::max<Eigen::Index>(n, 1));
+  std::vector<double> row(samples.cols()), xbuf(static_cast<std::size_t>(block) * nx), sdbuf(xbuf.size());
+  for (Eigen::Index lo = 0; lo < n; lo += block) {
+    const Eigen::Index count = std::min(block, n - lo);
+    for (Eigen::Index t = 0; t < count; ++t) {
+      step(f, samples, discontinuity, lo + t, row, &run);
+      const bool kept = (lo + t) % output.every == 0;
+      if (!kept) continue;
+      const std::vector<double>& x = FilterAccess::x(f);
+      const std::vector<double>& p = FilterAccess::p(f);
+      std::copy(x.begin(), x.end(), xbuf.begin() + static_cast<std::ptrdiff_t>(t * nx));
+      double* sd = sdbuf.data() + t * nx;
+      for (const detail::LaneGroup& grp : plan.groups) {
+        for (int i = 0; i < grp.d; ++i) {
+          for (int w = 0; w < grp.count; ++w) {
+            const double v = p[grp.p_off + (static_cast<std::size_t>(i) * grp.d + i) * kLanes + w];
+            // Rounding can leave a variance <= 0 after many updates of an ill-scaled outcome: report 0 and count
+            // it (the caller decides what to say); a NaN stays NaN, visible to the caller's output check.
+            const std::size_t at = grp.x_off + static_cast<std::size_t>(i) * kLanes + w;
+            if (v > 0.0 || std::isnan(v)) {
+              sd[at] = std::sqrt(v);
+            } else {
+              sd[at] = 0.0;
+              if (w < grp.count) ++run.clamped_variances;
+            }
+          }
+        }
+      }
     }
+    scatter(layout, plan, xbuf.data(), sdbuf.data(), nx, lo, count, output.every, run);
+  }
+  return run;
+}
+
+EstimationRun rts_pass(const SvarLayout& layout, const std::vector<NoiseParams>& noise,
+                       const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity,
+                       const BatchOutput& output) {
+  EstimationRun run = prepare(layout, samples, discontinuity, output);
+  const Eigen::Index n = samples.rows();
+  SvarKalmanFilter f(layout, noise);
+  std::vector<double> row(samples.cols());
+  // Forward: innovations, and a copy of the filter at the start of every block.
+  std::vector<SvarKalmanFilter> checkpoints;
+  checkpoints.reserve(static_cast<std::size_t>((n + kRtsBlock - 1) / kRtsBlock));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (i % kRtsBlock == 0) checkpoints.push_back(f);
+    step(f, samples, discontinuity, i, row, &run);
+  }
+  if (n == 0) return run;
+  const detail::LanePlan& plan = FilterAccess::plan(f);
+  const std::size_t np = plan.p_size, nx = plan.x_size;
+  const Eigen::Index block = std::min(kRtsBlock, n);
+  std::vector<double> store(static_cast<std::size_t>(block) * (np + nx));
+  std::vector<double> xbuf(static_cast<std::size_t>(block) * nx), sdbuf(xbuf.size());
+  std::vector<detail::RtsCarry> carry(plan.groups.size());
+  std::vector<std::array<double, kLanes>> q(plan.groups.size());
+  for (std::size_t gi = 0; gi < plan.groups.size(); ++gi) {
+    for (int w = 0; w < kLanes; ++w) q[gi][w] = FilterAccess::lane_q(f, static_cast<int>(gi), w);
+  }
+  // Backward, last block first: recompute the block's filtered states from its checkpoint (the same steps, so
+  // the same values), then smooth it, carrying the smoothed state to the block before.
+  for (auto b = static_cast<Eigen::Index>(checkpoints.size()) - 1; b >= 0; --b) {
+    const Eigen::Index lo = b * kRtsBlock;
+    const Eigen::Index count = std::min(kRtsBlock, n - lo);
+    SvarKalmanFilter g = std::move(checkpoints[b]);
+    checkpoints.pop_back();
+    for (Eigen::Index t = 0; t < count; ++t) {
+      step(g, samples, discontinuity, lo + t, row, nullptr);
+      double* slot = store.data() + static_cast<std::size_t>(t) * (np + nx);
+      std::copy(FilterAccess::p(g).begin(), FilterAccess::p(g).end(), slot);
+      std::copy(FilterAccess::x(g).begin(), FilterAccess::x(g).end(), slot + np);
+    }
+    const detail::FilteredBlock filtered{store.data(), np + nx, np, count};
+    detail::SmoothedBlock smoothed{xbuf.data(), sdbuf.data(), nx, 0};
+    for (std::size_t gi = 0; gi < plan.groups.size(); ++gi) {
+      detail::run_group_rts_block(plan.groups[gi], q[gi], filtered, carry[gi], smoothed);
+    }
+    run.clamped_variances += static_cast<std::uint64_t>(smoothed.clamped_variances);
+    scatter(layout, plan, xbuf.data(), sdbuf.data(), nx, lo, count, output.every, run);
   }
   return run;
 }
@@ -85,33 +176,36 @@ EstimationRun forward_backward(const SvarLayout& layout, const std::vector<Noise
 }  // namespace
 
 EstimationRun run_filter(const SvarLayout& layout, const std::vector<NoiseParams>& noise,
-                         const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity) {
-  return forward_backward(layout, noise, samples, discontinuity, false);
+                         const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity,
+                         const BatchOutput& output) {
+  return filter_pass(layout, noise, samples, discontinuity, output);
 }
 
 EstimationRun run_rts_smoother(const SvarLayout& layout, const std::vector<NoiseParams>& noise,
-                               const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity) {
-  return forward_backward(layout, noise, samples, discontinuity, true);
+                               const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity,
+                               const BatchOutput& output) {
+  return rts_pass(layout, noise, samples, discontinuity, output);
 }
 
 EstimationRun run_fixed_lag_smoother(const SvarLayout& layout, const std::vector<NoiseParams>& noise,
                                      const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity,
-                                     int lag) {
-  EstimationRun run = prepare(layout, samples, discontinuity);  // validates shapes
+                                     int lag, const BatchOutput& output) {
+  EstimationRun run = prepare(layout, samples, discontinuity, output);  // validates shapes
   FixedLagSmoother smoother(layout, noise, lag);
   const Eigen::Index n = samples.rows();
   const int g = layout.channels();
   std::vector<double> row(g);
   auto store = [&](const SmoothedSample& s) {
     const auto i = static_cast<Eigen::Index>(s.index);
-    run.estimates.row(i) = s.estimates.transpose();
-    run.std_devs.row(i) = s.std_devs.transpose();
+    if (i % output.every != 0) return;
+    run.estimates.row(i / output.every) = s.estimates.transpose();
+    run.std_devs.row(i / output.every) = s.std_devs.transpose();
   };
   for (Eigen::Index i = 0; i < n; ++i) {
     for (int j = 0; j < g; ++j) row[j] = samples(i, j);
     const bool disc = !discontinuity.empty() && discontinuity[i];
     if (auto out = smoother.step(row.data(), disc)) store(*out);
-    if (run.status[i] == SampleStatus::Updated) {
+    if (run.status[i] == SampleStatus::Updated && output.innovations) {
       for (int k = 0; k < g; ++k) {
         run.innovations(i, k) = smoother.filter().last_innovation(k);
         run.innovation_variances(i, k) = smoother.filter().last_innovation_variance(k);

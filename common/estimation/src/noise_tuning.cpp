@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
-#include "outcome_pass.hpp"
+#include "filter_access.hpp"
+#include "rts_pass.hpp"
 
 namespace causal {
 namespace {
@@ -26,32 +28,44 @@ struct Point {
   double r_hat;
 };
 
-// Evaluates up to 4 noise settings of outcome k in one filter pass (one per SIMD lane).
+// Likelihood sums of one filter pass per candidate lane.
+struct PassSums {
+  std::array<double, detail::kLanes> sum_log_s{};
+  std::array<double, detail::kLanes> sum_e2_over_s{};
+  std::int64_t updates = 0;
+};
+
+// Evaluates up to 4 noise settings of outcome k in one pass of the filter recursion (SvarKalmanFilter with
+// outcome k replicated in the 4 SIMD lanes, one candidate per lane).
 struct Tuner {
   const SvarLayout& layout;
   int k;
   const Eigen::MatrixXd& samples;
-  const std::vector<SampleStatus>& status;
-  detail::LanePlan plan;
+  const std::vector<bool>& discontinuity;
   double mean_square;  // of y_k over the usable samples: the scale a sane r_hat is compared with
   int passes = 0;
   int failed = 0;      // candidates with a non-finite or degenerate likelihood
 
-  Tuner(const SvarLayout& l, int outcome, const Eigen::MatrixXd& s, const std::vector<SampleStatus>& st, double ms)
-      : layout(l), k(outcome), samples(s), status(st), plan(detail::make_replicated_plan(l, outcome)),
-        mean_square(ms) {}
+  Tuner(const SvarLayout& l, int outcome, const Eigen::MatrixXd& s, const std::vector<bool>& disc, double ms)
+      : layout(l), k(outcome), samples(s), discontinuity(disc), mean_square(ms) {}
 
-  detail::GroupForward pass(const std::array<NoiseParams, detail::kLanes>& noise) {
-    detail::GroupForward job;
-    job.layout = &layout;
-    job.group = &plan.groups.front();
-    job.samples = &samples;
-    job.status = &status;
-    job.noise = noise;
-    job.likelihood = true;
-    detail::run_group_forward(job);
+  PassSums pass(const std::array<NoiseParams, detail::kLanes>& noise) {
+    SvarKalmanFilter f =
+        detail::FilterAccess::replicated(layout, k, std::vector<NoiseParams>(noise.begin(), noise.end()));
+    PassSums sums;
+    std::vector<double> row(samples.cols());
+    for (Eigen::Index n = 0; n < samples.rows(); ++n) {
+      for (Eigen::Index j = 0; j < samples.cols(); ++j) row[j] = samples(n, j);
+      if (f.step(row.data(), !discontinuity.empty() && discontinuity[n]) != SampleStatus::Updated) continue;
+      ++sums.updates;
+      for (int w = 0; w < detail::kLanes; ++w) {
+        const double s = detail::FilterAccess::lane_s(f, 0, w), e = detail::FilterAccess::lane_e(f, 0, w);
+        sums.sum_log_s[w] += std::log(s);
+        sums.sum_e2_over_s[w] += e * e / s;
+      }
+    }
     ++passes;
-    return job;
+    return sums;
   }
 
   // Concentrated log-likelihood at each log10(lambda) with P0 = pi r I, filter run in units of r (R = 1).
@@ -64,7 +78,7 @@ struct Tuner {
         const double l10 = log10_lambdas[first + std::min(w, m - 1)];
         noise[w] = NoiseParams{std::pow(10.0, l10), 1.0, pi};
       }
-      const detail::GroupForward job = pass(noise);
+      const PassSums job = pass(noise);
       const auto n = static_cast<double>(job.updates);
       for (std::size_t w = 0; w < m; ++w) {
         const double r_hat = job.sum_e2_over_s[w] / n;
@@ -85,7 +99,7 @@ struct Tuner {
   double exact(const NoiseParams& noise, long* updates) {
     std::array<NoiseParams, detail::kLanes> lanes;
     lanes.fill(noise);
-    const detail::GroupForward job = pass(lanes);
+    const PassSums job = pass(lanes);
     if (updates) *updates = static_cast<long>(job.updates);
     if (job.updates == 0) return -std::numeric_limits<double>::infinity();
     return -0.5 * (static_cast<double>(job.updates) * kLog2Pi + job.sum_log_s[0] + job.sum_e2_over_s[0]);
@@ -123,7 +137,7 @@ double innovation_log_likelihood(const SvarLayout& layout, int k, const Eigen::M
   check_outcome(layout, k, "innovation_log_likelihood");
   const std::vector<SampleStatus> status = detail::classify_all(layout, samples, discontinuity);
   if (layout.factor_count(k) == 0) return empty_outcome_loglik(samples, k, status, noise.r, updates);
-  Tuner t(layout, k, samples, status, 0.0);
+  Tuner t(layout, k, samples, discontinuity, 0.0);
   return t.exact(noise, updates);
 }
 
@@ -180,7 +194,7 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
     return result;
   }
 
-  Tuner t(layout, k, samples, status, r_ref);
+  Tuner t(layout, k, samples, discontinuity, r_ref);
   const int budget = options.max_evaluations - 1;  // keep one pass for the exact final likelihood
   const double lo = options.log10_ratio_min, hi = options.log10_ratio_max;
 

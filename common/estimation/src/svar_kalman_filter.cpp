@@ -42,6 +42,10 @@ struct SvarKalmanFilter::Select {
 };
 
 SvarKalmanFilter::SvarKalmanFilter(const SvarLayout& layout, std::vector<NoiseParams> noise)
+    : SvarKalmanFilter(layout, std::move(noise), nullptr) {}
+
+SvarKalmanFilter::SvarKalmanFilter(const SvarLayout& layout, std::vector<NoiseParams> noise,
+                                   std::shared_ptr<const detail::LanePlan> given_plan)
     : layout_(layout), g_(layout.channels()), m_(layout.lag_order()) {
   if (noise.size() == 1) {
     noise_.assign(g_, noise.front());
@@ -53,7 +57,8 @@ SvarKalmanFilter::SvarKalmanFilter(const SvarLayout& layout, std::vector<NoisePa
   }
   for (int k = 0; k < g_; ++k) validate_noise_params(noise_[k], "noise[" + std::to_string(k) + "]");
 
-  auto plan = std::make_shared<detail::LanePlan>(detail::make_lane_plan(layout_));
+  std::shared_ptr<const detail::LanePlan> plan =
+      given_plan ? std::move(given_plan) : std::make_shared<const detail::LanePlan>(detail::make_lane_plan(layout_));
   plan_ = plan;
   const int zero_slot = (m_ + 1) * g_;  // window_ index that always holds 0 (padding lanes read it)
   const std::size_t n_groups = plan->groups.size();

@@ -1,4 +1,6 @@
 // Streaming Kalman filter for the time-varying SVAR factors (random-walk state, see svar_layout.hpp).
+// This is the ONE filter recursion of the library: the batch filter and RTS smoother (batch_estimation.hpp),
+// the fixed-lag smoother and the noise tuning all step this class.
 //
 // The stacked system x[n+1] = x[n] + w, y[n] = H[n] x[n] + eps with block-diagonal H[n] (row k holds outcome
 // k's regressors in its own block), Q = diag(q_k I), R = diag(r_k) and block-diagonal P0 keeps P block-diagonal
@@ -43,6 +45,7 @@ class StateWriter;
 class StateReader;
 namespace detail {
 struct LanePlan;
+struct FilterAccess;
 }
 
 class SvarKalmanFilter {
@@ -82,6 +85,10 @@ class SvarKalmanFilter {
 
  private:
   friend class FixedLagSmoother;
+  friend struct detail::FilterAccess;  // batch passes and noise tuning (src/filter_access.hpp)
+  // Same as the public constructor with a given lane plan (noise tuning: one outcome replicated in 4 lanes).
+  SvarKalmanFilter(const SvarLayout& layout, std::vector<NoiseParams> noise,
+                   std::shared_ptr<const detail::LanePlan> plan);
   using UpdateFn = void (*)(SvarKalmanFilter&, int group);
   template <int D>
   struct Select;

@@ -40,6 +40,11 @@ struct CounterfactualResult {
   Eigen::MatrixXd observed;        // (to - from + 1) x G, the data in the window
   Eigen::MatrixXd counterfactual;  // same shape: what the channels would have been (NaN if status != ok)
   Eigen::MatrixXd noise;           // same shape: the abducted structural noise e[n] (C1)
+  // Stability of the system that produced the counterfactual: the largest companion spectral radius of the
+  // model with the held equations replaced, over the window (0 without holds; NaN if not identifiable).
+  // The window is finite, so the answer exists either way, but >= 1 means the change grows over the window
+  // instead of settling: read a long window's end with that in mind.
+  double spectral_radius = 0.0;
 };
 
 // One model for the whole window. Throws std::invalid_argument for a window outside the data, from <

@@ -1,11 +1,16 @@
-// Recommendations for an alarmed target channel: rank candidate interventions "shift channel j by
-// delta" (sustained, delta < 0 = reduce) by the predicted steady-state change of the target (W3), most
-// negative first, with its interval, and say it in plain language:
+// Recommendations for an alarmed target channel: candidate interventions "shift channel j by delta"
+// (sustained, delta < 0 = reduce) answered by the bounded-answer rule (bounded_answer.hpp: steady state,
+// effect after H snapshots, or refused), and said in plain language:
 //   "Reduce vibration at bearing 3 by 0.02 g: bearing 1 is predicted to drop by 0.015 g (90% interval
 //    0.010..0.019) at steady state, 0.008 at once."
+// Ranking accounts for uncertainty: by the interval bound in the helpful direction (the upper bound of
+// the target's change: the reduction we are 95 % sure of at 90 % coverage), so a large but uncertain
+// effect does not beat a smaller sure one. An action whose interval includes no change is not `reliable`
+// and is ranked after every reliable one; the service says "no reliable lever" when none is.
 // The prediction is only as causal as the structural model (see structural_model.hpp LIMITS).
 #pragma once
 
+#include "causal/analysis/bounded_answer.hpp"
 #include "causal/analysis/uncertainty.hpp"
 
 #include <causal/svar_layout.hpp>
@@ -23,15 +28,18 @@ struct CandidateIntervention {
 
 struct Recommendation {
   CandidateIntervention action;
-  AnalysisStatus status = AnalysisStatus::ok;
-  std::string message;            // why there is no prediction, when status != ok
-  double immediate = 0.0;         // change of the target at once (W2)
-  double steady_state = 0.0;      // change of the target at steady state (W3); < 0 is a reduction
-  double lower = 0.0;             // interval of the steady-state change (same sign convention)
+  AnalysisStatus status = AnalysisStatus::ok;  // of the model at the posterior mean
+  std::string message;            // why this kind of answer (answer.reason)
+  BoundedAnswer answer;           // every channel, with the stability diagnostics
+  double immediate = 0.0;         // median change of the target at once (W2)
+  double effect = 0.0;            // median of the answered change of the target (steady state or after H);
+                                  // < 0 is a reduction; NaN when refused
+  double steady_state = 0.0;      // = effect for a steady-state answer, NaN otherwise (no steady state)
+  double lower = 0.0;             // interval of `effect` (same draws: lower <= effect <= upper)
   double upper = 0.0;
-  bool interval_valid = false;
+  bool interval_valid = false;    // answered (not refused)
+  bool reliable = false;          // answered and upper < 0: a reduction even at the interval's helpful-side bound
   double coverage = 0.0;
-  int draws_rejected = 0;         // Monte Carlo draws whose intervened system did not settle
   std::string text;               // the plain-language sentence
 };
 
@@ -39,10 +47,11 @@ struct RecommendationOptions {
   UncertaintyOptions uncertainty;
   std::vector<std::string> channel_names;  // G names; "channel <j+1>" when empty
   std::string unit;                        // appended to amounts, e.g. "g"; may be empty
+  AnswerRule rule;                         // when steady state, when horizon, when refused
 };
 
-// Sorted: status ok first, then by steady_state ascending (largest predicted reduction first), ties by
-// channel. Throws std::invalid_argument for a bad target/candidate channel, a candidate on the target
+// Sorted: reliable first, then answered but unreliable, then refused; within each by `upper` ascending (the
+// largest reduction we are sure of first), ties by channel. Throws std::invalid_argument for a bad target/candidate channel, a candidate on the target
 // itself, a non-finite delta, or names of the wrong count.
 std::vector<Recommendation> rank_interventions(const SvarLayout& layout, const FactorPosterior& posterior, int target,
                                                const std::vector<CandidateIntervention>& candidates,

@@ -10,10 +10,12 @@
 //  * Essential items are never dropped: when the queue is full of them, push() waits until there is room
 //    (the service then stops taking input, so back-pressure reaches the source) or the stop flag is set;
 //  * an item whose write fails (the writer gave up, or a DDS error) is counted as failed per stream.
-// Every count is visible through counters() and ends up in the service's exit summary.
+// Every count is visible through counters(), ends up in the service's exit summary, and is exported as
+// Prometheus metrics (outbound_messages_total{stream,outcome}, outbound_queue_depth).
 #pragma once
 
 #include "causal/dds/typed_endpoints.hpp"
+#include "causal/metrics/metrics_registry.hpp"
 
 #include <atomic>
 #include <condition_variable>
@@ -65,6 +67,13 @@ class OutboundQueue {
     WriteFn write;
   };
   void run();
+  // The registry's counters of `stream` (created once; called with mutex_ held).
+  struct StreamMetrics {
+    metrics::Counter *written = nullptr, *dropped = nullptr, *failed = nullptr;
+  };
+  StreamMetrics& metrics_of(const std::string& stream);
+  void count(const std::string& stream, StreamCounters& c, std::uint64_t StreamCounters::*field);
+  void update_depth() { depth_.store(items_.size() + in_flight_); }
 
   const std::size_t capacity_;
   mutable std::mutex mutex_;
@@ -76,6 +85,9 @@ class OutboundQueue {
   std::map<std::string, StreamCounters> counters_;
   std::atomic<bool> closing_{false};
   std::atomic<bool> abort_{false};  // the stop flag of every write
+  std::map<std::string, StreamMetrics> metrics_;
+  std::atomic<std::size_t> depth_{0};  // items_ + in flight, for the metrics scrape (which must not lock)
+  metrics::CallbackHandle depth_metric_;
   std::thread thread_;
 };
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "causal/dds/participant.hpp"
+#include "causal/metrics/metrics_server.hpp"
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -25,12 +26,15 @@ struct CommonOptions {
   std::string qos_file;        // deploy/dds/qos.xml unless overridden
   std::string transport_file;  // deploy/dds/localhost.xml unless overridden
   std::string log_level = "info";
+  int metrics_port = 0;                       // 0 = no /metrics endpoint
+  std::string metrics_bind = "127.0.0.1";     // loopback unless the operator opens it on purpose
 };
 
 // Default folder of the DDS XML files: $CAUSAL_TWIN_DDS_DIR, else the source tree's deploy/dds.
 std::string default_dds_dir();
 
-// Adds --domain, --dds-qos, --dds-transport, --log-level to a CLI11 app.
+// Adds --domain, --dds-qos, --dds-transport, --log-level, --metrics-port, --metrics-bind and --version
+// (the project version) to a CLI11 app.
 void add_common_options(CLI::App& app, CommonOptions& options);
 
 DdsSettings to_dds_settings(const CommonOptions& options, const std::string& participant_name);
@@ -60,9 +64,20 @@ class ShutdownSignal {
 inline constexpr std::chrono::seconds kTeardownBound{5};
 
 template <typename MakeNode>
-int run_service(ShutdownSignal& signals, const std::string& name, const std::string& log_level, MakeNode&& make_node) {
+int run_service(ShutdownSignal& signals, const std::string& name, const CommonOptions& options, MakeNode&& make_node) {
   try {
-    setup_logging(name, log_level);
+    setup_logging(name, options.log_level);
+    // Before the node: a port that cannot be bound is a configuration error (exit 2), found before any DDS work.
+    std::unique_ptr<metrics::MetricsServer> metrics_server;
+    if (options.metrics_port != 0) {
+      try {
+        metrics_server = std::make_unique<metrics::MetricsServer>(metrics::process_metrics(), options.metrics_bind,
+                                                                  options.metrics_port);
+      } catch (const std::runtime_error& e) {
+        throw std::invalid_argument(e.what());
+      }
+      spdlog::info("metrics: {} {}", name, metrics_server->url());
+    }
     auto node = make_node();
     std::mutex node_mutex;  // the signal thread must not reach a node that is being torn down
     signals.start([&node, &node_mutex](int sig) {
@@ -84,6 +99,7 @@ int run_service(ShutdownSignal& signals, const std::string& name, const std::str
       std::lock_guard<std::mutex> lock(node_mutex);
       node.reset();
     }
+    metrics_server.reset();
     return code;
   } catch (const std::invalid_argument& e) {
     spdlog::critical("{}", e.what());
@@ -92,6 +108,14 @@ int run_service(ShutdownSignal& signals, const std::string& name, const std::str
     spdlog::critical("{}", e.what());
     return 1;
   }
+}
+
+// For tools without the common options (no metrics endpoint).
+template <typename MakeNode>
+int run_service(ShutdownSignal& signals, const std::string& name, const std::string& log_level, MakeNode&& make_node) {
+  CommonOptions options;
+  options.log_level = log_level;
+  return run_service(signals, name, options, std::forward<MakeNode>(make_node));
 }
 
 }  // namespace causal::dds

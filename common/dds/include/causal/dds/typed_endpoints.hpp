@@ -2,6 +2,7 @@
 #pragma once
 
 #include "causal/dds/participant.hpp"
+#include "causal/metrics/metrics_registry.hpp"
 
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -37,8 +38,25 @@ class TypedWriter {
       throw std::runtime_error("cannot create DataWriter for '" + topic_name + "' from QoS profile '" + profile +
                                "' (is the QoS XML loaded?)");
     }
+    auto& m = metrics::process_metrics();
+    const metrics::Labels by_topic{{"topic", topic_name}};
+    written_ = &m.counter("dds_samples_written_total", "Samples the DDS writer accepted", by_topic);
+    refused_ = &m.counter("dds_write_refusals_total",
+                          "Write attempts the writer refused for now (reader behind, resource limits), then retried",
+                          by_topic);
+    abandoned_ = &m.counter("dds_writes_abandoned_total",
+                            "Writes given up (deadline, stop or error): the service counts them as failed", by_topic);
+    matched_metric_ = m.gauge_callback("dds_matched_readers", "Readers matched by this writer", by_topic,
+                                       [w = writer_] {
+                                         eprosima::fastdds::dds::PublicationMatchedStatus st;
+                                         w->get_publication_matched_status(st);
+                                         return static_cast<double>(st.current_count);
+                                       });
   }
-  ~TypedWriter() { participant_.publisher()->delete_datawriter(writer_); }
+  ~TypedWriter() {
+    matched_metric_.reset();  // before the writer goes: a scrape must not reach it
+    participant_.publisher()->delete_datawriter(writer_);
+  }
   TypedWriter(const TypedWriter&) = delete;
   TypedWriter& operator=(const TypedWriter&) = delete;
 
@@ -49,23 +67,35 @@ class TypedWriter {
   // max_blocking_time + 20 ms. After a stop, a writer that could not deliver does not block again: later
   // writes while `stop` is set return Stopped at once, so a shutdown that flushes many messages stays bounded.
   WriteResult write_until(Sample& sample, const std::atomic<bool>& stop, std::chrono::steady_clock::time_point deadline) {
-    if (stop.load() && blocked_after_stop_) return WriteResult::Stopped;
+    if (stop.load() && blocked_after_stop_) {
+      abandoned_->inc();
+      return WriteResult::Stopped;
+    }
     auto backoff = std::chrono::milliseconds(1);
     while (true) {
       const ReturnCode_t rc = writer_->write(&sample, eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
-      if (rc == ReturnCode_t::RETCODE_OK) return WriteResult::Ok;
+      if (rc == ReturnCode_t::RETCODE_OK) {
+        written_->inc();
+        return WriteResult::Ok;
+      }
       if (rc != ReturnCode_t::RETCODE_TIMEOUT && rc != ReturnCode_t::RETCODE_OUT_OF_RESOURCES) {
         last_error_ = rc();
+        abandoned_->inc();
         return WriteResult::Error;
       }
       last_error_ = rc();
       ++retries_;
+      refused_->inc();
       if (stop.load()) {
         blocked_after_stop_ = true;
+        abandoned_->inc();
         return WriteResult::Stopped;
       }
       const auto now = std::chrono::steady_clock::now();
-      if (now >= deadline) return WriteResult::TimedOut;
+      if (now >= deadline) {
+        abandoned_->inc();
+        return WriteResult::TimedOut;
+      }
       std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(backoff, deadline - now));
       backoff = std::min(backoff * 2, std::chrono::milliseconds(20));
     }
@@ -138,6 +168,10 @@ class TypedWriter {
   int last_error_ = 0;
   std::uint64_t retries_ = 0;
   bool blocked_after_stop_ = false;
+  metrics::Counter* written_ = nullptr;  // owned by the process registry, which outlives every endpoint
+  metrics::Counter* refused_ = nullptr;
+  metrics::Counter* abandoned_ = nullptr;
+  metrics::CallbackHandle matched_metric_;
 };
 
 // "NAME" or "NAME:COUNT": wait for COUNT (default 1) matched readers of participants named NAME.
@@ -191,8 +225,36 @@ class TypedReader {
                                "' (is the QoS XML loaded?)");
     }
     reader_->get_statuscondition().set_enabled_statuses(eprosima::fastdds::dds::StatusMask::data_available());
+    auto& m = metrics::process_metrics();
+    const metrics::Labels by_topic{{"topic", topic_name}};
+    received_ = &m.counter("dds_samples_received_total", "Valid samples taken from the DDS reader", by_topic);
+    reader_metrics_.push_back(m.gauge_callback("dds_matched_writers", "Writers matched by this reader", by_topic,
+                                               [r = reader_] {
+                                                 eprosima::fastdds::dds::SubscriptionMatchedStatus st;
+                                                 r->get_subscription_matched_status(st);
+                                                 return static_cast<double>(st.current_count);
+                                               }));
+    reader_metrics_.push_back(m.counter_callback("dds_samples_lost_total",
+                                                 "Samples this reader never received (DDS sample-lost status)", by_topic,
+                                                 [r = reader_] {
+                                                   eprosima::fastdds::dds::SampleLostStatus st;
+                                                   r->get_sample_lost_status(st);
+                                                   return static_cast<double>(st.total_count);
+                                                 }));
+    const char* help = "Samples the reader's resource limits refused (no_room: resent by reliable writers)";
+    auto* limit = &rejections_.instances_limit;
+    auto* room = &rejections_.no_room;
+    reader_metrics_.push_back(m.counter_callback("dds_samples_rejected_total", help,
+                                                 {{"topic", topic_name}, {"reason", "instances_limit"}},
+                                                 [limit] { return static_cast<double>(limit->load()); }));
+    reader_metrics_.push_back(m.counter_callback("dds_samples_rejected_total", help,
+                                                 {{"topic", topic_name}, {"reason", "no_room"}},
+                                                 [room] { return static_cast<double>(room->load()); }));
   }
-  ~TypedReader() { participant_.subscriber()->delete_datareader(reader_); }
+  ~TypedReader() {
+    reader_metrics_.clear();  // before the reader goes: a scrape must not reach it
+    participant_.subscriber()->delete_datareader(reader_);
+  }
   TypedReader(const TypedReader&) = delete;
   TypedReader& operator=(const TypedReader&) = delete;
 
@@ -209,6 +271,7 @@ class TypedReader {
         ++taken;
       }
     }
+    received_->inc(static_cast<double>(taken));
     return taken;
   }
   template <typename Fn>
@@ -230,6 +293,7 @@ class TypedReader {
         on_state(static_cast<const eprosima::fastdds::dds::SampleInfo&>(info));
       }
     }
+    received_->inc(static_cast<double>(taken));
     return taken;
   }
 
@@ -278,6 +342,8 @@ class TypedReader {
   RejectionCounter rejections_;  // outlives reader_ (deleted in the destructor body)
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
   Sample sample_;  // reused: frames are large, do not reallocate per take
+  metrics::Counter* received_ = nullptr;  // owned by the process registry, which outlives every endpoint
+  std::vector<metrics::CallbackHandle> reader_metrics_;
 };
 
 }  // namespace causal::dds

@@ -1,0 +1,48 @@
+// Effects in units a person can read: the channel's own units and percent of its current level, and the
+// one line every what-if answer and recommendation carries.
+//
+// Log-level models (the estimator's log_transform): an effect d on log(y) changes the level by
+// y (e^d - 1), i.e. 100 (e^d - 1) %: bounded below by -100 % (a positive quantity cannot fall below 0),
+// unbounded above; above kPercentDisplayCap the text says "> +1000 %" instead of a meaningless number.
+// Raw-level models: d is already in the channel's units; percent = 100 d / y, and a predicted fall below
+// zero is shown as -100 % with a note (the linear model knows no floor; the level does).
+#pragma once
+
+#include "causal/analysis/bounded_answer.hpp"
+
+#include <string>
+
+namespace causal::analysis {
+
+inline constexpr double kPercentDisplayCap = 1000.0;
+
+struct EffectUnits {
+  bool log_level = true;  // the model runs on log(feature)
+  std::string unit;       // of the raw feature, e.g. "g"; may be empty
+};
+
+// Percent change of a level `current` (> 0) for a model-unit effect. Log-level: 100 expm1(d) (> -100);
+// raw: 100 d / current, NaN when current is not positive and finite. Never below -100.
+double percent_of_level(double model_effect, double current, const EffectUnits& units);
+// Change in the channel's own units: log-level current expm1(d); raw: d.
+double level_change(double model_effect, double current, const EffectUnits& units);
+// "-8.1 %", "> +1000 %", "n/a" (non-finite).
+std::string percent_text(double percent);
+
+// Checks that an intervention of `delta` (model units) on a channel at `current` is possible: a raw-level
+// model cannot reduce a positive quantity by more than 100 % (delta < -current). Returns "" when it is,
+// else the reason.
+std::string impossible_intervention(double delta, double current, const EffectUnits& units);
+
+// "stable" (steady-state answer), "near a unit root" (rho >= 0.95), "not reliably stable" (a horizon answer
+// because of the unstable draws), "past a unit root" (rho >= 1).
+const char* stability_words(const BoundedAnswer& answer);
+
+// The one line, e.g.
+//   "after 12 snapshots: -8.1 % [-12.0, -3.9] (90 %), model near a unit root rho=0.993, 37/400 draws unstable"
+//   "at steady state: -8.1 % [-12.0, -3.9] (90 %), model stable rho=0.93, 0/400 draws unstable"
+//   "refused: <reason>"
+// for `channel`, whose current level is `current` (raw feature units).
+std::string answer_line(const BoundedAnswer& answer, int channel, double current, const EffectUnits& units);
+
+}  // namespace causal::analysis

@@ -1,0 +1,80 @@
+// Effects in readable units (effect_units.hpp): percent of the current level, bounded below by -100 % for
+// log-level and raw models, capped in the text, impossible reductions refused, and the one-line summary.
+#include "causal/analysis/effect_units.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace causal::analysis;
+
+namespace {
+
+const EffectUnits kLog{true, ""};
+const EffectUnits kRaw{false, "g"};
+
+TEST(EffectUnits, LogLevelPercentIsExpMinusOneAndNeverBelowMinus100) {
+  EXPECT_NEAR(percent_of_level(std::log(0.9), 0.2, kLog), -10.0, 1e-12);
+  EXPECT_NEAR(percent_of_level(std::log(1.5), 0.2, kLog), 50.0, 1e-12);
+  // The "-100 % (drop 12 log-level)" case: a huge drop approaches, never passes, -100 %.
+  for (double d : {-12.0, -50.0, -1e3}) {
+    EXPECT_GE(percent_of_level(d, 0.2, kLog), -100.0) << d;
+    EXPECT_LT(percent_of_level(d, 0.2, kLog), -99.99) << d;
+  }
+  EXPECT_NEAR(level_change(std::log(0.9), 0.2, kLog), -0.02, 1e-15);
+  EXPECT_TRUE(std::isnan(percent_of_level(NAN, 0.2, kLog)));
+}
+
+TEST(EffectUnits, RawLevelPercentIsRelativeToTheCurrentLevelWithAFloor) {
+  EXPECT_NEAR(percent_of_level(-0.05, 0.2, kRaw), -25.0, 1e-12);
+  EXPECT_DOUBLE_EQ(percent_of_level(-0.5, 0.2, kRaw), -100.0) << "a level cannot fall below 0";
+  EXPECT_TRUE(std::isnan(percent_of_level(-0.05, 0.0, kRaw))) << "no percent of a zero level";
+  EXPECT_DOUBLE_EQ(level_change(-0.05, 0.2, kRaw), -0.05);
+}
+
+TEST(EffectUnits, TextIsCappedAndSigned) {
+  EXPECT_EQ(percent_text(-8.14), "-8.1 %");
+  EXPECT_EQ(percent_text(3.0), "+3.0 %");
+  EXPECT_EQ(percent_text(62258536684043.5), "> +1000 %");  // the recommendation
+  EXPECT_EQ(percent_text(NAN), "n/a");
+}
+
+TEST(EffectUnits, MoreThanAHundredPercentReductionOfAPositiveLevelIsImpossible) {
+  EXPECT_EQ(impossible_intervention(-0.1, 0.2, kRaw), "");
+  EXPECT_NE(impossible_intervention(-0.3, 0.2, kRaw).find("below zero"), std::string::npos);
+  EXPECT_EQ(impossible_intervention(-30.0, 0.2, kLog), "") << "any log change keeps the level positive";
+  EXPECT_NE(impossible_intervention(NAN, 0.2, kLog), "");
+}
+
+BoundedAnswer answer_with(AnswerKind kind, double median, double lower, double upper) {
+  BoundedAnswer a;
+  a.kind = kind;
+  a.horizon_snapshots = kind == AnswerKind::horizon ? 12 : 0;
+  a.spectral_radius = kind == AnswerKind::horizon ? 0.993 : 0.93;
+  a.draws = 400;
+  a.unstable_draws = kind == AnswerKind::horizon ? 37 : 0;
+  a.coverage = 0.9;
+  a.effect.median = Eigen::Vector2d(0.0, median);
+  a.effect.lower = Eigen::Vector2d(0.0, lower);
+  a.effect.upper = Eigen::Vector2d(0.0, upper);
+  return a;
+}
+
+TEST(EffectUnits, OneLineCarriesHorizonIntervalConfidenceAndStability) {
+  const BoundedAnswer h = answer_with(AnswerKind::horizon, std::log(0.919), std::log(0.88), std::log(0.961));
+  EXPECT_EQ(answer_line(h, 1, 0.2, kLog),
+            "after 12 snapshots: -8.1 % [-12.0, -3.9] (90 %), model near a unit root rho=0.993, 37/400 draws unstable");
+  const BoundedAnswer s = answer_with(AnswerKind::steady_state, std::log(0.919), std::log(0.88), std::log(0.961));
+  EXPECT_EQ(answer_line(s, 1, 0.2, kLog),
+            "at steady state: -8.1 % [-12.0, -3.9] (90 %), model stable rho=0.930, 0/400 draws unstable");
+  BoundedAnswer r;
+  r.reason = "the model is past a unit root";
+  EXPECT_EQ(answer_line(r, 1, 0.2, kLog), "refused: the model is past a unit root");
+  // Raw model predicting a fall below zero: -100 % with the reason.
+  const BoundedAnswer below = answer_with(AnswerKind::steady_state, -0.1, -0.3, -0.05);
+  EXPECT_EQ(answer_line(below, 1, 0.2, kRaw),
+            "at steady state: -50.0 % [-100.0, -25.0] (90 %), model stable rho=0.930, 0/400 draws unstable (the level "
+            "cannot fall below 0: -100 % is the floor)");
+}
+
+}  // namespace

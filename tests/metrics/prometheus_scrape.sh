@@ -1,0 +1,134 @@
+#!/usr/bin/env bash
+# A real Prometheus (Debian package) scrapes a running pipeline: causal-estimator, alarm-recommender and
+# causal-recorder each serve /metrics (--metrics-port), sensor-replay sends the 984-snapshot IMS test-2
+# feature table, and the test asks Prometheus (HTTP API) for what the services counted. Exact checks:
+#   * the estimator received as many condition inputs as the replay says it sent (its own summary line);
+#   * every condition vector and factor message the estimator wrote was received by the recommender and by
+#     the recorder (counts compared between services, nothing hard-coded);
+#   * `promtool check metrics` passes, without lint warnings, on every endpoint.
+# Loopback only (deploy/dds/localhost.xml, metrics and Prometheus on 127.0.0.1), fixed DDS domain 97.
+# Every process is ended by its pid; the work folder and shared-memory files are removed.
+#   prometheus_scrape.sh BUILD_DIR DEPLOY_DIR
+set -euo pipefail
+build="$1"; deploy="$2"
+domain=97
+for tool in prometheus promtool curl; do
+  command -v "$tool" > /dev/null || { echo "FAIL: $tool not installed (deploy/install_deps.sh installs it)"; exit 1; }
+done
+work="$(mktemp -d /tmp/causal_prometheus_XXXXXX)"
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill -TERM "$p" 2> /dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2> /dev/null || true; done
+  fastdds shm clean > /dev/null 2>&1 || true
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+# Four free TCP ports on 127.0.0.1 (a port nobody listens on now).
+free_ports=()
+port=$((20000 + ($$ * 7) % 30000))
+while [ ${#free_ports[@]} -lt 4 ]; do
+  if ! ss -ltnH "sport = :$port" | grep -q .; then free_ports+=("$port"); fi
+  port=$((port + 1))
+done
+est_port=${free_ports[0]}; rec_port=${free_ports[1]}; hist_port=${free_ports[2]}; prom_port=${free_ports[3]}
+
+dds=(--domain "$domain" --dds-transport "$deploy/dds/localhost.xml")
+common=("${dds[@]}" --max-runtime 150)
+svc="$build/services"
+"$svc/causal_recorder/causal-recorder" "${common[@]}" --out "$work/record" --idle-exit 0 \
+  --metrics-port "$hist_port" > "$work/recorder.log" 2>&1 &
+pids+=($!); recorder_pid=$!
+"$svc/alarm_recommender/alarm-recommender" "${common[@]}" --idle-exit 0 --metrics-port "$rec_port" \
+  > "$work/recommender.log" 2>&1 &
+pids+=($!); recommender_pid=$!
+"$svc/causal_estimator/causal-estimator" "${common[@]}" --idle-exit 0 --metrics-port "$est_port" \
+  --wait-for alarm-recommender --wait-for causal-recorder --wait-timeout 60 > "$work/estimator.log" 2>&1 &
+pids+=($!); estimator_pid=$!
+
+cat > "$work/prometheus.yml" << YAML
+global:
+  scrape_interval: 1s
+  scrape_timeout: 900ms
+scrape_configs:
+  - job_name: causal_twin
+    static_configs:
+      - targets: ['127.0.0.1:$est_port']
+        labels: {service: causal-estimator}
+      - targets: ['127.0.0.1:$rec_port']
+        labels: {service: alarm-recommender}
+      - targets: ['127.0.0.1:$hist_port']
+        labels: {service: causal-recorder}
+YAML
+promtool check config "$work/prometheus.yml" > "$work/promtool_config.log" 2>&1 \
+  || { cat "$work/promtool_config.log"; echo "FAIL: prometheus.yml"; exit 1; }
+prometheus --config.file "$work/prometheus.yml" --storage.tsdb.path "$work/tsdb" \
+  --web.listen-address "127.0.0.1:$prom_port" > "$work/prometheus.log" 2>&1 &
+pids+=($!); prometheus_pid=$!
+
+rc=0
+"$svc/sensor_replay/sensor-replay" "${dds[@]}" --speed 0 --wait-for causal-estimator --wait-timeout 60 \
+  --features "$deploy/data/ims2-features/derived_per_file_stats_all984.csv" --feature-suffix _meanabs \
+  --feature-name meanabs --asset-group ims2-shaft1 > "$work/replay.log" 2>&1 || rc=$?
+[ $rc = 0 ] || { cat "$work/replay.log"; echo "FAIL: sensor-replay exited $rc"; exit 1; }
+sent=$(sed -n 's/.*summary topic=causal_twin\/condition_input sent=\([0-9]*\).*/\1/p' "$work/replay.log")
+[ -n "$sent" ] || { cat "$work/replay.log"; echo "FAIL: no replay summary"; exit 1; }
+
+# query EXPR: the value of a one-sample instant query ("" when there is none yet).
+query() {
+  curl -s --max-time 5 --get "http://127.0.0.1:$prom_port/api/v1/query" --data-urlencode "query=$1" \
+    | sed -n 's/.*"value":\[[0-9.e+]*,"\([^"]*\)"\].*/\1/p'
+}
+metric() {  # metric SERVICE NAME TOPIC
+  query "sum(causal_twin_$2{service=\"$1\",topic=\"$3\"})"
+}
+# Wait (bounded: 90 s) until the recorder has scraped values matching the estimator's: the pipeline is done.
+deadline=$((SECONDS + 90))
+while :; do
+  est_in=$(metric causal-estimator dds_samples_received_total causal_twin/condition_input)
+  est_vec=$(metric causal-estimator dds_samples_written_total causal_twin/condition_vector)
+  est_fac=$(metric causal-estimator dds_samples_written_total causal_twin/causal_factors)
+  rec_vec=$(metric alarm-recommender dds_samples_received_total causal_twin/condition_vector)
+  rec_fac=$(metric alarm-recommender dds_samples_received_total causal_twin/causal_factors)
+  his_vec=$(metric causal-recorder dds_samples_received_total causal_twin/condition_vector)
+  his_fac=$(metric causal-recorder dds_samples_received_total causal_twin/causal_factors)
+  if [ "$est_in" = "$sent" ] && [ "$est_vec" = "$sent" ] && [ -n "$est_fac" ] && [ "$rec_vec" = "$sent" ] \
+     && [ "$his_vec" = "$sent" ] && [ "$rec_fac" = "$est_fac" ] && [ "$his_fac" = "$est_fac" ]; then
+    break
+  fi
+  if [ $SECONDS -ge $deadline ]; then
+    echo "FAIL: Prometheus did not see the counts agree within 90 s:"
+    echo "  replay sent=$sent; estimator in=$est_in vectors out=$est_vec factors out=$est_fac"
+    echo "  recommender vectors in=$rec_vec factors in=$rec_fac; recorder vectors in=$his_vec factors in=$his_fac"
+    tail -5 "$work/prometheus.log"
+    exit 1
+  fi
+  sleep 1
+done
+echo "prometheus: replay sent=$sent; estimator condition_input received=$est_in, condition_vector written=$est_vec," \
+     "causal_factors written=$est_fac; recommender received $rec_vec / $rec_fac; recorder received $his_vec / $his_fac"
+up=$(query 'count(up{job="causal_twin"} == 1)')
+[ "$up" = 3 ] || { echo "FAIL: $up of 3 targets up"; exit 1; }
+lat=$(query 'sum(causal_twin_estimator_processing_seconds_count{service="causal-estimator",input="condition"})')
+[ "$lat" = "$sent" ] || { echo "FAIL: latency histogram counted $lat inputs, expected $sent"; exit 1; }
+p99=$(query 'histogram_quantile(0.99, sum by (le) (causal_twin_estimator_processing_seconds_bucket{input="condition"}))')
+echo "prometheus: 3 of 3 targets up; estimator processing latency p99 = ${p99} s over $lat condition inputs"
+
+for port in "$est_port" "$rec_port" "$hist_port"; do
+  curl -s --max-time 5 "http://127.0.0.1:$port/metrics" > "$work/scrape_$port.txt"
+  if ! promtool check metrics < "$work/scrape_$port.txt" > "$work/promtool_$port.log" 2>&1 \
+     || [ -s "$work/promtool_$port.log" ]; then
+    cat "$work/promtool_$port.log"; echo "FAIL: promtool check metrics on 127.0.0.1:$port"; exit 1
+  fi
+  echo "promtool check metrics: 127.0.0.1:$port ok ($(grep -c '^causal_twin_' "$work/scrape_$port.txt") samples)"
+done
+
+# Clean stop: SIGTERM by pid, every service exits 0 (nothing lost).
+for p in "$estimator_pid" "$recommender_pid" "$recorder_pid"; do kill -TERM "$p"; done
+status=0
+for p in "$estimator_pid" "$recommender_pid" "$recorder_pid"; do rc=0; wait "$p" || rc=$?; [ $rc = 0 ] || status=$rc; done
+kill -TERM "$prometheus_pid"; wait "$prometheus_pid" 2> /dev/null || true
+pids=()
+[ $status = 0 ] || { tail -5 "$work"/*.log; echo "FAIL: a service exited $status"; exit 1; }
+echo "PASS"
