@@ -2,9 +2,12 @@
 # Starts the services on one DDS domain, replays a data set through them, stops them all, and prints what
 # every topic carried.
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
-#                    [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
+#                    [--gap-factor K] [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
 #                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--metrics-port P]
 # Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only.
+# --features FILE takes any IMS-format table as it is (timestamp, one column per channel, any names, 2-16
+# channels); --feature-suffix/--feature-name are optional (a table of <channel>_<feature> columns publishes
+# its meanabs columns unless told otherwise). --gap-factor K: a time interval > K x the median is a gap (3).
 # --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
 # --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
 # --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
@@ -34,6 +37,7 @@ while [ $# -gt 0 ]; do
     --features) source_args=(--features "$2"); shift 2 ;;
     --feature-suffix) feature_args+=(--feature-suffix "$2"); shift 2 ;;
     --feature-name) feature_args+=(--feature-name "$2"); shift 2 ;;
+    --gap-factor) feature_args+=(--gap-factor "$2"); shift 2 ;;
     --speed) speed="$2"; shift 2 ;;
     --transport) transport="$2"; shift 2 ;;
     --max-runtime) max_runtime="$2"; shift 2 ;;
@@ -42,7 +46,7 @@ while [ $# -gt 0 ]; do
     --ask) asks+=("$2"); shift 2 ;;
     --logs) logs="$2"; shift 2 ;;
     --metrics-port) metrics_port="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -122,11 +126,28 @@ if [ ${#asks[@]} -gt 0 ]; then
       --percent "${q#*:}" --timeout 5 >> "$logs/causal-ask.log" 2>&1 || echo "launch: causal-ask exit code $? (see above)" >> "$logs/causal-ask.log"
   done
 fi
-# The replay has finished; the others drain their queues and exit when idle.
-for i in "${!pids[@]}"; do
-  [ -n "${service_rc[${names[$i]}]+x}" ] && continue
-  rc=0; wait "${pids[$i]}" || rc=$?
-  service_rc[${names[$i]}]=$rc
+# The replay has finished; the others drain their queues and exit when idle, the estimator first. A service
+# exits when idle only after data reached it: when the replay or the estimator failed, the ones downstream may
+# never see any, so they get drain_s seconds and are then stopped (SIGTERM), instead of running to --max-runtime.
+drain_s=20
+bounded=0
+[ "$status" != 0 ] && bounded=1
+[ "${service_rc[causal-estimator]:-0}" != 0 ] && bounded=1
+for n in causal-estimator alarm-recommender causal-recorder; do
+  [ -n "${service_rc[$n]+x}" ] && continue
+  for i in "${!pids[@]}"; do
+    [ "${names[$i]}" = "$n" ] || continue
+    if [ "$bounded" = 1 ]; then
+      for _ in $(seq $((drain_s * 10))); do kill -0 "${pids[$i]}" 2>/dev/null || break; sleep 0.1; done
+      if kill -0 "${pids[$i]}" 2>/dev/null; then
+        echo "launch: stopping $n: still running ${drain_s} s after its input failed" >&2
+        kill -TERM "${pids[$i]}" 2>/dev/null || true
+      fi
+    fi
+    rc=0; wait "${pids[$i]}" || rc=$?
+    service_rc[$n]=$rc
+    [ "$n" = causal-estimator ] && [ "$rc" != 0 ] && bounded=1
+  done
 done
 pids=()
 sleep 0.5  # let tail print the last lines

@@ -57,6 +57,31 @@ void DataQualityAlarms::on_events(const std::string& asset_group, const std::vec
   }
 }
 
+bool DataQualityAlarms::on_refused(const std::string& asset_group, const std::string& reason,
+                                   std::uint64_t snapshot_index, std::int64_t time_ns,
+                                   std::vector<causal_twin::Alarm>& out) {
+  const std::string kind = "input_refused";
+  const std::string key = key_of(asset_group, -1, kind);
+  if (open_.count(key) > 0) return false;
+  causal_twin::Alarm a;
+  a.alarm_id(asset_group + "/input/" + kind + "/s" + std::to_string(snapshot_index));
+  a.asset_group(asset_group);
+  a.channel(0);  // the whole group
+  a.channel_name("");
+  a.severity(causal_twin::CRITICAL);
+  a.state(causal_twin::RAISED);
+  a.kind(kind);
+  a.category("data_quality");
+  a.raised_time_ns(time_ns);
+  a.sample_index(snapshot_index);
+  a.score(1.0);
+  a.reason("the estimator refuses this asset group's input, it is not analysed: " + reason);
+  out.push_back(a);
+  open_.emplace(key, Open{a, false, true});
+  ++raised_;
+  return true;
+}
+
 void DataQualityAlarms::end_of_snapshot(const std::string& asset_group, std::uint64_t snapshot_index,
                                         std::int64_t time_ns, std::vector<causal_twin::Alarm>& out) {
   const std::string prefix = asset_group + '\x1f';

@@ -3,7 +3,10 @@
 // dead channel is visible to the operator, not only in a log.
 //  * bad values (non_finite, out_of_range): an ADVISORY alarm per channel and kind, raised at the first bad
 //    value and cleared at the end of the first snapshot without one;
-//  * a quarantined channel (stuck, scale_change): a WARNING alarm, cleared when the screen releases it.
+//  * a quarantined channel (stuck, scale_change): a WARNING alarm, cleared when the screen releases it;
+//  * input the estimator refuses (a model that does not fit the group, an unusable checkpoint, a fault in the
+//    estimation): one CRITICAL alarm "input_refused" per asset group, raised at the first refused input and
+//    never cleared (the group's data is not being analysed; the estimator exits 4).
 // Ids are "<asset group>/<channel>/<kind>/s<snapshot index>" (the snapshot it was raised in, from the source):
 // deterministic, and never reused after a restart.
 #pragma once
@@ -27,6 +30,9 @@ class DataQualityAlarms {
   // At the end of a snapshot: clears the bad-value alarms of this group that saw no bad value in it.
   void end_of_snapshot(const std::string& asset_group, std::uint64_t snapshot_index, std::int64_t time_ns,
                        std::vector<causal_twin::Alarm>& out);
+  // A refused input of this group: appends the input_refused alarm the first time; true when it did.
+  bool on_refused(const std::string& asset_group, const std::string& reason, std::uint64_t snapshot_index,
+                  std::int64_t time_ns, std::vector<causal_twin::Alarm>& out);
   std::uint64_t raised() const { return raised_; }
 
  private:

@@ -173,6 +173,7 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
   Asset& a = asset(frame.asset_group());
   if (!a.refused.empty()) {
     ++a.refused_inputs;
+    report_refusal(frame.asset_group(), frame.snapshot_index(), frame.first_sample_time_ns(), a.refused);
     return;
   }
   if (a.pipeline.already_fed_frame(frame.first_sample_index(), frame.samples_per_channel())) {
@@ -211,13 +212,16 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
     a.refused = std::string("estimation failed: ") + e.what();
     spdlog::error("asset '{}': {}; its input is refused from now on (counted)", frame.asset_group(), a.refused);
     ++a.refused_inputs;
+    report_refusal(frame.asset_group(), frame.snapshot_index(), frame.first_sample_time_ns(), a.refused);
     return;
   }
   if (!check.ok) {
     ++a.refused_frames;
-    spdlog::warn("asset '{}': frame {} refused: {}", frame.asset_group(), frame.sequence_number(), check.problem);
+    spdlog::debug("asset '{}': frame {} refused: {}", frame.asset_group(), frame.sequence_number(), check.problem);
+    report_refusal(frame.asset_group(), frame.snapshot_index(), frame.first_sample_time_ns(), check.problem);
     return;
   }
+  log_adjustments(frame.asset_group(), a);
   ++a.frames;
   if (a.feature.empty()) a.feature = io::to_string(params_.condition.feature);
   publish_quality(frame.asset_group(), a, frame.snapshot_index(), frame.first_sample_time_ns(), frame.end_of_segment());
@@ -235,11 +239,28 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   Asset& a = asset(in.asset_group());
   if (!a.refused.empty()) {
     ++a.refused_inputs;
+    report_refusal(in.asset_group(), in.snapshot_index(), in.time_ns(), a.refused);
     return;
   }
   if (a.pipeline.already_fed_condition(in.snapshot_index())) {
+    if (a.holes.erase(in.snapshot_index()) > 0) {
+      // Never fed, and later ones were: it arrived out of order (seen with a reader history full under load),
+      // too late for the filters. A loss, stated loudly, not a duplicate.
+      ++a.late_conditions;
+      spdlog::error("asset '{}': condition vector {} arrived after later ones (out of order): too late to be fed, "
+                    "counted as lost",
+                    in.asset_group(), in.snapshot_index());
+      return;
+    }
     ++a.skipped;
     return;
+  }
+  {
+    const auto& last = a.pipeline.last_source_index();
+    if (last.has_snapshot && !a.awaiting_continuation && in.snapshot_index() > last.snapshot + 1) {
+      // Indices skipped over: the source may not have them, or they may still come (out of order).
+      for (std::uint64_t i = last.snapshot + 1; i < in.snapshot_index() && a.holes.size() < 65536; ++i) a.holes.insert(i);
+    }
   }
   {
     const auto& last = a.pipeline.last_source_index();
@@ -259,13 +280,16 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
     a.refused = std::string("estimation failed: ") + e.what();
     spdlog::error("asset '{}': {}; its input is refused from now on (counted)", in.asset_group(), a.refused);
     ++a.refused_inputs;
+    report_refusal(in.asset_group(), in.snapshot_index(), in.time_ns(), a.refused);
     return;
   }
   if (!check.ok) {
-    ++a.refused_frames;
-    spdlog::warn("asset '{}': condition vector {} refused: {}", in.asset_group(), in.snapshot_index(), check.problem);
+    ++a.refused_conditions;
+    spdlog::debug("asset '{}': condition vector {} refused: {}", in.asset_group(), in.snapshot_index(), check.problem);
+    report_refusal(in.asset_group(), in.snapshot_index(), in.time_ns(), check.problem);
     return;
   }
+  log_adjustments(in.asset_group(), a);
   ++a.conditions_in;
   // The accepted vector goes on to the estimator's own topic: the one stream of condition vectors that the
   // recommender, the recorder and the HMI read, whatever the source.
@@ -456,6 +480,29 @@ void EstimatorNode::publish_quality(const std::string& name, Asset& a, std::uint
   }
 }
 
+void EstimatorNode::report_refusal(const std::string& name, std::uint64_t snapshot, std::int64_t time_ns,
+                                   const std::string& problem) {
+  std::vector<causal_twin::Alarm> alarms;
+  if (!quality_.on_refused(name, problem, snapshot, time_ns, alarms)) return;  // raised once per group
+  spdlog::error("asset '{}': input refused from snapshot {} on: {}. DATA QUALITY RAISED {}; every refused input is "
+                "counted and the estimator exits 4",
+                name, snapshot, problem, alarms.front().alarm_id());
+  if (standing_by_) return;  // the primary publishes it
+  auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarms.front()));
+  outbound_.push("alarm/data_quality", dds::OutboundQueue::Class::Essential,
+                 [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+}
+
+void EstimatorNode::log_adjustments(const std::string& name, Asset& a) {
+  if (a.adjustments_logged) return;
+  a.adjustments_logged = true;
+  for (const auto& adj : a.pipeline.calibration_adjustments()) {
+    spdlog::info("asset '{}': {} channels: {} calibration window {} samples instead of the configured {} (the model "
+                 "needs {})",
+                 name, a.pipeline.channels(), adj.window, adj.used, adj.configured, adj.rule);
+  }
+}
+
 bool EstimatorNode::continues(const std::string& name, Asset& a, bool is_continuation) {
   if (!a.awaiting_continuation) return true;
   if (is_continuation) {
@@ -586,12 +633,13 @@ int EstimatorNode::finish_all() {
   conditions_out_.wait_for_acknowledgments(ack_wait);
 
   // The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).
-  std::uint64_t frames = 0, lost = 0, refused = 0, conditions_received = 0;
+  std::uint64_t frames = 0, lost = 0, refused = 0, conditions_received = 0, conditions_refused = 0, conditions_late = 0;
   for (const auto& [name, a] : assets_) {
     const auto* s = a.pipeline.sample_stream();
     spdlog::info("asset '{}': {} frames ({} lost, {} refused), {} condition vectors in, {} sample-level and {} "
                  "condition-level factor messages out, {} non-finite samples rejected",
-                 name, a.frames, a.lost_frames, a.refused_frames, a.conditions_in, a.sample_msgs, a.condition_msgs,
+                 name, a.frames, a.lost_frames, a.refused_frames, a.conditions_in + a.refused_conditions,
+                 a.sample_msgs, a.condition_msgs,
                  s ? s->counters().rejected_non_finite : 0);
     if (a.skipped > 0) spdlog::info("asset '{}': {} inputs processed before a restart skipped", name, a.skipped);
     if (!a.refused.empty()) {
@@ -601,6 +649,11 @@ int EstimatorNode::finish_all() {
     lost += a.lost_frames;
     refused += a.refused_frames + a.refused_inputs;
     conditions_received += a.conditions_in;
+    conditions_refused += a.refused_conditions;
+    conditions_late += a.late_conditions;
+    if (a.late_conditions > 0) {
+      spdlog::error("asset '{}': {} condition vectors arrived out of order and were not fed (lost)", name, a.late_conditions);
+    }
   }
   if (store_.enabled()) {
     spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.failures());
@@ -619,7 +672,8 @@ int EstimatorNode::finish_all() {
                unpublished);
   spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={}", frames + refused, lost,
                refused + invalid_msgs_ + rejected_no_instance_);
-  spdlog::info("summary topic=causal_twin/condition_input received={}", conditions_received);
+  spdlog::info("summary topic=causal_twin/condition_input received={} refused={} lost={}",
+               conditions_received + conditions_refused + conditions_late, conditions_refused, conditions_late);
   // Snapshots whose condition window was dropped (too few usable samples: a channel quarantined for the whole
   // snapshot, a gap): stated here and in the data-quality alarms, never published as a vector.
   std::uint64_t dropped_windows = 0;
@@ -643,7 +697,8 @@ int EstimatorNode::finish_all() {
                  "pushed out by newer ones", standing_by_ ? "never took over (the primary stayed)" : "took over",
                  standby_unpublished_, standby_.discarded());
   }
-  return (lost + refused + invalid_msgs_ + rejected_no_instance_ + unpublished + dropped_windows) > 0 ? 4 : 0;
+  return (lost + refused + conditions_refused + conditions_late + invalid_msgs_ + rejected_no_instance_ + unpublished + dropped_windows) > 0
+             ? 4 : 0;
 }
 
 }  // namespace causal::estimator

@@ -21,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -63,7 +64,10 @@ class EstimatorNode {
     pipeline::AssetPipeline pipeline;
     std::vector<std::string> channel_names;
     std::optional<std::uint64_t> last_sequence;
-    std::uint64_t frames = 0, lost_frames = 0, refused_frames = 0, conditions_in = 0;
+    std::uint64_t frames = 0, lost_frames = 0, refused_frames = 0, conditions_in = 0, refused_conditions = 0;
+    bool adjustments_logged = false;
+    std::set<std::uint64_t> holes;      // condition snapshot indices skipped over (may still arrive, out of order)
+    std::uint64_t late_conditions = 0;  // ... that did: too late to feed, counted as lost  // the calibration windows raised for its channel count (logged once)
     std::uint64_t sample_msgs = 0, condition_msgs = 0;
     std::string feature;  // feature name of the condition-level model
     bool tuning_logged = false;
@@ -96,6 +100,10 @@ class EstimatorNode {
   void watch_primary();
   // False when the input is ahead of a restored checkpoint and the continuation is still awaited.
   bool continues(const std::string& name, Asset& a, bool is_continuation);
+  // Loud refusal: the first refused input of a group raises its input_refused DATA QUALITY alarm and logs an
+  // error; later ones are counted only (the summary states them, the exit code is 4).
+  void report_refusal(const std::string& name, std::uint64_t snapshot, std::int64_t time_ns, const std::string& problem);
+  void log_adjustments(const std::string& name, Asset& a);  // once per group, after its first accepted input
   void publish_health();
   void watch_output();      // HEALTH alarm while a reader keeps the drain thread waiting (stuck_after_s)    // HEALTH alarms of silent or lost inputs (HealthWatch), raised and cleared
   void log_structure(const std::string& name, const Asset& a, const char* level,

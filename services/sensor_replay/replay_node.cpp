@@ -5,6 +5,7 @@
 #include "causal/io/feature_table.hpp"
 #include "causal/io/input_error.hpp"
 #include "causal/io/time_format.hpp"
+#include "causal/io/time_gaps.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -16,6 +17,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// "6.0 days", "5.6 h", "10 min": a duration for the log.
+std::string duration_text(std::int64_t ns) {
+  const double s = static_cast<double>(ns) * 1e-9;
+  if (s >= 2 * 86400.0) return fmt::format("{:.1f} days", s / 86400.0);
+  if (s >= 2 * 3600.0) return fmt::format("{:.1f} h", s / 3600.0);
+  if (s >= 120.0) return fmt::format("{:.0f} min", s / 60.0);
+  return fmt::format("{:.3g} s", s);
+}
 
 }  // namespace
 
@@ -208,7 +218,24 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
 }
 
 int ReplayNode::run_features() {
-  const io::FeatureTable table = io::read_feature_table(options_.path, options_.feature_suffix);
+  io::FeatureTable table = io::read_feature_table(options_.path, options_.feature_suffix);
+  if (options_.feature_suffix.empty()) {
+    // A table as it is: one column per channel, or <channel>_<feature> columns of several features.
+    if (const std::string suffix = io::per_feature_suffix(table, options_.feature_name); !suffix.empty()) {
+      table = io::read_feature_table(options_.path, suffix);
+      spdlog::info("{}: one column per channel and feature: publishing the '{}' columns", options_.path, suffix);
+    }
+  }
+  // Time gaps over the whole table (a --first-snapshot subset keeps the recording's cadence and its gaps).
+  const io::TimeGaps gaps = io::find_time_gaps(table.time_ns, options_.gap_factor);
+  std::vector<bool> after_gap(table.time_ns.size(), false);
+  for (const std::size_t r : gaps.rows) {
+    after_gap[r] = true;
+    spdlog::info("time gap of {} before snapshot {} ({} after {}; usual interval {}, gaps are > {} x that): published "
+                 "as a discontinuity",
+                 duration_text(table.time_ns[r] - table.time_ns[r - 1]), r, io::format_utc(table.time_ns[r]),
+                 io::format_utc(table.time_ns[r - 1]), duration_text(gaps.median_interval_ns), options_.gap_factor);
+  }
   const Eigen::MatrixXd values = select_channels(table.values, options_.channels);
   dds::ConditionHeader header;
   header.asset_group = options_.asset_group;
@@ -227,7 +254,7 @@ int ReplayNode::run_features() {
     if (const auto resume = rewind_point(*conditions_, first, i)) i = *resume;
     header.snapshot_index = i;
     header.time_ns = table.time_ns[i];
-    header.discontinuity = (i == first);
+    header.discontinuity = (i == first) || after_gap[i];
     if (!pace(header.time_ns)) break;
     dds::to_condition_vector(header, values.row(static_cast<Eigen::Index>(i)).transpose(), out);
     const auto result = conditions_->write(out, stop_);
@@ -245,7 +272,8 @@ int ReplayNode::run_features() {
   }
   spdlog::info("published {} condition vectors in {:.2f} s{}", sent, seconds_since(started_),
                stop_.load() ? " (stopped early)" : "");
-  spdlog::info("summary topic=causal_twin/condition_input sent={} rewinds={}", sent, rewinds_);
+  spdlog::info("summary topic=causal_twin/condition_input sent={} rewinds={} time_gaps={}", sent, rewinds_,
+               gaps.rows.size());
   return 0;
 }
 

@@ -49,10 +49,19 @@ std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& ex
   app.add_option("--max-snapshots", o.max_snapshots, "publish at most this many snapshots (0 = all)")
       ->capture_default_str();
   app.add_option("--feature-suffix", o.feature_suffix,
-                 "feature tables: take the columns ending in this suffix (e.g. _rms in "
-                 "derived_per_file_stats_all984.csv); empty = every column")
+                 "feature tables (optional): take the columns ending in this suffix (e.g. _rms in "
+                 "derived_per_file_stats_all984.csv); default: every column of a merged table (timestamp, one column "
+                 "per channel, any names), or the --feature-name columns of a table whose columns are "
+                 "<channel>_<feature> for several features")
       ->capture_default_str();
-  app.add_option("--feature-name", o.feature_name, "feature tables: name of the feature (rms, meanabs, kurtosis, peak)")
+  app.add_option("--feature-name", o.feature_name,
+                 "feature tables (optional): name of the feature (rms, meanabs, kurtosis, peak); IMS merged tables "
+                 "hold mean |x| per snapshot")
+      ->capture_default_str();
+  app.add_option("--gap-factor", o.gap_factor,
+                 "feature tables: a time interval longer than this many median intervals is a gap (a stopped "
+                 "recorder); the row after it is published as a discontinuity and logged")
+      ->check(CLI::Range(1.0, 1e9))
       ->capture_default_str();
   app.add_option("--wait-subscribers", o.wait_subscribers,
                  "wait until this many readers are matched before publishing (nothing is published into the void)")

@@ -25,8 +25,11 @@ struct ReplayOptions {
   double speed = 0.0;                     // plant seconds per wall second; 0 = as fast as possible
   std::size_t first_snapshot = 0;         // skip this many snapshots
   std::size_t max_snapshots = 0;          // 0 = all
-  std::string feature_suffix;             // feature tables: column suffix ("_rms"); "" = every column
+  std::string feature_suffix;             // feature tables: column suffix ("_rms"); "" = every column, or the
+                                          // feature_name columns of a <channel>_<feature> table (derived style)
   std::string feature_name = "meanabs";   // feature tables: what the values are
+  double gap_factor = 3.0;                // feature tables: an interval > gap_factor x the median interval is a
+                                          // time gap; the row after it is published as a discontinuity
   int wait_subscribers = 1;               // wait for this many matched readers (any) before publishing
   std::vector<std::string> wait_for;      // and for readers of these participants ("causal-estimator[:N]"),
                                           // before publishing and whenever they go away (a restarted estimator)

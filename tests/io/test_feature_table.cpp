@@ -148,3 +148,22 @@ TEST(FeatureTable, SharedTablesMatchReadme) {
   }
   check_real_tables(causal::io::test::shared_ims2());
 }
+
+// A table as it is (issue 12): several features per channel only when every column is <channel>_<known feature>
+// with two features or more; any other names are channels.
+TEST(FeatureTable, PerFeatureSuffixTellsDerivedFromMergedTables) {
+  using causal::io::per_feature_suffix;
+  const FeatureTable derived = read_feature_table(fixture("feature_table_derived_style.csv"));
+  EXPECT_EQ(derived.channel_names.size(), 6u) << "read without a suffix: every column";
+  EXPECT_EQ(per_feature_suffix(derived, "meanabs"), "_meanabs");
+  EXPECT_EQ(per_feature_suffix(derived, "kurtosis"), "_kurtosis");
+  EXPECT_THROW(per_feature_suffix(derived, "peak"), std::invalid_argument);
+  EXPECT_EQ(per_feature_suffix(read_feature_table(fixture("feature_table_merged_style.csv")), "meanabs"), "");
+  FeatureTable named;
+  named.channel_names = {"Bearing 1 C1", "Bearing 1 C2"};
+  EXPECT_EQ(per_feature_suffix(named, "meanabs"), "");
+  named.channel_names = {"pump_in", "pump_out"};  // '_' in a channel name, not a feature
+  EXPECT_EQ(per_feature_suffix(named, "meanabs"), "");
+  named.channel_names = {"bearing1_rms", "bearing2_rms"};  // one feature: its columns are the channels
+  EXPECT_EQ(per_feature_suffix(named, "meanabs"), "");
+}

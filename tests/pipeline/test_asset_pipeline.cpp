@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -271,3 +272,37 @@ TEST(AssetPipeline, SampleTimesUseTheSampleRate) {
 }
 
 }  // namespace
+
+// Issue 12, any channel count: the configured structure window (100, sized for 4 channels) is raised to what
+// VAR-LiNGAM needs for G channels, 10 x G x (M + 1), and the group runs; a window that suffices is kept.
+TEST(AssetPipeline, CalibrationWindowsScaleWithTheChannelCount) {
+  AssetPipelineParams p = params(false, true);
+  p.condition_structure.calibration_samples = 100;
+  p.condition_structure.centre = true;
+  p.condition_structure.learn_order = true;
+  for (const int g : {2, 4, 5, 8, 16}) {
+    AssetPipeline pipe(p);
+    PipelineOutput out;
+    const std::size_t window = std::max<std::size_t>(100, 10 * static_cast<std::size_t>(g) * 2);
+    std::uint64_t snapshot = 0;
+    Eigen::VectorXd v(g);
+    for (; snapshot < window; ++snapshot) {
+      for (int c = 0; c < g; ++c) v[c] = std::exp(0.01 * std::sin(0.7 * static_cast<double>(snapshot * (c + 2)) + c));
+      const FrameCheck check = pipe.feed_condition(v, snapshot, snapshot == 0, kT0 + static_cast<std::int64_t>(snapshot), out);
+      ASSERT_TRUE(check.ok) << g << " channels: " << check.problem;
+      ASSERT_EQ(pipe.condition_stream() != nullptr, snapshot + 1 == window) << g << " channels, snapshot " << snapshot;
+    }
+    EXPECT_EQ(pipe.condition_structure()->samples, window) << g << " channels";
+    const auto& adjustments = pipe.calibration_adjustments();
+    if (window == 100) {
+      EXPECT_TRUE(adjustments.empty()) << g << " channels";
+    } else {
+      ASSERT_EQ(adjustments.size(), 1u) << g << " channels";
+      EXPECT_EQ(adjustments[0].window, "condition-level structure");
+      EXPECT_EQ(adjustments[0].configured, 100u);
+      EXPECT_EQ(adjustments[0].used, window);
+    }
+    EXPECT_EQ(causal::test::of_kind(out.condition_reports, EstimateKind::Filter).size(), window * static_cast<std::size_t>(g))
+        << "the window is replayed: every vector is estimated";
+  }
+}

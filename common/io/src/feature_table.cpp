@@ -2,6 +2,8 @@
 #include "causal/io/feature_table.hpp"
 
 #include <cmath>
+#include <set>
+#include <stdexcept>
 
 #include "causal/io/input_error.hpp"
 #include "causal/io/time_format.hpp"
@@ -21,7 +23,31 @@ bool ends_with(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }
 
+bool is_condition_feature_name(const std::string& s) {
+  static const std::set<std::string> known = {"meanabs", "rms", "kurtosis", "peak", "peakabs", "min",
+                                              "max",     "mean", "std",     "skewness", "crest"};
+  return known.count(s) > 0;
+}
+
 }  // namespace
+
+std::string per_feature_suffix(const FeatureTable& all_columns, const std::string& feature) {
+  std::set<std::string> features;
+  for (const std::string& name : all_columns.channel_names) {
+    const auto cut = name.rfind('_');
+    if (cut == std::string::npos || cut == 0) return "";
+    const std::string f = detail::to_lower(name.substr(cut + 1));
+    if (!is_condition_feature_name(f)) return "";  // a channel name that happens to contain '_'
+    features.insert(f);
+  }
+  if (features.size() < 2) return "";
+  if (features.count(feature) == 0) {
+    std::string list;
+    for (const auto& f : features) list += (list.empty() ? "" : ", ") + f;
+    throw std::invalid_argument("the table has several features per channel (" + list + "), not '" + feature + "'");
+  }
+  return "_" + feature;
+}
 
 FeatureTable read_feature_table(const std::string& path, const std::string& column_suffix) {
   const std::string text = detail::read_text_file(path);

@@ -10,6 +10,33 @@ namespace causal::pipeline {
 
 AssetPipeline::AssetPipeline(AssetPipelineParams params) : params_(std::move(params)) {}
 
+namespace {
+
+// Raises the configured windows of one level to what its G-channel model needs (the rule above
+// CalibrationAdjustment in asset_pipeline.hpp), listing each raise.
+void scale_windows(const char* level, FactorStreamParams& p, StructureSetting& s,
+                   std::vector<CalibrationAdjustment>& adjustments) {
+  const int g = p.model.channels, m = p.model.lag_order;
+  if (s.learn_order) {  // centring alone needs no minimum: a mean of any window
+    const std::size_t need = StructuredFactorStream::minimum_calibration_samples(g, m);
+    if (s.calibration_samples < need) {
+      adjustments.push_back({std::string(level) + " structure", s.calibration_samples, need,
+                             "10 x G x (M + 1) = 10 x " + std::to_string(g) + " x " + std::to_string(m + 1)});
+      s.calibration_samples = need;
+    }
+  }
+  if (p.noise.automatic) {
+    const std::size_t need = FactorStream::minimum_noise_calibration_samples(p.model);
+    if (p.noise.calibration_samples < need) {
+      adjustments.push_back({std::string(level) + " noise", p.noise.calibration_samples, need,
+                             "10 x factors per outcome + 10 = 10 x " + std::to_string((need - 10) / 10) + " + 10"});
+      p.noise.calibration_samples = need;
+    }
+  }
+}
+
+}  // namespace
+
 AssetPipeline::Streams AssetPipeline::build_streams(int g) const {
   // Resolve the configured graphs against this asset group's channels.
   const std::vector<std::string> names = channel_names_.size() == static_cast<std::size_t>(g)
@@ -22,12 +49,16 @@ AssetPipeline::Streams AssetPipeline::build_streams(int g) const {
   };
   Streams s;
   if (params_.sample_level) {
-    s.sample = std::make_unique<StructuredFactorStream>(model_for(params_.sample, params_.sample_graph),
-                                                        params_.sample_structure);
+    FactorStreamParams p = model_for(params_.sample, params_.sample_graph);
+    StructureSetting st = params_.sample_structure;
+    scale_windows("sample-level", p, st, s.adjustments);
+    s.sample = std::make_unique<StructuredFactorStream>(std::move(p), st);
   }
   if (params_.condition_level) {
-    s.condition_model = std::make_unique<StructuredFactorStream>(
-        model_for(params_.condition_model, params_.condition_graph), params_.condition_structure);
+    FactorStreamParams p = model_for(params_.condition_model, params_.condition_graph);
+    StructureSetting st = params_.condition_structure;
+    scale_windows("condition-level", p, st, s.adjustments);
+    s.condition_model = std::make_unique<StructuredFactorStream>(std::move(p), st);
     s.conditions = std::make_unique<ConditionStream>(params_.condition, g);
   }
   return s;
@@ -44,6 +75,7 @@ bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
       sample_ = std::move(s.sample);
       conditions_ = std::move(s.conditions);
       condition_model_ = std::move(s.condition_model);
+      adjustments_ = std::move(s.adjustments);
       frame_screen_ = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);
       condition_screen_ = std::make_unique<InputScreen>(params_.condition_screen, g, ScreenLevel::Condition);
     } catch (const std::invalid_argument& e) {
@@ -217,6 +249,7 @@ void AssetPipeline::restore(StateReader& r) {
   sample_ = std::move(s.sample);
   conditions_ = std::move(s.conditions);
   condition_model_ = std::move(s.condition_model);
+  adjustments_ = std::move(s.adjustments);
   // The input screens are not checkpointed: they re-learn their reference scale after a restart (a channel
   // in quarantine at the crash is quarantined again within its detection window).
   frame_screen_ = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);

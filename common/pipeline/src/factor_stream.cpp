@@ -91,6 +91,11 @@ void expect_same_stream_params(StateReader& r, const FactorStreamParams& params,
   expect_saved(r, "fixed lag", static_cast<std::int32_t>(params.fixed_lag), owner);
 }
 
+std::size_t FactorStream::minimum_noise_calibration_samples(const ModelSpec& model) {
+  // The likelihood needs clearly more usable samples than factors per outcome.
+  return 10 * static_cast<std::size_t>(SvarLayout(model).factor_count(0)) + 10;
+}
+
 FactorStream::FactorStream(FactorStreamParams params)
     : params_(std::move(params)), layout_(params_.model), g_(layout_.channels()), stats_(layout_.channels()) {
   if (params_.publish_every == 0) throw std::invalid_argument("publish_every must be >= 1");
@@ -100,8 +105,7 @@ FactorStream::FactorStream(FactorStreamParams params)
   all_factors_.resize(f);
   all_std_.resize(f);
   if (params_.noise.automatic) {
-    // The likelihood needs clearly more usable samples than factors per outcome.
-    const std::size_t minimum = 10 * static_cast<std::size_t>(layout_.factor_count(0)) + 10;
+    const std::size_t minimum = minimum_noise_calibration_samples(params_.model);
     if (params_.noise.calibration_samples < minimum) {
       throw std::invalid_argument("calibration_samples must be >= " + std::to_string(minimum) +
                                   " for this model (10 x factors per outcome + 10)");

@@ -33,7 +33,11 @@ StructuredFactorStream::StructuredFactorStream(FactorStreamParams params, Struct
 }
 
 std::size_t StructuredFactorStream::minimum_calibration_samples() const {
-  return 10 * static_cast<std::size_t>(g_) * static_cast<std::size_t>(params_.model.lag_order + 1);
+  return minimum_calibration_samples(g_, params_.model.lag_order);
+}
+
+std::size_t StructuredFactorStream::minimum_calibration_samples(int g, int lag_order) {
+  return 10 * static_cast<std::size_t>(g) * static_cast<std::size_t>(lag_order + 1);
 }
 
 void StructuredFactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index,

@@ -30,4 +30,12 @@ struct FeatureTable {
 // non-numeric or non-finite values, no data rows.
 FeatureTable read_feature_table(const std::string& path, const std::string& column_suffix = "");
 
+// Several features per channel? For a table read with an empty suffix: when every channel column is named
+// <channel>_<feature> with a known condition feature (meanabs, rms, kurtosis, peak, peakabs, min, max, mean,
+// std, skewness, crest) and there are at least two distinct features (derived_per_file_stats style), returns
+// "_" + feature, the suffix that selects one feature's columns; throws std::invalid_argument naming the table's
+// features when `feature` is not among them. Otherwise (a merged table: one column per channel, any names,
+// e.g. "Bearing 1 C1" or "pump_in") returns "". So a table can be taken as it is, without per-file flags.
+std::string per_feature_suffix(const FeatureTable& all_columns, const std::string& feature);
+
 }  // namespace causal::io

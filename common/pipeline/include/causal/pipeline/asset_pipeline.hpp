@@ -38,6 +38,22 @@ struct AssetPipelineParams {
   InputScreenParams condition_screen = InputScreenParams::for_conditions();
 };
 
+// Channel-count rule (issue 12): calibration windows are configured for the shipped 4-channel groups, and a
+// group with more channels needs more vectors to learn the same model. Every group of G >= 2 channels runs
+// with its configured windows raised, where needed, to what its model needs:
+//   structure window (centring / VAR-LiNGAM order):  max(configured, 10 x G x (M + 1))
+//   automatic noise window (q, r by likelihood):      max(configured, 10 x factors per outcome + 10)
+// (the minimums StructuredFactorStream and FactorStream enforce). E.g. 8 channels at lag 1: a 160-snapshot
+// structure window instead of 100; 16 channels: 320. A run that ends before its window is full learns on
+// what it has (finish()); when that is too little, the configured model runs and LearnedStructure::problem
+// says why. Nothing is refused for its channel count; each raised window is listed (calibration_adjustments).
+struct CalibrationAdjustment {
+  std::string window;      // "condition-level structure", "sample-level noise", ...
+  std::size_t configured = 0;
+  std::size_t used = 0;
+  std::string rule;        // the minimum that applied, e.g. "10 x G x (M + 1) = 10 x 8 x 2"
+};
+
 struct PipelineOutput {
   std::vector<FactorReport> sample_reports;
   std::vector<FactorReport> condition_reports;
@@ -88,6 +104,9 @@ class AssetPipeline {
   void finish(PipelineOutput& out);
 
   int channels() const { return channels_; }
+  // The calibration windows raised for this group's channel count (empty before the first input, or when the
+  // configured windows suffice). See CalibrationAdjustment.
+  const std::vector<CalibrationAdjustment>& calibration_adjustments() const { return adjustments_; }
   // The running filters; null before the first frame and while a structure calibration window fills.
   const FactorStream* sample_stream() const { return sample_ ? sample_->stream() : nullptr; }
   const FactorStream* condition_stream() const { return condition_model_ ? condition_model_->stream() : nullptr; }
@@ -129,6 +148,7 @@ class AssetPipeline {
     std::unique_ptr<StructuredFactorStream> sample;
     std::unique_ptr<ConditionStream> conditions;
     std::unique_ptr<StructuredFactorStream> condition_model;
+    std::vector<CalibrationAdjustment> adjustments;
   };
   // The streams for G = g channels from params_ (graphs resolved with channel_names_); throws
   // std::invalid_argument when the configured model does not fit.
@@ -139,6 +159,7 @@ class AssetPipeline {
   AssetPipelineParams params_;
   std::vector<std::string> channel_names_;
   int channels_ = 0;
+  std::vector<CalibrationAdjustment> adjustments_;
   std::unique_ptr<StructuredFactorStream> sample_;
   std::unique_ptr<ConditionStream> conditions_;
   std::unique_ptr<StructuredFactorStream> condition_model_;

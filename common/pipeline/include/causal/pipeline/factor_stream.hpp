@@ -82,6 +82,8 @@ void expect_same_stream_params(StateReader& r, const FactorStreamParams& params,
 class FactorStream {
  public:
   explicit FactorStream(FactorStreamParams params);  // throws std::invalid_argument for invalid params
+  // Automatic noise needs clearly more usable samples than factors per outcome: 10 x factors + 10.
+  static std::size_t minimum_noise_calibration_samples(const ModelSpec& model);
 
   // Feeds the rows of an N x G block; row 0 has the source index first_index (row i: first_index + i) and
   // is at first_time_ns, rows are period_ns apart, `discontinuity` applies to row 0. Reports are appended

@@ -61,6 +61,8 @@ class StructuredFactorStream {
   const FactorStream* stream() const { return stream_.get(); }  // null while calibrating
   const LearnedStructure& structure() const { return learned_; }
   std::size_t minimum_calibration_samples() const;
+  // VAR-LiNGAM's minimum window for g channels at lag order m: 10 x g x (m + 1) samples.
+  static std::size_t minimum_calibration_samples(int g, int lag_order);
 
   // Checkpoint (state_archive.hpp), section "structured_factor_stream". Saved: the configured model and
   // stream parameters and the structure setting (restore throws StateError when this object was built with
