@@ -17,6 +17,8 @@
 # --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
 # --metrics-port P gives every service a Prometheus endpoint on 127.0.0.1 at consecutive ports from P (one
 #   line "metrics: <service> http://127.0.0.1:<port>/metrics" each).
+# --verbose shows every service's log lines live; by default the terminal shows progress, alarms, warnings and
+#   errors only, then the delivery table and the verdict (status, first alarm, root cause, advice per group).
 # --web-port P also runs twin-web: the live view at http://127.0.0.1:P/, up until 30 s after the run.
 # Exit code: 0 when every service exited 0 (nothing lost, refused or dropped), else the first non-zero code;
 # the summary at the end says per topic: sent, received, dropped, rejected, and which service failed.
@@ -37,6 +39,7 @@ logs=""
 security=""
 metrics_port=""
 web_port=""
+verbose=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --domain) domain="$2"; shift 2 ;;
@@ -55,7 +58,8 @@ while [ $# -gt 0 ]; do
     --security) security="$2"; shift 2 ;;
     --metrics-port) metrics_port="$2"; shift 2 ;;
     --web-port) web_port="$2"; shift 2 ;;
-    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
+    --verbose) verbose=1; shift ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -116,13 +120,19 @@ start() {
 
 echo "launch: DDS domain $domain, transport $(basename "$transport"), $security_note, logs in $logs"
 for n in causal-recorder alarm-recommender causal-estimator sensor-replay causal-ask twin-web; do : > "$logs/$n.log"; done
+# The terminal: every line with --verbose, else what an operator acts on (progress, alarms, problems).
+quiet_filter=' (warning|error|critical) |progress:| ALARM (raised|escalated) |serving http'
+[ "$verbose" = 1 ] && quiet_filter='.'
 tail -q -n +1 -F "$logs"/causal-recorder.log "$logs"/alarm-recommender.log "$logs"/causal-estimator.log \
-  "$logs"/sensor-replay.log "$logs"/causal-ask.log "$logs"/twin-web.log 2>/dev/null &
-tail_pid=$!
+  "$logs"/sensor-replay.log "$logs"/causal-ask.log "$logs"/twin-web.log 2>/dev/null \
+  > >(grep --line-buffered -E "$quiet_filter") &
+tail_pid=$!  # tail's own pid: the filter ends when tail does
 
 estimator_waits=(--wait-for alarm-recommender)
-if [ -x "$bin/causal_recorder/causal-recorder" ] && [ -n "$record" ]; then
-  start causal-recorder "$bin/causal_recorder/causal-recorder" "${common[@]}" --out "$record" --idle-exit 6 \
+# The recorder always runs: the verdict at the end is read from its files (in the log folder without --record).
+record_dir="${record:-$logs/record}"
+if [ -x "$bin/causal_recorder/causal-recorder" ]; then
+  start causal-recorder "$bin/causal_recorder/causal-recorder" "${common[@]}" --out "$record_dir" --idle-exit 6 \
     --max-runtime "$max_runtime"
   estimator_waits+=(--wait-for causal-recorder)
 fi
@@ -160,9 +170,14 @@ if [ ${#asks[@]} -gt 0 ]; then
   rc=0; wait "$estimator_pid" || rc=$?
   service_rc[causal-estimator]=$rc
   for q in "${asks[@]}"; do
-    echo "launch: asking the twin: sustained ${q#*:} % on channel ${q%%:*} of $asset_group" >> "$logs/causal-ask.log"
+    ask_log="$logs/causal-ask.$$.tmp"
+    echo "launch: asking the twin: sustained ${q#*:} % on channel ${q%%:*} of $asset_group" > "$ask_log"
     "$bin/whatif_ask/causal-ask" "${common[@]}" --asset-group "$asset_group" --intervene "${q%%:*}" \
-      --percent "${q#*:}" --timeout 5 >> "$logs/causal-ask.log" 2>&1 || echo "launch: causal-ask exit code $? (see above)" >> "$logs/causal-ask.log"
+      --percent "${q#*:}" --timeout 5 >> "$ask_log" 2>&1 || echo "launch: causal-ask exit code $? (see above)" >> "$ask_log"
+    cat "$ask_log" >> "$logs/causal-ask.log"
+    # The answer is what the operator asked for: shown in full also on the quiet terminal (its log lines are not).
+    [ "$verbose" = 1 ] || grep -v '^[0-9-]*T[0-9:.]* \[causal-ask\] info' "$ask_log"
+    rm -f "$ask_log"
   done
 fi
 # The replay has finished; the others drain their queues and exit when idle, the estimator first. A service
@@ -215,7 +230,12 @@ for n in sensor-replay causal-estimator alarm-recommender causal-recorder twin-w
   fi
 done
 if [ -n "$record" ] && [ -x "$bin/causal_report/causal-report" ]; then
+  # Renders the figures and prints the verdict.
   "$bin/causal_report/causal-report" --run "$record" --out "$record/report" || status=$?
+elif [ -x "$bin/causal_report/causal-report" ] && [ -d "$record_dir" ]; then
+  echo
+  echo "=== verdict ==="
+  "$bin/causal_report/causal-report" --run "$record_dir" --verdict-only || status=$?
 fi
 [ "$status" = 0 ] && echo "launch: every service exited 0: nothing lost, dropped or refused"
 exit $status

@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include "causal/alarms/observation_builder.hpp"
+
 namespace causal::recommender {
 
 namespace {
@@ -24,23 +26,22 @@ void ObservationAssembler::observe(const dds::FactorSet& set, std::vector<Assemb
   a.channel_names = set.channel_names;
   a.factor_names = set.factor_names;
   a.covariance_blocks = set.covariance_blocks;
-  alarms::Observation& o = a.observation;
-  o.index = set.index;
-  o.time_ns = set.time_ns;
-  o.factors = set.factors;
-  o.factor_std = set.factor_std;
-  o.innovations.resize(g);
-  o.innovation_variances.resize(g);
-  if (a.time_scale == causal_twin::SAMPLE_LEVEL) o.mean_nis.resize(g);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // The shared rule (observation_builder.hpp): the offline chain builds its observations the same way.
+  std::vector<alarms::OutcomeReport> outcomes(static_cast<std::size_t>(g));
   for (int k = 0; k < g; ++k) {
     const auto& stats = set.outcomes[static_cast<std::size_t>(k)];
-    // No update since the last report: no innovation to judge (NaN = "no value for this channel now").
-    const bool fresh = stats.innovation_count > 0;
-    o.innovations[k] = fresh ? stats.last_innovation : nan;
-    o.innovation_variances[k] = fresh ? stats.last_innovation_variance : nan;
-    if (o.mean_nis.size() > 0) o.mean_nis[k] = fresh ? stats.nis_mean : nan;
+    auto& r = outcomes[static_cast<std::size_t>(k)];
+    const Eigen::Index from = set.factor_offset[static_cast<std::size_t>(k)];
+    const Eigen::Index n = set.factor_offset[static_cast<std::size_t>(k) + 1] - from;
+    r.factors = set.factors.segment(from, n);
+    r.factor_std = set.factor_std.segment(from, n);
+    r.innovation_count = stats.innovation_count;
+    r.nis_mean = stats.nis_mean;
+    r.last_innovation = stats.last_innovation;
+    r.last_innovation_variance = stats.last_innovation_variance;
   }
+  a.observation = alarms::observation_from_outcomes(set.index, set.time_ns, outcomes,
+                                                    a.time_scale == causal_twin::SAMPLE_LEVEL);
   if (a.time_scale == causal_twin::SAMPLE_LEVEL) {
     out.push_back(std::move(a));  // sample-level observations carry no condition features
     return;
@@ -58,7 +59,10 @@ void ObservationAssembler::release(const WaitingKey& key, std::deque<AssembledOb
     AssembledObservation& a = waiting.front();
     if (fit != features_.end()) {
       const auto vit = fit->second.find(a.observation.time_ns);
-      if (vit != fit->second.end()) a.observation.features = vit->second;
+      if (vit != fit->second.end()) {
+        a.observation.features = vit->second.values;
+        a.observation.discontinuity = vit->second.discontinuity;
+      }
     }
     const bool has_features = a.observation.features.size() > 0;
     if (!has_features && !all && waiting.size() <= max_pending_) break;
@@ -68,11 +72,11 @@ void ObservationAssembler::release(const WaitingKey& key, std::deque<AssembledOb
 }
 
 void ObservationAssembler::add_condition(const std::string& asset_group, const std::string& feature,
-                                         std::int64_t time_ns, const Eigen::VectorXd& values,
+                                         std::int64_t time_ns, const Eigen::VectorXd& values, bool discontinuity,
                                          std::vector<AssembledObservation>& out) {
   const WaitingKey key{asset_group, feature};
   auto& by_time = features_[key];
-  by_time[time_ns] = values;
+  by_time[time_ns] = Condition{values, discontinuity};
   while (by_time.size() > kMaxFeatures) by_time.erase(by_time.begin());
   if (const auto it = waiting_.find(key); it != waiting_.end()) release(key, it->second, out, false);
 }

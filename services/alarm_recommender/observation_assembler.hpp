@@ -46,8 +46,13 @@ class ObservationAssembler {
   // stream becomes at most one observation, in index order (re-sent or replayed indices are duplicates,
   // see factor_counters()).
   void add_factors(const dds::FactorMessage& m, std::vector<AssembledObservation>& out);
+  // discontinuity: ConditionVector.discontinuity (a gap in the run, a restart), passed on to the alarm engine.
   void add_condition(const std::string& asset_group, const std::string& feature, std::int64_t time_ns,
-                     const Eigen::VectorXd& values, std::vector<AssembledObservation>& out);
+                     const Eigen::VectorXd& values, bool discontinuity, std::vector<AssembledObservation>& out);
+  void add_condition(const std::string& asset_group, const std::string& feature, std::int64_t time_ns,
+                     const Eigen::VectorXd& values, std::vector<AssembledObservation>& out) {
+    add_condition(asset_group, feature, time_ns, values, false, out);
+  }
   // Releases everything still held (end of stream); factor sets still missing an outcome are dropped.
   void flush(std::vector<AssembledObservation>& out);
   std::uint64_t dropped_incomplete() const { return sets_.counters().dropped; }
@@ -65,7 +70,11 @@ class ObservationAssembler {
   // Condition-level observations waiting for their condition vector, by asset group + feature.
   std::map<WaitingKey, std::deque<AssembledObservation>> waiting_;
   // Condition vectors by asset group + feature, then time.
-  std::map<WaitingKey, std::map<std::int64_t, Eigen::VectorXd>> features_;
+  struct Condition {
+    Eigen::VectorXd values;
+    bool discontinuity = false;
+  };
+  std::map<WaitingKey, std::map<std::int64_t, Condition>> features_;
   std::vector<dds::FactorSet> sets_ready_;  // scratch
 };
 

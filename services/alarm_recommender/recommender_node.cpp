@@ -40,7 +40,7 @@ int RecommenderNode::run() {
         return;
       }
       ++conditions_received_;
-      assembler_.add_condition(c.asset_group(), c.feature(), c.time_ns(), dds::values_of(c), ready);
+      assembler_.add_condition(c.asset_group(), c.feature(), c.time_ns(), dds::values_of(c), c.discontinuity(), ready);
     });
     n += factors_.take_all_and_states([&](const causal_twin::CausalFactors& f, const auto& info) {
       // Condition-level factors carry the snapshot index (the health alarm's id names the last one).
@@ -73,9 +73,10 @@ int RecommenderNode::run() {
   store_.flush();
   for (const auto& [key, st] : engines_) {
     const auto active = st.engine->active_alarms();
-    spdlog::info("asset '{}' {} level: {} observations, {} alarms raised, {} still active", key.first,
+    spdlog::info("asset '{}' {} level: {} observations, {} alarms raised, {} still active, {} discontinuities, "
+                 "{} operating changes re-baselined", key.first,
                  key.second == causal_twin::SAMPLE_LEVEL ? "sample" : "condition", st.engine->observations_seen(),
-                 st.raised, active.size());
+                 st.raised, active.size(), st.engine->discontinuities(), st.engine->operating_changes());
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
   spdlog::info("{} re-sent observations dropped (index not after the last one processed)", store_.duplicates());
@@ -171,9 +172,11 @@ void RecommenderNode::observe(AssembledObservation& a) {
   const auto events = st.engine->observe(a.observation);
   store_.record(a.asset_group, sample, a.observation.index, events);  // checkpoint before publishing
   for (const auto& e : events) {
-    if (e.state == alarms::AlarmState::Raised) ++st.raised;
+    if (e.state == alarms::AlarmState::Raised && e.category == alarms::category::kDegradation) ++st.raised;
     publish_event(a, e);
-    if (e.state == alarms::AlarmState::Raised && !sample && params_.advice.enabled) recommend(a, st, e);
+    if (e.state == alarms::AlarmState::Raised && e.category == alarms::category::kDegradation && !sample &&
+        params_.advice.enabled)
+      recommend(a, st, e);
   }
   if (!st.baseline_logged && st.engine->baseline_ready()) {
     st.baseline_logged = true;
@@ -188,9 +191,14 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const alarms:
   const auto level = e.severity == alarms::Severity::Critical  ? spdlog::level::err
                      : e.severity == alarms::Severity::Warning ? spdlog::level::warn
                                                                : spdlog::level::info;
-  spdlog::log(level, "ALARM {} {} [{} {}] {}: {}", alarms::to_string(e.state), e.alarm_id, alarms::to_string(e.severity),
-              a.time_scale == causal_twin::SAMPLE_LEVEL ? "sample-level" : "condition-level",
-              alarm_msg_.channel_name(), e.reason);
+  if (e.category != alarms::category::kDegradation) {  // an operating change: re-baselined, not a fault
+    if (e.state == alarms::AlarmState::Raised)
+      spdlog::info("OPERATING CHANGE {} {}: {}", e.alarm_id, alarm_msg_.channel_name(), e.reason);
+    return;
+  }
+  spdlog::log(level, "ALARM {} {} [{} {}, root cause {} confidence {:.2f}] {}: {}", alarms::to_string(e.state), e.alarm_id,
+              alarms::to_string(e.severity), a.time_scale == causal_twin::SAMPLE_LEVEL ? "sample-level" : "condition-level",
+              alarm_msg_.root_cause_name(), e.root_cause_confidence, alarm_msg_.channel_name(), e.reason);
 }
 
 }  // namespace causal::recommender

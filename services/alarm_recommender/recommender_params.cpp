@@ -18,7 +18,8 @@ RecommenderParams load_recommender_params(const std::string& path) {
           "clear_persistence", "level_window", "feature_enabled", "feature_log_transform", "warning_ratio",
           "critical_ratio", "innovation_enabled", "nis_enabled", "nis_window", "nis_false_alarm_prob",
           "warning_sigma", "critical_sigma", "factor_enabled", "factor_false_alarm_prob", "factor_persistence",
-          "onset_tolerance", "explain_top_factors"});
+          "onset_tolerance", "explain_top_factors", "confirmation_observations", "gap_multiple", "operating_step_ratio",
+          "settle_trend_sigma", "escalation_persistence", "root_cause_margin_z", "root_cause_persistence"});
   r.condition_enabled = c.boolean("enabled");
   alarms::AlarmParams& p = r.condition;
   p.warmup_observations = static_cast<int>(c.integer("warmup_observations", 0, 1000000));
@@ -48,6 +49,13 @@ RecommenderParams load_recommender_params(const std::string& path) {
   p.factor_persistence = static_cast<int>(c.integer("factor_persistence", 1, 100000));
   p.onset_tolerance = static_cast<int>(c.integer("onset_tolerance", 0, 100000));
   p.explain_top_factors = static_cast<int>(c.integer("explain_top_factors", 0, 1000));
+  p.confirmation_observations = static_cast<int>(c.integer("confirmation_observations", 3, 100000));
+  p.gap_multiple = c.positive("gap_multiple");
+  p.operating_step_ratio = c.positive("operating_step_ratio");
+  p.settle_trend_sigma = c.positive("settle_trend_sigma");
+  p.escalation_persistence = static_cast<int>(c.integer("escalation_persistence", 1, 100000));
+  p.root_cause_margin_z = c.positive("root_cause_margin_z");
+  p.root_cause_persistence = static_cast<int>(c.integer("root_cause_persistence", 1, 100000));
   try {
     p.validate();
   } catch (const std::invalid_argument& e) {

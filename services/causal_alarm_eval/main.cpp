@@ -1,6 +1,7 @@
 // causal-alarm-eval: runs the condition-level alarm pipeline offline over a whole run-to-failure recording
 // and prints every alarm event and a summary line per channel. With --check-* options it is the ctest
-// "long check": exit status 0 when the recording meets the detection bar, 1 when not, 2 on input errors.
+// "long check": exit status 0 when the recording meets the detection bar, 1 when not, 2 on input errors
+// (including condition vectors the estimator refuses, e.g. a channel count its configuration cannot run).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -78,11 +79,11 @@ int run_sample_level_mode(const std::string& dir, const SampleLevelOptions& so, 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Offline condition-level alarm evaluation: features -> causal Kalman filter -> alarm engine"};
+  CLI::App app{"Offline condition-level alarm evaluation through the services' chain: features -> causal-estimator's condition pipeline -> alarm-recommender's observation rule -> alarm engine"};
   causal::config::add_version_flag(app);
   std::string table, ims_dir, feature = "meanabs", group = "ims", trace_csv;
   PipelineOptions opt;
-  bool no_tune = false, quiet = false, print_reasons = false;
+  bool quiet = false, print_reasons = false;
   int check_channel = 0, check_by = -1, check_quiet_before = -1;  // check_channel 0 = no check
   auto* src = app.add_option_group("source", "where the condition features come from");
   src->add_option("--features", table,
@@ -96,13 +97,9 @@ int main(int argc, char** argv) {
   app.add_option("--asset-group", group, "asset-group id used in alarm ids");
   app.add_option("--warmup", opt.params.warmup_observations, "observations ignored at the start")->capture_default_str();
   app.add_option("--baseline", opt.params.baseline_observations, "healthy baseline length in observations")->capture_default_str();
-  app.add_option("--lag-order", opt.lag_order, "lag order M of the causal model")->capture_default_str();
-  app.add_flag("--self-lags", opt.include_self_lags, "include y_k[n-l] regressors for outcome k");
-  bool raw_log = false;
-  app.add_flag("--raw-log-input", raw_log, "feed the filter the plain log feature (as causal-estimator does), not standardised");
-  app.add_flag("--no-tune", no_tune, "do not tune q, r by maximum likelihood on the baseline; use --q/--r");
-  app.add_option("--q", opt.noise.q, "process noise q (with --no-tune)")->capture_default_str();
-  app.add_option("--r", opt.noise.r, "measurement noise r (with --no-tune)")->capture_default_str();
+  std::string estimator_config = shipped_estimator_config();
+  app.add_option("--estimator-config", estimator_config,
+                 "causal-estimator's parameter file: the condition-level model the services run")->capture_default_str();
   app.add_option("--target-arl0", opt.params.target_arl0, "in-control ARL of the CUSUM detectors")->capture_default_str();
   app.add_flag("--quiet", quiet, "print only the summary (not every event)");
   app.add_flag("--reasons", print_reasons, "print each event's plain-language reason");
@@ -115,6 +112,8 @@ int main(int argc, char** argv) {
   app.add_flag("--sample-level", sample_level, "sample-level mode over raw snapshots (needs --ims-dir)");
   app.add_option("--healthy-snapshots", so.healthy_snapshots, "sample level: snapshots that form the baseline")->capture_default_str();
   app.add_option("--publish-every", so.publish_every, "sample level: samples per factor publication")->capture_default_str();
+  app.add_option("--lag-order", so.lag_order, "sample level: lag order M of the causal model")->capture_default_str();
+  app.add_flag("--self-lags", so.include_self_lags, "sample level: include y_k[n-l] regressors for outcome k");
   CLI11_PARSE(app, argc, argv);
   if (sample_level) {
     if (ims_dir.empty()) {
@@ -122,35 +121,41 @@ int main(int argc, char** argv) {
       return 2;
     }
     so.asset_group = group;
-    so.lag_order = opt.lag_order;
-    so.include_self_lags = opt.include_self_lags;
     return run_sample_level_mode(ims_dir, so, quiet, print_reasons, check_by >= 0 || check_channel > 0 ? check_channel : 0);
   }
   opt.asset_group = group;
-  opt.tune_noise = !no_tune;
-  opt.standardize_input = !raw_log;
 
   ConditionSeries series;
   PipelineResult res;
   try {
-    series = table.empty() ? series_from_ims_directory(ims_dir, feature, !quiet) : series_from_feature_table(table, feature);
+    opt.estimator = load_estimator_config(estimator_config);
+    series = table.empty() ? series_from_ims_directory(ims_dir, feature, !quiet, opt.params.gap_multiple)
+                           : series_from_feature_table(table, feature, opt.params.gap_multiple);
     res = run_condition_pipeline(series, opt);
   } catch (const std::exception& e) {
     std::cerr << "causal-alarm-eval: " << e.what() << "\n";
     return 2;
   }
 
+  if (res.refused > 0) {  // loudly, as the estimator would (it exits 4): nothing judged on those vectors
+    std::cerr << "causal-alarm-eval: the estimator refused " << res.refused << " of " << series.values.rows()
+              << " condition vectors: " << res.refusal << "\n";
+  }
   const auto n = series.values.rows();
   std::printf("causal-alarm-eval: feature %s, %lld observations, %lld channels, source %s\n", series.feature.c_str(),
               static_cast<long long>(n), static_cast<long long>(series.values.cols()),
               table.empty() ? ims_dir.c_str() : table.c_str());
-  std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, filter updates %llu, not running %llu\n",
+  std::printf("chain: estimator %s (condition level) -> observation rule -> AlarmEngine; %llu observations judged, "
+              "%llu vectors refused, %llu operating changes\n", estimator_config.c_str(),
+              static_cast<unsigned long long>(res.observations), static_cast<unsigned long long>(res.refused),
+              static_cast<unsigned long long>(res.operating_changes));
+  std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, not running %llu\n",
               opt.params.warmup_observations, opt.params.warmup_observations + opt.params.baseline_observations,
               opt.params.cusum_k, res.cusum_threshold, opt.params.target_arl0, opt.params.nis_window, res.nis_threshold,
-              static_cast<unsigned long long>(res.filter_updates), static_cast<unsigned long long>(res.not_running));
+              static_cast<unsigned long long>(res.not_running));
   for (std::size_t k = 0; k < res.noise.size(); ++k)
-    std::printf("noise outcome %zu: q=%.3g r=%.3g p0=%.3g%s%s\n", k + 1, res.noise[k].q, res.noise[k].r, res.noise[k].p0,
-                res.tuning_messages[k].empty() ? "" : "  | ", res.tuning_messages[k].c_str());
+    std::printf("noise outcome %zu: q=%.3g r=%.3g p0=%.3g\n", k + 1, res.noise[k].q, res.noise[k].r, res.noise[k].p0);
+  for (const auto& note : res.estimator_notes) std::printf("estimator: %s\n", note.c_str());
 
   for (std::size_t c = 0; c < res.diagnostics.size(); ++c) {
     const auto& d = res.diagnostics[c];
@@ -165,10 +170,11 @@ int main(int argc, char** argv) {
   };
   if (!quiet) {
     for (const auto& e : res.events) {
-      std::printf("event index=%llu time=\"%s\" %-9s %-8s id=%s channel=%s kind=%s score=%.3f threshold=%.3f root_cause=%s\n",
+      std::printf("event index=%llu time=\"%s\" %-9s %-8s id=%s channel=%s kind=%s category=%s score=%.3f threshold=%.3f root_cause=%s confidence=%.2f\n",
                   static_cast<unsigned long long>(e.index), format_utc_seconds(time_of(e.index)).c_str(),
                   to_string(e.state), to_string(e.severity), e.alarm_id.c_str(), channel_label(series, e.channel).c_str(),
-                  e.kind.c_str(), e.score, e.threshold, channel_label(series, e.root_cause_channel).c_str());
+                  e.kind.c_str(), e.category.c_str(), e.score, e.threshold, channel_label(series, e.root_cause_channel).c_str(),
+                  e.root_cause_confidence);
       if (print_reasons) std::printf("  reason: %s\n", e.reason.c_str());
     }
   }
@@ -199,10 +205,12 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (res.refused > 0) return 2;
   if (check_by < 0 && check_quiet_before < 0) return 0;
   bool ok = true;
   if (check_quiet_before >= 0) {
     for (const auto& e : res.events) {
+      if (e.category != category::kDegradation) continue;  // operating changes are not alarms
       if (e.index < static_cast<std::uint64_t>(check_quiet_before)) {
         std::printf("CHECK FAILED: %s %s at snapshot %llu, before %d\n", e.alarm_id.c_str(), to_string(e.state),
                     static_cast<unsigned long long>(e.index), check_quiet_before);

@@ -11,6 +11,12 @@
 
 namespace causal::estimator {
 
+namespace {
+// How long condition inputs that arrived ahead wait for the ones before them, and how many may wait.
+constexpr std::chrono::milliseconds kReorderHold{2000};
+constexpr std::size_t kReorderMax = 4096;
+}  // namespace
+
 std::uint64_t shard_hash(const std::string& asset_group) {
   std::uint64_t h = 1469598103934665603ULL;
   for (unsigned char c : asset_group) {
@@ -149,6 +155,7 @@ int EstimatorNode::run() {
                   on_condition(c);
                 },
                 state, loop_.stop_flag());
+        release_expired_reorders(false);
         report_rejections();
         publish_health();
         return n;
@@ -255,6 +262,16 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
     ++a.skipped;
     return;
   }
+  if (!releasing_) {
+    const auto& last = a.pipeline.last_source_index();
+    if (last.has_snapshot && !a.awaiting_continuation && in.snapshot_index() > last.snapshot + 1 &&
+        a.reorder.size() < kReorderMax) {
+      // Ahead of the next expected index: wait (bounded) for the ones before it, then feed in order.
+      if (a.reorder.empty()) a.reorder_since = std::chrono::steady_clock::now();
+      a.reorder.emplace(in.snapshot_index(), in);
+      return;
+    }
+  }
   {
     const auto& last = a.pipeline.last_source_index();
     if (last.has_snapshot && !a.awaiting_continuation && in.snapshot_index() > last.snapshot + 1) {
@@ -302,6 +319,40 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   publish_quality(in.asset_group(), a, in.snapshot_index(), in.time_ns(), true);
   publish(in.asset_group(), a, true);
   a.condition_seconds->observe(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  if (!releasing_ && !a.reorder.empty()) drain_reorder(a, false);
+}
+
+void EstimatorNode::drain_reorder(Asset& a, bool force_first) {
+  bool force = force_first;
+  while (!a.reorder.empty()) {
+    auto it = a.reorder.begin();
+    const auto& last = a.pipeline.last_source_index();
+    const bool next = !last.has_snapshot || it->first <= last.snapshot + 1;
+    if (!next && !force) break;
+    force = false;
+    const causal_twin::ConditionVector msg = std::move(it->second);
+    a.reorder.erase(it);
+    if (next) ++a.reordered;
+    releasing_ = true;
+    on_condition(msg);
+    releasing_ = false;
+    a.reorder_since = std::chrono::steady_clock::now();  // the rest waits afresh for its own predecessors
+  }
+}
+
+void EstimatorNode::release_expired_reorders(bool all) {
+  const auto now = std::chrono::steady_clock::now();
+  for (auto& [name, a] : assets_) {
+    if (a.reorder.empty()) continue;
+    if (all) {
+      while (!a.reorder.empty()) drain_reorder(a, true);
+    } else if (now - a.reorder_since >= kReorderHold) {
+      spdlog::warn("asset '{}': condition vectors before {} did not arrive within {} ms: going on without them "
+                   "(counted as lost if they come later)", name, a.reorder.begin()->first,
+                   std::chrono::duration_cast<std::chrono::milliseconds>(kReorderHold).count());
+      drain_reorder(a, true);
+    }
+  }
 }
 
 void EstimatorNode::log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r) {
@@ -608,6 +659,7 @@ void EstimatorNode::publish_health() {
 }
 
 int EstimatorNode::finish_all() {
+  release_expired_reorders(true);  // the source has finished: what is held goes in, in order
   report_rejections();
   for (auto& [name, a] : assets_) {
     if (!a.refused.empty()) continue;
@@ -651,6 +703,10 @@ int EstimatorNode::finish_all() {
     conditions_received += a.conditions_in;
     conditions_refused += a.refused_conditions;
     conditions_late += a.late_conditions;
+    if (a.reordered > 0) {
+      spdlog::info("asset '{}': {} condition vectors arrived ahead of earlier ones and were fed in order", name,
+                   a.reordered);
+    }
     if (a.late_conditions > 0) {
       spdlog::error("asset '{}': {} condition vectors arrived out of order and were not fed (lost)", name, a.late_conditions);
     }

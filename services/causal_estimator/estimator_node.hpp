@@ -66,8 +66,14 @@ class EstimatorNode {
     std::optional<std::uint64_t> last_sequence;
     std::uint64_t frames = 0, lost_frames = 0, refused_frames = 0, conditions_in = 0, refused_conditions = 0;
     bool adjustments_logged = false;
+    // Condition inputs that arrived ahead of the next expected index wait here (ordered) until the missing ones
+    // arrive or kReorderHold passes: Fast DDS 2.9 was seen delivering a burst of inputs after later ones
+    // (e.g. 73..103 after 104, in a loaded test run, with no sample rejected), and the filters need order.
+    std::map<std::uint64_t, causal_twin::ConditionVector> reorder;
+    std::chrono::steady_clock::time_point reorder_since;
+    std::uint64_t reordered = 0;        // inputs that arrived ahead and were fed in order after waiting
     std::set<std::uint64_t> holes;      // condition snapshot indices skipped over (may still arrive, out of order)
-    std::uint64_t late_conditions = 0;  // ... that did: too late to feed, counted as lost  // the calibration windows raised for its channel count (logged once)
+    std::uint64_t late_conditions = 0;  // ... that did: too late to feed, counted as lost
     std::uint64_t sample_msgs = 0, condition_msgs = 0;
     std::string feature;  // feature name of the condition-level model
     bool tuning_logged = false;
@@ -90,6 +96,11 @@ class EstimatorNode {
   Asset& asset(const std::string& asset_group);
   void on_frame(const causal_twin::VibrationFrame& frame);
   void on_condition(const causal_twin::ConditionVector& in);
+  // Feeds the held inputs of `a` that are next in order; with force_first, the lowest one even after a gap
+  // (its wait is over: the indices before it are holes, counted as lost if they still come).
+  void drain_reorder(Asset& a, bool force_first);
+  void release_expired_reorders(bool all);
+  bool releasing_ = false;  // on_condition called from drain_reorder: never held again
   // Queues the output in out_; at the end of a snapshot, checkpoints first (state + the condition-level output).
   void publish(const std::string& name, Asset& a, bool end_of_snapshot);
   void resend_restored(const std::string& name, const std::vector<std::string>& resend);

@@ -62,7 +62,9 @@ const std::vector<std::string>& alarm_header() {
   static const std::vector<std::string> h{"alarm_id",      "state",        "severity",           "kind",
                                           "asset_group",   "channel",      "channel_name",       "sample_index",
                                           "time_utc",      "raised_utc",   "cleared_utc",        "root_cause_channel",
-                                          "root_cause_name", "score",      "threshold",          "reason"};
+                                          "root_cause_name", "score",      "threshold",          "reason",
+                                          // appended: degradation, data_quality, health or operating_change
+                                          "category"};
   return h;
 }
 
@@ -88,7 +90,8 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& a, std::optional<st
           a.root_cause_name(),
           format_number(a.score()),
           format_number(a.threshold()),
-          a.reason()};
+          a.reason(),
+          a.category()};
 }
 
 const std::vector<std::string>& recommendation_header() {

@@ -14,11 +14,17 @@ int main(int argc, char** argv) {
                "fixed-lag smoother) and an alarm timeline with root causes, plus report_<asset>.md.\n"
                "Exit codes: 0 done, 1 a figure failed, 2 missing input (folder, CSVs, asset, gnuplot)."};
   app.add_option("--run", o.run_dir, "folder written by causal-recorder --out")->required();
-  app.add_option("--out", o.out_dir, "folder for the PNGs, report_<asset>.md and the gnuplot scripts (created)")
-      ->required();
-  causal::config::add_version_flag(app);
+  auto* out = app.add_option("--out", o.out_dir, "folder for the PNGs, report_<asset>.md and the gnuplot scripts "
+                                                 "(created; required unless --verdict-only)");
+  app.add_flag("--verdict-only", o.verdict_only,
+               "print the verdict per asset group (status, first alarm, root cause, top recommendation) and exit");
   app.add_option("--asset-group,--asset", o.asset, "only this asset group (default: every asset in the folder)");
+  causal::config::add_version_flag(app);
   app.add_option("--gnuplot", o.gnuplot, "gnuplot program (name on PATH or path)")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  if (!o.verdict_only && out->count() == 0) {
+    std::cerr << "causal-report: --out is required (or --verdict-only)\n";
+    return 2;
+  }
   return causal::report::build_report(o, std::cout, std::cerr);
 }

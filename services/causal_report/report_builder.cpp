@@ -4,6 +4,7 @@
 #include "causal_graph_plot.hpp"
 #include "gnuplot_plots.hpp"
 #include "process.hpp"
+#include "verdict.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -94,6 +95,28 @@ TimeRange data_range(const std::vector<ConditionSeries>& conditions, const std::
   // A little room on both sides so the first and last points and alarm lines are not on the frame.
   const double pad = hi > lo ? 0.01 * (hi - lo) : 1800.0;
   return {lo - pad, hi + pad};
+}
+
+std::vector<RecommendationRecord> recommendations_of(const fs::path& file, const std::string& asset) {
+  std::error_code ec;
+  return fs::exists(file, ec) ? load_recommendations(file, asset) : std::vector<RecommendationRecord>{};
+}
+
+// The verdict and every recommendation (publication order) as Markdown.
+std::string verdict_markdown(const std::string& asset, const std::vector<AlarmRecord>& alarms,
+                             const fs::path& recommendations_file) {
+  const auto recs = recommendations_of(recommendations_file, asset);
+  std::ostringstream md;
+  md << "\n## Verdict\n\n```\n" << verdict_table({verdict_of(asset, alarms, recs)}) << "```\n";
+  md << "\n## Recommendations (" << recs.size() << ", in the order they were published)\n\n";
+  if (recs.empty()) md << "None recorded.\n";
+  for (const auto& r : recs) {
+    std::string text = r.text;
+    for (char& c : text) if (c == '\n' || c == '|') c = ' ';
+    md << "- **" << r.recommendation_id << "** (rank " << r.rank << (r.reliable ? "" : ", no reliable lever")
+       << "): " << text << "\n";
+  }
+  return md.str();
 }
 
 void render_asset(const AssetFiles& files, const fs::path& alarms_file, const std::string& run_dir, Renderer& r) {
@@ -192,6 +215,7 @@ void render_asset(const AssetFiles& files, const fs::path& alarms_file, const st
   const fs::path md = r.out_dir / ("report_" + asset + ".md");
   std::ofstream f(md);
   f << report_markdown(asset, run_dir, figures, spans, notes);
+  f << verdict_markdown(asset, alarm_rows, fs::path(run_dir) / "recommendations.csv");
   if (!f) {
     r.err << "causal-report: cannot write " << md.string() << "\n";
     r.failed = true;
@@ -232,6 +256,20 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
         << (known.empty() ? std::string(" (no asset data at all)") : " (assets: " + known + ")") << "\n";
     return 2;
   }
+  if (options.verdict_only) {
+    std::vector<AssetVerdict> verdicts;
+    try {
+      for (const AssetFiles* a : selected) {
+        const auto alarms = files.alarms.empty() ? std::vector<AlarmRecord>{} : load_alarms(files.alarms, a->asset);
+        verdicts.push_back(verdict_of(a->asset, alarms, recommendations_of(run / "recommendations.csv", a->asset)));
+      }
+    } catch (const std::exception& e) {
+      err << "causal-report: " << e.what() << "\n";
+      return 2;
+    }
+    out << verdict_table(verdicts);
+    return 0;
+  }
   const auto gnuplot = find_executable(options.gnuplot);
   if (!gnuplot) {
     err << "causal-report: gnuplot not found ('" << options.gnuplot
@@ -252,14 +290,18 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
       run_process({gnuplot->string(), "-e", "set terminal pngcairo"}, out_dir / "gnuplot" / "terminal_probe.log");
   r.style.pngcairo = probe.started && probe.exit_code == 0;
   if (!r.style.pngcairo) out << "gnuplot has no pngcairo terminal: using png\n";
+  std::vector<AssetVerdict> verdicts;
   for (const AssetFiles* a : selected) {
     try {
       render_asset(*a, files.alarms, options.run_dir, r);
+      const auto alarms = files.alarms.empty() ? std::vector<AlarmRecord>{} : load_alarms(files.alarms, a->asset);
+      verdicts.push_back(verdict_of(a->asset, alarms, recommendations_of(run / "recommendations.csv", a->asset)));
     } catch (const std::exception& e) {
       err << "causal-report: asset '" << a->asset << "': " << e.what() << "\n";
       r.failed = true;
     }
   }
+  if (!verdicts.empty()) out << "\n=== verdict ===\n" << verdict_table(verdicts);
   return r.failed ? 1 : 0;
 }
 

@@ -18,6 +18,7 @@ struct ReportOptions {
   std::string out_dir;
   std::string asset;               // empty = every asset in the folder
   std::string gnuplot = "gnuplot";  // program name (PATH) or path
+  bool verdict_only = false;        // print the verdict table (verdict.hpp) to stdout, no figures
 };
 
 int build_report(const ReportOptions& options, std::ostream& out, std::ostream& err);

@@ -249,10 +249,18 @@ std::vector<AlarmRecord> load_alarms(const fs::path& file, const std::string& as
                     channel_name = need(t, "channel_name"), time = need(t, "time_utc"), raised = need(t, "raised_utc"),
                     cleared = need(t, "cleared_utc"), root = need(t, "root_cause_channel"),
                     root_name = need(t, "root_cause_name"), reason = need(t, "reason");
+  // Columns added later (category, root-cause confidence) are optional: older recordings still read.
+  const int category = t.column("category"), index = t.column("sample_index"),
+            confidence = t.column("root_cause_confidence");
   std::vector<AlarmRecord> out;
   for (const auto& row : t.rows) {
     if (!asset.empty() && sanitize_file_component(row[group]) != asset) continue;
     AlarmRecord r;
+    if (category >= 0 && !row[static_cast<std::size_t>(category)].empty()) {
+      r.category = row[static_cast<std::size_t>(category)];
+    }
+    if (index >= 0) r.sample_index = CsvTable::number(row[static_cast<std::size_t>(index)]);
+    if (confidence >= 0) r.root_cause_confidence = CsvTable::number(row[static_cast<std::size_t>(confidence)]);
     r.alarm_id = row[id];
     r.state = row[state];
     r.severity = parse_severity(row[severity]).value_or(Severity::Advisory);

@@ -50,6 +50,9 @@ std::optional<Severity> parse_severity(const std::string& text);
 
 struct AlarmRecord {
   std::string alarm_id, state, kind, asset_group, channel_name, root_cause_name, reason;
+  std::string category = "degradation";  // degradation, data_quality, health, operating_change (older files: none)
+  std::optional<double> sample_index;     // snapshot / sample index of the evidence
+  std::optional<double> root_cause_confidence;
   Severity severity = Severity::Advisory;
   int channel = 0, root_cause_channel = 0;  // 1-based, 0 = unknown
   std::optional<double> time, raised, cleared;  // seconds

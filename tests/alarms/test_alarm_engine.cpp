@@ -16,7 +16,17 @@ using namespace causal::alarms::test;
 
 namespace {
 
-AlarmEngine make_engine(const AlarmParams& p = AlarmParams{}, bool factors = false) {
+// The synthetic faults below are sustained steps (6-10 sigma of 2 %: +12-20 %). These tests are about
+// detection, root cause, latches and ids, not about telling an operating change from a fault (a step of
+// +15 % or more that settles is an operating change by design: test_alarm_operating_changes.cpp), so the
+// step rule is set out of reach here.
+AlarmParams step_faults() {
+  AlarmParams p;
+  p.operating_step_ratio = 1e3;
+  return p;
+}
+
+AlarmEngine make_engine(const AlarmParams& p = step_faults(), bool factors = false) {
   return AlarmEngine("grp", channel_names4(), factors ? factor_names4() : std::vector<std::string>{}, p);
 }
 
@@ -38,7 +48,7 @@ int first_index_for_step_start(const AlarmParams& p) { return p.warmup_observati
 }  // namespace
 
 TEST(AlarmEngine, BaselineReadyAfterWarmupAndBaseline) {
-  AlarmParams p;
+  AlarmParams p = step_faults();
   auto e = make_engine(p);
   const auto obs = make_run(SyntheticConfig{});
   for (int t = 0; t < first_index_for_step_start(p); ++t) {
@@ -122,7 +132,7 @@ TEST(AlarmEngine, StationaryFalseAlarmRateWithinPromise) {
       {"defaults", 1.5, 1e6, 1e-6, true, false, 2.0},
   };
   for (const Case& c : cases) {
-    AlarmParams p;
+    AlarmParams p = step_faults();
     p.cusum_k = c.k;
     p.target_arl0 = c.arl0;
     p.nis_false_alarm_prob = c.nis_p;
@@ -155,7 +165,7 @@ TEST(AlarmEngine, StationaryFalseAlarmRateWithinPromise) {
 // and one-sided, at a false-alarm probability high enough to count.
 TEST(AlarmEngine, StationaryNisExceedanceWithinPromise) {
   for (bool two_sided : {true, false}) {
-    AlarmParams p;
+    AlarmParams p = step_faults();
     p.nis_false_alarm_prob = 1e-2;
     p.nis_two_sided = two_sided;
     long exceed = 0, windows = 0;
@@ -202,7 +212,7 @@ TEST(AlarmEngine, SingleSnapshotSpikeDoesNotAlarm) {
 // Hysteresis: a +8 sigma step on channel 1 during [300, 360). The feature alarm clears exactly when the
 // CUSUM has been below clear_fraction * h for clear_persistence consecutive observations, not earlier.
 TEST(AlarmEngine, ClearsOnlyAfterConfiguredCountBelowClearThreshold) {
-  AlarmParams p;
+  AlarmParams p = step_faults();
   SyntheticConfig cfg;
   cfg.changed = 0;
   cfg.seed = 42;
@@ -277,7 +287,8 @@ TEST(AlarmEngine, NoDuplicatesAndNewIdForNewEpisode) {
 // Escalation: a ramp of the log level (1 % per observation) raises an advisory, then escalates the SAME
 // alarm to warning once the level has doubled and to critical at four times the baseline.
 TEST(AlarmEngine, EscalationKeepsIdAndFollowsLevelRatio) {
-  AlarmParams p;
+  AlarmParams p = step_faults();
+  p.escalation_persistence = 1;  // the level ladder itself (persistence: test_alarm_operating_changes.cpp)
   SyntheticConfig cfg;
   cfg.changed = 0;
   cfg.seed = 5;
@@ -320,7 +331,7 @@ TEST(AlarmEngine, ExplanationNamesRootCauseLinkAndTimes) {
   cfg.seed = 3;
   cfg.with_factors = true;
   cfg.own_change = [](int t) { return t >= 400 ? 6.0 : 0.0; };
-  auto e = make_engine(AlarmParams{}, true);
+  auto e = make_engine(step_faults(), true);
   const auto ev = run_all(e, make_run(cfg));
   const AlarmEvent* f3 = first_of(ev, 2, kind::kFeatureDrift);
   ASSERT_NE(f3, nullptr);
@@ -350,7 +361,13 @@ TEST(AlarmEngine, StoppedMachineSnapshotsAreSkipped) {
   obs[400].features *= 0.01;  // all channels but one stopped: not a stop, a (downward) change -> kept
   obs[400].features(2) *= 100.0;
   auto e = make_engine();
-  EXPECT_TRUE(run_all(e, obs).empty());
+  // No alarm; the restart after the stop is a discontinuity: said (operating_change category), re-baselined.
+  const auto ev = run_all(e, obs);
+  for (const auto& x : ev) {
+    EXPECT_EQ(x.category, category::kOperatingChange) << x.reason;
+    EXPECT_EQ(x.kind, kind::kDiscontinuity) << x.reason;
+    EXPECT_EQ(x.onset_index, 303u);
+  }
   EXPECT_EQ(e.not_running_observations(), 3u);
   AlarmParams off;
   off.stopped_ratio = 0.0;  // gate disabled: the wild innovations of consecutive snapshots do alarm
@@ -363,7 +380,7 @@ TEST(AlarmEngine, StoppedMachineSnapshotsAreSkipped) {
 // baseline sigmas) raises a factor_shift alarm on channel 3's equation after factor_persistence
 // observations, and nothing else.
 TEST(AlarmEngine, FactorShiftDetectorWhenEnabled) {
-  AlarmParams p;
+  AlarmParams p = step_faults();
   p.factor_enabled = true;
   SyntheticConfig cfg;
   cfg.seed = 4;
@@ -391,7 +408,7 @@ TEST(AlarmEngine, RejectsWrongSizesAndBadConfiguration) {
   EXPECT_EQ(e.rejected_observations(), 1u);
   EXPECT_EQ(e.observations_seen(), 0u);
   EXPECT_THROW(AlarmEngine("g", {}, {}, AlarmParams{}), std::invalid_argument);
-  AlarmParams p;
+  AlarmParams p = step_faults();
   p.clip_sigma = 8.0;  // one spike could reach h with raise_persistence 1
   EXPECT_THROW(make_engine(p), std::invalid_argument);
   p.raise_persistence = 2;

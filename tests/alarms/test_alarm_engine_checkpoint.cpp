@@ -170,6 +170,9 @@ Stream synthetic_stream(bool with_factors, std::uint64_t seed = 3) {
   s.group = "grp";
   s.channels = test::channel_names4();
   s.obs = test::make_run(cfg);
+  // The 8-sigma (+16 %) second fault is a sustained step: kept a fault here (the operating-change rule and
+  // its checkpoint have their own tests in test_alarm_operating_changes.cpp).
+  s.params.operating_step_ratio = 1e3;
   if (with_factors) {
     // Exercise the factor detector's state as well: x23 (channel 2's dependence on 3) leaves its baseline
     // by 30 of its standard deviations during the first fault.
@@ -236,13 +239,12 @@ TEST(AlarmEngineCheckpoint, SampleLevelStreamSurvivesCuts) {
   EXPECT_EQ(got.size(), ref.size());
 }
 
-// The real stream: IMS test 2 through the causal filter of causal-alarm-eval (24 factors, filter
-// innovations, shipped parameters). The pipeline's own engine is the uninterrupted run.
+// The real stream: IMS test 2 through the services' chain of causal-alarm-eval (the estimator's
+// condition-level filter with the shipped estimator.yaml, filter innovations, shipped alarm parameters). The pipeline's own engine is the uninterrupted run.
 TEST(AlarmEngineCheckpoint, Ims2ConditionStreamSurvivesCuts) {
   std::string path = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 feature table not found at " << path;
-  causal::alarm_eval::PipelineOptions opt;
-  opt.asset_group = "ims2";
+  auto opt = causal::alarm_eval::shipped_options("ims2");
   Stream s;
   opt.on_observation = [&](const Observation& o) { s.obs.push_back(o); };
   const auto series = causal::alarm_eval::series_from_feature_table(path, "meanabs");
@@ -250,11 +252,7 @@ TEST(AlarmEngineCheckpoint, Ims2ConditionStreamSurvivesCuts) {
   s.group = opt.asset_group;
   s.channels = series.channel_names;
   s.params = opt.params;
-  causal::ModelSpec spec;  // the pipeline's model: G = 4, M = 1, no self lags
-  spec.channels = static_cast<int>(s.channels.size());
-  spec.lag_order = opt.lag_order;
-  spec.include_self_lags = opt.include_self_lags;
-  s.factors = causal::SvarLayout(spec).factor_names();
+  s.factors = pipeline.factor_names;  // the estimator's condition-level model (shipped estimator.yaml)
   ASSERT_EQ(s.obs.size(), 984u);
   ASSERT_EQ(static_cast<std::size_t>(s.obs.front().factors.size()), s.factors.size());
   const auto ref = uninterrupted(s);

@@ -1,5 +1,6 @@
 // The detection bar on real data (IMS test 2, bearing 1 outer-race failure), run through exactly the
-// pipeline of causal-alarm-eval (features -> causal Kalman filter -> AlarmEngine, default AlarmParams):
+// chain of causal-alarm-eval and the services (features -> causal-estimator's condition-level pipeline with
+// the shipped estimator.yaml -> alarm-recommender's observation rule -> AlarmEngine, shipped AlarmParams):
 //  * a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 533
 //    (published detectors first flag bearing 1 between snapshots 526 and 541);
 //  * no alarm of any kind before snapshot 500.
@@ -44,8 +45,7 @@ void expect_bar(const PipelineResult& res, const std::string& what) {
 TEST(AlarmIms2, DerivedMeanAbsMeetsBar) {
   const std::string path = ims2("derived_per_file_stats_all984.csv");
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 data not found at " << path << " (CAUSAL_TWIN_SHARED_DIR)";
-  PipelineOptions opt;
-  opt.asset_group = "ims2";
+  const PipelineOptions opt = shipped_options("ims2");
   expect_bar(run_condition_pipeline(series_from_feature_table(path, "meanabs"), opt), "derived_meanabs");
 }
 
@@ -53,8 +53,7 @@ TEST(AlarmIms2, ThirdPartyMergedTableMeetsBar) {
   // Same feature (mean |x|) from an independent third-party table (first sample of each file dropped).
   const std::string path = ims2("merged_dataset_BearingTest_2.csv");
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 data not found at " << path << " (CAUSAL_TWIN_SHARED_DIR)";
-  PipelineOptions opt;
-  opt.asset_group = "ims2";
+  const PipelineOptions opt = shipped_options("ims2");
   expect_bar(run_condition_pipeline(series_from_feature_table(path, ""), opt), "merged_meanabs");
 }
 
@@ -62,8 +61,7 @@ TEST(AlarmIms2, DerivedRmsMeetsBar) {
   // RMS is the alternative scale feature; the same configuration must meet the bar with it too.
   const std::string path = ims2("derived_per_file_stats_all984.csv");
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 data not found at " << path << " (CAUSAL_TWIN_SHARED_DIR)";
-  PipelineOptions opt;
-  opt.asset_group = "ims2";
+  const PipelineOptions opt = shipped_options("ims2");
   expect_bar(run_condition_pipeline(series_from_feature_table(path, "rms"), opt), "derived_rms");
 }
 

@@ -11,8 +11,7 @@
 // Events of other categories (data quality, health, operating change: a `category=` other than
 // `degradation` on the event line) are reported, not counted as alarms.
 //
-// Variants the engine does not handle yet are asserted in DISABLED_ tests named ExpectedGap...: they document
-// the gap without turning the suite red. RobustnessSuite.PrintsSideBySideTable prints the table for all.
+// Every variant is asserted in its own test; RobustnessSuite.PrintsSideBySideTable prints the table for all.
 #include "ims_variants.hpp"
 #include "robust_z_baseline.hpp"
 
@@ -253,9 +252,9 @@ TEST(RobustnessSuite, UnchangedTestTwo) { expect_holds(evaluate("unchanged")); }
 TEST(RobustnessSuite, EightChannels) { expect_holds(evaluate("eight_channels")); }
 TEST(RobustnessSuite, StretchedTo6000) { expect_holds(evaluate("stretched")); }
 
-// EXPECTED GAPS (issue 12 items 1, 2, 4: the alarm engine's handling of time gaps and operating changes, owned
-// by the alarms-engine branch). Measured on main f4e471e: gaps -> every channel alarms at the first gap (row
-// 157) with root cause Bearing 2; steps -> the stepped channels alarm at once (Bearing 4 at 199, Bearing 2 at
-// 351) and bearing 1's alarm at 533 names Bearing 4. Enable when the engine re-baselines across them.
-TEST(RobustnessSuite, DISABLED_ExpectedGapTimeGapsWithLevelShifts) { expect_holds(evaluate("gaps")); }
-TEST(RobustnessSuite, DISABLED_ExpectedGapOperatingChangeSteps) { expect_holds(evaluate("steps")); }
+// Time gaps with level shifts and operating-change steps (issue 12 items 1, 2, 4: the engine re-baselines
+// across them and reports operating_change events). Before the engine's work (main f4e471e): gaps -> every
+// channel alarmed at the first gap (row 157) with root cause Bearing 2; steps -> the stepped channels alarmed
+// at once (Bearing 4 at 199, Bearing 2 at 351) and bearing 1's alarm at 533 named Bearing 4.
+TEST(RobustnessSuite, TimeGapsWithLevelShifts) { expect_holds(evaluate("gaps")); }
+TEST(RobustnessSuite, OperatingChangeSteps) { expect_holds(evaluate("steps")); }

@@ -49,6 +49,13 @@ TEST(RecommenderParams, ShippedFileLoads) {
   EXPECT_EQ(p.factor_persistence, c["factor_persistence"].as<int>());
   EXPECT_EQ(p.onset_tolerance, c["onset_tolerance"].as<int>());
   EXPECT_EQ(p.explain_top_factors, c["explain_top_factors"].as<int>());
+  EXPECT_EQ(p.confirmation_observations, c["confirmation_observations"].as<int>());
+  EXPECT_DOUBLE_EQ(p.gap_multiple, c["gap_multiple"].as<double>());
+  EXPECT_DOUBLE_EQ(p.operating_step_ratio, c["operating_step_ratio"].as<double>());
+  EXPECT_DOUBLE_EQ(p.settle_trend_sigma, c["settle_trend_sigma"].as<double>());
+  EXPECT_EQ(p.escalation_persistence, c["escalation_persistence"].as<int>());
+  EXPECT_DOUBLE_EQ(p.root_cause_margin_z, c["root_cause_margin_z"].as<double>());
+  EXPECT_EQ(p.root_cause_persistence, c["root_cause_persistence"].as<int>());
   EXPECT_EQ(r.sample_enabled, s["enabled"].as<bool>());
   EXPECT_EQ(r.sample_baseline_publications, s["baseline_publications"].as<int>());
   EXPECT_NO_THROW(p.validate());

@@ -290,6 +290,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   a.score(9.5);
   a.threshold(5.0);
   a.reason("rms of Bearing 2 rose, \"sharply\"");
+  a.category("degradation");
   publish_alarm(a);
   a.state(causal_twin::ESCALATED);
   a.severity(causal_twin::CRITICAL);
@@ -373,7 +374,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   const std::string alarms = slurp(run / "alarms.csv");
   const auto alarm_rows = causal::report::parse_csv(alarms).rows;
   ASSERT_EQ(alarm_rows.size(), 4u) << alarms;
-  EXPECT_NE(alarms.find(",\"rms of Bearing 2 rose, \"\"sharply\"\"\"\n"), std::string::npos) << alarms;
+  EXPECT_NE(alarms.find(",\"rms of Bearing 2 rose, \"\"sharply\"\"\",degradation\n"), std::string::npos) << alarms;
   EXPECT_EQ(alarm_rows[0][1], "raised");
   EXPECT_EQ(alarm_rows[0][2], "warning");
   EXPECT_EQ(alarm_rows[0][8], "2004-02-12 11:12:39");

@@ -1,6 +1,10 @@
 // Root cause, severity and factor selection of AlarmEngine (the "explain" half of the engine's logic).
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <string>
 
 #include "engine_internal.hpp"
 
@@ -63,31 +67,7 @@ int AlarmEngine::Impl::root_cause(int c, std::uint64_t event_onset) const {
 }
 
 Severity AlarmEngine::Impl::severity_for(int c, int kind) const {
-  const auto& cs = ch[static_cast<std::size_t>(c)];
-  auto by_sigma = [&](double level) {
-    if (!std::isfinite(level)) return Severity::Advisory;
-    if (level >= p.critical_sigma) return Severity::Critical;
-    if (level >= p.warning_sigma) return Severity::Warning;
-    return Severity::Advisory;
-  };
-  switch (kind) {
-    case detail::kFeature: {
-      const double level = cs.feature.level.median();
-      if (!p.feature_log_transform) return by_sigma(level);
-      if (!std::isfinite(level)) return Severity::Advisory;
-      // Physical ratio of the current level to the baseline median: exp(z * scale) in log units.
-      const double ratio = std::exp(level * cs.feature.stats.scale);
-      if (ratio >= p.critical_ratio) return Severity::Critical;
-      if (ratio >= p.warning_ratio) return Severity::Warning;
-      return Severity::Advisory;
-    }
-    case detail::kInnovation: return by_sigma(cs.innovation.level.median());  // upward departures only
-    case detail::kNis: {
-      const double level = cs.innovation.level.median();
-      return by_sigma(p.nis_two_sided ? std::abs(level) : level);
-    }
-    default: return by_sigma(cs.factor_stat);
-  }
+  return detail::detector_table()[static_cast<std::size_t>(kind)].level_severity(*this, c);
 }
 
 std::vector<int> AlarmEngine::Impl::explain_factors(int c, int root) const {
@@ -106,6 +86,67 @@ std::vector<int> AlarmEngine::Impl::explain_factors(int c, int root) const {
   });
   if (cand.size() > static_cast<std::size_t>(p.explain_top_factors)) cand.resize(static_cast<std::size_t>(p.explain_top_factors));
   return cand;
+}
+
+}  // namespace causal::alarms
+
+namespace causal::alarms {
+
+std::vector<double> AlarmEngine::Impl::departed_evidence() const {
+  std::vector<double> e(ch.size(), detail::kNaN);
+  for (std::size_t j = 0; j < ch.size(); ++j)
+    if (ch[j].feature.cusum.in_excursion() || ch[j].any_active()) e[j] = ch[j].own_evidence();
+  return e;
+}
+
+double AlarmEngine::Impl::attribution_confidence(int root, const std::vector<double>& evidence) const {
+  if (root < 0 || static_cast<std::size_t>(root) >= evidence.size()) return 0.0;
+  const double er = std::isfinite(evidence[static_cast<std::size_t>(root)]) ? evidence[static_cast<std::size_t>(root)] : 0.0;
+  double next = -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < evidence.size(); ++j)
+    if (static_cast<int>(j) != root && std::isfinite(evidence[j])) next = std::max(next, evidence[j]);
+  if (!std::isfinite(next)) return 1.0;  // no other channel departed: nothing else to blame
+  // P(E_root > E_next) for two unit-variance statistics: Phi(d / sqrt(2)) = erfc(-d / 2) / 2.
+  return 0.5 * std::erfc(-(er - next) / 2.0);
+}
+
+std::string AlarmEngine::Impl::reevaluate_root(int c, detail::AlarmSlot& slot, const std::vector<double>& evidence) {
+  (void)c;
+  const int r = slot.root;
+  const double er = r >= 0 && std::isfinite(evidence[static_cast<std::size_t>(r)]) ? evidence[static_cast<std::size_t>(r)] : 0.0;
+  int best = -1;
+  double eb = -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < evidence.size(); ++j)
+    if (static_cast<int>(j) != r && std::isfinite(evidence[j]) && evidence[j] > eb) {
+      eb = evidence[j];
+      best = static_cast<int>(j);
+    }
+  // A challenger takes over only when the named root's own trouble is over (none of its alarms is active:
+  // it is not what keeps degrading) and its own-change evidence is gone, while the challenger shows own
+  // change by the margin, for root_cause_persistence consecutive observations.
+  const bool root_over = r < 0 || !ch[static_cast<std::size_t>(r)].any_active();
+  const bool challenge = best >= 0 && root_over && er < p.own_evidence_z && eb >= p.own_evidence_z &&
+                         eb - er >= p.root_cause_margin_z;
+  if (!challenge) {
+    slot.challenger = -1;
+    slot.challenger_run = 0;
+    return {};
+  }
+  if (best != slot.challenger) {
+    slot.challenger = best;
+    slot.challenger_run = 0;
+  }
+  if (++slot.challenger_run < p.root_cause_persistence) return {};
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(1) << "Root cause re-evaluated: " << (r >= 0 ? names[static_cast<std::size_t>(r)] : "unknown")
+     << " -> " << names[static_cast<std::size_t>(best)] << ": " << names[static_cast<std::size_t>(best)]
+     << "'s own, unexplained change has evidence z = " << eb << " for " << slot.challenger_run
+     << " observations while " << (r >= 0 ? names[static_cast<std::size_t>(r)] : "the named root") << "'s is " << er
+     << " (margin " << p.root_cause_margin_z << ").";
+  slot.root = best;
+  slot.challenger = -1;
+  slot.challenger_run = 0;
+  return os.str();
 }
 
 }  // namespace causal::alarms

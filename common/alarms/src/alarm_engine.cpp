@@ -11,18 +11,6 @@ namespace causal::alarms {
 
 using detail::kNaN;
 
-namespace detail {
-const char* kind_name(int kind_index) {
-  switch (kind_index) {
-    case kFeature: return kind::kFeatureDrift;
-    case kInnovation: return kind::kInnovationRise;
-    case kNis: return kind::kInnovationNis;
-    case kFactor: return kind::kFactorShift;
-    default: return "?";
-  }
-}
-}  // namespace detail
-
 namespace {
 
 bool size_ok(const Eigen::VectorXd& v, Eigen::Index n) { return v.size() == 0 || v.size() == n; }
@@ -93,6 +81,11 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
   const std::uint64_t n = m.seen++;
   const auto warm = static_cast<std::uint64_t>(m.p.warmup_observations);
   const auto base_end = warm + static_cast<std::uint64_t>(m.p.baseline_observations);
+  // Time awareness: judged against the previous observation's time, whatever happens to this one.
+  const bool discontinuity = m.ready && m.is_discontinuity(obs);
+  const double gap_s = m.has_last_time ? static_cast<double>(obs.time_ns - m.last_time_ns) * 1e-9 : 0.0;
+  m.has_last_time = true;
+  m.last_time_ns = obs.time_ns;
   if (n < warm) return {};
 
   // ---- transformed per-channel values ------------------------------------------------------------
@@ -132,6 +125,7 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
       cs.innovation.baseline.push_back(innov[static_cast<std::size_t>(c)]);
     }
     for (Eigen::Index i = 0; i < obs.factors.size(); ++i) m.fac[static_cast<std::size_t>(i)].baseline.push_back(obs.factors(i));
+    m.baseline_times.push_back(obs.time_ns);
     if (n + 1 == base_end) {
       const double cap = m.p.cusum_cap_factor * m.h;
       for (auto& cs : m.ch) {
@@ -145,6 +139,15 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
         f.baseline.clear();
         f.baseline.shrink_to_fit();
       }
+      // The usual interval: median of the positive steps between baseline observations (0 = unknown,
+      // e.g. no time stamps: then only flagged discontinuities count).
+      std::vector<double> dt;
+      for (std::size_t i = 1; i < m.baseline_times.size(); ++i)
+        if (m.baseline_times[i] > m.baseline_times[i - 1])
+          dt.push_back(static_cast<double>(m.baseline_times[i] - m.baseline_times[i - 1]));
+      m.median_interval_ns = dt.empty() ? 0.0 : median(dt);
+      m.baseline_times.clear();
+      m.baseline_times.shrink_to_fit();
       m.ready = true;
     }
     return {};
@@ -162,8 +165,24 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
     }
     if (checked > 0 && below == checked) {
       ++m.not_running;
+      m.stopped = true;
       return {};
     }
+  }
+  // Running again after a stop: the machine restarted, levels may differ (a discontinuity, as a gap).
+  const bool restarted = m.stopped;
+  m.stopped = false;
+
+  // ---- gaps: hold the detectors and re-baseline after the confirmation window ----------------------
+  std::vector<AlarmEvent> events;
+  if (discontinuity || restarted) {
+    ++m.discontinuities;
+    m.start_confirmation(obs, true, -1, obs.discontinuity || !discontinuity ? 0.0 : gap_s);
+    m.confirm.restart = restarted && !discontinuity;
+  }
+  if (m.confirm.active) {
+    m.confirm_step(obs, feat, innov, events);
+    return events;
   }
 
   // ---- update the detectors -----------------------------------------------------------------------
@@ -199,6 +218,12 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
     if (!cs.feature.cusum.in_excursion() || cs.feature.cusum.onset_index() == obs.index) {
       cs.own_sum = 0.0;  // no excursion, or one that starts now: restart the evidence
       cs.own_count = 0;
+      cs.excursion_obs = 0;
+      cs.excursion_sum_z = 0.0;
+    }
+    if (cs.feature.cusum.in_excursion() && std::isfinite(cs.feature.last_z)) {
+      ++cs.excursion_obs;
+      cs.excursion_sum_z += cs.feature.last_z;
     }
     if (cs.feature.cusum.in_excursion() && std::isfinite(cs.innovation.last_z)) {
       cs.own_sum += std::max(-m.p.clip_sigma, std::min(m.p.clip_sigma, cs.innovation.last_z));
@@ -220,129 +245,129 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
     }
   }
 
-  // ---- phase 1: latch transitions and episode onsets ---------------------------------------------
+  // ---- abrupt steps: confirm before alarming (AlarmParams::operating_step_ratio) --------------------
+  if (const int step = m.abrupt_step(); step >= 0) {
+    m.start_confirmation(obs, false, step, 0.0);
+    m.confirm_step(obs, feat, innov, events);
+    return events;
+  }
+
+  // ---- phase 1: latch transitions, escalations and episode onsets (the detector table) --------------
   struct Pending {
     int c, kind;
     AlarmState state;
+    std::string note;  // prefix of the reason (a re-evaluated root cause)
   };
   std::vector<Pending> pending;
   for (int c = 0; c < g; ++c) {
     auto& cs = m.ch[static_cast<std::size_t>(c)];
     for (int k = 0; k < detail::kKindCount; ++k) {
       auto& slot = cs.slots[static_cast<std::size_t>(k)];
-      double stat = kNaN, thr = 0.0;
-      bool enabled = true;
-      switch (k) {
-        case detail::kFeature:
-          enabled = m.p.feature_enabled && cs.feature.monitored;
-          stat = std::isfinite(cs.feature.last_z) ? cs.feature.cusum.value() : kNaN;
-          thr = m.h;
-          break;
-        case detail::kInnovation:
-          enabled = m.p.innovation_enabled && cs.innovation.monitored;
-          stat = std::isfinite(cs.innovation.last_z) ? cs.innovation.cusum.value() : kNaN;
-          thr = m.h;
-          break;
-        case detail::kNis:
-          enabled = m.p.nis_enabled && cs.innovation.monitored;
-          stat = std::isfinite(cs.innovation.last_z) && cs.nis.full() ? cs.nis.mean() : kNaN;
-          thr = m.nis_thr;
-          break;
-        default: {
-          int monitored = 0;
-          for (int i : cs.factors) monitored += m.fac[static_cast<std::size_t>(i)].monitored ? 1 : 0;
-          enabled = m.p.factor_enabled && monitored > 0;
-          stat = cs.factor_stat;
-          thr = m.p.factor_threshold(monitored);
-          if (std::isfinite(stat) && stat >= thr && !cs.factor_in_run) {
-            cs.factor_in_run = true;
-            cs.factor_run_start_index = obs.index;
-            cs.factor_run_start_time_ns = obs.time_ns;
-          } else if (std::isfinite(stat) && stat < thr) {
-            cs.factor_in_run = false;
-          }
-          break;
-        }
-      }
-      if (!enabled) continue;
-      slot.score = stat;
-      slot.threshold = thr;
-      const auto t = slot.latch.update(stat, thr, m.p.clear_fraction * thr);
+      const detail::DetectorReading r = detail::detector_table()[static_cast<std::size_t>(k)].read(m, c, obs);
+      if (!r.enabled) continue;
+      slot.score = r.statistic;
+      slot.threshold = r.threshold;
+      const auto t = slot.latch.update(r.statistic, r.threshold, m.p.clear_fraction * r.threshold);
       if (t == PersistenceLatch::Transition::Raise) {
-        ++slot.counter;
-        slot.id = m.group + "/" + std::to_string(c + 1) + "/" + detail::kind_name(k) + "/" + std::to_string(slot.counter);
-        slot.raised_time_ns = obs.time_ns;
-        switch (k) {
-          case detail::kFeature:
-            slot.onset_index = cs.feature.cusum.onset_index();
-            slot.onset_time_ns = cs.feature.cusum.onset_time_ns();
-            m.episode.departure[static_cast<std::size_t>(c)].take_earlier(slot.onset_index, slot.onset_time_ns,
-                                                                          cs.feature.level.median(), cs.own_evidence());
-            break;
-          case detail::kInnovation:
-            slot.onset_index = cs.innovation.cusum.onset_index();
-            slot.onset_time_ns = cs.innovation.cusum.onset_time_ns();
-            m.episode.own[static_cast<std::size_t>(c)].take_earlier(slot.onset_index, slot.onset_time_ns,
-                                                                    cs.innovation.level.median());
-            break;
-          case detail::kFactor:
-            slot.onset_index = cs.factor_run_start_index;
-            slot.onset_time_ns = cs.factor_run_start_time_ns;
-            break;
-          default:  // NIS: the window has no sharp change point; use the raise itself
-            slot.onset_index = obs.index;
-            slot.onset_time_ns = obs.time_ns;
-            break;
-        }
-        slot.severity = m.severity_for(c, k);
-        pending.push_back({c, k, AlarmState::Raised});
+        m.begin_alarm(c, k, obs);
+        pending.push_back({c, k, AlarmState::Raised, {}});
       } else if (t == PersistenceLatch::Transition::Clear) {
-        pending.push_back({c, k, AlarmState::Cleared});
-      } else if (slot.latch.active()) {
-        const Severity s = m.severity_for(c, k);
-        if (static_cast<int>(s) > static_cast<int>(slot.severity)) {  // severities only escalate
-          slot.severity = s;
-          pending.push_back({c, k, AlarmState::Escalated});
-        }
+        pending.push_back({c, k, AlarmState::Cleared, {}});
+      } else if (slot.latch.active() && m.escalate(c, k)) {
+        pending.push_back({c, k, AlarmState::Escalated, {}});
       }
     }
   }
 
+  // ---- root cause re-evaluated on the evidence accumulated so far -----------------------------------
+  const std::vector<double> evidence = m.departed_evidence();
+  for (int c = 0; c < g; ++c) {
+    auto& cs = m.ch[static_cast<std::size_t>(c)];
+    for (int k = 0; k < detail::kKindCount; ++k) {
+      auto& slot = cs.slots[static_cast<std::size_t>(k)];
+      if (!slot.latch.active() || slot.root < 0) continue;  // new alarms get their root in phase 2
+      const bool has_event = std::any_of(pending.begin(), pending.end(), [&](const Pending& pe) { return pe.c == c && pe.kind == k; });
+      std::string why = m.reevaluate_root(c, slot, evidence);
+      if (why.empty()) continue;
+      auto it = std::find_if(pending.begin(), pending.end(), [&](const Pending& pe) { return pe.c == c && pe.kind == k; });
+      if (has_event && it != pending.end())
+        it->note = why + " ";
+      else
+        pending.push_back({c, k, AlarmState::Escalated, why + " "});
+    }
+  }
+
   // ---- phase 2: events with root cause and explanation ---------------------------------------------
-  std::vector<AlarmEvent> events;
   events.reserve(pending.size());
   for (const auto& pe : pending) {
     auto& slot = m.ch[static_cast<std::size_t>(pe.c)].slots[static_cast<std::size_t>(pe.kind)];
-    AlarmEvent e;
-    e.alarm_id = slot.id;
-    e.channel = pe.c;
-    e.severity = slot.severity;
-    e.state = pe.state;
-    e.kind = detail::kind_name(pe.kind);
-    e.raised_time_ns = slot.raised_time_ns;
-    e.cleared_time_ns = pe.state == AlarmState::Cleared ? obs.time_ns : 0;
-    e.index = obs.index;
-    e.onset_index = slot.onset_index;
-    e.onset_time_ns = slot.onset_time_ns;
-    e.root_cause_channel = m.root_cause(pe.c, slot.onset_index);
-    for (int i : m.explain_factors(pe.c, e.root_cause_channel)) {
-      const auto& f = m.fac[static_cast<std::size_t>(i)];
-      e.factor_names.push_back(m.factor_names[static_cast<std::size_t>(i)]);
-      e.factor_baseline.push_back(f.stats.location);
-      e.factor_now.push_back(f.last_value);
-    }
-    e.score = slot.score;
-    e.threshold = slot.threshold;
-    e.reason = m.reason(pe.c, pe.kind, pe.state, e.root_cause_channel, obs);
+    if (pe.state == AlarmState::Raised) slot.root = m.root_cause(pe.c, slot.onset_index);
+    slot.root_confidence = m.attribution_confidence(slot.root, evidence);
+    AlarmEvent e = m.make_event(pe.c, pe.kind, pe.state, obs);
+    e.reason = pe.note + e.reason;
     slot.last_event = e;
     events.push_back(std::move(e));
   }
 
   bool any_active = false;
-  for (const auto& cs : m.ch)
-    for (const auto& s : cs.slots) any_active = any_active || s.latch.active();
+  for (const auto& cs : m.ch) any_active = any_active || cs.any_active();
   if (!any_active) m.episode.reset(g);
   return events;
+}
+
+void AlarmEngine::Impl::begin_alarm(int c, int k, const Observation& obs) {
+  auto& slot = ch[static_cast<std::size_t>(c)].slots[static_cast<std::size_t>(k)];
+  ++slot.counter;
+  slot.id = group + "/" + std::to_string(c + 1) + "/" + detail::kind_name(k) + "/" + std::to_string(slot.counter);
+  slot.raised_time_ns = obs.time_ns;
+  detail::detector_table()[static_cast<std::size_t>(k)].onset(*this, c, obs, slot.onset_index, slot.onset_time_ns);
+  slot.warning_run = slot.critical_run = 0;
+  slot.severity = Severity::Advisory;
+  escalate(c, k);  // counts this observation's level (persistence 1 escalates at once, as before)
+  slot.root = -1;
+  slot.challenger = -1;
+  slot.challenger_run = 0;
+}
+
+bool AlarmEngine::Impl::escalate(int c, int k) {
+  auto& slot = ch[static_cast<std::size_t>(c)].slots[static_cast<std::size_t>(k)];
+  const Severity level = severity_for(c, k);
+  slot.warning_run = static_cast<int>(level) >= static_cast<int>(Severity::Warning) ? slot.warning_run + 1 : 0;
+  slot.critical_run = level == Severity::Critical ? slot.critical_run + 1 : 0;
+  const Severity earned = slot.critical_run >= p.escalation_persistence  ? Severity::Critical
+                          : slot.warning_run >= p.escalation_persistence ? Severity::Warning
+                                                                         : Severity::Advisory;
+  if (static_cast<int>(earned) <= static_cast<int>(slot.severity)) return false;  // severities only escalate
+  slot.severity = earned;
+  return true;
+}
+
+AlarmEvent AlarmEngine::Impl::make_event(int c, int k, AlarmState state, const Observation& obs) {
+  auto& slot = ch[static_cast<std::size_t>(c)].slots[static_cast<std::size_t>(k)];
+  AlarmEvent e;
+  e.alarm_id = slot.id;
+  e.channel = c;
+  e.severity = slot.severity;
+  e.state = state;
+  e.kind = detail::kind_name(k);
+  e.category = detail::detector_table()[static_cast<std::size_t>(k)].category;
+  e.raised_time_ns = slot.raised_time_ns;
+  e.cleared_time_ns = state == AlarmState::Cleared ? obs.time_ns : 0;
+  e.index = obs.index;
+  e.onset_index = slot.onset_index;
+  e.onset_time_ns = slot.onset_time_ns;
+  e.root_cause_channel = slot.root;
+  e.root_cause_confidence = slot.root_confidence;
+  for (int i : explain_factors(c, e.root_cause_channel)) {
+    const auto& f = fac[static_cast<std::size_t>(i)];
+    e.factor_names.push_back(factor_names[static_cast<std::size_t>(i)]);
+    e.factor_baseline.push_back(f.stats.location);
+    e.factor_now.push_back(f.last_value);
+  }
+  e.score = slot.score;
+  e.threshold = slot.threshold;
+  e.reason = reason(c, k, state, e.root_cause_channel, obs);
+  return e;
 }
 
 bool AlarmEngine::baseline_ready() const { return impl_->ready; }
@@ -356,6 +381,8 @@ double AlarmEngine::nis_threshold() const { return impl_->nis_thr; }
 std::uint64_t AlarmEngine::observations_seen() const { return impl_->seen; }
 std::uint64_t AlarmEngine::rejected_observations() const { return impl_->rejected; }
 std::uint64_t AlarmEngine::not_running_observations() const { return impl_->not_running; }
+std::uint64_t AlarmEngine::discontinuities() const { return impl_->discontinuities; }
+std::uint64_t AlarmEngine::operating_changes() const { return impl_->operating_changes; }
 
 ChannelDiagnostics AlarmEngine::channel_diagnostics(int channel) const {
   const Impl& m = *impl_;

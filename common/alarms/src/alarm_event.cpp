@@ -26,7 +26,7 @@ const char* to_string(AlarmState s) {
 }
 
 void save(causal::StateWriter& out, const AlarmEvent& e) {
-  out.begin("alarm_event", 1);
+  out.begin("alarm_event", 2);
   out.put(e.alarm_id);
   out.put(e.channel);
   out.put(static_cast<std::int32_t>(e.severity));
@@ -44,10 +44,12 @@ void save(causal::StateWriter& out, const AlarmEvent& e) {
   out.put(e.score);
   out.put(e.threshold);
   out.put(e.reason);
+  out.put(e.category);
+  out.put(e.root_cause_confidence);
 }
 
 void restore(causal::StateReader& in, AlarmEvent& event) {
-  in.expect("alarm_event", 1);
+  in.expect("alarm_event", 2);
   AlarmEvent e;
   in.read(e.alarm_id);
   in.read(e.channel);
@@ -72,6 +74,8 @@ void restore(causal::StateReader& in, AlarmEvent& event) {
   in.read(e.score);
   in.read(e.threshold);
   in.read(e.reason);
+  in.read(e.category);
+  in.read(e.root_cause_confidence);
   event = std::move(e);
 }
 

@@ -8,7 +8,7 @@
 
 namespace causal::alarms {
 
-namespace {
+namespace detail {
 
 std::string at(std::uint64_t index, std::int64_t time_ns) {
   return "observation " + std::to_string(index) + " (" + format_utc_seconds(time_ns) + ")";
@@ -32,7 +32,12 @@ std::string general(double v) {
   return os.str();
 }
 
-}  // namespace
+}  // namespace detail
+
+using detail::at;
+using detail::fixed;
+using detail::general;
+using detail::signed_fixed;
 
 std::string AlarmEngine::Impl::reason(int c, int kind, AlarmState state, int root, const Observation& obs) const {
   const auto& cs = ch[static_cast<std::size_t>(c)];
@@ -49,47 +54,7 @@ std::string AlarmEngine::Impl::reason(int c, int kind, AlarmState state, int roo
   }
   if (state == AlarmState::Escalated) os << "Escalated to " << to_string(slot.severity) << ". ";
 
-  switch (kind) {
-    case detail::kFeature: {
-      const double level = cs.feature.level.median();
-      const double now_z = cs.feature.last_z;
-      if (p.feature_log_transform) {
-        const double ratio_now = std::exp(cs.feature.last_value - cs.feature.stats.location);
-        const double ratio_level = std::exp(level * cs.feature.stats.scale);
-        os << name << ": condition level " << general(std::exp(cs.feature.last_value)) << " is "
-           << signed_fixed(100.0 * (ratio_now - 1.0), 1) << " % (" << signed_fixed(20.0 * std::log10(ratio_now), 1)
-           << " dB, " << signed_fixed(now_z, 1) << " baseline sigma) above its healthy baseline median "
-           << general(std::exp(cs.feature.stats.location)) << " (median of the last " << p.level_window << ": "
-           << signed_fixed(100.0 * (ratio_level - 1.0), 1) << " %)";
-      } else {
-        os << name << ": condition level " << general(cs.feature.last_value) << " is " << signed_fixed(now_z, 1)
-           << " baseline sigma above its healthy baseline median " << general(cs.feature.stats.location)
-           << " (median of the last " << p.level_window << ": " << signed_fixed(level, 1) << " sigma)";
-      }
-      os << "; CUSUM " << fixed(slot.score, 2) << " >= " << fixed(slot.threshold, 2) << " (designed for 1 false alarm per "
-         << general(p.target_arl0) << " observations); the rise began at " << at(slot.onset_index, slot.onset_time_ns) << ".";
-      break;
-    }
-    case detail::kInnovation:
-      os << name << ": the part of its signal that the other channels do not explain is now "
-         << signed_fixed(cs.innovation.last_z, 1) << " baseline sigma (median of the last " << p.level_window << ": "
-         << signed_fixed(cs.innovation.level.median(), 1) << "); CUSUM " << fixed(slot.score, 2) << " >= "
-         << fixed(slot.threshold, 2) << " (1 false alarm per " << general(p.target_arl0)
-         << " observations): its own behaviour changed, starting at " << at(slot.onset_index, slot.onset_time_ns) << ".";
-      break;
-    case detail::kNis:
-      os << name << ": the causal model no longer explains this channel: mean normalised innovation squared"
-         << (p.nis_two_sided ? "" : " (upward departures)") << " over the last " << p.nis_window << " observations is "
-         << fixed(slot.score, 2) << " (baseline " << (p.nis_two_sided ? "1" : "0.5") << ", threshold " << fixed(slot.threshold, 2)
-         << " for a false-alarm probability of " << general(p.nis_false_alarm_prob) << " per observation), raised at "
-         << at(obs.index, obs.time_ns) << ".";
-      break;
-    default:
-      os << name << ": the causal factors of its equation left their baseline: max |z| " << fixed(slot.score, 2) << " >= "
-         << fixed(slot.threshold, 2) << " (Bonferroni, " << general(p.factor_false_alarm_prob) << " per observation) for "
-         << p.factor_persistence << "+ observations since " << at(slot.onset_index, slot.onset_time_ns) << ".";
-      break;
-  }
+  os << detail::detector_table()[static_cast<std::size_t>(kind)].describe(*this, c, slot, obs);
 
   if (state == AlarmState::Escalated) os << " First raised " << format_utc_seconds(slot.raised_time_ns) << ".";
   os << " Root cause: ";

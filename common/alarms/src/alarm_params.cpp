@@ -54,11 +54,18 @@ void for_each_param(P& p, F&& f) {
   f("onset_tolerance", p.onset_tolerance);
   f("own_evidence_z", p.own_evidence_z);
   f("explain_top_factors", p.explain_top_factors);
+  f("confirmation_observations", p.confirmation_observations);
+  f("gap_multiple", p.gap_multiple);
+  f("operating_step_ratio", p.operating_step_ratio);
+  f("settle_trend_sigma", p.settle_trend_sigma);
+  f("escalation_persistence", p.escalation_persistence);
+  f("root_cause_margin_z", p.root_cause_margin_z);
+  f("root_cause_persistence", p.root_cause_persistence);
 }
-constexpr std::uint32_t kParamCount = 30;
+constexpr std::uint32_t kParamCount = 37;
 // Tripwire (x86-64 layout): a field added to AlarmParams usually changes its size. List it in
 // for_each_param (or checkpoints would ignore it), bump kParamCount, then update this size.
-static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 176,
+static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 224,
               "AlarmParams changed: update for_each_param and kParamCount");
 
 }  // namespace
@@ -134,6 +141,13 @@ void AlarmParams::validate() const {
   require(onset_tolerance >= 0, "onset_tolerance must be >= 0");
   require(std::isfinite(own_evidence_z) && own_evidence_z > 0.0, "own_evidence_z must be > 0");
   require(explain_top_factors >= 0, "explain_top_factors must be >= 0");
+  require(confirmation_observations >= 3, "confirmation_observations must be >= 3 (a slope needs a window)");
+  require(std::isfinite(gap_multiple) && gap_multiple > 1.0, "gap_multiple must be > 1");
+  require(std::isfinite(operating_step_ratio) && operating_step_ratio > 1.0, "operating_step_ratio must be > 1");
+  require(std::isfinite(settle_trend_sigma) && settle_trend_sigma > 0.0, "settle_trend_sigma must be > 0");
+  require(escalation_persistence >= 1, "escalation_persistence must be >= 1");
+  require(std::isfinite(root_cause_margin_z) && root_cause_margin_z > 0.0, "root_cause_margin_z must be > 0");
+  require(root_cause_persistence >= 1, "root_cause_persistence must be >= 1");
   const double h = cusum_threshold();
   // The one-spike guarantee: with raise_persistence 1, a single clipped observation (clip - k) must not
   // reach h on its own.
@@ -166,6 +180,10 @@ AlarmParams AlarmParams::sample_level(int baseline_publications) {
   p.factor_enabled = false;
   // A 1-s snapshot gives ~20 publications of 1024 samples: a window of 4 stays within one snapshot.
   p.nis_window = 4;
+  // Publications come in bursts (a 1-s snapshot every 10 min gives ~20 publications 50 ms apart): the
+  // pause between bursts is the acquisition pattern, not a gap in the machine's history. Gaps and
+  // operating changes are judged at the condition level (one observation per snapshot).
+  p.gap_multiple = 1e15;
   p.validate();
   return p;
 }

@@ -144,6 +144,11 @@ PersistenceLatch::Transition PersistenceLatch::update(double statistic, double r
   return Transition::None;
 }
 
+void PersistenceLatch::force_raise() {
+  active_ = true;
+  above_ = below_ = 0;
+}
+
 void PersistenceLatch::reset() {
   above_ = below_ = 0;
   active_ = false;

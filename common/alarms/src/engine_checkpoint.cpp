@@ -95,7 +95,7 @@ void restore(causal::StateReader& in, FactorMonitor& f) {
 }
 
 void save(causal::StateWriter& out, const AlarmSlot& slot) {
-  out.begin("alarm_slot", 1);
+  out.begin("alarm_slot", 2);
   slot.latch.save(out);
   out.put(slot.counter);  // alarm id counter: ids are never reused across a restart
   out.put(slot.id);
@@ -106,10 +106,16 @@ void save(causal::StateWriter& out, const AlarmSlot& slot) {
   out.put(slot.score);
   out.put(slot.threshold);
   alarms::save(out, slot.last_event);
+  out.put(slot.warning_run);
+  out.put(slot.critical_run);
+  out.put(slot.root);
+  out.put(slot.root_confidence);
+  out.put(slot.challenger);
+  out.put(slot.challenger_run);
 }
 
 void restore(causal::StateReader& in, AlarmSlot& slot) {
-  in.expect("alarm_slot", 1);
+  in.expect("alarm_slot", 2);
   slot.latch.restore(in);
   in.read(slot.counter);
   in.read(slot.id);
@@ -125,10 +131,16 @@ void restore(causal::StateReader& in, AlarmSlot& slot) {
   in.read(slot.score);
   in.read(slot.threshold);
   alarms::restore(in, slot.last_event);
+  in.read(slot.warning_run);
+  in.read(slot.critical_run);
+  in.read(slot.root);
+  in.read(slot.root_confidence);
+  in.read(slot.challenger);
+  in.read(slot.challenger_run);
 }
 
 void save(causal::StateWriter& out, const ChannelState& cs) {
-  out.begin("alarm_channel", 1);
+  out.begin("alarm_channel", 2);
   save(out, cs.feature);
   save(out, cs.innovation);
   cs.nis.save(out);
@@ -144,10 +156,13 @@ void save(causal::StateWriter& out, const ChannelState& cs) {
   out.put(cs.own_count);
   out.put(cs.baseline_from_filter);
   out.put(cs.baseline_from_nis);
+  out.put(cs.excursion_obs);
+  out.put(cs.excursion_sum_z);
+  out.put(cs.change_counter);
 }
 
 void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
-  in.expect("alarm_channel", 1);
+  in.expect("alarm_channel", 2);
   restore(in, cs.feature);
   restore(in, cs.innovation);
   cs.nis.restore(in);
@@ -167,6 +182,9 @@ void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
   in.read(cs.own_count);
   in.read(cs.baseline_from_filter);
   in.read(cs.baseline_from_nis);
+  in.read(cs.excursion_obs);
+  in.read(cs.excursion_sum_z);
+  in.read(cs.change_counter);
 }
 
 void save(causal::StateWriter& out, const Episode& e) {
@@ -186,10 +204,53 @@ void restore(causal::StateReader& in, Episode& e, int channels) {
   for (auto& o : e.departure) restore(in, o);
 }
 
+void save(causal::StateWriter& out, const Confirmation& c) {
+  out.begin("alarm_confirmation", 1);
+  out.put(c.active);
+  out.put(c.gap);
+  out.put(c.restart);
+  out.put(c.step_channel);
+  out.put(c.gap_s);
+  out.put(c.start_index);
+  out.put(c.start_time_ns);
+  out.put(c.step_onset_index);
+  out.put(c.step_onset_time_ns);
+  out.put(static_cast<std::uint64_t>(c.feature.size()));
+  for (std::size_t i = 0; i < c.feature.size(); ++i) {
+    out.put(c.feature[i]);
+    out.put(c.innovation[i]);
+  }
+}
+
+void restore(causal::StateReader& in, Confirmation& c, int channels) {
+  in.expect("alarm_confirmation", 1);
+  Confirmation r;
+  in.read(r.active);
+  in.read(r.gap);
+  in.read(r.restart);
+  in.read(r.step_channel);
+  in.read(r.gap_s);
+  in.read(r.start_index);
+  in.read(r.start_time_ns);
+  in.read(r.step_onset_index);
+  in.read(r.step_onset_time_ns);
+  const auto n = in.get<std::uint64_t>();
+  if ((n != 0 && n != static_cast<std::uint64_t>(channels)) || r.step_channel < -1 || r.step_channel >= channels) {
+    throw causal::StateError("checkpoint: alarm_confirmation does not fit " + std::to_string(channels) + " channels");
+  }
+  r.feature.resize(static_cast<std::size_t>(n));
+  r.innovation.resize(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    in.read(r.feature[i]);
+    in.read(r.innovation[i]);
+  }
+  c = std::move(r);
+}
+
 }  // namespace detail
 
 void AlarmEngine::Impl::save_state(causal::StateWriter& out) const {
-  out.begin("alarm_engine_state", 1);
+  out.begin("alarm_engine_state", 2);
   out.put(seen);
   out.put(rejected);
   out.put(not_running);
@@ -199,10 +260,18 @@ void AlarmEngine::Impl::save_state(causal::StateWriter& out) const {
   out.put(static_cast<std::uint64_t>(fac.size()));
   for (const auto& f : fac) detail::save(out, f);
   detail::save(out, episode);
+  out.put(baseline_times);
+  out.put(median_interval_ns);
+  out.put(has_last_time);
+  out.put(last_time_ns);
+  detail::save(out, confirm);
+  out.put(discontinuities);
+  out.put(operating_changes);
+  out.put(stopped);
 }
 
 void AlarmEngine::Impl::restore_state(causal::StateReader& in) {
-  in.expect("alarm_engine_state", 1);
+  in.expect("alarm_engine_state", 2);
   in.read(seen);
   in.read(rejected);
   in.read(not_running);
@@ -212,6 +281,14 @@ void AlarmEngine::Impl::restore_state(causal::StateReader& in) {
   detail::read_count(in, fac.size(), "factor");
   for (auto& f : fac) detail::restore(in, f);
   detail::restore(in, episode, channels());
+  in.read(baseline_times);
+  in.read(median_interval_ns);
+  in.read(has_last_time);
+  in.read(last_time_ns);
+  detail::restore(in, confirm, channels());
+  in.read(discontinuities);
+  in.read(operating_changes);
+  in.read(stopped);
 }
 
 void AlarmEngine::save(causal::StateWriter& out) const {

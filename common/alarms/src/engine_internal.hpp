@@ -56,6 +56,15 @@ struct AlarmSlot {
   std::int64_t onset_time_ns = 0;
   double score = 0.0, threshold = 0.0;
   AlarmEvent last_event;
+  // Escalation on persistence (AlarmParams::escalation_persistence): consecutive observations whose level
+  // reached the Warning / Critical level while the alarm is active.
+  int warning_run = 0, critical_run = 0;
+  // Root cause of this alarm, re-evaluated every observation (AlarmParams::root_cause_margin_z): the
+  // current verdict, a challenger and for how many consecutive observations it has out-evidenced it.
+  int root = -1;
+  double root_confidence = 0.0;
+  int challenger = -1;
+  int challenger_run = 0;
 };
 
 struct ChannelState {
@@ -78,6 +87,32 @@ struct ChannelState {
   double own_evidence() const { return own_count > 0 ? own_sum / std::sqrt(static_cast<double>(own_count)) : 0.0; }
   int baseline_from_filter = 0;  // baseline innovation values that were e / sqrt(S) (not log mean NIS)
   int baseline_from_nis = 0;
+  // Current feature excursion (feature CUSUM > 0): observations in it and sum of their plain z, for the
+  // abrupt-step test (AlarmParams::operating_step_ratio).
+  int excursion_obs = 0;
+  double excursion_sum_z = 0.0;
+  int change_counter = 0;        // operating-change / discontinuity events of this channel (id counter)
+  bool any_active() const {
+    for (const auto& s : slots)
+      if (s.latch.active()) return true;
+    return false;
+  }
+};
+
+// The asset group is under confirmation (AlarmParams::confirmation_observations): detectors held, values
+// collected, decision at the end of the window.
+struct Confirmation {
+  bool active = false;
+  bool gap = false;              // started by a discontinuity (else by an abrupt step of step_channel)
+  bool restart = false;          // the discontinuity is a restart after not-running observations
+  int step_channel = -1;
+  double gap_s = 0.0;            // length of the gap that started it (0: flagged by the source)
+  std::uint64_t start_index = 0;
+  std::int64_t start_time_ns = 0;
+  std::uint64_t step_onset_index = 0;
+  std::int64_t step_onset_time_ns = 0;
+  std::vector<std::vector<double>> feature, innovation;  // per channel, the window's transformed values
+  void reset() { *this = Confirmation{}; }
 };
 
 struct Onset {
@@ -119,6 +154,40 @@ void save(causal::StateWriter& out, const ChannelState& cs);
 void restore(causal::StateReader& in, ChannelState& cs, int factor_count);
 void save(causal::StateWriter& out, const Episode& e);
 void restore(causal::StateReader& in, Episode& e, int channels);
+void save(causal::StateWriter& out, const Confirmation& c);
+void restore(causal::StateReader& in, Confirmation& c, int channels);
+
+// ---- the detector table (detector_table.cpp) ------------------------------------------------------
+// Alarm kinds are data: one row per kind with what it watches and how its statistic, threshold, onset and
+// severity are read from the engine's state. The engine loops over the table; a new kind is one row plus
+// its functions here (and its KindIndex, which sizes the per-channel alarm slots).
+struct DetectorReading {
+  bool enabled = false;          // configured on and its signal monitored
+  double statistic = kNaN;       // NaN: no value this observation (the latch neither advances nor resets)
+  double threshold = 0.0;
+};
+struct DetectorKind {
+  const char* name;              // AlarmEvent::kind
+  const char* signal;            // what it watches (documentation, diagnostics)
+  const char* statistic;         // how (documentation)
+  const char* category;          // AlarmEvent::category of its alarms
+  // Statistic and threshold of channel c now (may update the detector's own run state).
+  DetectorReading (*read)(AlarmEngine::Impl& m, int c, const Observation& obs);
+  // Estimated start of the change when an alarm is raised: (index, time); records the episode onset.
+  void (*onset)(AlarmEngine::Impl& m, int c, const Observation& obs, std::uint64_t& index, std::int64_t& time_ns);
+  // Severity the current level calls for (before persistence, AlarmParams::escalation_persistence).
+  Severity (*level_severity)(const AlarmEngine::Impl& m, int c);
+  // The kind's sentence of a raised / escalated alarm's reason: what moved, from what to what, the
+  // statistic against its threshold and its false-alarm design, since when.
+  std::string (*describe)(const AlarmEngine::Impl& m, int c, const AlarmSlot& slot, const Observation& obs);
+};
+const std::array<DetectorKind, kKindCount>& detector_table();
+
+// Number formatting of the reasons (alarm_explain.cpp).
+std::string at(std::uint64_t index, std::int64_t time_ns);  // "observation N (YYYY-MM-DD hh:mm:ss UTC)"
+std::string signed_fixed(double v, int decimals);
+std::string fixed(double v, int decimals);
+std::string general(double v);  // 4 significant digits
 
 }  // namespace causal::alarms::detail
 
@@ -138,6 +207,16 @@ struct AlarmEngine::Impl {
   std::uint64_t not_running = 0;
   bool ready = false;
   detail::Episode episode;
+  // Time awareness: the baseline's observation times give the usual interval; a gap beyond
+  // gap_multiple x it is a discontinuity.
+  std::vector<std::int64_t> baseline_times;
+  double median_interval_ns = 0.0;
+  bool has_last_time = false;
+  std::int64_t last_time_ns = 0;
+  detail::Confirmation confirm;
+  bool stopped = false;          // the last observation was skipped by the operating-state gate
+  std::uint64_t discontinuities = 0;
+  std::uint64_t operating_changes = 0;
 
   int channels() const { return static_cast<int>(names.size()); }
   // Root cause for an event of channel c whose own alarm began at `event_onset`.
@@ -145,6 +224,28 @@ struct AlarmEngine::Impl {
   Severity severity_for(int c, int kind) const;
   std::vector<int> explain_factors(int c, int root) const;
   std::string reason(int c, int kind, AlarmState state, int root, const Observation& obs) const;
+  // Own-change evidence of every channel that departed (feature CUSUM in excursion or an alarm active);
+  // NaN for the others. Confidence that `root` is the root cause (see AlarmParams::root_cause_margin_z).
+  std::vector<double> departed_evidence() const;
+  double attribution_confidence(int root, const std::vector<double>& evidence) const;
+  // Re-evaluates the root cause of channel c's active alarm in `slot`; returns a reason text when the
+  // verdict changed (empty otherwise).
+  std::string reevaluate_root(int c, detail::AlarmSlot& slot, const std::vector<double>& evidence);
+  // Gaps and operating changes (operating_changes.cpp).
+  bool is_discontinuity(const Observation& obs) const;
+  void start_confirmation(const Observation& obs, bool gap, int step_channel, double gap_s);
+  // The channel whose feature CUSUM just crossed in an abrupt, large step (AlarmParams::operating_step_ratio),
+  // -1 when none.
+  int abrupt_step() const;
+  // Starts an alarm of (c, kind): id, onset, episode onsets, severity. Returns nothing: events are built
+  // after every detector of the observation has been read (simultaneous onsets).
+  void begin_alarm(int c, int kind, const Observation& obs);
+  // Counts the level's persistence (AlarmParams::escalation_persistence); true when the severity rose.
+  bool escalate(int c, int kind);
+  // Adds the observation's values to the window; at its end decides and appends the events.
+  void confirm_step(const Observation& obs, const std::vector<double>& feat, const std::vector<double>& innov,
+                    std::vector<AlarmEvent>& events);
+  AlarmEvent make_event(int c, int kind, AlarmState state, const Observation& obs);
   // Everything that changes after construction (engine_checkpoint.cpp); the configuration (group, names,
   // params) is written by AlarmEngine::save before it, and restore_state() runs on an engine constructed
   // from that configuration, so the derived structure (latch counts, factor references) is rebuilt.

@@ -34,7 +34,7 @@ void to_alarm(const std::string& asset_group, const std::vector<std::string>& ch
   out.severity(to_idl(e.severity));
   out.state(to_idl(e.state));
   out.kind(e.kind);
-  out.category("degradation");  // the alarm engine watches the machine; data-quality/health alarms set their own
+  out.category(e.category);  // degradation or operating_change; data-quality/health alarms set their own
   out.raised_time_ns(e.raised_time_ns);
   out.cleared_time_ns(e.cleared_time_ns);
   out.sample_index(e.index);
@@ -46,6 +46,7 @@ void to_alarm(const std::string& asset_group, const std::vector<std::string>& ch
   out.score(e.score);
   out.threshold(e.threshold);
   out.reason(e.reason);
+  out.root_cause_confidence(e.root_cause_confidence);
 }
 
 }  // namespace causal::dds

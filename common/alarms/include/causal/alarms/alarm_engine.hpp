@@ -14,6 +14,12 @@
 //       factor_shift    : max |z| of outcome k's factors vs their baseline, Bonferroni threshold
 //     each with persistence / hysteresis (PersistenceLatch), severities, one alarm per (channel, kind)
 //     while active; escalations and the clearing republish the same alarm id.
+//     Kinds are rows of a table (detector_table.cpp): statistic, threshold, onset, severity, reason text.
+//     Severities escalate only on persistence (AlarmParams::escalation_persistence).
+//  2b. gaps and operating changes (AlarmParams, "gaps and operating changes"): a discontinuity (flag, time
+//     gap, restart after a stop) or an abrupt large step holds the detectors for a confirmation window;
+//     then levels that settled are re-baselined and reported as events of category "operating_change"
+//     (raised and cleared at once), a step that keeps rising raises its feature_drift alarm.
 //  3. root cause (per episode = period during which at least one alarm is active): the channel whose
 //     own behaviour changed first -- an innovation_rise onset, else a feature departure, among channels
 //     whose change began no later than the alarmed channel's; simultaneous onsets (within
@@ -21,7 +27,8 @@
 //     departure began), then by size. Followers (channels that rise only because the causal links carry
 //     the root's change) show a departure without own-change evidence and get the root's id. A channel
 //     whose trouble began with its own change clearly AFTER the first root is an independent root
-//     (a second fault) and is its own root cause.
+//     (a second fault) and is its own root cause. The verdict is re-evaluated at every observation
+//     (AlarmParams::root_cause_margin_z); each event carries the attribution's confidence.
 //
 // Sample-level use: feed one Observation per factor publication (mean_nis filled from the CausalFactors
 // nis_mean, features optional e.g. a block RMS) with AlarmParams::sample_level(n_healthy_publications).
@@ -94,6 +101,9 @@ class AlarmEngine {
   std::uint64_t rejected_observations() const;
   // Observations skipped by the operating-state gate (every channel far below its baseline: not running).
   std::uint64_t not_running_observations() const;
+  // Discontinuities seen (flagged, time gaps, restarts after a stop) and operating-change events raised.
+  std::uint64_t discontinuities() const;
+  std::uint64_t operating_changes() const;
   ChannelDiagnostics channel_diagnostics(int channel) const;
   // Latest event of every active alarm (state Raised or Escalated), channel order.
   std::vector<AlarmEvent> active_alarms() const;
@@ -111,8 +121,10 @@ class AlarmEngine {
   // Same, with the parameters stored in the checkpoint (offline inspection, tools).
   static AlarmEngine restore(causal::StateReader& in);
 
- private:
+  // Opaque state (engine_internal.hpp); public only so the library's detector table can name it.
   struct Impl;
+
+ private:
   std::unique_ptr<Impl> impl_;
 };
 

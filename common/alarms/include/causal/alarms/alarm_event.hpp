@@ -22,7 +22,17 @@ inline constexpr const char* kFeatureDrift = "feature_drift";      // condition 
 inline constexpr const char* kInnovationRise = "innovation_rise";  // unexplained part rose: own behaviour
 inline constexpr const char* kInnovationNis = "innovation_nis";    // model no longer fits the channel
 inline constexpr const char* kFactorShift = "factor_shift";        // causal factors left their baseline
+// Operating-change events (category kOperatingChange): a level re-baselined, not a fault.
+inline constexpr const char* kOperatingChange = "operating_change";  // an abrupt step that settled
+inline constexpr const char* kDiscontinuity = "discontinuity";      // re-baselined after a gap / restart
 }  // namespace kind
+
+// What an event is about (Alarm.category in the IDL): the machine degrading, or a change of operating
+// state the engine re-baselined on (reported so a reader can tell them apart; never counted as a fault).
+namespace category {
+inline constexpr const char* kDegradation = "degradation";
+inline constexpr const char* kOperatingChange = "operating_change";
+}  // namespace category
 
 struct AlarmEvent {
   std::string alarm_id;            // "<asset_group>/<channel 1-based>/<kind>/<counter>", stable across
@@ -31,6 +41,7 @@ struct AlarmEvent {
   Severity severity = Severity::Advisory;
   AlarmState state = AlarmState::Raised;
   std::string kind;                // one of causal::alarms::kind
+  std::string category = category::kDegradation;  // one of causal::alarms::category
   std::int64_t raised_time_ns = 0;
   std::int64_t cleared_time_ns = 0;  // 0 while active
   std::uint64_t index = 0;         // observation index of the latest evidence
@@ -43,6 +54,10 @@ struct AlarmEvent {
   double score = 0.0;              // detector statistic (CUSUM S, window-mean NIS, max |z| of factors)
   double threshold = 0.0;          // the raise threshold it is compared with
   std::string reason;              // plain-language explanation with numbers and UTC times
+  // Confidence of the root-cause attribution in [0, 1] (AlarmParams::root_cause_margin_z): the
+  // probability that the named root's own-change evidence truly exceeds the runner-up's; 1 when no
+  // other channel has departed, 0 when the root is unknown.
+  double root_cause_confidence = 0.0;
 };
 
 const char* to_string(Severity s);

@@ -143,6 +143,63 @@ struct AlarmParams {
   // Factors listed in an alarm's explanation.
   int explain_top_factors = 3;
 
+  // ---------------------------------------------------------------- gaps and operating changes -------
+  // A level that moves because the machine was stopped or its duty changed is not a fault. Two situations
+  // put the asset group under CONFIRMATION for confirmation_observations: every detector is held (no
+  // update, no raise, no clear; active alarms stay active) while the values are collected, then the
+  // engine decides per channel and says so with an event of category "operating_change":
+  //  * a discontinuity: Observation::discontinuity, the first observation after a stop (stopped_ratio
+  //    gate), or a time gap larger than gap_multiple x the median interval of the baseline observations (IMS recorders stop for hours or days; levels after a restart
+  //    differ by 15-20 % although nothing is wrong). Every channel without an active alarm is re-baselined
+  //    (kind "discontinuity"): its feature location becomes the median of the confirmation window, unless
+  //    the channel trends inside the window (progressive degradation does not pause for a gap: it keeps its
+  //    old baseline and the detectors judge it). A channel with an active degradation alarm keeps its
+  //    baseline: a fault does not heal during a gap.
+  //  * an abrupt step: a feature CUSUM crosses its threshold within onset_tolerance + 1 observations of its
+  //    onset AND the mean level since the onset is at least operating_step_ratio x the baseline median.
+  //    Why a size: a change of load or speed changes the power through the machine and moves vibration
+  //    levels by tens of percent from one record to the next; wear starts below the detection limit and
+  //    its first significant departure is small (a few baseline sigmas: +7.5 % at IMS test 2's bearing-1
+  //    onset; the operating changes are +15 % to +40 %). A smaller significant rise is alarmed at
+  //    once, as before. After the window: a level that settled (kind "operating_change": no trend, see
+  //    settle_trend_sigma) is re-baselined; one that keeps rising is progressive degradation and raises
+  //    its feature_drift alarm then, with the onset at the step. Other channels whose level moved by a
+  //    step as large in the same window and settled (a load change moves several bearings) are re-baselined
+  //    with it. Gaps during the warm-up and baseline are not judged (the baseline is learned across them).
+  //    Known limit: a step DOWN alone starts no confirmation (the detectors are upward): the channel keeps
+  //    its higher baseline until a gap, a stop or another channel's step re-baselines it.
+  // 12 observations = 2 h at the 10-minute IMS cadence: long enough for a robust slope (sd of the rise
+  // over the window ~0.9 baseline sigma for 12 i.i.d. values), short against the days a bearing degrades.
+  int confirmation_observations = 12;
+  double gap_multiple = 3.0;
+  double operating_step_ratio = 1.15;
+  // Settled = the robust (Theil-Sen) rise of the log feature across the confirmation window is below this
+  // many baseline sigmas: ~3.3 sd of that rise for i.i.d. noise, so a flat new level is almost never taken
+  // for a trend, while a wear process that rises by more than 3 sigma in 2 h is.
+  double settle_trend_sigma = 3.0;
+  // Innovation locations are re-learned too after a re-baseline (upwards only: the filter's innovations
+  // carry the level change until its factors adapt, which takes far longer than the window; a lower
+  // location would make the one-sided detectors more sensitive than designed).
+
+  // ---------------------------------------------------------------- escalation ---------------------
+  // Severity rises above Advisory only on persistence: the level must have stayed at or above the Warning
+  // (Critical) level for escalation_persistence consecutive observations, not touched it once. 12 = the
+  // NIS window / 2 h at IMS cadence: a single burst or a transient at an operating change cannot escalate.
+  int escalation_persistence = 12;
+
+  // ---------------------------------------------------------------- root cause re-evaluation --------
+  // The root cause of every active alarm is re-evaluated at every observation from the evidence
+  // accumulated since its episode began: each departed channel's own-change evidence (z of the mean
+  // standardised innovation since its departure, ChannelState::own_evidence) and its onset. When the named
+  // root's own trouble is over (none of its alarms active, no own-change evidence left), a channel whose
+  // evidence exceeds the named root's by root_cause_margin_z (the difference of two ~N(0,1)
+  // statistics has sd sqrt(2): 3 sqrt(2) = 4.24 is one-sided 1e-3) for root_cause_persistence consecutive
+  // observations takes over as root cause; the alarm is republished (state Escalated, same severity)
+  // with the reason naming what changed. Confidence of an attribution = Phi((E_root - E_next) / sqrt(2)),
+  // the probability that the named root's own-change statistic truly exceeds the runner-up's.
+  double root_cause_margin_z = 4.24;
+  int root_cause_persistence = 6;
+
   // Throws std::invalid_argument with a clear message when a value is out of range or when the
   // combination breaks a promise (e.g. a single spike could raise an alarm).
   void validate() const;
@@ -159,7 +216,8 @@ struct AlarmParams {
   // (one publication: the filter converges within its first block of thousands of samples) plus the
   // baseline; the innovation signal is then log mean NIS; NIS window 4 publications (a snapshot gives
   // ~20 publications of 1024 samples, so the window stays within one snapshot); the factor detector stays
-  // off (see factor_enabled).
+  // off (see factor_enabled); time gaps are not discontinuities there (gap_multiple out of reach: the
+  // publications come in bursts, one per snapshot).
   static AlarmParams sample_level(int baseline_publications);
 };
 

@@ -89,6 +89,9 @@ class PersistenceLatch {
   int above_count() const { return above_; }
   int below_count() const { return below_; }
   void reset();
+  // Raises without a statistic: the decision was taken elsewhere (an abrupt rise confirmed as progressive
+  // after its confirmation window, see AlarmParams::confirmation_observations).
+  void force_raise();
 
   // Checkpoint of the counts and the latch (a restored active alarm keeps its hysteresis progress).
   void save(causal::StateWriter& out) const;

@@ -12,6 +12,9 @@ namespace causal::alarms {
 struct Observation {
   std::uint64_t index = 0;  // snapshot index (condition level) or publication / sample index
   std::int64_t time_ns = 0; // UTC, ns since the Unix epoch
+  // The observation does not continue the previous one (a gap in the recording, a restart of the source:
+  // ConditionVector.discontinuity). The engine also finds gaps itself from time_ns (AlarmParams::gap_multiple).
+  bool discontinuity = false;
 
   // G condition features (e.g. RMS or mean |x| per channel). Positive scale features are
   // log-transformed by the engine (AlarmParams::feature_log_transform).

@@ -1,0 +1,206 @@
+// Gaps and operating changes (AlarmParams::confirmation_observations): a discontinuity or an abrupt, large
+// step puts the asset group under confirmation; at the end of the window each channel is re-baselined (an
+// operating change, reported as such) or judged by the detectors as before (degradation).
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "engine_internal.hpp"
+
+namespace causal::alarms {
+
+namespace {
+
+// Theil-Sen slope (median of the pairwise slopes) of the finite values against their position: robust to
+// a few outliers, which a 12-value window of vibration levels may hold. NaN with fewer than 3 values.
+double theil_sen_slope(const std::vector<double>& v) {
+  std::vector<double> slopes;
+  int finite = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i])) continue;
+    ++finite;
+    for (std::size_t j = i + 1; j < v.size(); ++j)
+      if (std::isfinite(v[j])) slopes.push_back((v[j] - v[i]) / static_cast<double>(j - i));
+  }
+  return finite >= 3 ? median(slopes) : detail::kNaN;
+}
+
+std::string fixed(double v, int decimals, bool sign = false) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(decimals) << (sign ? std::showpos : std::noshowpos) << v;
+  return os.str();
+}
+
+std::string duration(double s) {
+  if (s >= 86400.0) return fixed(s / 86400.0, 1) + " days";
+  if (s >= 3600.0) return fixed(s / 3600.0, 1) + " h";
+  return fixed(s / 60.0, 1) + " min";
+}
+
+// Back to its (new) baseline: CUSUM, level window and own-change evidence restart.
+void restart(detail::SignalMonitor& s) {
+  s.cusum.reset();
+  s.level.reset();
+}
+
+}  // namespace
+
+bool AlarmEngine::Impl::is_discontinuity(const Observation& obs) const {
+  if (obs.discontinuity) return true;
+  if (!has_last_time || median_interval_ns <= 0.0) return false;
+  return static_cast<double>(obs.time_ns - last_time_ns) > p.gap_multiple * median_interval_ns;
+}
+
+int AlarmEngine::Impl::abrupt_step() const {
+  if (!p.feature_enabled || !p.feature_log_transform) return -1;
+  int best = -1;
+  double best_ratio = 0.0;
+  for (int c = 0; c < channels(); ++c) {
+    const auto& cs = ch[static_cast<std::size_t>(c)];
+    if (!cs.feature.monitored || cs.slots[detail::kFeature].latch.active()) continue;
+    if (cs.feature.cusum.value() < h || cs.excursion_obs < 1 || cs.excursion_obs > p.onset_tolerance + 1) continue;
+    const double ratio = std::exp(cs.excursion_sum_z / cs.excursion_obs * cs.feature.stats.scale);
+    if (ratio >= p.operating_step_ratio && ratio > best_ratio) {
+      best = c;
+      best_ratio = ratio;
+    }
+  }
+  return best;
+}
+
+void AlarmEngine::Impl::start_confirmation(const Observation& obs, bool gap, int step_channel, double gap_s) {
+  confirm.reset();
+  confirm.active = true;
+  confirm.gap = gap;
+  confirm.step_channel = step_channel;
+  confirm.gap_s = gap_s;
+  confirm.start_index = obs.index;
+  confirm.start_time_ns = obs.time_ns;
+  if (step_channel >= 0) {
+    const auto& cusum = ch[static_cast<std::size_t>(step_channel)].feature.cusum;
+    confirm.step_onset_index = cusum.onset_index();
+    confirm.step_onset_time_ns = cusum.onset_time_ns();
+  }
+  confirm.feature.assign(ch.size(), {});
+  confirm.innovation.assign(ch.size(), {});
+}
+
+void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<double>& feat,
+                                     const std::vector<double>& innov, std::vector<AlarmEvent>& events) {
+  for (std::size_t c = 0; c < ch.size(); ++c) {
+    confirm.feature[c].push_back(feat[c]);
+    confirm.innovation[c].push_back(innov[c]);
+  }
+  if (static_cast<int>(confirm.feature[0].size()) < p.confirmation_observations) return;
+
+  const int w = p.confirmation_observations;
+  auto rebaseline = [&](int c) {
+    auto& cs = ch[static_cast<std::size_t>(c)];
+    const double f = median(confirm.feature[static_cast<std::size_t>(c)]);
+    if (cs.feature.monitored && std::isfinite(f)) cs.feature.stats.location = f;
+    restart(cs.feature);
+    cs.own_sum = 0.0;
+    cs.own_count = 0;
+    cs.excursion_obs = 0;
+    cs.excursion_sum_z = 0.0;
+  };
+  // Innovations carry a level change until the filter's factors adapt: their location is re-learned
+  // upwards only (see AlarmParams::settle_trend_sigma), for every channel without an active alarm.
+  auto relearn_innovation = [&](int c) {
+    auto& cs = ch[static_cast<std::size_t>(c)];
+    const double v = median(confirm.innovation[static_cast<std::size_t>(c)]);
+    if (cs.innovation.monitored && std::isfinite(v) && v > cs.innovation.stats.location) cs.innovation.stats.location = v;
+    restart(cs.innovation);
+    cs.nis.reset();
+  };
+  auto emit = [&](int c, const char* kind_name, const std::string& why) {
+    auto& cs = ch[static_cast<std::size_t>(c)];
+    ++cs.change_counter;
+    ++operating_changes;
+    AlarmEvent e;
+    e.alarm_id = group + "/" + std::to_string(c + 1) + "/" + kind_name + "/" + std::to_string(cs.change_counter);
+    e.channel = c;
+    e.kind = kind_name;
+    e.category = category::kOperatingChange;
+    e.state = AlarmState::Raised;
+    e.raised_time_ns = obs.time_ns;
+    e.index = obs.index;
+    e.onset_index = confirm.step_channel == c ? confirm.step_onset_index : confirm.start_index;
+    e.onset_time_ns = confirm.step_channel == c ? confirm.step_onset_time_ns : confirm.start_time_ns;
+    e.root_cause_channel = c;
+    e.root_cause_confidence = 1.0;
+    e.reason = why;
+    events.push_back(e);
+    // A point event: raised and cleared at once, so a last-value reader never shows it as active.
+    e.state = AlarmState::Cleared;
+    e.cleared_time_ns = obs.time_ns;
+    events.push_back(std::move(e));
+  };
+
+  const std::string when = "observation " + std::to_string(confirm.start_index) + " (" +
+                           format_utc_seconds(confirm.start_time_ns) + ")";
+  for (int c = 0; c < channels(); ++c) {
+    auto& cs = ch[static_cast<std::size_t>(c)];
+    const auto& fv = confirm.feature[static_cast<std::size_t>(c)];
+    const double scale = cs.feature.stats.scale;
+    const double rise = theil_sen_slope(fv) * (w - 1) / scale;  // baseline sigmas across the window
+    const bool settled = std::isfinite(rise) && rise < p.settle_trend_sigma;
+    const double old_loc = cs.feature.stats.location, new_loc = median(fv);
+    const double pct = 100.0 * (std::exp(new_loc - old_loc) - 1.0);
+    const std::string& name = names[static_cast<std::size_t>(c)];
+    const std::string trend = "it moved " + fixed(std::isfinite(rise) ? rise : 0.0, 1, true) + " baseline sigma across the " +
+                              std::to_string(w) + " observations (settled below " + fixed(p.settle_trend_sigma, 1) + ")";
+    if (confirm.gap) {
+      if (cs.any_active() || !settled || !cs.feature.monitored) continue;  // judged by the detectors as before
+      const std::string gap = confirm.restart       ? "a stop (every channel far below its baseline)"
+                              : confirm.gap_s > 0.0 ? "a gap of " + duration(confirm.gap_s) + " (more than " +
+                                                          fixed(p.gap_multiple, 1) + " x the usual interval of " +
+                                                          duration(median_interval_ns * 1e-9) + ")"
+                                                    : "a discontinuity flagged by the source";
+      emit(c, kind::kDiscontinuity,
+           name + ": the recording resumed after " + gap + " at " + when + "; its level is " + fixed(pct, 1, true) +
+               " % against the old baseline and " + trend + ": re-baselined on the " + std::to_string(w) +
+               " observations after the gap (not a fault; alarms judge changes from the new level).");
+      rebaseline(c);
+      relearn_innovation(c);
+    } else if (c == confirm.step_channel || (!cs.any_active() && cs.feature.monitored && std::isfinite(new_loc) &&
+                                              std::abs(new_loc - old_loc) >= std::log(p.operating_step_ratio))) {
+      // The step's channel, and any other channel whose level moved by a step as large in the same window
+      // (a change of load moves several bearings at once): settled -> re-baselined; still rising -> the
+      // step's channel alarms, the others are left to their detectors.
+      if (!settled && c != confirm.step_channel) continue;
+      if (!settled) {  // progressive: the alarm the step would have raised, raised now with its onset
+        cs.slots[detail::kFeature].latch.force_raise();
+        begin_alarm(c, detail::kFeature, obs);
+        auto& slot = cs.slots[detail::kFeature];
+        slot.score = cs.feature.cusum.value();
+        slot.threshold = h;
+        slot.root = root_cause(c, slot.onset_index);
+        slot.root_confidence = attribution_confidence(slot.root, departed_evidence());
+        AlarmEvent e = make_event(c, detail::kFeature, AlarmState::Raised, obs);
+        e.reason = "Abrupt rise at " + when + " did not settle: " + trend + ": progressive, not an operating change. " +
+                   e.reason;
+        slot.last_event = e;
+        events.push_back(std::move(e));
+        continue;
+      }
+      emit(c, kind::kOperatingChange,
+           name + ": operating change: its level stepped " + fixed(pct, 1, true) + " % at once at " + when +
+               (c == confirm.step_channel ? "" : " (with " + names[static_cast<std::size_t>(confirm.step_channel)] + ")") +
+               " and " +
+               trend + ": re-baselined at the new level (a change of load or speed, not a fault; alarms judge "
+               "changes from the new level).");
+      rebaseline(c);
+    }
+  }
+  if (!confirm.gap && std::find_if(events.begin(), events.end(), [](const AlarmEvent& e) {
+                        return e.category == category::kOperatingChange;
+                      }) != events.end()) {
+    for (int c = 0; c < channels(); ++c)
+      if (!ch[static_cast<std::size_t>(c)].any_active()) relearn_innovation(c);
+  }
+  confirm.reset();
+}
+
+}  // namespace causal::alarms

@@ -1,0 +1,148 @@
+#include "verdict.hpp"
+
+#include "csv_format.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+namespace causal::report {
+
+namespace {
+
+std::string cell(const std::vector<std::string>& row, int column) {
+  return column >= 0 && static_cast<std::size_t>(column) < row.size() ? row[static_cast<std::size_t>(column)] : "";
+}
+
+// At most `width` characters on one line (a reason or advice can be a paragraph).
+std::string one_line(const std::string& text, std::size_t width) {
+  std::string out;
+  for (char c : text) out += (c == '\n' || c == '\r') ? ' ' : c;
+  if (out.size() > width) out = out.substr(0, width - 3) + "...";
+  return out;
+}
+
+std::string plural(std::size_t n, const std::string& what) {
+  return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+}
+
+}  // namespace
+
+std::vector<RecommendationRecord> load_recommendations(const std::filesystem::path& file, const std::string& asset) {
+  const CsvTable t = read_csv(file);
+  const int id = t.column("recommendation_id"), alarm = t.column("alarm_id"), group = t.column("asset_group"),
+            rank = t.column("rank"), text = t.column("text"), summary = t.column("summary"),
+            kind = t.column("answer_kind"), reliable = t.column("reliable");
+  if (id < 0 || group < 0 || rank < 0 || text < 0) {
+    throw std::runtime_error(file.string() + ": not a recommendations.csv (needs recommendation_id, asset_group, "
+                             "rank, text)");
+  }
+  std::vector<RecommendationRecord> out;
+  for (const auto& row : t.rows) {
+    if (!asset.empty() && sanitize_file_component(cell(row, group)) != asset) continue;
+    RecommendationRecord r;
+    r.recommendation_id = cell(row, id);
+    r.alarm_id = cell(row, alarm);
+    r.asset_group = cell(row, group);
+    r.rank = static_cast<int>(CsvTable::number(cell(row, rank)).value_or(0.0));
+    r.text = cell(row, text);
+    r.summary = cell(row, summary);
+    r.answer_kind = cell(row, kind);
+    const std::string rel = cell(row, reliable);
+    r.reliable = !(rel == "0" || rel == "false");
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+AssetVerdict verdict_of(const std::string& asset, const std::vector<AlarmRecord>& alarms,
+                        const std::vector<RecommendationRecord>& recommendations) {
+  AssetVerdict v;
+  v.asset = asset;
+  // The last row of each alarm id is its state at the end of the recording.
+  std::map<std::string, const AlarmRecord*> last;
+  std::map<std::string, std::size_t> events;  // non-degradation categories, distinct alarm ids
+  const AlarmRecord* first = nullptr;
+  for (const auto& a : alarms) {
+    if (a.category != "degradation") {
+      if (!last.count(a.alarm_id)) ++events[a.category];
+      last[a.alarm_id] = &a;
+      continue;
+    }
+    last[a.alarm_id] = &a;
+    if (a.state == "raised" && a.raised && (first == nullptr || *a.raised < *first->raised)) first = &a;
+  }
+  const AlarmRecord* worst = nullptr;
+  bool any = false;
+  for (const auto& [id, a] : last) {
+    if (a->category != "degradation") continue;
+    any = true;
+    if (a->state == "cleared") continue;
+    if (worst == nullptr || a->severity > worst->severity ||
+        (a->severity == worst->severity && a->time.value_or(0) > worst->time.value_or(0))) {
+      worst = a;
+    }
+  }
+  if (worst != nullptr) {
+    v.status = worst->severity == Severity::Critical  ? "CRITICAL"
+               : worst->severity == Severity::Warning ? "WARNING"
+                                                      : "ADVISORY";
+    v.root_cause = worst->root_cause_name.empty() ? "-" : worst->root_cause_name;
+    if (worst->root_cause_confidence && !worst->root_cause_name.empty()) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, " (confidence %.2f)", *worst->root_cause_confidence);
+      v.root_cause += buf;
+    }
+  } else {
+    v.status = any ? "recovered" : "healthy";
+    v.root_cause = "-";
+  }
+  if (first != nullptr) {
+    const std::string index =
+        first->sample_index ? "#" + std::to_string(static_cast<long long>(*first->sample_index)) + " " : "";
+    v.first_alarm = index + first->raised_utc + " " + first->channel_name + " " + first->kind;
+  } else {
+    v.first_alarm = "-";
+  }
+  const RecommendationRecord* top = nullptr;
+  const RecommendationRecord* fallback = nullptr;
+  for (const auto& r : recommendations) {
+    if (r.rank != 1) continue;
+    fallback = &r;
+    if (r.reliable) top = &r;
+  }
+  const RecommendationRecord* shown = top != nullptr ? top : fallback;
+  v.top_recommendation = shown == nullptr ? "-" : one_line(shown->text, 150);
+  std::string sep;
+  for (const auto& [category, n] : events) {
+    std::string what = category;
+    std::replace(what.begin(), what.end(), '_', ' ');
+    v.events += sep + plural(n, what + " event");
+    sep = ", ";
+  }
+  return v;
+}
+
+std::string verdict_table(const std::vector<AssetVerdict>& verdicts) {
+  std::size_t w_asset = 11, w_status = 9, w_first = 11, w_root = 10;
+  for (const auto& v : verdicts) {
+    w_asset = std::max(w_asset, v.asset.size());
+    w_status = std::max(w_status, v.status.size());
+    w_first = std::max(w_first, v.first_alarm.size());
+    w_root = std::max(w_root, v.root_cause.size());
+  }
+  auto pad = [](const std::string& s, std::size_t w) { return s + std::string(w > s.size() ? w - s.size() : 0, ' '); };
+  std::ostringstream out;
+  out << pad("asset group", w_asset) << "  " << pad("status", w_status) << "  " << pad("first alarm", w_first) << "  "
+      << "root cause\n";
+  for (const auto& v : verdicts) {
+    out << pad(v.asset, w_asset) << "  " << pad(v.status, w_status) << "  " << pad(v.first_alarm, w_first) << "  "
+        << v.root_cause << "\n";
+    out << "  advice: " << v.top_recommendation << "\n";
+    if (!v.events.empty()) out << "  also: " << v.events << " (not faults of the machine)\n";
+  }
+  return out.str();
+}
+
+}  // namespace causal::report

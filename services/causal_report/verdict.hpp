@@ -1,0 +1,49 @@
+// The verdict a plant engineer reads first: per asset group, is it failing, since when, why, and what to do.
+// Built from a causal-recorder folder (alarms.csv, recommendations.csv); printed by causal-report at the end of
+// every run (launch.sh, demo.sh) and put at the top of report_<asset>.md.
+//
+// Rules (stated in the README):
+//  * only degradation alarms decide the status; data-quality, health and operating-change events are counted
+//    beside it (they are about the measurement or the operation, not the machine);
+//  * status = the highest severity among the degradation alarms still open at the end of the recording
+//    (CRITICAL / WARNING / ADVISORY), "recovered" when alarms were raised and all cleared, else "healthy";
+//  * first alarm = the earliest raised degradation alarm (snapshot index and UTC time, channel, detector);
+//  * root cause = the root named by the latest row of the open alarms at the highest severity (the engine
+//    re-evaluates it), with its confidence when recorded;
+//  * top recommendation = the latest rank-1 recommendation of the asset whose interval excludes no effect
+//    (reliable); when none is reliable, the latest rank-1 text, which says why there is no reliable lever.
+#pragma once
+
+#include "run_data.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace causal::report {
+
+struct RecommendationRecord {
+  std::string recommendation_id, alarm_id, asset_group, text, summary, answer_kind;
+  int rank = 0;
+  bool reliable = true;  // older recordings have no such column: their advice is taken as given
+};
+
+// Rows of recommendations.csv for `asset` (sanitised id; all rows when empty), in file (publication) order.
+std::vector<RecommendationRecord> load_recommendations(const std::filesystem::path& file, const std::string& asset);
+
+struct AssetVerdict {
+  std::string asset;
+  std::string status;              // CRITICAL, WARNING, ADVISORY, recovered, healthy
+  std::string first_alarm;         // "#533 2004-02-16 03:22:39 bearing1 feature_drift" or "-"
+  std::string root_cause;          // "bearing1 (confidence 0.93)" or "-"
+  std::string top_recommendation;  // one line, or "-"
+  std::string events;              // "2 operating changes, 1 data quality" or ""
+};
+
+AssetVerdict verdict_of(const std::string& asset, const std::vector<AlarmRecord>& alarms,
+                        const std::vector<RecommendationRecord>& recommendations);
+
+// A fixed-width table with one row per asset (the top recommendation on its own indented line).
+std::string verdict_table(const std::vector<AssetVerdict>& verdicts);
+
+}  // namespace causal::report

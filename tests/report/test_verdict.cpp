@@ -1,0 +1,75 @@
+// The verdict (services/causal_report/verdict.cpp): status from the degradation alarms still open at the end,
+// events of other categories counted beside it, first alarm, root cause of the worst open alarm, top
+// recommendation (reliable first), against hand-built alarm histories.
+#include "verdict.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+using namespace causal::report;
+
+namespace {
+
+AlarmRecord row(const std::string& id, const std::string& state, Severity sev, double t, const std::string& category,
+                const std::string& channel, const std::string& root, double index) {
+  AlarmRecord r;
+  r.alarm_id = id;
+  r.state = state;
+  r.severity = sev;
+  r.kind = "feature_drift";
+  r.category = category;
+  r.channel_name = channel;
+  r.root_cause_name = root;
+  r.time = t;
+  r.raised = t;
+  r.raised_utc = "t" + std::to_string(static_cast<int>(t));
+  r.sample_index = index;
+  return r;
+}
+
+RecommendationRecord rec(int rank, bool reliable, const std::string& text) {
+  RecommendationRecord r;
+  r.rank = rank;
+  r.reliable = reliable;
+  r.text = text;
+  return r;
+}
+
+TEST(Verdict, WorstOpenDegradationAlarmDecidesAndOtherCategoriesAreCountedBeside) {
+  const std::vector<AlarmRecord> alarms{
+      row("g/3/operating_change/1", "raised", Severity::Advisory, 50, "operating_change", "B3", "", 5),
+      row("g/1/feature_drift/1", "raised", Severity::Advisory, 100, "degradation", "B1", "B1", 10),
+      row("g/2/feature_drift/1", "raised", Severity::Advisory, 200, "degradation", "B2", "B1", 20),
+      row("g/1/feature_drift/1", "escalated", Severity::Critical, 300, "degradation", "B1", "B4", 30),
+      row("g/2/feature_drift/1", "cleared", Severity::Advisory, 400, "degradation", "B2", "B1", 40),
+      row("g/1/data_quality/1", "raised", Severity::Warning, 450, "data_quality", "B1", "", 45)};
+  AlarmRecord confident = alarms[3];
+  const AssetVerdict v = verdict_of("g", alarms, {rec(1, false, "No reliable lever"), rec(2, true, "rank two"),
+                                                  rec(1, true, "Reduce B4 by 10 %"), rec(1, false, "later, unreliable")});
+  EXPECT_EQ(v.status, "CRITICAL");
+  EXPECT_EQ(v.first_alarm, "#10 t100 B1 feature_drift");  // the operating change at t50 is not a fault
+  EXPECT_EQ(v.root_cause, "B4");                           // re-evaluated on the escalation row
+  EXPECT_EQ(v.top_recommendation, "Reduce B4 by 10 %");    // the latest reliable rank-1 advice
+  EXPECT_EQ(v.events, "1 data quality event, 1 operating change event");
+  const std::string table = verdict_table({v});
+  EXPECT_NE(table.find("g            CRITICAL"), std::string::npos) << table;
+  EXPECT_NE(table.find("  advice: Reduce B4 by 10 %\n"), std::string::npos);
+}
+
+TEST(Verdict, RecoveredHealthyAndUnreliableAdvice) {
+  const std::vector<AlarmRecord> cleared{row("g/1/x/1", "raised", Severity::Warning, 10, "degradation", "B1", "B1", 1),
+                                         row("g/1/x/1", "cleared", Severity::Warning, 20, "degradation", "B1", "B1", 2)};
+  const AssetVerdict r = verdict_of("g", cleared, {rec(1, false, "No reliable lever: the interval includes zero")});
+  EXPECT_EQ(r.status, "recovered");
+  EXPECT_EQ(r.root_cause, "-");
+  EXPECT_EQ(r.top_recommendation, "No reliable lever: the interval includes zero");
+  const AssetVerdict h =
+      verdict_of("g", {row("g/2/oc/1", "raised", Severity::Advisory, 5, "operating_change", "B2", "", 1)}, {});
+  EXPECT_EQ(h.status, "healthy");
+  EXPECT_EQ(h.first_alarm, "-");
+  EXPECT_EQ(h.top_recommendation, "-");
+}
+
+}  // namespace
