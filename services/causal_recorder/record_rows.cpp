@@ -63,8 +63,9 @@ const std::vector<std::string>& alarm_header() {
                                           "asset_group",   "channel",      "channel_name",       "sample_index",
                                           "time_utc",      "raised_utc",   "cleared_utc",        "root_cause_channel",
                                           "root_cause_name", "score",      "threshold",          "reason",
-                                          // appended: degradation, data_quality, health or operating_change
-                                          "category"};
+                                          // appended: degradation, data_quality, health or operating_change;
+                                          // the root-cause attribution's confidence in [0, 1]
+                                          "category", "root_cause_confidence"};
   return h;
 }
 
@@ -91,7 +92,8 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& a, std::optional<st
           format_number(a.score()),
           format_number(a.threshold()),
           a.reason(),
-          a.category()};
+          a.category(),
+          format_number(a.root_cause_confidence())};
 }
 
 const std::vector<std::string>& recommendation_header() {

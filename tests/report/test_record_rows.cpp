@@ -30,6 +30,7 @@ causal_twin::Alarm make_alarm() {
   a.threshold(8.0);
   a.reason("rms rose 3x, \"sharply\"\nsince 10:42");
   a.category("degradation");
+  a.root_cause_confidence(0.75);
   return a;
 }
 }  // namespace
@@ -55,14 +56,14 @@ TEST(RecordRows, ConditionRow) {
 
 TEST(RecordRows, AlarmRowQuotesTextAndFormatsTimes) {
   const auto a = make_alarm();
-  ASSERT_EQ(alarm_header().size(), 17u);
+  ASSERT_EQ(alarm_header().size(), 18u);
   EXPECT_EQ(csv_line(alarm_header()),
             "alarm_id,state,severity,kind,asset_group,channel,channel_name,sample_index,time_utc,raised_utc,"
-            "cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason,category\n");
+            "cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason,category,root_cause_confidence\n");
   EXPECT_EQ(csv_line(alarm_row(a, std::nullopt)),
             "\"plant/a,b/2/feature_drift/1\",raised,warning,feature_drift,\"plant/a,b\",2,Bearing 2,17,"
             "2004-02-12 10:42:39,2004-02-12 10:42:39,,3,Bearing 3,12.5,8,"
-            "\"rms rose 3x, \"\"sharply\"\"\nsince 10:42\",degradation\n");
+            "\"rms rose 3x, \"\"sharply\"\"\nsince 10:42\",degradation,0.75\n");
 }
 
 TEST(RecordRows, AlarmEventTimeFollowsTheState) {

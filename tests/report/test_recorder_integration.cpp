@@ -291,6 +291,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   a.threshold(5.0);
   a.reason("rms of Bearing 2 rose, \"sharply\"");
   a.category("degradation");
+  a.root_cause_confidence(0.5);
   publish_alarm(a);
   a.state(causal_twin::ESCALATED);
   a.severity(causal_twin::CRITICAL);
@@ -374,7 +375,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   const std::string alarms = slurp(run / "alarms.csv");
   const auto alarm_rows = causal::report::parse_csv(alarms).rows;
   ASSERT_EQ(alarm_rows.size(), 4u) << alarms;
-  EXPECT_NE(alarms.find(",\"rms of Bearing 2 rose, \"\"sharply\"\"\",degradation\n"), std::string::npos) << alarms;
+  EXPECT_NE(alarms.find(",\"rms of Bearing 2 rose, \"\"sharply\"\"\",degradation,0.5\n"), std::string::npos) << alarms;
   EXPECT_EQ(alarm_rows[0][1], "raised");
   EXPECT_EQ(alarm_rows[0][2], "warning");
   EXPECT_EQ(alarm_rows[0][8], "2004-02-12 11:12:39");
