@@ -1,0 +1,398 @@
+// causal-estimator, output side: publishing the filters' output (through the outbound queue), data-quality and
+// HEALTH alarms, checkpoints, the output watchdog and the exit summary. The input side is estimator_node.cpp.
+#include "estimator_node.hpp"
+
+#include "causal/dds/frame_conversions.hpp"
+#include "causal/dds/topics.hpp"
+#include "causal/io/time_format.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cstring>
+#include <stdexcept>
+
+namespace causal::estimator {
+
+void EstimatorNode::log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r) {
+  const auto* stream = a.pipeline.condition_stream();
+  std::string text;
+  for (Eigen::Index i = 0; i < r.factors.size(); ++i) {
+    text += fmt::format("{}{}={:+.3f}±{:.3f}", i ? " " : "", stream->layout().factor_name(r.outcome, static_cast<int>(i)),
+                        r.factors[i], r.std_devs[i]);
+  }
+  spdlog::info("{} snapshot {} {} {} [{}] NIS {:.2f}: {}", name, r.sample_index, io::format_utc(r.time_ns),
+               a.channel_names.at(static_cast<std::size_t>(r.outcome)),
+               r.kind == pipeline::EstimateKind::Filter ? "filter" : "fixed-lag", r.nis_mean, text);
+}
+
+void EstimatorNode::log_structure(const std::string& name, const Asset& a, const char* level,
+                                  const pipeline::LearnedStructure* learned, bool& logged) const {
+  if (learned == nullptr || !learned->ready || learned->samples == 0 || logged) return;
+  logged = true;
+  const auto& names = a.channel_names;
+  if (learned->centre.size() > 0) {
+    std::string text;
+    for (Eigen::Index j = 0; j < learned->centre.size(); ++j) {
+      text += fmt::format("{}{}={:.4g}", j ? " " : "", names.at(static_cast<std::size_t>(j)), learned->centre[j]);
+    }
+    spdlog::info("{} {}: inputs centred on the mean of the first {} samples: {}", name, level, learned->samples, text);
+  }
+  if (!learned->order.empty()) {
+    std::string order, links;
+    for (std::size_t p = 0; p < learned->order.size(); ++p) {
+      order += (p ? " < " : "") + names.at(static_cast<std::size_t>(learned->order[p]));
+    }
+    const auto& mask = learned->instantaneous_allowed;
+    for (std::size_t k = 0; k < mask.size(); ++k) {
+      for (std::size_t j = 0; j < mask[k].size(); ++j) {
+        if (j == k || !mask[k][j]) continue;
+        links += fmt::format("{}{} -> {} (B0 {:+.3f})", links.empty() ? "" : ", ", names.at(j), names.at(k),
+                             learned->b0(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)));
+      }
+    }
+    spdlog::info("{} {}: causal order learned by VAR-LiNGAM on {} samples: {}; instantaneous links: {}", name, level,
+                 learned->samples, order, links.empty() ? "none" : links);
+  }
+  if (!learned->problem.empty()) spdlog::warn("{} {}: {}", name, level, learned->problem);
+}
+
+namespace {
+
+// A message in its wire form (CDR, as Fast DDS-Gen's type support writes it), for the checkpoint's resend list.
+template <typename PubSubType>
+std::string to_bytes(const typename PubSubType::type& msg) {
+  PubSubType type;
+  auto* m = const_cast<typename PubSubType::type*>(&msg);
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(m)());
+  if (!type.serialize(m, &payload)) throw std::runtime_error("cannot serialize a message for the checkpoint");
+  return std::string(reinterpret_cast<const char*>(payload.data), payload.length);
+}
+
+template <typename PubSubType>
+bool from_bytes(const std::string& bytes, typename PubSubType::type& msg) {
+  PubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes.size()));
+  std::memcpy(payload.data, bytes.data(), bytes.size());
+  payload.length = static_cast<std::uint32_t>(bytes.size());
+  return type.deserialize(&payload, &msg);
+}
+
+}  // namespace
+
+void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snapshot) {
+  const std::atomic<bool>& stop = loop_.stop_flag();
+  using Class = dds::OutboundQueue::Class;
+  struct Item {
+    const char* stream;
+    Class cls;
+    dds::OutboundQueue::WriteFn write;
+  };
+  std::vector<Item> items;
+  std::vector<std::uint64_t> indices;  // the snapshot (or sample) index of every item
+  std::vector<std::string> resend;  // the snapshot's condition-level output, kept in its checkpoint
+  const bool keep = end_of_snapshot && store_.enabled();
+  for (const auto& c : out_.conditions) {
+    dds::ConditionHeader h{name, a.feature, c.snapshot_index, c.time_ns, a.channel_names, c.discontinuity};
+    auto msg = std::make_shared<causal_twin::ConditionVector>();
+    dds::to_condition_vector(h, c.values, *msg);
+    if (keep) resend.push_back("C" + to_bytes<causal_twin::ConditionVectorPubSubType>(*msg));
+    items.push_back({"condition_vector", Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }});
+    indices.push_back(c.snapshot_index);
+  }
+  auto send = [&](const std::vector<pipeline::FactorReport>& reports, const pipeline::FactorStream* stream,
+                  causal_twin::TimeScale scale, std::uint64_t& counter) {
+    if (reports.empty()) return;
+    const bool condition = scale == causal_twin::CONDITION_LEVEL;
+    const dds::FactorContext ctx{name, scale, condition ? a.feature : "", &stream->layout(), a.channel_names};
+    for (const auto& r : reports) {
+      auto msg = std::make_shared<causal_twin::CausalFactors>();
+      dds::to_causal_factors(ctx, r, *msg);
+      if (keep && condition) resend.push_back("F" + to_bytes<causal_twin::CausalFactorsPubSubType>(*msg));
+      // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
+      items.push_back({condition ? "causal_factors/condition" : "causal_factors/sample",
+                       condition ? Class::Essential : Class::Droppable,
+                       [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }});
+      indices.push_back(r.sample_index);
+      ++counter;
+      if (condition && options_.verbose) log_condition_report(name, a, r);
+    }
+  };
+  send(out_.sample_reports, a.pipeline.sample_stream(), causal_twin::SAMPLE_LEVEL, a.sample_msgs);
+  send(out_.condition_reports, a.pipeline.condition_stream(), causal_twin::CONDITION_LEVEL, a.condition_msgs);
+  // The checkpoint comes before the output leaves: what a reader received is always covered by it, and the
+  // output that may not have left when the process died is in it, to send again.
+  if (end_of_snapshot) checkpoint(name, a, resend);
+  if (standing_by_) {
+    // Kept for a takeover: the condition-level output (essential), by the snapshot it refers to.
+    std::vector<StandbyBuffer::Item> kept;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (items[i].cls != Class::Essential) {
+        ++standby_unpublished_;
+        continue;
+      }
+      kept.push_back({items[i].stream, items[i].cls, std::move(items[i].write), indices[i]});
+    }
+    standby_.retain(name, std::move(kept));
+    return;
+  }
+  for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), stop);
+  log_structure(name, a, "sample level", a.pipeline.sample_structure(), a.sample_structure_logged);
+  log_structure(name, a, "condition level", a.pipeline.condition_structure(), a.condition_structure_logged);
+  const auto* s = a.pipeline.sample_stream();
+  if (s != nullptr && s->calibrated() && !a.tuning_logged) {
+    a.tuning_logged = true;
+    for (std::size_t k = 0; k < s->noise().size(); ++k) {
+      spdlog::info("{} sample level, outcome {}: q = {:.3g}, r = {:.3g}{}", name, a.channel_names.at(k),
+                   s->noise()[k].q, s->noise()[k].r,
+                   s->tuning().empty() ? " (fixed)" : " (tuned: " + s->tuning()[k].message + ")");
+    }
+  }
+}
+
+void EstimatorNode::report_rejections() {
+  const auto frames = frames_.rejections();
+  const auto conditions = conditions_in_.rejections();
+  const std::uint64_t no_instance = frames.instances_limit + conditions.instances_limit;
+  const std::uint64_t no_room = frames.no_room + conditions.no_room;
+  if (no_instance > rejected_no_instance_) {
+    spdlog::error("{} frames/condition vectors of asset groups beyond the reader's max_instances refused ({} in all): "
+                  "those asset groups are not served; raise max_instances in deploy/dds/qos.xml",
+                  no_instance - rejected_no_instance_, no_instance);
+  }
+  if (no_room > rejected_no_room_) {
+    // Back-pressure, not loss: said once at info, then at debug.
+    spdlog::log(rejected_no_room_ == 0 ? spdlog::level::info : spdlog::level::debug,
+                "{} samples refused for lack of room in the reader's history ({} in all); reliable writers resend them",
+                no_room - rejected_no_room_, no_room);
+  }
+  rejected_no_instance_ = no_instance;
+  rejected_no_room_ = no_room;
+}
+
+void EstimatorNode::publish_quality(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,
+                                    bool end_of_snapshot) {
+  std::vector<causal_twin::Alarm> alarms;
+  quality_.on_events(name, a.channel_names, out_.quality_events, snapshot, time_ns, alarms);
+  if (end_of_snapshot) quality_.end_of_snapshot(name, snapshot, time_ns, alarms);
+  for (const auto& e : out_.quality_events) {
+    spdlog::warn("asset '{}' {} data quality: {}", name, pipeline::to_string(e.level), e.reason);
+  }
+  for (auto& alarm : alarms) {
+    spdlog::log(alarm.state() == causal_twin::CLEARED ? spdlog::level::info : spdlog::level::warn,
+                "DATA QUALITY {} {}: {}", alarm.state() == causal_twin::CLEARED ? "CLEARED" : "RAISED", alarm.alarm_id(),
+                alarm.reason());
+    if (standing_by_) continue;  // the primary publishes them
+    auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
+    outbound_.push("alarm/data_quality", dds::OutboundQueue::Class::Essential,
+                   [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+  }
+}
+
+void EstimatorNode::report_refusal(const std::string& name, std::uint64_t snapshot, std::int64_t time_ns,
+                                   const std::string& problem) {
+  std::vector<causal_twin::Alarm> alarms;
+  if (!quality_.on_refused(name, problem, snapshot, time_ns, alarms)) return;  // raised once per group
+  spdlog::error("asset '{}': input refused from snapshot {} on: {}. DATA QUALITY RAISED {}; every refused input is "
+                "counted and the estimator exits 4",
+                name, snapshot, problem, alarms.front().alarm_id());
+  if (standing_by_) return;  // the primary publishes it
+  auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarms.front()));
+  outbound_.push("alarm/data_quality", dds::OutboundQueue::Class::Essential,
+                 [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+}
+
+void EstimatorNode::log_adjustments(const std::string& name, Asset& a) {
+  if (a.adjustments_logged) return;
+  a.adjustments_logged = true;
+  for (const auto& adj : a.pipeline.calibration_adjustments()) {
+    spdlog::info("asset '{}': {} channels: {} calibration window {} samples instead of the configured {} (the model "
+                 "needs {})",
+                 name, a.pipeline.channels(), adj.window, adj.used, adj.configured, adj.rule);
+  }
+}
+
+void EstimatorNode::resend_restored(const std::string& name, const std::vector<std::string>& resend) {
+  std::size_t sent = 0;
+  for (const auto& bytes : resend) {
+    if (bytes.empty()) continue;
+    const std::string body = bytes.substr(1);
+    if (bytes[0] == 'C') {
+      auto msg = std::make_shared<causal_twin::ConditionVector>();
+      if (!from_bytes<causal_twin::ConditionVectorPubSubType>(body, *msg)) continue;
+      outbound_.push("condition_vector", dds::OutboundQueue::Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, loop_.stop_flag());
+    } else if (bytes[0] == 'F') {
+      auto msg = std::make_shared<causal_twin::CausalFactors>();
+      if (!from_bytes<causal_twin::CausalFactorsPubSubType>(body, *msg)) continue;
+      outbound_.push("causal_factors/condition", dds::OutboundQueue::Class::Essential,
+                     [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, loop_.stop_flag());
+    } else {
+      continue;
+    }
+    ++sent;
+  }
+  if (sent > 0) {
+    spdlog::info("asset '{}': the last checkpointed snapshot's {} output messages sent again (readers that have them "
+                 "drop them by index)", name, sent);
+  }
+}
+
+void EstimatorNode::checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend) {
+  if (!store_.save(name, a.pipeline, resend)) {
+    spdlog::error("asset '{}': checkpoint not written ({}); a crash now would lose this asset group's state", name,
+                  store_.last_error());
+  }
+}
+
+void EstimatorNode::watch_output() {
+  // A reader that does not acknowledge (frozen, or far behind) makes the drain thread wait; the filters go on
+  // (the outbound queue). Make it visible: a HEALTH alarm while a write has waited longer than stuck_after_s.
+  const double blocked = std::chrono::duration<double>(outbound_.blocked_for()).count();
+  if (!stuck_alarm_ && blocked > options_.stuck_after_s && !standing_by_) {
+    const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::system_clock::now().time_since_epoch()).count();
+    causal_twin::Alarm a;
+    a.alarm_id("causal-estimator/output/reader_not_keeping_up/t" + std::to_string(now_ns / 1000000000));
+    a.kind("reader_not_keeping_up");
+    a.category("health");
+    a.severity(causal_twin::WARNING);
+    a.state(causal_twin::RAISED);
+    a.raised_time_ns(now_ns);
+    a.score(blocked);
+    a.threshold(options_.stuck_after_s);
+    a.reason(fmt::format("a reader of the estimator's output has not acknowledged for {:.1f} s (readers: {}); its "
+                         "delivery waits, up to the reader's 5 s lease, the filters go on and {} messages are queued",
+                         blocked, fmt::join(participant_.directory().reader_names(dds::topics::kCausalFactors), ", "),
+                         outbound_.size()));
+    stuck_alarm_ = a;
+  } else if (stuck_alarm_ && blocked == 0.0) {
+    stuck_alarm_->state(causal_twin::CLEARED);
+    stuck_alarm_->cleared_time_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                      std::chrono::system_clock::now().time_since_epoch()).count());
+    stuck_alarm_->reason("every reader acknowledges again");
+  } else {
+    return;
+  }
+  const bool cleared = stuck_alarm_->state() == causal_twin::CLEARED;
+  spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
+              stuck_alarm_->alarm_id(), stuck_alarm_->reason());
+  // Written directly, not through the (blocked) queue: the alarm writer keeps the last value per id and never waits.
+  quality_alarms_.write(*stuck_alarm_, loop_.stop_flag());
+  if (cleared) stuck_alarm_.reset();
+}
+
+void EstimatorNode::publish_health() {
+  watch_output();
+  health_.check(participant_.directory());
+  for (auto& alarm : health_.take_alarms()) {
+    const bool cleared = alarm.state() == causal_twin::CLEARED;
+    spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
+                alarm.alarm_id(), alarm.reason());
+    if (standing_by_) continue;  // the primary publishes them (as with the data-quality alarms)
+    auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
+    outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
+                   [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+  }
+}
+
+int EstimatorNode::finish_all() {
+  release_expired_reorders(true);  // the source has finished: what is held goes in, in order
+  report_rejections();
+  for (auto& [name, a] : assets_) {
+    if (!a.refused.empty()) continue;
+    // Saved before finish(): a restart continues the streams as they were, not flushed.
+    checkpoint(name, a, {});
+    out_.clear();
+    a.pipeline.finish(out_);
+    publish(name, a, false);
+  }
+  // Deliver what is queued, then wait for the readers' acknowledgements. After a stop (signal, max runtime)
+  // the readers may be leaving too: wait briefly, so shutdown stays bounded.
+  const bool stopping = loop_.stopped();
+  const auto drain_wait = stopping ? std::chrono::seconds(2) : std::chrono::seconds(30);
+  if (!outbound_.drain(drain_wait)) {
+    spdlog::warn("{} messages still queued for DDS after {} s: given up (counted as failed)", outbound_.size(),
+                 drain_wait.count());
+    outbound_.abort();
+  }
+  const auto ack_wait = stopping ? std::chrono::seconds(1) : std::chrono::seconds(10);
+  if (!factors_.wait_for_acknowledgments(ack_wait)) {
+    spdlog::warn("not every factor message was acknowledged within {} s", ack_wait.count());
+  }
+  conditions_out_.wait_for_acknowledgments(ack_wait);
+
+  // The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).
+  std::uint64_t frames = 0, lost = 0, refused = 0, conditions_received = 0, conditions_refused = 0, conditions_late = 0;
+  for (const auto& [name, a] : assets_) {
+    const auto* s = a.pipeline.sample_stream();
+    spdlog::info("asset '{}': {} frames ({} lost, {} refused), {} condition vectors in, {} sample-level and {} "
+                 "condition-level factor messages out, {} non-finite samples rejected",
+                 name, a.frames, a.lost_frames, a.refused_frames, a.conditions_in + a.refused_conditions,
+                 a.sample_msgs, a.condition_msgs,
+                 s ? s->counters().rejected_non_finite : 0);
+    if (a.skipped > 0) spdlog::info("asset '{}': {} inputs processed before a restart skipped", name, a.skipped);
+    if (!a.refused.empty()) {
+      spdlog::error("asset '{}': {} inputs refused: {}", name, a.refused_inputs, a.refused);
+    }
+    frames += a.frames;
+    lost += a.lost_frames;
+    refused += a.refused_frames + a.refused_inputs;
+    conditions_received += a.conditions_in;
+    conditions_refused += a.refused_conditions;
+    conditions_late += a.late_conditions;
+    if (a.reordered > 0) {
+      spdlog::info("asset '{}': {} condition vectors arrived ahead of earlier ones and were fed in order", name,
+                   a.reordered);
+    }
+    if (a.late_conditions > 0) {
+      spdlog::error("asset '{}': {} condition vectors arrived out of order and were not fed (lost)", name, a.late_conditions);
+    }
+  }
+  if (store_.enabled()) {
+    spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.failures());
+  }
+  if (foreign_frames_ > 0) spdlog::info("{} frames of other shards ignored", foreign_frames_);
+  if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
+  std::uint64_t published = 0, unpublished = 0;
+  const auto streams = outbound_.counters();
+  for (const auto& [stream, c] : streams) {
+    if (stream.rfind("causal_factors", 0) == 0) published += c.written;
+    unpublished += c.dropped + c.failed;
+  }
+  spdlog::info("causal-estimator: received frames={} groups={} lost={} refused={} rejected_instances={} "
+               "rejected_no_room={} published factors={} unpublished={}",
+               frames, assets_.size(), lost, refused + invalid_msgs_, rejected_no_instance_, rejected_no_room_, published,
+               unpublished);
+  spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={}", frames + refused, lost,
+               refused + invalid_msgs_ + rejected_no_instance_);
+  spdlog::info("summary topic=causal_twin/condition_input received={} refused={} lost={}",
+               conditions_received + conditions_refused + conditions_late, conditions_refused, conditions_late);
+  // Snapshots whose condition window was dropped (too few usable samples: a channel quarantined for the whole
+  // snapshot, a gap): stated here and in the data-quality alarms, never published as a vector.
+  std::uint64_t dropped_windows = 0;
+  for (const auto& [name, a] : assets_) {
+    if (a.pipeline.dropped_condition_windows() > 0) {
+      spdlog::warn("asset '{}': {} snapshots without a condition vector (too few usable samples in the window)", name,
+                   a.pipeline.dropped_condition_windows());
+    }
+    dropped_windows += a.pipeline.dropped_condition_windows();
+  }
+  spdlog::info("summary topic=causal_twin/condition_vector windows_dropped={}", dropped_windows);
+  for (const auto& [stream, c] : streams) {
+    spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
+  }
+  const auto& h = health_.health();
+  spdlog::info("summary health sources={} raised={} cleared={} active={} deadline_s={}", h.sources(), h.raised(),
+               h.cleared(), h.active_alarms(), h.deadline_s());
+  spdlog::info("outbound queue high-water mark: {} of {} messages", outbound_.high_water(), options_.outbound_capacity);
+  if (options_.standby) {
+    spdlog::info("hot standby: {}; {} sample-level messages not kept while standing by, {} retained messages "
+                 "pushed out by newer ones", standing_by_ ? "never took over (the primary stayed)" : "took over",
+                 standby_unpublished_, standby_.discarded());
+  }
+  return (lost + refused + conditions_refused + conditions_late + invalid_msgs_ + rejected_no_instance_ + unpublished + dropped_windows) > 0
+             ? 4 : 0;
+}
+
+}  // namespace causal::estimator
