@@ -99,9 +99,10 @@ AssetVerdict verdict_of(const std::string& asset, const std::vector<AlarmRecord>
     v.root_cause = "-";
   }
   if (first != nullptr) {
+    // The index is the source's (a snapshot at condition level, a sample at sample level): shown after the time.
     const std::string index =
-        first->sample_index ? "#" + std::to_string(static_cast<long long>(*first->sample_index)) + " " : "";
-    v.first_alarm = index + first->raised_utc + " " + first->channel_name + " " + first->kind;
+        first->sample_index ? " (index " + std::to_string(static_cast<long long>(*first->sample_index)) + ")" : "";
+    v.first_alarm = first->raised_utc + " " + first->channel_name + " " + first->kind + index;
   } else {
     v.first_alarm = "-";
   }

@@ -7,7 +7,7 @@
 //    beside it (they are about the measurement or the operation, not the machine);
 //  * status = the highest severity among the degradation alarms still open at the end of the recording
 //    (CRITICAL / WARNING / ADVISORY), "recovered" when alarms were raised and all cleared, else "healthy";
-//  * first alarm = the earliest raised degradation alarm (snapshot index and UTC time, channel, detector);
+//  * first alarm = the earliest raised degradation alarm (UTC time, channel, detector, the source's index);
 //  * root cause = the root named by the latest row of the open alarms at the highest severity (the engine
 //    re-evaluates it), with its confidence when recorded;
 //  * top recommendation = the latest rank-1 recommendation of the asset whose interval excludes no effect
@@ -34,7 +34,7 @@ std::vector<RecommendationRecord> load_recommendations(const std::filesystem::pa
 struct AssetVerdict {
   std::string asset;
   std::string status;              // CRITICAL, WARNING, ADVISORY, recovered, healthy
-  std::string first_alarm;         // "#533 2004-02-16 03:22:39 bearing1 feature_drift" or "-"
+  std::string first_alarm;         // "2004-02-16 03:22:39 bearing1 feature_drift (index 533)" or "-"
   std::string root_cause;          // "bearing1 (confidence 0.93)" or "-"
   std::string top_recommendation;  // one line, or "-"
   std::string events;              // "2 operating changes, 1 data quality" or ""

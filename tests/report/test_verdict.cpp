@@ -49,7 +49,7 @@ TEST(Verdict, WorstOpenDegradationAlarmDecidesAndOtherCategoriesAreCountedBeside
   const AssetVerdict v = verdict_of("g", alarms, {rec(1, false, "No reliable lever"), rec(2, true, "rank two"),
                                                   rec(1, true, "Reduce B4 by 10 %"), rec(1, false, "later, unreliable")});
   EXPECT_EQ(v.status, "CRITICAL");
-  EXPECT_EQ(v.first_alarm, "#10 t100 B1 feature_drift");  // the operating change at t50 is not a fault
+  EXPECT_EQ(v.first_alarm, "t100 B1 feature_drift (index 10)");  // the operating change at t50 is not a fault
   EXPECT_EQ(v.root_cause, "B4");                           // re-evaluated on the escalation row
   EXPECT_EQ(v.top_recommendation, "Reduce B4 by 10 %");    // the latest reliable rank-1 advice
   EXPECT_EQ(v.events, "1 data quality event, 1 operating change event");
