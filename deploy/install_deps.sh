@@ -23,6 +23,7 @@ PACKAGES=(
   chromium fonts-dejavu-core       # the browser test (ctest -L browser): headless Chromium, a font to render
   nodejs                           # the browser test's driver: Node >= 20 with npm (as on the build image), runs playwright-core
   openssl libssl-dev               # DDS-Security: the PKI scripts (deploy/security) and the credential checks
+  libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
 )
 
 missing=()
