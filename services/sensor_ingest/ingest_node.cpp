@@ -79,11 +79,15 @@ int IngestNode::run() {
   if (options_.max_runtime_s > 0) {
     deadline_ = started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.max_runtime_s));
   }
-  if (options_.wait_subscribers > 0) {
-    spdlog::info("waiting up to {:.0f} s for {} reader(s) on domain {}", options_.wait_timeout_s,
-                 options_.wait_subscribers, participant_.domain_id());
+  if (options_.wait_subscribers > 0 || !options_.wait_for.empty()) {
+    spdlog::info("waiting up to {:.0f} s for {} reader(s){}{} on domain {}", options_.wait_timeout_s,
+                 options_.wait_subscribers, options_.wait_for.empty() ? "" : " including ",
+                 fmt::join(options_.wait_for, ", "), participant_.domain_id());
     const auto wait = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
-    if (!frames_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), wait, stop_)) {
+    std::vector<dds::NamedReaders> named;
+    for (const auto& w : options_.wait_for) named.push_back(dds::parse_named_readers(w));
+    if (!frames_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), wait, stop_) ||
+        !dds::wait_for_named_readers(frames_, named, wait, stop_).empty()) {
       print_summary();
       if (stop_.load()) return 0;
       spdlog::error("no reader matched within {:.0f} s: is causal-estimator running on domain {} with the same "

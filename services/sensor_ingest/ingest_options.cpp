@@ -1,5 +1,7 @@
 #include "ingest_options.hpp"
 
+#include "causal/dds/typed_endpoints.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <stdexcept>
@@ -102,6 +104,9 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
   app.add_option("--wait-subscribers", o.wait_subscribers,
                  "wait until this many readers are matched before taking input (nothing is published into the void)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--wait-for", o.wait_for,
+                 "and wait for readers of this participant name before taking input: NAME or NAME:COUNT, e.g. "
+                 "--wait-for causal-estimator");
   app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--write-timeout", o.write_timeout_s,
@@ -113,6 +118,7 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
     app.parse(argc, argv);
     o.source = parse_source(source);
     for (const auto& t : topics) o.source.topics.push_back(t);
+    for (const auto& w : o.wait_for) (void)dds::parse_named_readers(w);  // reject a bad NAME:COUNT now
     if (!topics.empty() && o.source.kind != SourceKind::Mqtt) throw CLI::ValidationError("--topic", "only with an mqtt:// source");
   } catch (const CLI::ParseError& e) {
     exit_code = app.exit(e);

@@ -35,6 +35,7 @@ struct IngestOptions {
   BlockLimits limits;
   std::size_t queue_messages = 1024;  // between the source and the DDS writer; a full queue stalls the source
   int wait_subscribers = 1;
+  std::vector<std::string> wait_for;  // and readers of these participants: "causal-estimator[:N]"
   double wait_timeout_s = 30.0;
   double write_timeout_s = 10.0;
   double max_runtime_s = 0.0;

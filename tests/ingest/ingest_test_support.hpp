@@ -24,15 +24,26 @@
 #include <regex>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 namespace causal::test {
 
 struct SeenFrame {
+  std::string unit;
+  double sample_rate_hz;
+  std::vector<std::string> channel_names;
   std::uint64_t sequence, first_sample_index, snapshot_index, samples_per_channel;
   std::int64_t time_ns;
   bool discontinuity, end_of_segment;
   std::vector<double> samples;
+};
+
+// One CausalFactors message: (time scale, kind, outcome, sample index) -> factors, then their std.
+using FactorKey = std::tuple<int, int, int, std::uint64_t>;
+struct SeenFactors {
+  std::vector<double> factors, factor_std;
+  std::int64_t time_ns;
 };
 
 class FrameRecorder {
@@ -40,6 +51,7 @@ class FrameRecorder {
   explicit FrameRecorder(int domain_id)
       : participant_(settings(domain_id)),
         reader_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader),
+        factor_reader_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
         thread_([this] { run(); }) {}
   ~FrameRecorder() {
     stop_.store(true);
@@ -49,6 +61,11 @@ class FrameRecorder {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto it = frames_.find(group);
     return it == frames_.end() ? std::vector<SeenFrame>{} : it->second;
+  }
+  std::map<FactorKey, SeenFactors> factors(const std::string& group) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = factors_.find(group);
+    return it == factors_.end() ? std::map<FactorKey, SeenFactors>{} : it->second;
   }
   // Waits (bounded) until `group` has at least `count` frames; returns how many it has.
   std::size_t wait_for(const std::string& group, std::size_t count, std::chrono::seconds timeout) const {
@@ -72,17 +89,24 @@ class FrameRecorder {
     while (!stop_.load()) {
       reader_.take_all([this](const causal_twin::VibrationFrame& f, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);
-        frames_[f.asset_group()].push_back(SeenFrame{f.sequence_number(), f.first_sample_index(), f.snapshot_index(),
+        frames_[f.asset_group()].push_back(SeenFrame{f.unit(), f.sample_rate_hz(), {f.channel_names().begin(), f.channel_names().end()}, f.sequence_number(), f.first_sample_index(), f.snapshot_index(),
                                                      f.samples_per_channel(), f.first_sample_time_ns(),
                                                      f.discontinuity(), f.end_of_segment(), f.samples()});
+      });
+      factor_reader_.take_all([this](const causal_twin::CausalFactors& f, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        factors_[f.asset_group()][FactorKey{static_cast<int>(f.time_scale()), static_cast<int>(f.kind()), f.outcome(),
+                                            f.sample_index()}] = SeenFactors{f.factors(), f.factor_std(), f.time_ns()};
       });
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   }
   dds::Participant participant_;
   dds::TypedReader<causal_twin::VibrationFramePubSubType> reader_;
+  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factor_reader_;
   mutable std::mutex mutex_;
   std::map<std::string, std::vector<SeenFrame>> frames_;
+  std::map<std::string, std::map<FactorKey, SeenFactors>> factors_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };
