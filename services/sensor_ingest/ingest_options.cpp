@@ -82,7 +82,7 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
       "Rejected and counted, never fatal: malformed, truncated, shape (wrong channel count), field, oversize,\n"
       "layout_change (other channels than before), duplicate (sequence seen), out_of_order (time overlaps).\n"
       "NaN/Inf values are forwarded and counted: the estimator screens them per channel (data_quality alarm).\n"
-      "MQTT (--mqtt-qos, default 1) reconnects by itself (1-2 s) and subscribes again on every connect. At exit it prints\n"
+      "MQTT (--mqtt-qos, default 1) connects and reconnects by itself (every 1 s) and subscribes again on every connect. At exit it prints\n"
       "  sensor-ingest: received=<messages> published=<frames> rejected=<messages> lost=<frames> <reason>=<n> ...\n"
       "Exit codes: 0 done or stopped, 1 DDS or internal error, 2 bad arguments, 3 no reader matched in time,\n"
       "4 a message was rejected or a frame lost. stdin ends at end of input; MQTT and UDP at SIGINT/SIGTERM or\n"

@@ -58,8 +58,6 @@ MqttSource::MqttSource(const IngestOptions& options, MessageQueue& queue)
   mosquitto_connect_callback_set(client_, &MqttSource::on_connect);
   mosquitto_disconnect_callback_set(client_, &MqttSource::on_disconnect);
   mosquitto_message_callback_set(client_, &MqttSource::on_message);
-  // A broker restart is survived: reconnect after 1 s, then every 2 s at most, for ever.
-  mosquitto_reconnect_delay_set(client_, 1, 2, false);
 }
 
 MqttSource::~MqttSource() {
@@ -67,20 +65,44 @@ MqttSource::~MqttSource() {
   mosquitto_destroy(client_);
 }
 
-void MqttSource::start() {
-  const int rc = mosquitto_connect_async(client_, spec_.host.c_str(), spec_.port, 30);
-  if (rc != MOSQ_ERR_SUCCESS) {
-    // Not fatal: the loop thread keeps reconnecting (the broker may start after the adapter).
-    spdlog::warn("mqtt: cannot connect to {}:{} yet ({}): retrying", spec_.host, spec_.port, mosquitto_strerror(rc));
-  }
-  const int loop = mosquitto_loop_start(client_);
-  if (loop != MOSQ_ERR_SUCCESS) throw std::runtime_error(std::string("mosquitto_loop_start: ") + mosquitto_strerror(loop));
-}
+void MqttSource::start() { thread_ = std::thread([this] { run(); }); }
 
 void MqttSource::stop() {
   if (stopping_.exchange(true)) return;
+  if (thread_.joinable()) thread_.join();
   mosquitto_disconnect(client_);
-  mosquitto_loop_stop(client_, true);
+}
+
+bool MqttSource::pause(std::chrono::milliseconds d) {
+  const auto until = std::chrono::steady_clock::now() + d;
+  while (!stopping_.load() && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  return !stopping_.load();
+}
+
+void MqttSource::run() {
+  bool connected = false;
+  std::uint64_t failures = 0;
+  while (!stopping_.load()) {
+    if (!connected) {
+      const int rc = mosquitto_connect(client_, spec_.host.c_str(), spec_.port, 30);
+      if (rc != MOSQ_ERR_SUCCESS) {
+        // Not fatal: the broker may start after the adapter, or be restarting. Said once, then every minute.
+        if (failures++ % 60 == 0) {
+          spdlog::warn("mqtt: cannot connect to {}:{} ({}): retrying every second", spec_.host, spec_.port,
+                       rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc));
+        }
+        pause(std::chrono::seconds(1));
+        continue;
+      }
+      connected = true;
+      failures = 0;
+    }
+    // Serves the socket (messages, acknowledgements, keep-alive) for up to 200 ms.
+    if (mosquitto_loop(client_, 200, 1) != MOSQ_ERR_SUCCESS) {
+      connected = false;
+      pause(std::chrono::seconds(1));
+    }
+  }
 }
 
 void MqttSource::on_connect(struct mosquitto* m, void* self, int rc) {
@@ -102,7 +124,8 @@ void MqttSource::on_connect(struct mosquitto* m, void* self, int rc) {
 void MqttSource::on_disconnect(struct mosquitto*, void* self, int rc) {
   auto* s = static_cast<MqttSource*>(self);
   if (s->stopping_.load() || rc == 0) return;
-  spdlog::warn("mqtt: lost the broker {}:{} ({}): reconnecting", s->spec_.host, s->spec_.port, mosquitto_strerror(rc));
+  spdlog::warn("mqtt: lost the broker {}:{} ({}): reconnecting", s->spec_.host, s->spec_.port,
+               rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc));
 }
 
 void MqttSource::on_message(struct mosquitto*, void* self, const struct mosquitto_message* msg) {

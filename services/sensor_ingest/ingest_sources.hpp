@@ -58,6 +58,11 @@ class MqttSource : public MessageSource {
   void stop() override;
 
  private:
+  // The network loop on its own thread: connect, serve, and after any failure (broker down at start, broker
+  // restarted) try again every second until stopped. (libmosquitto's own loop thread does not retry a first
+  // connection that failed, so the adapter could not start before its broker.)
+  void run();
+  bool pause(std::chrono::milliseconds d);  // false once stopping
   static void on_connect(struct mosquitto* m, void* self, int rc);
   static void on_disconnect(struct mosquitto* m, void* self, int rc);
   static void on_message(struct mosquitto* m, void* self, const struct mosquitto_message* msg);
@@ -67,6 +72,7 @@ class MqttSource : public MessageSource {
   MessageQueue& queue_;
   struct mosquitto* client_ = nullptr;
   std::atomic<bool> stopping_{false};
+  std::thread thread_;
   std::uint64_t connects_ = 0;
 };
 

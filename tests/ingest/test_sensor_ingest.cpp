@@ -1,5 +1,5 @@
-// sensor-ingest against real sources: a real mosquitto broker on loopback (restarted mid-run), UDP
-// datagrams and stdin. Every test sends N good blocks in all three encodings and one bad message of every
+// sensor-ingest against real sources: a real mosquitto broker on loopback (started after the adapter,
+// restarted mid-run), UDP datagrams and stdin. Every test sends N good blocks in all three encodings and one bad message of every
 // rejection class, and checks exactly: N frames out with gap-free sequence numbers and the samples sent,
 // every bad message counted under its reason, exit code 4 (something was rejected).
 #include "ingest_test_support.hpp"
@@ -116,16 +116,18 @@ bool publish_all(int port, const std::string& topic, const std::vector<std::stri
 
 }  // namespace
 
-TEST(SensorIngest, MqttBlocksBecomeFramesAcrossABrokerRestart) {
+TEST(SensorIngest, MqttBlocksBecomeFramesAcrossABrokerStartedLateAndRestarted) {
   const fs::path work = work_dir("mqtt");
   const std::string group = "mqtt-pump";
   const std::string topic = "plant/line1/" + group;
   Broker broker(work, causal::test::free_port(SOCK_STREAM));
-  broker.start(1);
   FrameRecorder recorder(kMqttDomain);
   ServiceProcess ingest("sensor-ingest",
                         ingest_args(kMqttDomain, "mqtt://127.0.0.1:" + std::to_string(broker.port()) + "/" + topic),
                         (work / "ingest.log").string());
+  // The adapter may start before its broker: it keeps trying.
+  ASSERT_TRUE(causal::test::wait_for_text(ingest, "cannot connect", 1, std::chrono::seconds(40))) << ingest.output();
+  broker.start(1);
   ASSERT_TRUE(causal::test::wait_for_text(ingest, "(connection 1)", 1, std::chrono::seconds(40))) << ingest.output();
 
   constexpr std::size_t kFirst = 12, kSecond = 9;
