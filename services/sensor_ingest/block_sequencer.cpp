@@ -26,8 +26,8 @@ Admission BlockSequencer::admit(const IngestBlock& block) {
     Group& g = it->second;
     if (block.channels != g.channels) {
       a.reason = RejectReason::LayoutChange;
-      a.detail = "channels differ from the asset group's first block (" + std::to_string(g.channels.size()) + " before, " +
-                 std::to_string(block.channels.size()) + " now)";
+      a.detail = "channels differ from the asset group's first block (" + std::to_string(g.channels.size()) +
+                 " before, " + std::to_string(block.channels.size()) + " now)";
       return a;
     }
     // Where the previous block ended, in the source's time.
@@ -51,11 +51,12 @@ Admission BlockSequencer::admit(const IngestBlock& block) {
       plan.why = "source restarted its sequence at " + std::to_string(block.sequence);
     } else if (block.sequence > g.last_source_sequence + 1) {
       plan.discontinuity = true;
-      plan.why = "source blocks " + std::to_string(g.last_source_sequence + 1) + ".." + std::to_string(block.sequence - 1) +
-                 " missing";
+      plan.why = "source blocks " + std::to_string(g.last_source_sequence + 1) + ".." +
+                 std::to_string(block.sequence - 1) + " missing";
     } else if (late_ns + period_ns > gap_factor_ * period_ns) {
       plan.discontinuity = true;
-      plan.why = "time gap of " + ns_text(late_ns + period_ns) + " between samples (sample period " + ns_text(period_ns) + ")";
+      plan.why =
+          "time gap of " + ns_text(late_ns + period_ns) + " between samples (sample period " + ns_text(period_ns) + ")";
     } else if (block.sample_rate_hz != g.last_rate_hz) {
       plan.discontinuity = true;
       plan.why = "sample rate changed";

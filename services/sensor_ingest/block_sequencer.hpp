@@ -14,13 +14,13 @@
 // before the previous one ended (out_of_order: time going backwards or overlapping).
 #pragma once
 
-#include "ingest_block.hpp"
-
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "ingest_block.hpp"
 
 namespace causal::ingest {
 
@@ -30,7 +30,7 @@ struct FramePlan {
   std::uint64_t first_sample_index = 0;  // samples published for this group before this frame
   std::uint64_t snapshot_index = 0;      // segment counter: +1 at every discontinuity after the first
   bool discontinuity = false;
-  std::string why;                       // why a discontinuity ("" when none), for the log
+  std::string why;  // why a discontinuity ("" when none), for the log
 };
 
 struct Admission {

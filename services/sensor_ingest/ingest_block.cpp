@@ -1,26 +1,33 @@
 #include "ingest_block.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace causal::ingest {
 
 const char* reason_name(RejectReason reason) {
   switch (reason) {
-    case RejectReason::Malformed: return "malformed";
-    case RejectReason::Truncated: return "truncated";
-    case RejectReason::Shape: return "shape";
-    case RejectReason::Field: return "field";
-    case RejectReason::Oversize: return "oversize";
-    case RejectReason::LayoutChange: return "layout_change";
-    case RejectReason::Duplicate: return "duplicate";
-    case RejectReason::OutOfOrder: return "out_of_order";
+    case RejectReason::Malformed:
+      return "malformed";
+    case RejectReason::Truncated:
+      return "truncated";
+    case RejectReason::Shape:
+      return "shape";
+    case RejectReason::Field:
+      return "field";
+    case RejectReason::Oversize:
+      return "oversize";
+    case RejectReason::LayoutChange:
+      return "layout_change";
+    case RejectReason::Duplicate:
+      return "duplicate";
+    case RejectReason::OutOfOrder:
+      return "out_of_order";
   }
   return "unknown";
 }
@@ -47,18 +54,19 @@ ParseResult accept(IngestBlock block) {
   return r;
 }
 
-// Checks common to every encoding once the header is known. Empty string when fine.
+// Checks common to every encoding once the header is known. nullopt when fine, else the rejection.
 std::optional<ParseResult> check_header(const IngestBlock& b, const BlockLimits& limits) {
   if (b.asset_group.empty()) return reject(RejectReason::Field, "empty asset_group");
   if (b.asset_group.size() > limits.max_name_bytes) return reject(RejectReason::Field, "asset_group too long");
   if (b.unit.size() > limits.max_name_bytes) return reject(RejectReason::Field, "unit too long");
   if (b.channels.empty()) return reject(RejectReason::Shape, "no channels");
   if (b.channels.size() > limits.max_channels) {
-    return reject(RejectReason::Shape, std::to_string(b.channels.size()) + " channels, at most " +
-                                           std::to_string(limits.max_channels));
+    return reject(RejectReason::Shape,
+                  std::to_string(b.channels.size()) + " channels, at most " + std::to_string(limits.max_channels));
   }
   for (const auto& c : b.channels) {
-    if (c.empty() || c.size() > limits.max_name_bytes) return reject(RejectReason::Field, "empty or too long channel name");
+    if (c.empty() || c.size() > limits.max_name_bytes)
+      return reject(RejectReason::Field, "empty or too long channel name");
   }
   if (!std::isfinite(b.sample_rate_hz) || b.sample_rate_hz <= 0.0) {
     return reject(RejectReason::Field, "sample_rate_hz must be a finite number > 0");
@@ -94,7 +102,8 @@ bool json_int64(const nlohmann::json& j, std::int64_t& out) {
 }  // namespace
 
 ParseResult parse_json_block(const std::string& message, const BlockLimits& limits) {
-  if (message.size() > limits.max_bytes) return reject(RejectReason::Oversize, "message of " + std::to_string(message.size()) + " bytes");
+  if (message.size() > limits.max_bytes)
+    return reject(RejectReason::Oversize, "message of " + std::to_string(message.size()) + " bytes");
   const nlohmann::json j = nlohmann::json::parse(message, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) return reject(RejectReason::Malformed, "not valid JSON");
   if (!j.is_object()) return reject(RejectReason::Malformed, "JSON payload is not an object");
@@ -210,7 +219,8 @@ std::vector<std::string> split(const std::string& s, char sep) {
 }  // namespace
 
 ParseResult parse_csv_block(const std::string& message, const BlockLimits& limits) {
-  if (message.size() > limits.max_bytes) return reject(RejectReason::Oversize, "message of " + std::to_string(message.size()) + " bytes");
+  if (message.size() > limits.max_bytes)
+    return reject(RejectReason::Oversize, "message of " + std::to_string(message.size()) + " bytes");
   std::istringstream in(message);
   std::string line;
   std::getline(in, line);
@@ -268,7 +278,8 @@ ParseResult parse_csv_block(const std::string& message, const BlockLimits& limit
     }
     for (const auto& v : values) {
       double x = 0.0;
-      if (!parse_double(v, x)) return reject(RejectReason::Malformed, "row " + std::to_string(row) + ": '" + v + "' is not a number");
+      if (!parse_double(v, x))
+        return reject(RejectReason::Malformed, "row " + std::to_string(row) + ": '" + v + "' is not a number");
       b.samples.push_back(x);
     }
     ++row;
@@ -325,8 +336,10 @@ std::optional<BinaryLayout> binary_layout(const std::string& s, std::size_t at) 
 }  // namespace
 
 ParseResult parse_binary_block(const std::string& m, const BlockLimits& limits) {
-  if (m.size() < 4 || m.compare(0, 4, kBinaryMagic) != 0) return reject(RejectReason::Malformed, "binary block without CTB1 magic");
-  if (m.size() < kBinaryFixedHeader) return reject(RejectReason::Truncated, "binary header of " + std::to_string(m.size()) + " bytes");
+  if (m.size() < 4 || m.compare(0, 4, kBinaryMagic) != 0)
+    return reject(RejectReason::Malformed, "binary block without CTB1 magic");
+  if (m.size() < kBinaryFixedHeader)
+    return reject(RejectReason::Truncated, "binary header of " + std::to_string(m.size()) + " bytes");
   IngestBlock b;
   const std::size_t g = static_cast<std::size_t>(read_le(m, 4, 2));
   const auto flags = read_le(m, 6, 2);
@@ -336,7 +349,8 @@ ParseResult parse_binary_block(const std::string& m, const BlockLimits& limits) 
   b.sample_rate_hz = read_f64(m, 28);
   b.end_of_segment = (flags & 1u) != 0;
   if (g == 0) return reject(RejectReason::Shape, "no channels");
-  if (g > limits.max_channels) return reject(RejectReason::Shape, std::to_string(g) + " channels, at most " + std::to_string(limits.max_channels));
+  if (g > limits.max_channels)
+    return reject(RejectReason::Shape, std::to_string(g) + " channels, at most " + std::to_string(limits.max_channels));
   if (auto bad = check_count(n, g, limits)) return *bad;
   std::size_t pos = kBinaryFixedHeader;
   std::vector<std::string> strings;
@@ -354,9 +368,11 @@ ParseResult parse_binary_block(const std::string& m, const BlockLimits& limits) 
   if (auto bad = check_header(b, limits)) return *bad;
   const std::size_t want = n * g * 8;
   if (m.size() - pos < want) {
-    return reject(RejectReason::Truncated, std::to_string(m.size() - pos) + " of " + std::to_string(want) + " sample bytes");
+    return reject(RejectReason::Truncated,
+                  std::to_string(m.size() - pos) + " of " + std::to_string(want) + " sample bytes");
   }
-  if (m.size() - pos > want) return reject(RejectReason::Shape, std::to_string(m.size() - pos - want) + " bytes after the samples");
+  if (m.size() - pos > want)
+    return reject(RejectReason::Shape, std::to_string(m.size() - pos - want) + " bytes after the samples");
   b.samples_per_channel = n;
   b.samples.resize(n * g);
   for (std::size_t i = 0; i < n * g; ++i) b.samples[i] = read_f64(m, pos + 8 * i);
@@ -364,7 +380,8 @@ ParseResult parse_binary_block(const std::string& m, const BlockLimits& limits) 
 }
 
 ParseResult parse_block(const std::string& message, const BlockLimits& limits) {
-  if (message.size() > limits.max_bytes) return reject(RejectReason::Oversize, "message of " + std::to_string(message.size()) + " bytes");
+  if (message.size() > limits.max_bytes)
+    return reject(RejectReason::Oversize, "message of " + std::to_string(message.size()) + " bytes");
   const auto first = message.find_first_not_of(" \t\r\n");
   if (first == std::string::npos) return reject(RejectReason::Malformed, "empty message");
   if (message.compare(0, 4, kBinaryMagic) == 0) return parse_binary_block(message, limits);
@@ -396,7 +413,8 @@ std::optional<std::string> BlockStreamSplitter::next(bool eof) {
   };
   const auto line_end = [this](std::size_t from) { return buffer_.find('\n', from); };
   const std::size_t available = buffer_.size() - start_;
-  if (buffer_.compare(start_, 4, kBinaryMagic) == 0 || (available < 4 && std::string(kBinaryMagic).compare(0, available, buffer_, start_, available) == 0 && !eof)) {
+  if (buffer_.compare(start_, 4, kBinaryMagic) == 0 ||
+      (available < 4 && std::string(kBinaryMagic).compare(0, available, buffer_, start_, available) == 0 && !eof)) {
     const auto layout = binary_layout(buffer_, start_);
     if (!layout) return eof ? std::optional<std::string>(take(buffer_.size())) : std::nullopt;
     if (layout->total > limits_.max_bytes || layout->samples * layout->channels > limits_.max_values) {
@@ -418,8 +436,10 @@ std::optional<std::string> BlockStreamSplitter::next(bool eof) {
     bool counted = false;
     if (at != std::string::npos) {
       const auto value_end = header.find_first_of(" \t\r", at + 9);
-      counted = parse_uint64(header.substr(at + 9, value_end == std::string::npos ? std::string::npos : value_end - at - 9), rows) &&
-                rows <= limits_.max_values;
+      counted =
+          parse_uint64(header.substr(at + 9, value_end == std::string::npos ? std::string::npos : value_end - at - 9),
+                       rows) &&
+          rows <= limits_.max_values;
     }
     if (!counted) return take(header_end + 1);
     std::size_t pos = header_end + 1;

@@ -33,12 +33,12 @@ struct IngestBlock {
   std::vector<std::string> channels;  // G names, column order
   std::string unit;
   double sample_rate_hz = 0.0;
-  std::int64_t t0_ns = 0;             // source time of samples[0], ns since the Unix epoch (UTC)
-  std::uint64_t sequence = 0;         // the source's block counter
-  bool end_of_segment = false;        // the source closes a contiguous recording with this block
+  std::int64_t t0_ns = 0;       // source time of samples[0], ns since the Unix epoch (UTC)
+  std::uint64_t sequence = 0;   // the source's block counter
+  bool end_of_segment = false;  // the source closes a contiguous recording with this block
   std::size_t samples_per_channel = 0;
-  std::vector<double> samples;        // N x G, sample-major: samples[n * G + g]
-  std::size_t non_finite = 0;         // NaN / Inf values among samples (forwarded; see above)
+  std::vector<double> samples;  // N x G, sample-major: samples[n * G + g]
+  std::size_t non_finite = 0;   // NaN / Inf values among samples (forwarded; see above)
 };
 
 // Why a message was rejected; each is a counter label (reason_name) and a log class.
@@ -56,16 +56,16 @@ inline constexpr int kRejectReasonCount = 8;
 const char* reason_name(RejectReason reason);  // "malformed", "truncated", ...
 
 struct BlockLimits {
-  std::size_t max_channels = 64;          // the IDL's bound on channel_names
-  std::size_t max_values = 1u << 20;      // N x G per block (8 MiB of doubles)
-  std::size_t max_bytes = 16u << 20;      // encoded message size
-  std::size_t max_name_bytes = 256;       // asset group, channel names, unit
+  std::size_t max_channels = 64;      // the IDL's bound on channel_names
+  std::size_t max_values = 1u << 20;  // N x G per block (8 MiB of doubles)
+  std::size_t max_bytes = 16u << 20;  // encoded message size
+  std::size_t max_name_bytes = 256;   // asset group, channel names, unit
 };
 
 struct ParseResult {
   std::optional<IngestBlock> block;  // set when accepted
   RejectReason reason = RejectReason::Malformed;
-  std::string detail;                // what is wrong, for the log
+  std::string detail;  // what is wrong, for the log
 };
 
 // Any of the three encodings, chosen by the first byte(s).
@@ -88,7 +88,7 @@ class BlockStreamSplitter {
  private:
   BlockLimits limits_;
   std::string buffer_;
-  std::size_t start_ = 0;  // consumed prefix of buffer_
+  std::size_t start_ = 0;   // consumed prefix of buffer_
   std::uint64_t skip_ = 0;  // bytes of an oversize binary block still to drop
 };
 

@@ -1,16 +1,15 @@
 #include "ingest_node.hpp"
 
-#include "causal/dds/frame_conversions.hpp"
-#include "causal/dds/stop_timer.hpp"
-#include "causal/dds/topics.hpp"
-
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Core>
-
 #include <algorithm>
 #include <cstdio>
 #include <numeric>
+
+#include "causal/dds/frame_conversions.hpp"
+#include "causal/dds/stop_timer.hpp"
+#include "causal/dds/topics.hpp"
 
 namespace causal::ingest {
 
@@ -44,13 +43,15 @@ IngestNode::IngestNode(IngestOptions options)
       sequencer_(options_.gap_factor) {
   auto& m = metrics::process_metrics();
   const metrics::Labels source{{"source", source_kind_name(options_.source.kind)}};
-  received_metric_ = &m.counter("ingest_messages_received_total", "Messages sensor-ingest took from its source", source);
+  received_metric_ =
+      &m.counter("ingest_messages_received_total", "Messages sensor-ingest took from its source", source);
   published_metric_ = &m.counter("ingest_frames_published_total", "Vibration frames sensor-ingest published", source);
   lost_metric_ = &m.counter("ingest_frames_lost_total", "Frames the DDS readers did not accept in time", source);
   non_finite_metric_ = &m.counter("ingest_non_finite_values_total",
                                   "NaN/Inf sample values forwarded (the estimator screens them)", source);
-  discontinuity_metric_ = &m.counter("ingest_discontinuities_total",
-                                     "Frames flagged as a discontinuity (first block, source gap, restart, new segment)", source);
+  discontinuity_metric_ =
+      &m.counter("ingest_discontinuities_total",
+                 "Frames flagged as a discontinuity (first block, source gap, restart, new segment)", source);
   for (int r = 0; r < kRejectReasonCount; ++r) {
     metrics::Labels labels = source;
     labels["reason"] = reason_name(static_cast<RejectReason>(r));
@@ -77,7 +78,8 @@ int IngestNode::run() {
     stop();
   });
   if (options_.max_runtime_s > 0) {
-    deadline_ = started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.max_runtime_s));
+    deadline_ =
+        started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.max_runtime_s));
   }
   if (options_.wait_subscribers > 0 || !options_.wait_for.empty()) {
     spdlog::info("waiting up to {:.0f} s for {} reader(s){}{} on domain {}", options_.wait_timeout_s,
@@ -90,8 +92,10 @@ int IngestNode::run() {
         !dds::wait_for_named_readers(frames_, named, wait, stop_).empty()) {
       print_summary();
       if (stop_.load()) return 0;
-      spdlog::error("no reader matched within {:.0f} s: is causal-estimator running on domain {} with the same "
-                    "transport profile?", options_.wait_timeout_s, participant_.domain_id());
+      spdlog::error(
+          "no reader matched within {:.0f} s: is causal-estimator running on domain {} with the same "
+          "transport profile?",
+          options_.wait_timeout_s, participant_.domain_id());
       return 3;
     }
   }
@@ -107,8 +111,10 @@ int IngestNode::run() {
     process(*message);
   }
   source_->stop();
-  auto ack_wait = std::chrono::duration_cast<Clock::duration>(stop_.load() ? std::chrono::seconds(2) : std::chrono::seconds(30));
-  if (deadline_ != Clock::time_point::max()) ack_wait = std::min(ack_wait, std::max(Clock::duration::zero(), deadline_ - Clock::now()));
+  auto ack_wait =
+      std::chrono::duration_cast<Clock::duration>(stop_.load() ? std::chrono::seconds(2) : std::chrono::seconds(30));
+  if (deadline_ != Clock::time_point::max())
+    ack_wait = std::min(ack_wait, std::max(Clock::duration::zero(), deadline_ - Clock::now()));
   if (!frames_.wait_for_acknowledgments(std::chrono::duration_cast<std::chrono::milliseconds>(ack_wait))) {
     spdlog::warn("not every frame was acknowledged by the readers within {:.1f} s",
                  std::chrono::duration<double>(ack_wait).count());
@@ -175,12 +181,12 @@ void IngestNode::process(const std::string& message) {
   h.end_of_segment = b.end_of_segment;
   h.source = fmt::format("{} block {}", options_.source.text, b.sequence);
   const auto rows = static_cast<Eigen::Index>(b.samples_per_channel);
-  const Eigen::MatrixXd block = Eigen::Map<const dds::RowMajorMatrix>(b.samples.data(), rows,
-                                                                      static_cast<Eigen::Index>(b.channels.size()));
+  const Eigen::MatrixXd block =
+      Eigen::Map<const dds::RowMajorMatrix>(b.samples.data(), rows, static_cast<Eigen::Index>(b.channels.size()));
   dds::to_frame(h, block, 0, rows, frame_);
-  const auto write_deadline = std::min(
-      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.write_timeout_s)),
-      deadline_);
+  const auto write_deadline = std::min(Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                          std::chrono::duration<double>(options_.write_timeout_s)),
+                                       deadline_);
   const auto result = frames_.write_until(frame_, stop_, write_deadline);
   if (result == dds::WriteResult::Ok) {
     ++published_;
@@ -191,9 +197,10 @@ void IngestNode::process(const std::string& message) {
   ++lost_;
   lost_metric_->inc();
   spdlog::error("'{}' frame {} lost: {}", b.asset_group, plan.sequence,
-                result == dds::WriteResult::Stopped    ? std::string("stopping while the readers were behind")
-                : result == dds::WriteResult::TimedOut ? fmt::format("not accepted within {:.1f} s", options_.write_timeout_s)
-                                                       : fmt::format("DDS write error, return code {}", frames_.last_error()));
+                result == dds::WriteResult::Stopped ? std::string("stopping while the readers were behind")
+                : result == dds::WriteResult::TimedOut
+                    ? fmt::format("not accepted within {:.1f} s", options_.write_timeout_s)
+                    : fmt::format("DDS write error, return code {}", frames_.last_error()));
 }
 
 void IngestNode::print_summary() const {
@@ -205,11 +212,11 @@ void IngestNode::print_summary() const {
   for (int r = 0; r < kRejectReasonCount; ++r) {
     reasons += fmt::format(" {}={}", reason_name(static_cast<RejectReason>(r)), rejected_[static_cast<std::size_t>(r)]);
   }
-  std::printf("sensor-ingest: received=%llu published=%llu rejected=%llu lost=%llu non_finite=%llu discontinuities=%llu%s\n",
-              static_cast<unsigned long long>(received_), static_cast<unsigned long long>(published_),
-              static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(lost_),
-              static_cast<unsigned long long>(non_finite_), static_cast<unsigned long long>(discontinuities_),
-              reasons.c_str());
+  std::printf(
+      "sensor-ingest: received=%llu published=%llu rejected=%llu lost=%llu non_finite=%llu discontinuities=%llu%s\n",
+      static_cast<unsigned long long>(received_), static_cast<unsigned long long>(published_),
+      static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(lost_),
+      static_cast<unsigned long long>(non_finite_), static_cast<unsigned long long>(discontinuities_), reasons.c_str());
   std::fflush(stdout);
 }
 

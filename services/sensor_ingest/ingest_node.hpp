@@ -4,19 +4,18 @@
 // Exit codes: 0 done, 3 no readers in time, 4 a message was rejected or a frame lost.
 #pragma once
 
-#include "block_sequencer.hpp"
-#include "ingest_options.hpp"
-#include "ingest_sources.hpp"
-
-#include "causal/dds/participant.hpp"
-#include "causal/dds/typed_endpoints.hpp"
-#include "causal/metrics/metrics_registry.hpp"
-#include "causal_twinPubSubTypes.h"
-
 #include <array>
 #include <atomic>
 #include <chrono>
 #include <memory>
+
+#include "block_sequencer.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal/metrics/metrics_registry.hpp"
+#include "causal_twinPubSubTypes.h"
+#include "ingest_options.hpp"
+#include "ingest_sources.hpp"
 
 namespace causal::ingest {
 

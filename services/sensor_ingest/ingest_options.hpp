@@ -1,13 +1,12 @@
 // sensor-ingest's parameters: one plain struct, filled and checked by parse_ingest_options().
 #pragma once
 
-#include "ingest_block.hpp"
-
-#include "causal/dds/service_runtime.hpp"
-
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "causal/dds/service_runtime.hpp"
+#include "ingest_block.hpp"
 
 namespace causal::ingest {
 
@@ -30,8 +29,8 @@ struct IngestOptions {
   dds::CommonOptions dds;
   SourceSpec source;
   int mqtt_qos = 1;
-  std::string mqtt_client_id;     // default sensor-ingest-<pid>
-  double gap_factor = 1.5;        // see block_sequencer.hpp
+  std::string mqtt_client_id;  // default sensor-ingest-<pid>
+  double gap_factor = 1.5;     // see block_sequencer.hpp
   BlockLimits limits;
   std::size_t queue_messages = 1024;  // between the source and the DDS writer; a full queue stalls the source
   int wait_subscribers = 1;

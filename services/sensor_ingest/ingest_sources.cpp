@@ -1,18 +1,18 @@
 #include "ingest_sources.hpp"
 
-#include "causal/metrics/metrics_registry.hpp"
-
-#include <mosquitto.h>
-#include <spdlog/spdlog.h>
-
 #include <arpa/inet.h>
-#include <cerrno>
-#include <cstring>
+#include <mosquitto.h>
 #include <netinet/in.h>
 #include <poll.h>
-#include <stdexcept>
+#include <spdlog/spdlog.h>
 #include <sys/socket.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+#include "causal/metrics/metrics_registry.hpp"
 
 namespace causal::ingest {
 
@@ -65,7 +65,9 @@ MqttSource::~MqttSource() {
   mosquitto_destroy(client_);
 }
 
-void MqttSource::start() { thread_ = std::thread([this] { run(); }); }
+void MqttSource::start() {
+  thread_ = std::thread([this] { run(); });
+}
 
 void MqttSource::stop() {
   if (stopping_.exchange(true)) return;
@@ -75,7 +77,8 @@ void MqttSource::stop() {
 
 bool MqttSource::pause(std::chrono::milliseconds d) {
   const auto until = std::chrono::steady_clock::now() + d;
-  while (!stopping_.load() && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  while (!stopping_.load() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   return !stopping_.load();
 }
 
@@ -108,7 +111,8 @@ void MqttSource::run() {
 void MqttSource::on_connect(struct mosquitto* m, void* self, int rc) {
   auto* s = static_cast<MqttSource*>(self);
   if (rc != 0) {
-    spdlog::warn("mqtt: broker {}:{} refused the connection: {}", s->spec_.host, s->spec_.port, mosquitto_connack_string(rc));
+    spdlog::warn("mqtt: broker {}:{} refused the connection: {}", s->spec_.host, s->spec_.port,
+                 mosquitto_connack_string(rc));
     return;
   }
   ++s->connects_;
@@ -232,9 +236,12 @@ class StdinSource : public ThreadSource {
 
 std::unique_ptr<MessageSource> make_source(const IngestOptions& options, MessageQueue& queue) {
   switch (options.source.kind) {
-    case SourceKind::Mqtt: return std::make_unique<MqttSource>(options, queue);
-    case SourceKind::Udp: return std::make_unique<UdpSource>(options.source, queue);
-    case SourceKind::Stdin: return std::make_unique<StdinSource>(options.limits, queue);
+    case SourceKind::Mqtt:
+      return std::make_unique<MqttSource>(options, queue);
+    case SourceKind::Udp:
+      return std::make_unique<UdpSource>(options.source, queue);
+    case SourceKind::Stdin:
+      return std::make_unique<StdinSource>(options.limits, queue);
   }
   throw std::invalid_argument("unknown source kind");
 }

@@ -4,8 +4,6 @@
 // there; stdin: the writing process blocks), so memory stays bounded.
 #pragma once
 
-#include "ingest_options.hpp"
-
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -16,6 +14,8 @@
 #include <optional>
 #include <string>
 #include <thread>
+
+#include "ingest_options.hpp"
 
 struct mosquitto;
 struct mosquitto_message;

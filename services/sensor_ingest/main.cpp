@@ -6,7 +6,6 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   auto options = causal::ingest::parse_ingest_options(argc, argv, exit_code);
   if (!options) return exit_code;
-  return causal::dds::run_service(signals, "sensor-ingest", options->dds, [&] {
-    return std::make_unique<causal::ingest::IngestNode>(std::move(*options));
-  });
+  return causal::dds::run_service(signals, "sensor-ingest", options->dds,
+                                  [&] { return std::make_unique<causal::ingest::IngestNode>(std::move(*options)); });
 }

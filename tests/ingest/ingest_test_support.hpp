@@ -3,13 +3,6 @@
 // and a real mosquitto broker started and ended by pid.
 #pragma once
 
-#include "process_runner.hpp"
-
-#include "causal/dds/participant.hpp"
-#include "causal/dds/topics.hpp"
-#include "causal/dds/typed_endpoints.hpp"
-#include "causal_twinPubSubTypes.h"
-
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -26,6 +19,12 @@
 #include <thread>
 #include <tuple>
 #include <vector>
+
+#include "causal/dds/participant.hpp"
+#include "causal/dds/topics.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal_twinPubSubTypes.h"
+#include "process_runner.hpp"
 
 namespace causal::test {
 
@@ -89,9 +88,17 @@ class FrameRecorder {
     while (!stop_.load()) {
       reader_.take_all([this](const causal_twin::VibrationFrame& f, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);
-        frames_[f.asset_group()].push_back(SeenFrame{f.unit(), f.sample_rate_hz(), {f.channel_names().begin(), f.channel_names().end()}, f.sequence_number(), f.first_sample_index(), f.snapshot_index(),
-                                                     f.samples_per_channel(), f.first_sample_time_ns(),
-                                                     f.discontinuity(), f.end_of_segment(), f.samples()});
+        frames_[f.asset_group()].push_back(SeenFrame{f.unit(),
+                                                     f.sample_rate_hz(),
+                                                     {f.channel_names().begin(), f.channel_names().end()},
+                                                     f.sequence_number(),
+                                                     f.first_sample_index(),
+                                                     f.snapshot_index(),
+                                                     f.samples_per_channel(),
+                                                     f.first_sample_time_ns(),
+                                                     f.discontinuity(),
+                                                     f.end_of_segment(),
+                                                     f.samples()});
       });
       factor_reader_.take_all([this](const causal_twin::CausalFactors& f, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -117,25 +124,26 @@ struct TestBlock {
   std::string group;
   std::uint64_t sequence;
   std::int64_t t0_ns;
-  std::size_t n;          // samples per channel; channels are always c1, c2
-  double first_value;     // samples are first_value, first_value + 1, ... sample-major
+  std::size_t n;       // samples per channel; channels are always c1, c2
+  double first_value;  // samples are first_value, first_value + 1, ... sample-major
 };
 
 inline std::string json_block(const TestBlock& b) {
   std::string rows;
   for (std::size_t i = 0; i < b.n; ++i) {
-    rows += (i ? "," : "") + std::string("[") + std::to_string(b.first_value + 2.0 * i) + "," +
-            std::to_string(b.first_value + 2.0 * i + 1) + "]";
+    rows += (i ? "," : "") + std::string("[") + std::to_string(b.first_value + 2.0 * static_cast<double>(i)) + "," +
+            std::to_string(b.first_value + 2.0 * static_cast<double>(i) + 1) + "]";
   }
   return R"({"asset_group":")" + b.group + R"(","channels":["c1","c2"],"sample_rate_hz":1000,"t0_ns":)" +
          std::to_string(b.t0_ns) + R"(,"sequence":)" + std::to_string(b.sequence) + R"(,"samples":[)" + rows + "]}";
 }
 
 inline std::string csv_block(const TestBlock& b) {
-  std::string s = "#block asset_group=" + b.group + " channels=c1,c2 sample_rate_hz=1000 t0_ns=" + std::to_string(b.t0_ns) +
+  std::string s = "#block asset_group=" + b.group +
+                  " channels=c1,c2 sample_rate_hz=1000 t0_ns=" + std::to_string(b.t0_ns) +
                   " sequence=" + std::to_string(b.sequence) + " samples=" + std::to_string(b.n) + "\n";
   for (std::size_t i = 0; i < b.n; ++i) {
-    s += std::to_string(b.first_value + 2.0 * i) + "," + std::to_string(b.first_value + 2.0 * i + 1) + "\n";
+    s += std::to_string(b.first_value + 2.0 * static_cast<double>(i)) + "," + std::to_string(b.first_value + 2.0 * static_cast<double>(i) + 1) + "\n";
   }
   return s;
 }
@@ -172,7 +180,8 @@ inline std::string binary_block(const TestBlock& b) {
 
 // Block k of a contiguous 1 kHz stream of 50-sample blocks, in encoding k % 3 (JSON, CSV, binary).
 inline TestBlock stream_block(const std::string& group, std::uint64_t k) {
-  return TestBlock{group, k, 1700000000000000000LL + static_cast<std::int64_t>(k) * 50000000LL, 50, 100.0 * static_cast<double>(k)};
+  return TestBlock{group, k, 1700000000000000000LL + static_cast<std::int64_t>(k) * 50000000LL, 50,
+                   100.0 * static_cast<double>(k)};
 }
 inline std::string encode(const TestBlock& b, int encoding) {
   return encoding == 0 ? json_block(b) : encoding == 1 ? csv_block(b) : binary_block(b);
@@ -187,11 +196,11 @@ inline std::vector<std::pair<std::string, std::string>> bad_messages(const std::
   back_in_time.sequence = last + 100;
   return {{"malformed", R"({"asset_group":")" + group + R"(","channels":)"},  // cut-off JSON
           {"malformed", "temperature=21.5"},
-          {"shape", wrong_channels},                                    // 3 channel names, rows of 2
+          {"shape", wrong_channels},  // 3 channel names, rows of 2
           {"truncated", bin.substr(0, bin.size() - 3)},
           {"oversize", json_block(TestBlock{group, last + 1, 0, 600, 0.0})},  // 1200 values > --max-block-values 1000
-          {"duplicate", csv_block(stream_block(group, last))},          // the last block again (QoS 1 redelivery)
-          {"out_of_order", json_block(back_in_time)}};                  // starts before the last block ended
+          {"duplicate", csv_block(stream_block(group, last))},                // the last block again (QoS 1 redelivery)
+          {"out_of_order", json_block(back_in_time)}};                        // starts before the last block ended
 }
 
 // The adapter's machine-readable summary line, e.g. "received=7 published=5 ... malformed=1".

@@ -1,9 +1,9 @@
 // The frame stream sensor-ingest makes of the source's blocks: gap-free frame sequence numbers, sample
 // indices counting every published sample, discontinuities exactly where the source skipped, rejections for
 // duplicates, overlaps and layout changes. Expected values are worked out by hand from the block times.
-#include "block_sequencer.hpp"
-
 #include <gtest/gtest.h>
+
+#include "block_sequencer.hpp"
 
 using causal::ingest::BlockSequencer;
 using causal::ingest::IngestBlock;

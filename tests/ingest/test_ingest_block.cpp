@@ -1,13 +1,13 @@
 // sensor-ingest payloads: every encoding decoded against hand-written messages, every malformed case
 // rejected with its reason, and the stream splitter cutting a mixed byte stream into the same messages.
-#include "ingest_block.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include "ingest_block.hpp"
 
 using causal::ingest::BlockLimits;
 using causal::ingest::BlockStreamSplitter;
@@ -21,7 +21,8 @@ const std::string kJson =
     R"("sequence":17,"samples":[[0.5,-1.25],[2,3.5],[4,5]],"unit":"g"})";
 
 const std::string kCsv =
-    "#block asset_group=pump-1 channels=b1,b2 sample_rate_hz=20000 t0_ns=1700000000000000000 sequence=17 samples=3 unit=g\n"
+    "#block asset_group=pump-1 channels=b1,b2 sample_rate_hz=20000 t0_ns=1700000000000000000 sequence=17 samples=3 "
+    "unit=g\n"
     "0.5,-1.25\n2,3.5\n4,5\n";
 
 // Little-endian writers, written out byte by byte (independent of the parser's reader).
@@ -89,7 +90,8 @@ TEST(IngestBlock, JsonCsvAndBinaryDecodeTheSameBlock) {
 }
 
 TEST(IngestBlock, EndOfSegmentInEveryEncoding) {
-  EXPECT_TRUE(parse_block(replaced(kJson, R"("unit":"g")", R"("unit":"g","end_of_segment":true)")).block->end_of_segment);
+  EXPECT_TRUE(
+      parse_block(replaced(kJson, R"("unit":"g")", R"("unit":"g","end_of_segment":true)")).block->end_of_segment);
   EXPECT_TRUE(parse_block(replaced(kCsv, "unit=g", "unit=g end_of_segment=1")).block->end_of_segment);
   EXPECT_TRUE(parse_block(binary(2, 3, {0, 0, 0, 0, 0, 0}, 1)).block->end_of_segment);
 }
@@ -154,9 +156,9 @@ TEST(IngestBlock, OversizeIsRejected) {
 
 TEST(IngestBlock, TruncatedBlocksAreRejected) {
   const std::string full = binary(2, 3, {0.5, -1.25, 2, 3.5, 4, 5});
-  EXPECT_EQ(reason_of(full.substr(0, full.size() - 1)), RejectReason::Truncated);  // inside the samples
-  EXPECT_EQ(reason_of(full.substr(0, 40)), RejectReason::Truncated);               // inside the names
-  EXPECT_EQ(reason_of(full.substr(0, 20)), RejectReason::Truncated);               // inside the fixed header
+  EXPECT_EQ(reason_of(full.substr(0, full.size() - 1)), RejectReason::Truncated);   // inside the samples
+  EXPECT_EQ(reason_of(full.substr(0, 40)), RejectReason::Truncated);                // inside the names
+  EXPECT_EQ(reason_of(full.substr(0, 20)), RejectReason::Truncated);                // inside the fixed header
   EXPECT_EQ(reason_of(kCsv.substr(0, kCsv.find("4,5"))), RejectReason::Truncated);  // a row missing
 }
 

@@ -2,22 +2,21 @@
 // blocks, as a DAQ program would stream it, and the same slice replayed by sensor-replay, both into one
 // causal-estimator as two asset groups. The frames must be the same field for field (but `source`), and the
 // estimator's factors of the two groups identical: the adapter is a drop-in source for the estimator.
-#include "ingest_test_support.hpp"
-
-#include "causal/io/ims_directory.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
+#include "causal/io/ims_directory.hpp"
+#include "ingest_test_support.hpp"
+
 namespace fs = std::filesystem;
 using causal::test::ServiceProcess;
 
 namespace {
 
-constexpr int kDomain = 83;          // this helper's range; the groups below are this test's own
+constexpr int kDomain = 83;  // this helper's range; the groups below are this test's own
 constexpr Eigen::Index kFrameSamples = 1024;
 constexpr double kSampleRate = 20000.0;  // sensor-replay's default for IMS data
 
@@ -33,8 +32,9 @@ std::string slice_as_csv_blocks(const std::string& group) {
     for (Eigen::Index row = 0; row < m.rows(); row += kFrameSamples) {
       const Eigen::Index rows = std::min(kFrameSamples, m.rows() - row);
       const auto t0 = snap.time_ns + static_cast<std::int64_t>(static_cast<double>(row) * (1e9 / kSampleRate));
-      out += "#block asset_group=" + group + " channels=bearing1,bearing2,bearing3,bearing4 sample_rate_hz=20000 unit=V t0_ns=" +
-             std::to_string(t0) + " sequence=" + std::to_string(sequence++) + " samples=" + std::to_string(rows) +
+      out += "#block asset_group=" + group +
+             " channels=bearing1,bearing2,bearing3,bearing4 sample_rate_hz=20000 unit=V t0_ns=" + std::to_string(t0) +
+             " sequence=" + std::to_string(sequence++) + " samples=" + std::to_string(rows) +
              (row + rows == m.rows() ? " end_of_segment=1" : "") + "\n";
       for (Eigen::Index r = row; r < row + rows; ++r) {
         for (Eigen::Index c = 0; c < m.cols(); ++c) {
@@ -71,7 +71,8 @@ TEST(IngestMatchesReplay, ImsSliceThroughStdinGivesTheSameFramesAndFactors) {
                         (work / "replay.log").string());
   std::string command = std::string("exec '") + SENSOR_INGEST_BIN + "' --domain " + d + " --transport '" + transport +
                         "' --source - --wait-for causal-estimator --wait-for test-frame-recorder --wait-timeout 60"
-                        " --max-runtime 150 < '" + (work / "slice.csv").string() + "'";
+                        " --max-runtime 150 < '" +
+                        (work / "slice.csv").string() + "'";
   ServiceProcess ingest("sensor-ingest", {"/bin/sh", "-c", command}, (work / "ingest.log").string());
 
   const auto ingest_code = ingest.wait(std::chrono::seconds(150));

@@ -1,14 +1,14 @@
 // sensor-ingest against real sources: a real mosquitto broker on loopback (started after the adapter,
-// restarted mid-run), UDP datagrams and stdin. Every test sends N good blocks in all three encodings and one bad message of every
-// rejection class, and checks exactly: N frames out with gap-free sequence numbers and the samples sent,
-// every bad message counted under its reason, exit code 4 (something was rejected).
-#include "ingest_test_support.hpp"
-
+// restarted mid-run), UDP datagrams and stdin. Every test sends N good blocks in all three encodings and
+// one bad message of every rejection class, and checks exactly: N frames out with gap-free sequence numbers
+// and the samples sent, every bad message counted under its reason, exit code 4 (something was rejected).
 #include <gtest/gtest.h>
 #include <mosquitto.h>
 
 #include <filesystem>
 #include <iostream>
+
+#include "ingest_test_support.hpp"
 
 namespace fs = std::filesystem;
 using causal::test::FrameRecorder;
@@ -28,9 +28,19 @@ fs::path work_dir(const std::string& name) {
 }
 
 std::vector<std::string> ingest_args(int domain, const std::string& source) {
-  return {SENSOR_INGEST_BIN, "--domain", std::to_string(domain), "--transport",
-          std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml", "--source", source, "--max-block-values", "1000",
-          "--max-runtime", "90", "--wait-timeout", "30"};
+  return {SENSOR_INGEST_BIN,
+          "--domain",
+          std::to_string(domain),
+          "--transport",
+          std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml",
+          "--source",
+          source,
+          "--max-block-values",
+          "1000",
+          "--max-runtime",
+          "90",
+          "--wait-timeout",
+          "30"};
 }
 
 // Frames of `group`: sequence 0..n-1 in order, samples counted from 0, the sample values of stream_block(k),
@@ -69,7 +79,8 @@ void expect_rejections(const std::string& output, const std::vector<std::pair<st
 class Broker {
  public:
   Broker(const fs::path& dir, int port) : dir_(dir), port_(port) {
-    std::ofstream(dir / "mosquitto.conf") << "listener " << port << " 127.0.0.1\nallow_anonymous true\npersistence false\n";
+    std::ofstream(dir / "mosquitto.conf")
+        << "listener " << port << " 127.0.0.1\nallow_anonymous true\npersistence false\n";
   }
   void start(int run) {
     process_ = std::make_unique<ServiceProcess>(
@@ -132,7 +143,8 @@ TEST(SensorIngest, MqttBlocksBecomeFramesAcrossABrokerStartedLateAndRestarted) {
 
   constexpr std::size_t kFirst = 12, kSecond = 9;
   std::vector<std::string> messages;
-  for (std::uint64_t k = 0; k < kFirst; ++k) messages.push_back(causal::test::encode(causal::test::stream_block(group, k), static_cast<int>(k % 3)));
+  for (std::uint64_t k = 0; k < kFirst; ++k)
+    messages.push_back(causal::test::encode(causal::test::stream_block(group, k), static_cast<int>(k % 3)));
   const auto bad = causal::test::bad_messages(group, kFirst - 1);
   for (const auto& b : bad) messages.push_back(b.second);
   ASSERT_TRUE(publish_all(broker.port(), topic, messages));
@@ -173,15 +185,18 @@ TEST(SensorIngest, UdpDatagramsBecomeFrames) {
   to.sin_port = htons(static_cast<std::uint16_t>(port));
   to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   const auto send = [&](const std::string& m) {
-    ASSERT_EQ(::sendto(fd, m.data(), m.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to), static_cast<ssize_t>(m.size()));
+    ASSERT_EQ(::sendto(fd, m.data(), m.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to),
+              static_cast<ssize_t>(m.size()));
   };
-  for (std::uint64_t k = 0; k < kGood; ++k) send(causal::test::encode(causal::test::stream_block(group, k), static_cast<int>(k % 3)));
+  for (std::uint64_t k = 0; k < kGood; ++k)
+    send(causal::test::encode(causal::test::stream_block(group, k), static_cast<int>(k % 3)));
   const auto bad = causal::test::bad_messages(group, kGood - 1);
   for (const auto& b : bad) send(b.second);
   ::close(fd);
   ASSERT_EQ(recorder.wait_for(group, kGood, std::chrono::seconds(30)), kGood) << ingest.output();
   // Every datagram is taken before the stop (the bad ones came last): wait until the adapter logged the last.
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "rejected (out_of_order)", 1, std::chrono::seconds(10))) << ingest.output();
+  ASSERT_TRUE(causal::test::wait_for_text(ingest, "rejected (out_of_order)", 1, std::chrono::seconds(10)))
+      << ingest.output();
 
   EXPECT_EQ(ingest.terminate(), 4) << ingest.output();
   expect_stream(recorder.frames(group), group, kGood);
@@ -194,7 +209,8 @@ TEST(SensorIngest, StdinStreamBecomesFramesAndEndsAtEndOfInput) {
   const std::string group = "stdin-pump";
   constexpr std::size_t kGood = 15;
   std::string stream;
-  for (std::uint64_t k = 0; k < kGood; ++k) stream += causal::test::encode(causal::test::stream_block(group, k), static_cast<int>(k % 3)) + "\n";
+  for (std::uint64_t k = 0; k < kGood; ++k)
+    stream += causal::test::encode(causal::test::stream_block(group, k), static_cast<int>(k % 3)) + "\n";
   // The truncated binary block goes last: in a byte stream it would take the next message's bytes with it.
   auto bad = causal::test::bad_messages(group, kGood - 1);
   std::stable_partition(bad.begin(), bad.end(), [](const auto& b) { return b.first != "truncated"; });
