@@ -47,8 +47,9 @@ struct SeenFactors {
 
 class FrameRecorder {
  public:
-  explicit FrameRecorder(int domain_id)
-      : participant_(settings(domain_id)),
+  // `name`: the participant name, unique per test, so an adapter can wait for this very reader (--wait-for).
+  FrameRecorder(int domain_id, const std::string& name)
+      : participant_(settings(domain_id, name)),
         reader_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader),
         factor_reader_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
         thread_([this] { run(); }) {}
@@ -76,12 +77,12 @@ class FrameRecorder {
   }
 
  private:
-  static dds::DdsSettings settings(int domain_id) {
+  static dds::DdsSettings settings(int domain_id, const std::string& name) {
     dds::DdsSettings s;
     s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
                        std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
     s.domain_id = domain_id;
-    s.participant_name = "test-frame-recorder";
+    s.participant_name = name;
     return s;
   }
   void run() {

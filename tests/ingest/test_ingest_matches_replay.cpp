@@ -16,7 +16,7 @@ using causal::test::ServiceProcess;
 
 namespace {
 
-constexpr int kDomain = 83;  // this helper's range; the groups below are this test's own
+constexpr int kDomain = 82;  // this helper's range, this test's alone: its estimator would take every group
 constexpr Eigen::Index kFrameSamples = 1024;
 constexpr double kSampleRate = 20000.0;  // sensor-replay's default for IMS data
 
@@ -58,19 +58,19 @@ TEST(IngestMatchesReplay, ImsSliceThroughStdinGivesTheSameFramesAndFactors) {
   const std::string d = std::to_string(kDomain);
   const std::string transport = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml";
 
-  causal::test::FrameRecorder recorder(kDomain);
+  causal::test::FrameRecorder recorder(kDomain, "ingest-test-e2e");
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--transport", transport, "--idle-exit", "4",
-                            "--max-runtime", "150", "--wait-for", "test-frame-recorder"},
+                            "--max-runtime", "150", "--wait-for", "ingest-test-e2e"},
                            (work / "estimator.log").string());
   ServiceProcess replay("sensor-replay",
                         {SENSOR_REPLAY_BIN, "--domain", d, "--transport", transport, "--ims-dir",
                          std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-slice", "--asset-group", via_replay,
                          "--frame-samples", std::to_string(kFrameSamples), "--wait-for", "causal-estimator",
-                         "--wait-for", "test-frame-recorder", "--wait-timeout", "60"},
+                         "--wait-for", "ingest-test-e2e", "--wait-timeout", "60"},
                         (work / "replay.log").string());
   std::string command = std::string("exec '") + SENSOR_INGEST_BIN + "' --domain " + d + " --transport '" + transport +
-                        "' --source - --wait-for causal-estimator --wait-for test-frame-recorder --wait-timeout 60"
+                        "' --source - --wait-for causal-estimator --wait-for ingest-test-e2e --wait-timeout 60"
                         " --max-runtime 150 < '" +
                         (work / "slice.csv").string() + "'";
   ServiceProcess ingest("sensor-ingest", {"/bin/sh", "-c", command}, (work / "ingest.log").string());

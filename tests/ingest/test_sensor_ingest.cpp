@@ -16,10 +16,9 @@ using causal::test::ServiceProcess;
 
 namespace {
 
-// Fixed domain ids of this helper's range (82-83); each test uses its own asset group, so tests that run at
-// once on one domain do not count each other's frames.
-constexpr int kMqttDomain = 82;
-constexpr int kStreamDomain = 83;
+// A fixed domain id of this helper's range (82-83; 82 is the end-to-end test's). The tests here may run at
+// once on it: each has its own asset group and its own recorder, which its adapter waits for by name.
+constexpr int kDomain = 83;
 
 fs::path work_dir(const std::string& name) {
   const fs::path p = fs::temp_directory_path() / ("causal_ingest_" + name + "_" + std::to_string(getpid()));
@@ -27,20 +26,13 @@ fs::path work_dir(const std::string& name) {
   return p;
 }
 
-std::vector<std::string> ingest_args(int domain, const std::string& source) {
-  return {SENSOR_INGEST_BIN,
-          "--domain",
-          std::to_string(domain),
-          "--transport",
-          std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml",
-          "--source",
-          source,
-          "--max-block-values",
-          "1000",
-          "--max-runtime",
-          "90",
-          "--wait-timeout",
-          "30"};
+// The adapter on kDomain, waiting for the test's own recorder (by its participant name) before taking input.
+std::vector<std::string> ingest_args(const std::string& recorder, const std::string& source) {
+  // clang-format off
+  return {SENSOR_INGEST_BIN, "--domain", std::to_string(kDomain), "--wait-for", recorder,
+          "--transport", std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml", "--source", source,
+          "--max-block-values", "1000", "--max-runtime", "90", "--wait-timeout", "30"};
+  // clang-format on
 }
 
 // Frames of `group`: sequence 0..n-1 in order, samples counted from 0, the sample values of stream_block(k),
@@ -132,9 +124,9 @@ TEST(SensorIngest, MqttBlocksBecomeFramesAcrossABrokerStartedLateAndRestarted) {
   const std::string group = "mqtt-pump";
   const std::string topic = "plant/line1/" + group;
   Broker broker(work, causal::test::free_port(SOCK_STREAM));
-  FrameRecorder recorder(kMqttDomain);
+  FrameRecorder recorder(kDomain, "ingest-test-mqtt");
   ServiceProcess ingest("sensor-ingest",
-                        ingest_args(kMqttDomain, "mqtt://127.0.0.1:" + std::to_string(broker.port()) + "/" + topic),
+                        ingest_args("ingest-test-mqtt", "mqtt://127.0.0.1:" + std::to_string(broker.port()) + "/" + topic),
                         (work / "ingest.log").string());
   // The adapter may start before its broker: it keeps trying.
   ASSERT_TRUE(causal::test::wait_for_text(ingest, "cannot connect", 1, std::chrono::seconds(40))) << ingest.output();
@@ -173,8 +165,8 @@ TEST(SensorIngest, UdpDatagramsBecomeFrames) {
   const fs::path work = work_dir("udp");
   const std::string group = "udp-pump";
   const int port = causal::test::free_port(SOCK_DGRAM);
-  FrameRecorder recorder(kStreamDomain);
-  ServiceProcess ingest("sensor-ingest", ingest_args(kStreamDomain, "udp://127.0.0.1:" + std::to_string(port)),
+  FrameRecorder recorder(kDomain, "ingest-test-udp");
+  ServiceProcess ingest("sensor-ingest", ingest_args("ingest-test-udp", "udp://127.0.0.1:" + std::to_string(port)),
                         (work / "ingest.log").string());
   ASSERT_TRUE(causal::test::wait_for_text(ingest, "ingesting from", 1, std::chrono::seconds(40))) << ingest.output();
 
@@ -217,9 +209,9 @@ TEST(SensorIngest, StdinStreamBecomesFramesAndEndsAtEndOfInput) {
   for (const auto& b : bad) stream += b.second + (b.first == "truncated" ? "" : "\n");
   std::ofstream(work / "input.bin", std::ios::binary) << stream;
 
-  FrameRecorder recorder(kStreamDomain);
+  FrameRecorder recorder(kDomain, "ingest-test-stdin");
   std::string command = "exec";
-  for (const auto& a : ingest_args(kStreamDomain, "-")) command += " '" + a + "'";
+  for (const auto& a : ingest_args("ingest-test-stdin", "-")) command += " '" + a + "'";
   command += " < '" + (work / "input.bin").string() + "'";
   ServiceProcess ingest("sensor-ingest", {"/bin/sh", "-c", command}, (work / "ingest.log").string());
   const auto code = ingest.wait(std::chrono::seconds(60));
