@@ -26,11 +26,15 @@ inline V4 splat(double a) { return V4{a, a, a, a}; }
 inline V4* lanes(double* p) { return reinterpret_cast<V4*>(p); }
 inline const V4* lanes(const double* p) { return reinterpret_cast<const V4*>(p); }
 
-// Entry points that run the kernels (the kernels themselves are force-inlined into them) are compiled twice
-// on x86-64 GCC, for the baseline and for x86-64-v3 (AVX2 + FMA); the loader picks the clone the CPU supports
-// (function multi-versioning): portable binaries that still use 4-wide vectors where available.
+// Entry points that run the kernels (the kernels themselves are force-inlined into them) are compiled three
+// times on x86-64 GCC: baseline (2 x SSE2), x86-64-v3 (AVX2 + FMA) and x86-64-v4 (AVX-512 F/BW/DQ/VL: the same
+// 4-wide vectors, but 32 vector registers instead of 16, so the d = 6..12 kernels spill less); the loader picks
+// the best clone the CPU supports (function multi-versioning, an ifunc resolved once at start-up): portable
+// binaries that still use the widest vectors available. FMA contraction (-ffp-contract=fast) can change the
+// last bits between the baseline and the v3/v4 clones; on one machine the same clone is always chosen, so
+// runs and checkpoints repeat bit for bit there (tests compare with independent references to 1e-14).
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(CAUSAL_CORE_NO_CLONES)
-#define CAUSAL_CORE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define CAUSAL_CORE_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define CAUSAL_CORE_CLONES
 #endif

@@ -92,6 +92,7 @@ class SvarKalmanFilter {
   using UpdateFn = void (*)(SvarKalmanFilter&, int group);
   template <int D>
   struct Select;
+  struct StepKernel;  // step() itself, compiled per instruction set (src/svar_kalman_filter.cpp)
 
   // Internals are "lane groups" of up to 4 outcomes of equal dimension updated together in SIMD lanes
   // (src/kernels.hpp, src/lane_plan.hpp); vectors/matrices are stored lane-interleaved.
