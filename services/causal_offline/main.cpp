@@ -73,6 +73,9 @@ int main(int argc, char** argv) {
                  "layout in common/io/include/causal/io/numeric_table.hpp; exact and about 10x faster to write)")
       ->transform(CLI::CheckedTransformer(formats, CLI::ignore_case))
       ->default_str("csv");
+  app.add_option("--threads", opt.threads,
+                 "Threads formatting the CSV numbers (the text is the same; formatting is most of a large run)")
+      ->check(CLI::Range(1, 64))->capture_default_str();
   app.add_flag("--quiet", quiet, "No progress messages on stderr");
   try {
     app.parse(argc, argv);

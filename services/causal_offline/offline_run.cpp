@@ -129,7 +129,7 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
     table_out.columns.push_back({"sd_" + names[c], run.std_devs.col(c).data()});
   }
   switch (options.format) {
-    case OutputFormat::Csv: causal::io::write_numeric_csv(out, table_out); break;
+    case OutputFormat::Csv: causal::io::write_numeric_csv(out, table_out, options.threads); break;
     case OutputFormat::Columns: causal::io::write_numeric_columns(out, table_out); break;
   }
 }

@@ -29,6 +29,7 @@ struct OfflineOptions {
   long calibration_samples = 0;  // first rows used for the scales and tuning; 0 = all
   long every = 1;                // write samples 0, every, 2 every, ... (the full run's estimates)
   OutputFormat format = OutputFormat::Csv;
+  int threads = 1;               // CSV formatting threads (the text does not depend on it)
 };
 
 // Input the tool refuses (non-finite value, too few channels or samples): exit code 2 like an InputError.

@@ -105,6 +105,17 @@ TEST(NumericCsv, EveryNumberParsesBackBitExactAcrossBufferFlushes) {
   EXPECT_EQ(row, m.rows());
 }
 
+TEST(NumericCsv, SeveralThreadsWriteTheSameText) {
+  const Eigen::MatrixXd m = awkward_values(100000);  // ~4 MiB of text: many blocks per thread
+  const NumericTableView t = view(m, {"a", "b", "c"}, 0, 1);
+  const std::string one = csv_text(t);
+  for (int threads : {2, 3}) {
+    std::ostringstream out;
+    causal::io::write_numeric_csv(out, t, threads);
+    EXPECT_TRUE(out.str() == one) << threads << " threads";
+  }
+}
+
 TEST(NumericColumns, HeaderBytesAreTheDocumentedLayout) {
   Eigen::MatrixXd m(2, 1);
   m << 1.0, -2.0;

@@ -1,5 +1,6 @@
 #include "causal/io/numeric_table.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 #include <fstream>
@@ -7,6 +8,7 @@
 #include <limits>
 #include <ostream>
 #include <stdexcept>
+#include <thread>
 
 #include "causal/io/input_error.hpp"
 
@@ -62,34 +64,48 @@ void write_all(std::ostream& out, const char* data, std::size_t n) {
   if (!out) throw std::runtime_error("numeric table: write failed");
 }
 
-}  // namespace
-
-void write_numeric_csv(std::ostream& out, const NumericTableView& t) {
-  check_columns(t);
-  std::string header = t.index_name;
-  for (const ColumnView& c : t.columns) header += "," + c.name;
-  header += "\n";
-  write_all(out, header.data(), header.size());
-
+// Rows [lo, hi) as CSV text appended to `text`.
+void format_rows(const NumericTableView& t, Eigen::Index lo, Eigen::Index hi, std::string& text) {
   const std::size_t row_max = (t.columns.size() + 1) * (kMaxNumberChars + 1) + 1;
-  std::string buffer(kFlushBytes + row_max, '\0');
-  char* const begin = buffer.data();
-  char* const limit = begin + kFlushBytes;
-  char* p = begin;
-  std::int64_t n = t.index_start;
-  for (Eigen::Index i = 0; i < t.rows; ++i, n += t.index_step) {
+  text.resize(static_cast<std::size_t>(hi - lo) * row_max);
+  char* p = text.data();
+  std::int64_t n = t.index_start + lo * t.index_step;
+  for (Eigen::Index i = lo; i < hi; ++i, n += t.index_step) {
     p = std::to_chars(p, p + kMaxNumberChars, n).ptr;
     for (const ColumnView& c : t.columns) {
       *p++ = ',';
       p = std::to_chars(p, p + kMaxNumberChars, c.values[i]).ptr;
     }
     *p++ = '\n';
-    if (p >= limit) {
-      write_all(out, begin, static_cast<std::size_t>(p - begin));
-      p = begin;
-    }
   }
-  write_all(out, begin, static_cast<std::size_t>(p - begin));
+  text.resize(static_cast<std::size_t>(p - text.data()));
+}
+
+}  // namespace
+
+void write_numeric_csv(std::ostream& out, const NumericTableView& t, int threads) {
+  check_columns(t);
+  std::string header = t.index_name;
+  for (const ColumnView& c : t.columns) header += "," + c.name;
+  header += "\n";
+  write_all(out, header.data(), header.size());
+
+  // Blocks of rows small enough to stay around 1 MiB of text each; with several threads, one block per thread
+  // is formatted at a time and the blocks are written in order (the text does not depend on `threads`).
+  const std::size_t row_max = (t.columns.size() + 1) * (kMaxNumberChars + 1) + 1;
+  const Eigen::Index block = std::max<Eigen::Index>(1, static_cast<Eigen::Index>(kFlushBytes / row_max));
+  const int workers = std::max(1, threads);
+  std::vector<std::string> text(static_cast<std::size_t>(workers));
+  for (Eigen::Index lo = 0; lo < t.rows; lo += block * workers) {
+    std::vector<std::thread> helpers;
+    for (int w = 1; w < workers && lo + w * block < t.rows; ++w) {
+      const Eigen::Index a = lo + w * block, b = std::min(t.rows, a + block);
+      helpers.emplace_back([&t, a, b, &slot = text[static_cast<std::size_t>(w)]] { format_rows(t, a, b, slot); });
+    }
+    format_rows(t, lo, std::min(t.rows, lo + block), text[0]);
+    for (std::thread& h : helpers) h.join();
+    for (std::size_t w = 0; w <= helpers.size(); ++w) write_all(out, text[w].data(), text[w].size());
+  }
 }
 
 void write_numeric_columns(std::ostream& out, const NumericTableView& t) {
