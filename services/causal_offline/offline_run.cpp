@@ -7,6 +7,7 @@
 
 #include "causal/batch_estimation.hpp"
 #include "causal/io/numeric_table.hpp"
+#include "causal/kernel_dispatch.hpp"
 #include "causal/noise_tuning.hpp"
 #include "causal/standardised_estimation.hpp"
 #include "causal/svar_layout.hpp"
@@ -110,7 +111,7 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
   const EstimationRun& run = res.run;
   log << "estimator " << estimator_name(options.estimator) << ": " << y.rows() << " samples, " << g
       << " channels, " << layout.total_factors() << " factors; updated " << run.counters.updated << ", warm-up "
-      << run.counters.warm_up << "\n";
+      << run.counters.warm_up << "; kernels " << kernel_instruction_set() << "\n";
   if (run.clamped_variances > 0) {
     log << "warning: " << run.clamped_variances << " filtered variances were <= 0 from rounding and reported "
         << "as standard deviation 0: those factors lost precision\n";
