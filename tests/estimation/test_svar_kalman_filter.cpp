@@ -274,9 +274,9 @@ TEST(SvarKalmanFilter, MixedDimensionsAndEmptyOutcomeMatchDense) {
 }
 
 TEST(SvarKalmanFilter, GenericDimensionPathMatchesDenseReference) {
-  // G = 6, M = 2: 15 factors per outcome, beyond the fixed-size kernels (<= 12).
+  // G = 6, M = 2: 15 factors per outcome, beyond the fixed-size kernels (<= 14).
   SvarLayout layout(spec_g(6, 2));
-  ASSERT_GT(layout.factor_count(0), 12);
+  ASSERT_GT(layout.factor_count(0), 14);
   const std::vector<NoiseParams> noise = {{1e-4, 0.05, 1.0}};
   const test::Simulation sim = test::simulate_svar(layout, noise, 120, 21, 0.05);
   const test::DenseReference ref(layout, noise, sim.y);

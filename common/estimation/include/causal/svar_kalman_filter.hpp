@@ -12,7 +12,7 @@
 // rejected samples therefore still grow P by q I; their estimate is the prediction.
 //
 // Cost per sample: O(sum_k d_k^2) with d_k = factor_count(k); no heap allocation after construction.
-// Outcomes of equal dimension are updated four at a time in SIMD lanes; dimensions 1..12 use kernels with
+// Outcomes of equal dimension are updated four at a time in SIMD lanes; dimensions 1..14 use kernels with
 // compile-time sizes.
 #pragma once
 
