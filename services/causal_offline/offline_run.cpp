@@ -1,12 +1,13 @@
 #include "offline_run.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <ostream>
 #include <string>
 
 #include "causal/batch_estimation.hpp"
+#include "causal/io/numeric_table.hpp"
+#include "causal/kernel_dispatch.hpp"
 #include "causal/noise_tuning.hpp"
 #include "causal/standardised_estimation.hpp"
 #include "causal/svar_layout.hpp"
@@ -19,13 +20,6 @@ bool blank(const std::string& line) {
     if (c != ' ' && c != '\t' && c != '\r') return false;
   }
   return true;
-}
-
-// Shortest round-trip decimal form of v.
-void put_number(std::string& buf, double v) {
-  char tmp[32];
-  const auto res = std::to_chars(tmp, tmp + sizeof tmp, v);
-  buf.append(tmp, res.ptr);
 }
 
 const char* estimator_name(Estimator e) {
@@ -117,35 +111,28 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
   const EstimationRun& run = res.run;
   log << "estimator " << estimator_name(options.estimator) << ": " << y.rows() << " samples, " << g
       << " channels, " << layout.total_factors() << " factors; updated " << run.counters.updated << ", warm-up "
-      << run.counters.warm_up << "\n";
+      << run.counters.warm_up << "; kernels " << kernel_instruction_set() << "\n";
   if (run.clamped_variances > 0) {
     log << "warning: " << run.clamped_variances << " filtered variances were <= 0 from rounding and reported "
         << "as standard deviation 0: those factors lost precision\n";
   }
 
+  // The factor columns are the run's column-major matrices themselves: the writers read them in place.
   const std::vector<std::string> names = layout.factor_names();
-  std::string buf = "n";
-  for (const auto& nm : names) buf += "," + nm;
-  for (const auto& nm : names) buf += ",sd_" + nm;
-  buf += "\n";
-  const Eigen::Index f = layout.total_factors();
-  for (Eigen::Index i = 0; i < run.estimates.rows(); ++i) {
-    buf += std::to_string(i * options.every);
-    for (Eigen::Index c = 0; c < f; ++c) {
-      buf += ',';
-      put_number(buf, run.estimates(i, c));
-    }
-    for (Eigen::Index c = 0; c < f; ++c) {
-      buf += ',';
-      put_number(buf, run.std_devs(i, c));
-    }
-    buf += '\n';
-    if (buf.size() > (1u << 20)) {
-      out << buf;
-      buf.clear();
-    }
+  causal::io::NumericTableView table_out;
+  table_out.index_name = "n";
+  table_out.index_step = options.every;
+  table_out.rows = run.estimates.rows();
+  for (Eigen::Index c = 0; c < layout.total_factors(); ++c) {
+    table_out.columns.push_back({names[c], run.estimates.col(c).data()});
   }
-  out << buf;
+  for (Eigen::Index c = 0; c < layout.total_factors(); ++c) {
+    table_out.columns.push_back({"sd_" + names[c], run.std_devs.col(c).data()});
+  }
+  switch (options.format) {
+    case OutputFormat::Csv: causal::io::write_numeric_csv(out, table_out, options.threads); break;
+    case OutputFormat::Columns: causal::io::write_numeric_columns(out, table_out); break;
+  }
 }
 
 }  // namespace causal::offline

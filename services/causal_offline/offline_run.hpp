@@ -14,6 +14,10 @@ namespace causal::offline {
 
 enum class Estimator { Filter, FixedLag, Rts };
 
+// Csv: text, shortest round-trip numbers. Columns: binary column file (causal/io/numeric_table.hpp: header,
+// then little-endian float64 columns), for outputs too large to format as text quickly.
+enum class OutputFormat { Csv, Columns };
+
 struct OfflineOptions {
   Estimator estimator = Estimator::Rts;
   int lag = 50;                  // fixed-lag smoother lag L
@@ -24,6 +28,8 @@ struct OfflineOptions {
   bool auto_noise = false;       // tune q, r per outcome (p0 from noise.p0)
   long calibration_samples = 0;  // first rows used for the scales and tuning; 0 = all
   long every = 1;                // write samples 0, every, 2 every, ... (the full run's estimates)
+  OutputFormat format = OutputFormat::Csv;
+  int threads = 1;               // CSV formatting threads (the text does not depend on it)
 };
 
 // Input the tool refuses (non-finite value, too few channels or samples): exit code 2 like an InputError.
@@ -38,8 +44,9 @@ class EstimationFailed : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Runs the estimator on `table` (read from `path`, used in messages) and writes the CSV to `out`:
+// Runs the estimator on `table` (read from `path`, used in messages) and writes the factors to `out`:
 //   n,<factor names...>,sd_<factor names...>       (n = 0-based sample index)
+// as CSV, or as a binary column file with the same columns (options.format).
 // Progress, the scales and the tuned noise go to `log`. Throws BadInput for unusable data (naming file and
 // line, or the constant channel) and EstimationFailed for a non-finite result (naming factor, channel, row).
 void run_offline(const std::string& path, const causal::io::ChannelTable& table, const OfflineOptions& options,

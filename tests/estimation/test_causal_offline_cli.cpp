@@ -5,6 +5,7 @@
 
 #include <charconv>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,6 +13,8 @@
 #include <vector>
 
 #include "causal/batch_estimation.hpp"
+#include "causal/io/numeric_table.hpp"
+#include "causal/kernel_dispatch.hpp"
 #include "svar_test_support.hpp"
 
 namespace causal {
@@ -117,6 +120,49 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
   const Result tuned = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --auto-noise");
   ASSERT_EQ(tuned.exit_code, 0) << tuned.err;
   EXPECT_NE(tuned.err.find("auto-noise: outcome 3"), std::string::npos) << tuned.err;
+}
+
+// --format columns: the binary column file holds exactly the numbers of the CSV (bit for bit: both are the
+// same run) with the same names and n = i * every, and they are the library's factors.
+TEST_F(CausalOfflineCli, ColumnsFormatHoldsExactlyTheCsvNumbers) {
+  ModelSpec spec;
+  spec.channels = 3;
+  SvarLayout layout(spec);
+  const NoiseParams noise{2e-5, 0.02, 1.0};
+  const test::Simulation sim = test::simulate_svar(layout, {noise}, 300, 41);
+  std::string csv = "alpha,beta,gamma\n";
+  for (int n = 0; n < 300; ++n) csv += number(sim.y(n, 0)) + "," + number(sim.y(n, 1)) + "," + number(sim.y(n, 2)) + "\n";
+  const fs::path in = write("in.csv", csv);
+  const fs::path out_csv = dir_ / "f.csv", out_cols = dir_ / "f.cols";
+  const std::string common = " --estimator filter --q 2e-5 --r 0.02 --p0 1 --no-standardise --every 3";
+  ASSERT_EQ(run("\"" + in.string() + "\" --out \"" + out_csv.string() + "\"" + common).exit_code, 0);
+  const Result res = run("\"" + in.string() + "\" --out \"" + out_cols.string() + "\" --format columns" + common);
+  ASSERT_EQ(res.exit_code, 0) << res.err;
+  // The log names the kernel variant the loader chose (results repeat bit for bit only within one variant).
+  EXPECT_NE(res.err.find(std::string("; kernels ") + kernel_instruction_set() + "\n"), std::string::npos) << res.err;
+  const auto rows = parse_csv(slurp(out_csv));
+  const io::NumericTable cols = io::read_numeric_columns(out_cols.string());
+  ASSERT_EQ(rows.size(), 101u);
+  ASSERT_EQ(cols.values.rows(), 100);
+  ASSERT_EQ(cols.values.cols(), 24);
+  EXPECT_EQ(cols.index_name, "n");
+  EXPECT_EQ(cols.index_start, 0);
+  EXPECT_EQ(cols.index_step, 3);
+  EXPECT_EQ(cols.names, std::vector<std::string>(rows[0].begin() + 1, rows[0].end()));
+  BatchOutput every3;
+  every3.every = 3;
+  const EstimationRun ref = run_filter(layout, {noise}, sim.y, {}, every3);
+  for (int i = 0; i < 100; ++i) {
+    EXPECT_EQ(rows[i + 1][0], std::to_string(3 * i));
+    for (int c = 0; c < 24; ++c) {
+      double v = 0;
+      const std::string& cell = rows[i + 1][1 + c];
+      ASSERT_EQ(std::from_chars(cell.data(), cell.data() + cell.size(), v).ec, std::errc());
+      ASSERT_EQ(std::memcmp(&v, &cols.values(i, c), sizeof v), 0) << "row " << i << " column " << c;
+      const double expect = c < 12 ? ref.estimates(i, c) : ref.std_devs(i, c - 12);
+      EXPECT_NEAR(cols.values(i, c), expect, 1e-12);
+    }
+  }
 }
 
 std::string channels_csv(const Eigen::MatrixXd& y) {

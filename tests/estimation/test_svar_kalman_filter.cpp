@@ -6,7 +6,9 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 
+#include "causal/batch_estimation.hpp"
 #include "causal/state_archive.hpp"
 #include "causal/svar_kalman_filter.hpp"
 #include "matrix_asserts.hpp"
@@ -272,9 +274,9 @@ TEST(SvarKalmanFilter, MixedDimensionsAndEmptyOutcomeMatchDense) {
 }
 
 TEST(SvarKalmanFilter, GenericDimensionPathMatchesDenseReference) {
-  // G = 6, M = 2: 15 factors per outcome, beyond the fixed-size kernels (<= 12).
+  // G = 6, M = 2: 15 factors per outcome, beyond the fixed-size kernels (<= 14).
   SvarLayout layout(spec_g(6, 2));
-  ASSERT_GT(layout.factor_count(0), 12);
+  ASSERT_GT(layout.factor_count(0), 14);
   const std::vector<NoiseParams> noise = {{1e-4, 0.05, 1.0}};
   const test::Simulation sim = test::simulate_svar(layout, noise, 120, 21, 0.05);
   const test::DenseReference ref(layout, noise, sim.y);
@@ -287,6 +289,32 @@ TEST(SvarKalmanFilter, GenericDimensionPathMatchesDenseReference) {
     ASSERT_MATRIX_NEAR(x, ref.x_filt[n], 1e-10);
   }
   ASSERT_MATRIX_NEAR(filter.covariance(5), ref.p_filt[119].bottomRightCorner(15, 15), 1e-10);
+}
+
+// d = 13 (G = 7, M = 1, self lags) and d = 14 (G = 8, M = 1: the eight-channel model) have fixed-size kernels
+// of their own (kernels.hpp); filter and RTS smoother against the dense stacked reference.
+TEST(SvarKalmanFilter, FixedKernelsOfDimension13And14MatchDenseReference) {
+  for (const auto& [g, self_lags, d] : {std::tuple{7, true, 13}, std::tuple{8, false, 14}}) {
+    SCOPED_TRACE("d = " + std::to_string(d));
+    ModelSpec spec = spec_g(g, 1);
+    spec.include_self_lags = self_lags;
+    SvarLayout layout(spec);
+    ASSERT_EQ(layout.factor_count(0), d);
+    const std::vector<NoiseParams> noise = {{1e-4, 0.05, 1.0}};
+    const test::Simulation sim = test::simulate_svar(layout, noise, 150, 23, 0.05);
+    const test::DenseReference ref(layout, noise, sim.y);
+    SvarKalmanFilter filter(layout, noise);
+    Eigen::VectorXd x(layout.total_factors());
+    for (int n = 0; n < 150; ++n) {
+      const Eigen::RowVectorXd row = sim.y.row(n);
+      filter.step(row.data());
+      filter.estimates(x.data());
+      ASSERT_MATRIX_NEAR(x, ref.x_filt[n], 1e-10);
+    }
+    ASSERT_MATRIX_NEAR(filter.covariance(g - 1), ref.p_filt[149].bottomRightCorner(d, d), 1e-10);
+    const EstimationRun rts = run_rts_smoother(layout, noise, sim.y);
+    for (int n = 0; n < 150; n += 7) ASSERT_MATRIX_NEAR(rts.estimates.row(n).transpose(), ref.x_smooth[n], 1e-9);
+  }
 }
 
 TEST(SvarKalmanFilter, ResetRestoresPriorAndSetNoiseApplies) {

@@ -58,25 +58,55 @@ void step(SvarKalmanFilter& f, const Eigen::MatrixXd& samples, const std::vector
 }
 
 // Writes the kept samples of a block (slot t = sample lo + t; lane-interleaved x and sd, `stride` doubles per
-// slot) into the output rows, column by column (the outputs are column-major).
+// slot) into the output rows, column by column (the outputs are column-major). The output row is counted
+// along, not computed as n / every per value: an integer division per value was the largest single cost of
+// run_filter (one per factor and sample, more than the filter update itself).
 void scatter(const SvarLayout& layout, const detail::LanePlan& plan, const double* xbuf, const double* sdbuf,
              std::size_t stride, Eigen::Index lo, Eigen::Index count, Eigen::Index every, EstimationRun& run) {
   const Eigen::Index first = (lo + every - 1) / every * every;
+  if (first >= lo + count) return;
+  const Eigen::Index first_row = first / every;
+  const Eigen::Index kept = (lo + count - 1 - first) / every + 1;
+  const std::size_t slot_step = static_cast<std::size_t>(every) * stride;
+  const std::size_t first_slot = static_cast<std::size_t>(first - lo) * stride;
   for (const detail::LaneGroup& grp : plan.groups) {
     for (int w = 0; w < grp.count; ++w) {
       const int off = layout.offset(grp.outcome[w]);
       for (int i = 0; i < grp.d; ++i) {
-        const std::size_t j = grp.x_off + static_cast<std::size_t>(i) * kLanes + w;
-        double* xc = run.estimates.col(off + i).data();
-        double* sc = run.std_devs.col(off + i).data();
-        for (Eigen::Index n = first; n < lo + count; n += every) {
-          const std::size_t at = static_cast<std::size_t>(n - lo) * stride + j;
-          xc[n / every] = xbuf[at];
-          sc[n / every] = sdbuf[at];
+        const std::size_t j = first_slot + grp.x_off + static_cast<std::size_t>(i) * kLanes + w;
+        double* xc = run.estimates.col(off + i).data() + first_row;
+        double* sc = run.std_devs.col(off + i).data() + first_row;
+        for (Eigen::Index r = 0; r < kept; ++r) {
+          const std::size_t at = j + static_cast<std::size_t>(r) * slot_step;
+          xc[r] = xbuf[at];
+          sc[r] = sdbuf[at];
         }
       }
     }
   }
+}
+
+// Copies the filter's lane-interleaved x and sqrt(diag P) into one buffer slot; returns how many real lanes
+// had a variance <= 0 (reported as standard deviation 0).
+std::uint64_t snapshot(const SvarKalmanFilter& f, const detail::LanePlan& plan, double* xslot, double* sdslot) {
+  const std::vector<double>& x = FilterAccess::x(f);
+  const std::vector<double>& p = FilterAccess::p(f);
+  std::copy(x.begin(), x.end(), xslot);
+  std::uint64_t clamped = 0;
+  for (const detail::LaneGroup& grp : plan.groups) {
+    for (int i = 0; i < grp.d; ++i) {
+      const double* v = p.data() + grp.p_off + (static_cast<std::size_t>(i) * grp.d + i) * kLanes;
+      double* sd = sdslot + grp.x_off + static_cast<std::size_t>(i) * kLanes;
+      for (int w = 0; w < kLanes; ++w) {
+        // Rounding can leave a variance <= 0 after many updates of an ill-scaled outcome: report 0 and count
+        // it (the caller decides what to say); a NaN stays NaN, visible to the caller's output check.
+        const bool usable = v[w] > 0.0 || std::isnan(v[w]);
+        sd[w] = usable ? std::sqrt(v[w]) : 0.0;
+        clamped += static_cast<std::uint64_t>(!usable && w < grp.count);
+      }
+    }
+  }
+  return clamped;
 }
 
 EstimationRun filter_pass(const SvarLayout& layout, const std::vector<NoiseParams>& noise,
@@ -94,30 +124,12 @@ EstimationRun filter_pass(const SvarLayout& layout, const std::vector<NoiseParam
   std::vector<double> row(samples.cols()), xbuf(static_cast<std::size_t>(block) * nx), sdbuf(xbuf.size());
   for (Eigen::Index lo = 0; lo < n; lo += block) {
     const Eigen::Index count = std::min(block, n - lo);
+    Eigen::Index until_kept = (output.every - lo % output.every) % output.every;  // samples to the next kept one
     for (Eigen::Index t = 0; t < count; ++t) {
       step(f, samples, discontinuity, lo + t, row, &run);
-      const bool kept = (lo + t) % output.every == 0;
-      if (!kept) continue;
-      const std::vector<double>& x = FilterAccess::x(f);
-      const std::vector<double>& p = FilterAccess::p(f);
-      std::copy(x.begin(), x.end(), xbuf.begin() + static_cast<std::ptrdiff_t>(t * nx));
-      double* sd = sdbuf.data() + t * nx;
-      for (const detail::LaneGroup& grp : plan.groups) {
-        for (int i = 0; i < grp.d; ++i) {
-          for (int w = 0; w < grp.count; ++w) {
-            const double v = p[grp.p_off + (static_cast<std::size_t>(i) * grp.d + i) * kLanes + w];
-            // Rounding can leave a variance <= 0 after many updates of an ill-scaled outcome: report 0 and count
-            // it (the caller decides what to say); a NaN stays NaN, visible to the caller's output check.
-            const std::size_t at = grp.x_off + static_cast<std::size_t>(i) * kLanes + w;
-            if (v > 0.0 || std::isnan(v)) {
-              sd[at] = std::sqrt(v);
-            } else {
-              sd[at] = 0.0;
-              if (w < grp.count) ++run.clamped_variances;
-            }
-          }
-        }
-      }
+      if (until_kept-- != 0) continue;
+      until_kept = output.every - 1;
+      run.clamped_variances += snapshot(f, plan, xbuf.data() + t * nx, sdbuf.data() + t * nx);
     }
     scatter(layout, plan, xbuf.data(), sdbuf.data(), nx, lo, count, output.every, run);
   }

@@ -112,47 +112,60 @@ void SvarKalmanFilter::reset() {
   counters_ = FilterCounters{};
 }
 
-SampleStatus SvarKalmanFilter::step(const double* y, bool discontinuity) {
-  const auto& groups = plan_->groups;
-  const int n_groups = static_cast<int>(groups.size());
-  if (steps_ > 0) {
-    // P += q I for every sample, usable or not: time passes.
+// The whole step (prediction, screening, lag window, regressor gather, per-outcome scatter) is cloned like the
+// update kernels it calls, so the glue between the kernels also runs on 4-wide vectors (and avoids the
+// SSE/AVX transition of a baseline caller around AVX clones).
+struct SvarKalmanFilter::StepKernel {
+  CAUSAL_CORE_CLONES static SampleStatus run(SvarKalmanFilter& f, const double* y, bool discontinuity) {
+    const auto& groups = f.plan_->groups;
+    const int n_groups = static_cast<int>(groups.size());
+    if (f.steps_ > 0) {
+      // P += q I for every sample, usable or not: time passes.
+      for (int gi = 0; gi < n_groups; ++gi) {
+        const detail::LaneGroup& grp = groups[gi];
+        detail::V4* p = detail::lanes(f.p_.data() + grp.p_off);
+        const detail::V4 q = detail::lanes(f.q_.data() + gi * detail::kLanes)[0];
+        for (int i = 0; i < grp.d; ++i) p[i * grp.d + i] += q;
+      }
+    }
+    ++f.steps_;
+    const int g = f.g_, m = f.m_;
+    const SampleStatus status = detail::classify_sample(y, g, m, discontinuity, f.history_);
+    if (status == SampleStatus::RejectedNonFinite) {
+      ++f.counters_.rejected_non_finite;
+      return status;
+    }
+    // Shift the lag window by one sample (row l holds y[n-l]) and put y in row 0.
+    double* window = f.window_.data();
+    std::memmove(window + g, window, sizeof(double) * static_cast<std::size_t>(m * g));
+    std::memcpy(window, y, sizeof(double) * static_cast<std::size_t>(g));
+    if (status == SampleStatus::WarmUp) {
+      ++f.counters_.warm_up;
+      return status;
+    }
+    const std::size_t nh = f.h_.size();
+    double* h = f.h_.data();
+    const int* gather = f.gather_.data();
+    for (std::size_t i = 0; i < nh; ++i) h[i] = window[gather[i]];
+    for (int gi = 0; gi < n_groups; ++gi) f.update_fn_[gi](f, gi);
     for (int gi = 0; gi < n_groups; ++gi) {
       const detail::LaneGroup& grp = groups[gi];
-      detail::V4* p = detail::lanes(p_.data() + grp.p_off);
-      const detail::V4 q = detail::lanes(q_.data() + gi * detail::kLanes)[0];
-      for (int i = 0; i < grp.d; ++i) p[i * grp.d + i] += q;
+      for (int w = 0; w < grp.count; ++w) {
+        f.e_[grp.outcome[w]] = f.e_lane_[gi * detail::kLanes + w];
+        f.s_[grp.outcome[w]] = f.s_lane_[gi * detail::kLanes + w];
+      }
     }
-  }
-  ++steps_;
-  const SampleStatus status = detail::classify_sample(y, g_, m_, discontinuity, history_);
-  if (status == SampleStatus::RejectedNonFinite) {
-    ++counters_.rejected_non_finite;
+    for (int k : f.plan_->empty) {  // no factors: the whole of y_k is innovation
+      f.e_[k] = y[k];
+      f.s_[k] = f.noise_[k].r;
+    }
+    ++f.counters_.updated;
     return status;
   }
-  // Shift the lag window by one sample (row l holds y[n-l]) and put y in row 0.
-  std::memmove(window_.data() + g_, window_.data(), sizeof(double) * static_cast<std::size_t>(m_ * g_));
-  std::memcpy(window_.data(), y, sizeof(double) * static_cast<std::size_t>(g_));
-  if (status == SampleStatus::WarmUp) {
-    ++counters_.warm_up;
-    return status;
-  }
-  const std::size_t nh = h_.size();
-  for (std::size_t i = 0; i < nh; ++i) h_[i] = window_[gather_[i]];
-  for (int gi = 0; gi < n_groups; ++gi) update_fn_[gi](*this, gi);
-  for (int gi = 0; gi < n_groups; ++gi) {
-    const detail::LaneGroup& grp = groups[gi];
-    for (int w = 0; w < grp.count; ++w) {
-      e_[grp.outcome[w]] = e_lane_[gi * detail::kLanes + w];
-      s_[grp.outcome[w]] = s_lane_[gi * detail::kLanes + w];
-    }
-  }
-  for (int k : plan_->empty) {  // no factors: the whole of y_k is innovation
-    e_[k] = y[k];
-    s_[k] = noise_[k].r;
-  }
-  ++counters_.updated;
-  return status;
+};
+
+SampleStatus SvarKalmanFilter::step(const double* y, bool discontinuity) {
+  return StepKernel::run(*this, y, discontinuity);
 }
 
 double SvarKalmanFilter::last_innovation(int k) const { return e_.at(k); }

@@ -12,7 +12,7 @@
 // rejected samples therefore still grow P by q I; their estimate is the prediction.
 //
 // Cost per sample: O(sum_k d_k^2) with d_k = factor_count(k); no heap allocation after construction.
-// Outcomes of equal dimension are updated four at a time in SIMD lanes; dimensions 1..12 use kernels with
+// Outcomes of equal dimension are updated four at a time in SIMD lanes; dimensions 1..14 use kernels with
 // compile-time sizes.
 #pragma once
 
@@ -92,6 +92,7 @@ class SvarKalmanFilter {
   using UpdateFn = void (*)(SvarKalmanFilter&, int group);
   template <int D>
   struct Select;
+  struct StepKernel;  // step() itself, compiled per instruction set (src/svar_kalman_filter.cpp)
 
   // Internals are "lane groups" of up to 4 outcomes of equal dimension updated together in SIMD lanes
   // (src/kernels.hpp, src/lane_plan.hpp); vectors/matrices are stored lane-interleaved.
