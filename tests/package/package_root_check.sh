@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Runs inside a private mount namespace (test_package_deb.sh starts it with unshare -m): /usr, /etc and /var
+# become copy-on-write overlays on a tmpfs, so the real dpkg -i / dpkg -P below change nothing outside this
+# namespace; the source and build trees are hidden under empty tmpfs mounts and /dev/shm is private. Then:
+# install the .deb, run the installed binaries and demo from /, purge, and check that nothing is left.
+#   package_root_check.sh WORK DEB DOMAIN HIDE_DIR...
+# Writes its results under WORK/installed_* (WORK must not be under a hidden folder); exit 0 = all checks passed.
+set -euo pipefail
+work="$1"; deb="$2"; domain="$3"; shift 3
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+mount --make-rprivate /
+mkdir -p "$work/ov"
+mount -t tmpfs tmpfs "$work/ov"
+for d in usr etc var; do
+  mkdir -p "$work/ov/$d/upper" "$work/ov/$d/work" "$work/ov/$d/lower"
+  mount --bind "/$d" "$work/ov/$d/lower"  # the original, to compare with after the purge
+  mount -t overlay overlay -o "lowerdir=/$d,upperdir=$work/ov/$d/upper,workdir=$work/ov/$d/work" "/$d"
+done
+mount -t tmpfs tmpfs /dev/shm
+# A folder inside one hidden before (the build tree in the source tree) is already gone.
+for d in "$@"; do if [ -d "$d" ]; then mount -t tmpfs tmpfs "$d"; fi; done
+for d in "$@"; do [ ! -d "$d" ] || [ -z "$(ls -A "$d")" ] || fail "$d still visible"; done
+
+cd /
+echo "--- dpkg -i $(basename "$deb")"
+dpkg -i "$deb" > "$work/installed_dpkg_i.log" 2>&1 || { cat "$work/installed_dpkg_i.log"; fail "dpkg -i"; }
+getent passwd causal-twin > /dev/null || fail "postinst made no user causal-twin"
+[ "$(stat -c %U "/var/lib/causal-twin")" = causal-twin ] || fail "/var/lib/causal-twin not owned by causal-twin"
+listed=$(dpkg -L causal-twin)
+
+echo "--- causal-estimator --help from /"
+help=$(causal-estimator --help) || fail "causal-estimator --help exited non-zero"
+grep -q "default: /etc/causal-twin/qos.xml (from /etc/causal-twin)" <<< "$help" || fail "--help: qos.xml not from /etc/causal-twin"
+echo "$help" | grep -o "default: [^ ]*qos.xml[^;]*" | head -1
+
+echo "--- systemd-analyze verify"
+units=(/usr/lib/systemd/system/causal-twin.target /usr/lib/systemd/system/causal-twin-*.service)
+[ ${#units[@]} = 6 ] || fail "expected 6 units, found ${#units[@]}"
+verify=$(systemd-analyze verify "${units[@]}" 2>&1) || { echo "$verify"; fail "systemd-analyze verify"; }
+[ -z "$(grep -i causal-twin <<< "$verify" || true)" ] || { echo "$verify"; fail "systemd-analyze verify warned"; }
+echo "6 units verified"
+
+echo "--- causal-twin-demo from / (the slice, domain $domain)"
+timeout 120 causal-twin-demo --domain "$domain" --record "$work/installed_slice" > "$work/installed_slice.log" 2>&1 \
+  || { tail -20 "$work/installed_slice.log"; fail "causal-twin-demo (slice) exited non-zero"; }
+echo "--- causal-twin-demo from / (the 984-snapshot feature table, domain $domain)"
+timeout 120 causal-twin-demo --domain "$domain" --features /usr/share/causal-twin/data/ims2-features/derived_per_file_stats_all984.csv \
+  --feature-suffix _meanabs --feature-name meanabs --ask 3:-10 --record "$work/installed_features" \
+  > "$work/installed_features.log" 2>&1 || { tail -20 "$work/installed_features.log"; fail "causal-twin-demo (features) exited non-zero"; }
+# The demo wrote nothing under /usr (only the package's own files are in its upper layer).
+extra=$(cd "$work/ov/usr/upper" && find . -type f | sed 's|^\.|/usr|' | grep -vxF -f <(echo "$listed") || true)
+[ -z "$extra" ] || fail "written under /usr besides the package: $extra"
+
+echo "--- dpkg -P causal-twin"
+dpkg -P causal-twin > "$work/installed_dpkg_p.log" 2>&1 || { cat "$work/installed_dpkg_p.log"; fail "dpkg -P"; }
+# Every path dpkg -L listed is gone, unless it existed before the install (a folder such as /usr/bin).
+left=""
+while read -r f; do
+  top="${f#/}"; top="${top%%/*}"
+  case "$top" in usr|etc|var) ;; *) continue ;; esac
+  [ -e "$f" ] || [ -L "$f" ] || continue
+  [ -d "$f" ] && [ -d "$work/ov/$top/lower${f#/$top}" ] && continue
+  left+="$f "
+done <<< "$listed"
+[ -z "$left" ] || fail "left after purge: $left"
+for p in /etc/causal-twin /var/lib/causal-twin /usr/share/causal-twin; do [ ! -e "$p" ] || fail "$p left after purge"; done
+! getent passwd causal-twin > /dev/null || fail "user causal-twin left after purge"
+! getent group causal-twin > /dev/null || fail "group causal-twin left after purge"
+# Every file the install touched is back as it was, except dpkg's own records and the account files' backups.
+changed=""
+for d in usr etc var; do
+  while read -r f; do
+    case "/$d/$f" in /var/lib/dpkg/*|/var/log/*|/var/cache/*|/etc/passwd-|/etc/group-|/etc/shadow-|/etc/gshadow-|/etc/subuid-|/etc/subgid-) continue ;; esac
+    cmp -s "$work/ov/$d/upper/$f" "$work/ov/$d/lower/$f" || changed+="/$d/$f "
+  done < <(cd "$work/ov/$d/upper" && find . -type f | sed 's|^\./||')
+done
+[ -z "$changed" ] || fail "changed after purge: $changed"
+echo "purge: nothing left"
