@@ -4,7 +4,8 @@
 # namespace; the source and build trees are hidden under empty tmpfs mounts and /dev/shm is private. Then:
 # install the .deb, run the installed binaries and demo from /, purge, and check that nothing is left.
 #   package_root_check.sh WORK DEB DOMAIN HIDE_DIR...
-# Writes its results under WORK/installed_* (WORK must not be under a hidden folder); exit 0 = all checks passed.
+# Writes its results under WORK/installed_* and WORK/units_conditions.csv (WORK must not be under a hidden
+# folder); exit 0 = all checks passed.
 set -euo pipefail
 work="$1"; deb="$2"; domain="$3"; shift 3
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -51,6 +52,61 @@ timeout 120 causal-twin-demo --domain "$domain" --features /usr/share/causal-twi
 # The demo wrote nothing under /usr (only the package's own files are in its upper layer).
 extra=$(cd "$work/ov/usr/upper" && find . -type f | sed 's|^\.|/usr|' | grep -vxF -f <(echo "$listed") || true)
 [ -z "$extra" ] || fail "written under /usr besides the package: $extra"
+
+echo "--- the units' commands as user causal-twin (no systemd here: ExecStart and the .env files read as systemd does)"
+# The operator's one edit: this cell's domain.
+echo "CAUSAL_TWIN_DOMAIN_ID=$domain" >> /etc/causal-twin/twin.env
+# unit_argv UNIT INSTANCE: ExecStart with %i and the unit's EnvironmentFile variables expanded ($VAR splits
+# into words, as in systemd), into argv; the environment files' assignments into envv.
+unit_argv() {
+  local unit="/usr/lib/systemd/system/$1" instance="$2" line file key value
+  declare -gA unit_env=()
+  envv=()
+  while read -r file; do
+    file="${file#-}"; file="${file//%i/$instance}"
+    [ -f "$file" ] || continue
+    while IFS= read -r line; do
+      [[ "$line" =~ ^[A-Za-z_][A-Za-z0-9_]*= ]] || continue
+      key="${line%%=*}"; value="${line#*=}"
+      unit_env[$key]="$value"; envv+=("$key=$value")
+    done < "$file"
+  done < <(sed -n 's/^EnvironmentFile=//p' "$unit")
+  line="$(sed -n 's/^ExecStart=//p' "$unit")"; line="${line//%i/$instance}"
+  for key in "${!unit_env[@]}"; do line="${line//\$$key/${unit_env[$key]}}"; done
+  read -ra argv <<< "$line"
+  [ "$(grep -c '^User=causal-twin$' "$unit")" = 1 ] || fail "$1 does not run as causal-twin"
+}
+unit_pids=()
+unit_names=()
+start_unit() {  # UNIT INSTANCE
+  unit_argv "$1" "$2"
+  env "${envv[@]}" setpriv --reuid causal-twin --regid causal-twin --init-groups "${argv[@]}" \
+    > "$work/unit_$1.log" 2>&1 &
+  unit_pids+=($!); unit_names+=("$1")
+}
+cd /var/lib/causal-twin
+start_unit causal-twin-recorder.service ""
+start_unit causal-twin-recommender.service ""
+start_unit causal-twin-estimator@.service main
+unit_argv causal-twin-sensor@.service ims2-slice
+env "${envv[@]}" setpriv --reuid causal-twin --regid causal-twin --init-groups timeout 60 "${argv[@]}" \
+  > "$work/unit_sensor.log" 2>&1 || { tail "$work/unit_sensor.log"; fail "causal-twin-sensor@ims2-slice"; }
+recorded=/var/lib/causal-twin/recordings/conditions_ims2-shaft1_meanabs.csv
+for _ in $(seq 300); do [ -f "$recorded" ] && [ "$(($(wc -l < "$recorded") - 1))" = 6 ] && break; sleep 0.1; done
+for p in "${unit_pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+for i in "${!unit_pids[@]}"; do
+  rc=0; wait "${unit_pids[$i]}" || rc=$?
+  [ "$rc" = 0 ] || { tail "$work/unit_${unit_names[$i]}.log"; fail "${unit_names[$i]} exited $rc on SIGTERM"; }
+done
+cd /
+[ -f "$recorded" ] || fail "the recorder unit wrote no $recorded"
+cp "$recorded" "$work/units_conditions.csv"
+echo "units: recorder wrote $(($(wc -l < "$recorded") - 1)) condition vectors to /var/lib/causal-twin/recordings"
+for d in estimator-main recommender recordings; do
+  [ -n "$(ls -A "/var/lib/causal-twin/$d" 2>/dev/null)" ] || fail "nothing in /var/lib/causal-twin/$d"
+  [ -z "$(find "/var/lib/causal-twin/$d" ! -user causal-twin)" ] || fail "/var/lib/causal-twin/$d: files not owned by causal-twin"
+done
+echo "units: checkpoints in estimator-main ($(ls /var/lib/causal-twin/estimator-main | wc -l) files) and recommender ($(ls /var/lib/causal-twin/recommender | wc -l) files), all owned by causal-twin; every service exited 0 on SIGTERM"
 
 echo "--- dpkg -P causal-twin"
 dpkg -P causal-twin > "$work/installed_dpkg_p.log" 2>&1 || { cat "$work/installed_dpkg_p.log"; fail "dpkg -P"; }

@@ -4,10 +4,11 @@
 #   2. the build-tree demo on the 984-snapshot feature table is the reference (domain 80);
 #   3. in a private mount namespace (package_root_check.sh: /usr, /etc, /var copy-on-write, source and build trees
 #      hidden) the .deb is installed with dpkg -i, causal-estimator --help and causal-twin-demo run from / on the
-#      shipped slice and feature table (domain 81), the units pass systemd-analyze verify, and dpkg -P leaves
-#      nothing behind;
+#      shipped slice and feature table (domain 81), the units pass systemd-analyze verify, their commands run as
+#      user causal-twin (recorder, recommender, estimator@main, then sensor@ims2-slice; stopped by SIGTERM, exit 0,
+#      state in /var/lib/causal-twin), and dpkg -P leaves nothing behind;
 #   4. the installed runs are counted exactly: the slice gives one condition vector and one factor row per
-#      snapshot file shipped, the feature table one per table row, and every recorded CSV has as many rows as the
+#      snapshot file shipped (also through the units), the feature table one per table row, and every recorded CSV has as many rows as the
 #      build-tree run's.
 # Needs root and unshare (mount namespaces, overlayfs); exits 77 (ctest: skipped) when they are not available.
 #   test_package_deb.sh SOURCE_DIR BUILD_DIR
@@ -55,6 +56,8 @@ for f in conditions_ims2-shaft1_meanabs factors_ims2-shaft1_condition_filter fac
     || fail "installed feature run: $f has $(rows "$work/installed_features/$f.csv") rows, table has $table_rows"
 done
 echo "installed slice run: $snapshots rows per condition file (= snapshot files shipped)"
+[ "$(rows "$work/units_conditions.csv")" = "$snapshots" ] \
+  || fail "units: the recorder wrote $(rows "$work/units_conditions.csv") condition vectors, $snapshots snapshot files"
 [ "$(cd "$work/ref_features" && ls ./*.csv)" = "$(cd "$work/installed_features" && ls ./*.csv)" ] \
   || fail "installed run recorded other files than the build-tree run"
 for f in "$work"/ref_features/*.csv; do
