@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Runs inside a private mount namespace (test_package_deb.sh starts it with unshare -m): /usr, /etc and /var
 # become copy-on-write overlays on a tmpfs, so the real dpkg -i / dpkg -P below change nothing outside this
-# namespace; the source and build trees are hidden under empty tmpfs mounts and /dev/shm is private. Then:
-# install the .deb, run the installed binaries and demo from /, purge, and check that nothing is left.
-#   package_root_check.sh WORK DEB DOMAIN HIDE_DIR...
+# namespace; /dev/shm is private. Then: install the .deb, check that a build-tree binary still reads its own
+# source tree, hide the source and build trees under empty tmpfs mounts, run the installed binaries, the demo and
+# the units' commands from /, purge, and check that nothing is left.
+#   package_root_check.sh WORK DEB DOMAIN BUILD_TREE_ESTIMATOR HIDE_DIR...
 # Writes its results under WORK/installed_* and WORK/units_conditions.csv (WORK must not be under a hidden
 # folder); exit 0 = all checks passed.
 set -euo pipefail
-work="$1"; deb="$2"; domain="$3"; shift 3
+work="$1"; deb="$2"; domain="$3"; build_estimator="$4"; shift 4
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 mount --make-rprivate /
@@ -19,9 +20,6 @@ for d in usr etc var; do
   mount -t overlay overlay -o "lowerdir=/$d,upperdir=$work/ov/$d/upper,workdir=$work/ov/$d/work" "/$d"
 done
 mount -t tmpfs tmpfs /dev/shm
-# A folder inside one hidden before (the build tree in the source tree) is already gone.
-for d in "$@"; do if [ -d "$d" ]; then mount -t tmpfs tmpfs "$d"; fi; done
-for d in "$@"; do [ ! -d "$d" ] || [ -z "$(ls -A "$d")" ] || fail "$d still visible"; done
 
 cd /
 echo "--- dpkg -i $(basename "$deb")"
@@ -29,6 +27,15 @@ dpkg -i "$deb" > "$work/installed_dpkg_i.log" 2>&1 || { cat "$work/installed_dpk
 getent passwd causal-twin > /dev/null || fail "postinst made no user causal-twin"
 [ "$(stat -c %U "/var/lib/causal-twin")" = causal-twin ] || fail "/var/lib/causal-twin not owned by causal-twin"
 listed=$(dpkg -L causal-twin)
+
+echo "--- with the package installed, a build-tree binary still reads its own source tree"
+"$build_estimator" --help | grep -q "qos.xml (from the source tree (build-tree binary))" \
+  || fail "the build-tree causal-estimator does not take qos.xml from its source tree: $("$build_estimator" --help | grep -o 'default: [^ ]*qos.xml[^;]*' | head -1)"
+"$build_estimator" --help | grep -o "default: [^ ]*qos.xml[^;]*" | head -1
+
+# From here on no source or build tree: a folder inside one hidden before (the build tree) is already gone.
+for d in "$@"; do if [ -d "$d" ]; then mount -t tmpfs tmpfs "$d"; fi; done
+for d in "$@"; do [ ! -d "$d" ] || [ -z "$(ls -A "$d")" ] || fail "$d still visible"; done
 
 echo "--- causal-estimator --help from /"
 help=$(causal-estimator --help) || fail "causal-estimator --help exited non-zero"

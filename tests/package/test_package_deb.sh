@@ -2,14 +2,15 @@
 # The Debian package, end to end (ctest label "package", DDS domains 80 and 81):
 #   1. cpack -G DEB writes exactly one causal-twin_*.deb;
 #   2. the build-tree demo on the 984-snapshot feature table is the reference (domain 80);
-#   3. in a private mount namespace (package_root_check.sh: /usr, /etc, /var copy-on-write, source and build trees
-#      hidden) the .deb is installed with dpkg -i, causal-estimator --help and causal-twin-demo run from / on the
-#      shipped slice and feature table (domain 81), the units pass systemd-analyze verify, their commands run as
-#      user causal-twin (recorder, recommender, estimator@main, then sensor@ims2-slice; stopped by SIGTERM, exit 0,
+#   3. in a private mount namespace (package_root_check.sh: /usr, /etc, /var copy-on-write) the .deb is installed
+#      with dpkg -i and the build-tree causal-estimator still takes qos.xml from the source tree; then, with the
+#      source and build trees hidden, causal-estimator --help and causal-twin-demo run from / on the shipped slice
+#      and feature table (domain 81), the units pass systemd-analyze verify, their commands run as user
+#      causal-twin (recorder, recommender, estimator@main, then sensor@ims2-slice; stopped by SIGTERM, exit 0,
 #      state in /var/lib/causal-twin), and dpkg -P leaves nothing behind;
 #   4. the installed runs are counted exactly: the slice gives one condition vector and one factor row per
-#      snapshot file shipped (also through the units), the feature table one per table row, and every recorded CSV has as many rows as the
-#      build-tree run's.
+#      snapshot file shipped (also through the units), the feature table one per table row, and every recorded
+#      CSV has as many rows as the build-tree run's.
 # Needs root and unshare (mount namespaces, overlayfs); exits 77 (ctest: skipped) when they are not available.
 #   test_package_deb.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
@@ -44,7 +45,8 @@ CAUSAL_TWIN_BUILD_DIR="$build" timeout 120 "$src/deploy/launch.sh" --domain "$re
   || { tail -20 "$work/ref_features.log"; fail "build-tree demo exited non-zero"; }
 
 cp "$src/tests/package/package_root_check.sh" "$work/"
-unshare -m bash "$work/package_root_check.sh" "$work" "$deb" "$installed_domain" "$src" "$build"
+unshare -m bash "$work/package_root_check.sh" "$work" "$deb" "$installed_domain" \
+  "$build/services/causal_estimator/causal-estimator" "$src" "$build"
 
 rows() { echo $(( $(wc -l < "$1") - 1 )); }  # data rows below the header
 snapshots=$(find "$src/deploy/data/ims2-slice" -name '*.gz' | wc -l)
