@@ -24,12 +24,22 @@ install(DIRECTORY deploy/dds deploy/config deploy/data DESTINATION ${CAUSAL_TWIN
 install(PROGRAMS deploy/security/make-pki.sh deploy/security/issue-identity.sh deploy/security/revoke-identity.sh
   DESTINATION ${CAUSAL_TWIN_SHARE}/security)
 
-# The site configuration: always /etc/causal-twin (where config_search looks), also for a /usr/local install.
+# The site configuration: /etc/causal-twin (where config_search looks) for the package (prefix /usr), else
+# <prefix>/etc/causal-twin, so `cmake --install build --prefix DIR` writes nothing outside DIR (its binaries
+# read DIR/share/causal-twin). Decided at install time: cpack installs with prefix /usr.
 set(CAUSAL_TWIN_ETC_DIR /etc/causal-twin)
 file(GLOB causal_twin_etc_files CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/deploy/dds/*.xml ${CMAKE_CURRENT_SOURCE_DIR}/deploy/config/*.yaml
   ${CMAKE_CURRENT_SOURCE_DIR}/deploy/systemd/env/*.env)
-install(FILES ${causal_twin_etc_files} DESTINATION ${CAUSAL_TWIN_ETC_DIR})
+install(CODE "
+  if(CMAKE_INSTALL_PREFIX STREQUAL \"/usr\")
+    set(causal_twin_etc ${CAUSAL_TWIN_ETC_DIR})
+  else()
+    set(causal_twin_etc \"\${CMAKE_INSTALL_PREFIX}/etc/causal-twin\")
+  endif()
+  # file(INSTALL) puts \$DESTDIR in front, as for every other install rule.
+  file(INSTALL DESTINATION \"\${causal_twin_etc}\" TYPE FILE FILES ${causal_twin_etc_files})
+")
 
 # systemd units: ExecStart names the binaries by the prefix seen at install time (/usr in the package, where
 # `cmake --install --prefix P` put them otherwise), so the units are written when installing.

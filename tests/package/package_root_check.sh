@@ -4,11 +4,12 @@
 # namespace; /dev/shm is private. Then: install the .deb, check that a build-tree binary still reads its own
 # source tree, hide the source and build trees under empty tmpfs mounts, run the installed binaries, the demo and
 # the units' commands from /, purge, and check that nothing is left.
-#   package_root_check.sh WORK DEB DOMAIN BUILD_TREE_ESTIMATOR HIDE_DIR...
+#   package_root_check.sh WORK DEB DOMAIN BUILD_TREE_ESTIMATOR PREFIX_DIR HIDE_DIR...
+# PREFIX_DIR: a `cmake --install --prefix` tree, run after the purge (no /etc/causal-twin then).
 # Writes its results under WORK/installed_* and WORK/units_conditions.csv (WORK must not be under a hidden
 # folder); exit 0 = all checks passed.
 set -euo pipefail
-work="$1"; deb="$2"; domain="$3"; build_estimator="$4"; shift 4
+work="$1"; deb="$2"; domain="$3"; build_estimator="$4"; prefix_dir="$5"; shift 5
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 mount --make-rprivate /
@@ -29,9 +30,12 @@ getent passwd causal-twin > /dev/null || fail "postinst made no user causal-twin
 listed=$(dpkg -L causal-twin)
 
 echo "--- with the package installed, a build-tree binary still reads its own source tree"
-"$build_estimator" --help | grep -q "qos.xml (from the source tree (build-tree binary))" \
-  || fail "the build-tree causal-estimator does not take qos.xml from its source tree: $("$build_estimator" --help | grep -o 'default: [^ ]*qos.xml[^;]*' | head -1)"
-"$build_estimator" --help | grep -o "default: [^ ]*qos.xml[^;]*" | head -1
+# (--help captured first: grep -q ending the pipe early would fail it under pipefail)
+help=$("$build_estimator" --help) || fail "build-tree causal-estimator --help exited non-zero"
+qos_line=$(grep -m1 -o "default: [^ ]*qos.xml[^;]*" <<< "$help" || true)
+grep -qF "qos.xml (from the source tree (build-tree binary))" <<< "$qos_line" \
+  || fail "the build-tree causal-estimator does not take qos.xml from its source tree: $qos_line"
+echo "$qos_line"
 
 # From here on no source or build tree: a folder inside one hidden before (the build tree) is already gone.
 for d in "$@"; do if [ -d "$d" ]; then mount -t tmpfs tmpfs "$d"; fi; done
@@ -39,8 +43,9 @@ for d in "$@"; do [ ! -d "$d" ] || [ -z "$(ls -A "$d")" ] || fail "$d still visi
 
 echo "--- causal-estimator --help from /"
 help=$(causal-estimator --help) || fail "causal-estimator --help exited non-zero"
-grep -q "default: /etc/causal-twin/qos.xml (from /etc/causal-twin)" <<< "$help" || fail "--help: qos.xml not from /etc/causal-twin"
-echo "$help" | grep -o "default: [^ ]*qos.xml[^;]*" | head -1
+qos_line=$(grep -m1 -o "default: [^ ]*qos.xml[^;]*" <<< "$help" || true)
+[ "$qos_line" = "default: /etc/causal-twin/qos.xml (from /etc/causal-twin)" ] || fail "--help: qos.xml not from /etc/causal-twin: $qos_line"
+echo "$qos_line"
 
 echo "--- systemd-analyze verify"
 units=(/usr/lib/systemd/system/causal-twin.target /usr/lib/systemd/system/causal-twin-*.service)
@@ -140,3 +145,13 @@ for d in usr etc var; do
 done
 [ -z "$changed" ] || fail "changed after purge: $changed"
 echo "purge: nothing left"
+
+echo "--- an install into a separate prefix, from / with no source or build tree and no /etc/causal-twin"
+help=$("$prefix_dir/bin/causal-estimator" --help) || fail "the prefix's causal-estimator --help exited non-zero"
+qos_line=$(grep -m1 -o "default: [^ ]*qos.xml[^;]*" <<< "$help" || true)
+[ "$qos_line" = "default: $prefix_dir/share/causal-twin/dds/qos.xml (from the installed defaults)" ] \
+  || fail "the prefix's causal-estimator does not take qos.xml from $prefix_dir/share/causal-twin/dds: $qos_line"
+echo "$qos_line"
+timeout 120 "$prefix_dir/bin/causal-twin-demo" --domain "$domain" --record "$work/prefix_slice" > "$work/prefix_slice.log" 2>&1 \
+  || { tail -20 "$work/prefix_slice.log"; fail "the prefix's causal-twin-demo exited non-zero"; }
+echo "prefix demo: exit 0"

@@ -8,6 +8,8 @@
 #      and feature table (domain 81), the units pass systemd-analyze verify, their commands run as user
 #      causal-twin (recorder, recommender, estimator@main, then sensor@ims2-slice; stopped by SIGTERM, exit 0,
 #      state in /var/lib/causal-twin), and dpkg -P leaves nothing behind;
+#      Also cmake --install into a separate prefix (DESTDIR): nothing outside it, and after the purge its binaries
+#      and demo run from / without /etc/causal-twin;
 #   4. the installed runs are counted exactly: the slice gives one condition vector and one factor row per
 #      snapshot file shipped (also through the units), the feature table one per table row, and every recorded
 #      CSV has as many rows as the build-tree run's.
@@ -45,8 +47,14 @@ CAUSAL_TWIN_BUILD_DIR="$build" timeout 120 "$src/deploy/launch.sh" --domain "$re
   || { tail -20 "$work/ref_features.log"; fail "build-tree demo exited non-zero"; }
 
 cp "$src/tests/package/package_root_check.sh" "$work/"
+echo "--- cmake --install into a separate prefix (DESTDIR)"
+DESTDIR="$work/destdir" cmake --install "$build" --prefix /opt/causal-twin > "$work/prefix_install.log" 2>&1 \
+  || { cat "$work/prefix_install.log"; fail "cmake --install"; }
+[ "$(ls -A "$work/destdir")" = opt ] || fail "cmake --install --prefix /opt/causal-twin wrote outside it: $(ls -A "$work/destdir")"
+echo "$(find "$work/destdir" -type f | wc -l) files, all under /opt/causal-twin"
+
 unshare -m bash "$work/package_root_check.sh" "$work" "$deb" "$installed_domain" \
-  "$build/services/causal_estimator/causal-estimator" "$src" "$build"
+  "$build/services/causal_estimator/causal-estimator" "$work/destdir/opt/causal-twin" "$src" "$build"
 
 rows() { echo $(( $(wc -l < "$1") - 1 )); }  # data rows below the header
 snapshots=$(find "$src/deploy/data/ims2-slice" -name '*.gz' | wc -l)
@@ -70,4 +78,9 @@ for f in "$work"/ref_features/*.csv; do
 done
 grep -q "launch: every service exited 0" "$work/installed_features.log" || fail "installed feature run: a service lost data"
 grep -q "launch: every service exited 0" "$work/installed_slice.log" || fail "installed slice run: a service lost data"
+for f in conditions_ims2-shaft1_meanabs factors_ims2-shaft1_condition_filter factors_ims2-shaft1_condition_fixed-lag; do
+  [ "$(rows "$work/prefix_slice/$f.csv")" = "$snapshots" ] \
+    || fail "prefix slice run: $f has $(rows "$work/prefix_slice/$f.csv") rows, $snapshots snapshot files"
+done
+echo "prefix slice run: $snapshots rows per condition file"
 echo "PASS"
