@@ -25,6 +25,7 @@ PACKAGES=(
   openssl libssl-dev               # DDS-Security: the PKI scripts (deploy/security) and the credential checks
   dpkg-dev file                    # cpack -G DEB: dpkg-shlibdeps derives the package's Depends from the binaries
   systemd adduser                  # the package test: systemd-analyze verify on the units; the postinst's adduser
+  libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
 )
 
 missing=()

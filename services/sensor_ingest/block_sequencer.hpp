@@ -1,0 +1,65 @@
+// Turns the source's blocks of one or more asset groups into the frame stream the IDL asks for, DDS-free:
+// per asset group, frame sequence numbers 0, 1, 2, ... with no gaps (a gap on the topic means frames lost
+// between the adapter and the reader, so the adapter never creates one) and first_sample_index counting
+// every sample published. What the source skipped is not a lost frame: a gap in the source's sequence or
+// time, a changed sample rate, a restarted source or a new segment after end_of_segment is flagged with
+// VibrationFrame.discontinuity (as sensor-replay flags each new snapshot), so the estimator restarts its
+// lags there, and opens a new snapshot index (the condition-level index of the segment).
+//
+// Time gap rule: the interval from the previous block's last sample to this block's first sample is a
+// gap when it exceeds gap_factor x the sample period (1.5: at least one sample is missing, while clock
+// jitter under half a sample is not).
+// Rejected (not published, counted): channels other than the group's first block had (layout_change), a
+// source sequence number seen already (duplicate: MQTT QoS 1 may deliver twice), and a block that starts
+// before the previous one ended (out_of_order: time going backwards or overlapping).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ingest_block.hpp"
+
+namespace causal::ingest {
+
+// What the frame for an admitted block carries besides the samples.
+struct FramePlan {
+  std::uint64_t sequence = 0;            // frame sequence number, per asset group, gap-free
+  std::uint64_t first_sample_index = 0;  // samples published for this group before this frame
+  std::uint64_t snapshot_index = 0;      // segment counter: +1 at every discontinuity after the first
+  bool discontinuity = false;
+  std::string why;  // why a discontinuity ("" when none), for the log
+};
+
+struct Admission {
+  std::optional<FramePlan> plan;  // set when admitted
+  RejectReason reason = RejectReason::OutOfOrder;
+  std::string detail;
+};
+
+class BlockSequencer {
+ public:
+  explicit BlockSequencer(double gap_factor = 1.5) : gap_factor_(gap_factor) {}
+  // Decides about one parsed block and, when it is admitted, advances the group's state.
+  Admission admit(const IngestBlock& block);
+  std::size_t groups() const { return groups_.size(); }
+
+ private:
+  struct Group {
+    std::vector<std::string> channels;
+    std::uint64_t last_source_sequence = 0;
+    std::int64_t last_t0_ns = 0;
+    std::size_t last_samples = 0;
+    double last_rate_hz = 0.0;
+    bool segment_closed = false;  // the last block had end_of_segment
+    std::uint64_t next_sequence = 0;
+    std::uint64_t next_sample_index = 0;
+    std::uint64_t snapshot_index = 0;
+  };
+  double gap_factor_;
+  std::map<std::string, Group> groups_;
+};
+
+}  // namespace causal::ingest

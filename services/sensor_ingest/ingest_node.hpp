@@ -1,0 +1,68 @@
+// sensor-ingest's DDS node: a source (MQTT, UDP, stdin) fills a bounded queue; run() takes each message,
+// parses it (ingest_block.hpp), orders it into the asset group's frame stream (block_sequencer.hpp) and
+// publishes it as a VibrationFrame. Bad messages are rejected and counted by reason, never fatal.
+// Exit codes: 0 done, 3 no readers in time, 4 a message was rejected or a frame lost.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <memory>
+
+#include "block_sequencer.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal/metrics/metrics_registry.hpp"
+#include "causal_twinPubSubTypes.h"
+#include "ingest_options.hpp"
+#include "ingest_sources.hpp"
+
+namespace causal::ingest {
+
+// Logs the first few events of a class at once, then at most one line per interval with the count since.
+class RateLimitedLog {
+ public:
+  // True when this event should be logged now; `suppressed` is set to the events skipped since the last line.
+  bool allow(std::uint64_t& suppressed);
+
+ private:
+  std::uint64_t seen_ = 0, skipped_ = 0;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+class IngestNode {
+ public:
+  explicit IngestNode(IngestOptions options);
+  ~IngestNode();
+  int run();
+  void stop();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void process(const std::string& message);
+  void count_rejection(RejectReason reason, const std::string& detail, const std::string& group);
+  void print_summary() const;
+
+  IngestOptions options_;
+  dds::Participant participant_;
+  dds::TypedWriter<causal_twin::VibrationFramePubSubType> frames_;
+  MessageQueue queue_;
+  std::unique_ptr<MessageSource> source_;
+  BlockSequencer sequencer_;
+  causal_twin::VibrationFrame frame_;
+  std::atomic<bool> stop_{false};
+  Clock::time_point deadline_ = Clock::time_point::max();
+
+  std::uint64_t received_ = 0, published_ = 0, lost_ = 0, non_finite_ = 0, discontinuities_ = 0;
+  std::array<std::uint64_t, kRejectReasonCount> rejected_{};
+  std::array<RateLimitedLog, kRejectReasonCount> reject_log_{};
+  RateLimitedLog discontinuity_log_, non_finite_log_;
+  metrics::Counter* received_metric_;
+  metrics::Counter* published_metric_;
+  metrics::Counter* lost_metric_;
+  metrics::Counter* non_finite_metric_;
+  metrics::Counter* discontinuity_metric_;
+  std::array<metrics::Counter*, kRejectReasonCount> rejected_metric_{};
+};
+
+}  // namespace causal::ingest

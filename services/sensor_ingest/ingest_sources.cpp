@@ -1,0 +1,249 @@
+#include "ingest_sources.hpp"
+
+#include <arpa/inet.h>
+#include <mosquitto.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <spdlog/spdlog.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+#include "causal/metrics/metrics_registry.hpp"
+
+namespace causal::ingest {
+
+bool MessageQueue::push(std::string message) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return closed_ || messages_.size() < capacity_; });
+  if (closed_) return false;
+  messages_.push_back(std::move(message));
+  changed_.notify_all();
+  return true;
+}
+
+std::optional<std::string> MessageQueue::pop(std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait_for(lock, timeout, [this] { return closed_ || !messages_.empty(); });
+  if (messages_.empty()) return std::nullopt;
+  std::string m = std::move(messages_.front());
+  messages_.pop_front();
+  changed_.notify_all();
+  return m;
+}
+
+void MessageQueue::close() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  closed_ = true;
+  changed_.notify_all();
+}
+
+bool MessageQueue::closed_and_empty() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return closed_ && messages_.empty();
+}
+
+// ---- MQTT -------------------------------------------------------------------------------------------------
+
+MqttSource::MqttSource(const IngestOptions& options, MessageQueue& queue)
+    : spec_(options.source), qos_(options.mqtt_qos), queue_(queue) {
+  static const int init = mosquitto_lib_init();  // once per process; the library stays up until exit
+  (void)init;
+  // Clean session: a restarted adapter starts with the broker's current traffic; QoS 1 covers the link.
+  client_ = mosquitto_new(options.mqtt_client_id.c_str(), true, this);
+  if (!client_) throw std::runtime_error("mosquitto_new failed (out of memory or bad client id)");
+  mosquitto_connect_callback_set(client_, &MqttSource::on_connect);
+  mosquitto_disconnect_callback_set(client_, &MqttSource::on_disconnect);
+  mosquitto_message_callback_set(client_, &MqttSource::on_message);
+}
+
+MqttSource::~MqttSource() {
+  stop();
+  mosquitto_destroy(client_);
+}
+
+void MqttSource::start() {
+  thread_ = std::thread([this] { run(); });
+}
+
+void MqttSource::stop() {
+  if (stopping_.exchange(true)) return;
+  if (thread_.joinable()) thread_.join();
+  mosquitto_disconnect(client_);
+}
+
+bool MqttSource::pause(std::chrono::milliseconds d) {
+  const auto until = std::chrono::steady_clock::now() + d;
+  while (!stopping_.load() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  return !stopping_.load();
+}
+
+void MqttSource::run() {
+  bool connected = false;
+  std::uint64_t failures = 0;
+  while (!stopping_.load()) {
+    if (!connected) {
+      const int rc = mosquitto_connect(client_, spec_.host.c_str(), spec_.port, 30);
+      if (rc != MOSQ_ERR_SUCCESS) {
+        // Not fatal: the broker may start after the adapter, or be restarting. Said once, then every minute.
+        if (failures++ % 60 == 0) {
+          spdlog::warn("mqtt: cannot connect to {}:{} ({}): retrying every second", spec_.host, spec_.port,
+                       rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc));
+        }
+        pause(std::chrono::seconds(1));
+        continue;
+      }
+      connected = true;
+      failures = 0;
+    }
+    // Serves the socket (messages, acknowledgements, keep-alive) for up to 200 ms.
+    if (mosquitto_loop(client_, 200, 1) != MOSQ_ERR_SUCCESS) {
+      connected = false;
+      pause(std::chrono::seconds(1));
+    }
+  }
+}
+
+void MqttSource::on_connect(struct mosquitto* m, void* self, int rc) {
+  auto* s = static_cast<MqttSource*>(self);
+  if (rc != 0) {
+    spdlog::warn("mqtt: broker {}:{} refused the connection: {}", s->spec_.host, s->spec_.port,
+                 mosquitto_connack_string(rc));
+    return;
+  }
+  ++s->connects_;
+  for (const auto& topic : s->spec_.topics) {
+    const int sub = mosquitto_subscribe(m, nullptr, topic.c_str(), s->qos_);
+    if (sub != MOSQ_ERR_SUCCESS) spdlog::error("mqtt: subscribe to '{}' failed: {}", topic, mosquitto_strerror(sub));
+  }
+  metrics::process_metrics().counter("ingest_mqtt_connects_total", "MQTT connections made (reconnects included)").inc();
+  spdlog::info("mqtt: connected to {}:{} (connection {}), subscribed to {} with QoS {}", s->spec_.host, s->spec_.port,
+               s->connects_, fmt::join(s->spec_.topics, ", "), s->qos_);
+}
+
+void MqttSource::on_disconnect(struct mosquitto*, void* self, int rc) {
+  auto* s = static_cast<MqttSource*>(self);
+  if (s->stopping_.load() || rc == 0) return;
+  spdlog::warn("mqtt: lost the broker {}:{} ({}): reconnecting", s->spec_.host, s->spec_.port,
+               rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc));
+}
+
+void MqttSource::on_message(struct mosquitto*, void* self, const struct mosquitto_message* msg) {
+  auto* s = static_cast<MqttSource*>(self);
+  if (s->stopping_.load()) return;
+  s->queue_.push(std::string(static_cast<const char*>(msg->payload), static_cast<std::size_t>(msg->payloadlen)));
+}
+
+// ---- UDP and stdin ----------------------------------------------------------------------------------------
+
+namespace {
+
+class ThreadSource : public MessageSource {
+ public:
+  ~ThreadSource() override { stop(); }
+  void stop() override {
+    stopping_.store(true);
+    if (thread_.joinable()) thread_.join();
+  }
+
+ protected:
+  std::atomic<bool> stopping_{false};
+  std::thread thread_;
+};
+
+// One datagram = one message (up to 65507 bytes, the IPv4 UDP maximum).
+class UdpSource : public ThreadSource {
+ public:
+  UdpSource(const SourceSpec& spec, MessageQueue& queue) : queue_(queue) {
+    fd_ = ::socket(AF_INET, SOCK_DGRAM, 0);
+    if (fd_ < 0) throw std::runtime_error(std::string("udp socket: ") + std::strerror(errno));
+    int size = 8 << 20;  // a large receive buffer rides out bursts while DDS is busy (the kernel caps it)
+    ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &size, sizeof size);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<std::uint16_t>(spec.port));
+    if (::inet_pton(AF_INET, spec.host.c_str(), &addr.sin_addr) != 1) {
+      ::close(fd_);
+      throw std::invalid_argument("udp source '" + spec.text + "': the host must be an IPv4 address");
+    }
+    if (::bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd_);
+      throw std::invalid_argument("udp source '" + spec.text + "': cannot bind: " + why);
+    }
+    spdlog::info("udp: listening on {}:{}", spec.host, spec.port);
+  }
+  ~UdpSource() override {
+    stop();
+    ::close(fd_);
+  }
+  void start() override {
+    thread_ = std::thread([this] {
+      std::string buffer(65536, '\0');
+      while (!stopping_.load()) {
+        pollfd p{fd_, POLLIN, 0};
+        if (::poll(&p, 1, 200) <= 0) continue;
+        const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), 0);
+        if (n >= 0) queue_.push(buffer.substr(0, static_cast<std::size_t>(n)));
+      }
+    });
+  }
+
+ private:
+  MessageQueue& queue_;
+  int fd_ = -1;
+};
+
+// A byte stream split into messages by BlockStreamSplitter; the queue is closed at end of input.
+class StdinSource : public ThreadSource {
+ public:
+  StdinSource(const BlockLimits& limits, MessageQueue& queue) : queue_(queue), splitter_(limits) {}
+  void start() override {
+    thread_ = std::thread([this] {
+      std::string chunk(1 << 16, '\0');
+      bool eof = false;
+      while (!stopping_.load() && !eof) {
+        pollfd p{STDIN_FILENO, POLLIN, 0};
+        if (::poll(&p, 1, 200) <= 0) continue;
+        const ssize_t n = ::read(STDIN_FILENO, chunk.data(), chunk.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+          eof = true;
+        } else {
+          splitter_.append(chunk.data(), static_cast<std::size_t>(n));
+        }
+        while (auto m = splitter_.next(eof)) {
+          if (!queue_.push(std::move(*m))) return;
+        }
+      }
+      if (eof) {
+        spdlog::info("stdin: end of input");
+        queue_.close();
+      }
+    });
+  }
+
+ private:
+  MessageQueue& queue_;
+  BlockStreamSplitter splitter_;
+};
+
+}  // namespace
+
+std::unique_ptr<MessageSource> make_source(const IngestOptions& options, MessageQueue& queue) {
+  switch (options.source.kind) {
+    case SourceKind::Mqtt:
+      return std::make_unique<MqttSource>(options, queue);
+    case SourceKind::Udp:
+      return std::make_unique<UdpSource>(options.source, queue);
+    case SourceKind::Stdin:
+      return std::make_unique<StdinSource>(options.limits, queue);
+  }
+  throw std::invalid_argument("unknown source kind");
+}
+
+}  // namespace causal::ingest

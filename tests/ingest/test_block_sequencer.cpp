@@ -1,0 +1,116 @@
+// The frame stream sensor-ingest makes of the source's blocks: gap-free frame sequence numbers, sample
+// indices counting every published sample, discontinuities exactly where the source skipped, rejections for
+// duplicates, overlaps and layout changes. Expected values are worked out by hand from the block times.
+#include <gtest/gtest.h>
+
+#include "block_sequencer.hpp"
+
+using causal::ingest::BlockSequencer;
+using causal::ingest::IngestBlock;
+using causal::ingest::RejectReason;
+
+namespace {
+
+constexpr double kRate = 1000.0;  // 1 ms per sample
+constexpr std::int64_t kMs = 1000000;
+
+IngestBlock block(std::uint64_t sequence, std::int64_t t0_ns, std::size_t n = 10, const std::string& group = "g1") {
+  IngestBlock b;
+  b.asset_group = group;
+  b.channels = {"a", "b"};
+  b.sample_rate_hz = kRate;
+  b.t0_ns = t0_ns;
+  b.sequence = sequence;
+  b.samples_per_channel = n;
+  b.samples.assign(2 * n, 0.0);
+  return b;
+}
+
+}  // namespace
+
+TEST(BlockSequencer, ContiguousBlocksGiveGapFreeFrames) {
+  BlockSequencer s;
+  for (std::uint64_t i = 0; i < 5; ++i) {
+    const auto a = s.admit(block(100 + i, static_cast<std::int64_t>(i) * 10 * kMs));
+    ASSERT_TRUE(a.plan) << a.detail;
+    EXPECT_EQ(a.plan->sequence, i);
+    EXPECT_EQ(a.plan->first_sample_index, 10 * i);
+    EXPECT_EQ(a.plan->snapshot_index, 0u);
+    EXPECT_EQ(a.plan->discontinuity, i == 0);
+  }
+}
+
+TEST(BlockSequencer, SourceSequenceGapIsADiscontinuityNotAFrameGap) {
+  BlockSequencer s;
+  ASSERT_TRUE(s.admit(block(0, 0)).plan);
+  const auto a = s.admit(block(3, 30 * kMs));  // blocks 1 and 2 never arrived
+  ASSERT_TRUE(a.plan);
+  EXPECT_TRUE(a.plan->discontinuity);
+  EXPECT_EQ(a.plan->sequence, 1u);
+  EXPECT_EQ(a.plan->first_sample_index, 10u);
+  EXPECT_EQ(a.plan->snapshot_index, 1u);
+}
+
+TEST(BlockSequencer, TimeGapOverGapFactorIsADiscontinuity) {
+  BlockSequencer s(1.5);
+  ASSERT_TRUE(s.admit(block(0, 0)).plan);
+  // Previous block ends at 10 ms (last sample at 9 ms). Next starts at 10.4 ms: 1.4 periods after it: no gap.
+  const auto jitter = s.admit(block(1, 10 * kMs + 400000));
+  ASSERT_TRUE(jitter.plan);
+  EXPECT_FALSE(jitter.plan->discontinuity);
+  // Previous ends at 20.4 ms (last sample 19.4 ms); 21 ms is 1.6 periods after the last sample: a gap.
+  const auto gap = s.admit(block(2, 21 * kMs));
+  ASSERT_TRUE(gap.plan);
+  EXPECT_TRUE(gap.plan->discontinuity);
+  EXPECT_EQ(gap.plan->snapshot_index, 1u);
+  EXPECT_EQ(gap.plan->sequence, 2u);
+}
+
+TEST(BlockSequencer, DuplicatesOverlapsAndLayoutChangesAreRejectedWithoutConsumingNumbers) {
+  BlockSequencer s;
+  ASSERT_TRUE(s.admit(block(0, 0)).plan);
+  auto dup = s.admit(block(0, 0));
+  EXPECT_FALSE(dup.plan);
+  EXPECT_EQ(dup.reason, RejectReason::Duplicate);
+  auto overlap = s.admit(block(1, 5 * kMs));  // starts before the previous block (0..9 ms) ended
+  EXPECT_FALSE(overlap.plan);
+  EXPECT_EQ(overlap.reason, RejectReason::OutOfOrder);
+  IngestBlock three = block(1, 10 * kMs);
+  three.channels.push_back("c");
+  three.samples.assign(30, 0.0);
+  auto layout = s.admit(three);
+  EXPECT_FALSE(layout.plan);
+  EXPECT_EQ(layout.reason, RejectReason::LayoutChange);
+  const auto next = s.admit(block(1, 10 * kMs));
+  ASSERT_TRUE(next.plan);
+  EXPECT_EQ(next.plan->sequence, 1u);
+  EXPECT_EQ(next.plan->first_sample_index, 10u);
+  EXPECT_FALSE(next.plan->discontinuity);
+}
+
+TEST(BlockSequencer, RestartedSourceAndNewSegmentsAreDiscontinuities) {
+  BlockSequencer s;
+  ASSERT_TRUE(s.admit(block(7, 0)).plan);
+  const auto restart = s.admit(block(0, 60 * kMs));  // sequence back to 0, time went on
+  ASSERT_TRUE(restart.plan);
+  EXPECT_TRUE(restart.plan->discontinuity);
+  EXPECT_EQ(restart.plan->snapshot_index, 1u);
+  IngestBlock closing = block(1, 70 * kMs);
+  closing.end_of_segment = true;
+  const auto c = s.admit(closing);
+  ASSERT_TRUE(c.plan);
+  EXPECT_FALSE(c.plan->discontinuity);
+  const auto next = s.admit(block(2, 80 * kMs));  // contiguous in time, but after end_of_segment
+  ASSERT_TRUE(next.plan);
+  EXPECT_TRUE(next.plan->discontinuity);
+  EXPECT_EQ(next.plan->snapshot_index, 2u);
+  EXPECT_EQ(next.plan->sequence, 3u);
+}
+
+TEST(BlockSequencer, AssetGroupsAreCountedSeparately) {
+  BlockSequencer s;
+  ASSERT_EQ(s.admit(block(0, 0, 10, "g1")).plan->sequence, 0u);
+  ASSERT_EQ(s.admit(block(0, 0, 10, "g2")).plan->sequence, 0u);
+  ASSERT_EQ(s.admit(block(1, 10 * kMs, 10, "g1")).plan->sequence, 1u);
+  EXPECT_EQ(s.groups(), 2u);
+}
