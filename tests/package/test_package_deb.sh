@@ -13,7 +13,8 @@
 #   4. the installed runs are counted exactly: the slice gives one condition vector and one factor row per
 #      snapshot file shipped (also through the units), the feature table one per table row, and every recorded
 #      CSV has as many rows as the build-tree run's.
-# Needs root and unshare (mount namespaces, overlayfs); exits 77 (ctest: skipped) when they are not available.
+# Needs root and unshare (mount namespaces, overlayfs); exits 77 (ctest: skipped) when they are not available,
+# unless CAUSAL_TWIN_REQUIRE_ALL is set (deploy/test.sh): then it fails.
 #   test_package_deb.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
 src="$(cd "$1" && pwd)"; build="$(cd "$2" && pwd)"
@@ -21,9 +22,14 @@ ref_domain=80
 installed_domain=81
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-if [ "$(id -u)" != 0 ]; then echo "SKIP: needs root (dpkg -i inside a mount namespace)"; exit 77; fi
+# Under deploy/test.sh (CI, CAUSAL_TWIN_REQUIRE_ALL set) a missing prerequisite fails instead of skipping.
+skip() {
+  if [ -n "${CAUSAL_TWIN_REQUIRE_ALL:-}" ]; then fail "$* (CAUSAL_TWIN_REQUIRE_ALL is set)"; fi
+  echo "SKIP: $*"; exit 77
+}
+if [ "$(id -u)" != 0 ]; then skip "needs root (dpkg -i inside a mount namespace)"; fi
 if ! unshare -m sh -c 'd=$(mktemp -d) && mkdir "$d/u" "$d/w" "$d/m" && mount -t overlay overlay -o "lowerdir=/etc,upperdir=$d/u,workdir=$d/w" "$d/m"; r=$?; umount "$d/m" 2>/dev/null; rm -rf "$d"; exit $r' 2>/dev/null; then
-  echo "SKIP: no mount namespace with overlayfs here (unshare -m)"; exit 77
+  skip "no mount namespace with overlayfs here (unshare -m)"
 fi
 
 # Outside both trees: the namespace hides them.
