@@ -4,12 +4,13 @@
 #   <prefix>/share/causal-twin/       dds/ and config/ (the shipped defaults), data/ (the IMS slice and feature
 #                                     tables), security/ (the PKI scripts)
 #   /etc/causal-twin/                 the operator's copies (conffiles): DDS profiles, parameters, unit options
+#                                     (<prefix>/etc/causal-twin for any prefix but /usr)
 #   <prefix>/lib/systemd/system       one unit per service and causal-twin.target
-# The services find /etc/causal-twin first, then share/causal-twin next to their binary
+# Installed services find /etc/causal-twin first, then share/causal-twin next to their binary
 # (causal/config/config_search.hpp), so nothing refers to the source tree.
 include(GNUInstallDirs)
 
-# Tools: sensor-ingest only exists once its branch is merged.
+# Tools (a folder left out with CAUSAL_TWIN_SKIP has no target).
 foreach(tool sensor-replay sensor-sim sensor-ingest causal-estimator alarm-recommender causal-recorder causal-ask
     causal-report causal-offline causal-whatif causal-alarm-eval twin-web)
   if(TARGET ${tool})
@@ -45,12 +46,17 @@ install(CODE "
 # `cmake --install --prefix P` put them otherwise), so the units are written when installing.
 file(GLOB causal_twin_units CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/deploy/systemd/*.service
   ${CMAKE_CURRENT_SOURCE_DIR}/deploy/systemd/*.target)
+# Written under build/systemd/<hash of destination>/, so a cpack and a `cmake --install --prefix` at the same
+# time do not overwrite each other's units.
 foreach(unit ${causal_twin_units})
   get_filename_component(unit_name ${unit} NAME)
-  set(unit_out ${CMAKE_CURRENT_BINARY_DIR}/systemd/${unit_name})
-  install(CODE "set(CAUSAL_TWIN_BINDIR \"\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_BINDIR}\")
-    configure_file(\"${unit}\" \"${unit_out}\" @ONLY)")
-  install(FILES ${unit_out} DESTINATION lib/systemd/system)
+  install(CODE "
+    set(CAUSAL_TWIN_BINDIR \"\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_BINDIR}\")
+    string(MD5 causal_twin_dest \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}\")
+    set(causal_twin_unit \"${CMAKE_CURRENT_BINARY_DIR}/systemd/\${causal_twin_dest}/${unit_name}\")
+    configure_file(\"${unit}\" \"\${causal_twin_unit}\" @ONLY)
+    file(INSTALL DESTINATION \"\${CMAKE_INSTALL_PREFIX}/lib/systemd/system\" TYPE FILE FILES \"\${causal_twin_unit}\")
+  ")
 endforeach()
 
 # --- CPack: one causal-twin_<version>_<arch>.deb -------------------------------------------------------------
