@@ -11,6 +11,9 @@
 set -euo pipefail
 work="$1"; deb="$2"; domain="$3"; build_estimator="$4"; prefix_dir="$5"; shift 5
 fail() { echo "FAIL: $*" >&2; exit 1; }
+# Services started here (the units' commands) are ended by pid also when a check fails half-way.
+unit_pids=()
+trap 'for p in "${unit_pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done; wait' EXIT
 
 mount --make-rprivate /
 mkdir -p "$work/ov"
@@ -88,7 +91,6 @@ unit_argv() {
   read -ra argv <<< "$line"
   [ "$(grep -c '^User=causal-twin$' "$unit")" = 1 ] || fail "$1 does not run as causal-twin"
 }
-unit_pids=()
 unit_names=()
 start_unit() {  # UNIT INSTANCE
   unit_argv "$1" "$2"
@@ -110,6 +112,7 @@ for i in "${!unit_pids[@]}"; do
   rc=0; wait "${unit_pids[$i]}" || rc=$?
   [ "$rc" = 0 ] || { tail "$work/unit_${unit_names[$i]}.log"; fail "${unit_names[$i]} exited $rc on SIGTERM"; }
 done
+unit_pids=()
 cd /
 [ -f "$recorded" ] || fail "the recorder unit wrote no $recorded"
 cp "$recorded" "$work/units_conditions.csv"
