@@ -23,6 +23,8 @@ PACKAGES=(
   chromium fonts-dejavu-core       # the browser test (ctest -L browser): headless Chromium, a font to render
   nodejs                           # the browser test's driver: Node >= 20 with npm (as on the build image), runs playwright-core
   openssl libssl-dev               # DDS-Security: the PKI scripts (deploy/security) and the credential checks
+  dpkg-dev file                    # cpack -G DEB: dpkg-shlibdeps derives the package's Depends from the binaries
+  systemd adduser                  # the package test: systemd-analyze verify on the units; the postinst's adduser
   libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
 )
 

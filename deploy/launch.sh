@@ -23,11 +23,31 @@
 # Exit code: 0 when every service exited 0 (nothing lost, refused or dropped), else the first non-zero code;
 # the summary at the end says per topic: sent, received, dropped, rejected, and which service failed.
 # Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
+# Installed (the causal-twin package: causal-twin-demo) it runs the binaries next to itself on the data in
+# <prefix>/share/causal-twin/data, from any folder, and writes only to --logs/--record or a temporary folder.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-bin="${CAUSAL_TWIN_BUILD_DIR:-$root/build}/services"
+root="$(cd "$(dirname "$(readlink -f "$0")")/.." && pwd)"
+declare -A tool=()
+if [ ! -d "$root/deploy" ] && [ -d "$root/share/causal-twin" ]; then
+  # Installed: <prefix>/bin/causal-twin-demo.
+  data_dir="$root/share/causal-twin/data"
+  for n in sensor-replay causal-estimator alarm-recommender causal-recorder causal-ask causal-report twin-web; do
+    tool[$n]="$root/bin/$n"
+  done
+  default_transport=/etc/causal-twin/localhost.xml
+  [ -f "$default_transport" ] || default_transport="$root/share/causal-twin/dds/localhost.xml"
+else
+  # The source tree: deploy/launch.sh with the binaries of the build folder.
+  data_dir="$root/deploy/data"
+  bin="${CAUSAL_TWIN_BUILD_DIR:-$root/build}/services"
+  tool=([sensor-replay]="$bin/sensor_replay/sensor-replay" [causal-estimator]="$bin/causal_estimator/causal-estimator"
+        [alarm-recommender]="$bin/alarm_recommender/alarm-recommender"
+        [causal-recorder]="$bin/causal_recorder/causal-recorder" [causal-ask]="$bin/whatif_ask/causal-ask"
+        [causal-report]="$bin/causal_report/causal-report" [twin-web]="$bin/twin_web/twin-web")
+  default_transport="$root/deploy/dds/localhost.xml"
+fi
 domain=$(( 100 + $$ % 100 ))
-source_args=(--ims-dir "$root/deploy/data/ims2-slice")
+source_args=(--ims-dir "$data_dir/ims2-slice")
 speed=0
 transport=""
 max_runtime=900
@@ -59,7 +79,7 @@ while [ $# -gt 0 ]; do
     --metrics-port) metrics_port="$2"; shift 2 ;;
     --web-port) web_port="$2"; shift 2 ;;
     --verbose) verbose=1; shift ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -74,7 +94,7 @@ elif [ -n "${FASTRTPS_DEFAULT_PROFILES_FILE:-}" ]; then
   transport="$FASTRTPS_DEFAULT_PROFILES_FILE"
   common=(--domain "$domain")
 else
-  transport="$root/deploy/dds/localhost.xml"
+  transport="$default_transport"
   common=(--domain "$domain" --transport "$transport")
 fi
 if [ -n "$security" ]; then
@@ -131,14 +151,14 @@ tail_pid=$!  # tail's own pid: the filter ends when tail does
 estimator_waits=(--wait-for alarm-recommender)
 # The recorder always runs: the verdict at the end is read from its files (in the log folder without --record).
 record_dir="${record:-$logs/record}"
-if [ -x "$bin/causal_recorder/causal-recorder" ]; then
-  start causal-recorder "$bin/causal_recorder/causal-recorder" "${common[@]}" --out "$record_dir" --idle-exit 6 \
+if [ -x "${tool[causal-recorder]}" ]; then
+  start causal-recorder "${tool[causal-recorder]}" "${common[@]}" --out "$record_dir" --idle-exit 6 \
     --max-runtime "$max_runtime"
   estimator_waits+=(--wait-for causal-recorder)
 fi
 if [ -n "$web_port" ]; then
   # The live view: the estimator waits for it (every snapshot on the page); it stays up 30 s after the run.
-  start twin-web "$bin/twin_web/twin-web" "${common[@]}" --port "$web_port" --idle-exit 30 --max-runtime "$max_runtime"
+  start twin-web "${tool[twin-web]}" "${common[@]}" --port "$web_port" --idle-exit 30 --max-runtime "$max_runtime"
   for _ in $(seq 50); do grep -q "serving http://" "$logs/twin-web.log" && break; sleep 0.1; done
   if ! grep -q "serving http://" "$logs/twin-web.log"; then
     echo "launch: twin-web did not start on port $web_port (see above)" >&2
@@ -150,14 +170,14 @@ fi
 # With questions to ask, the recommender stays up a little longer after its sources are gone.
 recommender_idle=5
 [ ${#asks[@]} -gt 0 ] && recommender_idle=12
-start alarm-recommender "$bin/alarm_recommender/alarm-recommender" "${common[@]}" --idle-exit "$recommender_idle" \
+start alarm-recommender "${tool[alarm-recommender]}" "${common[@]}" --idle-exit "$recommender_idle" \
   --max-runtime "$max_runtime"
-start causal-estimator "$bin/causal_estimator/causal-estimator" "${common[@]}" --idle-exit 4 \
+start causal-estimator "${tool[causal-estimator]}" "${common[@]}" --idle-exit 4 \
   --max-runtime "$max_runtime" "${estimator_waits[@]}" --wait-timeout 60
 estimator_pid=${pids[-1]}
 status=0
 metrics_for sensor-replay
-"$bin/sensor_replay/sensor-replay" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-for causal-estimator \
+"${tool[sensor-replay]}" "${common[@]}" "${source_args[@]}" --speed "$speed" --wait-for causal-estimator \
   "${feature_args[@]}" --wait-timeout 60 --asset-group "$asset_group" "${metrics_args[@]}" \
   > "$logs/sensor-replay.log" 2>&1 || {
   rc=$?; echo "launch: sensor-replay exited with code $rc" >&2; status=$rc; }
@@ -172,7 +192,7 @@ if [ ${#asks[@]} -gt 0 ]; then
   for q in "${asks[@]}"; do
     ask_log="$logs/causal-ask.$$.tmp"
     echo "launch: asking the twin: sustained ${q#*:} % on channel ${q%%:*} of $asset_group" > "$ask_log"
-    "$bin/whatif_ask/causal-ask" "${common[@]}" --asset-group "$asset_group" --intervene "${q%%:*}" \
+    "${tool[causal-ask]}" "${common[@]}" --asset-group "$asset_group" --intervene "${q%%:*}" \
       --percent "${q#*:}" --timeout 5 >> "$ask_log" 2>&1 || echo "launch: causal-ask exit code $? (see above)" >> "$ask_log"
     cat "$ask_log" >> "$logs/causal-ask.log"
     # The answer is what the operator asked for: shown in full also on the quiet terminal (its log lines are not).
@@ -229,13 +249,13 @@ for n in sensor-replay causal-estimator alarm-recommender causal-recorder twin-w
     [ "$status" = 0 ] && status=$rc
   fi
 done
-if [ -n "$record" ] && [ -x "$bin/causal_report/causal-report" ]; then
+if [ -n "$record" ] && [ -x "${tool[causal-report]}" ]; then
   # Renders the figures and prints the verdict.
-  "$bin/causal_report/causal-report" --run "$record" --out "$record/report" || status=$?
-elif [ -x "$bin/causal_report/causal-report" ] && [ -d "$record_dir" ]; then
+  "${tool[causal-report]}" --run "$record" --out "$record/report" || status=$?
+elif [ -x "${tool[causal-report]}" ] && [ -d "$record_dir" ]; then
   echo
   echo "=== verdict ==="
-  "$bin/causal_report/causal-report" --run "$record_dir" --verdict-only || status=$?
+  "${tool[causal-report]}" --run "$record_dir" --verdict-only || status=$?
 fi
 [ "$status" = 0 ] && echo "launch: every service exited 0: nothing lost, dropped or refused"
 exit $status

@@ -11,7 +11,7 @@
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
   causal::estimator::EstimatorOptions o;
-  // Flag, $CAUSAL_TWIN_CONFIG_DIR, /etc/causal-twin, <prefix>/share/causal-twin/config, build tree (in that order).
+  // Flag, $CAUSAL_TWIN_CONFIG_DIR, build tree, /etc/causal-twin, <prefix>/share/causal-twin/config (in that order).
   const causal::config::ConfigChoice params_choice =
       causal::config::find_config_file("estimator.yaml", "", causal::config::ConfigKind::Parameters);
   o.params_file = params_choice.path;

@@ -1,5 +1,5 @@
-// The configuration search order: flag, environment folder, /etc/causal-twin, installed defaults, and the source
-// tree only for a build-tree binary. Truth: the files this test places in its own temporary folders.
+// The configuration search order: flag, environment folder, the source tree (only for a build-tree binary),
+// /etc/causal-twin, installed defaults. Truth: the files this test places in its own temporary folders.
 #include "causal/config/config_search.hpp"
 
 #include <gtest/gtest.h>
@@ -38,13 +38,11 @@ class Places : public ::testing::Test {
   SearchRoots roots_;
 };
 
+// An installed binary (no build tree): environment, /etc, installed defaults.
 TEST_F(Places, FirstPlaceHoldingTheFileWinsInTheDocumentedOrder) {
-  put("tree", "qos.xml");
-  ConfigChoice c = find_config_file("qos.xml", "", roots_);
-  EXPECT_EQ(c.path, dir("tree") + "/qos.xml");
-  EXPECT_EQ(c.origin, "the source tree (build-tree binary)");
+  roots_.build_tree_dir.clear();
   put("installed", "qos.xml");
-  c = find_config_file("qos.xml", "", roots_);
+  ConfigChoice c = find_config_file("qos.xml", "", roots_);
   EXPECT_EQ(c.path, dir("installed") + "/qos.xml");
   EXPECT_EQ(c.origin, "the installed defaults");
   put("etc", "qos.xml");
@@ -61,6 +59,21 @@ TEST_F(Places, FirstPlaceHoldingTheFileWinsInTheDocumentedOrder) {
   EXPECT_EQ(c.origin, "flag");
 }
 
+// A build-tree binary on a machine where the package is installed: its own source tree beats /etc and the
+// installed defaults (tests never run against the installed configuration); the environment still wins.
+TEST_F(Places, BuildTreeBinaryPrefersItsSourceTreeToAnInstalledPackage) {
+  put("installed", "qos.xml");
+  put("etc", "qos.xml");
+  ConfigChoice c = find_config_file("qos.xml", "", roots_);
+  EXPECT_EQ(c.path, dir("etc") + "/qos.xml");  // not in the tree: /etc is next
+  put("tree", "qos.xml");
+  c = find_config_file("qos.xml", "", roots_);
+  EXPECT_EQ(c.path, dir("tree") + "/qos.xml");
+  EXPECT_EQ(c.origin, "the source tree (build-tree binary)");
+  put("env", "qos.xml");
+  EXPECT_EQ(find_config_file("qos.xml", "", roots_).path, dir("env") + "/qos.xml");
+}
+
 TEST_F(Places, EachFileIsSearchedOnItsOwn) {
   put("etc", "qos.xml");
   put("installed", "localhost.xml");
@@ -72,8 +85,8 @@ TEST_F(Places, NotFoundNamesEveryPlaceLookedAt) {
   const ConfigChoice c = find_config_file("alarms.yaml", "", roots_);
   EXPECT_FALSE(c.found());
   ASSERT_EQ(c.searched.size(), 4u);
-  EXPECT_EQ(c.describe("alarms.yaml"), "alarms.yaml not found (looked in: " + dir("env") + ", " + dir("etc") + ", " +
-                                           dir("installed") + ", " + dir("tree") + ")");
+  EXPECT_EQ(c.describe("alarms.yaml"), "alarms.yaml not found (looked in: " + dir("env") + ", " + dir("tree") + ", " +
+                                           dir("etc") + ", " + dir("installed") + ")");
 }
 
 TEST_F(Places, WithoutTheBuildTreeTheSourceTreeIsNeverRead) {
@@ -91,8 +104,8 @@ TEST(IsInsideDir, ComparesWholeComponents) {
   EXPECT_FALSE(causal::config::is_inside_dir("/work", "/work/build"));
 }
 
-// This test binary lives in the build tree, so the process roots end with the source tree's deploy folder;
-// the environment folder comes first.
+// This test binary lives in the build tree, so the process roots include the source tree's deploy folder,
+// searched right after the environment folder.
 TEST(ProcessRoots, BuildTreeBinaryFallsBackToDeployAndHonoursTheEnvironment) {
   ::unsetenv("CAUSAL_TWIN_DDS_DIR");
   const SearchRoots roots = causal::config::process_roots(ConfigKind::Dds);
@@ -100,9 +113,8 @@ TEST(ProcessRoots, BuildTreeBinaryFallsBackToDeployAndHonoursTheEnvironment) {
   EXPECT_EQ(roots.etc_dir, "/etc/causal-twin");
   const fs::path exe = fs::read_symlink("/proc/self/exe");
   EXPECT_EQ(roots.installed_dir, (exe.parent_path().parent_path() / "share/causal-twin/dds").string());
-  if (!fs::exists("/etc/causal-twin/qos.xml")) {
-    EXPECT_EQ(find_config_file("qos.xml", "", ConfigKind::Dds).path, std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml");
-  }
+  // Also with a package installed (/etc/causal-twin/qos.xml present): the source tree comes first.
+  EXPECT_EQ(find_config_file("qos.xml", "", ConfigKind::Dds).path, std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml");
   const std::string mine = (fs::temp_directory_path() / "config_search_env").string();
   fs::create_directories(mine);
   std::ofstream(mine + "/alarms.yaml") << "x";

@@ -58,9 +58,10 @@ SearchRoots process_roots(ConfigKind kind) {
 std::vector<ConfigPlace> config_places(const SearchRoots& roots) {
   std::vector<ConfigPlace> places;
   if (!roots.env_dir.empty()) places.push_back({roots.env_dir, "$" + roots.env_name});
+  // Before /etc: a build-tree binary must not pick up an installed package's configuration.
+  if (!roots.build_tree_dir.empty()) places.push_back({roots.build_tree_dir, "the source tree (build-tree binary)"});
   if (!roots.etc_dir.empty()) places.push_back({roots.etc_dir, roots.etc_dir});
   if (!roots.installed_dir.empty()) places.push_back({roots.installed_dir, "the installed defaults"});
-  if (!roots.build_tree_dir.empty()) places.push_back({roots.build_tree_dir, "the source tree (build-tree binary)"});
   return places;
 }
 

@@ -2,6 +2,8 @@
 
 #include <fastdds/dds/core/condition/StatusCondition.hpp>
 
+#include "causal/dds/systemd_notify.hpp"
+
 #include <algorithm>
 #include <thread>
 
@@ -56,6 +58,8 @@ RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()
       }
     });
   }
+  // The service's entities exist and it takes data from now on (systemd Type=notify units start here).
+  notify_systemd("READY=1\nSTATUS=running");
   auto last_data = started;
   auto sources_left = started;  // when the last source left (idle time counts from the later of the two)
   bool any_data = false, had_sources = true;
@@ -88,6 +92,7 @@ RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()
     watchdog.join();
   }
   if (end != RunEnd::Idle && expired.load()) end = RunEnd::MaxRuntime;
+  notify_systemd("STOPPING=1");  // draining and checkpointing follow; systemd waits up to TimeoutStopSec
   return end;
 }
 

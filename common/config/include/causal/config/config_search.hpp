@@ -3,13 +3,15 @@
 //   1. the command-line flag (--qos, --transport, --params), when given;
 //   2. the folder named by an environment variable (CAUSAL_TWIN_DDS_DIR for the DDS XML files,
 //      CAUSAL_TWIN_CONFIG_DIR for the YAML parameter files);
-//   3. /etc/causal-twin/ (the operator's site configuration);
-//   4. the files installed with the binary: <exe dir>/../share/causal-twin/<dds|config>/;
-//   5. only for a binary that lives in the build tree: the source tree's deploy/<dds|config>/.
+//   3. only for a binary that lives in the build tree: the source tree's deploy/<dds|config>/;
+//   4. /etc/causal-twin/ (the operator's site configuration; the package installs it there);
+//   5. the files installed with the binary: <exe dir>/../share/causal-twin/<dds|config>/.
 //
 // The first place that holds the file wins, and the choice says where it came from (the tools print it in
-// --help and log it). An installed binary never reads the source tree: step 5 is skipped unless the running
-// executable is inside the build folder it was compiled for. Standard library only.
+// --help and log it). A build-tree binary reads its own source tree before /etc/causal-twin, so a developer
+// machine with the package installed still builds and tests against the branch's files, never the installed
+// ones. An installed binary never reads the source tree: step 3 is skipped unless the running executable is
+// inside the build folder it was compiled for. Standard library only.
 #pragma once
 
 #include <string>
@@ -44,15 +46,15 @@ struct ConfigChoice {
   std::string describe(const std::string& file_name) const;
 };
 
-// The roots of this process: the environment variable of `kind`, /etc/causal-twin, the install folder next
-// to /proc/self/exe, and the source tree's deploy folder only when /proc/self/exe is under the build folder.
+// The roots of this process: the environment variable of `kind`, the source tree's deploy folder only when
+// /proc/self/exe is under the build folder, /etc/causal-twin, and the install folder next to /proc/self/exe.
 SearchRoots process_roots(ConfigKind kind);
 
 // true when `path` is `dir` or below it, compared component by component after lexical normalisation (how
 // process_roots decides that the executable lives in the build tree).
 bool is_inside_dir(const std::string& path, const std::string& dir);
 
-// Places in search order (empty roots left out).
+// Places in search order (empty roots left out): environment, build tree, /etc, installed.
 std::vector<ConfigPlace> config_places(const SearchRoots& roots);
 
 // The flag value when non-empty (it is not checked here: CLI11 checks that it exists), else the first place

@@ -41,7 +41,8 @@ class EventLoop {
   // The run loop every service shares: waits for data, calls poll() (returns how many items it handled), and
   // ends when stop() is called (a signal), when limits.max_runtime_s passes (a watchdog calls stop(), so a
   // write that is blocked on a slow reader is abandoned too), or when idle: data has arrived, sources()
-  // (matched upstream writers) is 0 and nothing arrived for limits.idle_exit_s.
+  // (matched upstream writers) is 0 and nothing arrived for limits.idle_exit_s. Tells systemd READY=1 when it
+  // starts and STOPPING=1 when it ends (systemd_notify.hpp; nothing outside systemd).
   RunEnd run(const RunLimits& limits, const std::function<std::size_t()>& poll,
              const std::function<std::size_t()>& sources);
   const std::atomic<bool>& stop_flag() const { return stopped_; }

@@ -35,8 +35,8 @@ struct CommonOptions {
   std::string metrics_bind = "127.0.0.1";     // loopback unless the operator opens it on purpose
 };
 
-// Folder of the qos.xml the configuration search chose ("" when none): flag, $CAUSAL_TWIN_DDS_DIR,
-// /etc/causal-twin, <prefix>/share/causal-twin/dds, the source tree only for a build-tree binary.
+// Folder of the qos.xml the configuration search chose ("" when none): flag, $CAUSAL_TWIN_DDS_DIR, the source
+// tree only for a build-tree binary, /etc/causal-twin, <prefix>/share/causal-twin/dds.
 std::string default_dds_dir();
 
 // Adds --domain, --qos (alias --dds-qos), --transport (alias --dds-transport), --log-level, --security,

@@ -1,0 +1,102 @@
+# Install rules and the Debian package (CPack DEB): `cmake --build build && cd build && cpack -G DEB` writes
+# causal-twin_<version>_<arch>.deb. Layout (README, "Install on a plant"):
+#   <prefix>/bin                      every service and tool, and causal-twin-demo (deploy/launch.sh)
+#   <prefix>/share/causal-twin/       dds/ and config/ (the shipped defaults), data/ (the IMS slice and feature
+#                                     tables), security/ (the PKI scripts)
+#   /etc/causal-twin/                 the operator's copies (conffiles): DDS profiles, parameters, unit options
+#                                     (<prefix>/etc/causal-twin for any prefix but /usr)
+#   <prefix>/lib/systemd/system       one unit per service and causal-twin.target
+# Installed services find /etc/causal-twin first, then share/causal-twin next to their binary
+# (causal/config/config_search.hpp), so nothing refers to the source tree.
+include(GNUInstallDirs)
+
+# Tools (a folder left out with CAUSAL_TWIN_SKIP has no target).
+foreach(tool sensor-replay sensor-sim sensor-ingest causal-estimator alarm-recommender causal-recorder causal-ask
+    causal-report causal-offline causal-whatif causal-alarm-eval twin-web)
+  if(TARGET ${tool})
+    install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  endif()
+endforeach()
+# The launcher finds the binaries next to itself when installed (and in the build tree otherwise).
+install(PROGRAMS deploy/launch.sh DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME causal-twin-demo)
+
+set(CAUSAL_TWIN_SHARE ${CMAKE_INSTALL_DATADIR}/causal-twin)
+install(DIRECTORY deploy/dds deploy/config deploy/data DESTINATION ${CAUSAL_TWIN_SHARE})
+install(PROGRAMS deploy/security/make-pki.sh deploy/security/issue-identity.sh deploy/security/revoke-identity.sh
+  DESTINATION ${CAUSAL_TWIN_SHARE}/security)
+
+# The site configuration: /etc/causal-twin (where config_search looks) for the package (prefix /usr), else
+# <prefix>/etc/causal-twin, so `cmake --install build --prefix DIR` writes nothing outside DIR (its binaries
+# read DIR/share/causal-twin). Decided at install time: cpack installs with prefix /usr.
+set(CAUSAL_TWIN_ETC_DIR /etc/causal-twin)
+file(GLOB causal_twin_etc_files CONFIGURE_DEPENDS
+  ${CMAKE_CURRENT_SOURCE_DIR}/deploy/dds/*.xml ${CMAKE_CURRENT_SOURCE_DIR}/deploy/config/*.yaml
+  ${CMAKE_CURRENT_SOURCE_DIR}/deploy/systemd/env/*.env)
+install(CODE "
+  if(CMAKE_INSTALL_PREFIX STREQUAL \"/usr\")
+    set(causal_twin_etc ${CAUSAL_TWIN_ETC_DIR})
+  else()
+    set(causal_twin_etc \"\${CMAKE_INSTALL_PREFIX}/etc/causal-twin\")
+  endif()
+  # file(INSTALL) puts \$DESTDIR in front, as for every other install rule.
+  file(INSTALL DESTINATION \"\${causal_twin_etc}\" TYPE FILE FILES ${causal_twin_etc_files})
+")
+
+# systemd units: ExecStart names the binaries by the prefix seen at install time (/usr in the package, where
+# `cmake --install --prefix P` put them otherwise), so the units are written when installing.
+file(GLOB causal_twin_units CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/deploy/systemd/*.service
+  ${CMAKE_CURRENT_SOURCE_DIR}/deploy/systemd/*.target)
+# Written under build/systemd/<hash of destination>/, so a cpack and a `cmake --install --prefix` at the same
+# time do not overwrite each other's units.
+foreach(unit ${causal_twin_units})
+  get_filename_component(unit_name ${unit} NAME)
+  install(CODE "
+    set(CAUSAL_TWIN_BINDIR \"\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_BINDIR}\")
+    string(MD5 causal_twin_dest \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}\")
+    set(causal_twin_unit \"${CMAKE_CURRENT_BINARY_DIR}/systemd/\${causal_twin_dest}/${unit_name}\")
+    configure_file(\"${unit}\" \"\${causal_twin_unit}\" @ONLY)
+    file(INSTALL DESTINATION \"\${CMAKE_INSTALL_PREFIX}/lib/systemd/system\" TYPE FILE FILES \"\${causal_twin_unit}\")
+  ")
+endforeach()
+
+# --- CPack: one causal-twin_<version>_<arch>.deb -------------------------------------------------------------
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGE_NAME causal-twin)
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGE_CONTACT "Causal Digital Twin maintainers <causal-twin@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Causal digital twin over DDS: causal factors, explained alarms and advice from vibration streams")
+set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "Services (sensor-replay, sensor-sim, causal-estimator, alarm-recommender,
+causal-recorder, twin-web) talking over Fast DDS, tools (causal-report, causal-ask, causal-offline,
+causal-whatif, causal-alarm-eval), systemd units (causal-twin.target), and an IMS test-2 data slice
+with causal-twin-demo to run the whole twin over loopback.")
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_STRIP_FILES ON)  # debug symbols stay in the build tree
+set(CPACK_DEBIAN_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
+# dpkg-shlibdeps derives the library packages (libfastrtps2.9, libspdlog1.10, libyaml-cpp0.7, ...) from the
+# binaries; what is used at run time but not linked is named here.
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-chart.js")
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "gnuplot-nox | gnuplot, graphviz, fastdds-tools")
+# Tests and benchmarks are never installed: cpack installs what was built (build first) instead of building
+# every test target again.
+set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY ON)
+
+# conffiles: every file installed under /etc, so dpkg keeps the operator's edits on upgrade and removes them on
+# purge.
+set(causal_twin_conffiles "")
+foreach(f ${causal_twin_etc_files})
+  get_filename_component(n ${f} NAME)
+  string(APPEND causal_twin_conffiles "${CAUSAL_TWIN_ETC_DIR}/${n}\n")
+endforeach()
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/debian/conffiles "${causal_twin_conffiles}")
+foreach(script postinst prerm postrm)
+  configure_file(${CMAKE_CURRENT_SOURCE_DIR}/deploy/packaging/${script} ${CMAKE_CURRENT_BINARY_DIR}/debian/${script}
+    COPYONLY FILE_PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ WORLD_EXECUTE)
+endforeach()
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${CMAKE_CURRENT_BINARY_DIR}/debian/conffiles
+  ${CMAKE_CURRENT_BINARY_DIR}/debian/postinst ${CMAKE_CURRENT_BINARY_DIR}/debian/prerm
+  ${CMAKE_CURRENT_BINARY_DIR}/debian/postrm)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+include(CPack)

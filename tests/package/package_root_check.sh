@@ -1,0 +1,160 @@
+#!/usr/bin/env bash
+# Runs inside a private mount namespace (test_package_deb.sh starts it with unshare -m): /usr, /etc and /var
+# become copy-on-write overlays on a tmpfs, so the real dpkg -i / dpkg -P below change nothing outside this
+# namespace; /dev/shm is private. Then: install the .deb, check that a build-tree binary still reads its own
+# source tree, hide the source and build trees under empty tmpfs mounts, run the installed binaries, the demo and
+# the units' commands from /, purge, and check that nothing is left.
+#   package_root_check.sh WORK DEB DOMAIN BUILD_TREE_ESTIMATOR PREFIX_DIR HIDE_DIR...
+# PREFIX_DIR: a `cmake --install --prefix` tree, run after the purge (no /etc/causal-twin then).
+# Writes its results under WORK/installed_* and WORK/units_conditions.csv (WORK must not be under a hidden
+# folder); exit 0 = all checks passed.
+set -euo pipefail
+work="$1"; deb="$2"; domain="$3"; build_estimator="$4"; prefix_dir="$5"; shift 5
+fail() { echo "FAIL: $*" >&2; exit 1; }
+# Services started here (the units' commands) are ended by pid also when a check fails half-way.
+unit_pids=()
+trap 'for p in "${unit_pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done; wait' EXIT
+
+mount --make-rprivate /
+mkdir -p "$work/ov"
+mount -t tmpfs tmpfs "$work/ov"
+for d in usr etc var; do
+  mkdir -p "$work/ov/$d/upper" "$work/ov/$d/work" "$work/ov/$d/lower"
+  mount --bind "/$d" "$work/ov/$d/lower"  # the original, to compare with after the purge
+  mount -t overlay overlay -o "lowerdir=/$d,upperdir=$work/ov/$d/upper,workdir=$work/ov/$d/work" "/$d"
+done
+mount -t tmpfs tmpfs /dev/shm
+
+cd /
+echo "--- dpkg -i $(basename "$deb")"
+dpkg -i "$deb" > "$work/installed_dpkg_i.log" 2>&1 || { cat "$work/installed_dpkg_i.log"; fail "dpkg -i"; }
+getent passwd causal-twin > /dev/null || fail "postinst made no user causal-twin"
+[ "$(stat -c %U "/var/lib/causal-twin")" = causal-twin ] || fail "/var/lib/causal-twin not owned by causal-twin"
+listed=$(dpkg -L causal-twin)
+
+echo "--- with the package installed, a build-tree binary still reads its own source tree"
+# (--help captured first: grep -q ending the pipe early would fail it under pipefail)
+help=$("$build_estimator" --help) || fail "build-tree causal-estimator --help exited non-zero"
+qos_line=$(grep -m1 -o "default: [^ ]*qos.xml[^;]*" <<< "$help" || true)
+grep -qF "qos.xml (from the source tree (build-tree binary))" <<< "$qos_line" \
+  || fail "the build-tree causal-estimator does not take qos.xml from its source tree: $qos_line"
+echo "$qos_line"
+
+# From here on no source or build tree: a folder inside one hidden before (the build tree) is already gone.
+for d in "$@"; do if [ -d "$d" ]; then mount -t tmpfs tmpfs "$d"; fi; done
+for d in "$@"; do [ ! -d "$d" ] || [ -z "$(ls -A "$d")" ] || fail "$d still visible"; done
+
+echo "--- causal-estimator --help from /"
+help=$(causal-estimator --help) || fail "causal-estimator --help exited non-zero"
+qos_line=$(grep -m1 -o "default: [^ ]*qos.xml[^;]*" <<< "$help" || true)
+[ "$qos_line" = "default: /etc/causal-twin/qos.xml (from /etc/causal-twin)" ] || fail "--help: qos.xml not from /etc/causal-twin: $qos_line"
+echo "$qos_line"
+
+echo "--- systemd-analyze verify"
+units=(/usr/lib/systemd/system/causal-twin.target /usr/lib/systemd/system/causal-twin-*.service)
+[ ${#units[@]} = 6 ] || fail "expected 6 units, found ${#units[@]}"
+verify=$(systemd-analyze verify "${units[@]}" 2>&1) || { echo "$verify"; fail "systemd-analyze verify"; }
+[ -z "$(grep -i causal-twin <<< "$verify" || true)" ] || { echo "$verify"; fail "systemd-analyze verify warned"; }
+echo "6 units verified"
+
+echo "--- causal-twin-demo from / (the slice, domain $domain)"
+timeout 120 causal-twin-demo --domain "$domain" --record "$work/installed_slice" > "$work/installed_slice.log" 2>&1 \
+  || { tail -20 "$work/installed_slice.log"; fail "causal-twin-demo (slice) exited non-zero"; }
+echo "--- causal-twin-demo from / (the 984-snapshot feature table, domain $domain)"
+timeout 120 causal-twin-demo --domain "$domain" --features /usr/share/causal-twin/data/ims2-features/derived_per_file_stats_all984.csv \
+  --feature-suffix _meanabs --feature-name meanabs --ask 3:-10 --record "$work/installed_features" \
+  > "$work/installed_features.log" 2>&1 || { tail -20 "$work/installed_features.log"; fail "causal-twin-demo (features) exited non-zero"; }
+# The demo wrote nothing under /usr (only the package's own files are in its upper layer).
+extra=$(cd "$work/ov/usr/upper" && find . -type f | sed 's|^\.|/usr|' | grep -vxF -f <(echo "$listed") || true)
+[ -z "$extra" ] || fail "written under /usr besides the package: $extra"
+
+echo "--- the units' commands as user causal-twin (no systemd here: ExecStart and the .env files read as systemd does)"
+# The operator's one edit: this cell's domain.
+echo "CAUSAL_TWIN_DOMAIN_ID=$domain" >> /etc/causal-twin/twin.env
+# unit_argv UNIT INSTANCE: ExecStart with %i and the unit's EnvironmentFile variables expanded ($VAR splits
+# into words, as in systemd), into argv; the environment files' assignments into envv.
+unit_argv() {
+  local unit="/usr/lib/systemd/system/$1" instance="$2" line file key value
+  declare -gA unit_env=()
+  envv=()
+  while read -r file; do
+    file="${file#-}"; file="${file//%i/$instance}"
+    [ -f "$file" ] || continue
+    while IFS= read -r line; do
+      [[ "$line" =~ ^[A-Za-z_][A-Za-z0-9_]*= ]] || continue
+      key="${line%%=*}"; value="${line#*=}"
+      unit_env[$key]="$value"; envv+=("$key=$value")
+    done < "$file"
+  done < <(sed -n 's/^EnvironmentFile=//p' "$unit")
+  line="$(sed -n 's/^ExecStart=//p' "$unit")"; line="${line//%i/$instance}"
+  for key in "${!unit_env[@]}"; do line="${line//\$$key/${unit_env[$key]}}"; done
+  read -ra argv <<< "$line"
+  [ "$(grep -c '^User=causal-twin$' "$unit")" = 1 ] || fail "$1 does not run as causal-twin"
+}
+unit_names=()
+start_unit() {  # UNIT INSTANCE
+  unit_argv "$1" "$2"
+  env "${envv[@]}" setpriv --reuid causal-twin --regid causal-twin --init-groups "${argv[@]}" \
+    > "$work/unit_$1.log" 2>&1 &
+  unit_pids+=($!); unit_names+=("$1")
+}
+cd /var/lib/causal-twin
+start_unit causal-twin-recorder.service ""
+start_unit causal-twin-recommender.service ""
+start_unit causal-twin-estimator@.service main
+unit_argv causal-twin-sensor@.service ims2-slice
+env "${envv[@]}" setpriv --reuid causal-twin --regid causal-twin --init-groups timeout 60 "${argv[@]}" \
+  > "$work/unit_sensor.log" 2>&1 || { tail "$work/unit_sensor.log"; fail "causal-twin-sensor@ims2-slice"; }
+recorded=/var/lib/causal-twin/recordings/conditions_ims2-shaft1_meanabs.csv
+for _ in $(seq 300); do [ -f "$recorded" ] && [ "$(($(wc -l < "$recorded") - 1))" = 6 ] && break; sleep 0.1; done
+for p in "${unit_pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+for i in "${!unit_pids[@]}"; do
+  rc=0; wait "${unit_pids[$i]}" || rc=$?
+  [ "$rc" = 0 ] || { tail "$work/unit_${unit_names[$i]}.log"; fail "${unit_names[$i]} exited $rc on SIGTERM"; }
+done
+unit_pids=()
+cd /
+[ -f "$recorded" ] || fail "the recorder unit wrote no $recorded"
+cp "$recorded" "$work/units_conditions.csv"
+echo "units: recorder wrote $(($(wc -l < "$recorded") - 1)) condition vectors to /var/lib/causal-twin/recordings"
+for d in estimator-main recommender recordings; do
+  [ -n "$(ls -A "/var/lib/causal-twin/$d" 2>/dev/null)" ] || fail "nothing in /var/lib/causal-twin/$d"
+  [ -z "$(find "/var/lib/causal-twin/$d" ! -user causal-twin)" ] || fail "/var/lib/causal-twin/$d: files not owned by causal-twin"
+done
+echo "units: checkpoints in estimator-main ($(ls /var/lib/causal-twin/estimator-main | wc -l) files) and recommender ($(ls /var/lib/causal-twin/recommender | wc -l) files), all owned by causal-twin; every service exited 0 on SIGTERM"
+
+echo "--- dpkg -P causal-twin"
+dpkg -P causal-twin > "$work/installed_dpkg_p.log" 2>&1 || { cat "$work/installed_dpkg_p.log"; fail "dpkg -P"; }
+# Every path dpkg -L listed is gone, unless it existed before the install (a folder such as /usr/bin).
+left=""
+while read -r f; do
+  top="${f#/}"; top="${top%%/*}"
+  case "$top" in usr|etc|var) ;; *) continue ;; esac
+  [ -e "$f" ] || [ -L "$f" ] || continue
+  [ -d "$f" ] && [ -d "$work/ov/$top/lower${f#/$top}" ] && continue
+  left+="$f "
+done <<< "$listed"
+[ -z "$left" ] || fail "left after purge: $left"
+for p in /etc/causal-twin /var/lib/causal-twin /usr/share/causal-twin; do [ ! -e "$p" ] || fail "$p left after purge"; done
+! getent passwd causal-twin > /dev/null || fail "user causal-twin left after purge"
+! getent group causal-twin > /dev/null || fail "group causal-twin left after purge"
+# Every file the install touched is back as it was, except dpkg's own records and the account files' backups.
+changed=""
+for d in usr etc var; do
+  while read -r f; do
+    case "/$d/$f" in /var/lib/dpkg/*|/var/log/*|/var/cache/*|/etc/passwd-|/etc/group-|/etc/shadow-|/etc/gshadow-|/etc/subuid-|/etc/subgid-) continue ;; esac
+    cmp -s "$work/ov/$d/upper/$f" "$work/ov/$d/lower/$f" || changed+="/$d/$f "
+  done < <(cd "$work/ov/$d/upper" && find . -type f | sed 's|^\./||')
+done
+[ -z "$changed" ] || fail "changed after purge: $changed"
+echo "purge: nothing left"
+
+echo "--- an install into a separate prefix, from / with no source or build tree and no /etc/causal-twin"
+help=$("$prefix_dir/bin/causal-estimator" --help) || fail "the prefix's causal-estimator --help exited non-zero"
+qos_line=$(grep -m1 -o "default: [^ ]*qos.xml[^;]*" <<< "$help" || true)
+[ "$qos_line" = "default: $prefix_dir/share/causal-twin/dds/qos.xml (from the installed defaults)" ] \
+  || fail "the prefix's causal-estimator does not take qos.xml from $prefix_dir/share/causal-twin/dds: $qos_line"
+echo "$qos_line"
+timeout 120 "$prefix_dir/bin/causal-twin-demo" --domain "$domain" --record "$work/prefix_slice" > "$work/prefix_slice.log" 2>&1 \
+  || { tail -20 "$work/prefix_slice.log"; fail "the prefix's causal-twin-demo exited non-zero"; }
+echo "prefix demo: exit 0"
