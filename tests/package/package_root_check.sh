@@ -52,10 +52,10 @@ echo "$qos_line"
 
 echo "--- systemd-analyze verify"
 units=(/usr/lib/systemd/system/causal-twin.target /usr/lib/systemd/system/causal-twin-*.service)
-[ ${#units[@]} = 6 ] || fail "expected 6 units, found ${#units[@]}"
+[ ${#units[@]} = 7 ] || fail "expected 7 units, found ${#units[@]}"
 verify=$(systemd-analyze verify "${units[@]}" 2>&1) || { echo "$verify"; fail "systemd-analyze verify"; }
 [ -z "$(grep -i causal-twin <<< "$verify" || true)" ] || { echo "$verify"; fail "systemd-analyze verify warned"; }
-echo "6 units verified"
+echo "7 units verified"
 
 echo "--- causal-twin-demo from / (the slice, domain $domain)"
 timeout 120 causal-twin-demo --domain "$domain" --record "$work/installed_slice" > "$work/installed_slice.log" 2>&1 \
