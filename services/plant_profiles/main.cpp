@@ -29,7 +29,9 @@ Plant file (YAML; every problem is reported at once, each naming its host or key
   Roles: sensor, estimator (or estimator K/N: shard K of N), recommender, recorder, web, operator.
 
 Output (in --out): <host>.xml, the host's participant profile, and <host>.commands, the command lines of
-its services. Copy both to the host (the profile to --installed-as, default /etc/causal-twin/plant.xml).
+its services; with a discovery server, also <host>.discovery-server.xml for its host (the server's own
+profile). Copy them to the host (the profile to --installed-as, default /etc/causal-twin/plant.xml; the server's
+profile next to it as discovery-server.xml).
 Exit codes: 0 written, 2 invalid plant file (problems on stderr), 1 cannot write.
 )";
 
@@ -74,6 +76,15 @@ int main(int argc, char** argv) {
     for (const auto& line : causal::plant::host_commands(plant, host, installed_as)) {
       commands << line << "\n";
       std::cout << "  " << line << "\n";
+    }
+    if (plant.discovery_server && plant.discovery_server->host == host.name) {
+      std::ofstream server(base + ".discovery-server.xml");
+      server << causal::plant::discovery_server_profile_xml(plant, plant_file);
+      std::cout << base << ".discovery-server.xml  (copy next to it as discovery-server.xml)\n";
+      if (!server.flush()) {
+        std::cerr << "causal-plant-profiles: cannot write " << base << ".discovery-server.xml\n";
+        return kExitOutput;
+      }
     }
     if (!xml.flush() || !commands.flush()) {
       std::cerr << "causal-plant-profiles: cannot write " << base << ".xml/.commands\n";

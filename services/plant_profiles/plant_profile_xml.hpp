@@ -21,8 +21,16 @@ constexpr int kSpareParticipantsPerHost = 4;
 // security setting. `source` names the plant file in the header comment.
 std::string participant_profile_xml(const PlantDescription& plant, const PlantHost& host, const std::string& source);
 
+// The discovery server's own profile, for the plant's server host (`fast-discovery-server -x FILE`): a SERVER
+// participant with the well-known prefix of server id 0 on the host's plant address and port, bound to that
+// address like the clients. Its default settings would not do: it would listen on every interface and answer
+// clients on its own host through 127.0.0.1, where they do not listen (they are bound to the plant address).
+// Empty when the plant has no discovery server.
+std::string discovery_server_profile_xml(const PlantDescription& plant, const std::string& source);
+
 // The command lines that start the host's services (one per role; the discovery server first when it runs
-// on this host). `profile_path` is where the profile will be installed on the host.
+// on this host). `profile_path` is where the profile will be installed on the host; the discovery server's
+// profile goes next to it as discovery-server.xml.
 std::vector<std::string> host_commands(const PlantDescription& plant, const PlantHost& host,
                                        const std::string& profile_path);
 

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -43,12 +44,12 @@ causal::plant::PlantDescription parse(const std::string& text) {
 
 // The participant profile `xml` defines, as Fast DDS parses it (a fresh profile manager every time: the
 // profile name is the same in every generated file).
-DomainParticipantQos parsed_qos(const std::string& xml) {
+DomainParticipantQos parsed_qos(const std::string& xml, const std::string& profile = "causal_twin_participant") {
   eprosima::fastrtps::xmlparser::XMLProfileManager::DeleteInstance();
   DomainParticipantQos qos;
   auto* factory = DomainParticipantFactory::get_instance();
   EXPECT_EQ(factory->load_XML_profiles_string(xml.c_str(), xml.size()), ReturnCode_t::RETCODE_OK) << xml;
-  EXPECT_EQ(factory->get_participant_qos_from_profile("causal_twin_participant", qos), ReturnCode_t::RETCODE_OK);
+  EXPECT_EQ(factory->get_participant_qos_from_profile(profile, qos), ReturnCode_t::RETCODE_OK);
   return qos;
 }
 
@@ -136,6 +137,26 @@ TEST(PlantProfileXml, DiscoveryServerReplacesPeerAnnouncements) {
   }
 }
 
+TEST(PlantProfileXml, DiscoveryServerProfileListensOnThePlantAddressOnly) {
+  EXPECT_EQ(causal::plant::discovery_server_profile_xml(parse(kThreeHosts), "test.yaml"), "");
+  const auto plant = parse(std::string(kThreeHosts) + "discovery_server: {host: analytics, port: 11900}\n");
+  const auto qos = parsed_qos(causal::plant::discovery_server_profile_xml(plant, "test.yaml"), "causal_twin_discovery_server");
+  const auto& builtin = qos.wire_protocol().builtin;
+  EXPECT_EQ(builtin.discovery_config.discoveryProtocol, eprosima::fastrtps::rtps::DiscoveryProtocol_t::SERVER);
+  // The prefix of server id 0, which the clients' RemoteServer names.
+  std::ostringstream prefix;
+  prefix << qos.wire_protocol().prefix;
+  EXPECT_EQ(prefix.str(), "44.53.00.5f.45.50.52.4f.53.49.4d.41");
+  ASSERT_EQ(builtin.metatrafficUnicastLocatorList.size(), 1u);
+  EXPECT_EQ(IPLocator::toIPv4string(*builtin.metatrafficUnicastLocatorList.begin()), "10.84.0.2");
+  EXPECT_EQ(builtin.metatrafficUnicastLocatorList.begin()->port, 11900u);
+  EXPECT_FALSE(qos.transport().use_builtin_transports);
+  const Transports t = transports(qos);
+  ASSERT_EQ(t.udp_count, 1);
+  EXPECT_EQ(t.udp->interfaceWhiteList, std::vector<std::string>{"10.84.0.2"});
+  EXPECT_EQ(t.shm_count + t.other_count, 0);
+}
+
 TEST(PlantProfileXml, CommandsStartEachRoleWithTheProfile) {
   const auto plant = parse(std::string(kThreeHosts) + "discovery_server: {host: operator}\n");
   const std::string tail = " --domain 84 --transport /etc/p.xml";
@@ -148,7 +169,7 @@ TEST(PlantProfileXml, CommandsStartEachRoleWithTheProfile) {
   EXPECT_EQ(sensors[0].rfind("sensor-replay" + tail + " --wait-for causal-estimator:2", 0), 0u) << sensors[0];
   const auto ops = causal::plant::host_commands(plant, plant.hosts[2], "/etc/p.xml");
   ASSERT_EQ(ops.size(), 4u);
-  EXPECT_EQ(ops[0], "fastdds discovery -i 0 -l 10.84.0.3 -p 11811");
+  EXPECT_EQ(ops[0], "fast-discovery-server -x /etc/discovery-server.xml");
   EXPECT_EQ(ops[1], "alarm-recommender" + tail);
   EXPECT_EQ(ops[3], "twin-web" + tail + " --bind 10.84.0.3 --port 8080");
 }

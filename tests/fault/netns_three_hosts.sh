@@ -12,10 +12,13 @@
 # sent == received by the estimators, every service exit 0, and the recordings (condition vectors,
 # condition-level factors, alarms, recommendations) byte-identical to the single-host run. DDS-Security is
 # OFF here (open bus): this test is about placement and transport; tests/security covers the secured bus.
-# Domains 84 (three hosts) and 85 (reference). Exit 77 = skipped (no root / no network namespaces).
-#   netns_three_hosts.sh <build/services dir> <deploy dir>
+# With "discovery-server" the plant file names the operator host as the Fast DDS discovery server: the services
+# there and elsewhere are its clients (no peer lists) and fast-discovery-server runs on that host.
+# Domains 84 (three hosts) and 85 (reference), each inside its own namespaces, so the variants cannot meet.
+# Exit 77 = skipped (no root / no network namespaces).
+#   netns_three_hosts.sh <build/services dir> <deploy dir> [discovery-server]
 set -uo pipefail
-bin="$1"; deploy="$2"
+bin="$1"; deploy="$2"; mode="${3:-peers}"
 tag=$$
 source "$(dirname "$0")/../support/netns_common.sh"
 fail() { echo "FAIL: $1"; exit 1; }
@@ -43,6 +46,7 @@ hosts:
   - {name: estimator-host, address: $sub.2, interface: plant0, roles: [estimator 0/2, estimator 1/2]}
   - {name: operator-host, address: $sub.3, interface: plant0, roles: [recommender, recorder]}
 PLANT
+[ "$mode" = discovery-server ] && echo "discovery_server: {host: operator-host, port: 11811}" >> "$work/plant.yaml"
 "$bin/plant_profiles/causal-plant-profiles" "$work/plant.yaml" --out "$work/profiles" > "$work/profiles.log" 2>&1 \
   || fail "causal-plant-profiles: $(cat "$work/profiles.log")"
 for h in sensor-host estimator-host operator-host; do [ -s "$work/profiles/$h.xml" ] || fail "no profile for $h"; done
@@ -52,14 +56,15 @@ slice="$deploy/data/ims2-slice"
 # Paced at 5 ms per snapshot (10 min apart in the data), as tests/security does: about 5 s.
 features=(--features "$table" --feature-suffix _meanabs --feature-name meanabs --speed 120000)
 # run NAME NS (then the command): in the background, logged to $work/NAME.log
-run() { local name="$1" ns="$2"; shift 2; netns_host_exec "$ns" "$@" > "$work/$name.log" 2>&1 & pids+=($!); }
+services=()
+run() { local name="$1" ns="$2"; shift 2; netns_host_start "$ns" "$@" > "$work/$name.log" 2>&1; services+=("$netns_last_pid"); }
 started=$(date +%s)
 
 # Reference: everything on one host, loopback profile, one estimator.
 ref=(--domain "$ref_domain" --transport "$deploy/dds/localhost.xml")
-run ref_recorder "$ns_ref" "$bin/causal_recorder/causal-recorder" "${ref[@]}" --out "$work/ref_rec" --idle-exit 6 --max-runtime 100
-run ref_recommender "$ns_ref" "$bin/alarm_recommender/alarm-recommender" "${ref[@]}" --idle-exit 6 --max-runtime 100
-run ref_estimator "$ns_ref" "$bin/causal_estimator/causal-estimator" "${ref[@]}" --idle-exit 3 --max-runtime 100 \
+run ref_recorder "$ns_ref" "$bin/causal_recorder/causal-recorder" "${ref[@]}" --out "$work/ref_rec" --idle-exit 6 --max-runtime 90
+run ref_recommender "$ns_ref" "$bin/alarm_recommender/alarm-recommender" "${ref[@]}" --idle-exit 6 --max-runtime 90
+run ref_estimator "$ns_ref" "$bin/causal_estimator/causal-estimator" "${ref[@]}" --idle-exit 3 --max-runtime 90 \
   --wait-for alarm-recommender --wait-for causal-recorder
 run ref_replay_raw "$ns_ref" "$bin/sensor_replay/sensor-replay" "${ref[@]}" --ims-dir "$slice" --asset-group ims2-raw \
   --wait-for causal-estimator --wait-timeout 60
@@ -67,14 +72,24 @@ run ref_replay_features "$ns_ref" "$bin/sensor_replay/sensor-replay" "${ref[@]}"
   --wait-for causal-estimator --wait-timeout 60
 
 # Three hosts: each service with its host's generated profile.
+if [ "$mode" = discovery-server ]; then
+  grep -q "<discoveryProtocol>CLIENT</discoveryProtocol>" "$work/profiles/sensor-host.xml" || fail "no client profile"
+  # Ended by the clean-up (it is in pids), after the services.
+  [ -s "$work/profiles/operator-host.discovery-server.xml" ] || fail "no discovery server profile"
+  netns_host_start "$ns_ops" fast-discovery-server -x "$work/profiles/operator-host.discovery-server.xml" \
+    > "$work/server.log" 2>&1
+  server_pid=$netns_last_pid
+  sleep 1
+  kill -0 "$server_pid" 2>/dev/null || fail "the discovery server did not start: $(cat "$work/server.log")"
+fi
 p="$work/profiles"
 ops=(--domain "$domain" --transport "$p/operator-host.xml")
 est=(--domain "$domain" --transport "$p/estimator-host.xml")
-run recorder "$ns_ops" "$bin/causal_recorder/causal-recorder" "${ops[@]}" --out "$work/rec" --idle-exit 6 --max-runtime 100
-run recommender "$ns_ops" "$bin/alarm_recommender/alarm-recommender" "${ops[@]}" --idle-exit 6 --max-runtime 100
+run recorder "$ns_ops" "$bin/causal_recorder/causal-recorder" "${ops[@]}" --out "$work/rec" --idle-exit 6 --max-runtime 90
+run recommender "$ns_ops" "$bin/alarm_recommender/alarm-recommender" "${ops[@]}" --idle-exit 6 --max-runtime 90
 for k in 0 1; do
   run "estimator$k" "$ns_est" "$bin/causal_estimator/causal-estimator" "${est[@]}" --shard-index "$k" --shard-count 2 \
-    --idle-exit 3 --max-runtime 100 --wait-for alarm-recommender --wait-for causal-recorder
+    --idle-exit 3 --max-runtime 90 --wait-for alarm-recommender --wait-for causal-recorder
 done
 run replay_raw "$ns_sensor" "$bin/sensor_replay/sensor-replay" --domain "$domain" --transport "$p/sensor-host.xml" \
   --ims-dir "$slice" --asset-group ims2-raw --wait-for causal-estimator:2 --wait-timeout 60
@@ -84,8 +99,8 @@ run replay_features "$ns_sensor" env FASTRTPS_DEFAULT_PROFILES_FILE="$p/sensor-h
 names=(ref_recorder ref_recommender ref_estimator ref_replay_raw ref_replay_features
        recorder recommender estimator0 estimator1 replay_raw replay_features)
 rcs=()
-for p_ in "${pids[@]}"; do wait "$p_"; rcs+=($?); done
-pids=()
+for p_ in "${services[@]}"; do wait "$p_"; rcs+=($?); done
+pids=(${server_pid:+"$server_pid"})  # the services are reaped: only the discovery server is left to end
 echo "run took $(( $(date +%s) - started )) s"
 for n in "${!names[@]}"; do
   [ "${rcs[$n]}" = 0 ] || grep -h -E "\] [a-z-]* (warning|error|critical) " "$work"/*.log | grep -v ALARM | sed "s/^[^[]*//" | sort | uniq -c | head -n 20
@@ -123,5 +138,5 @@ done
 netns_cleanup; trap - EXIT
 left=$(ip netns list | grep -c "_$tag\b")
 [ "$left" = 0 ] && [ ! -e "$netns_shm_root" ] && { [ -n "${KEEP_NETNS_WORK:-}" ] || [ ! -e "$work" ]; } || fail "left behind: $left namespaces, $netns_shm_root, $work"
-echo "PASS: three hosts from generated profiles: 120/120 frames, 984/984 condition inputs, recordings identical" \
+echo "PASS ($mode): three hosts from generated profiles: 120/120 frames, 984/984 condition inputs, recordings identical" \
      "to the single-host run; namespaces, links and /dev/shm folders removed"
