@@ -11,14 +11,18 @@
 # unsharded estimator, in a fifth namespace) as the reference. Checked exactly: frames and condition inputs
 # sent == received by the estimators, every service exit 0, and the recordings (condition vectors,
 # condition-level factors, alarms, recommendations) byte-identical to the single-host run. DDS-Security is
-# OFF here (open bus): this test is about placement and transport; tests/security covers the secured bus.
+# OFF by default (open bus): this test is about placement and transport; tests/security covers the secured bus.
 # With "discovery-server" the plant file names the operator host as the Fast DDS discovery server: the services
 # there and elsewhere are its clients (no peer lists) and fast-discovery-server runs on that host.
+# With "secured" the plant file names a PKI made by make-pki.sh (not registered with ctest: 2 of 4 runs failed,
+# the recommender with "factor sets never completed" (exit 4), once the recorder wrote a partial fixed-lag row
+# for snapshot 981 (duplicates=2): outcome messages of one index arriving after later ones).
 # Domains 84 (three hosts) and 85 (reference), each inside its own namespaces, so the variants cannot meet.
 # Exit 77 = skipped (no root / no network namespaces).
-#   netns_three_hosts.sh <build/services dir> <deploy dir> [discovery-server]
+#   netns_three_hosts.sh <build/services dir> <deploy dir> [discovery-server|secured]
 set -uo pipefail
 bin="$1"; deploy="$2"; mode="${3:-peers}"
+case "$mode" in peers|discovery-server|secured) ;; *) echo "unknown mode '$mode' (peers, discovery-server, secured)"; exit 2;; esac
 tag=$$
 source "$(dirname "$0")/../support/netns_common.sh"
 fail() { echo "FAIL: $1"; exit 1; }
@@ -38,9 +42,14 @@ for ns in "$ns_sensor" "$ns_est" "$ns_ops"; do
   ip -n "$ns" addr add "$sub.$i/24" dev plant0 && ip -n "$ns" link set plant0 up || fail "cannot set $sub.$i"
 done
 
+security=off  # open bus unless secured (see the header)
+if [ "$mode" = secured ]; then
+  "$deploy/security/make-pki.sh" "$work/pki" > "$work/pki.log" 2>&1 || fail "make-pki.sh: $(tail -3 "$work/pki.log")"
+  security="$work/pki"
+fi
 cat > "$work/plant.yaml" <<PLANT
 domain: $domain
-security: off          # open bus in this test (see the header)
+security: $security
 hosts:
   - {name: sensor-host, address: $sub.1, interface: plant0, roles: [sensor]}
   - {name: estimator-host, address: $sub.2, interface: plant0, roles: [estimator 0/2, estimator 1/2]}
