@@ -1,32 +1,19 @@
 # Two test hosts in network namespaces, for the multi-host tests (sourced, not run). The caller sets
 #   tag (unique, e.g. $$), net (second octet of the 10.x test network), deploy (the deploy dir)
-# and gets ns_a/ns_b, veth_a/veth_b, addr_a/addr_b, work (a temp dir), pids (background processes to end),
-# a cleanup trap that ends them and removes both namespaces (and with them the veth pair), and
+# and gets ns_a/ns_b, veth_a/veth_b, addr_a/addr_b; from netns_common.sh work (a temp dir), pids (background
+# processes to end) and a cleanup trap that ends them and removes both namespaces (and with them the veth pair);
+# and
 # plant_profile ADDR: deploy/dds/plant.xml rewritten for this host (its own address, both hosts as peers),
 # DDS-Security off (these tests measure the transport; tests/security covers the secured bus).
 # Exits 77 (skipped) without permission to create namespaces.
-if [ "$(id -u)" -ne 0 ] || ! ip netns add "ctprobe$$" 2>/dev/null; then
-  echo "SKIP: creating network namespaces needs root (CAP_NET_ADMIN)"; exit 77
-fi
-ip netns del "ctprobe$$"
+source "$(dirname "${BASH_SOURCE[0]}")/netns_common.sh"
 
 ns_a="ct${net}a_$tag"; ns_b="ct${net}b_$tag"; veth_a="v${net}a$tag"; veth_b="v${net}b$tag"
 addr_a="10.$net.$(( tag % 200 )).1"; addr_b="10.$net.$(( tag % 200 )).2"
-work="$(mktemp -d)"
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null; done
-  for p in "${pids[@]}"; do wait "$p" 2>/dev/null; done
-  ip netns del "$ns_a" 2>/dev/null; ip netns del "$ns_b" 2>/dev/null  # removes the veth pair too
-  rm -rf "$work"
-}
-trap cleanup EXIT
-
-ip netns add "$ns_a" && ip netns add "$ns_b" || { echo "FAIL: cannot create namespaces"; exit 1; }
+netns_create "$ns_a"; netns_create "$ns_b"
 ip link add "$veth_a" type veth peer name "$veth_b"
 ip link set "$veth_a" netns "$ns_a"; ip link set "$veth_b" netns "$ns_b"
 ip -n "$ns_a" addr add "$addr_a/24" dev "$veth_a"; ip -n "$ns_b" addr add "$addr_b/24" dev "$veth_b"
-for ns in "$ns_a" "$ns_b"; do ip -n "$ns" link set lo up; done
 ip -n "$ns_a" link set "$veth_a" up; ip -n "$ns_b" link set "$veth_b" up
 
 plant_profile() {  # $1 = this host's address

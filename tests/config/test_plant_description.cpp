@@ -1,0 +1,162 @@
+// causal-plant-profiles' plant description: the shipped example parses as written, and every kind of mistake
+// is reported, all at once, naming the host or key (a plant engineer fixes the file in one pass).
+#include "plant_description.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace {
+
+using causal::plant::parse_plant_description;
+using causal::plant::RoleKind;
+
+const std::string kValidHosts = R"(
+hosts:
+  - {name: a, address: 10.1.0.1, roles: [sensor]}
+  - {name: b, address: 10.1.0.2, roles: [estimator]}
+  - {name: c, address: 10.1.0.3, roles: [recommender, recorder]}
+)";
+
+std::string plant(const std::string& hosts, const std::string& head = "domain: 7\nsecurity: off\n") {
+  return head + hosts;
+}
+
+// True when exactly one problem mentions every one of `words`.
+bool reported(const std::vector<std::string>& problems, std::initializer_list<const char*> words) {
+  int hits = 0;
+  for (const auto& p : problems) {
+    bool all = true;
+    for (const char* w : words) all = all && p.find(w) != std::string::npos;
+    hits += all ? 1 : 0;
+  }
+  return hits == 1;
+}
+
+std::string joined(const std::vector<std::string>& problems) {
+  std::string out;
+  for (const auto& p : problems) out += p + "\n";
+  return out;
+}
+
+TEST(PlantDescription, ShippedExampleParsesAsWritten) {
+  const auto r = causal::plant::load_plant_description(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/plant/example-plant.yaml");
+  ASSERT_TRUE(r.ok()) << joined(r.problems);
+  EXPECT_EQ(r.plant.domain_id, 42);
+  EXPECT_EQ(r.plant.security, "/etc/causal-twin/security");
+  EXPECT_FALSE(r.plant.discovery_server.has_value());
+  ASSERT_EQ(r.plant.hosts.size(), 3u);
+  EXPECT_EQ(r.plant.hosts[0].name, "sensors");
+  EXPECT_EQ(r.plant.hosts[0].address, "10.20.0.11");
+  EXPECT_EQ(r.plant.hosts[0].interface, "eth1");
+  ASSERT_EQ(r.plant.hosts[1].roles.size(), 2u);
+  EXPECT_EQ(r.plant.hosts[1].roles[1].kind, RoleKind::Estimator);
+  EXPECT_EQ(r.plant.hosts[1].roles[1].shard_index, 1);
+  EXPECT_EQ(r.plant.hosts[1].roles[1].shard_count, 2);
+  EXPECT_EQ(causal::plant::role_text(r.plant.hosts[1].roles[0]), "estimator 0/2");
+  EXPECT_EQ(r.plant.hosts[2].roles.size(), 4u);
+  EXPECT_EQ(causal::plant::max_participants_per_host(r.plant), 4);
+}
+
+TEST(PlantDescription, MinimalPlantIsValid) {
+  const auto r = parse_plant_description(plant(kValidHosts), "p.yaml");
+  EXPECT_TRUE(r.ok()) << joined(r.problems);
+  EXPECT_EQ(r.plant.security, "off");
+}
+
+TEST(PlantDescription, Ipv4AddressSyntax) {
+  using causal::plant::is_ipv4_address;
+  EXPECT_TRUE(is_ipv4_address("10.20.0.11"));
+  EXPECT_TRUE(is_ipv4_address("255.255.255.255"));
+  EXPECT_FALSE(is_ipv4_address("10.20.0"));
+  EXPECT_FALSE(is_ipv4_address("10.20.0.11.5"));
+  EXPECT_FALSE(is_ipv4_address("10.256.0.1"));
+  EXPECT_FALSE(is_ipv4_address("10.02.0.1"));
+  EXPECT_FALSE(is_ipv4_address("10..0.1"));
+  EXPECT_FALSE(is_ipv4_address("host.example"));
+  EXPECT_FALSE(is_ipv4_address(" 10.0.0.1"));
+}
+
+TEST(PlantDescription, DuplicateHostNameAndAddress) {
+  const auto r = parse_plant_description(plant(kValidHosts + "  - {name: a, address: 10.1.0.3, roles: [web]}\n"), "p.yaml");
+  EXPECT_EQ(r.problems.size(), 2u) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"p.yaml", "duplicate host name 'a'"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"duplicate address 10.1.0.3"})) << joined(r.problems);
+}
+
+TEST(PlantDescription, BadAddresses) {
+  const auto r = parse_plant_description(plant(R"(
+hosts:
+  - {name: a, address: 10.1.0.300, roles: [sensor]}
+  - {name: b, address: 127.0.0.1, roles: [estimator]}
+  - {name: c, address: 239.255.0.1, roles: [recommender]}
+  - {name: d, roles: [recorder]}
+)"),
+                                         "p.yaml");
+  EXPECT_EQ(r.problems.size(), 4u) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"hosts[0] (a)", "'10.1.0.300' is not an IPv4 address"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"hosts[1] (b)", "loopback"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"hosts[2] (c)", "multicast"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"hosts[3] (d)", "missing 'address'"})) << joined(r.problems);
+}
+
+TEST(PlantDescription, MissingAndUnknownRoles) {
+  const auto r = parse_plant_description(plant(R"(
+hosts:
+  - {name: a, address: 10.1.0.1, roles: [sensor, sensor]}
+  - {name: b, address: 10.1.0.2}
+  - {name: c, address: 10.1.0.3, roles: [estimater, recorder 1/2]}
+)"),
+                                         "p.yaml");
+  // Per host: a role twice, no roles, two unknown roles; for the plant: no estimator, no recommender.
+  EXPECT_EQ(r.problems.size(), 6u) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"(a)", "role 'sensor' given twice"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"(b)", "missing 'roles'"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"(c)", "unknown role 'estimater'"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"(c)", "unknown role 'recorder 1/2'"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"no host has the role 'estimator'"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"no host has the role 'recommender'"})) << joined(r.problems);
+}
+
+TEST(PlantDescription, EstimatorShardsMustBeCompleteAndConsistent) {
+  const auto gap = parse_plant_description(plant(R"(
+hosts:
+  - {name: a, address: 10.1.0.1, roles: [sensor, recommender]}
+  - {name: b, address: 10.1.0.2, roles: [estimator 0/3, estimator 2/3]}
+  - {name: c, address: 10.1.0.3, roles: [estimator 2/3, estimator 3/3]}
+)"),
+                                           "p.yaml");
+  // 3/3 is not a shard of 3; shard 1/3 is missing; shard 2/3 runs twice.
+  EXPECT_EQ(gap.problems.size(), 3u) << joined(gap.problems);
+  EXPECT_TRUE(reported(gap.problems, {"unknown role 'estimator 3/3'"})) << joined(gap.problems);
+  EXPECT_TRUE(reported(gap.problems, {"shard 1/3 is on no host"})) << joined(gap.problems);
+  EXPECT_TRUE(reported(gap.problems, {"shard 2/3 is on 2 hosts"})) << joined(gap.problems);
+
+  const auto mixed = parse_plant_description(plant(R"(
+hosts:
+  - {name: a, address: 10.1.0.1, roles: [sensor, recommender, estimator]}
+  - {name: b, address: 10.1.0.2, roles: [estimator 1/2]}
+)"),
+                                             "p.yaml");
+  EXPECT_EQ(mixed.problems.size(), 1u) << joined(mixed.problems);
+  EXPECT_TRUE(reported(mixed.problems, {"disagree on the shard count"})) << joined(mixed.problems);
+}
+
+TEST(PlantDescription, TopLevelKeys) {
+  const auto r = parse_plant_description(
+      plant(kValidHosts, "domain: 233\nsecurity: etc/pki\ndiscovery_server: {host: z, port: 70000}\ntransport: udp\n"),
+      "p.yaml");
+  EXPECT_EQ(r.problems.size(), 5u) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"unknown key 'transport'"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"domain", "0..232", "'233'"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"security", "absolute path or 'off'"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"discovery_server.port", "1..65535"})) << joined(r.problems);
+  EXPECT_TRUE(reported(r.problems, {"discovery_server.host", "'z' is not one of the hosts"})) << joined(r.problems);
+
+  const auto none = parse_plant_description("hosts: []\n", "p.yaml");
+  EXPECT_EQ(none.problems.size(), 3u) << joined(none.problems);  // domain, security, hosts
+  EXPECT_TRUE(reported(parse_plant_description("domain: [", "p.yaml").problems, {"p.yaml: YAML"}));
+  EXPECT_TRUE(reported(causal::plant::load_plant_description("/nonexistent/plant.yaml").problems, {"cannot read"}));
+}
+
+}  // namespace
