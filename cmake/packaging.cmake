@@ -12,7 +12,7 @@ include(GNUInstallDirs)
 
 # Tools (a folder left out with CAUSAL_TWIN_SKIP has no target).
 foreach(tool sensor-replay sensor-sim sensor-ingest causal-estimator alarm-recommender causal-recorder causal-ask
-    causal-report causal-offline causal-whatif causal-alarm-eval twin-web)
+    causal-report causal-offline causal-whatif causal-alarm-eval twin-web causal-plant-profiles)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   endif()
@@ -21,7 +21,7 @@ endforeach()
 install(PROGRAMS deploy/launch.sh DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME causal-twin-demo)
 
 set(CAUSAL_TWIN_SHARE ${CMAKE_INSTALL_DATADIR}/causal-twin)
-install(DIRECTORY deploy/dds deploy/config deploy/data DESTINATION ${CAUSAL_TWIN_SHARE})
+install(DIRECTORY deploy/dds deploy/config deploy/data deploy/plant DESTINATION ${CAUSAL_TWIN_SHARE})
 install(PROGRAMS deploy/security/make-pki.sh deploy/security/issue-identity.sh deploy/security/revoke-identity.sh
   DESTINATION ${CAUSAL_TWIN_SHARE}/security)
 
