@@ -11,7 +11,7 @@
 namespace causal::dds {
 
 std::uint64_t asset_group_hash(std::string_view asset_group) {
-  std::uint64_t h = 1469598103934665603ULL;
+  std::uint64_t h = 14695981039346656037ULL;  // the published offset basis (main had a digit missing)
   for (unsigned char c : asset_group) {
     h ^= c;
     h *= 1099511628211ULL;
