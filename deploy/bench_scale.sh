@@ -105,7 +105,10 @@ run_pipeline() {
   for ((i = 0; i < shards; i++)); do
     local shard_args=()
     [ "$shards" -gt 1 ] && shard_args=(--shard-index "$i" --shard-count "$shards")
+    # --wait-for: no factor may be published before the counter's reader is matched (a late reader gets only
+    # the last 16 messages of each instance from the transient-local ring).
     "$EST" --domain "$domain" "${DDS[@]}" --params "$PARAMS" "${shard_args[@]}" --idle-exit 1 \
+      --wait-for bench-factor-counter \
       --max-runtime "$limit" --log-level warn > "$dir/est$i.log" 2>&1 &
     est+=($!)
     PIDS+=($!)
