@@ -19,21 +19,13 @@ constexpr std::chrono::milliseconds kReorderHold{2000};
 constexpr std::size_t kReorderMax = 4096;
 }  // namespace
 
-std::uint64_t shard_hash(const std::string& asset_group) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : asset_group) {
-    h ^= c;
-    h *= 1099511628211ULL;
-  }
-  return h;
-}
-
 EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelineParams params)
     : options_(std::move(options)),
       params_(std::move(params)),
       participant_(dds::to_dds_settings(options_.dds, "causal-estimator")),
-      frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader),
-      conditions_in_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputReader),
+      // Filtered to this shard's asset groups: the sources' writers drop the other shards' samples.
+      frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader, options_.groups),
+      conditions_in_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputReader, options_.groups),
       factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsWriter),
       conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter),
       quality_alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
@@ -74,11 +66,9 @@ void EstimatorNode::watch_primary() {
   for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), loop_.stop_flag());
 }
 
-bool EstimatorNode::mine(const std::string& asset_group) const {
-  return options_.shard_count <= 1 ||
-         shard_hash(asset_group) % static_cast<std::uint64_t>(options_.shard_count) ==
-             static_cast<std::uint64_t>(options_.shard_index);
-}
+// The content filter already keeps other shards' samples away; this check catches what a filter could not
+// judge (a sample whose asset group it could not read is let through) and is counted (foreign_frames_).
+bool EstimatorNode::mine(const std::string& asset_group) const { return options_.groups.matches(asset_group); }
 
 EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
   auto it = assets_.find(asset_group);
@@ -116,8 +106,13 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
 }
 
 int EstimatorNode::run() {
-  spdlog::info("causal-estimator on domain {} (shard {}/{}), waiting for frames", participant_.domain_id(),
-               options_.shard_index, options_.shard_count);
+  if (options_.groups.all()) {
+    spdlog::info("causal-estimator on domain {}, every asset group, waiting for frames", participant_.domain_id());
+  } else {
+    spdlog::info("causal-estimator on domain {}, shard {}: {} (content filter '{}' on frames and condition inputs, "
+                 "evaluated by the sources' writers), waiting for frames",
+                 participant_.domain_id(), options_.shard_name, options_.groups.describe(), options_.groups.expression());
+  }
   if (!options_.wait_for.empty()) {
     // Input that arrives meanwhile waits in the reliable, transient-local readers: nothing is lost.
     std::vector<dds::NamedReaders> wanted;
@@ -132,7 +127,12 @@ int EstimatorNode::run() {
       return 3;
     }
   }
-  const dds::RunLimits limits{options_.idle_exit_s, options_.max_runtime_s};
+  dds::RunLimits limits{options_.idle_exit_s, options_.max_runtime_s};
+  // A shard may own none of the groups a source publishes and then receives nothing at all: for it, sources
+  // that came and left are the end of the run (otherwise it would never be idle, and never exit).
+  if (!options_.groups.all()) {
+    limits.sources_came = [this] { return frames_.matched_writers_total() + conditions_in_.matched_writers_total() > 0; };
+  }
   primary_seen_ = std::chrono::steady_clock::now();
   if (standing_by_) spdlog::info("hot standby: publishing nothing while a primary causal-estimator is alive");
   const auto end = loop_.run(
@@ -239,7 +239,10 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
 }
 
 void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
-  if (!mine(in.asset_group())) return;
+  if (!mine(in.asset_group())) {
+    ++foreign_frames_;
+    return;
+  }
   if (const std::string problem = dds::validate_condition_vector(in); !problem.empty()) {
     ++invalid_msgs_;
     spdlog::warn("asset '{}': condition vector {} refused: {}", in.asset_group(), in.snapshot_index(), problem);

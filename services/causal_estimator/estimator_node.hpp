@@ -1,6 +1,7 @@
 // causal-estimator's DDS node: frames (and ready-made condition vectors) in; causal factors and condition
-// vectors out. One AssetPipeline per asset group (DDS instance); with --shard-count N the node keeps only the
-// asset groups whose id hashes to --shard-index, so N estimators share a plant.
+// vectors out. One AssetPipeline per asset group (DDS instance). A shard (--shards FILE --shard NAME, or
+// --shard-index/--shard-count) subscribes to content-filtered frames and condition inputs: it receives only its
+// own asset groups (dds/asset_group_filter.hpp), so N estimators divide the work.
 #pragma once
 
 #include "causal/metrics/metrics_registry.hpp"
@@ -30,8 +31,9 @@ namespace causal::estimator {
 struct EstimatorOptions {
   dds::CommonOptions dds;
   std::string params_file;
-  int shard_index = 0;
-  int shard_count = 1;
+  // The asset groups this estimator owns (every group by default); its readers are filtered to them.
+  dds::AssetGroupSelection groups;
+  std::string shard_name;  // for logs: the --shard NAME, or "I/N" for a hash slice
   double idle_exit_s = 0.0;    // exit after this long without data, once data has arrived (0 = never)
   double max_runtime_s = 0.0;  // hard stop (0 = none)
   // Wait for readers of participants with these names ("alarm-recommender", or "causal-recorder:1") on the
@@ -47,9 +49,6 @@ struct EstimatorOptions {
   double health_deadline_s = 30.0;  // estimator.yaml health.deadline_s (HealthWatch)
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
-
-// FNV-1a: a stable hash, so every estimator agrees on the shard of an asset group.
-std::uint64_t shard_hash(const std::string& asset_group);
 
 class EstimatorNode {
  public:

@@ -352,8 +352,16 @@ int EstimatorNode::finish_all() {
   if (store_.enabled()) {
     spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.failures());
   }
-  if (foreign_frames_ > 0) spdlog::info("{} frames of other shards ignored", foreign_frames_);
+  if (foreign_frames_ > 0) {
+    spdlog::info("{} frames/condition inputs of other shards received and ignored (the content filter let them "
+                 "through: their asset group could not be read)", foreign_frames_);
+  }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
+  if (!options_.groups.all()) {
+    // Machine-readable: the fault test checks that shards divide the groups exactly.
+    spdlog::info("summary shard={} groups={} foreign={} filter='{}'", options_.shard_name, assets_.size(),
+                 foreign_frames_, options_.groups.expression());
+  }
   std::uint64_t published = 0, unpublished = 0;
   const auto streams = outbound_.counters();
   for (const auto& [stream, c] : streams) {

@@ -1,6 +1,7 @@
 // causal-estimator: vibration frames in, causal factor vectors out. See --help.
 #include "estimator_node.hpp"
 #include "estimator_params.hpp"
+#include "shard_assignment.hpp"
 
 #include "causal/config/config_search.hpp"
 
@@ -21,9 +22,20 @@ int main(int argc, char** argv) {
   causal::dds::add_common_options(app, o.dds);
   app.add_option("--params", o.params_file, "YAML parameter file; default: " + params_choice.describe("estimator.yaml"))
       ->check(CLI::ExistingFile);
-  app.add_option("--shard-index", o.shard_index, "this estimator's shard (0-based)")->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  app.add_option("--shard-count", o.shard_count, "number of estimators sharing the asset groups")
+  // Shards: either named in a configuration file (the primary way: the operator decides which groups go
+  // where) or a hash slice (no configuration: groups spread by a stable hash of their id). Either way the
+  // readers are content-filtered, so a shard receives only its own groups.
+  int shard_index = 0, shard_count = 1;
+  std::string shards_file, shard_name;
+  app.add_option("--shards", shards_file,
+                 "shard assignment file (deploy/config/shards.yaml: shard name -> asset-group ids or glob patterns); "
+                 "with --shard NAME this estimator receives only that shard's groups")
+      ->check(CLI::ExistingFile);
+  app.add_option("--shard", shard_name, "this estimator's shard name in the --shards file");
+  app.add_option("--shard-index", shard_index, "without --shards: this estimator's hash slice (0-based)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--shard-count", shard_count,
+                 "without --shards: number of estimators sharing the asset groups by a stable hash of the id")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--idle-exit", o.idle_exit_s, "exit once data has arrived, every publisher of frames/condition vectors has left, and nothing arrived for this many seconds (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
@@ -53,12 +65,28 @@ int main(int argc, char** argv) {
                  "checkpoint every asset group's state here after each snapshot and resume from it after a restart "
                  "(input already processed is skipped); empty = no checkpoints");
   CLI11_PARSE(app, argc, argv);
-  if (o.shard_index >= o.shard_count) {
+  if (shard_index >= shard_count) {
     std::cerr << "error: --shard-index must be < --shard-count\n";
     return 2;
   }
+  if (shards_file.empty() != shard_name.empty()) {
+    std::cerr << "error: --shards FILE and --shard NAME go together\n";
+    return 2;
+  }
+  if (!shards_file.empty() && shard_count > 1) {
+    std::cerr << "error: --shards/--shard and --shard-index/--shard-count are two ways to shard: choose one\n";
+    return 2;
+  }
+  if (shard_count > 1) {
+    o.groups = causal::dds::AssetGroupSelection::hash_slice(shard_index, shard_count);
+    o.shard_name = std::to_string(shard_index) + "/" + std::to_string(shard_count);
+  }
   return causal::dds::run_service(signals, "causal-estimator", o.dds, [&] {
     if (o.params_file.empty()) throw std::invalid_argument(params_choice.describe("estimator.yaml") + ": give --params FILE");
+    if (!shards_file.empty()) {
+      o.groups.patterns = causal::estimator::load_shard_assignment(shards_file).patterns_of(shard_name);
+      o.shard_name = shard_name;
+    }
     auto params = causal::estimator::load_estimator_params(o.params_file);
     o.health_deadline_s = causal::estimator::load_estimator_health(o.params_file).deadline_s;
     return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(params));

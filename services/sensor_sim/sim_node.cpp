@@ -84,6 +84,11 @@ int SimNode::run() {
                options_.rate_hz > 0 ? fmt::format("{} samples/s per group", options_.rate_hz)
                                     : std::string("as fast as possible"));
   const auto origin = Clock::now();
+  origin_ = origin;
+  if (options_.wall_clock_stamps) {
+    options_.start_time_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                 std::chrono::system_clock::now().time_since_epoch()).count();
+  }
   Eigen::MatrixXd block;
   for (std::uint64_t round = 0; options_.frames_per_group == 0 || round < options_.frames_per_group; ++round) {
     if (options_.rate_hz > 0) {
@@ -111,13 +116,25 @@ bool SimNode::publish_round(std::uint64_t round, Eigen::MatrixXd& block) {
   const auto rows = static_cast<Eigen::Index>(options_.frame_samples);
   const double ns_per_sample = 1e9 / options_.sample_rate_hz;
   const auto write_timeout = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.write_timeout_s));
-  for (auto& g : groups_) {
+  const bool stagger = options_.stagger && options_.rate_hz > 0;
+  for (std::size_t gi = 0; gi < groups_.size(); ++gi) {
+    auto& g = groups_[gi];
     if (stop_.load()) return false;
+    // Staggered: group gi is due gi/K of a frame period after the round (and its samples are that much later).
+    const double phase = stagger ? static_cast<double>(gi) / static_cast<double>(groups_.size()) : 0.0;
+    if (stagger && gi > 0) {
+      const double due_s = (static_cast<double>(round) + phase) * options_.frame_samples / options_.rate_hz;
+      if (!sleep_until(origin_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(due_s)))) {
+        return false;
+      }
+    }
     g.generator.next(rows, block);
     auto& h = g.header;
     h.discontinuity = (round == 0);  // each group's stream starts here: no lag may reach before it
     h.first_sample_time_ns =
-        options_.start_time_ns + static_cast<std::int64_t>(static_cast<double>(h.first_sample_index) * ns_per_sample);
+        options_.start_time_ns +
+        static_cast<std::int64_t>((static_cast<double>(h.first_sample_index) + phase * options_.frame_samples) *
+                                  ns_per_sample);
     dds::to_frame(h, block, 0, rows, frame_);
     const auto deadline = std::min(Clock::now() + write_timeout, deadline_);
     const auto result = frames_.write_until(frame_, stop_, deadline);

@@ -49,6 +49,7 @@ class SimNode {
   std::mutex mutex_;
   std::condition_variable wake_;
   Clock::time_point started_;
+  Clock::time_point origin_;  // when publishing started (pacing)
   Clock::time_point deadline_ = Clock::time_point::max();  // --max-runtime
   std::uint64_t sent_ = 0, lost_ = 0;
 };

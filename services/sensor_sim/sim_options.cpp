@@ -37,6 +37,13 @@ std::optional<SimOptions> parse_sim_options(int argc, char** argv, int& exit_cod
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--start-time-ns", o.start_time_ns, "time of sample 0, ns since the Unix epoch (UTC)")
       ->capture_default_str();
+  app.add_flag("--wall-clock-stamps", o.wall_clock_stamps,
+               "stamp sample 0 with the wall clock (UTC) when publishing starts, instead of --start-time-ns: paced "
+               "at --rate equal to --sample-rate, a frame's first_sample_time_ns is when it is due (latency "
+               "benchmarks: deploy/bench_scale.sh)");
+  app.add_flag("--stagger", o.stagger,
+               "with --rate: spread the groups' frames evenly over each frame period (group g of K due g/K of a "
+               "period after group 0, its sample times shifted alike) instead of all at once");
   app.add_option("--frame-samples", o.frame_samples, "samples per channel in one frame")
       ->check(CLI::Range(16, 8192))->capture_default_str();
   app.add_option("--frames-per-group", o.frames_per_group, "stop after this many frames per group (0 = no bound)")

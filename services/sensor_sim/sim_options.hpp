@@ -20,6 +20,13 @@ struct SimOptions {
   double sample_rate_hz = 20000.0;         // stamped in the frames; time of sample i = start + i / sample_rate
   std::int64_t start_time_ns = 1767225600LL * 1000000000LL;  // 2026-01-01T00:00:00Z: time of sample 0
   int frame_samples = 1024;                // samples per channel in one frame
+  // Latency benchmarks: sample 0 is stamped with the wall clock when publishing starts, so (paced at
+  // --rate = --sample-rate) a frame's first_sample_time_ns is the wall-clock time it is due.
+  bool wall_clock_stamps = false;
+  // Paced runs: spread the groups' frames evenly over each frame period (group g of K is due g/K of a period
+  // later, its sample times shifted alike) instead of publishing every group's frame at the same instant:
+  // independent sensors are not phase-locked.
+  bool stagger = false;
   std::uint64_t frames_per_group = 0;      // stop after this many frames per group (0 = no bound)
   double max_runtime_s = 0.0;              // stop after this many seconds in any case (0 = no bound)
   int wait_subscribers = 1;                // wait for this many matched readers before publishing

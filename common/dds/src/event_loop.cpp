@@ -72,6 +72,7 @@ RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()
       any_data = true;
     }
     const bool has_sources = sources() > 0;
+    if (!any_data && limits.sources_came && limits.sources_came()) any_data = true;
     if (had_sources && !has_sources) sources_left = now;
     had_sources = has_sources;
     // A process that was frozen (SIGSTOP) wakes up with old timestamps: it is not idle until its sources

@@ -68,6 +68,12 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
                                       : ""));
   }
   directory_->set_local(participant_->guid().guidPrefix, qos.name().to_string());
+  // Every participant knows the asset-group filter, so our sources' writers evaluate the shards' filters
+  // themselves (writer-side filtering: a shard's frames never reach the others). See asset_group_filter.hpp.
+  if (!register_asset_group_filter(participant_)) {
+    spdlog::warn("the asset-group content filter could not be registered: shards that read from this participant's "
+                 "writers filter on arrival instead");
+  }
   publisher_ = participant_->create_publisher(eprosima::fastdds::dds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(eprosima::fastdds::dds::SUBSCRIBER_QOS_DEFAULT);
   if (publisher_ == nullptr || subscriber_ == nullptr) {
@@ -208,6 +214,22 @@ eprosima::fastdds::dds::Topic* Participant::topic_for(const std::string& name,
   auto* t = participant_->create_topic(name, type_name, eprosima::fastdds::dds::TOPIC_QOS_DEFAULT);
   if (t == nullptr) throw std::runtime_error("cannot create DDS topic " + name);
   topics_.emplace(name, t);
+  return t;
+}
+
+eprosima::fastdds::dds::TopicDescription* Participant::filtered_topic_for(eprosima::fastdds::dds::Topic* topic,
+                                                                        const AssetGroupSelection& selection) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::string expression = selection.expression();
+  // One filtered topic per (topic, expression); the name only has to be unique in this participant.
+  const std::string name = topic->get_name() + "|" + expression;
+  if (auto it = filtered_topics_.find(name); it != filtered_topics_.end()) return it->second;
+  auto* t = participant_->create_contentfilteredtopic(name, topic, expression, {}, kAssetGroupFilterClass);
+  if (t == nullptr) {
+    throw std::runtime_error("cannot create the content-filtered topic of " + topic->get_name() + " for '" +
+                             expression + "'");
+  }
+  filtered_topics_.emplace(name, t);
   return t;
 }
 

@@ -21,6 +21,10 @@ namespace causal::dds {
 struct RunLimits {
   double idle_exit_s = 0.0;    // once data has arrived, every source has left and nothing came for this long
   double max_runtime_s = 0.0;  // hard stop, honoured even while a write is blocked
+  // Set: idle also without data once this returns true (sources were matched, even between two polls) and
+  // they have all left: a reader filtered to part of the data (an estimator shard) may be sent nothing at all.
+  // Unset: a service waits for data before it can be idle.
+  std::function<bool()> sources_came;
 };
 
 enum class RunEnd { Stopped, Idle, MaxRuntime };

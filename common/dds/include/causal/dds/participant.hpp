@@ -5,11 +5,14 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/rtps/common/Guid.h>
+
+#include "causal/dds/asset_group_filter.hpp"
 
 #include <map>
 #include <memory>
@@ -94,6 +97,17 @@ class Participant {
     return topic_for(name, type);
   }
 
+  // What a reader of `name` subscribes to when it wants only the asset groups of `selection`: a
+  // ContentFilteredTopic of the asset-group filter class (asset_group_filter.hpp: evaluated by the writers
+  // where Fast DDS can, else on arrival), or the plain topic when the selection is every group.
+  template <typename PubSubType>
+  eprosima::fastdds::dds::TopicDescription* topic_for_groups(const std::string& name,
+                                                             const AssetGroupSelection& selection) {
+    auto* plain = topic<PubSubType>(name);
+    if (selection.all()) return plain;
+    return filtered_topic_for(plain, selection);
+  }
+
   eprosima::fastdds::dds::DomainParticipant* get() const { return participant_; }
   eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
@@ -105,12 +119,15 @@ class Participant {
 
  private:
   eprosima::fastdds::dds::Topic* topic_for(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
+  eprosima::fastdds::dds::TopicDescription* filtered_topic_for(eprosima::fastdds::dds::Topic* topic,
+                                                               const AssetGroupSelection& selection);
 
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;  // deleted in ~Participant, before directory_
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   std::unique_ptr<ParticipantDirectory> directory_;  // the listener: ~Participant deletes participant_ first
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+  std::map<std::string, eprosima::fastdds::dds::ContentFilteredTopic*> filtered_topics_;  // by name
   std::mutex mutex_;
   int domain_id_ = 0;
   bool secured_ = false;

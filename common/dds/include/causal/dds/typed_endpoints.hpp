@@ -220,9 +220,12 @@ class TypedReader {
  public:
   using Sample = typename PubSubType::type;
 
-  TypedReader(Participant& participant, const std::string& topic_name, const std::string& profile)
+  // With a selection other than every group, the reader subscribes to the topic's content-filtered form
+  // (Participant::topic_for_groups): only the selected asset groups' samples reach it.
+  TypedReader(Participant& participant, const std::string& topic_name, const std::string& profile,
+              const AssetGroupSelection& groups = {})
       : participant_(participant) {
-    auto* topic = participant.topic<PubSubType>(topic_name);
+    auto* topic = participant.topic_for_groups<PubSubType>(topic_name, groups);
     reader_ = participant.subscriber()->create_datareader_with_profile(
         topic, profile, &rejections_, eprosima::fastdds::dds::StatusMask::sample_rejected());
     if (reader_ == nullptr) {
@@ -322,6 +325,13 @@ class TypedReader {
     eprosima::fastdds::dds::SubscriptionMatchedStatus status;
     reader_->get_subscription_matched_status(status);
     return static_cast<std::size_t>(status.current_count);
+  }
+
+  // Writers ever matched (cumulative: also one that came and left between two looks).
+  std::size_t matched_writers_total() const {
+    eprosima::fastdds::dds::SubscriptionMatchedStatus status;
+    reader_->get_subscription_matched_status(status);
+    return static_cast<std::size_t>(status.total_count);
   }
 
   // Samples this reader never received (e.g. evicted by a writer before it got them). Cumulative.
