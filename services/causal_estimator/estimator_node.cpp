@@ -14,6 +14,13 @@
 namespace causal::estimator {
 
 namespace {
+// The participant announces its shard (the asset-group filter expression, "" unsharded): a hot standby follows
+// only the primary of its own shard, so another shard's estimator is never taken for its primary.
+dds::DdsSettings estimator_dds_settings(const EstimatorOptions& options) {
+  auto settings = dds::to_dds_settings(options.dds, "causal-estimator");
+  settings.role_tag = shard_role_tag(options.groups);
+  return settings;
+}
 // How long condition inputs that arrived ahead wait for the ones before them, and how many may wait.
 constexpr std::chrono::milliseconds kReorderHold{2000};
 constexpr std::size_t kReorderMax = 4096;
@@ -22,7 +29,7 @@ constexpr std::size_t kReorderMax = 4096;
 EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelineParams params)
     : options_(std::move(options)),
       params_(std::move(params)),
-      participant_(dds::to_dds_settings(options_.dds, "causal-estimator")),
+      participant_(estimator_dds_settings(options_)),
       // Filtered to this shard's asset groups: the sources' writers drop the other shards' samples.
       frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader, options_.groups),
       conditions_in_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputReader, options_.groups),
@@ -49,7 +56,8 @@ void EstimatorNode::watch_primary() {
     if (info.sample_identity.writer_guid() != own) standby_.primary_published(c.asset_group(), c.snapshot_index());
   });
   const auto now = std::chrono::steady_clock::now();
-  if (participant_.directory().writers_named(dds::topics::kConditionVector, "causal-estimator") > 0) {
+  if (participant_.directory().writers_named(dds::topics::kConditionVector, "causal-estimator",
+                                             shard_role_tag(options_.groups)) > 0) {
     primary_seen_ = now;
     return;
   }
@@ -127,7 +135,9 @@ int EstimatorNode::run() {
       return 3;
     }
   }
-  dds::RunLimits limits{options_.idle_exit_s, options_.max_runtime_s};
+  dds::RunLimits limits;
+  limits.idle_exit_s = options_.idle_exit_s;
+  limits.max_runtime_s = options_.max_runtime_s;
   // A shard may own none of the groups a source publishes and then receives nothing at all: for it, sources
   // that came and left are the end of the run (otherwise it would never be idle, and never exit).
   if (!options_.groups.all()) {

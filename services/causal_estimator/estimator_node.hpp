@@ -50,6 +50,11 @@ struct EstimatorOptions {
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
 
+// The role tag an estimator announces (DdsSettings::role_tag): "shard " + its asset-group filter expression
+// ("shard " alone when it owns every group). Primary and standby of one shard announce the same tag.
+inline std::string shard_role_tag(const dds::AssetGroupSelection& groups) { return "shard " + groups.expression(); }
+
+
 class EstimatorNode {
  public:
   EstimatorNode(EstimatorOptions options, pipeline::AssetPipelineParams params);

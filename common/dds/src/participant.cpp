@@ -50,6 +50,9 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
     }
   }
   if (!settings.participant_name.empty()) qos.name(settings.participant_name);
+  if (!settings.role_tag.empty()) {
+    qos.user_data().data_vec(std::vector<eprosima::fastrtps::rtps::octet>(settings.role_tag.begin(), settings.role_tag.end()));
+  }
   security_note_ = apply_security(settings.security_dir, settings.security_identity, qos.name().to_string(), qos);
   spdlog::info("{}", security_note_);
   secured_ = security_note_.rfind("DDS-Security on", 0) == 0;
@@ -90,8 +93,11 @@ void ParticipantDirectory::on_participant_discovery(eprosima::fastdds::dds::Doma
   const auto& prefix = info.info.m_guid.guidPrefix;
   if (info.status == Status::DISCOVERED_PARTICIPANT || info.status == Status::CHANGED_QOS_PARTICIPANT) {
     names_[prefix] = info.info.m_participantName.to_string();
+    const auto& tag = info.info.m_userData.data_vec();
+    role_tags_[prefix] = std::string(tag.begin(), tag.end());
   } else {
-    names_.erase(prefix);  // REMOVED_PARTICIPANT, DROPPED_PARTICIPANT (lease expired), IGNORED_PARTICIPANT
+    names_.erase(prefix);
+    role_tags_.erase(prefix);  // REMOVED_PARTICIPANT, DROPPED_PARTICIPANT (lease expired), IGNORED_PARTICIPANT
     if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
       departures_.push_back({prefix, info.status == Status::DROPPED_PARTICIPANT});
     }
@@ -141,6 +147,19 @@ std::size_t ParticipantDirectory::writers_named(const std::string& topic, const 
     if (t != topic || guid.guidPrefix == local_) continue;
     const auto it = names_.find(guid.guidPrefix);
     if (it != names_.end() && it->second == name) ++n;
+  }
+  return n;
+}
+
+std::size_t ParticipantDirectory::writers_named(const std::string& topic, const std::string& name,
+                                                const std::string& role_tag) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& [guid, t] : writers_) {
+    if (t != topic || guid.guidPrefix == local_) continue;
+    const auto it = names_.find(guid.guidPrefix);
+    const auto tag = role_tags_.find(guid.guidPrefix);
+    if (it != names_.end() && it->second == name && tag != role_tags_.end() && tag->second == role_tag) ++n;
   }
   return n;
 }

@@ -36,6 +36,8 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   std::vector<std::string> reader_names(const std::string& topic) const;
   // Writers of `topic` in OTHER participants named `name` that are alive.
   std::size_t writers_named(const std::string& topic, const std::string& name) const;
+  // The same, only participants whose role tag (DdsSettings::role_tag, their USER_DATA) equals `role_tag`.
+  std::size_t writers_named(const std::string& topic, const std::string& name, const std::string& role_tag) const;
   // Remote writers of `topic` in participants that are alive, whatever their name (a restarted source, a hot
   // standby that may take over).
   std::size_t live_writers(const std::string& topic) const;
@@ -61,6 +63,7 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
  private:
   mutable std::mutex mutex_;
   std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> names_;
+  std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> role_tags_;  // USER_DATA as text
   eprosima::fastrtps::rtps::GuidPrefix_t local_;
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> readers_;  // reader -> topic
   std::vector<Departure> departures_;  // a few bytes per departed participant
@@ -79,6 +82,10 @@ struct DdsSettings {
   // open) and the identity in it ("" = the one named after participant_name).
   std::string security_dir;
   std::string security_identity;
+  // Announced as the participant's USER_DATA and kept per participant by ParticipantDirectory: tells apart
+  // participants of one name that do different work (an estimator's shard: a hot standby follows only the
+  // primary of its own shard). Empty = none.
+  std::string role_tag;
 };
 
 class Participant {
