@@ -128,7 +128,10 @@ class EstimatorNode {
   dds::Participant participant_;
   dds::TypedReader<causal_twin::VibrationFramePubSubType> frames_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
-  dds::TypedWriter<causal_twin::CausalFactorBatchPubSubType> factors_;  // one batch per (kind, index): all outcomes
+  // Factor batches (one per kind and index, all outcomes): condition level, and sample level on its own writer
+  // with a deeper ring (qos.xml causal_factors_sample_writer: the high-rate stream, the writer blocks less).
+  dds::TypedWriter<causal_twin::CausalFactorBatchPubSubType> factors_;
+  dds::TypedWriter<causal_twin::CausalFactorBatchPubSubType> sample_factors_;
   dds::TypedWriter<causal_twin::ConditionVectorPubSubType> conditions_out_;
   dds::TypedWriter<causal_twin::AlarmPubSubType> quality_alarms_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first

@@ -113,7 +113,9 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
       // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
       items.push_back({condition ? "causal_factors/condition" : "causal_factors/sample",
                        condition ? Class::Essential : Class::Droppable,
-                       [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }});
+                       [this, msg, condition](const std::atomic<bool>& s) {
+                         return (condition ? factors_ : sample_factors_).write(*msg, s);
+                       }});
       indices.push_back(msg->sample_index());
       ++counter;
     }
@@ -320,7 +322,7 @@ int EstimatorNode::finish_all() {
     outbound_.abort();
   }
   const auto ack_wait = stopping ? std::chrono::seconds(1) : std::chrono::seconds(10);
-  if (!factors_.wait_for_acknowledgments(ack_wait)) {
+  if (!factors_.wait_for_acknowledgments(ack_wait) || !sample_factors_.wait_for_acknowledgments(ack_wait)) {
     spdlog::warn("not every factor message was acknowledged within {} s", ack_wait.count());
   }
   conditions_out_.wait_for_acknowledgments(ack_wait);

@@ -51,10 +51,10 @@ for run in $(seq 1 "$runs"); do
   t0=$(date +%s.%N)
   "$sim" --domain "$domain" --qos "$qos" --transport "$here/deploy/dds/localhost.xml" --groups "$groups" \
     --channels 4 --frame-samples "$frame_samples" --frames-per-group "$frames" --seed 7 --wait-subscribers 1 \
-    --wait-timeout 60 --max-runtime 600 > "$work/sim$run.log" 2>&1
-  wait "$est_pid"; est_rc=$?
+    --wait-timeout 60 --max-runtime 600 > "$work/sim$run.log" 2>&1 || { echo "lean_path: sensor-sim failed ($work)" >&2; exit 1; }
+  est_rc=0; wait "$est_pid" || est_rc=$?
   t1=$(date +%s.%N)
-  wait "$rec_pid"; rec_rc=$?
+  rec_rc=0; wait "$rec_pid" || rec_rc=$?
   sent_frames=$(num 'sent frames=[0-9]*' "$work/sim$run.log")
   factors_sent=$(num 'published factors=[0-9]*' "$work/est$run.log")
   factors_received=$(num 'topic=causal_twin/causal_factors received=[0-9]*' "$work/rec$run.log")

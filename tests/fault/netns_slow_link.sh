@@ -51,7 +51,7 @@ sf_failed=$(num 'topic=causal_twin/causal_factors/sample sent=[0-9]* dropped=[0-
 sf_made=$(grep -o "[0-9]* sample-level and" "$est" | head -n 1 | grep -o '^[0-9]*')
 echo "sample-level factor messages: produced $sf_made, sent $sf_sent, dropped $sf_dropped, failed $sf_failed"
 [ "$cv_sent" = 6 ] && [ "$cv_dropped" = 0 ] || fail "condition vectors: sent $cv_sent dropped $cv_dropped (want 6, 0)"
-[ "$cf_dropped" = 0 ] && [ "$cf_sent" = 48 ] || fail "condition-level factors: sent $cf_sent dropped $cf_dropped (want 48, 0)"
+[ "$cf_dropped" = 0 ] && [ "$cf_sent" = 12 ] || fail "condition-level factor batches: sent $cf_sent dropped $cf_dropped (want 12 = 6 snapshots x 2 estimators, 0)"
 [ $(( sf_sent + sf_dropped + sf_failed )) -eq "$sf_made" ] || fail "sample level: sent + dropped + failed != produced"
 [ "$sf_dropped" -gt 0 ] || fail "the slow link did not make the queue overflow: the test no longer tests the policy"
 rec="$work/recorder.log"
@@ -67,5 +67,5 @@ done
 alarms_sent=$(num 'topic=causal_twin/alarm sent=[0-9]*' "$work/alarm.log")
 alarms_rec=$(grep -o "alarms: received [0-9]*" "$rec" | grep -o '[0-9]*$')
 [ "$alarms_rec" = "$alarms_sent" ] || fail "alarms: recommender sent $alarms_sent, recorder received $alarms_rec"
-echo "PASS: over a 4 Mbit/s link: 6/6 condition vectors, 48/48 condition factors, $alarms_rec/$alarms_sent alarms;" \
+echo "PASS: over a 4 Mbit/s link: 6/6 condition vectors, 12/12 condition factor batches, $alarms_rec/$alarms_sent alarms;" \
      "sample level $sf_sent sent and received, $sf_dropped dropped by the stated policy (counted)"

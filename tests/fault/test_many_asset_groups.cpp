@@ -305,8 +305,8 @@ TEST(ManyAssetGroups, EstimatorHonoursMaxRuntimeWhileItsWritesAreRefused) {
   const std::string d = std::to_string(fault_domain_id(3));
   std::ifstream in(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml");
   std::string qos((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::regex writer_limits(R"((profile_name="causal_factors_writer">\s*<topic>\s*<historyQos>.*?</historyQos>\s*)<resourceLimitsQos>.*?</resourceLimitsQos>)");
-  ASSERT_TRUE(std::regex_search(qos, writer_limits)) << "causal_factors_writer profile not found";
+  const std::regex writer_limits(R"((profile_name="causal_factors_sample_writer">\s*<topic>\s*<historyQos>.*?</historyQos>\s*)<resourceLimitsQos>.*?</resourceLimitsQos>)");
+  ASSERT_TRUE(std::regex_search(qos, writer_limits)) << "causal_factors_sample_writer profile not found";
   qos = std::regex_replace(qos, writer_limits,
                            "$1<resourceLimitsQos><max_samples>" + std::to_string(kFactorInstances * 16) +
                                "</max_samples><max_instances>" + std::to_string(kFactorInstances) +
