@@ -18,6 +18,12 @@ ip netns exec "$ns_b" tc qdisc add dev "$veth_b" root tbf rate 4mbit burst 32kb 
   || { echo "SKIP: tc tbf is not available in this kernel"; exit 77; }
 
 domain=214  # a fixed id per fault test (tests/fault/CMakeLists.txt)
+# Sample-level factors every 128 samples instead of the shipped 1024: 8 batches per frame and estimator (1920 in
+# all, about 2 MB; the shipped cadence made 960 messages while every outcome was its own message). With batches
+# at the shipped cadence (240) the stream fitted into the outbound queue and the sample writer's ring, nothing
+# overflowed even at 1 Mbit/s, and the test exists to see the overflow policy at work.
+sed 's/^  publish_every: 1024 .*/  publish_every: 128/' "$deploy/config/estimator.yaml" > "$work/estimator.yaml"
+grep -q '^  publish_every: 128$' "$work/estimator.yaml" || { echo "FAIL: cannot set publish_every"; exit 1; }
 common_a=(--domain "$domain" --transport "$work/host_a.xml")
 common_b=(--domain "$domain" --transport "$work/host_b.xml")
 ip netns exec "$ns_a" "$bin/causal_recorder/causal-recorder" "${common_a[@]}" --out "$work/rec" --sample-level \
@@ -25,7 +31,7 @@ ip netns exec "$ns_a" "$bin/causal_recorder/causal-recorder" "${common_a[@]}" --
 ip netns exec "$ns_b" "$bin/alarm_recommender/alarm-recommender" "${common_b[@]}" --idle-exit 5 --max-runtime 150 \
   > "$work/alarm.log" 2>&1 & pids+=($!)
 ip netns exec "$ns_b" "$bin/causal_estimator/causal-estimator" "${common_b[@]}" --idle-exit 3 --max-runtime 150 \
-  --outbound-queue 64 --wait-for alarm-recommender --wait-for causal-recorder --wait-timeout 60 \
+  --params "$work/estimator.yaml" --outbound-queue 64 --wait-for alarm-recommender --wait-for causal-recorder --wait-timeout 60 \
   > "$work/estimator.log" 2>&1 & pids+=($!)
 started=$(date +%s)
 ip netns exec "$ns_a" "$bin/sensor_replay/sensor-replay" "${common_a[@]}" --ims-dir "$deploy/data/ims2-slice" \
