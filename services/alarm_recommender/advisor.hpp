@@ -8,7 +8,7 @@
 // below -100 %). Every answer follows the bounded-answer rule (bounded_answer.hpp): a steady state only
 // when the model settles with margin, else the effect after H snapshots, else a refusal with the reason;
 // point = median and interval = quantiles of the same posterior draws. Uncertainty: the filter's factor covariance is block-diagonal by outcome
-// and each CausalFactors message carries its outcome's full block P_k, so intervals use the full posterior
+// and each outcome block of a CausalFactorBatch carries its outcome's full block P_k, so intervals use the full posterior
 // N(x, blockdiag(P_k)) including within-outcome correlations. When any block is missing (an older
 // estimator, a malformed block) they fall back to diagonal blocks from the standard deviations, which
 // ignores those correlations (approximate intervals).
@@ -119,7 +119,7 @@ class Advisor {
   std::map<std::string, AssetModel> models_;
 };
 
-// Rebuilds the estimator's layout from what a CausalFactors stream carries (G, M, factor names); nullopt
+// Rebuilds the estimator's layout from what a CausalFactorBatch stream carries (G, M, factor names); nullopt
 // when no standard layout has exactly these names (then no advice is given).
 std::optional<SvarLayout> layout_from_names(int channels, int lag_order, const std::vector<std::string>& names);
 

@@ -1,5 +1,6 @@
-// Reassembles what the alarm engine needs from the per-outcome CausalFactors messages of the estimator:
-// the G messages of one sample index (collected by dds::FactorSetAssembler) become one Observation
+// Reassembles what the alarm engine needs from the estimator's CausalFactorBatch messages, fed as one
+// FactorMessage per outcome block: the G outcomes of one sample index (collected by dds::FactorSetAssembler,
+// which also copes with a batch that lacks outcomes, or outcomes that arrive separately) become one Observation
 // (innovations, NIS, all factors), joined with the asset group's condition vector of the same time at
 // condition level. observation.index is the messages' sample_index (the snapshot index at condition level).
 #pragma once

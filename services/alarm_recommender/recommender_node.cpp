@@ -42,20 +42,21 @@ int RecommenderNode::run() {
       ++conditions_received_;
       assembler_.add_condition(c.asset_group(), c.feature(), c.time_ns(), dds::values_of(c), c.discontinuity(), ready);
     });
-    n += factors_.take_all_and_states([&](const causal_twin::CausalFactors& f, const auto& info) {
+    n += factors_.take_all_and_states([&](const causal_twin::CausalFactorBatch& f, const auto& info) {
       // Condition-level factors carry the snapshot index (the health alarm's id names the last one).
       if (f.time_scale() == causal_twin::CONDITION_LEVEL) {
         health_.on_sample(f.asset_group(), f.sample_index(), info);
       } else {
         health_.on_sample(f.asset_group(), info);
       }
-      if (const auto problem = dds::validate_causal_factors(f); !problem.empty()) {
+      if (const auto problem = dds::validate_causal_factor_batch(f); !problem.empty()) {
         ++invalid_msgs_;
         spdlog::warn("causal factors from '{}' refused: {}", f.asset_group(), problem);
         return;
       }
-      ++factors_received_;
-      assembler_.add_factors(dds::from_causal_factors(f), ready);
+      ++factors_received_;  // messages (batches), as the estimator counts what it sent
+      // One outcome at a time: the assembler also takes partial batches and keeps its per-index checks.
+      for (const auto& m : dds::from_causal_factor_batch(f)) assembler_.add_factors(m, ready);
     }, [this](const auto& info) { health_.on_state(info); }, loop_.stop_flag());
     handle(ready);
     publish_health();

@@ -53,7 +53,7 @@ class RecommenderNode {
   RecommenderOptions options_;
   RecommenderParams params_;
   dds::Participant participant_;
-  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
+  dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_;
   dds::TypedReader<causal_twin::WhatIfRequestPubSubType> whatif_requests_;
   dds::TypedWriter<causal_twin::AlarmPubSubType> alarms_;

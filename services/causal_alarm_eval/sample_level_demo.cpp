@@ -62,7 +62,7 @@ SampleLevelResult run_sample_level(const std::string& ims_dir, const SampleLevel
       const Eigen::VectorXd row = d.row(n).transpose();
       if (filter.step(row.data(), n == 0) == causal::SampleStatus::Updated) stats.add(filter);
       if (++in_block < options.publish_every && n + 1 < d.rows()) continue;
-      // One publication: what causal-estimator puts in CausalFactors (factors, std, nis_mean).
+      // One publication: what causal-estimator puts in an OutcomeFactors block (factors, std, nis_mean).
       Observation o;
       o.index = pub++;
       o.time_ns = snaps[s].time_ns + static_cast<std::int64_t>(n) * 50000LL;  // 20 kHz

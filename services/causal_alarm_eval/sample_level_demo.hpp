@@ -1,7 +1,7 @@
 // Sample-level use of the alarm engine, as in the walking-skeleton demo: raw snapshots are replayed
 // through the sample-level causal filter (20 kHz, one snapshot after the other, lags restarting at each
 // snapshot), factors and innovation statistics are published every `publish_every` samples (like
-// causal-estimator's CausalFactors: factors, factor_std, nis_mean), and each publication is one
+// causal-estimator's OutcomeFactors blocks: factors, factor_std, nis_mean), and each publication is one
 // Observation of the AlarmEngine (mean_nis + factors, no condition features). The baseline is the
 // publications of the first `healthy_snapshots` snapshots (AlarmParams::sample_level).
 #pragma once

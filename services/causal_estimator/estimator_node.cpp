@@ -34,6 +34,7 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameReader, options_.groups),
       conditions_in_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputReader, options_.groups),
       factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsWriter),
+      sample_factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsSampleWriter),
       conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter),
       quality_alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
       store_(options_.state_dir),
@@ -126,7 +127,8 @@ int EstimatorNode::run() {
     std::vector<dds::NamedReaders> wanted;
     for (const auto& spec : options_.wait_for) wanted.push_back(dds::parse_named_readers(spec));
     const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
-    const std::string missing = dds::wait_for_named_readers(factors_, wanted, timeout, loop_.stop_flag());
+    std::string missing = dds::wait_for_named_readers(factors_, wanted, timeout, loop_.stop_flag());
+    if (missing.empty()) missing = dds::wait_for_named_readers(sample_factors_, wanted, timeout, loop_.stop_flag());
     if (!missing.empty()) {
       if (loop_.stopped()) return 0;
       spdlog::error("no '{}' reader of causal factors matched within {:.0f} s: is it running on domain {} with the "

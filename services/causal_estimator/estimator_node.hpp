@@ -78,7 +78,7 @@ class EstimatorNode {
     std::uint64_t reordered = 0;        // inputs that arrived ahead and were fed in order after waiting
     std::set<std::uint64_t> holes;      // condition snapshot indices skipped over (may still arrive, out of order)
     std::uint64_t late_conditions = 0;  // ... that did: too late to feed, counted as lost
-    std::uint64_t sample_msgs = 0, condition_msgs = 0;
+    std::uint64_t sample_msgs = 0, condition_msgs = 0;  // factor batches (one per kind and index)
     std::string feature;  // feature name of the condition-level model
     bool tuning_logged = false;
     bool sample_structure_logged = false, condition_structure_logged = false;
@@ -132,13 +132,15 @@ class EstimatorNode {
   dds::Participant participant_;
   dds::TypedReader<causal_twin::VibrationFramePubSubType> frames_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
-  dds::TypedWriter<causal_twin::CausalFactorsPubSubType> factors_;
+  // Factor batches (one per kind and index, all outcomes): condition level, and sample level on its own writer
+  // with a deeper ring (qos.xml causal_factors_sample_writer: the high-rate stream, the writer blocks less).
+  dds::TypedWriter<causal_twin::CausalFactorBatchPubSubType> factors_;
+  dds::TypedWriter<causal_twin::CausalFactorBatchPubSubType> sample_factors_;
   dds::TypedWriter<causal_twin::ConditionVectorPubSubType> conditions_out_;
   dds::TypedWriter<causal_twin::AlarmPubSubType> quality_alarms_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   std::map<std::string, Asset> assets_;
   pipeline::PipelineOutput out_;
-  causal_twin::CausalFactors factor_msg_;
   causal_twin::ConditionVector condition_msg_;
   EstimatorStateStore store_;
   // Hot standby (options_.standby): the primary's published output, read until the takeover.

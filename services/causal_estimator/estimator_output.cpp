@@ -105,17 +105,22 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
     if (reports.empty()) return;
     const bool condition = scale == causal_twin::CONDITION_LEVEL;
     const dds::FactorContext ctx{name, scale, condition ? a.feature : "", &stream->layout(), a.channel_names};
-    for (const auto& r : reports) {
-      auto msg = std::make_shared<causal_twin::CausalFactors>();
-      dds::to_causal_factors(ctx, r, *msg);
-      if (keep && condition) resend.push_back("F" + to_bytes<causal_twin::CausalFactorsPubSubType>(*msg));
+    // One message per (kind, index) with every outcome's block: G times fewer samples, headers and
+    // acknowledgements than one message per outcome (README "Lean data path").
+    for (auto& batch : dds::to_causal_factor_batches(ctx, reports)) {
+      auto msg = std::make_shared<causal_twin::CausalFactorBatch>(std::move(batch));
+      if (keep && condition) resend.push_back("B" + to_bytes<causal_twin::CausalFactorBatchPubSubType>(*msg));
       // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
       items.push_back({condition ? "causal_factors/condition" : "causal_factors/sample",
                        condition ? Class::Essential : Class::Droppable,
-                       [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }});
-      indices.push_back(r.sample_index);
+                       [this, msg, condition](const std::atomic<bool>& s) {
+                         return (condition ? factors_ : sample_factors_).write(*msg, s);
+                       }});
+      indices.push_back(msg->sample_index());
       ++counter;
-      if (condition && options_.verbose) log_condition_report(name, a, r);
+    }
+    if (condition && options_.verbose) {
+      for (const auto& r : reports) log_condition_report(name, a, r);
     }
   };
   send(out_.sample_reports, a.pipeline.sample_stream(), causal_twin::SAMPLE_LEVEL, a.sample_msgs);
@@ -222,9 +227,9 @@ void EstimatorNode::resend_restored(const std::string& name, const std::vector<s
       if (!from_bytes<causal_twin::ConditionVectorPubSubType>(body, *msg)) continue;
       outbound_.push("condition_vector", dds::OutboundQueue::Class::Essential,
                      [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, loop_.stop_flag());
-    } else if (bytes[0] == 'F') {
-      auto msg = std::make_shared<causal_twin::CausalFactors>();
-      if (!from_bytes<causal_twin::CausalFactorsPubSubType>(body, *msg)) continue;
+    } else if (bytes[0] == 'B') {  // 'F' (one message per outcome) was the form before batches: not restored
+      auto msg = std::make_shared<causal_twin::CausalFactorBatch>();
+      if (!from_bytes<causal_twin::CausalFactorBatchPubSubType>(body, *msg)) continue;
       outbound_.push("causal_factors/condition", dds::OutboundQueue::Class::Essential,
                      [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, loop_.stop_flag());
     } else {
@@ -317,7 +322,7 @@ int EstimatorNode::finish_all() {
     outbound_.abort();
   }
   const auto ack_wait = stopping ? std::chrono::seconds(1) : std::chrono::seconds(10);
-  if (!factors_.wait_for_acknowledgments(ack_wait)) {
+  if (!factors_.wait_for_acknowledgments(ack_wait) || !sample_factors_.wait_for_acknowledgments(ack_wait)) {
     spdlog::warn("not every factor message was acknowledged within {} s", ack_wait.count());
   }
   conditions_out_.wait_for_acknowledgments(ack_wait);

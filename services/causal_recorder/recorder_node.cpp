@@ -147,31 +147,34 @@ void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
   ++t.counts.written;
 }
 
-void RecorderNode::on_factors(const causal_twin::CausalFactors& in) {
+void RecorderNode::on_factors(const causal_twin::CausalFactorBatch& in) {
   if (in.time_scale() == causal_twin::SAMPLE_LEVEL && !options_.sample_level) {
     ++sample_level_skipped_;
     return;
   }
-  if (const std::string problem = dds::validate_causal_factors(in); !problem.empty()) {
+  if (const std::string problem = dds::validate_causal_factor_batch(in); !problem.empty()) {
     if (invalid_msgs_++ == 0) spdlog::warn("asset '{}': factor message refused: {}", in.asset_group(), problem);
     return;
   }
-  const dds::FactorMessage m = dds::from_causal_factors(in);
-  if (m.time_scale == causal_twin::CONDITION_LEVEL && m.kind == causal_twin::FILTER) {
-    clocks_[m.asset_group].record(m.sample_index, m.time_ns);
+  if (in.time_scale() == causal_twin::CONDITION_LEVEL && in.kind() == causal_twin::FILTER) {
+    clocks_[in.asset_group()].record(in.sample_index(), in.time_ns());
   }
-  const std::string key = m.asset_group + '\x1f' + dds::to_string(m.time_scale) + '\x1f' + dds::to_string(m.kind);
+  const std::string key = in.asset_group() + '\x1f' + dds::to_string(in.time_scale()) + '\x1f' + dds::to_string(in.kind());
   auto it = factor_tables_.find(key);
   if (it == factor_tables_.end()) {
     it = factor_tables_.emplace(key, FactorTable(options_.max_pending)).first;
-    it->second.file_name = factors_file_name(file_asset(m.asset_group), m.time_scale, m.kind);
+    it->second.file_name = factors_file_name(file_asset(in.asset_group()), in.time_scale(), in.kind());
   }
-  if (it->second.assembler.add(m) == FactorRowAssembler::AddStatus::Refused) {
-    if (it->second.assembler.counters().refused == 1) {
-      spdlog::warn("{}: outcome {} message refused: {}", it->second.file_name, m.outcome + 1,
-                   it->second.assembler.last_problem());
+  ++it->second.messages;
+  // The row assembler takes one outcome at a time (rows are written in index order whatever arrives): a
+  // batch is all of one row's outcomes, so the row is complete after its last block.
+  for (const dds::FactorMessage& m : dds::from_causal_factor_batch(in)) {
+    if (it->second.assembler.add(m) == FactorRowAssembler::AddStatus::Refused) {
+      if (it->second.assembler.counters().refused == 1) {
+        spdlog::warn("{}: outcome {} message refused: {}", it->second.file_name, m.outcome + 1,
+                     it->second.assembler.last_problem());
+      }
     }
-    return;
   }
   write_ready_rows(it->second);
 }
@@ -242,7 +245,7 @@ int RecorderNode::finish() {
   }
   for (const auto& [key, t] : factor_tables_) {
     const auto c = t.assembler.counters();
-    // Messages in, rows out: G messages make one row.
+    // Messages in, rows out: one batch of G outcome vectors makes one row.
     std::string extra;
     if (c.rows_partial > 0) extra += " (" + std::to_string(c.rows_partial) + " partial rows: an outcome missing)";
     if (c.dropped_factors > 0) extra += "; " + std::to_string(c.dropped_factors) + " factor values without a column";
@@ -256,8 +259,9 @@ int RecorderNode::finish() {
     spdlog::info("summary topic=causal_twin/causal_factors file={} rows={} duplicates={} lost={} refused={}", t.file_name,
                  t.file ? t.file->rows_written() : 0, c.duplicates, missing, c.refused);
     spdlog::log(extra.empty() && c.refused == 0 ? spdlog::level::info : spdlog::level::warn,
-                "causal factors {}: received {}, duplicates {}, refused {} messages; {} rows written{}", t.file_name,
-                c.messages + c.duplicates + c.refused, c.duplicates, c.refused,
+                "causal factors {}: received {} messages ({} outcome vectors), duplicates {}, refused {} outcome "
+                "vectors; {} rows written{}", t.file_name, t.messages, c.messages + c.duplicates + c.refused,
+                c.duplicates, c.refused,
                 t.file ? t.file->rows_written() : 0, extra);
   }
   spdlog::info("alarms: {}", describe(alarm_counts_));

@@ -51,11 +51,12 @@ class RecorderNode {
     FactorRowAssembler assembler;
     std::string file_name;
     std::unique_ptr<report::CsvFile> file;
+    std::uint64_t messages = 0;  // CausalFactorBatch messages received (the assembler counts outcome vectors)
   };
 
   std::size_t take_available();  // one pass over every reader
   void on_condition(const causal_twin::ConditionVector& in);
-  void on_factors(const causal_twin::CausalFactors& in);
+  void on_factors(const causal_twin::CausalFactorBatch& in);
   void on_alarm(const causal_twin::Alarm& in);
   void on_recommendation(const causal_twin::Recommendation& in);
   void write_ready_rows(FactorTable& table);
@@ -69,7 +70,7 @@ class RecorderNode {
   std::filesystem::path out_dir_;
   dds::Participant participant_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
-  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_in_;
+  dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_in_;
   dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
   dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first

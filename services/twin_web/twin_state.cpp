@@ -1,6 +1,7 @@
 #include "twin_state.hpp"
 
 #include "causal/alarms/factor_names.hpp"
+#include "causal/dds/factor_conversions.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -78,7 +79,7 @@ void TwinState::on_condition(const causal_twin::ConditionVector& in) {
   changed_locked(&g, first);
 }
 
-void TwinState::on_factors(const causal_twin::CausalFactors& in) {
+void TwinState::on_factors(const causal_twin::CausalFactorBatch& in) {
   std::lock_guard<std::mutex> lock(mutex_);
   // The graph shows the real-time model: the condition-level filter. Sample-level factors describe one
   // snapshot's waveform and the smoother lags behind; both are counted, not drawn.
@@ -86,22 +87,25 @@ void TwinState::on_factors(const causal_twin::CausalFactors& in) {
     ++counters_.factor_messages_skipped;
     return;
   }
-  if (in.factors().size() != in.factor_names().size() || in.factor_std().size() != in.factor_names().size() ||
-      in.outcome() == 0) {
+  if (!dds::validate_causal_factor_batch(in).empty()) {  // outcome range, lengths: the whole batch is refused
     ++counters_.factor_messages_rejected;
     return;
   }
   ++counters_.factor_messages;
   GroupState& g = group_locked(in.asset_group());
-  OutcomeFactors& f = g.factors[in.outcome()];
-  if (!f.names.empty() && in.sample_index() < f.index) return;  // an older estimate re-sent: keep the newest
-  f.index = in.sample_index();
-  f.time_ns = in.time_ns();
-  f.channel_count = in.channel_count();
-  f.names = in.factor_names();
-  f.values = in.factors();
-  f.stddev = in.factor_std();
-  changed_locked(&g);
+  bool changed = false;
+  for (const auto& o : in.outcomes()) {
+    OutcomeFactors& f = g.factors[o.outcome()];
+    if (!f.names.empty() && in.sample_index() < f.index) continue;  // an older estimate re-sent: keep the newest
+    f.index = in.sample_index();
+    f.time_ns = in.time_ns();
+    f.channel_count = in.channel_count();
+    f.names = o.factor_names();
+    f.values = o.factors();
+    f.stddev = o.factor_std();
+    changed = true;
+  }
+  if (changed) changed_locked(&g);
 }
 
 std::uint64_t TwinState::index_of_time_locked(const GroupState& g, std::int64_t time_ns, std::uint64_t fallback) const {

@@ -84,9 +84,9 @@ struct StateCounters {
   std::uint64_t duplicates = 0;          // a snapshot index the trend already has (re-sent after a restart)
   std::uint64_t rejected_vectors = 0;    // non-finite value, or a channel count that differs from the group's
   std::uint64_t trend_points_forgotten = 0;  // beyond StateLimits::trend_points
-  std::uint64_t factor_messages = 0;     // condition-level filter messages used for the graph
+  std::uint64_t factor_messages = 0;     // condition-level filter messages (batches) used for the graph
   std::uint64_t factor_messages_skipped = 0;   // other estimators and time scales (not drawn)
-  std::uint64_t factor_messages_rejected = 0;  // names/values/std of different lengths
+  std::uint64_t factor_messages_rejected = 0;  // inconsistent batches (outcome range, names/values/std lengths)
   std::uint64_t alarm_events = 0;
   std::uint64_t recommendations = 0;
 };
@@ -100,7 +100,7 @@ class TwinState {
 
   // DDS thread.
   void on_condition(const causal_twin::ConditionVector& in);
-  void on_factors(const causal_twin::CausalFactors& in);
+  void on_factors(const causal_twin::CausalFactorBatch& in);  // one message: every outcome at one index
   void on_alarm(const causal_twin::Alarm& in);
   void on_recommendation(const causal_twin::Recommendation& in);
 

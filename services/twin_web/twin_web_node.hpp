@@ -43,7 +43,7 @@ class TwinWebNode {
   std::atomic<std::size_t> whatif_readers_{0};
   dds::Participant participant_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
-  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_in_;
+  dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_in_;
   dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
   dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
   dds::TypedReader<causal_twin::WhatIfReplyPubSubType> replies_in_;

@@ -1,5 +1,5 @@
 // Sample-level use: one observation per factor publication carrying the mean NIS of each outcome over
-// the publication's samples (CausalFactors.nis_mean). Healthy snapshots: NIS ~ chi-square(n)/n around a
+// the publication's samples (OutcomeFactors.nis_mean). Healthy snapshots: NIS ~ chi-square(n)/n around a
 // channel-specific model-mismatch level; failing snapshots: bearing 1's waveform carries impulsive energy
 // the other channels do not explain, so its mean NIS grows several-fold while the others barely move.
 #include <gtest/gtest.h>

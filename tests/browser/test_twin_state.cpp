@@ -32,19 +32,22 @@ causal_twin::ConditionVector vec(std::uint64_t index, std::vector<double> values
   return v;
 }
 
-causal_twin::CausalFactors factors(std::uint16_t outcome, std::uint64_t index, std::vector<std::string> names,
-                                   std::vector<double> values, std::vector<double> stddev) {
-  causal_twin::CausalFactors f;
+// A condition-level filter batch with one outcome block (the estimator sends all G; one is enough here).
+causal_twin::CausalFactorBatch factors(std::uint16_t outcome, std::uint64_t index, std::vector<std::string> names,
+                                       std::vector<double> values, std::vector<double> stddev) {
+  causal_twin::CausalFactorBatch f;
   f.asset_group("g");
-  f.outcome(outcome);
   f.kind(causal_twin::FILTER);
   f.time_scale(causal_twin::CONDITION_LEVEL);
   f.channel_count(3);
   f.lag_order(1);
   f.sample_index(index);
-  f.factor_names(std::move(names));
-  f.factors(std::move(values));
-  f.factor_std(std::move(stddev));
+  causal_twin::OutcomeFactors o;
+  o.outcome(outcome);
+  o.factor_names(std::move(names));
+  o.factors(std::move(values));
+  o.factor_std(std::move(stddev));
+  f.outcomes().push_back(std::move(o));
   return f;
 }
 

@@ -185,7 +185,7 @@ TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
   EXPECT_EQ(state["counters"]["condition_vectors"].get<std::size_t>(), snapshots);
   EXPECT_EQ(state["counters"]["rejected_vectors"].get<std::size_t>(), 0u);
   EXPECT_EQ(state["counters"]["factor_messages"].get<std::size_t>(),
-            observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER));
+            observer.factor_batches(causal_twin::CONDITION_LEVEL, causal_twin::FILTER));
 
   std::map<std::string, causal_twin::Alarm> last_event;
   for (const auto& a : observer.alarms()) last_event[a.alarm_id()] = a;

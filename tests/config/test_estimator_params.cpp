@@ -92,6 +92,11 @@ const Mutation kMutations[] = {
      "got 0"},
     {"publish_every_fraction", [](YAML::Node& d) { d["sample_level"]["publish_every"] = 10.5; },
      "sample_level.publish_every", "whole number"},
+    // The sample-level decimation: every sample (1) is the least, 0 or negative would publish nothing or wrap.
+    {"publish_every_zero", [](YAML::Node& d) { d["sample_level"]["publish_every"] = 0; },
+     "sample_level.publish_every", "got 0"},
+    {"publish_every_negative", [](YAML::Node& d) { d["sample_level"]["publish_every"] = -1024; },
+     "sample_level.publish_every", "got -1024"},
     {"enabled_not_bool", [](YAML::Node& d) { d["condition_level"]["enabled"] = "sometimes"; },
      "condition_level.enabled", "true or false"},
     {"noise_not_a_section", [](YAML::Node& d) { d["sample_level"]["noise"] = 3; }, "sample_level.noise", "section"},

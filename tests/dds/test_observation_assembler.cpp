@@ -1,5 +1,5 @@
 // causal::recommender::ObservationAssembler (services/alarm_recommender/observation_assembler.cpp): G per-outcome
-// CausalFactors messages of one index -> one Observation, whatever their arrival order, each index once and in
+// factor messages (the blocks of a CausalFactorBatch) of one index -> one Observation, whatever their arrival order, each index once and in
 // index order (the collection itself is dds::FactorSetAssembler's, tested in test_factor_set_assembler.cpp);
 // condition vectors joined by time; bounded waiting (max_pending) and bounded memory for indices that never
 // complete.

@@ -43,7 +43,8 @@ int fault_domain_id(int salt) {
   return 199 + salt;  // 200..202: a fixed id per test (see CMakeLists.txt)
 }
 
-// Counts every CausalFactors message on the domain (its own participant and reader thread).
+// Counts every CausalFactorBatch message on the domain, and their outcome blocks (its own participant and reader
+// thread).
 class FactorCounter {
  public:
   explicit FactorCounter(int domain_id)
@@ -52,7 +53,8 @@ class FactorCounter {
     loop_.attach(factors_.get());
     thread_ = std::thread([this] {
       while (loop_.wait(std::chrono::milliseconds(100))) {
-        count_ += factors_.take_all([](const auto&, const auto&) {});
+        count_ += factors_.take_all(
+            [this](const causal_twin::CausalFactorBatch& b, const auto&) { blocks_ += b.outcomes().size(); });
       }
     });
   }
@@ -61,7 +63,8 @@ class FactorCounter {
     thread_.join();
   }
   std::size_t count() const { return count_.load(); }
-  causal::dds::TypedReader<causal_twin::CausalFactorsPubSubType>::Rejections rejected() const {
+  std::size_t blocks() const { return blocks_.load(); }
+  causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType>::Rejections rejected() const {
     return factors_.rejections();
   }
   // Waits (bounded) until the count stops changing for `quiet`.
@@ -92,10 +95,11 @@ class FactorCounter {
     return s;
   }
   causal::dds::Participant participant_;
-  causal::dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
+  causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_;
   causal::dds::EventLoop loop_;  // after the reader: detaches it first
   std::thread thread_;
   std::atomic<std::size_t> count_{0};
+  std::atomic<std::size_t> blocks_{0};
 };
 
 // CPU seconds (user + system) a live child has used so far, from /proc/<pid>/stat.
@@ -160,8 +164,9 @@ fs::path work_dir(const std::string& name) {
 TEST(ManyAssetGroups, ExactCountsFrom256GroupsThroughOneEstimator) {
   constexpr int kFramesPerGroup = 8;
   const std::uint64_t expected_frames = std::uint64_t{kGroups} * kFramesPerGroup;
+  // One batch (all kChannels outcomes) per group and published index.
   const std::uint64_t expected_factors =
-      std::uint64_t{kGroups} * kChannels * (std::uint64_t{kFramesPerGroup} * kFrameSamples / kPublishEvery);
+      std::uint64_t{kGroups} * (std::uint64_t{kFramesPerGroup} * kFrameSamples / kPublishEvery);
   const fs::path work = work_dir("counts");
   const std::string d = std::to_string(fault_domain_id(1));
 
@@ -214,6 +219,7 @@ TEST(ManyAssetGroups, ExactCountsFrom256GroupsThroughOneEstimator) {
   EXPECT_EQ(groups_reporting(estimator.output(), kFramesPerGroup), std::size_t{kGroups});
   EXPECT_EQ(got.published, expected_factors);
   EXPECT_EQ(received, got.published) << "factor messages published vs received here";
+  EXPECT_EQ(counter.blocks(), expected_factors * kChannels) << "outcome blocks: every batch carries all outcomes";
   EXPECT_EQ(counter.rejected().instances_limit, 0u);
 
   if (!HasFailure()) fs::remove_all(work);
@@ -289,18 +295,18 @@ TEST(ManyAssetGroups, SigtermWhileBusyEndsEveryProcessWithinAMinute) {
 // instance's write is refused at once, every time. The estimator must neither spin (CPU) nor outlive
 // --max-runtime, and must say what it could not publish. One frame per group (a keyed reader hands samples
 // out instance by instance, so with more the count would depend on timing). Expected from the limit alone:
-// 8 instances = the 4 outcomes of 2 groups' frames are published; the filters do not wait on the bus (the
-// outbound queue), so all 4 frames are processed, and the 8 messages of the other 2 groups are counted as
-// not published when --max-runtime gives up on them.
+// 2 instances = the factor batches (one per group: all outcomes in one message) of 2 groups' frames are
+// published; the filters do not wait on the bus (the outbound queue), so all 4 frames are processed, and the
+// 2 batches of the other 2 groups are counted as not published when --max-runtime gives up on them.
 TEST(ManyAssetGroups, EstimatorHonoursMaxRuntimeWhileItsWritesAreRefused) {
-  constexpr int kFactorInstances = 8;
+  constexpr int kFactorInstances = 2;
   constexpr double kMaxRuntime = 4.0;
   const fs::path work = work_dir("blocked");
   const std::string d = std::to_string(fault_domain_id(3));
   std::ifstream in(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml");
   std::string qos((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::regex writer_limits(R"((profile_name="causal_factors_writer">\s*<topic>\s*<historyQos>.*?</historyQos>\s*)<resourceLimitsQos>.*?</resourceLimitsQos>)");
-  ASSERT_TRUE(std::regex_search(qos, writer_limits)) << "causal_factors_writer profile not found";
+  const std::regex writer_limits(R"((profile_name="causal_factors_sample_writer">\s*<topic>\s*<historyQos>.*?</historyQos>\s*)<resourceLimitsQos>.*?</resourceLimitsQos>)");
+  ASSERT_TRUE(std::regex_search(qos, writer_limits)) << "causal_factors_sample_writer profile not found";
   qos = std::regex_replace(qos, writer_limits,
                            "$1<resourceLimitsQos><max_samples>" + std::to_string(kFactorInstances * 16) +
                                "</max_samples><max_instances>" + std::to_string(kFactorInstances) +
@@ -335,7 +341,7 @@ TEST(ManyAssetGroups, EstimatorHonoursMaxRuntimeWhileItsWritesAreRefused) {
   ASSERT_TRUE(got.found) << estimator.output();
   EXPECT_EQ(got.published, std::uint64_t{kFactorInstances});
   EXPECT_EQ(got.frames, std::uint64_t{4});
-  EXPECT_EQ(got.unpublished, std::uint64_t{4 * kChannels - kFactorInstances});
+  EXPECT_EQ(got.unpublished, std::uint64_t{4 - kFactorInstances});
 
   if (!HasFailure()) fs::remove_all(work);
   causal::test::clean_stale_shared_memory();

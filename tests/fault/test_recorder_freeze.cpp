@@ -56,10 +56,11 @@ class ConditionArrivals {
           std::lock_guard<std::mutex> lock(mutex_);
           arrivals_.push_back({c.snapshot_index(), Clock::now()});
         });
-        factors_.take_all([this](const causal_twin::CausalFactors& f, const auto&) {
+        factors_.take_all([this](const causal_twin::CausalFactorBatch& f, const auto&) {
           if (f.time_scale() != causal_twin::CONDITION_LEVEL) return;
           std::lock_guard<std::mutex> lock(mutex_);
           ++(f.kind() == causal_twin::FILTER ? filter_msgs_ : smoother_msgs_);
+          blocks_ += f.outcomes().size();
         });
       }
     });
@@ -84,6 +85,10 @@ class ConditionArrivals {
     std::lock_guard<std::mutex> lock(mutex_);
     return {filter_msgs_, smoother_msgs_};
   }
+  std::size_t outcome_blocks() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return blocks_;
+  }
 
  private:
   static causal::dds::DdsSettings settings(int domain_id) {
@@ -96,12 +101,13 @@ class ConditionArrivals {
   }
   causal::dds::Participant participant_;
   causal::dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_;
-  causal::dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
+  causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_;
   causal::dds::EventLoop loop_;  // after the readers: detaches them first
   std::thread thread_;
   mutable std::mutex mutex_;
   std::vector<Arrival> arrivals_;
-  std::size_t filter_msgs_ = 0, smoother_msgs_ = 0;
+  std::size_t filter_msgs_ = 0, smoother_msgs_ = 0;  // condition-level batches (all outcomes of one snapshot)
+  std::size_t blocks_ = 0;
 };
 
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
@@ -202,8 +208,9 @@ TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
   EXPECT_EQ(seen.size(), rows);
   EXPECT_TRUE(twice.empty()) << twice.size() << " condition vectors arrived twice, the first " << twice.front();
   EXPECT_EQ(seen.empty() ? 0 : *seen.rbegin(), rows - 1);
-  EXPECT_EQ(filter_msgs, rows * kOutcomes);
-  EXPECT_EQ(smoother_msgs, rows * kOutcomes);
+  EXPECT_EQ(filter_msgs, rows);  // one batch per snapshot and estimator
+  EXPECT_EQ(smoother_msgs, rows);
+  EXPECT_EQ(reader.outcome_blocks(), 2 * rows * kOutcomes);
 
   // 4. The other live consumer and the producer's own counts.
   const std::string alarm_log = alarm.output(), est_log = estimator.output();

@@ -42,11 +42,17 @@ class DdsObserver {
     thread_.join();
   }
 
-  // Number of CausalFactors messages per (time scale, kind).
+  // Number of outcome factor vectors (blocks of the CausalFactorBatch messages) per (time scale, kind).
   std::size_t factors(causal_twin::TimeScale scale, causal_twin::EstimateKind kind) const {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto it = factor_counts_.find({scale, kind});
     return it == factor_counts_.end() ? 0 : it->second;
+  }
+  // Number of CausalFactorBatch messages per (time scale, kind): one per published index.
+  std::size_t factor_batches(causal_twin::TimeScale scale, causal_twin::EstimateKind kind) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = batch_counts_.find({scale, kind});
+    return it == batch_counts_.end() ? 0 : it->second;
   }
   std::size_t frames() const { return frame_count_.load(); }
   std::vector<causal_twin::Alarm> alarms() const {
@@ -95,12 +101,14 @@ class DdsObserver {
   void run() {
     while (loop_.wait(std::chrono::milliseconds(100))) {
       frames_.take_all([this](const auto&, const auto&) { ++frame_count_; });
-      factors_.take_all([this](const causal_twin::CausalFactors& f, const auto&) {
+      factors_.take_all([this](const causal_twin::CausalFactorBatch& f, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);
-        ++factor_counts_[{f.time_scale(), f.kind()}];
+        ++batch_counts_[{f.time_scale(), f.kind()}];
+        factor_counts_[{f.time_scale(), f.kind()}] += f.outcomes().size();
         auto& names = names_[f.time_scale()];
-        if (names.size() < 64 && f.kind() == causal_twin::FILTER) {
-          for (const auto& n : f.factor_names()) {
+        for (const auto& o : f.outcomes()) {
+          if (names.size() >= 64 || f.kind() != causal_twin::FILTER) break;
+          for (const auto& n : o.factor_names()) {
             if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
           }
         }
@@ -122,7 +130,7 @@ class DdsObserver {
 
   dds::Participant participant_;
   dds::TypedReader<causal_twin::VibrationFramePubSubType> frames_;
-  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
+  dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_;
   dds::TypedReader<causal_twin::AlarmPubSubType> alarms_;
   dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_;
   dds::TypedReader<causal_twin::WhatIfReplyPubSubType> whatif_replies_;
@@ -132,6 +140,7 @@ class DdsObserver {
   mutable std::mutex mutex_;
   std::atomic<std::size_t> frame_count_{0};
   std::map<std::pair<int, int>, std::size_t> factor_counts_;
+  std::map<std::pair<int, int>, std::size_t> batch_counts_;
   std::vector<causal_twin::Alarm> alarm_list_;
   std::vector<causal_twin::Recommendation> recommendation_list_;
   std::vector<causal_twin::WhatIfReply> replies_;

@@ -78,6 +78,7 @@ TEST(AnyFeatureTable, EightChannelsRunOutOfTheBox) {
   EXPECT_NE(est.find("8 channels: condition-level structure calibration window 160 samples instead of the configured 100"),
             std::string::npos) << est;
   EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u * 8u);
+  EXPECT_EQ(observer.factor_batches(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u);  // one per snapshot
 
   // First raised degradation alarm after the healthy part, and none in it.
   std::optional<causal_twin::Alarm> first;
@@ -117,7 +118,7 @@ TEST(AnyFeatureTable, GapsAreDiscontinuitiesAndRefusalIsLoud) {
     s.domain_id = 229;
     s.participant_name = "test-conditions";
     causal::dds::Participant participant(s);
-    causal::dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors(participant, causal::dds::topics::kCausalFactors,
+    causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors(participant, causal::dds::topics::kCausalFactors,
                                                                            causal::dds::profiles::kCausalFactorsReader);
     causal::dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions(
         participant, causal::dds::topics::kConditionVector, causal::dds::profiles::kConditionVectorReader);

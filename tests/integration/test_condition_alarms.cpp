@@ -114,6 +114,7 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
   ASSERT_TRUE(alarm.wait(std::chrono::seconds(120)).has_value()) << alarm.output();
 
   EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u * 4u);
+  EXPECT_EQ(observer.factor_batches(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u);  // one per snapshot
   const auto alarms = observer.alarms();
   ASSERT_FALSE(alarms.empty()) << alarm.output();
 

@@ -113,10 +113,17 @@ TEST(PipelineEmbedded, ThreeServicesReplayTheSliceAndRaiseTheBearingOneAlarm) {
   const std::size_t sample_msgs = (total_samples / kPublishEvery) * static_cast<std::size_t>(channels);
   EXPECT_EQ(observer.factors(causal_twin::SAMPLE_LEVEL, causal_twin::FILTER), sample_msgs);
   EXPECT_EQ(observer.factors(causal_twin::SAMPLE_LEVEL, causal_twin::FIXED_LAG_SMOOTHER), sample_msgs);
+  // ... batched: one message per published index carries every outcome.
+  EXPECT_EQ(observer.factor_batches(causal_twin::SAMPLE_LEVEL, causal_twin::FILTER), total_samples / kPublishEvery);
+  EXPECT_EQ(observer.factor_batches(causal_twin::SAMPLE_LEVEL, causal_twin::FIXED_LAG_SMOOTHER),
+            total_samples / kPublishEvery);
   // Condition level: one per outcome per snapshot.
   const std::size_t condition_msgs = listing.snapshots.size() * static_cast<std::size_t>(channels);
   EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), condition_msgs);
   EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FIXED_LAG_SMOOTHER), condition_msgs);
+  EXPECT_EQ(observer.factor_batches(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), listing.snapshots.size());
+  EXPECT_EQ(observer.factor_batches(causal_twin::CONDITION_LEVEL, causal_twin::FIXED_LAG_SMOOTHER),
+            listing.snapshots.size());
   // Factor names follow x{k}{j} / xL{k}{j}: G=4, M=1 gives 24 sample-level names.
   const auto names = observer.factor_names_seen(causal_twin::SAMPLE_LEVEL);
   EXPECT_EQ(names.size(), 24u);

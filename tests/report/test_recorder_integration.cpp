@@ -167,7 +167,7 @@ class RecorderIntegration : public ::testing::Test {
           alarms(p, causal::dds::topics::kAlarm, causal::dds::profiles::kAlarmWriter),
           recommendations(p, causal::dds::topics::kRecommendation, causal::dds::profiles::kRecommendationWriter) {}
     causal::dds::TypedWriter<causal_twin::ConditionVectorPubSubType> conditions;
-    causal::dds::TypedWriter<causal_twin::CausalFactorsPubSubType> factors;
+    causal::dds::TypedWriter<causal_twin::CausalFactorBatchPubSubType> factors;
     causal::dds::TypedWriter<causal_twin::AlarmPubSubType> alarms;
     causal::dds::TypedWriter<causal_twin::RecommendationPubSubType> recommendations;
   };
@@ -187,34 +187,40 @@ class RecorderIntegration : public ::testing::Test {
     ASSERT_TRUE(writers_->recommendations.wait_for_readers(1, 20s, stop_));
   }
 
-  causal_twin::CausalFactors factors(std::uint64_t n, int k, causal_twin::EstimateKind kind,
-                                     causal_twin::TimeScale scale = causal_twin::CONDITION_LEVEL) const {
-    causal_twin::CausalFactors m;
+  // A batch with the one outcome block k (the estimator sends all G in one batch; single blocks let the tests
+  // send outcomes out of order, twice, or never).
+  causal_twin::CausalFactorBatch factors(std::uint64_t n, int k, causal_twin::EstimateKind kind,
+                                         causal_twin::TimeScale scale = causal_twin::CONDITION_LEVEL) const {
+    causal_twin::CausalFactorBatch m;
     m.asset_group(asset_);
-    m.outcome(static_cast<uint16_t>(k));
     m.kind(kind);
     m.time_scale(scale);
     m.feature("rms");
-    m.outcome_name(channel(k));
     m.channel_count(kG);
     m.lag_order(1);
     m.sample_index(n);
     m.time_ns(kT0 + static_cast<std::int64_t>(n) * kDt);
+    causal_twin::OutcomeFactors o;
+    o.outcome(static_cast<uint16_t>(k));
+    o.outcome_name(channel(k));
     const auto names = names_of(k);
-    m.factor_names(names);
+    o.factor_names(names);
     std::vector<double> v, sd;
     for (std::size_t i = 0; i < names.size(); ++i) {
       v.push_back(factor_value(n, k, i, kind == causal_twin::FIXED_LAG_SMOOTHER));
       sd.push_back(factor_sd(n, k, i));
     }
-    m.factors(v);
-    m.factor_std(sd);
-    m.nis_mean(1.0 + 0.1 * k);
-    m.innovation_count(1);
+    o.factors(v);
+    o.factor_std(sd);
+    o.nis_mean(1.0 + 0.1 * k);
+    o.innovation_count(1);
+    m.outcomes().push_back(std::move(o));
     return m;
   }
 
-  void publish(causal_twin::CausalFactors m) { ASSERT_EQ(writers_->factors.write(m, stop_), causal::dds::WriteResult::Ok); }
+  void publish(causal_twin::CausalFactorBatch m) {
+    ASSERT_EQ(writers_->factors.write(m, stop_), causal::dds::WriteResult::Ok);
+  }
 
   // Waits (bounded) until the recorder has `rows` data rows in `file`: the recorder flushes after every
   // batch, so this is the recorder's own confirmation. (A writer's wait_for_acknowledgments is no proof:
@@ -504,7 +510,8 @@ TEST_F(RecorderIntegration, ReSentMessagesAreWrittenOnceAndGapsAreLogged) {
             std::string::npos)
       << log;
   EXPECT_NE(log.find("causal factors factors_" + file_asset_ +
-                     "_condition_filter.csv: received 15, duplicates 3, refused 0 messages; 4 rows written; "
+                     "_condition_filter.csv: received 15 messages (15 outcome vectors), duplicates 3, refused 0 outcome "
+                     "vectors; 4 rows written; "
                      "lost snapshots 3"),
             std::string::npos)
       << log;

@@ -46,7 +46,7 @@ class Intruder {
                                       [](const auto& s) { return s.asset_group() == kIntruderGroup; });
     reader<ConditionVectorPubSubType>(t::kConditionVector, p::kConditionVectorReader,
                                       [](const auto& s) { return s.asset_group() == kIntruderGroup; });
-    reader<CausalFactorsPubSubType>(t::kCausalFactors, p::kCausalFactorsReader, [](const auto&) { return false; });
+    reader<CausalFactorBatchPubSubType>(t::kCausalFactors, p::kCausalFactorsReader, [](const auto&) { return false; });
     reader<AlarmPubSubType>(t::kAlarm, p::kAlarmReader,
                             [](const auto& s) { return s.asset_group() == kIntruderGroup; });
     reader<RecommendationPubSubType>(t::kRecommendation, p::kRecommendationReader, [](const auto&) { return false; });

@@ -24,7 +24,7 @@ using namespace causal::test::security;
 namespace {
 
 constexpr std::uint64_t kSnapshots = 984;       // rows of the feature table
-constexpr std::uint64_t kFactorMessages = 7872;  // 984 snapshots x 4 outcomes x (filter + smoother)
+constexpr std::uint64_t kFactorMessages = 1968;  // 984 snapshots x (filter + smoother), each batch all 4 outcomes
 const std::vector<std::string> kCompared = {"conditions_ims2-shaft1_meanabs.csv",
                                             "factors_ims2-shaft1_condition_filter.csv", "alarms.csv",
                                             "recommendations.csv"};

@@ -30,7 +30,7 @@
 //     (a second fault) and is its own root cause. The verdict is re-evaluated at every observation
 //     (AlarmParams::root_cause_margin_z); each event carries the attribution's confidence.
 //
-// Sample-level use: feed one Observation per factor publication (mean_nis filled from the CausalFactors
+// Sample-level use: feed one Observation per factor publication (mean_nis filled from the CausalFactorBatch
 // nis_mean, features optional e.g. a block RMS) with AlarmParams::sample_level(n_healthy_publications).
 // The innovation signal is then log mean NIS: a channel whose waveform is no longer predicted from the
 // others (bearing damage adds impulsive, unexplained energy) raises innovation_rise / innovation_nis.

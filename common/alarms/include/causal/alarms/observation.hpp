@@ -27,7 +27,7 @@ struct Observation {
   Eigen::VectorXd innovation_variances;
 
   // Optional G mean normalised innovation squared over the samples this observation summarises
-  // (sample-level publications carry nis_mean over thousands of samples; see CausalFactors in the IDL).
+  // (sample-level publications carry nis_mean over thousands of samples; see OutcomeFactors in the IDL).
   // When present (finite) for channel k it replaces e_k^2 / S_k as channel k's unexplained-energy signal.
   Eigen::VectorXd mean_nis;
 

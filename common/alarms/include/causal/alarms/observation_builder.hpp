@@ -1,5 +1,5 @@
 // The one rule that turns the estimator's per-outcome reports of one index into the alarm engine's
-// Observation. alarm-recommender (from CausalFactors messages) and the offline chain
+// Observation. alarm-recommender (from CausalFactorBatch messages) and the offline chain
 // (condition_alarm_chain.hpp, from the estimator pipeline's reports) both call it, so the engine sees the
 // same observation whichever way the reports travelled.
 #pragma once
@@ -12,7 +12,7 @@
 
 namespace causal::alarms {
 
-// What the estimator reports for one outcome k at one index (CausalFactors, without DDS).
+// What the estimator reports for one outcome k at one index (one OutcomeFactors block of a CausalFactorBatch, without DDS).
 struct OutcomeReport {
   Eigen::VectorXd factors, factor_std;  // outcome k's factors and their standard deviations
   std::uint64_t innovation_count = 0;   // filter updates since the previous report (0: nothing fresh)

@@ -12,7 +12,7 @@
 
 namespace causal::dds {
 
-// What a report needs around it to become a CausalFactors message.
+// What a report needs around it to become a CausalFactorBatch message.
 struct FactorContext {
   std::string asset_group;
   causal_twin::TimeScale time_scale = causal_twin::SAMPLE_LEVEL;
@@ -21,10 +21,16 @@ struct FactorContext {
   std::vector<std::string> channel_names;  // G names
 };
 
-// factor_covariance carries report.covariance packed (empty when the report has none, e.g. fixed-lag, or
-// when it is not factors.size() square).
-void to_causal_factors(const FactorContext& context, const pipeline::FactorReport& report,
-                       causal_twin::CausalFactors& out);
+// One outcome's block: factor_covariance carries report.covariance packed (empty when the report has none,
+// e.g. fixed-lag, or when it is not factors.size() square).
+void to_outcome_factors(const FactorContext& context, const pipeline::FactorReport& report,
+                        causal_twin::OutcomeFactors& out);
+
+// The batches of a list of reports (one per outcome, kind and index, in any order): one batch per
+// (kind, sample_index), in the order their first report appears, blocks sorted by outcome. Every report is in
+// exactly one batch. A stream reports every outcome at every published index, so each batch has G blocks.
+std::vector<causal_twin::CausalFactorBatch> to_causal_factor_batches(const FactorContext& context,
+                                                                     const std::vector<pipeline::FactorReport>& reports);
 
 // The wire form of a symmetric d x d covariance: its lower triangle row by row, P(0,0), P(1,0), P(1,1),
 // P(2,0), ..., d(d+1)/2 values (the upper triangle is redundant). Throws std::invalid_argument if p is not
@@ -34,7 +40,8 @@ std::vector<double> pack_lower_triangle(const Eigen::MatrixXd& p);
 // packed.size() != d(d+1)/2 or d < 0 (d = 0 with no values gives the valid 0 x 0 matrix too).
 Eigen::MatrixXd unpack_lower_triangle(const std::vector<double>& packed, int d);
 
-// A received CausalFactors message, in core types (outcome 0-based).
+// One outcome's block of a received CausalFactorBatch with the batch's header, in core types (outcome
+// 0-based): what the consumers' assemblers take, one per outcome.
 struct FactorMessage {
   std::string asset_group;
   int outcome = 0;
@@ -55,10 +62,14 @@ struct FactorMessage {
   std::uint64_t rejected_samples = 0;
 };
 
-// Empty string when the message is consistent (1 <= outcome <= channel_count, equal vector lengths,
-// factor_covariance empty or d(d+1)/2 values for d = factors.size()).
-std::string validate_causal_factors(const causal_twin::CausalFactors& in);
-FactorMessage from_causal_factors(const causal_twin::CausalFactors& in);
+// Empty string when the batch is consistent: channel_count >= 2, at least one block, outcomes strictly
+// increasing within 1..channel_count, and in every block equal lengths of names, factors and std and
+// factor_covariance empty or d(d+1)/2 values for d = factors.size(). Otherwise names the first problem.
+std::string validate_causal_factor_batch(const causal_twin::CausalFactorBatch& in);
+// One FactorMessage per block, in the batch's order (call validate_causal_factor_batch() first).
+std::vector<FactorMessage> from_causal_factor_batch(const causal_twin::CausalFactorBatch& in);
+// The number of outcome blocks a consumer received in a batch (what one message per outcome used to count).
+inline std::size_t outcome_blocks(const causal_twin::CausalFactorBatch& in) { return in.outcomes().size(); }
 
 const char* to_string(causal_twin::EstimateKind kind);
 const char* to_string(causal_twin::TimeScale scale);

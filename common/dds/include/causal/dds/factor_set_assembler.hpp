@@ -1,7 +1,8 @@
-// One assembler for every consumer of the estimator's CausalFactors messages (alarm-recommender,
-// causal-recorder). The estimator publishes one message per (asset group, outcome k, estimate kind,
-// time scale, sample index); this collects the G outcome messages of one sample index of one stream
-// into one FactorSet and emits the sets of each stream in index order, each index at most once.
+// One assembler for every consumer of the estimator's causal factors (alarm-recommender,
+// causal-recorder). The estimator publishes one CausalFactorBatch per (asset group, estimate kind, time
+// scale, sample index) with every outcome; consumers feed its blocks one FactorMessage each
+// (from_causal_factor_batch), so a batch that lacks outcomes or a block sent again is handled as before.
+// This collects the G outcome messages of one sample index of one stream into one FactorSet and emits the sets of each stream in index order, each index at most once.
 //
 // Streams: (asset group, time scale, estimate kind, feature). The set's index is the messages'
 // sample_index (the source's snapshot index at condition level), never a local counter.
