@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
   s.participant_name = "bench-factor-counter";
   s.security_dir = "off";
   causal::dds::Participant participant(s);
-  causal::dds::TypedReader<causal_twin::CausalFactorsPubSubType> reader(
+  causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> reader(
       participant, causal::dds::topics::kCausalFactors, causal::dds::profiles::kCausalFactorsReader);
   causal::dds::EventLoop loop;
   loop.attach(reader.get());
@@ -110,9 +110,9 @@ int main(int argc, char** argv) {
     if (std::chrono::duration<double>(now - began).count() > timeout_s) break;
     if (!covered.empty() && std::chrono::duration<double>(now - progress).count() > quiet_exit_s) break;
     loop.wait(std::chrono::milliseconds(100));
-    reader.take_all([&](const causal_twin::CausalFactors& f, const auto&) {
+    reader.take_all([&](const causal_twin::CausalFactorBatch& f, const auto&) {
       if (f.time_scale() != causal_twin::SAMPLE_LEVEL || f.kind() != causal_twin::FILTER) return;
-      if (!covered.emplace(f.asset_group(), f.sample_index()).second) return;  // another outcome of the frame
+      if (!covered.emplace(f.asset_group(), f.sample_index()).second) return;  // a frame counted once
       const long long arrived = wall_ns();
       progress = Clock::now();
       last_ns = std::max(last_ns, arrived);

@@ -54,7 +54,7 @@ std::uint64_t fnv1a(const std::string& s) {
   return h;
 }
 
-// Counts the CausalFactors messages on the domain.
+// Counts the factor batches (CausalFactorBatch: one per group, estimator, time scale and index) on the domain.
 class FactorCounter {
  public:
   explicit FactorCounter(int domain)
@@ -81,7 +81,7 @@ class FactorCounter {
     return s;
   }
   causal::dds::Participant participant_;
-  causal::dds::TypedReader<causal_twin::CausalFactorsPubSubType> factors_;
+  causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_;
   causal::dds::EventLoop loop_;
   std::thread thread_;
   std::atomic<std::size_t> count_{0};
@@ -163,16 +163,17 @@ void run_and_check(int domain, const std::vector<std::vector<std::string>>& shar
     // Received only its own groups' frames: the others' never reached its reader.
     EXPECT_EQ(r.frames_received, expected[i].size() * kFramesPerGroup) << "shard " << i;
     EXPECT_EQ(r.foreign, 0u) << "shard " << i << " received other shards' frames";
-    EXPECT_EQ(r.published, expected[i].size() * kFramesPerGroup * kChannels) << "shard " << i;
+    // One factor batch (every outcome) per frame and group.
+    EXPECT_EQ(r.published, expected[i].size() * kFramesPerGroup) << "shard " << i;
     for (const auto& g : r.groups) EXPECT_TRUE(all.insert(g).second) << g << " processed by two shards";
     published += r.published;
   }
   EXPECT_EQ(all.size(), std::size_t{kGroups}) << "union of the shards' groups";
-  // Every factor message crossed the wire (allow the last ones a moment).
+  // Every factor batch crossed the wire (allow the last ones a moment).
   const auto until = Clock::now() + std::chrono::seconds(10);
   while (counter.count() < published && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   EXPECT_EQ(counter.count(), published);
-  EXPECT_EQ(published, std::uint64_t{kGroups} * kFramesPerGroup * kChannels);
+  EXPECT_EQ(published, std::uint64_t{kGroups} * kFramesPerGroup);
 }
 
 }  // namespace

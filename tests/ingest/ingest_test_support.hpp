@@ -101,17 +101,20 @@ class FrameRecorder {
                                                      f.end_of_segment(),
                                                      f.samples()});
       });
-      factor_reader_.take_all([this](const causal_twin::CausalFactors& f, const auto&) {
+      factor_reader_.take_all([this](const causal_twin::CausalFactorBatch& f, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);
-        factors_[f.asset_group()][FactorKey{static_cast<int>(f.time_scale()), static_cast<int>(f.kind()), f.outcome(),
-                                            f.sample_index()}] = SeenFactors{f.factors(), f.factor_std(), f.time_ns()};
+        for (const auto& block : f.outcomes()) {
+          factors_[f.asset_group()][FactorKey{static_cast<int>(f.time_scale()), static_cast<int>(f.kind()),
+                                              block.outcome(), f.sample_index()}] =
+              SeenFactors{block.factors(), block.factor_std(), f.time_ns()};
+        }
       });
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   }
   dds::Participant participant_;
   dds::TypedReader<causal_twin::VibrationFramePubSubType> reader_;
-  dds::TypedReader<causal_twin::CausalFactorsPubSubType> factor_reader_;
+  dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factor_reader_;
   mutable std::mutex mutex_;
   std::map<std::string, std::vector<SeenFrame>> frames_;
   std::map<std::string, std::map<FactorKey, SeenFactors>> factors_;
