@@ -397,6 +397,37 @@ TEST(InputScreenConditions, ReadyMadeVectorsAreScreenedPerChannel) {
   EXPECT_EQ(out.condition_reports.back().rejected, 8u);
 }
 
+// The scale verdict on one block after a reference block of ones, against the median computed by hand:
+// quarantined (a scale_change event) iff median / 1 < collapse (0.5). Even blocks whose middle pair straddles
+// the limit are the cases the screen cannot settle by counting alone.
+bool block_quarantines(const std::vector<double>& block) {
+  InputScreenParams p;
+  p.scale_window = block.size();
+  p.recovery_samples = block.size();
+  p.stuck_samples = 0;
+  p.sudden_run = 0;
+  p.scale_collapse = 0.5;
+  p.scale_explosion = 4.0;
+  InputScreen screen(p, 1, ScreenLevel::Sample);
+  std::vector<double> rows(block.size(), 1.0);  // the reference block: median 1
+  rows.insert(rows.end(), block.begin(), block.end());
+  std::vector<QualityEvent> events;
+  screen.screen(rows.data(), rows.size(), events);
+  return screen.counters()[0].scale_change == 1 && screen.counters()[0].quarantined;
+}
+
+TEST(InputScreenScaleBlock, VerdictEqualsTheMedianTestIncludingStraddlingMiddlePairs) {
+  EXPECT_FALSE(block_quarantines({0.2, 0.3, 0.9, 1.0}));   // median 0.6 (pair straddles 0.5)
+  EXPECT_TRUE(block_quarantines({0.2, 0.3, 0.5, 1.0}));    // median 0.4 (pair 0.3 | 0.5 straddles)
+  EXPECT_TRUE(block_quarantines({0.2, 0.3, 0.4, 1.0}));    // median 0.35
+  EXPECT_FALSE(block_quarantines({0.3, 0.7, 0.4, 0.9}));   // median 0.55 (pair 0.4 | 0.7), unsorted
+  EXPECT_TRUE(block_quarantines({0.6, 0.1, 0.2, 0.3}));    // median 0.25
+  EXPECT_FALSE(block_quarantines({0.9, 1.0, 1.1, 3.9}));   // median 1.05
+  EXPECT_TRUE(block_quarantines({0.1, 0.2, 0.4, 3.0, 3.0}));   // odd: median 0.4
+  EXPECT_FALSE(block_quarantines({0.1, 0.2, 0.5, 3.0, 3.0}));  // odd: median 0.5, not below 0.5
+  EXPECT_FALSE(block_quarantines({0.1, 0.2, 0.6, 3.0, 3.0}));  // odd: median 0.6
+}
+
 TEST(InputScreenParameters, InvalidThresholdsThrowAtConstructionAndRefuseTheFirstFrame) {
   InputScreenParams bad;
   bad.scale_collapse = 2.0;

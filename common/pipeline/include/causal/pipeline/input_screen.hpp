@@ -126,6 +126,7 @@ class InputScreen {
   };
   double screen_value(int j, double x, std::uint64_t index, std::vector<QualityEvent>& events);
   bool scale_block_bad(int j, ChannelState& c);
+  int scale_verdict_by_counting(const std::vector<double>& block, double reference) const;
   void emit(std::vector<QualityEvent>& events, int j, QualityEventKind kind, std::uint64_t index,
             std::uint64_t count, std::string reason) const;
 
