@@ -55,7 +55,9 @@ void ConditionAccumulator::add(const double* samples_row_major, std::size_t n_sa
     double s = 0.0;
     for (std::size_t i = 0; i < nb; ++i) s += x[i];
     const double mb = s / n_b;
-    double b2 = 0.0, b3 = 0.0, b4 = 0.0, pk = peak_[c];
+    // The running sums live in locals during the loop: as members they may alias x (both double), and the
+    // compiler then stores and reloads them every value (this loop was ~5 % of the estimator's CPU time).
+    double b2 = 0.0, b3 = 0.0, b4 = 0.0, pk = peak_[c], abs_sum = abs_sum_[c], abs_comp = abs_comp_[c];
     for (std::size_t i = 0; i < nb; ++i) {
       const double d = x[i] - mb;
       const double d2 = d * d;
@@ -65,11 +67,13 @@ void ConditionAccumulator::add(const double* samples_row_major, std::size_t n_sa
       const double a = std::abs(x[i]);
       pk = a > pk ? a : pk;
       // Neumaier-compensated sum of |x|: the stream may be long (many blocks).
-      const double t = abs_sum_[c] + a;
-      abs_comp_[c] += std::abs(abs_sum_[c]) >= a ? (abs_sum_[c] - t) + a : (a - t) + abs_sum_[c];
-      abs_sum_[c] = t;
+      const double t = abs_sum + a;
+      abs_comp += std::abs(abs_sum) >= a ? (abs_sum - t) + a : (a - t) + abs_sum;
+      abs_sum = t;
     }
     peak_[c] = pk;
+    abs_sum_[c] = abs_sum;
+    abs_comp_[c] = abs_comp;
     // Merge (A = accumulated, B = block); Pebay (2008), "Formulas for robust, one-pass parallel
     // computation of covariances and arbitrary-order statistical moments", eqs. for M2..M4.
     const double a2 = m2_[c], a3 = m3_[c], a4 = m4_[c];
