@@ -236,12 +236,49 @@ double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vect
   return x;
 }
 
+// The common case of screen_value, inlined: a finite, in-range value on a channel in use that completes no
+// stuck run, no sudden run and no scale block. It makes exactly screen_value's state changes and keeps x;
+// anything else returns false with nothing changed, and screen_value judges the value (screen_value was
+// ~7 % of the estimator's CPU time, called once per value).
+inline bool InputScreen::screen_plain_value(ChannelState& c, ChannelQualityCounters& k, double x) {
+  const double a = std::abs(x);
+  if (!std::isfinite(x) || a > params_.max_abs_value || k.quarantined) return false;
+  const double reference = k.reference_scale;
+  const bool scaled = params_.scale_window > 0;
+  if (scaled && reference > 0.0 && a > params_.scale_explosion * reference) return false;
+  std::size_t same = c.same_run;
+  if (params_.stuck_samples > 0) {
+    same = c.same_run > 0 && x == c.last_value ? c.same_run + 1 : 1;
+    if (same >= params_.stuck_samples) return false;
+  }
+  std::size_t low = c.low_run;
+  if (scaled && params_.sudden_run > 0 && reference > 0.0) {
+    low = a < params_.scale_collapse * reference ? c.low_run + 1 : 0;
+    if (low >= params_.sudden_run) return false;
+  }
+  if (scaled && c.block.size() + 1 >= params_.scale_window) return false;
+  ++k.screened;
+  c.high_run = 0;
+  c.last = Last::Good;
+  if (params_.stuck_samples > 0) {
+    if (same == 1) c.last_value = x;  // a new run starts at x
+    c.same_run = same;
+  }
+  c.low_run = low;
+  if (scaled) c.block.push_back(a);
+  ++c.healthy_run;
+  return true;
+}
+
 void InputScreen::screen(double* rows, std::size_t n, std::vector<QualityEvent>& events) {
   const int g = channels();
   for (std::size_t i = 0; i < n; ++i) {
     double* row = rows + i * static_cast<std::size_t>(g);
     const std::uint64_t index = next_index_++;
-    for (int j = 0; j < g; ++j) row[j] = screen_value(j, row[j], index, events);
+    for (int j = 0; j < g; ++j) {
+      const auto u = static_cast<std::size_t>(j);
+      if (!screen_plain_value(channels_[u], counters_[u], row[j])) row[j] = screen_value(j, row[j], index, events);
+    }
   }
 }
 

@@ -125,6 +125,7 @@ class InputScreen {
     std::vector<double> block;      // |x| of the current scale block
   };
   double screen_value(int j, double x, std::uint64_t index, std::vector<QualityEvent>& events);
+  bool screen_plain_value(ChannelState& c, ChannelQualityCounters& k, double x);
   bool scale_block_bad(int j, ChannelState& c);
   int scale_verdict_by_counting(const std::vector<double>& block, double reference) const;
   void emit(std::vector<QualityEvent>& events, int j, QualityEventKind kind, std::uint64_t index,
