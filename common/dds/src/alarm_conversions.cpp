@@ -1,5 +1,7 @@
 #include "causal/dds/alarm_conversions.hpp"
 
+#include <limits>
+
 namespace causal::dds {
 
 namespace {
@@ -47,6 +49,12 @@ void to_alarm(const std::string& asset_group, const std::vector<std::string>& ch
   out.threshold(e.threshold);
   out.reason(e.reason);
   out.root_cause_confidence(e.root_cause_confidence);
+  // The decision fields are filled by the advice (alarm-recommender) when it has one; until then: none, unknown.
+  out.action(std::string());
+  out.next_level(std::string());
+  out.hours_to_next_level(std::numeric_limits<double>::quiet_NaN());
+  out.hours_to_next_level_low(std::numeric_limits<double>::quiet_NaN());
+  out.hours_to_next_level_high(std::numeric_limits<double>::quiet_NaN());
 }
 
 }  // namespace causal::dds

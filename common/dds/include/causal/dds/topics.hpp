@@ -11,6 +11,8 @@ inline constexpr const char* kAlarm = "causal_twin/alarm";
 inline constexpr const char* kRecommendation = "causal_twin/recommendation";
 inline constexpr const char* kWhatIfRequest = "causal_twin/whatif_request";
 inline constexpr const char* kWhatIfReply = "causal_twin/whatif_reply";
+inline constexpr const char* kPrognosis = "causal_twin/prognosis";        // alarm-recommender: time to threshold
+inline constexpr const char* kAssetStatus = "causal_twin/asset_status";   // alarm-recommender: one line per group
 
 }  // namespace causal::dds::topics
 
