@@ -179,6 +179,8 @@ void check_tool_command(const Repository& repo, const std::string& page, const Q
   for (const std::string& option : long_options(words))
     if (!mentions_option(answer.text, option))
       report.problems.push_back({page, quote.line, "'" + tool + " --help' does not list the quoted option " + option});
+  if (help.version(exe->second).exit_code != 0)  // README: every executable answers --help and --version
+    report.problems.push_back({page, quote.line, "'" + tool + " --version' did not exit 0"});
 }
 
 }  // namespace
@@ -227,12 +229,13 @@ const std::set<std::string>& pages_expected_after_merge() {
   return pages;
 }
 
-const HelpCache::Answer& HelpCache::help(const fs::path& executable) {
-  const auto known = answers_.find(executable.string());
+const HelpCache::Answer& HelpCache::run(const fs::path& executable, const std::string& flag) {
+  const std::string key = executable.string() + " " + flag;
+  const auto known = answers_.find(key);
   if (known != answers_.end()) return known->second;
   Answer answer;
   // Bounded: a --help that waits for anything is itself a failure.
-  const std::string command = "timeout 20 '" + executable.string() + "' --help 2>&1 </dev/null";
+  const std::string command = "timeout 20 '" + executable.string() + "' " + flag + " 2>&1 </dev/null";
   if (FILE* pipe = popen(command.c_str(), "r")) {
     std::array<char, 4096> buffer{};
     std::size_t n = 0;
@@ -240,7 +243,7 @@ const HelpCache::Answer& HelpCache::help(const fs::path& executable) {
     const int status = pclose(pipe);
     answer.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   }
-  return answers_.emplace(executable.string(), answer).first->second;
+  return answers_.emplace(key, answer).first->second;
 }
 
 bool looks_like_product_tool(const std::string& word) {

@@ -46,14 +46,16 @@ std::vector<std::string> documentation_pages(const fs::path& source);
 // Pages other work of this round adds; links to them are checked only once they exist.
 const std::set<std::string>& pages_expected_after_merge();
 
-// Runs `<exe> --help`, remembering each answer.
+// Runs `<exe> --help` (and `<exe> --version`), remembering each answer.
 class HelpCache {
  public:
   struct Answer {
     int exit_code = -1;
     std::string text;
   };
-  const Answer& help(const fs::path& executable);
+  const Answer& help(const fs::path& executable) { return run(executable, "--help"); }
+  const Answer& version(const fs::path& executable) { return run(executable, "--version"); }
+  const Answer& run(const fs::path& executable, const std::string& flag);
 
  private:
   std::map<std::string, Answer> answers_;

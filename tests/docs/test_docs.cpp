@@ -82,7 +82,8 @@ TEST(DocsChecks, ReportMissingPathsToolsOptionsAndLinks) {
   write_text(root / "deploy/run.sh", "case $1 in --known) ;; esac\n", true);
   write_text(root / "common/x/include/a.hpp", "");
   write_text(root / "build/CMakeCache.txt", "");
-  write_text(root / "build/services/causal-fake", "#!/bin/sh\necho 'usage: causal-fake --known'\n", true);
+  write_text(root / "build/services/causal-fake", "#!/bin/sh\n[ \"$1\" = --version ] && exit 3\necho 'usage: causal-fake --known'\n",
+             true);
   write_text(root / "docs/other.md", "# Other\n## Real heading\n");
   write_text(root / "README.md",
              "`deploy/run.sh --known`, `deploy/gone.sh`, `common/x/.../a.hpp`, `a.hpp`, `missing.hpp`, `DIR/x.xml`\n\n"
@@ -103,7 +104,8 @@ TEST(DocsChecks, ReportMissingPathsToolsOptionsAndLinks) {
   EXPECT_NE(commands.find("'deploy/run.sh' does not know the quoted option --unknown"), std::string::npos) << commands;
   EXPECT_NE(commands.find("list the quoted option --wrong"), std::string::npos) << commands;
   EXPECT_NE(commands.find("'causal-absent' is not an executable"), std::string::npos) << commands;
-  EXPECT_EQ(std::count(commands.begin(), commands.end(), '\n'), 3) << commands;
+  EXPECT_NE(commands.find("'causal-fake --version' did not exit 0"), std::string::npos) << commands;
+  EXPECT_EQ(std::count(commands.begin(), commands.end(), '\n'), 4) << commands;
   const std::string link_text = format(links.problems);
   EXPECT_NE(link_text.find("docs/none.md does not exist"), std::string::npos) << link_text;
   EXPECT_NE(link_text.find("no heading #nope"), std::string::npos) << link_text;
