@@ -61,6 +61,7 @@ grep -q "ingest\|snapshot\|sent" "$work/replay.log" || echo "note: replay log so
 runuser -u "$other" -- sh -c 'echo $$ > "$1/other.pid"; exec "$2" --domain 223 --qos "$3" --transport "$4" --out "$1/other/rec" --idle-exit 6 --max-runtime "$5"' \
   sh "$work" "$bin/causal_recorder/causal-recorder" "$deploy/dds/qos.xml" "$tool_profile" "$limit" > "$work/other.log" 2>&1 &
 other_job=$!
+joined_at=$(date +%s.%N)
 echo "$other's causal-recorder joined 5 s into the run"
 
 if [ "$mode" = shm ]; then
@@ -70,7 +71,7 @@ if [ "$mode" = shm ]; then
   done
   line=$(grep -h "HEALTH RAISED .*reader_not_acknowledging" "$work"/estimator.log "$work"/recommender.log | head -1)
   [ -n "$line" ] || fail "no reader_not_acknowledging alarm within 10 s of the other user's tool joining (estimator: $(tail -3 "$work/estimator.log"))"
-  echo "detected: ${line:0:400}"
+  echo "detected $(awk -v a="$joined_at" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }') s after the other user's tool started: ${line:0:600}"
   echo "$line" | grep -q "causal-recorder \[user $other" || fail "the alarm does not name the other user's reader"
   exit 0
 fi
