@@ -18,7 +18,7 @@
 # Exit code 1 when a measurement failed (frames missing in (a) or (b)); missed targets are reported, not failed.
 # Usage: deploy/bench_scale.sh [--quick] [--build DIR] [--duration S] [--max-groups N] [--transport FILE]
 #        [--shards "1 2"]
-# --transport: another participant profile (e.g. deploy/dds/localhost-shm.xml, shared memory) to compare
+# --transport: another participant profile (e.g. deploy/dds/localhost-udp.xml, the installed UDP-only one) to compare
 # transports (docs/cross-user-and-restarts.md); --shards: the shard counts of (b) and (c).
 set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Same-host transport comparison (issue 24, docs/cross-user-and-restarts.md): the shipped UDP-loopback profile
-# (deploy/dds/localhost.xml) against shared memory (deploy/dds/localhost-shm.xml), interleaved in one run so
+# (deploy/dds/localhost-udp.xml, installed as localhost.xml) against shared memory (deploy/dds/localhost.xml), interleaved in one run so
 # both see the same machine load. Per profile and round:
 #   raw:      causal_bench_raw_dds, 16 groups x 500 frames of 32 KiB (no estimation): frames/s and the CPU
 #             seconds of that process (/usr/bin/time: user + system);
@@ -30,7 +30,7 @@ trap 'rm -rf "$WORK"' EXIT
 echo "bench_transport: $(date -u +%FT%TZ) on $(nproc) cores, $(uptime | sed 's/.*load average/load average/')"
 FAILED=0
 for round in $(seq 1 "$ROUNDS"); do
-  for profile in localhost.xml localhost-shm.xml; do
+  for profile in localhost-udp.xml localhost.xml; do
     transport="$ROOT/deploy/dds/$profile"
     /usr/bin/time -f "%U %S" -o "$WORK/raw.time" "$RAW" --domain 230 --groups 16 --frames-per-group 500 --channels 4 \
       --frame-samples 1024 --qos "$ROOT/deploy/dds/qos.xml" --transport "$transport" > "$WORK/raw.out" 2>&1 || FAILED=1

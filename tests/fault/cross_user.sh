@@ -5,12 +5,12 @@
 # table, ~16 s) run as this user (root in CI); 5 s into the run a second Linux user, created here
 # (useradd ctwin-other, removed at the end when made here), starts its own causal-recorder (an integrator's
 # historian) with runuser.
-#  shipped (default): the services on the shipped profile deploy/dds/localhost.xml (UDP loopback, no shared
-#    memory); the other user's tool on localhost-shm.xml (the worst case: a tool with shared memory on, as Fast
+#  shipped (default): the services on the shipped profile deploy/dds/localhost-udp.xml, installed as /etc/causal-twin/localhost.xml (UDP loopback, no shared
+#    memory); the other user's tool on the source tree's localhost.xml (the worst case: a tool with shared memory on, as Fast
 #    DDS's defaults have it). Checked: every count exact (984 condition inputs sent = received, 984 condition
 #    vectors recorded, every factor message the estimator sent received by the recommender, exit 0
 #    everywhere), no reader_not_acknowledging alarm, and the other user's recorder got the data too.
-#  shm: the services on localhost-shm.xml (what was shipped before): the other user's recorder cannot
+#  shm: the services on the shared-memory localhost.xml (what was installed before): the other user's recorder cannot
 #    acknowledge over shared memory (Fast DDS 2.9 creates its segments and ports with mode 0644), so the
 #    services' writers stall; checked: a reader_not_acknowledging HEALTH alarm within 10 s of the tool joining,
 #    naming it (causal-recorder [user ctwin-other ...]). Bounded: the run is stopped once it is seen.
@@ -40,9 +40,9 @@ if ! id "$other" >/dev/null 2>&1; then
   useradd --system --no-create-home --shell /usr/sbin/nologin "$other" || fail "useradd $other"
   made_user=1
 fi
-services_profile="$deploy/dds/localhost.xml"
-[ "$mode" = shm ] && services_profile="$deploy/dds/localhost-shm.xml"
-tool_profile="$deploy/dds/localhost-shm.xml"
+services_profile="$deploy/dds/localhost-udp.xml"
+[ "$mode" = shm ] && services_profile="$deploy/dds/localhost.xml"
+tool_profile="$deploy/dds/localhost.xml"
 table="$deploy/data/ims2-features/derived_per_file_stats_all984.csv"
 c=(--domain 223 --qos "$deploy/dds/qos.xml" --transport "$services_profile")
 limit=90
