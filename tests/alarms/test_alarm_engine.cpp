@@ -133,6 +133,8 @@ TEST(AlarmEngine, StationaryFalseAlarmRateWithinPromise) {
   };
   for (const Case& c : cases) {
     AlarmParams p = step_faults();
+    p.advisory_ratio = 1.0;                 // the statistical design alone: no size floor (issue 23) ...
+    p.baseline_tracking_observations = 0;  // ... and a fixed baseline, as Siegmund's ARL assumes
     p.cusum_k = c.k;
     p.target_arl0 = c.arl0;
     p.nis_false_alarm_prob = c.nis_p;
@@ -331,7 +333,9 @@ TEST(AlarmEngine, ExplanationNamesRootCauseLinkAndTimes) {
   cfg.seed = 3;
   cfg.with_factors = true;
   cfg.own_change = [](int t) { return t >= 400 ? 6.0 : 0.0; };
-  auto e = make_engine(step_faults(), true);
+  AlarmParams p = step_faults();
+  p.advisory_ratio = 1.0;  // the explanation's content at the statistical raise (the follower is at +9.6 %)
+  auto e = make_engine(p, true);
   const auto ev = run_all(e, make_run(cfg));
   const AlarmEvent* f3 = first_of(ev, 2, kind::kFeatureDrift);
   ASSERT_NE(f3, nullptr);
@@ -371,6 +375,7 @@ TEST(AlarmEngine, StoppedMachineSnapshotsAreSkipped) {
   EXPECT_EQ(e.not_running_observations(), 3u);
   AlarmParams off;
   off.stopped_ratio = 0.0;  // gate disabled: the wild innovations of consecutive snapshots do alarm
+  off.advisory_ratio = 1.0;  // (the levels fell: only without the size floor can innovations alone raise)
   auto e2 = make_engine(off);
   EXPECT_FALSE(run_all(e2, obs).empty());
   EXPECT_EQ(e2.not_running_observations(), 0u);
@@ -382,6 +387,7 @@ TEST(AlarmEngine, StoppedMachineSnapshotsAreSkipped) {
 TEST(AlarmEngine, FactorShiftDetectorWhenEnabled) {
   AlarmParams p = step_faults();
   p.factor_enabled = true;
+  p.advisory_ratio = 1.0;  // a link that changes while no level moves has no size: only without the floor
   SyntheticConfig cfg;
   cfg.seed = 4;
   cfg.with_factors = true;

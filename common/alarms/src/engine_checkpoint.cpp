@@ -45,7 +45,7 @@ std::size_t read_count(causal::StateReader& in, std::size_t expected, const char
 }  // namespace
 
 void save(causal::StateWriter& out, const SignalMonitor& s) {
-  out.begin("signal_monitor", 1);
+  out.begin("signal_monitor", 2);
   out.put(s.baseline);
   alarms::save(out, s.stats);
   out.put(s.monitored);
@@ -57,10 +57,13 @@ void save(causal::StateWriter& out, const SignalMonitor& s) {
   out.put(s.location_margin);
   s.cusum.save(out);
   s.level.save(out);
+  out.put(s.anchor_location);
+  out.put(s.refine_left);
+  out.put(s.reference_location);
 }
 
 void restore(causal::StateReader& in, SignalMonitor& s) {
-  in.expect("signal_monitor", 1);
+  in.expect("signal_monitor", 2);
   in.read(s.baseline);
   alarms::restore(in, s.stats);
   in.read(s.monitored);
@@ -72,6 +75,9 @@ void restore(causal::StateReader& in, SignalMonitor& s) {
   in.read(s.location_margin);
   s.cusum.restore(in);
   s.level.restore(in);
+  in.read(s.anchor_location);
+  in.read(s.refine_left);
+  in.read(s.reference_location);
 }
 
 void save(causal::StateWriter& out, const FactorMonitor& f) {

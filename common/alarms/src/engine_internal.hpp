@@ -1,6 +1,7 @@
 // Internal state of AlarmEngine (not installed; shared by the engine's translation units).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -33,8 +34,30 @@ struct SignalMonitor {
   double location_margin = 0.0;  // confidence margin of the median, in sigmas
   ClippedCusum cusum;
   WindowMean level;              // recent z values: their median is the signal's current level
+  // Where the slow tracking started from (AlarmParams::baseline_tracking_observations): the location as
+  // learned or as last re-baselined; tracking stays within half the size floor of it.
+  double anchor_location = kNaN;
+  // Observations left in which a location re-learned on the short confirmation window (12 correlated
+  // values after a gap or step) is still refined, as a running mean (AlarmParams::baseline_tracking_observations).
+  int refine_left = 0;
+  // Reference of the escalation levels and of the limits on what the baseline may follow: the learned
+  // baseline location, moved only by a gap / restart re-baseline or a machine-wide operating change (not
+  // by slow tracking or a single channel's step; see AlarmParams::max_absorbed_ratio).
+  double reference_location = kNaN;
   double standardize(double v) const { return (v - stats.location) / stats.scale; }
+  // Log ratio of the current level (median of the level window) over the current / the lower of the
+  // current and reference locations (escalation). NaN without a level.
+  double level_log_ratio() const { return level.median() * stats.scale; }
+  double escalation_log_ratio() const {
+    const double ref = std::isfinite(reference_location) ? std::min(reference_location, stats.location) : stats.location;
+    return level_log_ratio() + stats.location - ref;
+  }
 };
+
+// Feeds one transformed value to a signal after the baseline (engine_signals.cpp): plain and conservative z,
+// the CUSUM, the level window, and the slow tracking of the location (feature signals,
+// AlarmParams::baseline_tracking_observations) while nothing builds up. `track` = the channel may follow.
+void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Observation& obs, bool track);
 
 struct FactorMonitor {
   FactorRef ref;
@@ -254,3 +277,9 @@ struct AlarmEngine::Impl {
 };
 
 }  // namespace causal::alarms
+
+namespace causal::alarms::detail {
+// The size floor (AlarmParams::advisory_ratio): true when channel c's condition level is at least
+// advisory_ratio x its baseline, or when it has no ratio scale (then the statistics decide alone).
+bool size_matters(const AlarmEngine::Impl& m, int c);
+}  // namespace causal::alarms::detail

@@ -95,10 +95,15 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
   if (static_cast<int>(confirm.feature[0].size()) < p.confirmation_observations) return;
 
   const int w = p.confirmation_observations;
-  auto rebaseline = [&](int c) {
+  // new_reference: a gap / restart or a machine-wide operating change moves the escalation reference too;
+  // a single channel's step does not (AlarmParams::max_absorbed_ratio).
+  auto rebaseline = [&](int c, bool new_reference) {
     auto& cs = ch[static_cast<std::size_t>(c)];
     const double f = median(confirm.feature[static_cast<std::size_t>(c)]);
     if (cs.feature.monitored && std::isfinite(f)) cs.feature.stats.location = f;
+    cs.feature.anchor_location = cs.feature.stats.location;
+    cs.feature.refine_left = p.baseline_observations;
+    if (new_reference || !std::isfinite(cs.feature.reference_location)) cs.feature.reference_location = cs.feature.stats.location;
     restart(cs.feature);
     cs.own_sum = 0.0;
     cs.own_count = 0;
@@ -140,6 +145,23 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
 
   const std::string when = "observation " + std::to_string(confirm.start_index) + " (" +
                            format_utc_seconds(confirm.start_time_ns) + ")";
+  // Channels whose level moved by a step at least operating_step_ratio in the window and settled (the
+  // step's channel counts when it settled); machine-wide when they are at least half the channels.
+  std::vector<bool> moved(ch.size(), false);
+  int moved_count = 0;
+  for (int c = 0; c < channels() && !confirm.gap; ++c) {
+    const auto& cs = ch[static_cast<std::size_t>(c)];
+    const auto& fv = confirm.feature[static_cast<std::size_t>(c)];
+    const double rise = theil_sen_slope(fv) * (w - 1) / cs.feature.stats.scale;
+    const double new_loc = median(fv);
+    const bool ok = std::isfinite(rise) && rise < p.settle_trend_sigma && std::isfinite(new_loc) &&
+                    (c == confirm.step_channel ||
+                     (!cs.any_active() && cs.feature.monitored &&
+                      std::abs(new_loc - cs.feature.stats.location) >= std::log(p.operating_step_ratio)));
+    moved[static_cast<std::size_t>(c)] = ok && c != confirm.step_channel;
+    moved_count += ok ? 1 : 0;
+  }
+  const bool machine_wide = moved_count >= 2 && 2 * moved_count >= channels();
   for (int c = 0; c < channels(); ++c) {
     auto& cs = ch[static_cast<std::size_t>(c)];
     const auto& fv = confirm.feature[static_cast<std::size_t>(c)];
@@ -157,20 +179,23 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
                               : confirm.gap_s > 0.0 ? "a gap of " + duration(confirm.gap_s) + " (more than " +
                                                           fixed(p.gap_multiple, 1) + " x the usual interval of " +
                                                           duration(median_interval_ns * 1e-9) + ")"
-                                                    : "a discontinuity flagged by the source";
+                                                    : "a discontinuity or declared operating change flagged by the source";
       emit(c, kind::kDiscontinuity,
            name + ": the recording resumed after " + gap + " at " + when + "; its level is " + fixed(pct, 1, true) +
                " % against the old baseline and " + trend + ": re-baselined on the " + std::to_string(w) +
                " observations after the gap (not a fault; alarms judge changes from the new level).");
-      rebaseline(c);
+      rebaseline(c, true);
       relearn_innovation(c);
-    } else if (c == confirm.step_channel || (!cs.any_active() && cs.feature.monitored && std::isfinite(new_loc) &&
-                                              std::abs(new_loc - old_loc) >= std::log(p.operating_step_ratio))) {
-      // The step's channel, and any other channel whose level moved by a step as large in the same window
-      // (a change of load moves several bearings at once): settled -> re-baselined; still rising -> the
-      // step's channel alarms, the others are left to their detectors.
-      if (!settled && c != confirm.step_channel) continue;
-      if (!settled) {  // progressive: the alarm the step would have raised, raised now with its onset
+    } else if (c == confirm.step_channel || moved[static_cast<std::size_t>(c)]) {
+      // The step's channel, and any other channel whose level moved by a step as large in the same window.
+      // Settled and machine-wide (at least half the channels: a change of load or speed moves the machine
+      // as a whole) -> a confirmed operating change, new reference. Settled on fewer channels -> followed as
+      // a level step while within max_absorbed_ratio of its reference. Still rising, or a step beyond that
+      // limit -> the step's channel alarms, the others are left to their detectors.
+      const double over_reference = new_loc - cs.feature.reference_location;
+      const bool absorbable = machine_wide || over_reference <= std::log(p.max_absorbed_ratio);
+      if ((!settled || !absorbable) && c != confirm.step_channel) continue;
+      if (!settled || !absorbable) {  // the alarm the step would have raised, raised now with its onset
         cs.slots[detail::kFeature].latch.force_raise();
         begin_alarm(c, detail::kFeature, obs);
         auto& slot = cs.slots[detail::kFeature];
@@ -179,19 +204,34 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
         slot.root = root_cause(c, slot.onset_index);
         slot.root_confidence = attribution_confidence(slot.root, departed_evidence());
         AlarmEvent e = make_event(c, detail::kFeature, AlarmState::Raised, obs);
-        e.reason = "Abrupt rise at " + when + " did not settle: " + trend + ": progressive, not an operating change. " +
+        e.reason = "Abrupt rise at " + when +
+                   (settled ? " settled on this channel alone at " + fixed(100.0 * (std::exp(over_reference) - 1.0), 1, true) +
+                                  " % over its reference, beyond the " +
+                                  fixed(100.0 * (p.max_absorbed_ratio - 1.0), 0) +
+                                  " % a single channel may step without the machine: degradation, not an operating change. "
+                            : " did not settle: " + trend + ": progressive, not an operating change. ") +
                    e.reason;
         slot.last_event = e;
         events.push_back(std::move(e));
         continue;
       }
-      emit(c, kind::kOperatingChange,
-           name + ": operating change: its level stepped " + fixed(pct, 1, true) + " % at once at " + when +
-               (c == confirm.step_channel ? "" : " (with " + names[static_cast<std::size_t>(confirm.step_channel)] + ")") +
-               " and " +
-               trend + ": re-baselined at the new level (a change of load or speed, not a fault; alarms judge "
-               "changes from the new level).");
-      rebaseline(c);
+      const std::string with = c == confirm.step_channel ? "" : " (with " + names[static_cast<std::size_t>(confirm.step_channel)] + ")";
+      if (machine_wide) {
+        emit(c, kind::kOperatingChange,
+             name + ": operating change: its level stepped " + fixed(pct, 1, true) + " % at once at " + when + with +
+                 ", " + std::to_string(moved_count) + " of " + std::to_string(channels()) + " channels moved, and " + trend +
+                 ": re-baselined at the new level (a change of load or speed, not a fault; alarms judge changes from "
+                 "the new level).");
+      } else {
+        emit(c, kind::kLevelStep,
+             name + ": level step of " + fixed(pct, 1, true) + " % at " + when + with + " that " + trend + "; only " +
+                 std::to_string(moved_count) + " of " + std::to_string(channels()) +
+                 " channels moved, so it is not confirmed as an operating change: followed from the new level (" +
+                 fixed(100.0 * (std::exp(over_reference) - 1.0), 1, true) + " % over its reference, limit " +
+                 fixed(100.0 * (p.max_absorbed_ratio - 1.0), 0, true) +
+                 " %); warning and critical are still judged against the reference.");
+      }
+      rebaseline(c, machine_wide);
     }
   }
   if (!confirm.gap && std::find_if(events.begin(), events.end(), [](const AlarmEvent& e) {
