@@ -236,8 +236,9 @@ void expect_holds(const Outcome& o) {
 
 TEST(RobustnessSuite, PrintsSideBySideTable) {
   std::printf("\n| variant | rows x channels | healthy rows | product: false alarms | product: first alarm on the failing "
-              "bearing | product: root cause | product: other events | baseline: false alarms | baseline: first alarm "
-              "on the failing bearing | baseline: first channel |\n|---|---|---|---|---|---|---|---|---|---|\n");
+              "bearing | product: root cause | product: severity at end | product: other events | baseline: false "
+              "alarms | baseline: first alarm on the failing bearing | baseline: first channel |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& v : all_variants()) {
     const Outcome o = evaluate(v);
     ASSERT_EQ(o.exit_code, 0) << v.name << ":\n" << o.output;

@@ -74,7 +74,7 @@ Variant make_month_variant(const MonthOptions& o, std::uint64_t seed) {
   for (std::size_t b = 0; b < base.size(); ++b) {
     base[b] = std::log(d.uniform(0.045, 0.09));
     drift[b] = d.uniform(-0.06, 0.08);
-    amp[b] = d.uniform(0.015, 0.03);
+    amp[b] = d.uniform(0.01, 0.02);
   }
   const double phase = d.uniform(0.0, 2.0 * M_PI);
   // Injections: per-channel cumulative log offsets from a row on.
@@ -108,8 +108,8 @@ Variant make_month_variant(const MonthOptions& o, std::uint64_t seed) {
     spike_factor[r] = d.uniform(1.5, 3.0);
   }
 
-  Ar1 load{0.99, 0.015};
-  std::vector<Ar1> wander(base.size(), Ar1{0.97, 0.01}), noise(static_cast<std::size_t>(g), Ar1{0.3, 0.015});
+  Ar1 load{0.99, 0.01};
+  std::vector<Ar1> wander(base.size(), Ar1{0.97, 0.007}), noise(static_cast<std::size_t>(g), Ar1{0.3, 0.012});
   std::int64_t t_ns = kT0;
   std::size_t next_gap = 0;
   for (std::size_t t = 0; t < rows; ++t) {

@@ -211,13 +211,8 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
     if (!cs.feature.cusum.in_excursion() || cs.feature.cusum.onset_index() == obs.index) {
       cs.own_sum = 0.0;  // no excursion, or one that starts now: restart the evidence
       cs.own_count = 0;
-      cs.excursion_obs = 0;
-      cs.excursion_sum_z = 0.0;
     }
-    if (cs.feature.cusum.in_excursion() && std::isfinite(cs.feature.last_z)) {
-      ++cs.excursion_obs;
-      cs.excursion_sum_z += cs.feature.last_z;
-    }
+    detail::update_step_run(cs, m.p);
     if (cs.feature.cusum.in_excursion() && std::isfinite(cs.innovation.last_z)) {
       cs.own_sum += std::max(-m.p.clip_sigma, std::min(m.p.clip_sigma, cs.innovation.last_z));
       ++cs.own_count;

@@ -146,7 +146,7 @@ void restore(causal::StateReader& in, AlarmSlot& slot) {
 }
 
 void save(causal::StateWriter& out, const ChannelState& cs) {
-  out.begin("alarm_channel", 2);
+  out.begin("alarm_channel", 3);
   save(out, cs.feature);
   save(out, cs.innovation);
   cs.nis.save(out);
@@ -165,10 +165,11 @@ void save(causal::StateWriter& out, const ChannelState& cs) {
   out.put(cs.excursion_obs);
   out.put(cs.excursion_sum_z);
   out.put(cs.change_counter);
+  out.put(cs.size_run);
 }
 
 void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
-  in.expect("alarm_channel", 2);
+  in.expect("alarm_channel", 3);
   restore(in, cs.feature);
   restore(in, cs.innovation);
   cs.nis.restore(in);
@@ -191,6 +192,7 @@ void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
   in.read(cs.excursion_obs);
   in.read(cs.excursion_sum_z);
   in.read(cs.change_counter);
+  in.read(cs.size_run);
 }
 
 void save(causal::StateWriter& out, const Episode& e) {

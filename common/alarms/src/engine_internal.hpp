@@ -58,6 +58,10 @@ struct SignalMonitor {
 // the CUSUM, the level window, and the slow tracking of the location (feature signals,
 // AlarmParams::baseline_tracking_observations) while nothing builds up. `track` = the channel may follow.
 void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Observation& obs, bool track);
+struct ChannelState;
+// Counts the runs of observations at a step's size (ChannelState::excursion_obs) and at the size floor
+// (ChannelState::size_run).
+void update_step_run(ChannelState& cs, const AlarmParams& p);
 
 struct FactorMonitor {
   FactorRef ref;
@@ -110,11 +114,16 @@ struct ChannelState {
   double own_evidence() const { return own_count > 0 ? own_sum / std::sqrt(static_cast<double>(own_count)) : 0.0; }
   int baseline_from_filter = 0;  // baseline innovation values that were e / sqrt(S) (not log mean NIS)
   int baseline_from_nis = 0;
-  // Current feature excursion (feature CUSUM > 0): observations in it and sum of their plain z, for the
-  // abrupt-step test (AlarmParams::operating_step_ratio).
+  // Current run of consecutive observations whose level is at least operating_step_ratio x the baseline,
+  // and the sum of their plain z, for the abrupt-step test (AlarmParams::operating_step_ratio). A run, not
+  // the CUSUM's excursion: a step that lands while the CUSUM is already up (a daily-cycle high, a slow
+  // wander) is still recognised as a step.
   int excursion_obs = 0;
   double excursion_sum_z = 0.0;
   int change_counter = 0;        // operating-change / discontinuity events of this channel (id counter)
+  // Consecutive observations whose level (median of level_window) reached the size floor
+  // (AlarmParams::advisory_ratio): the floor must hold for level_window observations before a raise.
+  int size_run = 0;
   bool any_active() const {
     for (const auto& s : slots)
       if (s.latch.active()) return true;
@@ -279,7 +288,8 @@ struct AlarmEngine::Impl {
 }  // namespace causal::alarms
 
 namespace causal::alarms::detail {
-// The size floor (AlarmParams::advisory_ratio): true when channel c's condition level is at least
-// advisory_ratio x its baseline, or when it has no ratio scale (then the statistics decide alone).
+// The size floor (AlarmParams::advisory_ratio): true when channel c's condition level has been at least
+// advisory_ratio x its baseline for level_window observations, or when it has no ratio scale (then the
+// statistics decide alone).
 bool size_matters(const AlarmEngine::Impl& m, int c);
 }  // namespace causal::alarms::detail

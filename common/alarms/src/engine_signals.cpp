@@ -32,11 +32,26 @@ void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Obser
   s.stats.location = std::clamp(s.stats.location + step, s.anchor_location - room, s.anchor_location + room);
 }
 
+void update_step_run(ChannelState& cs, const AlarmParams& p) {
+  const auto& f = cs.feature;
+  if (!std::isfinite(f.last_z)) return;
+  const double r = f.level_log_ratio();
+  cs.size_run = std::isfinite(r) && r >= std::log(p.advisory_ratio) ? cs.size_run + 1 : 0;
+  if (p.feature_log_transform && f.last_z * f.stats.scale >= std::log(p.operating_step_ratio)) {
+    ++cs.excursion_obs;
+    cs.excursion_sum_z += f.last_z;
+  } else {
+    cs.excursion_obs = 0;
+    cs.excursion_sum_z = 0.0;
+  }
+}
+
 bool size_matters(const AlarmEngine::Impl& m, int c) {
   const auto& f = m.ch[static_cast<std::size_t>(c)].feature;
   if (m.p.advisory_ratio <= 1.0 || !m.p.feature_log_transform || !f.monitored) return true;  // no floor / no ratio scale
-  const double r = f.level_log_ratio();
-  return !std::isfinite(r) || r >= std::log(m.p.advisory_ratio);
+  // A level that holds for level_window observations: a healthy excursion that touches the floor (a daily
+  // high on top of a load swing) is not enough; a fault stays there.
+  return !std::isfinite(f.level_log_ratio()) || m.ch[static_cast<std::size_t>(c)].size_run >= m.p.level_window;
 }
 
 }  // namespace causal::alarms::detail

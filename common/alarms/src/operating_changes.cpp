@@ -59,7 +59,8 @@ int AlarmEngine::Impl::abrupt_step() const {
   for (int c = 0; c < channels(); ++c) {
     const auto& cs = ch[static_cast<std::size_t>(c)];
     if (!cs.feature.monitored || cs.slots[detail::kFeature].latch.active()) continue;
-    if (cs.feature.cusum.value() < h || cs.excursion_obs < 1 || cs.excursion_obs > p.onset_tolerance + 1) continue;
+    // At least 2 observations at the step's size (one is a spike), at most onset_tolerance + 1 (abrupt).
+    if (cs.feature.cusum.value() < h || cs.excursion_obs < 2 || cs.excursion_obs > p.onset_tolerance + 1) continue;
     const double ratio = std::exp(cs.excursion_sum_z / cs.excursion_obs * cs.feature.stats.scale);
     if (ratio >= p.operating_step_ratio && ratio > best_ratio) {
       best = c;
@@ -109,6 +110,7 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
     cs.own_count = 0;
     cs.excursion_obs = 0;
     cs.excursion_sum_z = 0.0;
+    cs.size_run = 0;
   };
   // Innovations carry a level change until the filter's factors adapt: their location is re-learned
   // upwards only (see AlarmParams::settle_trend_sigma), for every channel without an active alarm.
@@ -154,11 +156,12 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
     const auto& fv = confirm.feature[static_cast<std::size_t>(c)];
     const double rise = theil_sen_slope(fv) * (w - 1) / cs.feature.stats.scale;
     const double new_loc = median(fv);
+    // The step's channel too must have settled at a step's size: a smaller rise that only looked abrupt on
+    // a noisy observation or two is left to the detectors (it is not absorbed).
     const bool ok = std::isfinite(rise) && rise < p.settle_trend_sigma && std::isfinite(new_loc) &&
-                    (c == confirm.step_channel ||
-                     (!cs.any_active() && cs.feature.monitored &&
-                      std::abs(new_loc - cs.feature.stats.location) >= std::log(p.operating_step_ratio)));
-    moved[static_cast<std::size_t>(c)] = ok && c != confirm.step_channel;
+                    (c == confirm.step_channel || !cs.any_active()) && cs.feature.monitored &&
+                    std::abs(new_loc - cs.feature.stats.location) >= std::log(p.operating_step_ratio);
+    moved[static_cast<std::size_t>(c)] = ok;
     moved_count += ok ? 1 : 0;
   }
   const bool machine_wide = moved_count >= 2 && 2 * moved_count >= channels();
@@ -186,7 +189,7 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
                " observations after the gap (not a fault; alarms judge changes from the new level).");
       rebaseline(c, true);
       relearn_innovation(c);
-    } else if (c == confirm.step_channel || moved[static_cast<std::size_t>(c)]) {
+    } else if (moved[static_cast<std::size_t>(c)] || (c == confirm.step_channel && !settled)) {
       // The step's channel, and any other channel whose level moved by a step as large in the same window.
       // Settled and machine-wide (at least half the channels: a change of load or speed moves the machine
       // as a whole) -> a confirmed operating change, new reference. Settled on fewer channels -> followed as
