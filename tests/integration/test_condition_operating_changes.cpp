@@ -93,7 +93,8 @@ TEST(ConditionOperatingChanges, GapAndOperatingStepAreReportedNotAlarmed) {
         EXPECT_GE(at, kGapAt) << a.reason();
         EXPECT_LT(at, kGapAt + 20) << a.reason();
       }
-      if (a.kind() == "level_step") {
+      // In the healthy part (after 500 the failing machine's followers step too: bearing 4 +16 % at 703).
+      if (a.kind() == "level_step" && at < 500) {
         EXPECT_EQ(a.channel(), kStepChannel + 1) << a.reason();
         steps_on_3 += a.channel() == kStepChannel + 1 ? 1 : 0;
       }
