@@ -274,6 +274,14 @@ struct AlarmEngine::Impl {
   void begin_alarm(int c, int kind, const Observation& obs);
   // Counts the level's persistence (AlarmParams::escalation_persistence); true when the severity rose.
   bool escalate(int c, int kind);
+  // At the end of a step's confirmation window: the channels that settled at a step's size (none for a gap).
+  std::vector<bool> settled_steps() const;
+  // Raises channel c's feature_drift alarm for a step that was not confirmed as an operating change (still
+  // rising, or a single channel beyond max_absorbed_ratio); `why` prefixes the reason.
+  void raise_unconfirmed_step(int c, const Observation& obs, const std::string& why, std::vector<AlarmEvent>& events);
+  // Appends an operating-change event of channel c (raised and cleared at once: a point event).
+  void emit_change(int c, const char* kind_name, const std::string& why, const Observation& obs,
+                   std::vector<AlarmEvent>& events);
   // Adds the observation's values to the window; at its end decides and appends the events.
   void confirm_step(const Observation& obs, const std::vector<double>& feat, const std::vector<double>& innov,
                     std::vector<AlarmEvent>& events);

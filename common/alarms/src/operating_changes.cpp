@@ -87,6 +87,65 @@ void AlarmEngine::Impl::start_confirmation(const Observation& obs, bool gap, int
   confirm.innovation.assign(ch.size(), {});
 }
 
+std::vector<bool> AlarmEngine::Impl::settled_steps() const {
+  std::vector<bool> moved(ch.size(), false);
+  if (confirm.gap) return moved;
+  const int w = p.confirmation_observations;
+  for (int c = 0; c < channels(); ++c) {
+    const auto& cs = ch[static_cast<std::size_t>(c)];
+    const auto& fv = confirm.feature[static_cast<std::size_t>(c)];
+    const double rise = theil_sen_slope(fv) * (w - 1) / cs.feature.stats.scale;
+    const double new_loc = median(fv);
+    // The step's channel too must have settled at a step's size: a smaller rise that only looked abrupt on
+    // a noisy observation or two is left to the detectors (it is not absorbed).
+    moved[static_cast<std::size_t>(c)] = std::isfinite(rise) && rise < p.settle_trend_sigma && std::isfinite(new_loc) &&
+                                         (c == confirm.step_channel || !cs.any_active()) && cs.feature.monitored &&
+                                         std::abs(new_loc - cs.feature.stats.location) >= std::log(p.operating_step_ratio);
+  }
+  return moved;
+}
+
+void AlarmEngine::Impl::raise_unconfirmed_step(int c, const Observation& obs, const std::string& why,
+                                               std::vector<AlarmEvent>& events) {
+  auto& cs = ch[static_cast<std::size_t>(c)];
+  cs.slots[detail::kFeature].latch.force_raise();
+  begin_alarm(c, detail::kFeature, obs);
+  auto& slot = cs.slots[detail::kFeature];
+  slot.score = cs.feature.cusum.value();
+  slot.threshold = h;
+  slot.root = root_cause(c, slot.onset_index);
+  slot.root_confidence = attribution_confidence(slot.root, departed_evidence());
+  AlarmEvent e = make_event(c, detail::kFeature, AlarmState::Raised, obs);
+  e.reason = why + e.reason;
+  slot.last_event = e;
+  events.push_back(std::move(e));
+}
+
+void AlarmEngine::Impl::emit_change(int c, const char* kind_name, const std::string& why, const Observation& obs,
+                                    std::vector<AlarmEvent>& events) {
+  auto& cs = ch[static_cast<std::size_t>(c)];
+  ++cs.change_counter;
+  ++operating_changes;
+  AlarmEvent e;
+  e.alarm_id = group + "/" + std::to_string(c + 1) + "/" + kind_name + "/" + std::to_string(cs.change_counter);
+  e.channel = c;
+  e.kind = kind_name;
+  e.category = category::kOperatingChange;
+  e.state = AlarmState::Raised;
+  e.raised_time_ns = obs.time_ns;
+  e.index = obs.index;
+  e.onset_index = confirm.step_channel == c ? confirm.step_onset_index : confirm.start_index;
+  e.onset_time_ns = confirm.step_channel == c ? confirm.step_onset_time_ns : confirm.start_time_ns;
+  e.root_cause_channel = c;
+  e.root_cause_confidence = 1.0;
+  e.reason = why;
+  events.push_back(e);
+  // A point event: raised and cleared at once, so a last-value reader never shows it as active.
+  e.state = AlarmState::Cleared;
+  e.cleared_time_ns = obs.time_ns;
+  events.push_back(std::move(e));
+}
+
 void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<double>& feat,
                                      const std::vector<double>& innov, std::vector<AlarmEvent>& events) {
   for (std::size_t c = 0; c < ch.size(); ++c) {
@@ -121,49 +180,14 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
     restart(cs.innovation);
     cs.nis.reset();
   };
-  auto emit = [&](int c, const char* kind_name, const std::string& why) {
-    auto& cs = ch[static_cast<std::size_t>(c)];
-    ++cs.change_counter;
-    ++operating_changes;
-    AlarmEvent e;
-    e.alarm_id = group + "/" + std::to_string(c + 1) + "/" + kind_name + "/" + std::to_string(cs.change_counter);
-    e.channel = c;
-    e.kind = kind_name;
-    e.category = category::kOperatingChange;
-    e.state = AlarmState::Raised;
-    e.raised_time_ns = obs.time_ns;
-    e.index = obs.index;
-    e.onset_index = confirm.step_channel == c ? confirm.step_onset_index : confirm.start_index;
-    e.onset_time_ns = confirm.step_channel == c ? confirm.step_onset_time_ns : confirm.start_time_ns;
-    e.root_cause_channel = c;
-    e.root_cause_confidence = 1.0;
-    e.reason = why;
-    events.push_back(e);
-    // A point event: raised and cleared at once, so a last-value reader never shows it as active.
-    e.state = AlarmState::Cleared;
-    e.cleared_time_ns = obs.time_ns;
-    events.push_back(std::move(e));
-  };
+  auto emit = [&](int c, const char* kind_name, const std::string& why) { emit_change(c, kind_name, why, obs, events); };
 
   const std::string when = "observation " + std::to_string(confirm.start_index) + " (" +
                            format_utc_seconds(confirm.start_time_ns) + ")";
-  // Channels whose level moved by a step at least operating_step_ratio in the window and settled (the
-  // step's channel counts when it settled); machine-wide when they are at least half the channels.
-  std::vector<bool> moved(ch.size(), false);
-  int moved_count = 0;
-  for (int c = 0; c < channels() && !confirm.gap; ++c) {
-    const auto& cs = ch[static_cast<std::size_t>(c)];
-    const auto& fv = confirm.feature[static_cast<std::size_t>(c)];
-    const double rise = theil_sen_slope(fv) * (w - 1) / cs.feature.stats.scale;
-    const double new_loc = median(fv);
-    // The step's channel too must have settled at a step's size: a smaller rise that only looked abrupt on
-    // a noisy observation or two is left to the detectors (it is not absorbed).
-    const bool ok = std::isfinite(rise) && rise < p.settle_trend_sigma && std::isfinite(new_loc) &&
-                    (c == confirm.step_channel || !cs.any_active()) && cs.feature.monitored &&
-                    std::abs(new_loc - cs.feature.stats.location) >= std::log(p.operating_step_ratio);
-    moved[static_cast<std::size_t>(c)] = ok;
-    moved_count += ok ? 1 : 0;
-  }
+  // Channels whose level moved by a step at least operating_step_ratio in the window and settled;
+  // machine-wide when they are at least two and at least half the channels.
+  const std::vector<bool> moved = settled_steps();
+  const int moved_count = static_cast<int>(std::count(moved.begin(), moved.end(), true));
   const bool machine_wide = moved_count >= 2 && 2 * moved_count >= channels();
   for (int c = 0; c < channels(); ++c) {
     auto& cs = ch[static_cast<std::size_t>(c)];
@@ -199,23 +223,14 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
       const bool absorbable = machine_wide || over_reference <= std::log(p.max_absorbed_ratio);
       if ((!settled || !absorbable) && c != confirm.step_channel) continue;
       if (!settled || !absorbable) {  // the alarm the step would have raised, raised now with its onset
-        cs.slots[detail::kFeature].latch.force_raise();
-        begin_alarm(c, detail::kFeature, obs);
-        auto& slot = cs.slots[detail::kFeature];
-        slot.score = cs.feature.cusum.value();
-        slot.threshold = h;
-        slot.root = root_cause(c, slot.onset_index);
-        slot.root_confidence = attribution_confidence(slot.root, departed_evidence());
-        AlarmEvent e = make_event(c, detail::kFeature, AlarmState::Raised, obs);
-        e.reason = "Abrupt rise at " + when +
-                   (settled ? " settled on this channel alone at " + fixed(100.0 * (std::exp(over_reference) - 1.0), 1, true) +
-                                  " % over its reference, beyond the " +
-                                  fixed(100.0 * (p.max_absorbed_ratio - 1.0), 0) +
-                                  " % a single channel may step without the machine: degradation, not an operating change. "
-                            : " did not settle: " + trend + ": progressive, not an operating change. ") +
-                   e.reason;
-        slot.last_event = e;
-        events.push_back(std::move(e));
+        raise_unconfirmed_step(
+            c, obs,
+            "Abrupt rise at " + when +
+                (settled ? " settled on this channel alone at " + fixed(100.0 * (std::exp(over_reference) - 1.0), 1, true) +
+                               " % over its reference, beyond the " + fixed(100.0 * (p.max_absorbed_ratio - 1.0), 0) +
+                               " % a single channel may step without the machine: degradation, not an operating change. "
+                         : " did not settle: " + trend + ": progressive, not an operating change. "),
+            events);
         continue;
       }
       const std::string with = c == confirm.step_channel ? "" : " (with " + names[static_cast<std::size_t>(confirm.step_channel)] + ")";
