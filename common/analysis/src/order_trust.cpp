@@ -35,13 +35,16 @@ OrderTrust assess_order(const VarLingamResult& result, const OrderTrustOptions& 
   }
   std::vector<int> position(static_cast<std::size_t>(g));
   for (int p = 0; p < g; ++p) position[static_cast<std::size_t>(result.order[static_cast<std::size_t>(p)])] = p;
-  // Material pairs (a, b) with a before b in the learned order.
+  // Material pairs (a, b) with a before b in the learned order: a standardised link both large enough to
+  // matter and beyond sampling noise (its standard error is about 1/sqrt(n)), so an unlinked pair whose
+  // order is arbitrary does not make a well-identified order look unstable.
+  const double material = std::max(options.material_link, options.significance_z / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, u.rows()))));
   std::vector<std::pair<int, int>> pairs;
   for (int k = 0; k < g; ++k) {
     for (int j = 0; j < g; ++j) {
       if (j == k || !(sd[k] > 0.0)) continue;
       const double standardised = std::abs(result.b0(k, j)) * sd[j] / sd[k];
-      if (position[static_cast<std::size_t>(j)] < position[static_cast<std::size_t>(k)] && standardised >= options.material_link)
+      if (position[static_cast<std::size_t>(j)] < position[static_cast<std::size_t>(k)] && standardised >= material)
         pairs.emplace_back(j, k);
     }
   }

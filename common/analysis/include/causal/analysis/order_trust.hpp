@@ -5,7 +5,7 @@
 //    gaussian_p (Gaussianity not rejected) is "Gaussian-like". A linked pair of two Gaussian-like channels
 //    has an arbitrary order: its stability is 0.
 //  * bootstrap stability: DirectLiNGAM is re-run on `resamples` resamples (rows drawn with replacement) of
-//    u; for every MATERIAL pair (standardised |B0| >= material_link in either direction) the share of
+//    u; for every MATERIAL pair (standardised |B0| >= max(material_link, significance_z / sqrt(n))) the share of
 //    resamples that keep its order. An order LiNGAM cannot see flips at random (share near 0.5).
 // confidence = the smallest share over the material pairs (1 when there are none: nothing instantaneous to
 // order); trusted = confidence >= min_confidence. Deterministic for a given seed.
@@ -24,7 +24,8 @@ namespace causal::analysis {
 struct OrderTrustOptions {
   int resamples = 50;
   std::uint64_t seed = 20261127;
-  double material_link = 0.1;  // standardised |B0(k, j)| sd(u_j) / sd(u_k) that makes a pair matter
+  double material_link = 0.1;  // standardised |B0(k, j)| sd(u_j) / sd(u_k) that makes a pair matter ...
+  double significance_z = 3.0; // ... and at least this many standard errors (1/sqrt(n)) from zero
   double gaussian_p = 0.05;    // Jarque-Bera p-value above which a disturbance counts as Gaussian-like
   double min_confidence = 0.8; // trusted at or above
 };
