@@ -61,7 +61,7 @@ std::string when_text(const AdviceItem& c, const AlarmSituation& s) {
 }
 
 std::string effect_text(const AdviceItem& c, const PolicyParams& p) {
-  char buf[64];
+  char buf[160];
   std::snprintf(buf, sizeof buf, "%g %%", 100.0 * c.coverage);
   if (interval_level_factor(c.percent_lower, c.percent_upper) > p.max_interval_factor) {
     std::snprintf(buf, sizeof buf, "effect unknown (its %g %% interval spans more than a factor of %g in level)",
@@ -128,46 +128,50 @@ Decision decide(const AlarmSituation& s, const std::vector<AdviceItem>& candidat
   std::string trust_why;
   const bool trusted = order_trusted(trust, p, trust_why);
   const int root = s.root_cause;
+  // What acting on a failing channel j would do for the alarmed one, when that claim may be made.
+  auto support_note = [&](int j, AdviceItem& claimed) -> std::string {
+    for (const auto& c : candidates) {
+      if (c.intervene != j) continue;
+      claimed = c;
+      const std::string problem = claim_problem(s, c, false, trusted, trust_why, p);
+      if (problem.empty()) {
+        return "Bringing " + name_of(s, j) + " back to its baseline is predicted to change " + name_of(s, s.target) +
+               " by " + effect_text(c, p) + " " + when_text(c, s) + ".";
+      }
+      claimed.reliable = false;
+      return "Effect on " + name_of(s, s.target) + " not claimed: " + problem + ".";
+    }
+    return "";
+  };
   if (root >= 0 && root != s.target && is_failing(s, root)) {
     // The alarmed channel follows a failing root cause: fix the root cause, never "reduce it to help".
-    const AdviceItem* support = nullptr;
-    for (const auto& c : candidates) {
-      if (c.intervene == root) support = &c;
-    }
-    std::string note;
     AdviceItem claimed;
-    if (support != nullptr) {
-      const std::string problem = claim_problem(s, *support, false, trusted, trust_why, p);
-      if (problem.empty()) {
-        note = "Bringing " + name_of(s, root) + " back to its baseline is predicted to change " + name_of(s, s.target) +
-               " by " + effect_text(*support, p) + " " + when_text(*support, s) + ".";
-        claimed = *support;
-      } else {
-        note = "Effect on " + name_of(s, s.target) + " not claimed: " + problem + ".";
-        claimed = *support;
-        claimed.reliable = false;
-      }
-    }
-    return act_on_asset(s, root, catalogue, support != nullptr ? &claimed : nullptr, note);
-  }
-  if (root == s.target) {
-    return act_on_asset(s, s.target, catalogue, nullptr,
-                        "Root cause is " + name_of(s, s.target) + " itself: no upstream lever.");
+    const std::string note = support_note(root, claimed);
+    return act_on_asset(s, root, catalogue, note.empty() ? nullptr : &claimed, note);
   }
   Decision d;
   std::string first_problem;
   for (const auto& c : candidates) {
-    const std::string problem = claim_problem(s, c, true, trusted, trust_why, p);
+    const std::string problem = claim_problem(s, c, false, trusted, trust_why, p);
     if (!problem.empty()) {
       if (first_problem.empty()) first_problem = problem;
       continue;
     }
+    if (is_failing(s, c.intervene)) {
+      // A reliable driver that is failing itself (an open alarm at this severity or worse): act on it as an
+      // asset, quoting what fixing it does for the alarmed channel; never "reduce it to help".
+      if (!d.items.empty()) continue;
+      AdviceItem claimed;
+      const std::string note = name_of(s, c.intervene) + " drives " + name_of(s, s.target) + " and is failing itself. " +
+                               support_note(c.intervene, claimed);
+      return act_on_asset(s, c.intervene, catalogue, &claimed, note);
+    }
     AdviceItem item = c;
     item.rank = static_cast<int>(d.items.size()) + 1;
     const std::string action = "Reduce " + name_of(s, c.intervene) + " by " + c.reduction +
-                               " back to its baseline (upstream lever for " +
-                               name_of(s, s.target) + "): predicted change of " + name_of(s, s.target) + " " +
-                               effect_text(c, p) + " " + when_text(c, s) + ".";
+                               " back to its baseline (upstream lever for " + name_of(s, s.target) +
+                               "): predicted change of " + name_of(s, s.target) + " " + effect_text(c, p) + " " +
+                               when_text(c, s) + ".";
     if (d.items.empty()) {
       d.kind = "upstream_lever";
       d.act_on = c.intervene;
@@ -179,7 +183,9 @@ Decision decide(const AlarmSituation& s, const std::vector<AdviceItem>& candidat
   }
   if (!d.items.empty()) return d;
   const std::string why = !first_problem.empty() ? first_problem : advisor_why.empty() ? "no candidate" : advisor_why;
-  return act_on_asset(s, s.target, catalogue, nullptr, "No upstream lever: " + why + ".");
+  const std::string own = root == s.target ? "Root cause is " + name_of(s, s.target) + " itself; no upstream lever: "
+                                           : "No upstream lever: ";
+  return act_on_asset(s, s.target, catalogue, nullptr, own + why + ".");
 }
 
 }  // namespace causal::recommender

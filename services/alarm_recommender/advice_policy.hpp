@@ -5,15 +5,15 @@
 // Rules (docs/advice.md "From alarm to action"):
 //  * A channel is FAILING when it has an open degradation alarm at this event's severity or worse. A failing
 //    channel is never offered as a lever to help another channel: the failing one is what to act on.
-//  * The root cause is another, failing channel: act on the root cause (action_kind act_on_asset, the
-//    catalogue's actions for its type and the event's severity). Its predicted effect on the alarmed channel
-//    is quoted only when that claim passes the lever tests below.
-//  * The root cause is the alarmed channel itself: act on it (act_on_asset).
-//  * Otherwise an upstream lever is claimed (action_kind upstream_lever) only when the advisor's candidate
-//    is reliable (its interval excludes "no change"), the candidate is not failing, the interval spans at
-//    most a factor of max_interval_factor in level ("effect unknown" beyond) and the causal order is trusted
-//    (configured graph, or learned with order_confidence >= min_order_confidence). Else act on the alarmed
-//    channel and say why no lever is claimed.
+//  * A lever claim on a candidate needs: the advisor's candidate reliable (its interval excludes "no
+//    change"), an interval spanning at most max_interval_factor in level ("effect unknown" beyond), and a
+//    trusted causal order (configured graph, or learned with order_confidence >= min_order_confidence).
+//  * The root cause is another, failing channel: act on the root cause (act_on_asset, the catalogue's
+//    actions for its type and the event's severity), quoting its effect on the alarmed channel if claimable.
+//  * Else the best claimable candidate: a healthy one is an upstream lever (upstream_lever: reduce it, with
+//    its predicted effect); a failing one is acted on as an asset (act_on_asset, with that effect quoted).
+//  * No claimable candidate (the alarmed channel is its own root cause in the sense of the issue: no lever
+//    whose interval excludes "no change"): act on the alarmed channel and say why no lever is claimed.
 #pragma once
 
 #include "action_catalogue.hpp"

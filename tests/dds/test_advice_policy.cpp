@@ -59,7 +59,8 @@ const PolicyParams kPolicy;
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 TEST(AdvicePolicy, RootCauseItselfActsOnTheAssetWithTheCataloguesActions) {
-  const Decision d = decide(situation(0, 0, Severity::Warning), {candidate(0, 2, -30, -50, -10, true)}, "", kTrusted,
+  // The only candidate's interval includes "no change": no lever, act on bearing1 itself.
+  const Decision d = decide(situation(0, 0, Severity::Warning), {candidate(0, 2, -30, -50, 5, false)}, "", kTrusted,
                             kCatalogue, kPolicy);
   EXPECT_EQ(d.kind, "act_on_asset");
   EXPECT_EQ(d.act_on, 0);
@@ -82,14 +83,30 @@ TEST(AdvicePolicy, NeverReducesAFailingRootCauseToHelpAHealthierAsset) {
   for (const auto& item : d.items) EXPECT_FALSE(contains(item.text, "Reduce bearing1")) << item.text;
 }
 
-TEST(AdvicePolicy, AFailingCandidateIsNeverALever) {
-  // Root unknown; the only reliable candidate (bearing1) has a worse alarm open: no lever, act on bearing3.
+TEST(AdvicePolicy, AFailingCandidateIsNeverALeverButTheAssetToActOn) {
+  // Root unknown; the only reliable candidate (bearing1) has a worse alarm open: act on bearing1 as an asset,
+  // quoting what fixing it does for bearing3; never "reduce bearing1" to help bearing3.
   AlarmSituation s = situation(2, -1, Severity::Advisory);
   s.open_alarms.push_back(open_alarm(0, Severity::Critical));
   const Decision d = decide(s, {candidate(2, 0, -30, -50, -10, true)}, "", kTrusted, kCatalogue, kPolicy);
   EXPECT_EQ(d.kind, "act_on_asset");
-  EXPECT_EQ(d.act_on, 2);
-  EXPECT_TRUE(contains(d.items[0].text, "bearing1 is failing itself")) << d.items[0].text;
+  EXPECT_EQ(d.act_on, 0);
+  EXPECT_TRUE(contains(d.action, "Act on bearing1")) << d.action;
+  EXPECT_FALSE(contains(d.items[0].text, "Reduce bearing1")) << d.items[0].text;
+  EXPECT_TRUE(contains(d.items[0].text, "bearing1 drives bearing3 and is failing itself")) << d.items[0].text;
+  // Not claimable (untrusted order): act on bearing3 itself, bearing1 never named as a lever.
+  const Decision u = decide(s, {candidate(2, 0, -30, -50, -10, true)}, "", OrderTrust{0.1, "untrusted"}, kCatalogue,
+                            kPolicy);
+  EXPECT_EQ(u.act_on, 2);
+  EXPECT_FALSE(contains(u.items[0].text, "Reduce bearing1")) << u.items[0].text;
+}
+
+TEST(AdvicePolicy, OwnRootCauseAttributionDoesNotHideAReliableHealthyLever) {
+  // The alarm engine names bearing1 its own root cause, yet a healthy bearing2 is a claimable lever.
+  const Decision d = decide(situation(0, 0, Severity::Advisory), {candidate(0, 1, -30, -50, -10, true)}, "", kTrusted,
+                            kCatalogue, kPolicy);
+  EXPECT_EQ(d.kind, "upstream_lever");
+  EXPECT_EQ(d.act_on, 1);
 }
 
 TEST(AdvicePolicy, AReliableHealthyUpstreamLeverOnATrustedOrderIsClaimed) {
