@@ -8,7 +8,8 @@
 //    u; for every MATERIAL pair (standardised |B0| >= max(material_link, significance_z / sqrt(n))) the share of
 //    resamples that keep its order. An order LiNGAM cannot see flips at random (share near 0.5).
 // confidence = the smallest share over the material pairs (1 when there are none: nothing instantaneous to
-// order); trusted = confidence >= min_confidence. Deterministic for a given seed.
+// order); trusted = confidence >= min_confidence. Deterministic for a given seed. No resampling when a
+// material pair is already unorderable (both Gaussian-like); wide groups get fewer resamples (cost G^3 n).
 #pragma once
 
 #include "causal/analysis/var_lingam.hpp"
@@ -22,7 +23,7 @@
 namespace causal::analysis {
 
 struct OrderTrustOptions {
-  int resamples = 50;
+  int resamples = 50;          // for up to 4 channels; fewer for wider groups (50 x 16 / G^2, at least 10)
   std::uint64_t seed = 20261127;
   double material_link = 0.1;  // standardised |B0(k, j)| sd(u_j) / sd(u_k) that makes a pair matter ...
   double significance_z = 3.0; // ... and at least this many standard errors (1/sqrt(n)) from zero
