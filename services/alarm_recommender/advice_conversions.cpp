@@ -6,11 +6,10 @@ namespace {
 std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 }  // namespace
 
-void to_recommendation(const std::string& asset_group, const std::string& alarm_id, const AdviceItem& item,
-                       causal_twin::Recommendation& out) {
-  out.recommendation_id(alarm_id + "/" + std::to_string(item.rank));
-  out.alarm_id(alarm_id);
-  out.asset_group(asset_group);
+void to_recommendation(const RecommendationContext& context, const AdviceItem& item, causal_twin::Recommendation& out) {
+  out.recommendation_id(context.id_prefix + "/" + std::to_string(item.rank));
+  out.alarm_id(context.alarm_id);
+  out.asset_group(context.asset_group);
   out.rank(static_cast<uint16_t>(item.rank));
   out.target_channel(static_cast<uint16_t>(item.target + 1));
   out.intervene_channel(static_cast<uint16_t>(item.intervene + 1));
@@ -34,6 +33,14 @@ void to_recommendation(const std::string& asset_group, const std::string& alarm_
   out.effect_level_change(item.level_change);
   out.reliable(item.reliable);
   out.summary(item.summary);
+  out.sample_index(context.sample_index);
+  out.action(context.action);
+  out.action_kind(context.action_kind);
+  out.act_on_channel(static_cast<uint16_t>(context.act_on_channel + 1));
+  out.act_on_name(context.act_on_name);
+  out.horizon_hours(context.horizon_hours);
+  out.order_confidence(context.order_confidence);
+  out.order_source(context.order_source);
 }
 
 void to_whatif_reply(const causal_twin::WhatIfRequest& request, const WhatIfAnswer& answer, causal_twin::WhatIfReply& out) {

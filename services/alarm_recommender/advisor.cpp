@@ -56,6 +56,21 @@ void Advisor::update(const AssembledObservation& a) {
   m.factor_std = a.observation.factor_std;
   m.blocks = a.covariance_blocks;  // the latest observation decides: no stale blocks with new factors
   if (a.observation.features.size() > 0) m.features = a.observation.features;
+  const std::int64_t t = a.observation.time_ns;
+  if (m.last_time_ns != 0 && t > m.last_time_ns) {
+    m.spacings_h.push_back(static_cast<double>(t - m.last_time_ns) / 3.6e12);
+    if (m.spacings_h.size() > 31) m.spacings_h.erase(m.spacings_h.begin());
+  }
+  if (t != 0) m.last_time_ns = t;
+}
+
+double Advisor::snapshot_hours(const std::string& asset_group) const {
+  const auto it = models_.find(asset_group);
+  if (it == models_.end() || it->second.spacings_h.empty()) return NAN;
+  // The median: a gap in the run (hours or days) must not stretch the cadence.
+  std::vector<double> s = it->second.spacings_h;
+  std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(s.size() / 2), s.end());
+  return s[s.size() / 2];
 }
 
 bool Advisor::blocks_usable(const AssetModel& m) {
@@ -108,9 +123,14 @@ std::string Advisor::reduction(double model_delta) const {
   return buf;
 }
 
-analysis::EffectUnits Advisor::units() const {
+analysis::EffectUnits Advisor::units(const AssetModel* m) const {
   analysis::EffectUnits u;
   u.log_level = params_.model_log_features;
+  if (m != nullptr && !m->spacings_h.empty()) {
+    std::vector<double> s = m->spacings_h;
+    std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(s.size() / 2), s.end());
+    u.snapshot_hours = s[s.size() / 2];
+  }
   return u;
 }
 
@@ -138,6 +158,19 @@ AnswerDiagnostics diagnostics(const analysis::BoundedAnswer& a) {
 
 std::vector<AdviceItem> Advisor::advise(const std::string& asset_group, int target,
                                         const Eigen::VectorXd& baseline_features, std::string& why) const {
+  std::vector<AdviceItem> all = evaluate(asset_group, target, baseline_features, why);
+  std::vector<AdviceItem> out;
+  for (auto& a : all) {
+    if (static_cast<int>(out.size()) >= params_.max_per_alarm || !a.reliable) break;  // reliable ones come first
+    out.push_back(std::move(a));
+  }
+  // Honest negative advice: the best candidate, said to be no reliable lever (never "as if it helped").
+  if (out.empty() && !all.empty()) out.push_back(std::move(all.front()));
+  return out;
+}
+
+std::vector<AdviceItem> Advisor::evaluate(const std::string& asset_group, int target,
+                                          const Eigen::VectorXd& baseline_features, std::string& why) const {
   const auto it = models_.find(asset_group);
   if (it == models_.end() || !it->second.layout) {
     why = "no condition-level causal model for this asset group yet";
@@ -177,7 +210,7 @@ std::vector<AdviceItem> Advisor::advise(const std::string& asset_group, int targ
   const auto ranked = analysis::rank_interventions(*m.layout, posterior(m), target, candidates, options);
   const auto& names = m.channel_names;
   const double level = m.features[target];
-  const analysis::EffectUnits u = units();
+  const analysis::EffectUnits u = units(&m);
   auto item_from = [&](const analysis::Recommendation& r) {
     AdviceItem a;
     a.target = target;
@@ -200,23 +233,19 @@ std::vector<AdviceItem> Advisor::advise(const std::string& asset_group, int targ
   };
   std::vector<AdviceItem> out;
   for (const auto& r : ranked) {
-    if (static_cast<int>(out.size()) >= params_.max_per_alarm || !r.reliable) break;  // reliable ones come first
     AdviceItem a = item_from(r);
     a.rank = static_cast<int>(out.size()) + 1;
-    a.text = "Reduce " + names[static_cast<std::size_t>(a.intervene)] + " by " + reduction(a.delta) +
-             " (back to its baseline): " + names[static_cast<std::size_t>(target)] + " " + a.summary + "; " +
-             analysis::percent_text(analysis::percent_of_level(a.immediate, level, u)) + " at once.";
-    out.push_back(std::move(a));
-  }
-  if (out.empty() && !ranked.empty()) {
-    // Honest negative advice: the best candidate, said to be no reliable lever (never "as if it helped").
-    const auto& r = ranked.front();
-    AdviceItem a = item_from(r);
-    a.rank = 1;
-    a.text = "No reliable lever for " + names[static_cast<std::size_t>(target)] + ": reducing " +
-             names[static_cast<std::size_t>(a.intervene)] + " by " + reduction(a.delta) + " (back to its baseline) gives " +
-             names[static_cast<std::size_t>(target)] + " " + a.summary +
-             (r.interval_valid ? "; the interval includes no reduction." : ".");
+    a.reduction = reduction(a.delta);
+    const std::string& lever = names[static_cast<std::size_t>(a.intervene)];
+    const std::string& goal = names[static_cast<std::size_t>(target)];
+    if (r.reliable) {
+      a.text = "Reduce " + lever + " by " + reduction(a.delta) + " (back to its baseline): " + goal + " " + a.summary +
+               "; " + analysis::percent_text(analysis::percent_of_level(a.immediate, level, u)) + " at once.";
+    } else {
+      a.text = "No reliable lever for " + goal + ": reducing " + lever + " by " + reduction(a.delta) +
+               " (back to its baseline) gives " + goal + " " + a.summary +
+               (r.interval_valid ? "; the interval includes no reduction." : ".");
+    }
     out.push_back(std::move(a));
   }
   return out;
@@ -240,7 +269,7 @@ WhatIfAnswer Advisor::what_if(const std::string& asset_group, int channel, doubl
     ans.error = "delta must be finite";
     return ans;
   }
-  const analysis::EffectUnits u = units();
+  const analysis::EffectUnits u = units(&m);
   const Eigen::VectorXd levels = m.features.size() == g ? m.features : Eigen::VectorXd::Constant(g, NAN);
   if (const std::string bad = analysis::impossible_intervention(delta, levels[channel], u); !bad.empty()) {
     ans.error = "impossible intervention on " + m.channel_names[static_cast<std::size_t>(channel)] + ": " + bad;
@@ -286,6 +315,10 @@ WhatIfAnswer Advisor::what_if(const std::string& asset_group, int channel, doubl
   ans.text = what + head;
   for (int k = 0; k < g; ++k) {
     if (k == channel) continue;
+    if (analysis::interval_level_factor(ans.percent_lower[k], ans.percent_upper[k]) > analysis::kMaxKnownLevelFactor) {
+      ans.text += " " + m.channel_names[static_cast<std::size_t>(k)] + " effect unknown (interval wider than a factor of 10);";
+      continue;
+    }
     ans.text += " " + m.channel_names[static_cast<std::size_t>(k)] + " " + analysis::percent_text(ans.percent[k]) + " [" +
                 analysis::percent_text(ans.percent_lower[k]) + ", " + analysis::percent_text(ans.percent_upper[k]) + "];";
   }

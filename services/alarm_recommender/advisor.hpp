@@ -57,6 +57,7 @@ struct AdviceItem {
   int target = 0;                 // 0-based alarmed channel
   int intervene = 0;              // 0-based channel to act on
   double delta = 0.0;             // model units (log level when model_log_features)
+  std::string reduction;          // the size of -delta in words, e.g. "9.5 %" (log model) or "0.02" (raw)
   double immediate = 0.0;         // median change of the target at once (model units)
   double steady_state = 0.0;      // median steady-state change; NaN unless diag.kind == steady_state
   double effect = 0.0;            // median of the answered change (steady state or after H); NaN when refused
@@ -67,6 +68,7 @@ struct AdviceItem {
   AnswerDiagnostics diag;
   std::string summary;            // the one line: horizon, interval, confidence, stability
   std::string text;
+  std::string action;             // set by the advice policy: what to do (the published Recommendation.action)
 };
 
 struct WhatIfAnswer {
@@ -95,6 +97,13 @@ class Advisor {
   // per-channel baseline of the raw feature (e.g. RMS). Empty result: `why` says why.
   std::vector<AdviceItem> advise(const std::string& asset_group, int target, const Eigen::VectorXd& baseline_features,
                                  std::string& why) const;
+  // Every candidate, ranked (reliable ones first), without the max_per_alarm cut: the advice policy
+  // (advice_policy.hpp) decides which may be claimed as levers.
+  std::vector<AdviceItem> evaluate(const std::string& asset_group, int target, const Eigen::VectorXd& baseline_features,
+                                   std::string& why) const;
+  // The group's snapshot spacing in hours (median of the recent spacings of condition-level observations);
+  // NaN before two observations.
+  double snapshot_hours(const std::string& asset_group) const;
 
   // do(y_j := y_j + delta) in model units; sustained or a one-snapshot impulse.
   WhatIfAnswer what_if(const std::string& asset_group, int channel, double delta, bool sustained) const;
@@ -105,6 +114,8 @@ class Advisor {
     std::vector<std::string> channel_names;
     Eigen::VectorXd factors, factor_std, features;
     std::vector<Eigen::MatrixXd> blocks;  // P_k per outcome; empty when the latest observation had none
+    std::int64_t last_time_ns = 0;
+    std::vector<double> spacings_h;       // the last few snapshot spacings (hours), for horizons in hours
   };
   // Full blocks when usable, else diagonal blocks from factor_std.
   analysis::FactorPosterior posterior(const AssetModel& m) const;
@@ -112,7 +123,7 @@ class Advisor {
   Eigen::VectorXd to_model_units(const Eigen::VectorXd& features) const;
   std::string percent(double model_delta) const;    // signed change, e.g. "-9.5 %"
   std::string reduction(double model_delta) const;  // size of a reduction, e.g. "9.5 %" for delta < 0
-  analysis::EffectUnits units() const;
+  analysis::EffectUnits units(const AssetModel* m = nullptr) const;
   analysis::UncertaintyOptions uncertainty() const;
 
   AdvisorParams params_;

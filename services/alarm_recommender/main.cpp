@@ -15,10 +15,17 @@ int main(int argc, char** argv) {
   const causal::config::ConfigChoice params_choice =
       causal::config::find_config_file("alarms.yaml", "", causal::config::ConfigKind::Parameters);
   o.params_file = params_choice.path;
+  const causal::config::ConfigChoice actions_choice =
+      causal::config::find_config_file("actions.yaml", "", causal::config::ConfigKind::Parameters);
+  std::string actions_file = actions_choice.path;
   CLI::App app{"alarm-recommender: learns each asset group's healthy baseline, raises explained alarms with their\n"
                "root cause from the causal factors and innovations, and publishes them."};
   causal::dds::add_common_options(app, o.dds);
   app.add_option("--params", o.params_file, "YAML parameter file; default: " + params_choice.describe("alarms.yaml"))
+      ->check(CLI::ExistingFile);
+  app.add_option("--actions", actions_file,
+                 "YAML action catalogue (what to do on an alarmed asset, by asset type and severity); default: " +
+                     actions_choice.describe("actions.yaml"))
       ->check(CLI::ExistingFile);
   app.add_option("--idle-exit", o.idle_exit_s, "exit once data has arrived, every publisher of factors/condition vectors has left, and nothing arrived for this many seconds (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
@@ -34,6 +41,8 @@ int main(int argc, char** argv) {
   return causal::dds::run_service(signals, "alarm-recommender", o.dds, [&] {
     if (o.params_file.empty()) throw std::invalid_argument(params_choice.describe("alarms.yaml") + ": give --params FILE");
     auto params = causal::recommender::load_recommender_params(o.params_file);
+    if (actions_file.empty()) throw std::invalid_argument(actions_choice.describe("actions.yaml") + ": give --actions FILE");
+    params.actions = causal::recommender::load_action_catalogue(actions_file);
     return std::make_unique<causal::recommender::RecommenderNode>(std::move(o), std::move(params));
   });
 }

@@ -59,6 +59,9 @@ int RecommenderNode::run() {
         return;
       }
       ++factors_received_;  // messages (batches), as the estimator counts what it sent
+      if (f.time_scale() == causal_twin::CONDITION_LEVEL && f.kind() == causal_twin::FILTER) {
+        order_trust_[f.asset_group()] = OrderTrust{f.order_confidence(), f.order_source()};
+      }
       // One outcome at a time: the assembler also takes partial batches and keeps its per-index checks.
       for (const auto& m : dds::from_causal_factor_batch(f)) assembler_.add_factors(m, ready);
     }, [this](const auto& info) { health_.on_state(info); }, loop_.stop_flag());
@@ -99,6 +102,8 @@ int RecommenderNode::run() {
   }
   recommendations_.wait_for_acknowledgments(std::chrono::seconds(10));
   spdlog::info("{} alarm messages and {} recommendations published", alarms_published_, recommendations_published_);
+  spdlog::info("summary advice events={} act_on_asset={} upstream_lever={}", events_advised_, events_act_on_asset_,
+               events_upstream_lever_);
   // Samples refused for lack of room are resent by the reliable writers (back-pressure); refused instances and
   // lost samples are not.
   const std::uint64_t dds_lost = factors_.rejections().instances_limit + factors_.lost_samples() +
@@ -180,11 +185,17 @@ void RecommenderNode::observe(AssembledObservation& a) {
   const auto events = st.engine->observe(a.observation);
   store_.record(a.asset_group, sample, a.observation.index, events);  // checkpoint before publishing
   for (const auto& e : events) {
-    if (e.state == alarms::AlarmState::Raised && e.category == alarms::category::kDegradation) ++st.raised;
-    publish_event(a, e);
-    if (e.state == alarms::AlarmState::Raised && e.category == alarms::category::kDegradation && !sample &&
-        params_.advice.enabled)
-      recommend(a, st, e);
+    const bool degradation = e.category == alarms::category::kDegradation;
+    if (e.state == alarms::AlarmState::Raised && degradation) ++st.raised;
+    // Every degradation raise and escalation carries an action, on the alarm and as recommendations at the
+    // event's own index (docs/advice.md "From alarm to action").
+    if (degradation && e.state != alarms::AlarmState::Cleared && params_.advice.enabled) {
+      const Decision d = decide_for(a, st, e);
+      publish_event(a, e, d.action);
+      recommend(a, e, d);
+    } else {
+      publish_event(a, e, "");
+    }
   }
   if (!st.baseline_logged && st.engine->baseline_ready()) {
     st.baseline_logged = true;
@@ -233,8 +244,10 @@ void RecommenderNode::restore_checkpoints() {
   }
 }
 
-void RecommenderNode::publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e) {
+void RecommenderNode::publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e,
+                                    const std::string& action) {
   dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
+  alarm_msg_.action(action);
   if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
   const auto level = e.severity == alarms::Severity::Critical  ? spdlog::level::err
                      : e.severity == alarms::Severity::Warning ? spdlog::level::warn
@@ -252,37 +265,6 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const alarms:
 }  // namespace causal::recommender
 
 namespace causal::recommender {
-
-void RecommenderNode::recommend(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e) {
-  // Baseline of each channel's raw feature, from the engine's healthy baseline (log units when it logs).
-  const int g = static_cast<int>(st.channel_names.size());
-  Eigen::VectorXd baseline(g);
-  for (int j = 0; j < g; ++j) {
-    const auto d = st.engine->channel_diagnostics(j).feature;
-    baseline[j] = !d.monitored ? NAN : st.engine->params().feature_log_transform ? std::exp(d.baseline_location)
-                                                                                  : d.baseline_location;
-  }
-  std::string why;
-  const auto items = advisor_.advise(a.asset_group, e.channel, baseline, why);
-  if (items.empty()) {
-    spdlog::info("no recommendation for {}: {}", e.alarm_id, why);
-    return;
-  }
-  // When the alarmed channel is its own root cause, acting upstream can only help a little: say so first.
-  const bool own = e.root_cause_channel == e.channel;
-  const std::string prefix =
-      own ? "Root cause is " + st.channel_names[static_cast<std::size_t>(e.channel)] +
-                " itself: inspect it first. Acting elsewhere: "
-          : "";
-  causal_twin::Recommendation msg;
-  for (auto item : items) {
-    item.text = prefix + item.text;
-    to_recommendation(a.asset_group, e.alarm_id, item, msg);
-    recommendation_store_.record(msg);  // kept before it is published, as the alarm events
-    if (recommendations_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
-    spdlog::info("RECOMMENDATION {} #{}: {}", e.alarm_id, item.rank, item.text);
-  }
-}
 
 void RecommenderNode::answer(const causal_twin::WhatIfRequest& request) {
   const auto ans = advisor_.what_if(request.asset_group(), static_cast<int>(request.intervene_channel()) - 1,

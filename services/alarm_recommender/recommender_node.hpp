@@ -2,6 +2,7 @@
 // recommendations) out. One AlarmEngine per asset group and time scale.
 #pragma once
 
+#include "advice_policy.hpp"
 #include "advisor.hpp"
 #include "alarm_state_store.hpp"
 #include "observation_assembler.hpp"
@@ -47,8 +48,11 @@ class RecommenderNode {
   };
   void handle(std::vector<AssembledObservation>& ready);
   void observe(AssembledObservation& a);
-  void publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e);
-  void recommend(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e);
+  // action: the decision's action for a degradation event (Alarm.action), "" otherwise.
+  void publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e, const std::string& action);
+  // The decision for a degradation raise or escalation (advice_policy.hpp); published by recommend().
+  Decision decide_for(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e) const;
+  void recommend(const AssembledObservation& a, const alarms::AlarmEvent& e, const Decision& d);
   void answer(const causal_twin::WhatIfRequest& request);
   void publish_health();
   // At start: every alarm engine and recommendation in --state-dir restored and their last messages published
@@ -74,8 +78,10 @@ class RecommenderNode {
   RecommendationStore recommendation_store_;
   dds::HealthWatch health_;
   std::map<std::pair<std::string, int>, EngineState> engines_;
+  std::map<std::string, OrderTrust> order_trust_;  // per asset group, from its condition-level factor batches
   causal_twin::Alarm alarm_msg_;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
+  std::uint64_t events_advised_ = 0, events_act_on_asset_ = 0, events_upstream_lever_ = 0;
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;
 };
 

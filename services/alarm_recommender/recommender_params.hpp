@@ -1,6 +1,8 @@
 // alarm-recommender's parameters: one plain struct and one loader that rejects missing or invalid keys.
 #pragma once
 
+#include "action_catalogue.hpp"
+#include "advice_policy.hpp"
 #include "advisor.hpp"
 
 #include "causal/alarms/alarm_params.hpp"
@@ -15,6 +17,8 @@ struct RecommenderParams {
   bool sample_enabled = true;
   int sample_baseline_publications = 50;
   AdvisorParams advice;
+  PolicyParams policy;      // recommendations.min_order_confidence (the interval rule is analysis's constant)
+  ActionCatalogue actions = ActionCatalogue::rolling_bearing_defaults();  // actions.yaml (main loads it)
   // health.deadline_s: how long an asset group's causal factors may stay silent while the estimator is alive
   // before a HEALTH alarm is raised (0 = no deadline; a lost estimator still raises one).
   double health_deadline_s = 30.0;

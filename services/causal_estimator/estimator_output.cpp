@@ -53,6 +53,10 @@ void EstimatorNode::log_structure(const std::string& name, const Asset& a, const
     spdlog::info("{} {}: causal order learned by VAR-LiNGAM on {} samples: {}; instantaneous links: {}", name, level,
                  learned->samples, order, links.empty() ? "none" : links);
   }
+  if (!learned->order_summary.empty()) {
+    spdlog::log(learned->order_source == "untrusted" ? spdlog::level::warn : spdlog::level::info,
+                "{} {}: causal order {}: {}", name, level, learned->order_source, learned->order_summary);
+  }
   if (!learned->problem.empty()) spdlog::warn("{} {}: {}", name, level, learned->problem);
 }
 
@@ -104,7 +108,17 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
                   causal_twin::TimeScale scale, std::uint64_t& counter) {
     if (reports.empty()) return;
     const bool condition = scale == causal_twin::CONDITION_LEVEL;
-    const dds::FactorContext ctx{name, scale, condition ? a.feature : "", &stream->layout(), a.channel_names};
+    dds::FactorContext ctx;
+    ctx.asset_group = name;
+    ctx.time_scale = scale;
+    ctx.feature = condition ? a.feature : "";
+    ctx.layout = &stream->layout();
+    ctx.channel_names = a.channel_names;
+    if (const pipeline::LearnedStructure* learned =
+            condition ? a.pipeline.condition_structure() : a.pipeline.sample_structure()) {
+      ctx.order_confidence = learned->order_confidence;
+      ctx.order_source = learned->order_source;
+    }
     // One message per (kind, index) with every outcome's block: G times fewer samples, headers and
     // acknowledgements than one message per outcome (README "Lean data path").
     for (auto& batch : dds::to_causal_factor_batches(ctx, reports)) {

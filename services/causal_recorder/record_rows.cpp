@@ -103,7 +103,10 @@ const std::vector<std::string>& recommendation_header() {
       // appended (issue 11): stability and units of the answer
       "answer_kind", "horizon_snapshots", "spectral_radius", "draws", "unstable_draws", "unstable_draw_share",
       "effect_median", "effect_percent", "effect_percent_low", "effect_percent_high", "effect_level_change", "reliable",
-      "summary"};
+      "summary",
+      // appended (issue 22): the alarm event it answers (raise or escalation) and the decision
+      "sample_index", "action", "action_kind", "act_on_channel", "act_on_name", "horizon_hours", "order_confidence",
+      "order_source"};
   return h;
 }
 
@@ -133,7 +136,15 @@ std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r
           format_number(r.effect_percent_high()),
           format_number(r.effect_level_change()),
           r.reliable() ? "true" : "false",
-          r.summary()};
+          r.summary(),
+          format_integer(static_cast<std::uint64_t>(r.sample_index())),
+          r.action(),
+          r.action_kind(),
+          format_integer(static_cast<std::uint64_t>(r.act_on_channel())),
+          r.act_on_name(),
+          format_number(r.horizon_hours()),
+          format_number(r.order_confidence()),
+          r.order_source()};
 }
 
 bool RepeatFilter::accept(const std::string& id, std::string signature) {

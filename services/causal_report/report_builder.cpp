@@ -113,7 +113,9 @@ std::string verdict_markdown(const std::string& asset, const std::vector<AlarmRe
   for (const auto& r : recs) {
     std::string text = r.text;
     for (char& c : text) if (c == '\n' || c == '|') c = ' ';
-    md << "- **" << r.recommendation_id << "** (rank " << r.rank << (r.reliable ? "" : ", no reliable lever")
+    md << "- **" << r.recommendation_id << "** (rank " << r.rank
+       << (r.sample_index.empty() ? "" : ", at index " + r.sample_index)
+       << (r.action_kind.empty() ? "" : ", " + r.action_kind) << (r.reliable ? "" : ", no reliable lever")
        << "): " << text << "\n";
   }
   return md.str();

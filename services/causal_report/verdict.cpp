@@ -33,7 +33,8 @@ std::vector<RecommendationRecord> load_recommendations(const std::filesystem::pa
   const CsvTable t = read_csv(file);
   const int id = t.column("recommendation_id"), alarm = t.column("alarm_id"), group = t.column("asset_group"),
             rank = t.column("rank"), text = t.column("text"), summary = t.column("summary"),
-            kind = t.column("answer_kind"), reliable = t.column("reliable");
+            kind = t.column("answer_kind"), reliable = t.column("reliable"), action = t.column("action"),
+            action_kind = t.column("action_kind"), index = t.column("sample_index");
   if (id < 0 || group < 0 || rank < 0 || text < 0) {
     throw std::runtime_error(file.string() + ": not a recommendations.csv (needs recommendation_id, asset_group, "
                              "rank, text)");
@@ -49,6 +50,9 @@ std::vector<RecommendationRecord> load_recommendations(const std::filesystem::pa
     r.text = cell(row, text);
     r.summary = cell(row, summary);
     r.answer_kind = cell(row, kind);
+    r.action = cell(row, action);
+    r.action_kind = cell(row, action_kind);
+    r.sample_index = cell(row, index);
     const std::string rel = cell(row, reliable);
     r.reliable = !(rel == "0" || rel == "false");
     out.push_back(std::move(r));
@@ -108,13 +112,20 @@ AssetVerdict verdict_of(const std::string& asset, const std::vector<AlarmRecord>
   }
   const RecommendationRecord* top = nullptr;
   const RecommendationRecord* fallback = nullptr;
+  const RecommendationRecord* latest_action = nullptr;  // the decision of the latest alarm event
   for (const auto& r : recommendations) {
     if (r.rank != 1) continue;
     fallback = &r;
     if (r.reliable) top = &r;
+    if (!r.action.empty()) latest_action = &r;
   }
   const RecommendationRecord* shown = top != nullptr ? top : fallback;
-  v.top_recommendation = shown == nullptr ? "-" : one_line(shown->text, 150);
+  if (latest_action != nullptr) {
+    v.top_recommendation = one_line(
+        (latest_action->sample_index.empty() ? "" : "at " + latest_action->sample_index + ": ") + latest_action->action, 150);
+  } else {
+    v.top_recommendation = shown == nullptr ? "-" : one_line(shown->text, 150);
+  }
   std::string sep;
   for (const auto& [category, n] : events) {
     std::string what = category;

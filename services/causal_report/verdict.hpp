@@ -24,6 +24,8 @@ namespace causal::report {
 
 struct RecommendationRecord {
   std::string recommendation_id, alarm_id, asset_group, text, summary, answer_kind;
+  std::string action, action_kind;  // issue 22 columns; empty in older recordings
+  std::string sample_index;         // the alarm event it answers; empty in older recordings
   int rank = 0;
   bool reliable = true;  // older recordings have no such column: their advice is taken as given
 };
@@ -36,7 +38,8 @@ struct AssetVerdict {
   std::string status;              // CRITICAL, WARNING, ADVISORY, recovered, healthy
   std::string first_alarm;         // "2004-02-16 03:22:39 bearing1 feature_drift (index 533)" or "-"
   std::string root_cause;          // "bearing1 (confidence 0.93)" or "-"
-  std::string top_recommendation;  // one line, or "-"
+  std::string top_recommendation;  // one line, or "-": the latest action (at its alarm event's index) when the
+                                   // recording has actions, else the best rank-1 text
   std::string events;              // "2 operating changes, 1 data quality" or ""
 };
 

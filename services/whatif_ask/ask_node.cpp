@@ -118,6 +118,16 @@ void AskNode::print(const causal_twin::WhatIfReply& reply) const {
               "interval");
   for (std::size_t k = 0; k < reply.effect_median().size(); ++k) {
     const auto at = [&](const std::vector<double>& v) { return k < v.size() ? v[k] : std::nan(""); };
+    // The live twin's width rule (analysis::kMaxKnownLevelFactor): an interval spanning more than a factor
+    // of 10 in level is "effect unknown", not "+687 %".
+    const double lo = 1.0 + at(reply.effect_percent_low()) / 100.0, hi = 1.0 + at(reply.effect_percent_high()) / 100.0;
+    if (std::isfinite(lo) && std::isfinite(hi) && (lo <= 0.0 || hi / lo > 10.0)) {
+      std::printf("%-*s %12s %14s %11s .. %-11s %12s %s\n", width, label(k).c_str(),
+                  num(at(reply.effect_immediate()), false).c_str(), num(at(reply.effect_median()), false).c_str(),
+                  num(at(reply.effect_low()), false).c_str(), num(at(reply.effect_high()), false).c_str(),
+                  "unknown", "(interval wider than a factor of 10 in level)");
+      continue;
+    }
     std::printf("%-*s %12s %14s %11s .. %-11s %12s %12s .. %-12s\n", width, label(k).c_str(),
                 num(at(reply.effect_immediate()), false).c_str(),
                 num(at(reply.effect_median()), false).c_str(), num(at(reply.effect_low()), false).c_str(),

@@ -89,6 +89,7 @@ struct Args {
   int baseline_rows = 0;
   int current_rows = 1;
   std::string unit;
+  bool log_levels = false;
 };
 
 causal::analysis::UncertaintyOptions uncertainty_options(const Args& a) {
@@ -108,9 +109,10 @@ int run_intervene(const Args& a, const causal::whatif::FittedModel& m) {
   q.kind = a.impulse ? InterventionKind::impulse : InterventionKind::sustained;
   const UncertaintyOptions opt = uncertainty_options(a);
   const UncertainEffect u = predict_intervention_with_uncertainty(*m.layout, m.posterior, q, opt);
-  causal::whatif::print_intervention(std::cout, m, q, u, opt);
+  // The live twin's path (alarm-recommender's Advisor::what_if): the bounded answer of the same draws.
   const BoundedAnswer answer = answer_intervention(*m.layout, m.posterior, q, AnswerRule{}, opt);
-  causal::whatif::print_bounded_answer(std::cout, m, q, answer);
+  causal::whatif::print_intervention(std::cout, m, q, u, answer, opt);
+  causal::whatif::print_bounded_answer(std::cout, m, q, answer, a.log_levels);
   return answer.answered() ? 0 : kExitNoAnswer;
 }
 
@@ -217,6 +219,9 @@ int main(int argc, char** argv) {
   app.add_option("--q", a.q, "process noise q for every channel (default: tuned)")->check(CLI::NonNegativeNumber)->group(g_model);
   app.add_option("--r", a.r, "measurement noise r for every channel (default: tuned)")->check(CLI::PositiveNumber)->group(g_model);
   app.add_option("--p0", a.model.p0, "prior factor variance")->default_val(1.0)->check(CLI::PositiveNumber)->group(g_model);
+  app.add_flag("--log-levels", a.log_levels,
+               "the CSV holds log levels (the twin's log_transform): answers in percent of the level, as the live "
+               "twin gives them (an interval wider than a factor of 10 in level is 'effect unknown')")->group(g_model);
   app.add_option("--at", a.model.at, "row whose filtered factors define the model (default: last row)")->group(g_model);
 
   auto* g_unc = "Uncertainty";

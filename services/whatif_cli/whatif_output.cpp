@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 
 namespace causal::whatif {
@@ -70,7 +71,8 @@ void print_model_summary(std::ostream& out, const FittedModel& m) {
 }
 
 void print_intervention(std::ostream& out, const FittedModel& m, const analysis::InterventionQuery& q,
-                        const analysis::UncertainEffect& u, const analysis::UncertaintyOptions& opt) {
+                        const analysis::UncertainEffect& u, const analysis::BoundedAnswer& answer,
+                        const analysis::UncertaintyOptions& opt) {
   const bool impulse = q.kind == analysis::InterventionKind::impulse;
   const std::string& name = m.names[static_cast<std::size_t>(q.channel)];
   out << "\nintervention: do(" << name << " := " << name << (q.delta < 0 ? " - " : " + ") << num(std::abs(q.delta)) << ") "
@@ -96,33 +98,64 @@ void print_intervention(std::ostream& out, const FittedModel& m, const analysis:
     for (const auto& s : m.names) mx = std::max(mx, s.size() + 2);
     return mx;
   }());
-  out << pad("channel", w) << pad("immediate", 13) << pad("lower", 13) << pad("upper", 13)
-      << pad(impulse ? "cumulative" : "steady_state", 13) << pad("lower", 13) << "upper\n";
-  const auto& sum = impulse ? u.point.cumulative : u.point.steady_state;
-  const auto& sum_i = impulse ? u.cumulative : u.steady_state;
-  for (int k = 0; k < static_cast<int>(m.names.size()); ++k) {
-    out << pad(m.names[static_cast<std::size_t>(k)], w) << pad(num(u.point.immediate(k)), 13) << pad(num(u.immediate.lower(k)), 13)
-        << pad(num(u.immediate.upper(k)), 13) << pad(num(sum(k)), 13) << pad(num(sum_i.lower(k)), 13) << num(sum_i.upper(k))
-        << "\n";
+  const bool mc = u.method == analysis::IntervalMethod::monte_carlo;
+  if (mc) {  // the live twin's numbers: medians and quantiles of the same draws (bounded_answer.hpp)
+    if (!answer.answered()) {
+      out << "no table: the bounded answer is refused (below)\n";
+      return;
+    }
+    const std::string label = answer.kind == analysis::AnswerKind::steady_state
+                                  ? (impulse ? "cumulative" : "steady_state")
+                                  : "after_" + std::to_string(answer.horizon_snapshots);
+    out << "(medians of the " << answer.draws_summarised << " summarised draws; the same draws give the intervals)\n";
+    out << pad("channel", w) << pad("immediate", 13) << pad("lower", 13) << pad("upper", 13) << pad(label, 13)
+        << pad("lower", 13) << "upper\n";
+    for (int k = 0; k < static_cast<int>(m.names.size()); ++k) {
+      out << pad(m.names[static_cast<std::size_t>(k)], w) << pad(num(answer.immediate.median(k)), 13)
+          << pad(num(answer.immediate.lower(k)), 13) << pad(num(answer.immediate.upper(k)), 13)
+          << pad(num(answer.effect.median(k)), 13) << pad(num(answer.effect.lower(k)), 13) << num(answer.effect.upper(k))
+          << "\n";
+    }
+  } else {
+    out << pad("channel", w) << pad("immediate", 13) << pad("lower", 13) << pad("upper", 13)
+        << pad(impulse ? "cumulative" : "steady_state", 13) << pad("lower", 13) << "upper\n";
+    const auto& sum = impulse ? u.point.cumulative : u.point.steady_state;
+    const auto& sum_i = impulse ? u.cumulative : u.steady_state;
+    for (int k = 0; k < static_cast<int>(m.names.size()); ++k) {
+      out << pad(m.names[static_cast<std::size_t>(k)], w) << pad(num(u.point.immediate(k)), 13)
+          << pad(num(u.immediate.lower(k)), 13) << pad(num(u.immediate.upper(k)), 13) << pad(num(sum(k)), 13)
+          << pad(num(sum_i.lower(k)), 13) << num(sum_i.upper(k)) << "\n";
+    }
   }
   if (impulse) out << "(an impulse leaves no steady-state change when the system is stable; 'cumulative' = sum over all samples)\n";
 }
 
 void print_bounded_answer(std::ostream& out, const FittedModel& m, const analysis::InterventionQuery& q,
-                          const analysis::BoundedAnswer& a) {
+                          const analysis::BoundedAnswer& a, bool log_levels) {
   out << "\nanswer (" << analysis::to_string(a.kind) << "): " << a.reason << "\n";
   if (!a.answered()) return;
-  // The CSV's own units (a raw column has no level to take a percent of: it may be centred or negative).
-  const std::string when = a.kind == analysis::AnswerKind::steady_state
-                               ? std::string("at steady state")
-                               : "after " + std::to_string(a.horizon_snapshots) + " samples";
-  char tail[160];
-  std::snprintf(tail, sizeof tail, " (%g %%), model %s rho=%.3f, %d/%d draws unstable", 100.0 * a.coverage,
-                analysis::stability_words(a), a.spectral_radius, a.unstable_draws, a.draws);
+  analysis::EffectUnits units;
+  units.log_level = log_levels;
   for (int k = 0; k < static_cast<int>(m.names.size()); ++k) {
     if (k == q.channel) continue;
-    out << "  " << m.names[static_cast<std::size_t>(k)] << " " << when << ": " << num(a.effect.median(k)) << " ["
-        << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k)) << "]" << tail << "\n";
+    // The level the percent refers to: the raw value at the model's row (unused for log levels).
+    const double level = m.raw(m.at, k);
+    const bool percent = log_levels || (level > 0.0 && std::isfinite(level));
+    out << "  " << m.names[static_cast<std::size_t>(k)] << " ";
+    if (percent) {  // the live twin's line, with its "effect unknown" rule
+      out << analysis::answer_line(a, k, level, units);
+    } else {
+      const std::string when = a.kind == analysis::AnswerKind::steady_state
+                                   ? std::string("at steady state")
+                                   : "after " + std::to_string(a.horizon_snapshots) + " samples";
+      char tail[160];
+      std::snprintf(tail, sizeof tail, " (%g %%), model %s rho=%.3f, %d/%d draws unstable", 100.0 * a.coverage,
+                    analysis::stability_words(a), a.spectral_radius, a.unstable_draws, a.draws);
+      out << when << ": " << num(a.effect.median(k)) << " [" << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k))
+          << "]" << tail;
+    }
+    out << " (" << num(a.effect.median(k)) << " [" << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k))
+        << "] in the CSV's units)\n";
   }
 }
 

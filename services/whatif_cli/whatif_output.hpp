@@ -16,8 +16,12 @@ namespace causal::whatif {
 
 void print_model_summary(std::ostream& out, const FittedModel& model);
 
+// The table of every channel's change at once and answered (steady state / after H / cumulative). Monte
+// Carlo (the default): median and interval of the SAME draws as the live twin's bounded answer, so every
+// point lies inside its interval. Delta method: the effect at the posterior mean with first-order intervals.
 void print_intervention(std::ostream& out, const FittedModel& model, const analysis::InterventionQuery& query,
-                        const analysis::UncertainEffect& effect, const analysis::UncertaintyOptions& options);
+                        const analysis::UncertainEffect& effect, const analysis::BoundedAnswer& answer,
+                        const analysis::UncertaintyOptions& options);
 
 // CSV: n, then the counterfactual of every channel, then "<name> (observed)" columns, all in original units
 // (shortest round-trip number text). counterfactual/observed: rows from..from+rows-1.
@@ -26,8 +30,11 @@ void write_counterfactual_csv(std::ostream& out, const std::vector<std::string>&
 
 // The bounded answer (steady state / after H snapshots / refused, bounded_answer.hpp): one line per channel
 // with horizon, interval, confidence and stability, in the CSV's units and percent of the last row's level.
+// log_levels: the CSV holds log levels (as the twin's log_transform): effects in percent of the level, with
+// the live twin's one line (effect_units.hpp: an interval wider than a factor of 10 in level is "effect
+// unknown"). Otherwise the CSV's own units, and percent of the level at --at when it is positive.
 void print_bounded_answer(std::ostream& out, const FittedModel& model, const analysis::InterventionQuery& query,
-                          const analysis::BoundedAnswer& answer);
+                          const analysis::BoundedAnswer& answer, bool log_levels = false);
 void print_recommendations(std::ostream& out, const FittedModel& model, int target,
                            const std::vector<analysis::Recommendation>& recs);
 

@@ -70,11 +70,32 @@ TEST(EffectUnits, OneLineCarriesHorizonIntervalConfidenceAndStability) {
   BoundedAnswer r;
   r.reason = "the model is past a unit root";
   EXPECT_EQ(answer_line(r, 1, 0.2, kLog), "refused: the model is past a unit root");
-  // Raw model predicting a fall below zero: -100 % with the reason.
+  // Raw model predicting a fall below zero: the interval reaches -100 %, so the level could vanish or stay
+  // at 75 %: no number says that honestly.
   const BoundedAnswer below = answer_with(AnswerKind::steady_state, -0.1, -0.3, -0.05);
   EXPECT_EQ(answer_line(below, 1, 0.2, kRaw),
-            "at steady state: -50.0 % [-100.0, -25.0] (90 %), model stable rho=0.930, 0/400 draws unstable (the level "
-            "cannot fall below 0: -100 % is the floor)");
+            "at steady state: effect unknown (the 90 % interval reaches -100 %), model stable rho=0.930, 0/400 draws "
+            "unstable");
+}
+
+TEST(EffectUnits, IntervalWiderThanAFactorOfTenIsEffectUnknown) {
+  // +687 % [-40, +2400]: upper / lower level = 25 / 0.6 = 41.7 > 10.
+  const BoundedAnswer wide = answer_with(AnswerKind::horizon, std::log(7.87), std::log(0.6), std::log(25.0));
+  EXPECT_EQ(answer_line(wide, 1, 0.2, kLog),
+            "after 12 snapshots: effect unknown (the 90 % interval spans a factor of 42 in level), model near a unit "
+            "root rho=0.993, 37/400 draws unstable");
+  // Just inside the rule (factor 9.5): the numbers are given.
+  const BoundedAnswer narrow = answer_with(AnswerKind::horizon, std::log(2.0), std::log(0.5), std::log(4.75));
+  EXPECT_NE(answer_line(narrow, 1, 0.2, kLog).find("+100.0 % [-50.0, +375.0]"), std::string::npos);
+  EXPECT_DOUBLE_EQ(interval_level_factor(-50.0, 375.0), 9.5);
+  EXPECT_TRUE(std::isinf(interval_level_factor(-100.0, 10.0)));
+}
+
+TEST(EffectUnits, HorizonInHoursAtTheGroupsCadence) {
+  EffectUnits u;
+  u.snapshot_hours = 1.0 / 6.0;  // 10-minute snapshots
+  const BoundedAnswer h = answer_with(AnswerKind::horizon, std::log(0.919), std::log(0.88), std::log(0.961));
+  EXPECT_EQ(answer_line(h, 1, 0.2, u).substr(0, 30), "after 12 snapshots (2.0 h): -8");
 }
 
 }  // namespace

@@ -71,6 +71,7 @@ TEST(RecommenderParams, ShippedFileLoads) {
   EXPECT_DOUBLE_EQ(r.advice.rule.max_unstable_share, a["max_unstable_share"].as<double>());
   EXPECT_EQ(r.advice.rule.horizon_snapshots, a["horizon_snapshots"].as<int>());
   EXPECT_DOUBLE_EQ(r.advice.rule.refuse_unstable_share, a["refuse_unstable_share"].as<double>());
+  EXPECT_DOUBLE_EQ(r.policy.min_order_confidence, a["min_order_confidence"].as<double>());
   EXPECT_DOUBLE_EQ(r.health_deadline_s, doc["health"]["deadline_s"].as<double>());
 }
 
@@ -94,6 +95,10 @@ struct Mutation {
 };
 
 const Mutation kMutations[] = {
+    {"order_confidence_above_one", [](YAML::Node& d) { d["recommendations"]["min_order_confidence"] = 1.5; },
+     "recommendations.min_order_confidence", "must be in [0, 1]"},
+    {"missing_order_confidence", [](YAML::Node& d) { d["recommendations"].remove("min_order_confidence"); },
+     "recommendations.min_order_confidence", "missing"},
     {"missing_cusum_k", [](YAML::Node& d) { d["condition_level"].remove("cusum_k"); }, "condition_level.cusum_k",
      "missing"},
     {"typo_key",

@@ -204,10 +204,19 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
     std::printf("[%s] recommendation %s: act on %u, target %u, %s effect %.4f [%.4f, %.4f]: %s\n", sc.name,
                 r.recommendation_id().c_str(), r.intervene_channel(), r.target_channel(), r.answer_kind().c_str(),
                 r.effect_median(), r.effect_low(), r.effect_high(), r.text().c_str());
+    EXPECT_FALSE(r.action().empty()) << r.text();  // issue 22: every alarm event carries an action
+    if (r.draws() == 0) {  // an action on the alarmed asset with no model answer behind it
+      EXPECT_EQ(r.action_kind(), "act_on_asset") << r.text();
+      EXPECT_FALSE(r.reliable()) << r.text();
+      continue;
+    }
     EXPECT_LE(r.effect_low(), r.effect_median()) << r.text();
     EXPECT_GE(r.effect_high(), r.effect_median()) << r.text();
     if (r.target_channel() == 1 && r.rank() == 1) {
       EXPECT_EQ(r.intervene_channel(), 2) << r.text();
+      EXPECT_EQ(r.act_on_channel(), 2) << r.action();
+      // The order behind the lever claim: the configured graph, or a stable VAR-LiNGAM order (uniform noise).
+      EXPECT_EQ(r.order_source(), learned ? "learned" : "configured") << r.order_confidence();
       EXPECT_TRUE(r.reliable()) << r.text();
       EXPECT_LT(r.effect_median(), 0.0) << r.text();
       upstream = r.intervene_channel() == 2;

@@ -112,6 +112,8 @@ TEST(StructuredFactorStream, WithoutLearningItIsThePlainFactorStream) {
   EXPECT_TRUE(structured.structure().ready);
   EXPECT_EQ(structured.structure().centre.size(), 0);
   EXPECT_TRUE(structured.structure().order.empty());
+  EXPECT_EQ(structured.structure().order_source, "") << "nothing learned, nothing configured: not assessed";
+  EXPECT_TRUE(std::isnan(structured.structure().order_confidence));
 }
 
 TEST(StructuredFactorStream, CentresOnTheWindowMeanAndLosesNoSample) {
@@ -142,6 +144,11 @@ TEST(StructuredFactorStream, LearnsACausalOrderThatPutsEveryTrueCauseFirst) {
   const auto& learned = structured.structure();
   ASSERT_TRUE(learned.problem.empty()) << learned.problem;
   ASSERT_EQ(learned.order.size(), static_cast<std::size_t>(kG));
+  // Issue 22: the order's trust is assessed and published (analysis/order_trust.hpp).
+  EXPECT_EQ(learned.order_source, "learned") << learned.order_summary;  // uniform noise, 1000 samples: identifiable
+  EXPECT_GE(learned.order_confidence, 0.0);
+  EXPECT_LE(learned.order_confidence, 1.0);
+  EXPECT_FALSE(learned.order_summary.empty());
   ASSERT_EQ(learned.instantaneous_allowed.size(), static_cast<std::size_t>(kG));
   std::vector<int> position(kG);
   for (int p = 0; p < kG; ++p) position[static_cast<std::size_t>(learned.order[static_cast<std::size_t>(p)])] = p;
@@ -192,6 +199,8 @@ TEST(StructuredFactorStream, AConfiguredGraphIsIntersectedWithTheLearnedOrder) {
   for (int k = 0; k < kG; ++k)
     for (int j = 0; j < kG; ++j)
       EXPECT_EQ(mask[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)], k == 0 && j == 2) << j << " -> " << k;
+  // Issue 22: the plant's graph decides what the recommender may claim.
+  EXPECT_EQ(structured.structure().order_source, "configured");
 }
 
 TEST(StructuredFactorStream, AFailedLearningFallsBackToTheConfiguredModelAndSaysWhy) {

@@ -109,10 +109,19 @@ TEST(RecordRows, RecommendationRowHasEveryField) {
   r.effect_level_change(-0.02);
   r.reliable(true);
   r.summary("after 12 snapshots: -25.9 % [-45.1, -18.1] (90 %)");
-  EXPECT_EQ(recommendation_header().size(), 26u);
+  r.sample_index(533);
+  r.action("Reduce Bearing 3 by 10 %, then re-check");
+  r.action_kind("upstream_lever");
+  r.act_on_channel(3);
+  r.act_on_name("Bearing 3");
+  r.horizon_hours(2.0);
+  r.order_confidence(0.92);
+  r.order_source("learned");
+  EXPECT_EQ(recommendation_header().size(), 34u);
   EXPECT_EQ(csv_line(recommendation_row(r)),
             "x/1,x,g,1,2,3,-0.5,-0.25,-0.4,-0.6,-0.2,0.9,\"reduce load on Bearing 3, then re-check\",horizon,12,0.993,400,37,"
-            "0.0925,-0.3,-25.9,-45.1,-18.1,-0.02,true,\"after 12 snapshots: -25.9 % [-45.1, -18.1] (90 %)\"\n");
+            "0.0925,-0.3,-25.9,-45.1,-18.1,-0.02,true,\"after 12 snapshots: -25.9 % [-45.1, -18.1] (90 %)\",533,"
+            "\"Reduce Bearing 3 by 10 %, then re-check\",upstream_lever,3,Bearing 3,2,0.92,learned\n");
 }
 
 TEST(IndexClock, RemembersTheNewestIndices) {

@@ -72,4 +72,17 @@ TEST(Verdict, RecoveredHealthyAndUnreliableAdvice) {
   EXPECT_EQ(h.top_recommendation, "-");
 }
 
+TEST(Verdict, ShowsTheLatestAlarmEventsActionAtItsIndex) {
+  const std::vector<AlarmRecord> alarms{row("g/1/x/1", "raised", Severity::Advisory, 10, "degradation", "B1", "B1", 533),
+                                        row("g/1/x/1", "escalated", Severity::Critical, 20, "degradation", "B1", "B1", 980)};
+  RecommendationRecord first = rec(1, false, "text 1"), later = rec(1, false, "text 2");
+  first.action = "Act on B1 (advisory alarm): inspect it.";
+  first.sample_index = "533";
+  later.action = "Act on B1 (critical alarm): replace it at the earliest safe stop.";
+  later.sample_index = "980";
+  // Issue 22: the latest event's action wins over an older reliable lever without an action column.
+  const AssetVerdict v = verdict_of("g", alarms, {rec(1, true, "Reduce B4 by 10 %"), first, later});
+  EXPECT_EQ(v.top_recommendation, "at 980: Act on B1 (critical alarm): replace it at the earliest safe stop.");
+}
+
 }  // namespace

@@ -51,6 +51,12 @@ const char* stability_words(const BoundedAnswer& a) {
   return a.spectral_radius >= 0.95 ? "near a unit root" : "not reliably stable";
 }
 
+double interval_level_factor(double percent_lower, double percent_upper) {
+  const double lo = 1.0 + percent_lower / 100.0, hi = 1.0 + percent_upper / 100.0;
+  if (!std::isfinite(lo) || !std::isfinite(hi) || lo <= 0.0) return std::numeric_limits<double>::infinity();
+  return hi / lo;
+}
+
 std::string answer_line(const BoundedAnswer& answer, int channel, double current, const EffectUnits& units) {
   if (!answer.answered()) return "refused: " + answer.reason;
   const auto k = static_cast<Eigen::Index>(channel);
@@ -63,13 +69,29 @@ std::string answer_line(const BoundedAnswer& answer, int channel, double current
     return pos == std::string::npos ? s : s.substr(0, pos) + s.substr(pos + 2);
   };
   std::string line = answer.kind == AnswerKind::steady_state
-                         ? std::string("at steady state: ")
-                         : "after " + std::to_string(answer.horizon_snapshots) + " snapshots: ";
+                         ? std::string("at steady state")
+                         : "after " + std::to_string(answer.horizon_snapshots) + " snapshots";
   char buf[160];
-  std::snprintf(buf, sizeof buf, " (%g %%), model %s rho=%.3f, %d/%d draws unstable", 100.0 * answer.coverage,
-                stability_words(answer),
+  if (answer.kind != AnswerKind::steady_state && std::isfinite(units.snapshot_hours)) {
+    std::snprintf(buf, sizeof buf, " (%.1f h)", answer.horizon_snapshots * units.snapshot_hours);
+    line += buf;
+  }
+  line += ": ";
+  std::snprintf(buf, sizeof buf, ", model %s rho=%.3f, %d/%d draws unstable", stability_words(answer),
                 answer.spectral_radius, answer.unstable_draws, answer.draws);
-  line += percent_text(med) + " [" + bare(lo) + ", " + bare(hi) + "]" + buf;
+  if (const double factor = interval_level_factor(lo, hi); factor > kMaxKnownLevelFactor) {
+    char unknown[120];
+    if (std::isfinite(factor)) {
+      std::snprintf(unknown, sizeof unknown, "effect unknown (the %g %% interval spans a factor of %.0f in level)",
+                    100.0 * answer.coverage, factor);
+    } else {
+      std::snprintf(unknown, sizeof unknown, "effect unknown (the %g %% interval reaches -100 %%)", 100.0 * answer.coverage);
+    }
+    return line + unknown + buf;
+  }
+  char cover[32];
+  std::snprintf(cover, sizeof cover, " (%g %%)", 100.0 * answer.coverage);
+  line += percent_text(med) + " [" + bare(lo) + ", " + bare(hi) + "]" + cover + buf;
   if (!units.log_level && answer.effect.lower(k) < -current) line += " (the level cannot fall below 0: -100 % is the floor)";
   return line;
 }

@@ -83,9 +83,8 @@ std::vector<causal_twin::CausalFactorBatch> to_causal_factor_batches(const Facto
       b.lag_order(static_cast<uint16_t>(layout.lag_order()));
       b.sample_index(r.sample_index);
       b.time_ns(r.time_ns);
-      // Not assessed until the estimator reports how sure its learned causal order is (FactorContext).
-      b.order_confidence(std::numeric_limits<double>::quiet_NaN());
-      b.order_source(std::string());
+      b.order_confidence(context.order_confidence);
+      b.order_source(context.order_source);
       batches.push_back(std::move(b));
       members.emplace_back();
     }

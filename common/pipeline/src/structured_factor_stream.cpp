@@ -1,5 +1,6 @@
 #include "causal/pipeline/structured_factor_stream.hpp"
 
+#include "causal/analysis/order_trust.hpp"
 #include "causal/analysis/var_lingam.hpp"
 #include "causal/state_archive.hpp"
 #include "causal/state_checks.hpp"
@@ -29,6 +30,10 @@ StructuredFactorStream::StructuredFactorStream(FactorStreamParams params, Struct
   if (!learning) {
     stream_ = std::make_unique<FactorStream>(params_);
     learned_.ready = true;
+    if (!params_.model.instantaneous_allowed.empty()) {
+      learned_.order_source = "configured";
+      learned_.order_confidence = 1.0;
+    }
   }
 }
 
@@ -139,11 +144,20 @@ void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
       params = candidate;
       learned_.order = result.order;
       learned_.b0 = result.b0;
+      // Reported only (what the recommender may claim): the model runs with the learned order either way.
+      const analysis::OrderTrust trust = analysis::assess_order(result);
+      learned_.order_confidence = trust.confidence;
+      learned_.order_source = trust.trusted ? "learned" : "untrusted";
+      learned_.order_summary = trust.summary;
     } catch (const std::invalid_argument& e) {
       add_problem(std::string("causal order not learned, every configured instantaneous link is kept: ") + e.what());
     }
   }
   learned_.instantaneous_allowed = params.model.instantaneous_allowed;
+  if (!params_.model.instantaneous_allowed.empty()) {  // the plant's graph decides what may be claimed
+    learned_.order_source = "configured";
+    if (!std::isfinite(learned_.order_confidence)) learned_.order_confidence = 1.0;
+  }
   stream_ = std::make_unique<FactorStream>(params);
   learned_.ready = true;
   // Replay the window so no sample is lost (times and discontinuities as received).
@@ -167,7 +181,7 @@ void StructuredFactorStream::finish(std::vector<FactorReport>& out) {
 }
 
 void StructuredFactorStream::save(StateWriter& w) const {
-  w.begin("structured_factor_stream", 1);
+  w.begin("structured_factor_stream", 2);
   save_model_spec(w, params_.model);
   save_stream_params(w, params_);
   w.put(static_cast<std::uint64_t>(setting_.calibration_samples));
@@ -182,6 +196,9 @@ void StructuredFactorStream::save(StateWriter& w) const {
   w.put(learned_.b0);
   w.put(learned_.instantaneous_allowed);
   w.put(learned_.problem);
+  w.put(learned_.order_confidence);
+  w.put(learned_.order_source);
+  w.put(learned_.order_summary);
   w.put(stream_ != nullptr);
   if (stream_) {
     save_model_spec(w, stream_->layout().spec());  // the model the stream runs with (learned order applied)
@@ -194,7 +211,7 @@ void StructuredFactorStream::save(StateWriter& w) const {
 }
 
 void StructuredFactorStream::restore(StateReader& r) {
-  r.expect("structured_factor_stream", 1);
+  r.expect("structured_factor_stream", 2);
   const std::string me = "structured factor stream";
   expect_same_model(read_model_spec(r), params_.model, me);
   expect_same_stream_params(r, params_, me);
@@ -212,6 +229,9 @@ void StructuredFactorStream::restore(StateReader& r) {
   r.read(learned.b0);
   r.read(learned.instantaneous_allowed);
   r.read(learned.problem);
+  learned.order_confidence = r.get<double>();
+  r.read(learned.order_source);
+  r.read(learned.order_summary);
   if (learned.centre.size() != 0 && learned.centre.size() != g_) {
     throw StateError("checkpoint: learned centre of " + std::to_string(learned.centre.size()) + " channels, this " +
                      me + " has " + std::to_string(g_));

@@ -10,16 +10,25 @@
 
 #include "causal/analysis/bounded_answer.hpp"
 
+#include <limits>
 #include <string>
 
 namespace causal::analysis {
 
 inline constexpr double kPercentDisplayCap = 1000.0;
+// An effect whose interval spans more than this factor in level (upper level / lower level) is "effect
+// unknown": "+687 % [-60, +2400]" tells an engineer nothing a number could honestly say.
+inline constexpr double kMaxKnownLevelFactor = 10.0;
 
 struct EffectUnits {
   bool log_level = true;  // the model runs on log(feature)
   std::string unit;       // of the raw feature, e.g. "g"; may be empty
+  double snapshot_hours = std::numeric_limits<double>::quiet_NaN();  // the cadence, for horizons in hours
 };
+
+// Upper over lower level of an interval given in percent of the current level; +inf when the lower end is
+// at or below -100 % (the level could vanish) or either end is not finite.
+double interval_level_factor(double percent_lower, double percent_upper);
 
 // Percent change of a level `current` (> 0) for a model-unit effect. Log-level: 100 expm1(d) (> -100);
 // raw: 100 d / current, NaN when current is not positive and finite. Never below -100.
@@ -39,7 +48,8 @@ std::string impossible_intervention(double delta, double current, const EffectUn
 const char* stability_words(const BoundedAnswer& answer);
 
 // The one line, e.g.
-//   "after 12 snapshots: -8.1 % [-12.0, -3.9] (90 %), model near a unit root rho=0.993, 37/400 draws unstable"
+//   "after 12 snapshots (2.0 h): -8.1 % [-12.0, -3.9] (90 %), model near a unit root rho=0.993, 37/400 draws unstable"
+//   "after 12 snapshots (2.0 h): effect unknown (the 90 % interval spans a factor of 37 in level), model ..."
 //   "at steady state: -8.1 % [-12.0, -3.9] (90 %), model stable rho=0.93, 0/400 draws unstable"
 //   "refused: <reason>"
 // for `channel`, whose current level is `current` (raw feature units).

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,9 @@ struct FactorContext {
   std::string feature;                     // condition feature ("" at sample level)
   const SvarLayout* layout = nullptr;
   std::vector<std::string> channel_names;  // G names
+  // CausalFactorBatch.order_confidence / order_source (pipeline::LearnedStructure); NaN / "" = not assessed.
+  double order_confidence = std::numeric_limits<double>::quiet_NaN();
+  std::string order_source;
 };
 
 // One outcome's block: factor_covariance carries report.covariance packed (empty when the report has none,

@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,6 +45,13 @@ struct LearnedStructure {
   // The instantaneous links j -> k the model runs with, [k][j]; empty = every link (nothing restricted).
   std::vector<std::vector<bool>> instantaneous_allowed;
   std::string problem;           // non-empty: (part of) the learning failed and the configured model runs
+  // How far the instantaneous causal order the model runs with can be trusted (analysis/order_trust.hpp),
+  // published on CausalFactorBatch: "configured" (the plant's graph), "learned" (VAR-LiNGAM, stable and
+  // identifiable), "untrusted" (learned, but unstable over bootstrap resamples or too Gaussian), "" (neither:
+  // every instantaneous link free). Assessed on the calibration window; the model itself is unchanged by it.
+  double order_confidence = std::numeric_limits<double>::quiet_NaN();
+  std::string order_source;
+  std::string order_summary;     // one line for the log
 };
 
 class StructuredFactorStream {
