@@ -4,6 +4,7 @@
 
 #include "advisor.hpp"
 #include "alarm_state_store.hpp"
+#include "asset_status.hpp"
 #include "observation_assembler.hpp"
 #include "recommender_params.hpp"
 
@@ -49,6 +50,8 @@ class RecommenderNode {
   void recommend(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e);
   void answer(const causal_twin::WhatIfRequest& request);
   void publish_health();  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
+  // AssetStatus of the group after an observation (recommender_status.cpp): published when it changed.
+  void publish_status(const AssembledObservation& a, bool stopped_now);
 
   RecommenderOptions options_;
   RecommenderParams params_;
@@ -59,6 +62,10 @@ class RecommenderNode {
   dds::TypedWriter<causal_twin::AlarmPubSubType> alarms_;
   dds::TypedWriter<causal_twin::RecommendationPubSubType> recommendations_;
   dds::TypedWriter<causal_twin::WhatIfReplyPubSubType> whatif_replies_;
+  dds::TypedWriter<causal_twin::AssetStatusPubSubType> status_writer_;
+  AssetStatusBoard status_;
+  std::uint64_t statuses_published_ = 0;
+  std::map<std::string, bool> status_last_stopped_;  // the condition level's latest operating-state verdict
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
   Advisor advisor_;
