@@ -35,7 +35,7 @@ RecorderNode::RecorderNode(RecorderOptions options)
       factors_in_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
       alarms_in_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
       recommendations_in_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
-      status_in_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusReader) {
+      status_in_(participant_, dds::topics::kAssetStatus, kAssetStatusHistoryReader) {
   loop_.attach(conditions_in_.get());
   loop_.attach(factors_in_.get());
   loop_.attach(alarms_in_.get());

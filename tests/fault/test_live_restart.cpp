@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -49,7 +50,9 @@ std::string csv_stream(const std::string& group, std::size_t snapshots, std::int
   for (std::size_t snap = 0; snap < snapshots; ++snap) {
     const std::int64_t start = t0 + static_cast<std::int64_t>(snap) * 600000000000LL;  // 10 min apart
     for (std::size_t b = 0; b < kBlocksPerSnapshot; ++b) {
-      s += "#block asset_group=" + group + " channels=c1,c2 sample_rate_hz=" + std::to_string(rate_hz) +
+      char rate[32];
+      std::snprintf(rate, sizeof rate, "%.17g", rate_hz);  // std::to_string would write 1e-300 as 0.000000
+      s += "#block asset_group=" + group + " channels=c1,c2 sample_rate_hz=" + rate +
            " t0_ns=" + std::to_string(start + static_cast<std::int64_t>(b * kRows) * kPeriodNs) +
            " sequence=" + std::to_string(sequence++) + " samples=" + std::to_string(kRows) +
            (b + 1 == kBlocksPerSnapshot ? " end_of_segment=1" : "") + "\n";
@@ -127,7 +130,7 @@ TEST(LiveRestart, RestartedIngestWithStateDirContinuesItsNumbering) {
   std::cout << out.substr(out.rfind("summary not_processed")).substr(0, 120) << "\n";
   EXPECT_EQ(code, 0) << out;
   EXPECT_EQ(counts_after(out, "causal-estimator: received frames=")["frames"], 2 * kFrames) << out;
-  const auto skipped = counts_after(out, "summary not_processed");
+  auto skipped = counts_after(out, "summary not_processed");
   EXPECT_EQ(skipped["renumbered"], 0u) << out;
   EXPECT_EQ(skipped["already_processed"], 0u) << out;
   if (!HasFailure()) fs::remove_all(work);
@@ -149,7 +152,7 @@ TEST(LiveRestart, RestartedEstimatorRefusesRenumberedInputLoudlyAndSurvivesSigte
   const int code = stop(*estimator);
   const std::string out = estimator->output();
   EXPECT_EQ(code, 4) << "refused input must show in the exit code (and never crash, e.g. exit 1):\n" << out;
-  const auto skipped = counts_after(out, "summary not_processed");
+  auto skipped = counts_after(out, "summary not_processed");
   std::cout << "not processed: renumbered=" << skipped["renumbered"] << " already_processed="
             << skipped["already_processed"] << "\n";
   EXPECT_EQ(skipped["renumbered"], kFrames) << out;
@@ -175,7 +178,7 @@ TEST(LiveRestart, PerWriterQuotaOnAssetGroupsAndAbsurdRatesAreRefusedAndCounted)
   const int code = stop(*estimator);
   const std::string out = estimator->output();
   EXPECT_EQ(code, 4) << out;
-  const auto skipped = counts_after(out, "summary not_processed");
+  auto skipped = counts_after(out, "summary not_processed");
   EXPECT_EQ(skipped["group_quota"], 2 * kBlocksPerSnapshot) << out;
   EXPECT_EQ(skipped["groups"], 3u) << out;
   EXPECT_NE(out.find("/input/asset_group_quota/"), std::string::npos) << out;
