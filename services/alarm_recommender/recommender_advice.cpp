@@ -73,6 +73,7 @@ void RecommenderNode::recommend(const AssembledObservation& a, const alarms::Ala
     spdlog::info("RECOMMENDATION {} at {} #{} [{}, act on {}]: {}", e.alarm_id, e.index, item.rank, d.kind,
                  ctx.act_on_name, item.text);
   }
+  status_.note_action(e.alarm_id, d.action);  // the operator's status line shows the latest action
 }
 
 }  // namespace causal::recommender

@@ -23,6 +23,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
       recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationWriter),
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
+      status_writer_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusWriter),
       advisor_(params_.advice),
       store_(options_.state_dir),
       recommendation_store_(options_.state_dir),
@@ -115,6 +116,8 @@ int RecommenderNode::run() {
   spdlog::info("summary health sources={} raised={} cleared={} active={} deadline_s={}", h.sources(), h.raised(),
                h.cleared(), h.active_alarms(), h.deadline_s());
   spdlog::info("summary topic=causal_twin/recommendation sent={}", recommendations_published_);
+  status_writer_.wait_for_acknowledgments(std::chrono::seconds(2));
+  spdlog::info("summary topic=causal_twin/asset_status sent={}", statuses_published_);
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete()) > 0 ? 4 : 0;
 }
@@ -143,6 +146,7 @@ void RecommenderNode::observe(AssembledObservation& a) {
     const alarms::AlarmParams p = params_for(sample);
     auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p);  // checkpoint if any
     st.engine = std::move(opened.engine);
+    if (sample) st.engine->set_id_scope("sample");  // ids unique across time scales (issue 24, finding 3)
     st.channel_names = a.channel_names;
     st.baseline_logged = st.engine->baseline_ready();
     it = engines_.emplace(key, std::move(st)).first;
@@ -182,7 +186,9 @@ void RecommenderNode::observe(AssembledObservation& a) {
                         : "factor standard deviations only (no covariance blocks: correlations ignored)");
     }
   }
+  const auto not_running_before = st.engine->not_running_observations();
   const auto events = st.engine->observe(a.observation);
+  const bool stopped_now = st.engine->not_running_observations() > not_running_before;
   store_.record(a.asset_group, sample, a.observation.index, events);  // checkpoint before publishing
   for (const auto& e : events) {
     const bool degradation = e.category == alarms::category::kDegradation;
@@ -197,6 +203,7 @@ void RecommenderNode::observe(AssembledObservation& a) {
       publish_event(a, e, "");
     }
   }
+  publish_status(a, stopped_now);
   if (!st.baseline_logged && st.engine->baseline_ready()) {
     st.baseline_logged = true;
     spdlog::info("asset '{}' {} level: baseline learned, monitoring from observation {}", a.asset_group,
@@ -225,6 +232,7 @@ void RecommenderNode::restore_checkpoints() {
     auto opened = store_.open_checkpoint(found.asset_group, sample, params_for(sample));
     EngineState st;
     st.engine = std::move(opened.engine);
+    if (sample) st.engine->set_id_scope("sample");  // as a new engine: ids unique across time scales
     st.channel_names = st.engine->channel_names();
     st.baseline_logged = st.engine->baseline_ready();
     st.unverified = true;

@@ -5,6 +5,7 @@
 #include "advice_policy.hpp"
 #include "advisor.hpp"
 #include "alarm_state_store.hpp"
+#include "asset_status.hpp"
 #include "observation_assembler.hpp"
 #include "recommendation_store.hpp"
 #include "recommender_params.hpp"
@@ -54,13 +55,15 @@ class RecommenderNode {
   Decision decide_for(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e) const;
   void recommend(const AssembledObservation& a, const alarms::AlarmEvent& e, const Decision& d);
   void answer(const causal_twin::WhatIfRequest& request);
-  void publish_health();
+  void publish_health();  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
   // At start: every alarm engine and recommendation in --state-dir restored and their last messages published
   // again, before any data arrives (readers that join after a restart see the open alarms and their advice).
   void restore_checkpoints();
   void republish(const std::string& asset_group, const std::vector<std::string>& channel_names,
                  const std::vector<alarms::AlarmEvent>& events);
-  alarms::AlarmParams params_for(bool sample_level) const;  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
+  alarms::AlarmParams params_for(bool sample_level) const;
+  // AssetStatus of the group after an observation (recommender_status.cpp): published when it changed.
+  void publish_status(const AssembledObservation& a, bool stopped_now);
 
   RecommenderOptions options_;
   RecommenderParams params_;
@@ -71,6 +74,10 @@ class RecommenderNode {
   dds::TypedWriter<causal_twin::AlarmPubSubType> alarms_;
   dds::TypedWriter<causal_twin::RecommendationPubSubType> recommendations_;
   dds::TypedWriter<causal_twin::WhatIfReplyPubSubType> whatif_replies_;
+  dds::TypedWriter<causal_twin::AssetStatusPubSubType> status_writer_;
+  AssetStatusBoard status_;
+  std::uint64_t statuses_published_ = 0;
+  std::map<std::string, bool> status_last_stopped_;  // the condition level's latest operating-state verdict
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
   Advisor advisor_;

@@ -15,9 +15,16 @@ void DataQualityAlarms::on_events(const std::string& asset_group, const std::vec
                                   std::int64_t time_ns, std::vector<causal_twin::Alarm>& out) {
   using Kind = pipeline::QualityEventKind;
   for (const auto& e : events) {
+    if (e.kind == Kind::MachineStopped || e.kind == Kind::MachineRunning) {
+      on_operating_state(asset_group, e, snapshot_index, time_ns, out);
+      continue;
+    }
     const bool bad_value = e.kind == Kind::NonFinite || e.kind == Kind::OutOfRange;
     const std::string kind = bad_value ? pipeline::to_string(e.kind) : "channel_quarantined";
-    const std::string key = key_of(asset_group, e.channel, kind);
+    // The two screens (raw rows, ready-made condition vectors) are told apart in key and id, as the alarm engines'
+    // time scales are: one must never clear or overwrite the other's alarm.
+    const bool sample = e.level == pipeline::ScreenLevel::Sample;
+    const std::string key = key_of(asset_group, e.channel, std::string(sample ? "sample/" : "") + kind);
     if (e.kind == Kind::Recovered) {
       const auto it = open_.find(key);
       if (it == open_.end()) continue;
@@ -38,7 +45,8 @@ void DataQualityAlarms::on_events(const std::string& asset_group, const std::vec
                                  ? channel_names[static_cast<std::size_t>(e.channel)]
                                  : std::to_string(e.channel + 1);
     causal_twin::Alarm a;
-    a.alarm_id(asset_group + "/" + name + "/" + kind + "/s" + std::to_string(snapshot_index));
+    a.alarm_id(unique_id(asset_group + (sample ? "/sample/" : "/") + name + "/" + kind + "/s" +
+                         std::to_string(snapshot_index)));
     a.asset_group(asset_group);
     a.channel(static_cast<uint16_t>(e.channel + 1));
     a.channel_name(name);
@@ -64,7 +72,7 @@ bool DataQualityAlarms::on_refused(const std::string& asset_group, const std::st
   const std::string key = key_of(asset_group, -1, kind);
   if (open_.count(key) > 0) return false;
   causal_twin::Alarm a;
-  a.alarm_id(asset_group + "/input/" + kind + "/s" + std::to_string(snapshot_index));
+  a.alarm_id(unique_id(asset_group + "/input/" + kind + "/s" + std::to_string(snapshot_index)));
   a.asset_group(asset_group);
   a.channel(0);  // the whole group
   a.channel_name("");
@@ -80,6 +88,46 @@ bool DataQualityAlarms::on_refused(const std::string& asset_group, const std::st
   open_.emplace(key, Open{a, false, true});
   ++raised_;
   return true;
+}
+
+std::string DataQualityAlarms::unique_id(const std::string& id) {
+  // Raised twice in one snapshot (a channel quarantined, released and quarantined again): ".2", ".3", ...
+  std::uint64_t& n = issued_[id];
+  return ++n == 1 ? id : id + "." + std::to_string(n);
+}
+
+void DataQualityAlarms::on_operating_state(const std::string& asset_group, const pipeline::QualityEvent& e,
+                                           std::uint64_t snapshot_index, std::int64_t time_ns,
+                                           std::vector<causal_twin::Alarm>& out) {
+  const std::string key = key_of(asset_group, -1, "machine_stopped");
+  const auto it = open_.find(key);
+  if (e.kind == pipeline::QualityEventKind::MachineRunning) {
+    if (it == open_.end()) return;
+    it->second.msg.state(causal_twin::CLEARED);
+    it->second.msg.cleared_time_ns(time_ns);
+    it->second.msg.sample_index(snapshot_index);
+    it->second.msg.reason(e.reason);
+    out.push_back(it->second.msg);
+    open_.erase(it);
+    return;
+  }
+  if (it != open_.end()) return;
+  // An operating state, not a fault in the data: category operating_change, open while the machine stands.
+  causal_twin::Alarm a;
+  a.alarm_id(unique_id(asset_group + "/machine/machine_stopped/s" + std::to_string(snapshot_index)));
+  a.asset_group(asset_group);
+  a.channel(0);  // the whole group
+  a.severity(causal_twin::ADVISORY);
+  a.state(causal_twin::RAISED);
+  a.kind("machine_stopped");
+  a.category("operating_change");
+  a.raised_time_ns(time_ns);
+  a.sample_index(snapshot_index);
+  a.score(1.0);
+  a.reason(e.reason + " (an operating state: its data is analysed, nothing is refused)");
+  out.push_back(a);
+  open_.emplace(key, Open{a, false, true});
+  ++stopped_;
 }
 
 void DataQualityAlarms::end_of_snapshot(const std::string& asset_group, std::uint64_t snapshot_index,

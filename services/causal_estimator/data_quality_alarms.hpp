@@ -7,8 +7,13 @@
 //  * input the estimator refuses (a model that does not fit the group, an unusable checkpoint, a fault in the
 //    estimation): one CRITICAL alarm "input_refused" per asset group, raised at the first refused input and
 //    never cleared (the group's data is not being analysed; the estimator exits 4).
-// Ids are "<asset group>/<channel>/<kind>/s<snapshot index>" (the snapshot it was raised in, from the source):
-// deterministic, and never reused after a restart.
+//  * the machine stopped (every channel at the quantisation floor, input_screen.hpp): an "operating_change" event
+//    "machine_stopped" (ADVISORY), open while it stands, cleared when the channels are live again. Not a fault.
+// Ids are "<asset group>/<channel>/<kind>/s<snapshot index>" (the snapshot it was raised in, from the source;
+// the raw-frame screen: "<asset group>/sample/<channel>/<kind>/s<n>", as the sample-level alarm engines; the
+// group's input: "<group>/input/..",
+// the machine: "<group>/machine/machine_stopped/s<n>"), with ".2", ".3" when one id would be raised twice in a
+// snapshot: deterministic, and never reused after a restart.
 #pragma once
 
 #include "causal/pipeline/input_screen.hpp"
@@ -34,15 +39,21 @@ class DataQualityAlarms {
   bool on_refused(const std::string& asset_group, const std::string& reason, std::uint64_t snapshot_index,
                   std::int64_t time_ns, std::vector<causal_twin::Alarm>& out);
   std::uint64_t raised() const { return raised_; }
+  std::uint64_t machine_stops() const { return stopped_; }
 
  private:
+  // machine_stopped / machine_running: the operating_change event "machine_stopped", open while the machine stands.
+  void on_operating_state(const std::string& asset_group, const pipeline::QualityEvent& e,
+                          std::uint64_t snapshot_index, std::int64_t time_ns, std::vector<causal_twin::Alarm>& out);
+  std::string unique_id(const std::string& id);
   struct Open {
     causal_twin::Alarm msg;
     bool bad_value = false;     // cleared by a clean snapshot (else by a recovery event)
     bool seen_in_snapshot = false;
   };
   std::map<std::string, Open> open_;  // by "<group>\x1f<channel>\x1f<alarm kind>"
-  std::uint64_t raised_ = 0;
+  std::map<std::string, std::uint64_t> issued_;  // ids raised by this process (never raised twice)
+  std::uint64_t raised_ = 0, stopped_ = 0;
 };
 
 }  // namespace causal::estimator

@@ -40,9 +40,16 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       store_(options_.state_dir),
       health_(options_.health_deadline_s, "frames/condition inputs", "source",
               {dds::topics::kVibrationFrame, dds::topics::kConditionInput}),
+      quota_(options_.quota),
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
+  const char* help = "Inputs (frames, condition inputs) the estimator received but did not process, by reason";
+  auto& m = metrics::process_metrics();
+  not_processed_already_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "already_processed"}});
+  not_processed_renumbered_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "renumbered"}});
+  not_processed_quota_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "group_quota"}});
+  not_processed_invalid_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "invalid"}});
   if (options_.standby) {
     standing_by_ = true;
     primary_progress_ = std::make_unique<dds::TypedReader<causal_twin::ConditionVectorPubSubType>>(
@@ -93,7 +100,9 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
                                                                 metrics::latency_buckets_seconds());
     try {
       std::vector<std::string> resend;
-      if (store_.restore(asset_group, a.pipeline, resend)) {
+      if (store_.restore(asset_group, a.pipeline, resend, &a.last_time_ns)) {
+        // The names come with the checkpoint: output (finish() at exit included) needs them before any new input.
+        a.channel_names = a.pipeline.channel_names();
         resend_restored(asset_group, resend);
         a.awaiting_continuation = true;
         a.continuation_deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(
@@ -160,13 +169,15 @@ int EstimatorNode::run() {
             frames_.take_all_and_states(
                 [this](const auto& f, const auto& info) {
                   if (mine(f.asset_group())) health_.on_sample(f.asset_group(), f.snapshot_index(), info);
-                  on_frame(f);
+                  const WriterGuid writer = info.sample_identity.writer_guid();
+                  on_frame(f, &writer);
                 },
                 state, loop_.stop_flag()) +
             conditions_in_.take_all_and_states(
                 [this](const auto& c, const auto& info) {
                   if (mine(c.asset_group())) health_.on_sample(c.asset_group(), c.snapshot_index(), info);
-                  on_condition(c);
+                  const WriterGuid writer = info.sample_identity.writer_guid();
+                  on_condition(c, &writer);
                 },
                 state, loop_.stop_flag());
         release_expired_reorders(false);
@@ -181,16 +192,18 @@ int EstimatorNode::run() {
   return finish_all();
 }
 
-void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
+void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame, const WriterGuid* writer) {
   if (!mine(frame.asset_group())) {
     ++foreign_frames_;
     return;
   }
   if (const std::string problem = dds::validate_frame(frame); !problem.empty()) {
     ++invalid_msgs_;
+    not_processed_invalid_->inc();
     spdlog::warn("asset '{}': frame {} refused: {}", frame.asset_group(), frame.sequence_number(), problem);
     return;
   }
+  if (!admitted(frame.asset_group(), writer)) return;
   Asset& a = asset(frame.asset_group());
   if (!a.refused.empty()) {
     ++a.refused_inputs;
@@ -198,7 +211,8 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
     return;
   }
   if (a.pipeline.already_fed_frame(frame.first_sample_index(), frame.samples_per_channel())) {
-    ++a.skipped;  // processed before a restart (a resending source, or the transient-local history)
+    not_again(frame.asset_group(), a, frame.snapshot_index(), frame.first_sample_time_ns(),
+              fmt::format("frame {} (samples {}..)", frame.sequence_number(), frame.first_sample_index()));
     a.last_sequence = frame.sequence_number();
     return;
   }
@@ -244,22 +258,27 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame) {
   }
   log_adjustments(frame.asset_group(), a);
   ++a.frames;
+  a.last_time_ns = frame.first_sample_time_ns() +
+                   static_cast<std::int64_t>(static_cast<double>(std::max<std::uint32_t>(frame.samples_per_channel(), 1) - 1) *
+                                             1e9 / frame.sample_rate_hz());
   if (a.feature.empty()) a.feature = io::to_string(params_.condition.feature);
   publish_quality(frame.asset_group(), a, frame.snapshot_index(), frame.first_sample_time_ns(), frame.end_of_segment());
   publish(frame.asset_group(), a, frame.end_of_segment());
   a.frame_seconds->observe(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }
 
-void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
+void EstimatorNode::on_condition(const causal_twin::ConditionVector& in, const WriterGuid* writer) {
   if (!mine(in.asset_group())) {
     ++foreign_frames_;
     return;
   }
   if (const std::string problem = dds::validate_condition_vector(in); !problem.empty()) {
     ++invalid_msgs_;
+    not_processed_invalid_->inc();
     spdlog::warn("asset '{}': condition vector {} refused: {}", in.asset_group(), in.snapshot_index(), problem);
     return;
   }
+  if (!admitted(in.asset_group(), writer)) return;
   Asset& a = asset(in.asset_group());
   if (!a.refused.empty()) {
     ++a.refused_inputs;
@@ -276,7 +295,8 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
                     in.asset_group(), in.snapshot_index());
       return;
     }
-    ++a.skipped;
+    not_again(in.asset_group(), a, in.snapshot_index(), in.time_ns(),
+              fmt::format("condition vector {}", in.snapshot_index()));
     return;
   }
   if (!releasing_) {
@@ -325,6 +345,7 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in) {
   }
   log_adjustments(in.asset_group(), a);
   ++a.conditions_in;
+  a.last_time_ns = in.time_ns();
   // The accepted vector goes on to the estimator's own topic: the one stream of condition vectors that the
   // recommender, the recorder and the HMI read, whatever the source.
   pipeline::ConditionSample accepted;
@@ -351,7 +372,7 @@ void EstimatorNode::drain_reorder(Asset& a, bool force_first) {
     a.reorder.erase(it);
     if (next) ++a.reordered;
     releasing_ = true;
-    on_condition(msg);
+    on_condition(msg, nullptr);
     releasing_ = false;
     a.reorder_since = std::chrono::steady_clock::now();  // the rest waits afresh for its own predecessors
   }

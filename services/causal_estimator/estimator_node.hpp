@@ -16,9 +16,11 @@
 #include "causal_twinPubSubTypes.h"
 #include "data_quality_alarms.hpp"
 #include "estimator_state_store.hpp"
+#include "group_quota.hpp"
 #include "standby_buffer.hpp"
 
 #include <chrono>
+#include <climits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -47,6 +49,7 @@ struct EstimatorOptions {
   double takeover_after_s = 6.0; // the primary's absence (> its 5 s lease) after which the standby takes over  // after a restore: how long to wait for the source to resend the continuation
   bool verbose = false;
   double health_deadline_s = 30.0;  // estimator.yaml health.deadline_s (HealthWatch)
+  GroupQuotaLimits quota;  // --max-groups, --max-groups-per-writer (group_quota.hpp)
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
 
@@ -84,6 +87,11 @@ class EstimatorNode {
     bool sample_structure_logged = false, condition_structure_logged = false;
     std::string refused;                // why this asset group's input is refused (unusable checkpoint, a fault)
     std::uint64_t skipped = 0;          // input already processed before a restart (source index), skipped
+    // Data time of the last input fed (frames: the last row's time), checkpointed: an input whose index was fed
+    // already but whose time is later is not a resend but new data under old numbers (a source that restarted
+    // its numbering, e.g. a sensor-ingest without --state-dir): refused and counted, never silently skipped.
+    std::int64_t last_time_ns = INT64_MIN;
+    std::uint64_t renumbered = 0;
     std::uint64_t refused_inputs = 0;   // input of a refused group
     // After a restore from a checkpoint: input that does not continue where the checkpoint ends is held off
     // (dropped, counted) until the continuation arrives or the grace period ends: a restarted estimator may
@@ -96,10 +104,19 @@ class EstimatorNode {
     metrics::Histogram* condition_seconds = nullptr;
   };
 
+  using WriterGuid = eprosima::fastrtps::rtps::GUID_t;
   bool mine(const std::string& asset_group) const;
+  // Quota on new asset groups (group_quota.hpp): false when the input is refused (counted, logged, alarmed).
+  bool admitted(const std::string& asset_group, const WriterGuid* writer);
+  // An input whose indices were processed already: a resend (skipped, counted) or new data under old numbers
+  // (refused: counted, logged, alarmed, exit 4). Never processed either way.
+  void not_again(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,
+                 const std::string& what);
   Asset& asset(const std::string& asset_group);
-  void on_frame(const causal_twin::VibrationFrame& frame);
-  void on_condition(const causal_twin::ConditionVector& in);
+  // `writer`: the DDS writer it came from (the per-writer group quota); null for inputs released from the reorder
+  // hold (their group is known).
+  void on_frame(const causal_twin::VibrationFrame& frame, const WriterGuid* writer);
+  void on_condition(const causal_twin::ConditionVector& in, const WriterGuid* writer = nullptr);
   // Feeds the held inputs of `a` that are next in order; with force_first, the lowest one even after a gap
   // (its wait is over: the indices before it are holes, counted as lost if they still come).
   void drain_reorder(Asset& a, bool force_first);
@@ -153,6 +170,12 @@ class EstimatorNode {
   DataQualityAlarms quality_;
   dds::HealthWatch health_;
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
+  GroupQuota quota_;
+  std::set<std::string> quota_alarmed_writers_;  // one HEALTH alarm per writer over its quota
+  metrics::Counter* not_processed_renumbered_ = nullptr;  // estimator_inputs_not_processed_total{reason=..}
+  metrics::Counter* not_processed_quota_ = nullptr;
+  metrics::Counter* not_processed_invalid_ = nullptr;
+  metrics::Counter* not_processed_already_ = nullptr;
   std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits
   dds::OutboundQueue outbound_;  // last: its drain thread stops before the writers are destroyed
 };

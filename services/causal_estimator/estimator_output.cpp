@@ -195,12 +195,16 @@ void EstimatorNode::publish_quality(const std::string& name, Asset& a, std::uint
   quality_.on_events(name, a.channel_names, out_.quality_events, snapshot, time_ns, alarms);
   if (end_of_snapshot) quality_.end_of_snapshot(name, snapshot, time_ns, alarms);
   for (const auto& e : out_.quality_events) {
-    spdlog::warn("asset '{}' {} data quality: {}", name, pipeline::to_string(e.level), e.reason);
+    const bool state = e.kind == pipeline::QualityEventKind::MachineStopped ||
+                       e.kind == pipeline::QualityEventKind::MachineRunning;
+    spdlog::log(state ? spdlog::level::info : spdlog::level::warn, "asset '{}' {} {}: {}", name,
+                pipeline::to_string(e.level), state ? "operating state" : "data quality", e.reason);
   }
   for (auto& alarm : alarms) {
-    spdlog::log(alarm.state() == causal_twin::CLEARED ? spdlog::level::info : spdlog::level::warn,
-                "DATA QUALITY {} {}: {}", alarm.state() == causal_twin::CLEARED ? "CLEARED" : "RAISED", alarm.alarm_id(),
-                alarm.reason());
+    const bool state = alarm.category() == "operating_change";
+    spdlog::log(alarm.state() == causal_twin::CLEARED || state ? spdlog::level::info : spdlog::level::warn, "{} {} {}: {}",
+                state ? "OPERATING STATE" : "DATA QUALITY", alarm.state() == causal_twin::CLEARED ? "CLEARED" : "RAISED",
+                alarm.alarm_id(), alarm.reason());
     if (standing_by_) continue;  // the primary publishes them
     auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
     outbound_.push("alarm/data_quality", dds::OutboundQueue::Class::Essential,
@@ -258,7 +262,7 @@ void EstimatorNode::resend_restored(const std::string& name, const std::vector<s
 }
 
 void EstimatorNode::checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend) {
-  if (!store_.save(name, a.pipeline, resend)) {
+  if (!store_.save(name, a.pipeline, resend, a.last_time_ns)) {
     spdlog::error("asset '{}': checkpoint not written ({}); a crash now would lose this asset group's state", name,
                   store_.last_error());
   }
@@ -323,8 +327,15 @@ int EstimatorNode::finish_all() {
     // Saved before finish(): a restart continues the streams as they were, not flushed.
     checkpoint(name, a, {});
     out_.clear();
-    a.pipeline.finish(out_);
-    publish(name, a, false);
+    try {
+      a.pipeline.finish(out_);
+      publish(name, a, false);
+    } catch (const std::exception& e) {
+      // A shutdown must never crash (SIGTERM included): this group's flush is lost, said and counted.
+      a.refused = std::string("flushing at exit failed: ") + e.what();
+      ++a.refused_inputs;
+      spdlog::error("asset '{}': {}", name, a.refused);
+    }
   }
   // Deliver what is queued, then wait for the readers' acknowledgements. After a stop (signal, max runtime)
   // the readers may be leaving too: wait briefly, so shutdown stays bounded.
@@ -351,12 +362,16 @@ int EstimatorNode::finish_all() {
                  a.sample_msgs, a.condition_msgs,
                  s ? s->counters().rejected_non_finite : 0);
     if (a.skipped > 0) spdlog::info("asset '{}': {} inputs processed before a restart skipped", name, a.skipped);
+    if (a.renumbered > 0) {
+      spdlog::error("asset '{}': {} inputs refused: numbered as processed already but later in time (a source that "
+                    "restarted its numbering)", name, a.renumbered);
+    }
     if (!a.refused.empty()) {
       spdlog::error("asset '{}': {} inputs refused: {}", name, a.refused_inputs, a.refused);
     }
     frames += a.frames;
     lost += a.lost_frames;
-    refused += a.refused_frames + a.refused_inputs;
+    refused += a.refused_frames + a.refused_inputs + a.renumbered;
     conditions_received += a.conditions_in;
     conditions_refused += a.refused_conditions;
     conditions_late += a.late_conditions;
@@ -376,6 +391,19 @@ int EstimatorNode::finish_all() {
                  "through: their asset group could not be read)", foreign_frames_);
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
+  if (quota_.refused_inputs() > 0) {
+    spdlog::error("{} inputs of {} asset groups refused by the quota (--max-groups {}, --max-groups-per-writer {})",
+                  quota_.refused_inputs(), quota_.refused_groups(), quota_.limits().max_groups,
+                  quota_.limits().max_groups_per_writer);
+  }
+  std::uint64_t skipped = 0, renumbered = 0;
+  for (const auto& [name, a] : assets_) {
+    skipped += a.skipped;
+    renumbered += a.renumbered;
+  }
+  // Machine-readable: every input received and not processed, by reason (the tests read it).
+  spdlog::info("summary not_processed already_processed={} renumbered={} group_quota={} invalid={} groups={}",
+               skipped, renumbered, quota_.refused_inputs(), invalid_msgs_, assets_.size());
   if (!options_.groups.all()) {
     // Machine-readable: the fault test checks that shards divide the groups exactly.
     spdlog::info("summary shard={} groups={} foreign={} filter='{}'", options_.shard_name, assets_.size(),
@@ -418,7 +446,8 @@ int EstimatorNode::finish_all() {
                  "pushed out by newer ones", standing_by_ ? "never took over (the primary stayed)" : "took over",
                  standby_unpublished_, standby_.discarded());
   }
-  return (lost + refused + conditions_refused + conditions_late + invalid_msgs_ + rejected_no_instance_ + unpublished + dropped_windows) > 0
+  return (lost + refused + conditions_refused + conditions_late + invalid_msgs_ + rejected_no_instance_ + unpublished +
+          dropped_windows + quota_.refused_inputs()) > 0
              ? 4 : 0;
 }
 

@@ -23,20 +23,29 @@ std::string EstimatorStateStore::path(const std::string& asset_group) const {
 }
 
 bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline,
-                                  std::vector<std::string>& resend) const {
+                                  std::vector<std::string>& resend, std::int64_t* last_time_ns) const {
   if (!enabled()) return false;
   const std::string file = path(asset_group);
   const auto payload = load_state_file(file);
   if (!payload) return false;
   try {
     StateReader r(*payload);
-    r.expect("estimator_asset", 2);
+    // Version 3 adds the data time of the last input fed; version 2 checkpoints are still read (time unknown).
+    const std::string tag = r.get<std::string>();
+    const auto version = r.get<std::uint32_t>();
+    if (tag != "estimator_asset" || (version != 2 && version != 3)) {
+      throw StateError("expected section 'estimator_asset' version 2 or 3, found '" + tag + "' version " +
+                       std::to_string(version));
+    }
     const std::string saved_group = r.get<std::string>();
     if (saved_group != asset_group) {
       throw StateError("it belongs to asset group '" + saved_group + "'");
     }
     pipeline.restore(r);
     r.read(resend);
+    std::int64_t time_ns = INT64_MIN;
+    if (version >= 3) r.read(time_ns);
+    if (last_time_ns != nullptr) *last_time_ns = time_ns;
   } catch (const StateError& e) {
     throw StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
                      " (move it away to start this asset group over)");
@@ -45,14 +54,15 @@ bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::Asse
 }
 
 bool EstimatorStateStore::save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
-                               const std::vector<std::string>& resend) {
+                               const std::vector<std::string>& resend, std::int64_t last_time_ns) {
   if (!enabled()) return true;
   try {
     StateWriter w;
-    w.begin("estimator_asset", 2);
+    w.begin("estimator_asset", 3);
     w.put(asset_group);
     pipeline.save(w);
     w.put(resend);
+    w.put(last_time_ns);
     save_state_file(path(asset_group), w.bytes());
     ++saves_;
     return true;

@@ -13,6 +13,7 @@
 
 #include "causal/pipeline/asset_pipeline.hpp"
 
+#include <climits>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,12 +31,14 @@ class EstimatorStateStore {
   // Throws causal::StateError naming the file when one exists but cannot be used (damaged, other parameters,
   // other channel count): silently starting over would re-learn the baseline on whatever data comes now.
   // `resend` receives the saved output messages (opaque byte strings, see save()).
-  bool restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline,
-               std::vector<std::string>& resend) const;
+  // `last_time_ns` receives the data time of the last input fed (INT64_MIN when the checkpoint predates it).
+  bool restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline, std::vector<std::string>& resend,
+               std::int64_t* last_time_ns = nullptr) const;
   // Saves the pipeline and `resend` (serialized messages to send again after a restart); returns false (and
   // counts it) when the file cannot be written, with the reason in last_error().
+  // `last_time_ns`: the data time of the last input fed (tells a resent input from new data under old numbers).
   bool save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
-            const std::vector<std::string>& resend);
+            const std::vector<std::string>& resend, std::int64_t last_time_ns = INT64_MIN);
 
   std::uint64_t saves() const { return saves_; }
   std::uint64_t failures() const { return failures_; }

@@ -64,6 +64,13 @@ int main(int argc, char** argv) {
   app.add_option("--state-dir", o.state_dir,
                  "checkpoint every asset group's state here after each snapshot and resume from it after a restart "
                  "(input already processed is skipped); empty = no checkpoints");
+  app.add_option("--max-groups", o.quota.max_groups,
+                 "asset groups this estimator serves at most; input of further groups is refused (counted, HEALTH "
+                 "alarm asset_group_quota, exit 4)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--max-groups-per-writer", o.quota.max_groups_per_writer,
+                 "new asset groups one DDS writer (one source) may open; beyond, refused as with --max-groups")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (shard_index >= shard_count) {
     std::cerr << "error: --shard-index must be < --shard-count\n";

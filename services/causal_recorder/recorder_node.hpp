@@ -7,6 +7,7 @@
 
 #include "factor_row_assembler.hpp"
 #include "record_rows.hpp"
+#include "status_rows.hpp"
 
 #include "csv_format.hpp"
 
@@ -59,6 +60,7 @@ class RecorderNode {
   void on_factors(const causal_twin::CausalFactorBatch& in);
   void on_alarm(const causal_twin::Alarm& in);
   void on_recommendation(const causal_twin::Recommendation& in);
+  void on_status(const causal_twin::AssetStatus& in);
   void write_ready_rows(FactorTable& table);
   // Sanitised asset id for file names, unique per raw id (a clash gets "-2", "-3", ...).
   const std::string& file_asset(const std::string& asset_group);
@@ -73,6 +75,7 @@ class RecorderNode {
   dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_in_;
   dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
   dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
+  dds::TypedReader<causal_twin::AssetStatusPubSubType> status_in_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
 
   std::map<std::string, ConditionTable> conditions_;  // by file name
@@ -80,9 +83,9 @@ class RecorderNode {
   std::map<std::string, IndexClock> clocks_;          // per asset: condition-level index -> time
   std::map<std::string, std::string> file_assets_;    // raw asset id -> file-name component
   std::set<std::string> used_file_assets_;
-  std::unique_ptr<report::CsvFile> alarms_, recommendations_;
-  RepeatFilter alarm_repeats_, recommendation_repeats_;
-  TopicCounts alarm_counts_, recommendation_counts_;
+  std::unique_ptr<report::CsvFile> alarms_, recommendations_, statuses_;
+  RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;
+  TopicCounts alarm_counts_, recommendation_counts_, status_counts_;
   std::uint64_t sample_level_skipped_ = 0, invalid_msgs_ = 0;
 };
 

@@ -30,6 +30,15 @@ Admission BlockSequencer::admit(const IngestBlock& block) {
                  " before, " + std::to_string(block.channels.size()) + " now)";
       return a;
     }
+    if (g.resumed) {
+      // The previous run's last block is not known here (its time and source sequence): a new segment.
+      g.resumed = false;
+      plan.discontinuity = true;
+      plan.why = "first block after sensor-ingest restarted: numbering resumed at frame " +
+                 std::to_string(g.next_sequence) + ", sample " + std::to_string(g.next_sample_index);
+      ++g.snapshot_index;
+      return finish(g, block, plan, a);
+    }
     // Where the previous block ended, in the source's time.
     const double period_ns = 1e9 / g.last_rate_hz;
     const double expected_t0 = static_cast<double>(g.last_t0_ns) + static_cast<double>(g.last_samples) * period_ns;
@@ -66,7 +75,10 @@ Admission BlockSequencer::admit(const IngestBlock& block) {
     }
     if (plan.discontinuity) ++g.snapshot_index;
   }
-  Group& g = it->second;
+  return finish(it->second, block, plan, a);
+}
+
+Admission BlockSequencer::finish(Group& g, const IngestBlock& block, FramePlan& plan, Admission& a) {
   plan.sequence = g.next_sequence++;
   plan.first_sample_index = g.next_sample_index;
   plan.snapshot_index = g.snapshot_index;
@@ -78,6 +90,23 @@ Admission BlockSequencer::admit(const IngestBlock& block) {
   g.segment_closed = block.end_of_segment;
   a.plan = plan;
   return a;
+}
+
+void BlockSequencer::resume(const std::string& group, const ResumePoint& point) {
+  Group g;
+  g.channels = point.channels;
+  g.next_sequence = point.next_sequence;
+  g.next_sample_index = point.next_sample_index;
+  g.snapshot_index = point.snapshot_index;
+  g.resumed = true;
+  groups_[group] = std::move(g);
+}
+
+std::optional<ResumePoint> BlockSequencer::resume_point(const std::string& group) const {
+  const auto it = groups_.find(group);
+  if (it == groups_.end()) return std::nullopt;
+  const Group& g = it->second;
+  return ResumePoint{g.channels, g.next_sequence, g.next_sample_index, g.snapshot_index};
 }
 
 }  // namespace causal::ingest

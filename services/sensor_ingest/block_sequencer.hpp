@@ -9,6 +9,10 @@
 // Time gap rule: the interval from the previous block's last sample to this block's first sample is a
 // gap when it exceeds gap_factor x the sample period (1.5: at least one sample is missing, while clock
 // jitter under half a sample is not).
+// Restarts: a live source cannot resend what it published before, so a restarted sensor-ingest must not number
+// from 0 again (the estimator would take its frames for ones it already processed). resume() gives a group the
+// numbering a previous run left (ingest_state_store.hpp); its first block then continues it: sequence and sample
+// index go on, the snapshot index advances and the frame is a discontinuity ("sensor-ingest restarted").
 // Rejected (not published, counted): channels other than the group's first block had (layout_change), a
 // source sequence number seen already (duplicate: MQTT QoS 1 may deliver twice), and a block that starts
 // before the previous one ended (out_of_order: time going backwards or overlapping).
@@ -39,12 +43,25 @@ struct Admission {
   std::string detail;
 };
 
+// Where a group's numbering stands: what the next admitted block would get (saved after every block).
+struct ResumePoint {
+  std::vector<std::string> channels;
+  std::uint64_t next_sequence = 0;
+  std::uint64_t next_sample_index = 0;
+  std::uint64_t snapshot_index = 0;  // of the last frame published
+};
+
 class BlockSequencer {
  public:
   explicit BlockSequencer(double gap_factor = 1.5) : gap_factor_(gap_factor) {}
   // Decides about one parsed block and, when it is admitted, advances the group's state.
   Admission admit(const IngestBlock& block);
   std::size_t groups() const { return groups_.size(); }
+  bool knows(const std::string& group) const { return groups_.count(group) > 0; }
+  // Continues a group's numbering from a previous run (call before the group's first block).
+  void resume(const std::string& group, const ResumePoint& point);
+  // The group's numbering now (nullopt for an unknown group).
+  std::optional<ResumePoint> resume_point(const std::string& group) const;
 
  private:
   struct Group {
@@ -54,10 +71,12 @@ class BlockSequencer {
     std::size_t last_samples = 0;
     double last_rate_hz = 0.0;
     bool segment_closed = false;  // the last block had end_of_segment
+    bool resumed = false;         // numbering restored from a previous run, no block of this run yet
     std::uint64_t next_sequence = 0;
     std::uint64_t next_sample_index = 0;
     std::uint64_t snapshot_index = 0;
   };
+  Admission finish(Group& g, const IngestBlock& block, FramePlan& plan, Admission& a);
   double gap_factor_;
   std::map<std::string, Group> groups_;
 };

@@ -42,7 +42,8 @@ IngestNode::IngestNode(IngestOptions options)
       participant_(dds::to_dds_settings(options_.dds, "sensor-ingest")),
       frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameWriter),
       queue_(options_.queue_messages),
-      sequencer_(options_.gap_factor) {
+      sequencer_(options_.gap_factor),
+      numbering_(options_.state_dir) {
   auto& m = metrics::process_metrics();
   const metrics::Labels source{{"source", source_kind_name(options_.source.kind)}};
   received_metric_ =
@@ -151,6 +152,16 @@ void IngestNode::process(const std::string& message) {
     return;
   }
   const IngestBlock& b = *parsed.block;
+  // Limits every reader applies (frame_conversions.hpp InputLimits), checked before the block takes a number.
+  if (const std::string problem = dds::validate_frame_header(b.channels.size(), b.sample_rate_hz, b.t0_ns);
+      !problem.empty()) {
+    count_rejection(RejectReason::Field, problem, b.asset_group);
+    return;
+  }
+  if (!sequencer_.knows(b.asset_group) && !resume_numbering(b.asset_group)) {
+    count_rejection(RejectReason::Field, "the asset group's numbering state cannot be read", b.asset_group);
+    return;
+  }
   const Admission admission = sequencer_.admit(b);
   if (!admission.plan) {
     count_rejection(admission.reason, admission.detail, b.asset_group);
@@ -158,6 +169,11 @@ void IngestNode::process(const std::string& message) {
   }
   const FramePlan& plan = *admission.plan;
   std::uint64_t suppressed = 0;
+  // Saved before the frame leaves: a crash may leave a number unused (counted as lost), never one used twice.
+  if (!numbering_.save(b.asset_group, *sequencer_.resume_point(b.asset_group)) && numbering_log_.allow(suppressed)) {
+    spdlog::error("'{}': numbering state not written ({}): a restart now would number this group's frames again "
+                  "from an older point{}", b.asset_group, numbering_.last_error(), suppressed_text(suppressed));
+  }
   if (b.non_finite > 0) {
     non_finite_ += b.non_finite;
     non_finite_metric_->inc(static_cast<double>(b.non_finite));
@@ -209,6 +225,23 @@ void IngestNode::process(const std::string& message) {
                     : fmt::format("DDS write error, return code {}", frames_.last_error()));
 }
 
+bool IngestNode::resume_numbering(const std::string& group) {
+  try {
+    const auto point = numbering_.load(group);
+    if (!point) return true;
+    sequencer_.resume(group, *point);
+    ++resumed_groups_;
+    spdlog::info("'{}': numbering resumed from {}: next frame {}, next sample {}, snapshot {} (a restart: the "
+                 "estimator would refuse frames numbered from 0 again)",
+                 group, numbering_.path(group), point->next_sequence, point->next_sample_index,
+                 point->snapshot_index + 1);
+    return true;
+  } catch (const std::exception& e) {
+    spdlog::error("'{}': {}", group, e.what());
+    return false;
+  }
+}
+
 void IngestNode::print_summary() const {
   const std::uint64_t rejected = total(rejected_);
   spdlog::info("summary topic=causal_twin/vibration_frame sent={} received={} rejected={} failed={}", published_,
@@ -219,10 +252,13 @@ void IngestNode::print_summary() const {
     reasons += fmt::format(" {}={}", reason_name(static_cast<RejectReason>(r)), rejected_[static_cast<std::size_t>(r)]);
   }
   std::printf(
-      "sensor-ingest: received=%llu published=%llu rejected=%llu lost=%llu non_finite=%llu discontinuities=%llu%s\n",
+      "sensor-ingest: received=%llu published=%llu rejected=%llu lost=%llu non_finite=%llu discontinuities=%llu "
+      "resumed_groups=%llu state_failures=%llu%s\n",
       static_cast<unsigned long long>(received_), static_cast<unsigned long long>(published_),
       static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(lost_),
-      static_cast<unsigned long long>(non_finite_), static_cast<unsigned long long>(discontinuities_), reasons.c_str());
+      static_cast<unsigned long long>(non_finite_), static_cast<unsigned long long>(discontinuities_),
+      static_cast<unsigned long long>(resumed_groups_), static_cast<unsigned long long>(numbering_.failures()),
+      reasons.c_str());
   std::fflush(stdout);
 }
 

@@ -16,6 +16,7 @@
 #include "causal_twinPubSubTypes.h"
 #include "ingest_options.hpp"
 #include "ingest_sources.hpp"
+#include "ingest_state_store.hpp"
 
 namespace causal::ingest {
 
@@ -49,6 +50,11 @@ class IngestNode {
   MessageQueue queue_;
   std::unique_ptr<MessageSource> source_;
   BlockSequencer sequencer_;
+  IngestStateStore numbering_;  // --state-dir: numbering continued across restarts
+  // Loads a group's saved numbering before its first block (false: the state file is unusable; counted).
+  bool resume_numbering(const std::string& group);
+  std::uint64_t resumed_groups_ = 0;
+  RateLimitedLog numbering_log_;
   causal_twin::VibrationFrame frame_;
   std::atomic<bool> stop_{false};
   Clock::time_point deadline_ = Clock::time_point::max();

@@ -131,6 +131,9 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
                  "a frame the readers do not accept within this many seconds is counted lost (exit 4)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--state-dir", o.state_dir,
+                 "keep each asset group's frame numbering in DIR/<group>.ingest.state, so a restarted sensor-ingest "
+                 "continues it (without it a restart numbers from 0 again and the estimator refuses that input)");
   app.add_option("--max-runtime", o.max_runtime_s, "stop after this many seconds in any case (0 = no bound)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

@@ -38,6 +38,7 @@ struct IngestOptions {
   double wait_timeout_s = 30.0;
   double write_timeout_s = 10.0;
   double max_runtime_s = 0.0;
+  std::string state_dir;  // per-group numbering kept across restarts (ingest_state_store.hpp); empty = none
 };
 
 // Parses argv. Returns nullopt after printing --help / an error; `exit_code` tells the caller what to return.

@@ -129,6 +129,20 @@ json recommendation_json(const RecommendationView& v, const GroupState& g) {
           {"arrival", v.arrival}};
 }
 
+json status_json(const GroupState& g) {
+  if (!g.status) return nullptr;
+  const auto& s = *g.status;
+  return {{"state", s.state()},
+          {"text", s.text()},
+          {"learning_seen", s.learning_seen()},
+          {"learning_needed", s.learning_needed()},
+          {"index", s.sample_index()},
+          {"time_ms", ms(s.time_ns())},
+          {"open_alarms", s.open_alarms()},
+          {"root_cause_name", s.root_cause_name()},
+          {"action", s.action()}};
+}
+
 json group_json(const std::string& id, const GroupState& g) {
   json alarms = json::array(), recs = json::array();
   for (const auto& [aid, v] : g.alarms) alarms.push_back(alarm_json(v));
@@ -142,7 +156,8 @@ json group_json(const std::string& id, const GroupState& g) {
           {"trend", trend_json(g)},
           {"graph", graph_json(g)},
           {"alarms", std::move(alarms)},
-          {"recommendations", std::move(recs)}};
+          {"recommendations", std::move(recs)},
+          {"status", status_json(g)}};
 }
 
 }  // namespace
@@ -168,6 +183,7 @@ std::string overview_to_json(const std::map<std::string, GroupState>& groups,
                     {"channels", g.channels},
                     {"has_trend", !g.trend.empty()},
                     {"open_alarms", open},
+                    {"state", g.status ? json(g.status->state()) : json(nullptr)},
                     {"worst_severity", worst < 0 ? json(nullptr) : json(severity_name(static_cast<causal_twin::Severity>(worst)))}});
   }
   const json out = {{"version", version}, {"info", info}, {"groups", std::move(list)}};
@@ -187,7 +203,8 @@ std::string state_to_json(const std::map<std::string, GroupState>& groups, const
                      {"factor_messages_skipped", c.factor_messages_skipped},
                      {"factor_messages_rejected", c.factor_messages_rejected},
                      {"alarm_events", c.alarm_events},
-                     {"recommendations", c.recommendations}};
+                     {"recommendations", c.recommendations},
+                     {"statuses", c.statuses}};
   json list = json::array();
   for (const auto& [id, g] : groups) list.push_back(group_json(id, g));
   out["groups"] = std::move(list);

@@ -165,6 +165,15 @@ void TwinState::on_recommendation(const causal_twin::Recommendation& in) {
   changed_locked(&g);
 }
 
+void TwinState::on_status(const causal_twin::AssetStatus& in) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++counters_.statuses;
+  GroupState& g = group_locked(in.asset_group());
+  const bool state_changed = !g.status || g.status->state() != in.state();
+  g.status = in;
+  changed_locked(&g, state_changed);  // the overview shows the state: it changes with it
+}
+
 std::uint64_t TwinState::version() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return version_;

@@ -77,6 +77,8 @@ struct GroupState {
   std::map<int, OutcomeFactors> factors;        // condition-level filter, by 1-based outcome
   std::map<std::string, AlarmView> alarms;      // by alarm id
   std::map<std::string, RecommendationView> recommendations;  // by recommendation id
+  // The recommender's operator line (causal_twin/asset_status): learning n of N, healthy, stopped, alarm.
+  std::optional<causal_twin::AssetStatus> status;
 };
 
 struct StateCounters {
@@ -89,6 +91,7 @@ struct StateCounters {
   std::uint64_t factor_messages_rejected = 0;  // inconsistent batches (outcome range, names/values/std lengths)
   std::uint64_t alarm_events = 0;
   std::uint64_t recommendations = 0;
+  std::uint64_t statuses = 0;
 };
 
 // The causal graph of one group from its outcomes' latest factors (names parsed by the project's convention).
@@ -103,6 +106,7 @@ class TwinState {
   void on_factors(const causal_twin::CausalFactorBatch& in);  // one message: every outcome at one index
   void on_alarm(const causal_twin::Alarm& in);
   void on_recommendation(const causal_twin::Recommendation& in);
+  void on_status(const causal_twin::AssetStatus& in);
 
   // Any thread.
   std::uint64_t version() const;

@@ -14,12 +14,14 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
       factors_in_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
       alarms_in_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
       recommendations_in_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
+      status_in_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusReader),
       replies_in_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader),
       requests_out_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter) {
   loop_.attach(conditions_in_.get());
   loop_.attach(factors_in_.get());
   loop_.attach(alarms_in_.get());
   loop_.attach(recommendations_in_.get());
+  loop_.attach(status_in_.get());
   loop_.attach(replies_in_.get());
   state_.set_info("service", "twin-web");
   state_.set_info("domain", std::to_string(participant_.domain_id()));
@@ -61,6 +63,7 @@ int TwinWebNode::run() {
                c.factor_messages_rejected);
   spdlog::info("summary topic={} received={}", dds::topics::kAlarm, c.alarm_events);
   spdlog::info("summary topic={} received={}", dds::topics::kRecommendation, c.recommendations);
+  spdlog::info("summary topic={} received={}", dds::topics::kAssetStatus, c.statuses);
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kWhatIfRequest, requests_sent_,
                requests_failed_, whatif_.asked(), whatif_.answered());
   const auto refused = conditions_in_.rejections().total() + factors_in_.rejections().total() +
@@ -74,6 +77,7 @@ std::size_t TwinWebNode::take_available() {
   n += conditions_in_.take_all([this](const auto& c, const auto&) { state_.on_condition(c); }, loop_.stop_flag());
   n += factors_in_.take_all([this](const auto& f, const auto&) { state_.on_factors(f); }, loop_.stop_flag());
   n += alarms_in_.take_all([this](const auto& a, const auto&) { state_.on_alarm(a); }, loop_.stop_flag());
+  n += status_in_.take_all([this](const auto& st, const auto&) { state_.on_status(st); }, loop_.stop_flag());
   n += recommendations_in_.take_all([this](const auto& r, const auto&) { state_.on_recommendation(r); },
                                     loop_.stop_flag());
   n += replies_in_.take_all(

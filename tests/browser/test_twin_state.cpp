@@ -264,6 +264,32 @@ TEST(TwinState, PageViewCarriesOneGroupAndWakesOnlyForIt) {
   EXPECT_TRUE(json::parse(s.page_json("unknown"))["group"].is_null());
 }
 
+// Issue 24 finding 6: the recommender's status line per group reaches the page (group and overview).
+TEST(TwinState, AssetStatusIsShownPerGroupAndInTheOverview) {
+  TwinState s;
+  causal_twin::AssetStatus st;
+  st.asset_group("g");
+  st.state("learning");
+  st.learning_seen(37);
+  st.learning_needed(140);
+  st.sample_index(36);
+  st.text("learning its baseline: 37 of 140 observations, no verdict yet");
+  s.on_status(st);
+  json page = json::parse(s.page_json("g"));
+  EXPECT_EQ(page["group"]["status"]["state"], "learning");
+  EXPECT_EQ(page["group"]["status"]["learning_seen"], 37);
+  EXPECT_EQ(page["group"]["status"]["learning_needed"], 140);
+  EXPECT_EQ(page["overview"]["groups"][0]["state"], "learning");
+  const auto before = s.versions("g");
+  st.state("stopped");
+  st.text("stopped: the machine is not running");
+  s.on_status(st);
+  EXPECT_NE(s.versions("g").overview, before.overview);  // the state is in the overview
+  page = json::parse(s.page_json("g"));
+  EXPECT_EQ(page["group"]["status"]["state"], "stopped");
+  EXPECT_EQ(s.counters().statuses, 2u);
+}
+
 TEST(WhatIfBridge, SendsResendsAndHandsTheMatchingReplyBack) {
   WhatIfBridge bridge;
   causal_twin::WhatIfRequest q;

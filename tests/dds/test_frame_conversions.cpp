@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 
@@ -184,3 +185,52 @@ TEST(ConditionConversions, ValidationCatchesBadVectors) {
 }
 
 }  // namespace
+
+// Issue 24 finding 8: values no sensor produces are refused with a message naming the field and its limit.
+TEST(FrameConversions, ValidateFrameEnforcesTheInputLimits) {
+  const int n = 10, g = 2;
+  causal_twin::VibrationFrame good;
+  causal::dds::to_frame(header(g), random_block(n, g, 5), 0, n, good);
+  ASSERT_EQ(causal::dds::validate_frame(good), "");
+  auto refused = [&](auto change, const std::string& expect) {
+    auto f = good;
+    change(f);
+    const std::string msg = causal::dds::validate_frame(f);
+    EXPECT_NE(msg.find(expect), std::string::npos) << "'" << msg << "' should name '" << expect << "'";
+  };
+  refused([](auto& f) { f.sample_rate_hz(1e-300); }, "sample_rate_hz 1e-300 is outside");
+  refused([](auto& f) { f.sample_rate_hz(1e9); }, "sample_rate_hz");
+  refused([](auto& f) { f.first_sample_time_ns(std::numeric_limits<std::int64_t>::min()); }, "first_sample_time_ns");
+  refused([](auto& f) { f.first_sample_time_ns(-1); }, "1970-01-01..2100-01-01");
+  refused([](auto& f) { f.first_sample_index(~std::uint64_t{0} - 15); }, "first_sample_index");
+  refused([](auto& f) { f.first_sample_index((std::uint64_t{1} << 53) - 5); }, "last sample index");
+  refused([](auto& f) { f.snapshot_index(~std::uint64_t{0}); }, "snapshot_index");
+  refused([](auto& f) { f.sequence_number(~std::uint64_t{0}); }, "sequence_number");
+  refused([](auto& f) {
+    std::vector<std::string> names;
+    for (int c = 0; c < 65; ++c) names.push_back("c" + std::to_string(c));
+    f.channel_names(names);
+  }, "65 channels, at most 64");
+  // The edges themselves are accepted.
+  auto edge = good;
+  edge.sample_rate_hz(1e-6);
+  edge.first_sample_time_ns(0);
+  edge.first_sample_index((std::uint64_t{1} << 53) - n);
+  EXPECT_EQ(causal::dds::validate_frame(edge), "");
+  EXPECT_EQ(causal::dds::validate_frame_header(2, 1e-300, 0).rfind("sample_rate_hz", 0), 0u);
+}
+
+TEST(ConditionConversions, ValidationEnforcesTimeAndIndexLimits) {
+  ConditionHeader h;
+  h.asset_group = "g";
+  h.feature = "rms";
+  h.time_ns = std::numeric_limits<std::int64_t>::min();
+  h.channel_names = {"a", "b"};
+  causal_twin::ConditionVector cv;
+  causal::dds::to_condition_vector(h, Eigen::Vector2d(1.0, 2.0), cv);
+  EXPECT_NE(causal::dds::validate_condition_vector(cv).find("time_ns"), std::string::npos);
+  cv.time_ns(1'077'000'000'000'000'000LL);
+  EXPECT_EQ(causal::dds::validate_condition_vector(cv), "");
+  cv.snapshot_index(~std::uint64_t{0} - 15);
+  EXPECT_NE(causal::dds::validate_condition_vector(cv).find("snapshot_index"), std::string::npos);
+}

@@ -114,3 +114,35 @@ TEST(BlockSequencer, AssetGroupsAreCountedSeparately) {
   ASSERT_EQ(s.admit(block(1, 10 * kMs, 10, "g1")).plan->sequence, 1u);
   EXPECT_EQ(s.groups(), 2u);
 }
+
+// Issue 24 finding 2: a restarted sensor-ingest continues the numbering a previous run left (ResumePoint), so its
+// frames are never taken for ones the estimator already processed.
+TEST(BlockSequencer, ResumedGroupContinuesNumberingWithANewSegment) {
+  BlockSequencer first;
+  for (std::uint64_t i = 0; i < 4; ++i) ASSERT_TRUE(first.admit(block(i, static_cast<std::int64_t>(i) * 10 * kMs)).plan);
+  const auto point = first.resume_point("g1");
+  ASSERT_TRUE(point);
+  EXPECT_EQ(point->next_sequence, 4u);
+  EXPECT_EQ(point->next_sample_index, 40u);
+  EXPECT_FALSE(first.resume_point("other"));
+
+  BlockSequencer restarted;
+  restarted.resume("g1", *point);
+  EXPECT_TRUE(restarted.knows("g1"));
+  // The restarted source counts from 0 again, later in time.
+  const auto a = restarted.admit(block(0, 3600 * 1000 * kMs));
+  ASSERT_TRUE(a.plan) << a.detail;
+  EXPECT_EQ(a.plan->sequence, 4u);
+  EXPECT_EQ(a.plan->first_sample_index, 40u);
+  EXPECT_EQ(a.plan->snapshot_index, point->snapshot_index + 1);
+  EXPECT_TRUE(a.plan->discontinuity);
+  EXPECT_NE(a.plan->why.find("restarted"), std::string::npos);
+  const auto b = restarted.admit(block(1, 3600 * 1000 * kMs + 10 * kMs));
+  ASSERT_TRUE(b.plan);
+  EXPECT_EQ(b.plan->sequence, 5u);
+  EXPECT_FALSE(b.plan->discontinuity);
+  // Another channel layout after the restart is refused as before.
+  auto wide = block(2, 3600 * 1000 * kMs + 20 * kMs);
+  wide.channels = {"a", "b", "c"};
+  EXPECT_EQ(restarted.admit(wide).reason, RejectReason::LayoutChange);
+}

@@ -447,3 +447,72 @@ TEST(InputScreenParameters, InvalidThresholdsThrowAtConstructionAndRefuseTheFirs
 }
 
 }  // namespace
+
+// Issue 24 finding 7: a stopped machine (every channel at the ADC's quantisation floor, as IMS test 2's last
+// snapshot: -0.005, -0.002, 0, +0.002) is an operating state, not 4 stuck channels: nothing is quarantined, the
+// values pass, MachineStopped then MachineRunning are reported. One channel at the floor alone stays a fault.
+namespace {
+RowMajorMatrix running_rows(std::mt19937_64& rng, Eigen::Index n) {
+  std::normal_distribution<double> noise(0.0, 0.08);
+  RowMajorMatrix y(n, kG);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int j = 0; j < kG; ++j) y(i, j) = std::round(noise(rng) / 0.002) * 0.002;  // 12-bit-like steps
+  return y;
+}
+RowMajorMatrix stopped_rows(std::mt19937_64& rng, Eigen::Index n) {
+  const double levels[] = {-0.005, -0.002, -0.002, 0.0, 0.0, 0.002};
+  std::uniform_int_distribution<int> pick(0, 5);
+  RowMajorMatrix y(n, kG);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int j = 0; j < kG; ++j) y(i, j) = levels[pick(rng)];
+  return y;
+}
+std::size_t count_kind(const std::vector<QualityEvent>& events, QualityEventKind kind) {
+  return static_cast<std::size_t>(std::count_if(events.begin(), events.end(), [&](const auto& e) { return e.kind == kind; }));
+}
+}  // namespace
+
+TEST(InputScreenStoppedMachine, EveryChannelAtTheQuantisationFloorIsAnOperatingStateNotAFault) {
+  std::mt19937_64 rng(24);
+  InputScreen screen(kScreen, kG, ScreenLevel::Sample);
+  std::vector<QualityEvent> events;
+  for (int f = 0; f < 8; ++f) {
+    RowMajorMatrix y = running_rows(rng, 1024);
+    screen.screen(y.data(), 1024, events);
+  }
+  ASSERT_TRUE(events.empty());
+  for (int f = 0; f < 20; ++f) {  // one IMS snapshot: 20 frames of 1024 rows
+    RowMajorMatrix y = stopped_rows(rng, 1024);
+    const RowMajorMatrix before = y;
+    screen.screen(y.data(), 1024, events);
+    EXPECT_TRUE(y == before) << "stopped-machine values pass unchanged (frame " << f << ")";
+  }
+  EXPECT_TRUE(screen.machine_stopped());
+  EXPECT_EQ(screen.stopped_rows(), 20u * 1024u);
+  EXPECT_EQ(count_kind(events, QualityEventKind::MachineStopped), 1u);
+  EXPECT_EQ(count_kind(events, QualityEventKind::Stuck) + count_kind(events, QualityEventKind::ScaleChange), 0u);
+  for (const auto& c : screen.counters()) EXPECT_FALSE(c.quarantined);
+  RowMajorMatrix y = running_rows(rng, 1024);
+  screen.screen(y.data(), 1024, events);
+  EXPECT_FALSE(screen.machine_stopped());
+  EXPECT_EQ(count_kind(events, QualityEventKind::MachineRunning), 1u);
+  EXPECT_FALSE(y.hasNaN());
+}
+
+TEST(InputScreenStoppedMachine, OneChannelAtTheFloorWhileTheOthersRunIsStillQuarantined) {
+  std::mt19937_64 rng(25);
+  InputScreen screen(kScreen, kG, ScreenLevel::Sample);
+  std::vector<QualityEvent> events;
+  for (int f = 0; f < 8; ++f) {
+    RowMajorMatrix y = running_rows(rng, 1024);
+    screen.screen(y.data(), 1024, events);
+  }
+  for (int f = 0; f < 8; ++f) {
+    RowMajorMatrix y = running_rows(rng, 1024);
+    y.col(1).setZero();  // a dead channel
+    screen.screen(y.data(), 1024, events);
+  }
+  EXPECT_FALSE(screen.machine_stopped());
+  EXPECT_EQ(count_kind(events, QualityEventKind::MachineStopped), 0u);
+  EXPECT_TRUE(screen.counters()[1].quarantined);
+}

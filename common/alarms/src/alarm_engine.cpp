@@ -308,7 +308,7 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
 void AlarmEngine::Impl::begin_alarm(int c, int k, const Observation& obs) {
   auto& slot = ch[static_cast<std::size_t>(c)].slots[static_cast<std::size_t>(k)];
   ++slot.counter;
-  slot.id = group + "/" + std::to_string(c + 1) + "/" + detail::kind_name(k) + "/" + std::to_string(slot.counter);
+  slot.id = alarm_id(c, detail::kind_name(k), slot.counter);
   slot.raised_time_ns = obs.time_ns;
   detail::detector_table()[static_cast<std::size_t>(k)].onset(*this, c, obs, slot.onset_index, slot.onset_time_ns);
   slot.warning_run = slot.critical_run = 0;
@@ -363,6 +363,7 @@ AlarmEvent AlarmEngine::Impl::make_event(int c, int k, AlarmState state, const O
 bool AlarmEngine::baseline_ready() const { return impl_->ready; }
 int AlarmEngine::channel_count() const { return impl_->channels(); }
 const std::string& AlarmEngine::asset_group() const { return impl_->group; }
+void AlarmEngine::set_id_scope(std::string scope) { impl_->id_scope = std::move(scope); }
 const std::vector<std::string>& AlarmEngine::channel_names() const { return impl_->names; }
 const std::vector<std::string>& AlarmEngine::factor_names() const { return impl_->factor_names; }
 const AlarmParams& AlarmEngine::params() const { return impl_->p; }

@@ -227,6 +227,12 @@ namespace causal::alarms {
 
 struct AlarmEngine::Impl {
   std::string group;
+  std::string id_scope;  // "" or e.g. "sample": ids "<group>/<scope>/<channel>/<kind>/<n>" (set_id_scope)
+  // The id of the n-th alarm (or event) of one kind on channel c (0-based), unique per engine and scope.
+  std::string alarm_id(int c, const std::string& kind, std::uint64_t n) const {
+    return group + (id_scope.empty() ? "" : "/" + id_scope) + "/" + std::to_string(c + 1) + "/" + kind + "/" +
+           std::to_string(n);
+  }
   std::vector<std::string> names;
   std::vector<std::string> factor_names;
   AlarmParams p;

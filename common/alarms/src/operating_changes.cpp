@@ -127,7 +127,7 @@ void AlarmEngine::Impl::emit_change(int c, const char* kind_name, const std::str
   ++cs.change_counter;
   ++operating_changes;
   AlarmEvent e;
-  e.alarm_id = group + "/" + std::to_string(c + 1) + "/" + kind_name + "/" + std::to_string(cs.change_counter);
+  e.alarm_id = alarm_id(c, kind_name, cs.change_counter);
   e.channel = c;
   e.kind = kind_name;
   e.category = category::kOperatingChange;

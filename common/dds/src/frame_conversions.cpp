@@ -1,6 +1,7 @@
 #include "causal/dds/frame_conversions.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace causal::dds {
 
@@ -25,10 +26,60 @@ void to_frame(const FrameHeader& header, const Eigen::Ref<const Eigen::MatrixXd>
   Eigen::Map<RowMajorMatrix>(out.data(), rows, g) = block.middleRows(first_row, rows);
 }
 
+namespace {
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+std::string check_channels(std::size_t g) {
+  if (g == 0) return "no channel names";
+  if (g > InputLimits::kMaxChannels) {
+    return std::to_string(g) + " channels, at most " + std::to_string(InputLimits::kMaxChannels) + " allowed";
+  }
+  return {};
+}
+
+std::string check_time(const char* field, std::int64_t t) {
+  if (t < InputLimits::kMinTimeNs || t > InputLimits::kMaxTimeNs) {
+    return std::string(field) + " " + std::to_string(t) +
+           " is outside 1970-01-01..2100-01-01 UTC (ns since the Unix epoch; a time in s or us, or garbage?)";
+  }
+  return {};
+}
+
+std::string check_index(const char* field, std::uint64_t i) {
+  if (i > InputLimits::kMaxIndex) {
+    return std::string(field) + " " + std::to_string(i) + " is above 2^53 (" + std::to_string(InputLimits::kMaxIndex) +
+           "): indices must stay exact and must not wrap";
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string validate_frame_header(std::size_t channels, double rate, std::int64_t first_sample_time_ns) {
+  if (auto p = check_channels(channels); !p.empty()) return "frame has " + p;
+  if (!std::isfinite(rate) || rate < InputLimits::kMinSampleRateHz || rate > InputLimits::kMaxSampleRateHz) {
+    return "sample_rate_hz " + number(rate) + " is outside " + number(InputLimits::kMinSampleRateHz) + ".." +
+           number(InputLimits::kMaxSampleRateHz) + " Hz";
+  }
+  return check_time("first_sample_time_ns", first_sample_time_ns);
+}
+
 std::string validate_frame(const causal_twin::VibrationFrame& frame) {
   const std::size_t g = frame.channel_names().size();
-  if (g == 0) return "frame has no channel names";
-  if (!(frame.sample_rate_hz() > 0.0) || !std::isfinite(frame.sample_rate_hz())) return "sample_rate_hz must be > 0";
+  if (auto p = validate_frame_header(g, frame.sample_rate_hz(), frame.first_sample_time_ns()); !p.empty()) return p;
+  if (auto p = check_index("sequence_number", frame.sequence_number()); !p.empty()) return p;
+  if (auto p = check_index("snapshot_index", frame.snapshot_index()); !p.empty()) return p;
+  if (auto p = check_index("first_sample_index", frame.first_sample_index()); !p.empty()) return p;
+  if (auto p = check_index("last sample index (first_sample_index + samples_per_channel)",
+                           frame.first_sample_index() + frame.samples_per_channel());
+      !p.empty()) {
+    return p;
+  }
   const std::size_t expected = static_cast<std::size_t>(frame.samples_per_channel()) * g;
   if (frame.samples().size() != expected) {
     return "samples has " + std::to_string(frame.samples().size()) + " values, expected samples_per_channel x G = " +
@@ -59,7 +110,9 @@ void to_condition_vector(const ConditionHeader& header, const Eigen::Ref<const E
 }
 
 std::string validate_condition_vector(const causal_twin::ConditionVector& in) {
-  if (in.channel_names().empty()) return "condition vector has no channel names";
+  if (auto p = check_channels(in.channel_names().size()); !p.empty()) return "condition vector has " + p;
+  if (auto p = check_time("time_ns", in.time_ns()); !p.empty()) return p;
+  if (auto p = check_index("snapshot_index", in.snapshot_index()); !p.empty()) return p;
   if (in.values().size() != in.channel_names().size()) {
     return "condition vector has " + std::to_string(in.values().size()) + " values for " +
            std::to_string(in.channel_names().size()) + " channels";

@@ -19,6 +19,8 @@ const char* to_string(QualityEventKind kind) {
     case QualityEventKind::Stuck: return "stuck";
     case QualityEventKind::ScaleChange: return "scale_change";
     case QualityEventKind::Recovered: return "recovered";
+    case QualityEventKind::MachineStopped: return "machine_stopped";
+    case QualityEventKind::MachineRunning: return "machine_running";
   }
   return "unknown";
 }
@@ -270,8 +272,54 @@ inline bool InputScreen::screen_plain_value(ChannelState& c, ChannelQualityCount
   return true;
 }
 
+bool InputScreen::at_quantisation_floor(const double* rows, std::size_t n) const {
+  if (level_ != ScreenLevel::Sample || params_.stopped_max_levels == 0 || n < params_.stopped_min_rows) return false;
+  const auto g = static_cast<std::size_t>(channels());
+  std::vector<double> levels;
+  levels.reserve(params_.stopped_max_levels + 1);
+  for (std::size_t j = 0; j < g; ++j) {
+    const double reference = counters_[j].reference_scale;
+    const double limit = reference > 0.0 ? params_.stopped_max_ratio * reference : params_.max_abs_value;
+    levels.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = rows[i * g + j];
+      if (!std::isfinite(x) || std::abs(x) > limit) return false;
+      if (std::find(levels.begin(), levels.end(), x) != levels.end()) continue;
+      levels.push_back(x);
+      if (levels.size() > params_.stopped_max_levels) return false;
+    }
+  }
+  return true;
+}
+
 void InputScreen::screen(double* rows, std::size_t n, std::vector<QualityEvent>& events) {
   const int g = channels();
+  const bool floor = at_quantisation_floor(rows, n);
+  if (floor || (stopped_ && n >= params_.stopped_min_rows)) {
+    if (floor != stopped_) {
+      stopped_ = floor;
+      std::ostringstream os;
+      if (floor) {
+        os << "every channel at the quantisation floor (at most " << params_.stopped_max_levels
+           << " distinct values, within " << params_.stopped_max_ratio
+           << " x the calibration scale, over " << n << " rows): the machine is not running";
+      } else {
+        os << "the channels are live again: the machine is running";
+      }
+      emit(events, 0, floor ? QualityEventKind::MachineStopped : QualityEventKind::MachineRunning, next_index_, 1,
+           os.str());
+    }
+  }
+  if (floor) {
+    // Passed unchanged and unjudged: the runs a stopped machine would leave behind start afresh.
+    for (std::size_t j = 0; j < static_cast<std::size_t>(g); ++j) {
+      counters_[j].screened += n;
+      channels_[j].same_run = channels_[j].low_run = 0;
+    }
+    stopped_rows_ += n;
+    next_index_ += n;
+    return;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     double* row = rows + i * static_cast<std::size_t>(g);
     const std::uint64_t index = next_index_++;

@@ -101,6 +101,7 @@
       return;
     }
     renderStamp(g);
+    renderStatus(g);
     renderTrend(g);
     renderGraph(g);
     renderAlarms(g);
@@ -126,7 +127,18 @@
       const badge = b.lastChild;  // open alarms, coloured by the worst
       badge.textContent = g.open_alarms > 0 ? String(g.open_alarms) : '';
       badge.className = g.open_alarms > 0 ? `badge sev ${g.worst_severity}` : 'badge';
+      b.dataset.state = g.state || '';
+      b.title = g.state ? `${g.id}: ${g.state}` : g.id;
     });
+  }
+
+  // The recommender's operator line: learning n of N, healthy, stopped (an operating state) or alarm.
+  function renderStatus(g) {
+    const el = $('status');
+    const s = g.status;
+    el.dataset.state = s ? s.state : '';
+    el.textContent = s ? `${s.state.toUpperCase()} \u00b7 ${s.text}` +
+      (s.action ? ` \u00b7 advice: ${s.action}` : '') : 'no status from the alarm-recommender yet';
   }
 
   function renderStamp(g) {

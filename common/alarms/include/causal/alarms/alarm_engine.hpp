@@ -89,6 +89,11 @@ class AlarmEngine {
   // channel order. Observations whose vectors have the wrong size are rejected (counted, no event).
   std::vector<AlarmEvent> observe(const Observation& obs);
 
+  // Ids are "<asset_group>/<channel 1-based>/<kind>/<n>"; with a scope "<asset_group>/<scope>/<channel>/...".
+  // Engines of one asset group on different time scales must differ here (the alarm topic keeps the last value
+  // per id: a condition-level CLEARED would otherwise overwrite a sample-level alarm still open). Not saved in
+  // checkpoints: the owner sets it again after restore(). Call before the first observation.
+  void set_id_scope(std::string scope);
   bool baseline_ready() const;
   int channel_count() const;
   const std::string& asset_group() const;

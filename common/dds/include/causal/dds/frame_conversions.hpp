@@ -30,9 +30,30 @@ struct FrameHeader {
 void to_frame(const FrameHeader& header, const Eigen::Ref<const Eigen::MatrixXd>& block, Eigen::Index first_row,
               Eigen::Index rows, causal_twin::VibrationFrame& frame);
 
-// Checks the frame's shape (G >= 1 channel names, sample_rate > 0, samples.size() == N * G).
-// Returns an empty string when valid, otherwise what is wrong.
+// Input limits (issue 24, finding 8): values no sensor produces, refused with a clear message instead of reaching
+// the filters (a rate of 1e-300 Hz makes the sample period infinite, a time of INT64_MIN overflows every
+// interval, an index of 2^64-16 wraps the next frame's index to 0 and looks like a restart).
+struct InputLimits {
+  // 1 sample per 11.6 days .. 100 MHz: slower is not a sampled signal, faster no vibration DAQ delivers.
+  static constexpr double kMinSampleRateHz = 1e-6;
+  static constexpr double kMaxSampleRateHz = 1e8;
+  // 1970-01-01 .. 2100-01-01 UTC, ns since the Unix epoch: data times of real plants (IMS: 2004); negative or
+  // far-future times are a wrong unit (s or us read as ns) or garbage.
+  static constexpr std::int64_t kMinTimeNs = 0;
+  static constexpr std::int64_t kMaxTimeNs = 4102444800LL * 1000000000LL;
+  // 2^53: indices stay exact as doubles (CSV, JSON, plots) and an index + a frame never wraps; 2^53 samples at
+  // 1 MHz last 285 years.
+  static constexpr std::uint64_t kMaxIndex = 1ULL << 53;
+  // The IDL's bound on channel names (sequence<string, 64>).
+  static constexpr std::size_t kMaxChannels = 64;
+};
+
+// Checks the frame's shape (1..64 channel names, samples.size() == N * G) and the InputLimits of its rate, time
+// and indices (sequence, first and last sample index, snapshot). Returns an empty string when valid, otherwise
+// what is wrong, naming the field and its limit.
 std::string validate_frame(const causal_twin::VibrationFrame& frame);
+// The part of validate_frame a source can check before it numbers a block: channel count, rate and time.
+std::string validate_frame_header(std::size_t channels, double sample_rate_hz, std::int64_t first_sample_time_ns);
 
 // Read-only N x G view of the frame's samples (row-major storage, no copy). Call validate_frame first.
 using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
@@ -51,8 +72,8 @@ struct ConditionHeader {
 
 void to_condition_vector(const ConditionHeader& header, const Eigen::Ref<const Eigen::VectorXd>& values,
                          causal_twin::ConditionVector& out);
-// Empty string when the shape is valid (values.size() == channel_names.size() >= 1). Values may be non-finite:
-// the consumer screens them per channel.
+// Empty string when the shape is valid (values.size() == channel_names.size(), 1..64) and the time and snapshot
+// index are within InputLimits. Values may be non-finite: the consumer screens them per channel.
 std::string validate_condition_vector(const causal_twin::ConditionVector& in);
 Eigen::VectorXd values_of(const causal_twin::ConditionVector& in);
 

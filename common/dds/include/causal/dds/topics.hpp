@@ -32,6 +32,8 @@ inline constexpr const char* kAlarmWriter = "alarm_writer";
 inline constexpr const char* kAlarmReader = "alarm_reader";
 inline constexpr const char* kRecommendationWriter = "recommendation_writer";
 inline constexpr const char* kRecommendationReader = "recommendation_reader";
+inline constexpr const char* kAssetStatusWriter = "asset_status_writer";  // transient-local, last value per group
+inline constexpr const char* kAssetStatusReader = "asset_status_reader";
 inline constexpr const char* kWhatIfWriter = "whatif_writer";
 inline constexpr const char* kWhatIfReader = "whatif_reader";
 

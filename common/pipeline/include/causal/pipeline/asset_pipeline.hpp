@@ -87,6 +87,8 @@ class AssetPipeline {
   explicit AssetPipeline(AssetPipelineParams params);
   // Names used to resolve the configured graphs; call before the first feed (else 1-based numbers only).
   void set_channel_names(std::vector<std::string> names) { channel_names_ = std::move(names); }
+  // The names set, or restored from a checkpoint (empty before either).
+  const std::vector<std::string>& channel_names() const { return channel_names_; }
 
   // A raw frame: rows N x G (sample-major); first_sample_index = the source's index of row 0 in the asset
   // group's sample stream (sample-level reports carry first_sample_index + row); snapshot_index = the

@@ -15,6 +15,14 @@
 //        equal, e.g. a dead channel reading 0; scale_change otherwise);
 //    Any of these QUARANTINES the channel: its values become NaN (counted, quarantined_values) until it has shown
 //    recovery_samples consecutive values with no stuck run and no out-of-range block, then it recovers.
+// A stopped machine is an operating state, not a fault (issue 24, finding 7): a raw frame (>= stopped_min_rows rows)
+// in which EVERY channel takes at most stopped_max_levels distinct values, all within stopped_max_ratio x the
+// channel's calibration scale (once known), is the ADC's quantisation floor (IMS test 2's last snapshot: values
+// -0.005, -0.002, 0, +0.002 on all four bearings). Such frames pass unchanged and unjudged (no stuck, scale or
+// collapse evidence: a stopped machine is not a dead channel), counted as stopped_rows; the screen reports
+// MachineStopped when it enters that state and MachineRunning when a frame is live again. One dead channel reading
+// 0 while the others run is still a stuck channel; a disconnected sensor (noise x1e-9) has many levels and is
+// still a scale change. Frames shorter than stopped_min_rows are screened value by value as before.
 // Events: one per run of non-finite or out-of-range values (at the run's first value), one when a channel
 // enters quarantine (with the cause that triggered it; a second cause while quarantined only delays recovery),
 // one when it recovers. Detection delays are inherent: a stuck run passes its first stuck_samples - 1 values,
@@ -32,9 +40,10 @@
 namespace causal::pipeline {
 
 enum class ScreenLevel { Sample, Condition };  // raw frame rows / ready-made condition vectors
-enum class QualityEventKind { NonFinite, OutOfRange, Stuck, ScaleChange, Recovered };
+enum class QualityEventKind { NonFinite, OutOfRange, Stuck, ScaleChange, Recovered, MachineStopped, MachineRunning };
 const char* to_string(ScreenLevel level);       // "sample", "condition"
-const char* to_string(QualityEventKind kind);   // "non_finite", "out_of_range", "stuck", "scale_change", "recovered"
+// "non_finite", "out_of_range", "stuck", "scale_change", "recovered", "machine_stopped", "machine_running"
+const char* to_string(QualityEventKind kind);
 
 // Thresholds. Defaults for raw vibration (g or V at ~20 kHz): for_samples(); for per-snapshot condition
 // features (one vector per snapshot, e.g. every 10 min): for_conditions(). 0 disables a count-based check.
@@ -64,6 +73,12 @@ struct InputScreenParams {
   // Consecutive healthy values (no stuck run, no out-of-range block) before a quarantined channel is used
   // again; >= scale_window so at least one whole block must be back in range.
   std::size_t recovery_samples = 4096;
+  // Stopped machine (see above). 8 levels: a 12-bit ADC at rest shows 3-5 (IMS: 4); a running machine's 1024
+  // samples take hundreds. A quarter of the calibration scale: the floor is far below the running level (IMS:
+  // |x| <= 0.005 against a median |x| of about 0.06), a channel stuck at its rail is not. 0 disables.
+  std::size_t stopped_max_levels = 8;
+  double stopped_max_ratio = 0.25;
+  std::size_t stopped_min_rows = 64;
 
   static InputScreenParams for_samples() { return {}; }
   // Condition features are computed over whole snapshots (20480 noisy samples): they never repeat exactly,
@@ -74,6 +89,7 @@ struct InputScreenParams {
     p.stuck_samples = 10;
     p.scale_window = 10;
     p.recovery_samples = 30;
+    p.stopped_max_levels = 0;  // one vector per snapshot: the recommender's operating-state gate judges levels
     return p;
   }
 };
@@ -109,6 +125,8 @@ class InputScreen {
   void screen(double* rows, std::size_t n, std::vector<QualityEvent>& events);
 
   int channels() const { return static_cast<int>(channels_.size()); }
+  bool machine_stopped() const { return stopped_; }
+  std::uint64_t stopped_rows() const { return stopped_rows_; }
   const std::vector<ChannelQualityCounters>& counters() const { return counters_; }
   std::uint64_t rows_screened() const { return next_index_; }
   const InputScreenParams& params() const { return params_; }
@@ -127,6 +145,7 @@ class InputScreen {
   double screen_value(int j, double x, std::uint64_t index, std::vector<QualityEvent>& events);
   bool screen_plain_value(ChannelState& c, ChannelQualityCounters& k, double x);
   bool scale_block_bad(int j, ChannelState& c);
+  bool at_quantisation_floor(const double* rows, std::size_t n) const;
   int scale_verdict_by_counting(const std::vector<double>& block, double reference) const;
   void emit(std::vector<QualityEvent>& events, int j, QualityEventKind kind, std::uint64_t index,
             std::uint64_t count, std::string reason) const;
@@ -136,6 +155,8 @@ class InputScreen {
   std::vector<ChannelState> channels_;
   std::vector<ChannelQualityCounters> counters_;
   std::uint64_t next_index_ = 0;
+  bool stopped_ = false;
+  std::uint64_t stopped_rows_ = 0;
 };
 
 }  // namespace causal::pipeline

@@ -1,0 +1,43 @@
+// One operator line per asset group (causal_twin/asset_status, issue 24 finding 6), built from the group's alarm
+// engines after every observation. States, in this order of precedence:
+//  * "alarm":    an open degradation alarm (either time scale): worst severity, its root cause, the latest advice;
+//  * "stopped":  the latest observation was below the engine's operating-state gate (every channel under
+//                AlarmParams::stopped_ratio x its baseline: the machine is not running). An operating state;
+//  * "learning": the baseline is not learned yet (n of N observations): no verdict, so never "healthy";
+//  * "healthy":  baseline learned, monitoring, nothing open.
+// DDS-free apart from the generated type; the node publishes what update() reports as changed.
+#pragma once
+
+#include "causal/alarms/alarm_engine.hpp"
+#include "causal_twin.h"
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+namespace causal::recommender {
+
+struct StatusInput {
+  const alarms::AlarmEngine* condition = nullptr;  // the group's engines (null when that scale is not running)
+  const alarms::AlarmEngine* sample = nullptr;
+  bool stopped_now = false;  // the latest observation was gated as "not running"
+  std::uint64_t index = 0;
+  std::int64_t time_ns = 0;
+};
+
+class AssetStatusBoard {
+ public:
+  // Computes the group's status; true (and `out` filled) when it differs from the last one reported, apart from
+  // the index and time (a status is published when it changes, not at every snapshot).
+  bool update(const std::string& group, const StatusInput& in, causal_twin::AssetStatus& out);
+  // The advice given for an alarm (rank 1), shown while that alarm is the group's worst.
+  void note_action(const std::string& alarm_id, const std::string& action) { actions_[alarm_id] = action; }
+  std::uint64_t published() const { return published_; }
+
+ private:
+  std::map<std::string, causal_twin::AssetStatus> last_;
+  std::map<std::string, std::string> actions_;
+  std::uint64_t published_ = 0;
+};
+
+}  // namespace causal::recommender

@@ -1,0 +1,36 @@
+// alarm-recommender: the AssetStatus line of a group (asset_status.hpp), published on causal_twin/asset_status when
+// it changes (transient-local, last value per group: a view that joins later gets every group's state).
+#include "recommender_node.hpp"
+
+#include <spdlog/spdlog.h>
+
+namespace causal::recommender {
+
+void RecommenderNode::publish_status(const AssembledObservation& a, bool stopped_now) {
+  StatusInput in;
+  const auto condition = engines_.find({a.asset_group, static_cast<int>(causal_twin::CONDITION_LEVEL)});
+  const auto sample = engines_.find({a.asset_group, static_cast<int>(causal_twin::SAMPLE_LEVEL)});
+  in.condition = condition != engines_.end() ? condition->second.engine.get() : nullptr;
+  in.sample = sample != engines_.end() ? sample->second.engine.get() : nullptr;
+  const bool from_sample = a.time_scale == causal_twin::SAMPLE_LEVEL;
+  // The operating state and the learning count come from the condition level when it runs (one observation per
+  // snapshot); the sample level speaks for them only when it runs alone.
+  if (from_sample && in.condition != nullptr) {
+    const auto& last = status_last_stopped_[a.asset_group];
+    in.stopped_now = last;
+  } else {
+    in.stopped_now = stopped_now;
+    status_last_stopped_[a.asset_group] = stopped_now;
+  }
+  in.index = a.observation.index;
+  in.time_ns = a.observation.time_ns;
+  causal_twin::AssetStatus msg;
+  if (!status_.update(a.asset_group, in, msg)) return;
+  const bool learning = msg.state() == "learning";
+  // Learning advances at every observation: logged at debug, the other states when they change.
+  spdlog::log(learning ? spdlog::level::debug : spdlog::level::info, "STATUS {} {}: {}", a.asset_group, msg.state(),
+              msg.text());
+  if (status_writer_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++statuses_published_;
+}
+
+}  // namespace causal::recommender

@@ -1,0 +1,43 @@
+#include "status_rows.hpp"
+
+#include "csv_format.hpp"
+#include "record_rows.hpp"
+
+#include "causal/io/time_format.hpp"
+
+namespace causal::recorder {
+
+using report::format_integer;
+
+const std::vector<std::string>& asset_status_header() {
+  static const std::vector<std::string> h{"asset_group",     "state",           "learning_seen",  "learning_needed",
+                                          "sample_index",    "time_utc",        "has_alarm",      "worst_severity",
+                                          "open_alarms",     "root_cause_channel", "root_cause_name", "action",
+                                          "prognosis_text",  "text"};
+  return h;
+}
+
+std::vector<std::string> asset_status_row(const causal_twin::AssetStatus& s) {
+  return {s.asset_group(),
+          s.state(),
+          format_integer(static_cast<std::uint64_t>(s.learning_seen())),
+          format_integer(static_cast<std::uint64_t>(s.learning_needed())),
+          format_integer(static_cast<std::uint64_t>(s.sample_index())),
+          s.time_ns() == 0 ? std::string() : io::format_utc(s.time_ns()),
+          s.has_alarm() ? "true" : "false",
+          s.has_alarm() ? to_string(s.worst_severity()) : "",
+          format_integer(static_cast<std::uint64_t>(s.open_alarms())),
+          format_integer(static_cast<std::uint64_t>(s.root_cause_channel())),
+          s.root_cause_name(),
+          s.action(),
+          s.prognosis_text(),
+          s.text()};
+}
+
+std::string asset_status_signature(const causal_twin::AssetStatus& s) {
+  std::string out;
+  for (const auto& cell : asset_status_row(s)) out += cell + '\x1f';
+  return out;
+}
+
+}  // namespace causal::recorder

@@ -1,0 +1,160 @@
+// Operator states on the live path (issue 24, findings 6 and 7), with real processes on a private loopback domain:
+//  * The raw IMS snapshots up to the stopped machine (the last file of IMS test 2: every value at the +-0.002
+//    quantisation step) through sensor-replay and causal-estimator: the stop is an operating_change event
+//    "machine_stopped", nothing is quarantined or dropped, exit 0 (before: 4 channels stuck, window dropped, exit 4).
+//  * The 984-snapshot feature table through estimator, alarm-recommender and causal-recorder: asset_status.csv
+//    says "learning n of 140" for the first 140 snapshots (never "healthy" while learning; before: no status at
+//    all and "healthy"), then healthy, then alarm with its root cause, and the stopped machine at the end.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "process_runner.hpp"
+
+namespace fs = std::filesystem;
+using causal::test::ServiceProcess;
+
+namespace {
+
+fs::path work_dir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("causal_operator_status_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+std::string transport() { return std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"; }
+
+bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+// Simple CSV reader for the recorder's files (quoted cells with commas allowed).
+std::vector<std::vector<std::string>> read_csv(const fs::path& file) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells(1);
+    bool quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      const char c = line[i];
+      if (c == '"') {
+        if (quoted && i + 1 < line.size() && line[i + 1] == '"') {
+          cells.back() += '"';
+          ++i;
+        } else {
+          quoted = !quoted;
+        }
+      } else if (c == ',' && !quoted) {
+        cells.emplace_back();
+      } else {
+        cells.back() += c;
+      }
+    }
+    rows.push_back(std::move(cells));
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST(OperatorStatus, StoppedMachineIsAnOperatingStateNotBadInput) {
+  const fs::path work = work_dir("stopped");
+  const fs::path dir = work / "ims";
+  fs::create_directories(dir);
+  const fs::path slice = fs::path(CAUSAL_TWIN_DEPLOY_DIR) / "data" / "ims2-slice";
+  for (const char* f : {"2004.02.19.05.52.39.gz", "2004.02.19.06.02.39.gz"}) fs::create_symlink(slice / f, dir / f);
+  fs::create_symlink(fs::path(CAUSAL_TWIN_TEST_DATA_DIR) / "ims2-stopped" / "2004.02.19.06.22.39.gz",
+                     dir / "2004.02.19.06.22.39.gz");
+  const std::string d = std::to_string(causal::test::private_domain_id(64));
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--transport", transport(), "--idle-exit", "3",
+                            "--max-runtime", "100"},
+                           (work / "estimator.log").string());
+  ServiceProcess replay("sensor-replay",
+                        {SENSOR_REPLAY_BIN, "--domain", d, "--transport", transport(), "--ims-dir", dir.string(),
+                         "--asset-group", "ims2-end", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
+                        (work / "replay.log").string());
+  const auto replayed = replay.wait(std::chrono::seconds(90));
+  ASSERT_TRUE(replayed.has_value()) << replay.output();
+  EXPECT_EQ(*replayed, 0) << replay.output();
+  const auto code = estimator.wait(std::chrono::seconds(60));
+  ASSERT_TRUE(code.has_value()) << estimator.output();
+  const std::string out = estimator.output();
+  EXPECT_EQ(*code, 0) << "a stopped machine is not bad input:\n" << out;
+  EXPECT_TRUE(contains(out, "OPERATING STATE RAISED ims2-end/machine/machine_stopped/s2")) << out;
+  EXPECT_FALSE(contains(out, "DATA QUALITY RAISED")) << out;
+  EXPECT_TRUE(contains(out, "summary topic=causal_twin/condition_vector windows_dropped=0")) << out;
+  if (!HasFailure()) fs::remove_all(work);
+}
+
+TEST(OperatorStatus, AssetStatusSaysLearningThenHealthyThenAlarmAndIsRecorded) {
+  const fs::path work = work_dir("status");
+  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
+  const std::string d = std::to_string(causal::test::private_domain_id(65));
+  const std::string t = transport();
+  ServiceProcess recorder("causal-recorder",
+                          {CAUSAL_RECORDER_BIN, "--domain", d, "--transport", t, "--out", (work / "rec").string(),
+                           "--idle-exit", "6", "--max-runtime", "200"},
+                          (work / "recorder.log").string());
+  ServiceProcess alarm("alarm-recommender",
+                       {ALARM_RECOMMENDER_BIN, "--domain", d, "--transport", t, "--idle-exit", "4", "--max-runtime",
+                        "200"},
+                       (work / "alarm.log").string());
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--transport", t, "--idle-exit", "3", "--max-runtime",
+                            "200", "--wait-for", "alarm-recommender", "--wait-for", "causal-recorder"},
+                           (work / "estimator.log").string());
+  ServiceProcess replay("sensor-replay",
+                        {SENSOR_REPLAY_BIN, "--domain", d, "--transport", t, "--features", table, "--feature-suffix",
+                         "_meanabs", "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3",
+                         "bearing4", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
+                        (work / "replay.log").string());
+  ASSERT_TRUE(replay.wait(std::chrono::seconds(150)).has_value()) << replay.output();
+  ASSERT_TRUE(estimator.wait(std::chrono::seconds(60)).has_value()) << estimator.output();
+  const auto alarm_code = alarm.wait(std::chrono::seconds(60));
+  ASSERT_TRUE(alarm_code.has_value()) << alarm.output();
+  const auto recorder_code = recorder.wait(std::chrono::seconds(60));
+  ASSERT_TRUE(recorder_code.has_value()) << recorder.output();
+  EXPECT_EQ(*recorder_code, 0) << recorder.output();
+
+  const auto rows = read_csv(work / "rec" / "asset_status.csv");
+  ASSERT_GT(rows.size(), 1u) << recorder.output();
+  std::map<std::string, std::size_t> col;
+  for (std::size_t i = 0; i < rows[0].size(); ++i) col[rows[0][i]] = i;
+  std::map<std::string, long> first;  // state -> first snapshot index
+  std::size_t learning_rows = 0;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    const auto& row = rows[r];
+    ASSERT_EQ(row.size(), rows[0].size()) << "row " << r;
+    const std::string state = row[col.at("state")];
+    const long index = std::stol(row[col.at("sample_index")]);
+    if (!first.count(state)) first[state] = index;
+    if (state == "learning") {
+      ++learning_rows;
+      EXPECT_EQ(row[col.at("learning_needed")], "140");
+    }
+    if (state == "healthy") EXPECT_EQ(learning_rows, 139u) << "healthy while learning at snapshot " << index;
+  }
+  std::cout << "asset_status.csv: " << rows.size() - 1 << " rows, " << learning_rows << " learning; healthy from "
+            << first["healthy"] << ", alarm from " << first["alarm"] << "; last: " << rows.back()[col.at("text")]
+            << "\n";
+  // The recommender's first observation comes with the estimator's first condition-level factors (after its
+  // calibration window); from then on one learning row per observation up to 139 of 140.
+  EXPECT_EQ(rows[1][col.at("state")], "learning");
+  EXPECT_EQ(rows[1][col.at("learning_seen")], "1");
+  EXPECT_EQ(learning_rows, 139u);  // 1 of 140 .. 139 of 140; the 140th observation completes the baseline
+  EXPECT_GT(first.at("healthy"), first.at("learning"));
+  EXPECT_EQ(first.at("alarm"), 533);  // bearing 1's first alarm (README: snapshot 533)
+  const auto& last = rows.back();
+  EXPECT_EQ(last[col.at("state")], "alarm");
+  EXPECT_EQ(last[col.at("root_cause_name")], "bearing1");
+  EXPECT_TRUE(contains(last[col.at("text")], "not running")) << last[col.at("text")];  // the stopped last snapshot
+  EXPECT_TRUE(contains(alarm.output(), "summary topic=causal_twin/asset_status sent=" + std::to_string(rows.size() - 1)))
+      << alarm.output();
+  if (!HasFailure()) fs::remove_all(work);
+}
