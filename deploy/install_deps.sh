@@ -26,6 +26,7 @@ PACKAGES=(
   dpkg-dev file                    # cpack -G DEB: dpkg-shlibdeps derives the package's Depends from the binaries
   systemd adduser                  # the package test: systemd-analyze verify on the units; the postinst's adduser
   libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
+  python3-minimal                  # tests/security/ingest_hardening.sh: UDP datagrams from a chosen source address
 )
 
 missing=()
