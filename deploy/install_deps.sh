@@ -27,6 +27,7 @@ PACKAGES=(
   systemd adduser                  # the package test: systemd-analyze verify on the units; the postinst's adduser
   libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
   passwd util-linux time           # cross-user fault test: useradd/userdel and runuser (a second Linux user); bench_transport.sh's CPU times
+  python3-minimal                  # tests/security/ingest_hardening.sh: UDP datagrams from a chosen source address
 )
 
 missing=()

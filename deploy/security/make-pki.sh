@@ -5,7 +5,8 @@
 # DIR gets:
 #   identity_ca.pem, permissions_ca.pem   the two CA certificates (public; every host needs both)
 #   governance.xml / governance.p7s       domain rules, signed (S/MIME) by the permissions CA
-#   sensor/ estimator/ recommender/ recorder/ operator/   cert.pem, key.pem, permissions.p7s per identity
+#   sensor/ ingest/ estimator/ recommender/ recorder/ operator/   cert.pem, key.pem, permissions.p7s per identity
+#                                         (ingest: sensor-ingest's own, with the sensor grants)
 #   private/                              the CA keys and the issuing database: keep them OFF the plant hosts
 # Services take it with --security DIR (each picks its own identity folder). ECDSA P-256 keys, SHA-256.
 # Exit code: 0 made, 2 bad usage or DIR not empty.
@@ -104,4 +105,11 @@ openssl smime -sign -text -in "$dir/governance.xml" -out "$dir/governance.p7s" \
 for role in sensor estimator recommender recorder operator; do
   "$here/issue-identity.sh" "$dir" "$role" "$role" --days "$days"
 done
+# sensor-ingest's own identity (sensor grants), so the edge adapter never shares a key with replays.
+"$here/issue-identity.sh" "$dir" ingest sensor --days "$days"
 echo "make-pki: PKI in $dir (CA keys in $dir/private: keep them off the plant hosts)"
+case "$dir/" in
+  /etc/causal-twin/*|/var/lib/causal-twin/*)
+    echo "make-pki: warning: $dir/private is inside a folder 'apt-get purge causal-twin' removes (the package's" \
+         "postrm keeps a copy in /root); move the CA keys to an offline place" >&2 ;;
+esac

@@ -1,5 +1,6 @@
 #include "ingest_options.hpp"
 
+#include <arpa/inet.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -62,6 +63,26 @@ SourceSpec parse_source(const std::string& text) {
   throw std::invalid_argument("--source '" + text + "': mqtt://HOST:PORT/TOPIC, udp://HOST:PORT or - (stdin) expected");
 }
 
+Ipv4Network parse_ipv4_network(const std::string& text) {
+  Ipv4Network n;
+  const auto slash = text.find('/');
+  const std::string address = text.substr(0, slash);
+  in_addr a{};
+  if (::inet_pton(AF_INET, address.c_str(), &a) != 1) {
+    throw std::invalid_argument("--udp-allow '" + text + "': expected A.B.C.D or A.B.C.D/N");
+  }
+  n.address = ntohl(a.s_addr);
+  if (slash != std::string::npos) {
+    const std::string bits = text.substr(slash + 1);
+    if (bits.empty() || bits.size() > 2 || bits.find_first_not_of("0123456789") != std::string::npos ||
+        std::stoi(bits) > 32) {
+      throw std::invalid_argument("--udp-allow '" + text + "': the prefix length must be 0..32");
+    }
+    n.prefix = std::stoi(bits);
+  }
+  return n;
+}
+
 std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& exit_code) {
   IngestOptions o;
   std::string source;
@@ -102,6 +123,21 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
       ->check(CLI::Range(0, 2))
       ->capture_default_str();
   app.add_option("--client-id", o.mqtt_client_id, "MQTT client id (default sensor-ingest-<pid>)");
+  app.add_option("--mqtt-cafile", o.mqtt_security.ca_file,
+                 "connect to the broker over TLS, trusting this CA (PEM); the broker's name must match its certificate")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mqtt-cert", o.mqtt_security.cert_file, "client certificate for mutual TLS (PEM, with --mqtt-key)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mqtt-key", o.mqtt_security.key_file, "the client certificate's private key (PEM)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mqtt-username", o.mqtt_security.username, "MQTT user name (with --mqtt-password-file)");
+  app.add_option("--mqtt-password-file", o.mqtt_security.password_file,
+                 "file (mode 0600) whose first line is the MQTT password")
+      ->check(CLI::ExistingFile);
+  std::vector<std::string> allow;
+  app.add_option("--udp-allow", allow,
+                 "take UDP datagrams only from this sender network, A.B.C.D[/N] (repeatable; default 127.0.0.0/8); "
+                 "others are refused and counted");
   app.add_option("--gap-factor", o.gap_factor,
                  "a time gap is more than this many sample periods between two consecutive samples")
       ->check(CLI::Range(1.0, 1e9))
@@ -144,6 +180,14 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
     for (const auto& w : o.wait_for) (void)dds::parse_named_readers(w);  // reject a bad NAME:COUNT now
     if (!topics.empty() && o.source.kind != SourceKind::Mqtt)
       throw CLI::ValidationError("--topic", "only with an mqtt:// source");
+    for (const auto& a : allow) o.udp_allow.push_back(parse_ipv4_network(a));
+    if (o.udp_allow.empty()) o.udp_allow.push_back(parse_ipv4_network("127.0.0.0/8"));
+    if (!allow.empty() && o.source.kind != SourceKind::Udp) throw CLI::ValidationError("--udp-allow", "only with a udp:// source");
+    const auto& m = o.mqtt_security;
+    if (m.cert_file.empty() != m.key_file.empty()) throw CLI::ValidationError("--mqtt-cert", "give --mqtt-key with it");
+    if (!m.cert_file.empty() && m.ca_file.empty()) throw CLI::ValidationError("--mqtt-cert", "needs --mqtt-cafile (TLS)");
+    if (m.username.empty() != m.password_file.empty())
+      throw CLI::ValidationError("--mqtt-username", "give --mqtt-username and --mqtt-password-file together");
   } catch (const CLI::ParseError& e) {
     exit_code = app.exit(e);
     if (exit_code != 0) exit_code = 2;

@@ -1,6 +1,7 @@
 // sensor-ingest's parameters: one plain struct, filled and checked by parse_ingest_options().
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,11 +26,37 @@ struct SourceSpec {
 SourceSpec parse_source(const std::string& text);
 const char* source_kind_name(SourceKind kind);  // "mqtt", "udp", "stdin"
 
+// An IPv4 network a UDP datagram may come from (address and prefix length, host byte order).
+struct Ipv4Network {
+  std::uint32_t address = 0;
+  int prefix = 32;
+  bool contains(std::uint32_t a) const {
+    const std::uint32_t mask = prefix == 0 ? 0 : ~std::uint32_t{0} << (32 - prefix);
+    return (a & mask) == (address & mask);
+  }
+};
+// "A.B.C.D" or "A.B.C.D/N"; throws std::invalid_argument naming the value.
+Ipv4Network parse_ipv4_network(const std::string& text);
+
+// How sensor-ingest authenticates to its MQTT broker: TLS (with the broker's CA; a client certificate and key
+// for mutual TLS) and/or a user name with a password read from a file.
+struct MqttSecurity {
+  std::string ca_file;        // "" = no TLS
+  std::string cert_file;      // client certificate (mutual TLS), with key_file
+  std::string key_file;
+  std::string username;
+  std::string password_file;  // first line is the password; mode 0600
+};
+
 struct IngestOptions {
   dds::CommonOptions dds;
   SourceSpec source;
   int mqtt_qos = 1;
   std::string mqtt_client_id;  // default sensor-ingest-<pid>
+  MqttSecurity mqtt_security;
+  // UDP datagrams are taken only from these networks (default loopback, 127.0.0.0/8); others are refused and
+  // counted (ingest_udp_refused_total).
+  std::vector<Ipv4Network> udp_allow;
   double gap_factor = 1.5;     // see block_sequencer.hpp
   BlockLimits limits;
   std::size_t queue_messages = 1024;  // between the source and the DDS writer; a full queue stalls the source

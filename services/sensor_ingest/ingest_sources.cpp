@@ -6,10 +6,12 @@
 #include <poll.h>
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <stdexcept>
 
 #include "causal/metrics/metrics_registry.hpp"
@@ -58,6 +60,44 @@ MqttSource::MqttSource(const IngestOptions& options, MessageQueue& queue)
   mosquitto_connect_callback_set(client_, &MqttSource::on_connect);
   mosquitto_disconnect_callback_set(client_, &MqttSource::on_disconnect);
   mosquitto_message_callback_set(client_, &MqttSource::on_message);
+  secure(options.mqtt_security);
+}
+
+namespace {
+std::string read_secret(const std::string& path, const char* option) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw std::invalid_argument(std::string(option) + " " + path + ": cannot read it");
+  if ((st.st_mode & (S_IRWXG | S_IRWXO)) != 0) {
+    throw std::invalid_argument(std::string(option) + " " + path + ": readable by others (chmod 600 it)");
+  }
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
+  if (line.empty()) throw std::invalid_argument(std::string(option) + " " + path + ": the first line is empty");
+  return line;
+}
+}  // namespace
+
+void MqttSource::secure(const MqttSecurity& s) {
+  if (!s.ca_file.empty()) {
+    const char* cert = s.cert_file.empty() ? nullptr : s.cert_file.c_str();
+    const char* key = s.key_file.empty() ? nullptr : s.key_file.c_str();
+    const int rc = mosquitto_tls_set(client_, s.ca_file.c_str(), nullptr, cert, key, nullptr);
+    if (rc != MOSQ_ERR_SUCCESS) {
+      throw std::invalid_argument("--mqtt-cafile/--mqtt-cert/--mqtt-key: " + std::string(mosquitto_strerror(rc)));
+    }
+    // Verify the broker's certificate and its name (libmosquitto's default; said here so it stays so).
+    mosquitto_tls_insecure_set(client_, false);
+    mosquitto_tls_opts_set(client_, 1, "tlsv1.2", nullptr);
+  }
+  if (!s.username.empty()) {
+    const std::string password = read_secret(s.password_file, "--mqtt-password-file");
+    const int rc = mosquitto_username_pw_set(client_, s.username.c_str(), password.c_str());
+    if (rc != MOSQ_ERR_SUCCESS) throw std::invalid_argument("--mqtt-username: " + std::string(mosquitto_strerror(rc)));
+  }
+  spdlog::info("mqtt: {}{}", s.ca_file.empty() ? "no TLS" : (s.cert_file.empty() ? "TLS" : "mutual TLS"),
+               s.username.empty() ? ", no user name" : ", user " + s.username);
 }
 
 MqttSource::~MqttSource() {
@@ -155,10 +195,12 @@ class ThreadSource : public MessageSource {
   std::thread thread_;
 };
 
-// One datagram = one message (up to 65507 bytes, the IPv4 UDP maximum).
+// One datagram = one message (up to 65507 bytes, the IPv4 UDP maximum). Only datagrams from the allowed sender
+// networks are taken (default loopback): UDP has no authentication, so a plant network's senders are listed.
 class UdpSource : public ThreadSource {
  public:
-  UdpSource(const SourceSpec& spec, MessageQueue& queue) : queue_(queue) {
+  UdpSource(const SourceSpec& spec, std::vector<Ipv4Network> allow, MessageQueue& queue)
+      : queue_(queue), allow_(std::move(allow)) {
     fd_ = ::socket(AF_INET, SOCK_DGRAM, 0);
     if (fd_ < 0) throw std::runtime_error(std::string("udp socket: ") + std::strerror(errno));
     int size = 8 << 20;  // a large receive buffer rides out bursts while DDS is busy (the kernel caps it)
@@ -175,7 +217,14 @@ class UdpSource : public ThreadSource {
       ::close(fd_);
       throw std::invalid_argument("udp source '" + spec.text + "': cannot bind: " + why);
     }
-    spdlog::info("udp: listening on {}:{}", spec.host, spec.port);
+    std::string networks;
+    for (const auto& n : allow_) {
+      in_addr a{htonl(n.address)};
+      char text[INET_ADDRSTRLEN] = {};
+      ::inet_ntop(AF_INET, &a, text, sizeof text);
+      networks += (networks.empty() ? "" : ", ") + std::string(text) + "/" + std::to_string(n.prefix);
+    }
+    spdlog::info("udp: listening on {}:{}, taking datagrams from {}", spec.host, spec.port, networks);
   }
   ~UdpSource() override {
     stop();
@@ -187,14 +236,42 @@ class UdpSource : public ThreadSource {
       while (!stopping_.load()) {
         pollfd p{fd_, POLLIN, 0};
         if (::poll(&p, 1, 200) <= 0) continue;
-        const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), 0);
-        if (n >= 0) queue_.push(buffer.substr(0, static_cast<std::size_t>(n)));
+        sockaddr_in from{};
+        socklen_t from_len = sizeof from;
+        const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &from_len);
+        if (n < 0) continue;
+        if (!allowed(ntohl(from.sin_addr.s_addr))) {
+          refuse(from);
+          continue;
+        }
+        queue_.push(buffer.substr(0, static_cast<std::size_t>(n)));
       }
     });
   }
 
  private:
+  bool allowed(std::uint32_t address) const {
+    for (const auto& n : allow_) {
+      if (n.contains(address)) return true;
+    }
+    return false;
+  }
+  void refuse(const sockaddr_in& from) {
+    static auto& refused = metrics::process_metrics().counter(
+        "ingest_udp_refused_total", "UDP datagrams refused: the sender is not in --udp-allow");
+    refused.inc();
+    ++refused_;
+    if (refused_ == 1 || refused_ % 1000 == 0) {
+      char text[INET_ADDRSTRLEN] = {};
+      ::inet_ntop(AF_INET, &from.sin_addr, text, sizeof text);
+      spdlog::warn("udp: refused a datagram from {}:{} (not in --udp-allow); {} refused so far", text,
+                   ntohs(from.sin_port), refused_);
+    }
+  }
+
   MessageQueue& queue_;
+  std::vector<Ipv4Network> allow_;
+  std::uint64_t refused_ = 0;
   int fd_ = -1;
 };
 
@@ -239,7 +316,7 @@ std::unique_ptr<MessageSource> make_source(const IngestOptions& options, Message
     case SourceKind::Mqtt:
       return std::make_unique<MqttSource>(options, queue);
     case SourceKind::Udp:
-      return std::make_unique<UdpSource>(options.source, queue);
+      return std::make_unique<UdpSource>(options.source, options.udp_allow, queue);
     case SourceKind::Stdin:
       return std::make_unique<StdinSource>(options.limits, queue);
   }

@@ -62,6 +62,7 @@ class MqttSource : public MessageSource {
   // restarted) try again every second until stopped. (libmosquitto's own loop thread does not retry a first
   // connection that failed, so the adapter could not start before its broker.)
   void run();
+  void secure(const MqttSecurity& security);  // TLS and user name from the options; throws std::invalid_argument
   bool pause(std::chrono::milliseconds d);  // false once stopping
   static void on_connect(struct mosquitto* m, void* self, int rc);
   static void on_disconnect(struct mosquitto* m, void* self, int rc);

@@ -12,7 +12,8 @@ int main(int argc, char** argv) {
                "root cause and reason, the recommendations and a what-if form that asks the running\n"
                "alarm-recommender. Endpoints: / (the page); /api/state?group=ID (JSON: that group and one line per\n"
                "group; without ?group= every group); /api/events?group=ID (the same as Server-Sent Events, on change);\n"
-               "POST /api/whatif {asset_group, channel, percent | delta, sustained}."};
+               "POST /api/whatif {asset_group, channel, percent | delta, sustained} (same origin only, with the page's\n"
+               "X-Twin-CSRF token)."};
   causal::dds::add_common_options(app, o.dds);
   app.add_option("--port", o.web.port, "TCP port to serve on (0: any free port, printed at start)")
       ->check(CLI::Range(0, 65535))
@@ -20,6 +21,16 @@ int main(int argc, char** argv) {
   app.add_option("--bind", o.web.bind,
                  "address to listen on; anything but loopback lets others ask the twin what-if questions")
       ->capture_default_str();
+  app.add_option("--allowed-host", o.web.allowed_hosts,
+                 "a Host name the page may be reached under besides localhost, this machine's name and IP "
+                 "addresses (repeatable); any other Host is refused (DNS rebinding)");
+  app.add_option("--tls-cert", o.web.tls_cert, "serve HTTPS with this PEM certificate (with --tls-key)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--tls-key", o.web.tls_key, "the certificate's PEM private key")->check(CLI::ExistingFile);
+  app.add_option("--basic-auth-file", o.web.basic_auth_file,
+                 "require HTTP basic authentication on every request: a file (mode 0600) with one line "
+                 "USER:PASSWORD; for any bind beyond loopback, with --tls-cert")
+      ->check(CLI::ExistingFile);
   app.add_option("--chartjs", o.web.chartjs, "Chart.js file served to the page (Debian package libjs-chart.js)")
       ->capture_default_str();
   app.add_option("--history", o.limits.trend_points, "condition-trend points kept per asset group")

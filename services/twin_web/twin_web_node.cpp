@@ -36,7 +36,8 @@ TwinWebNode::~TwinWebNode() {
 int TwinWebNode::run() {
   web_->start();
   const std::string host = web_->bind_address() == "0.0.0.0" ? "127.0.0.1" : web_->bind_address();
-  spdlog::info("twin-web on domain {}: serving http://{}:{}/", participant_.domain_id(), host, web_->port());
+  spdlog::info("twin-web on domain {}: serving {}://{}:{}/", participant_.domain_id(), web_->scheme(), host,
+               web_->port());
   if (web_->bind_address() != "127.0.0.1" && web_->bind_address() != "localhost") {
     spdlog::warn("listening on {}: whoever reaches this address can ask the twin what-if questions",
                  web_->bind_address());

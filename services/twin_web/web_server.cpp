@@ -2,6 +2,9 @@
 
 #include "twin_web_assets.hpp"
 
+#include "causal/dds/sample_limits.hpp"
+#include "causal/metrics/metrics_registry.hpp"
+
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -19,6 +22,9 @@ namespace {
 
 using nlohmann::json;
 
+// In index.html: replaced by the CSRF token when the page is served.
+constexpr const char* kCsrfPlaceholder = "__TWIN_CSRF_TOKEN__";
+
 void send_json(httplib::Response& res, int status, const json& body) {
   res.status = status;
   res.set_header("Cache-Control", "no-store");
@@ -33,6 +39,29 @@ std::string read_file(const std::string& path) {
   return s.str();
 }
 
+bool loopback_address(const std::string& a) {
+  return a == "127.0.0.1" || a == "::1" || a == "localhost" || a.rfind("127.", 0) == 0;
+}
+
+std::unique_ptr<RequestGuard> make_guard(const WebOptions& o) {
+  GuardOptions g;
+  g.allowed_hosts = o.allowed_hosts;
+  g.tls = !o.tls_cert.empty();
+  if (!o.basic_auth_file.empty()) read_basic_auth_file(o.basic_auth_file, g.basic_user, g.basic_password);
+  return std::make_unique<RequestGuard>(std::move(g));
+}
+
+std::unique_ptr<httplib::Server> make_server(const WebOptions& o) {
+  if (o.tls_cert.empty() != o.tls_key.empty()) throw std::invalid_argument("give both --tls-cert and --tls-key, or neither");
+  if (o.tls_cert.empty()) return std::make_unique<httplib::Server>();
+  auto server = std::make_unique<httplib::SSLServer>(o.tls_cert.c_str(), o.tls_key.c_str());
+  if (!server->is_valid()) {
+    throw std::invalid_argument("--tls-cert " + o.tls_cert + " / --tls-key " + o.tls_key +
+                                ": not a PEM certificate and its private key");
+  }
+  return server;
+}
+
 std::string host_name() {
   char host[128] = "host";
   gethostname(host, sizeof host - 1);
@@ -45,6 +74,9 @@ std::string parse_question(const json& body, const std::vector<std::string>& cha
   if (!body.is_object()) return "the body must be a JSON object";
   if (!body.contains("asset_group") || !body["asset_group"].is_string() || body["asset_group"].get<std::string>().empty()) {
     return "asset_group (string) is required";
+  }
+  if (body["asset_group"].get<std::string>().size() > dds::kMaxIdBytes) {
+    return "asset_group is longer than " + std::to_string(dds::kMaxIdBytes) + " bytes";
   }
   if (!body.contains("channel") || !body["channel"].is_number_integer()) return "channel (1-based integer) is required";
   const long channel = body["channel"].get<long>();
@@ -113,8 +145,14 @@ WebServer::WebServer(WebOptions options, TwinState& state, WhatIfBridge& whatif,
       state_(state),
       whatif_(whatif),
       whatif_readers_(std::move(whatif_readers)),
-      server_(std::make_unique<httplib::Server>()) {
+      guard_(make_guard(options_)),
+      server_(make_server(options_)) {
   if (options_.port < 0 || options_.port > 65535) throw std::invalid_argument("--port must be in 0..65535");
+  if (!loopback_address(options_.bind) && (options_.tls_cert.empty() || !guard_->authenticating())) {
+    spdlog::warn("twin-web listens on {} {}: anyone who can reach it {} (give --tls-cert/--tls-key and "
+                 "--basic-auth-file)", options_.bind, options_.tls_cert.empty() ? "in clear text" : "over TLS",
+                 guard_->authenticating() ? "can read the traffic" : "can read the twin and ask what-if questions");
+  }
   chartjs_ = read_file(options_.chartjs);
   if (chartjs_.empty()) {
     spdlog::warn("cannot read Chart.js at {} (Debian package libjs-chart.js): the page shows no trend chart",
@@ -124,6 +162,7 @@ WebServer::WebServer(WebOptions options, TwinState& state, WhatIfBridge& whatif,
   // pages and the what-if questions (which wait for their reply) never starve each other.
   const std::size_t threads = static_cast<std::size_t>(options_.max_event_streams) + 8;
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  guard_requests();
   routes();
   if (options_.port == 0) {
     port_ = server_->bind_to_any_port(options_.bind);
@@ -148,12 +187,45 @@ void WebServer::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+void WebServer::guard_requests() {
+  httplib::Headers headers;
+  for (const auto& [k, v] : security_headers()) headers.emplace(k, v);
+  server_->set_default_headers(headers);
+  server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    RequestFacts f{req.method,
+                   req.get_header_value("Host"),
+                   req.get_header_value("Origin"),
+                   req.get_header_value("Sec-Fetch-Site"),
+                   req.get_header_value("X-Twin-CSRF"),
+                   req.get_header_value("Authorization")};
+    const Verdict v = guard_->check(f);
+    if (v.status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    auto& counter = metrics::process_metrics().counter(
+        "web_requests_refused_total", "HTTP requests refused: Host not allowed, cross-origin, no CSRF token, "
+        "no credentials", {{"reason", v.reason}});
+    counter.inc();
+    const auto n = static_cast<std::uint64_t>(counter.value());
+    if (n == 1 || n % 100 == 0) {
+      spdlog::warn("refused {} {} from {}: {} ({}; {} refused for this reason so far)", req.method, req.path,
+                   req.remote_addr, v.reason, v.detail, n);
+    }
+    if (v.status == 401) res.set_header("WWW-Authenticate", "Basic realm=\"causal-twin\", charset=\"UTF-8\"");
+    send_json(res, v.status, {{"answered", false}, {"error", v.reason + ": " + v.detail}});
+    return httplib::Server::HandlerResponse::Handled;
+  });
+}
+
 void WebServer::routes() {
   auto& s = *server_;
   for (const auto& asset : kEmbeddedAssets) {
-    auto serve = [asset](const httplib::Request&, httplib::Response& res) {
+    // The page carries this process's CSRF token (a placeholder in index.html); only it can read it.
+    std::string body(asset.body.data(), asset.body.size());
+    if (const auto at = body.find(kCsrfPlaceholder); at != std::string::npos) {
+      body.replace(at, std::string(kCsrfPlaceholder).size(), guard_->csrf_token());
+    }
+    auto serve = [asset, body](const httplib::Request&, httplib::Response& res) {
       res.set_header("Cache-Control", "no-cache");
-      res.set_content(asset.body.data(), asset.body.size(), std::string(asset.content_type).c_str());
+      res.set_content(body, std::string(asset.content_type).c_str());
     };
     s.Get(std::string(asset.path), serve);
     if (asset.path == "/index.html") s.Get("/", serve);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "twin_state.hpp"
+#include "web_guard.hpp"
 #include "whatif_bridge.hpp"
 
 #include <atomic>
@@ -25,6 +26,11 @@ struct WebOptions {
   std::string chartjs = "/usr/share/javascript/chart.js/chart.min.js";
   double whatif_timeout_s = 10.0;
   int max_event_streams = 8;  // open pages at once (each holds one pool thread); more get polling
+  // Hardening (web_guard.hpp): extra Host names, HTTPS (both files or neither), basic authentication.
+  std::vector<std::string> allowed_hosts;
+  std::string tls_cert;
+  std::string tls_key;
+  std::string basic_auth_file;  // one line USER:PASSWORD, mode 0600; "" = no authentication
 };
 
 class WebServer {
@@ -40,14 +46,17 @@ class WebServer {
   void stop();   // closes the socket and every event stream; joins the thread
   int port() const { return port_; }
   const std::string& bind_address() const { return options_.bind; }
+  const char* scheme() const { return options_.tls_cert.empty() ? "http" : "https"; }
 
  private:
   void routes();
+  void guard_requests();
 
   WebOptions options_;
   TwinState& state_;
   WhatIfBridge& whatif_;
   std::function<std::size_t()> whatif_readers_;
+  std::unique_ptr<RequestGuard> guard_;
   std::unique_ptr<httplib::Server> server_;
   std::string chartjs_;  // read once at start-up from the package path
   int port_ = 0;

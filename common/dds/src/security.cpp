@@ -7,6 +7,7 @@
 #include <openssl/x509_vfy.h>
 
 #include <ctime>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -209,6 +210,9 @@ const std::string* find_property(const eprosima::fastdds::dds::DomainParticipant
 
 std::string default_security_identity(const std::string& participant_name) {
   if (participant_name == "sensor-replay" || participant_name == "sensor-sim") return "sensor";
+  // The edge adapter has its own identity (sensor grants): revoking it does not stop replays or simulators,
+  // and one taken from an edge host cannot pass for them.
+  if (participant_name == "sensor-ingest") return "ingest";
   if (participant_name == "causal-estimator") return "estimator";
   if (participant_name == "alarm-recommender") return "recommender";
   if (participant_name == "causal-recorder") return "recorder";
@@ -290,10 +294,21 @@ std::string apply_security(const std::string& dir, const std::string& identity, 
       throw std::invalid_argument("DDS-Security: PKI folder " + chosen + " (from " + source +
                                   ") does not exist: make one with deploy/security/make-pki.sh DIR");
     }
-    const SecurityFiles files = security_files(chosen, id);
+    SecurityFiles files = security_files(chosen, id);
+    // Under systemd, LoadCredential=dds-key.pem:/path/to/IDENTITY/key.pem hands this unit, and only it, its
+    // private key (the file itself can stay root-only): it then replaces the PKI folder's key.pem.
+    std::string key_note;
+    if (const char* creds = std::getenv("CREDENTIALS_DIRECTORY"); creds != nullptr && *creds != '\0') {
+      const fs::path key = fs::path(creds) / "dds-key.pem";
+      if (fs::exists(key, ec)) {
+        files.private_key = key.string();
+        key_note = ", key from the systemd credential dds-key.pem";
+      }
+    }
     check_security_files(files);
     add_security_properties(files, qos);
-    return "DDS-Security on: identity " + id + " from " + fs::absolute(chosen).string() + " (" + source + ")";
+    return "DDS-Security on: identity " + id + " from " + fs::absolute(chosen).string() + " (" + source + key_note +
+           ")";
   }
   if (const std::string* plugin = find_property(qos, "dds.sec.auth.plugin"); plugin != nullptr) {
     // The profile configures the plugins itself: check the files it names all the same.

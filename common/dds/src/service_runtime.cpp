@@ -47,7 +47,7 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
                  "encrypted bus; 'off' = open). Default: the transport profile's causal_twin.security_dir, else open")
       ->envname("CAUSAL_TWIN_SECURITY_DIR");
   app.add_option("--security-identity", options.security_identity,
-                 "identity folder in the PKI (default: sensor, estimator, recommender, recorder or operator, by "
+                 "identity folder in the PKI (default: sensor, ingest (sensor-ingest), estimator, recommender, recorder or operator, by "
                  "service)");
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error, critical or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))

@@ -371,7 +371,10 @@
     const body = { asset_group: g.id, channel: Number($('whatif-channel').value), percent: Number($('whatif-percent').value),
       sustained: $('whatif-mode').value === 'sustained' };
     try {
-      const r = await fetch('/api/whatif', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+      // The server refuses a state-changing request without this page's CSRF token (web_guard.hpp).
+      const csrf = document.querySelector('meta[name="twin-csrf"]').content;
+      const r = await fetch('/api/whatif', { method: 'POST',
+        headers: { 'Content-Type': 'application/json', 'X-Twin-CSRF': csrf }, body: JSON.stringify(body) });
       showAnswer(await r.json(), g);
     } catch (e) {
       out.dataset.status = 'error';

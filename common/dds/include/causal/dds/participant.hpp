@@ -13,6 +13,7 @@
 #include <fastdds/rtps/common/Guid.h>
 
 #include "causal/dds/asset_group_filter.hpp"
+#include "causal/dds/guarded_type.hpp"
 
 #include <atomic>
 #include <cstdint>
@@ -112,10 +113,12 @@ class Participant {
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
 
-  // Registers PubSubType once per type name and returns the topic, creating it on first use.
+  // Registers PubSubType once per type name and returns the topic, creating it on first use. The type is
+  // wrapped in GuardedPubSubType (guarded_type.hpp): no received sample of any content ends the process, and
+  // a sample outside the limits of sample_limits.hpp is refused and counted before a service sees it.
   template <typename PubSubType>
   eprosima::fastdds::dds::Topic* topic(const std::string& name) {
-    eprosima::fastdds::dds::TypeSupport type(new PubSubType());
+    eprosima::fastdds::dds::TypeSupport type(new GuardedPubSubType<PubSubType>());
     return topic_for(name, type);
   }
 
