@@ -49,7 +49,8 @@ std::string AlarmStateStore::path(const std::string& asset_group, bool sample_le
 AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bool sample_level,
                                               const std::vector<std::string>& channel_names,
                                               const std::vector<std::string>& factor_names,
-                                              const alarms::AlarmParams& params) {
+                                              const alarms::AlarmParams& params,
+                                              const prognosis::PrognosisParams& prognosis_params) {
   Opened out;
   Stream& s = streams_[{asset_group, sample_level}];
   s = Stream{};
@@ -73,7 +74,11 @@ AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bo
         s.last_events[e.alarm_id] = e;
       }
       out.engine = std::make_unique<alarms::AlarmEngine>(alarms::AlarmEngine::restore(in, params));
-      if (!in.at_end()) throw causal::StateError("unexpected data after the engine");
+      if (!in.at_end()) {  // checkpoints written before the prognosis end here
+        out.trends = std::make_unique<prognosis::ChannelTrends>(
+            prognosis::ChannelTrends::restore(in, static_cast<int>(channel_names.size()), prognosis_params));
+      }
+      if (!in.at_end()) throw causal::StateError("unexpected data after the prognosis trends");
       if (out.engine->channel_names() != channel_names) {
         throw causal::StateError("it was written for channels " + joined(out.engine->channel_names()) +
                                  ", the stream has " + joined(channel_names));
@@ -93,8 +98,17 @@ AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bo
                              "and alarm ids restart at 1)");
   }
   if (!out.engine) out.engine = std::make_unique<alarms::AlarmEngine>(asset_group, channel_names, factor_names, params);
+  if (!out.trends) {
+    out.trends = std::make_unique<prognosis::ChannelTrends>(static_cast<int>(channel_names.size()), prognosis_params);
+  }
   s.engine = out.engine.get();
+  s.trends = out.trends.get();
   return out;
+}
+
+std::optional<std::uint64_t> AlarmStateStore::last_index(const std::string& asset_group, bool sample_level) const {
+  const auto it = streams_.find({asset_group, sample_level});
+  return it == streams_.end() ? std::nullopt : it->second.last_index;
 }
 
 bool AlarmStateStore::is_duplicate(const std::string& asset_group, bool sample_level, std::uint64_t index) {
@@ -136,6 +150,7 @@ void AlarmStateStore::save(const Key& key, Stream& s) {
   out.put(static_cast<std::uint64_t>(s.last_events.size()));
   for (const auto& [id, e] : s.last_events) alarms::save(out, e);
   s.engine->save(out);
+  if (s.trends != nullptr) s.trends->save(out);
   const std::string file = path(key.first, key.second);
   try {
     causal::save_state_file(file, out.bytes());

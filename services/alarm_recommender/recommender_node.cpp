@@ -4,6 +4,7 @@
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
 #include "advice_conversions.hpp"
+#include "prognosis_conversions.hpp"
 
 #include <cmath>
 
@@ -21,6 +22,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
       recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationWriter),
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
+      prognoses_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisWriter),
       advisor_(params_.advice),
       store_(options_.state_dir),
       health_(params_.health_deadline_s, "causal factors", "estimator", {dds::topics::kCausalFactors}) {
@@ -94,7 +96,9 @@ int RecommenderNode::run() {
     spdlog::warn("not every alarm was acknowledged within 10 s");
   }
   recommendations_.wait_for_acknowledgments(std::chrono::seconds(10));
-  spdlog::info("{} alarm messages and {} recommendations published", alarms_published_, recommendations_published_);
+  prognoses_.wait_for_acknowledgments(std::chrono::seconds(10));
+  spdlog::info("{} alarm messages, {} recommendations and {} prognoses published", alarms_published_,
+               recommendations_published_, prognoses_published_);
   // Samples refused for lack of room are resent by the reliable writers (back-pressure); refused instances and
   // lost samples are not.
   const std::uint64_t dds_lost = factors_.rejections().instances_limit + factors_.lost_samples() +
@@ -106,6 +110,7 @@ int RecommenderNode::run() {
   spdlog::info("summary health sources={} raised={} cleared={} active={} deadline_s={}", h.sources(), h.raised(),
                h.cleared(), h.active_alarms(), h.deadline_s());
   spdlog::info("summary topic=causal_twin/recommendation sent={}", recommendations_published_);
+  spdlog::info("summary topic=causal_twin/prognosis sent={} failed={}", prognoses_published_, prognosis_write_failures_);
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete()) > 0 ? 4 : 0;
 }
@@ -133,8 +138,9 @@ void RecommenderNode::observe(AssembledObservation& a) {
     EngineState st;
     const alarms::AlarmParams p =
         sample ? alarms::AlarmParams::sample_level(params_.sample_baseline_publications) : params_.condition;
-    auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p);  // checkpoint if any
-    st.engine = std::move(opened.engine);
+    auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p, params_.prognosis);
+    st.engine = std::move(opened.engine);  // from the checkpoint if any
+    st.trends = std::move(opened.trends);
     st.channel_names = a.channel_names;
     st.baseline_logged = st.engine->baseline_ready();
     it = engines_.emplace(key, std::move(st)).first;
@@ -149,6 +155,14 @@ void RecommenderNode::observe(AssembledObservation& a) {
       }
       spdlog::info("asset '{}': {} alarm messages re-published from the checkpoint", a.asset_group,
                    opened.republish.size());
+      // Likewise the prognoses of the last observation processed: the process may have died after the
+      // checkpoint and before publishing them (the recorder drops the ones it already has).
+      if (const auto last = store_.last_index(a.asset_group, sample); last && !sample) {
+        std::int64_t time_ns = 0;
+        for (int k = 0; k < it->second.trends->channels(); ++k)
+          time_ns = std::max(time_ns, it->second.trends->trend(k).state().time_ns);
+        publish_prognoses(a.asset_group, it->second, *last, time_ns);
+      }
     } else {
       spdlog::info("asset '{}' {} level: learning the baseline from the first {} observations", a.asset_group,
                    sample ? "sample" : "condition", p.warmup_observations + p.baseline_observations);
@@ -170,15 +184,26 @@ void RecommenderNode::observe(AssembledObservation& a) {
                         : "factor standard deviations only (no covariance blocks: correlations ignored)");
     }
   }
+  const auto gaps_before = st.engine->discontinuities();
   const auto events = st.engine->observe(a.observation);
+  if (!sample) {  // the trends follow every snapshot, alarm or not, so a prognosis has history at the raise
+    const int refused = prognosis::observe_for_prognosis(*st.trends, *st.engine, a.observation,
+                                                         a.observation.discontinuity ||
+                                                             st.engine->discontinuities() > gaps_before);
+    if (refused > 0) {
+      spdlog::warn("asset '{}': {} feature values refused by the prognosis trends at observation {} ({} so far)",
+                   a.asset_group, refused, a.observation.index, st.trends->refused());
+    }
+  }
   store_.record(a.asset_group, sample, a.observation.index, events);  // checkpoint before publishing
   for (const auto& e : events) {
     if (e.state == alarms::AlarmState::Raised && e.category == alarms::category::kDegradation) ++st.raised;
-    publish_event(a, e);
+    publish_event(a, st, e);
     if (e.state == alarms::AlarmState::Raised && e.category == alarms::category::kDegradation && !sample &&
         params_.advice.enabled)
       recommend(a, st, e);
   }
+  if (!sample) publish_prognoses(a.asset_group, st, a.observation.index, a.observation.time_ns);
   if (!st.baseline_logged && st.engine->baseline_ready()) {
     st.baseline_logged = true;
     spdlog::info("asset '{}' {} level: baseline learned, monitoring from observation {}", a.asset_group,
@@ -186,8 +211,9 @@ void RecommenderNode::observe(AssembledObservation& a) {
   }
 }
 
-void RecommenderNode::publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e) {
+void RecommenderNode::publish_event(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e) {
   dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
+  if (a.time_scale == causal_twin::CONDITION_LEVEL) fill_next_level(st, e, alarm_msg_);
   if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
   const auto level = e.severity == alarms::Severity::Critical  ? spdlog::level::err
                      : e.severity == alarms::Severity::Warning ? spdlog::level::warn
@@ -233,6 +259,30 @@ void RecommenderNode::recommend(const AssembledObservation& a, const EngineState
     to_recommendation(a.asset_group, e.alarm_id, item, msg);
     if (recommendations_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
     spdlog::info("RECOMMENDATION {} #{}: {}", e.alarm_id, item.rank, item.text);
+  }
+}
+
+void RecommenderNode::fill_next_level(const EngineState& st, const alarms::AlarmEvent& e, causal_twin::Alarm& msg) const {
+  prognosis::ChannelPrognosis p;
+  if (!params_.prognosis_enabled || !st.trends || !prognosis::next_level_of(*st.trends, *st.engine, e, p)) return;
+  set_next_level(p, msg);
+  spdlog::info("PROGNOSIS {}: {}", e.alarm_id,
+               prognosis_text(msg.channel_name(), p, st.trends->trend(e.channel).state().time_ns,
+                              params_.prognosis.coverage));
+}
+
+void RecommenderNode::publish_prognoses(const std::string& asset_group, const EngineState& st, std::uint64_t index,
+                                        std::int64_t time_ns) {
+  if (!params_.prognosis_enabled || !st.trends) return;
+  for (const auto& p : prognosis::open_alarm_prognoses(*st.trends, *st.engine, index)) {
+    to_prognosis(asset_group, st.channel_names, p, index, time_ns, params_.prognosis.coverage, prognosis_msg_);
+    if (prognoses_.write(prognosis_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
+      ++prognoses_published_;
+    } else if (prognosis_write_failures_++ % 100 == 0) {
+      spdlog::warn("prognosis for '{}' channel {} not published ({} failures so far)", asset_group, p.channel + 1,
+                   prognosis_write_failures_);
+    }
+    spdlog::debug("PROGNOSIS {}", prognosis_msg_.text());
   }
 }
 

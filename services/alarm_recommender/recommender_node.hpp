@@ -38,6 +38,7 @@ class RecommenderNode {
  private:
   struct EngineState {
     std::unique_ptr<alarms::AlarmEngine> engine;
+    std::unique_ptr<prognosis::ChannelTrends> trends;  // degradation trend per channel (condition level)
     std::vector<std::string> channel_names;
     bool baseline_logged = false;
     int full_covariance = -1;  // last logged interval basis: -1 none yet, 0 diagonal, 1 full blocks
@@ -45,7 +46,13 @@ class RecommenderNode {
   };
   void handle(std::vector<AssembledObservation>& ready);
   void observe(AssembledObservation& a);
-  void publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e);
+  void publish_event(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e);
+  // One Prognosis per level for every channel with an open degradation alarm (condition level), at
+  // observation `index` of data time time_ns.
+  void publish_prognoses(const std::string& asset_group, const EngineState& st, std::uint64_t index,
+                         std::int64_t time_ns);
+  // Next level ahead and the time to it on a degradation alarm event (Alarm decision fields).
+  void fill_next_level(const EngineState& st, const alarms::AlarmEvent& e, causal_twin::Alarm& msg) const;
   void recommend(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e);
   void answer(const causal_twin::WhatIfRequest& request);
   void publish_health();  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
@@ -59,6 +66,7 @@ class RecommenderNode {
   dds::TypedWriter<causal_twin::AlarmPubSubType> alarms_;
   dds::TypedWriter<causal_twin::RecommendationPubSubType> recommendations_;
   dds::TypedWriter<causal_twin::WhatIfReplyPubSubType> whatif_replies_;
+  dds::TypedWriter<causal_twin::PrognosisPubSubType> prognoses_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
   Advisor advisor_;
@@ -66,6 +74,8 @@ class RecommenderNode {
   dds::HealthWatch health_;
   std::map<std::pair<std::string, int>, EngineState> engines_;
   causal_twin::Alarm alarm_msg_;
+  causal_twin::Prognosis prognosis_msg_;
+  std::uint64_t prognoses_published_ = 0, prognosis_write_failures_ = 0;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;
 };

@@ -34,5 +34,7 @@ inline constexpr const char* kRecommendationWriter = "recommendation_writer";
 inline constexpr const char* kRecommendationReader = "recommendation_reader";
 inline constexpr const char* kWhatIfWriter = "whatif_writer";
 inline constexpr const char* kWhatIfReader = "whatif_reader";
+inline constexpr const char* kPrognosisWriter = "prognosis_writer";
+inline constexpr const char* kPrognosisReader = "prognosis_reader";
 
 }  // namespace causal::dds::profiles
