@@ -50,13 +50,15 @@ std::string AlarmStateStore::path(const std::string& asset_group, bool sample_le
 AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bool sample_level,
                                               const std::vector<std::string>& channel_names,
                                               const std::vector<std::string>& factor_names,
-                                              const alarms::AlarmParams& params) {
-  return open_stream(asset_group, sample_level, &channel_names, &factor_names, params);
+                                              const alarms::AlarmParams& params,
+                                              const prognosis::PrognosisParams& prognosis_params) {
+  return open_stream(asset_group, sample_level, &channel_names, &factor_names, params, prognosis_params);
 }
 
 AlarmStateStore::Opened AlarmStateStore::open_checkpoint(const std::string& asset_group, bool sample_level,
-                                                         const alarms::AlarmParams& params) {
-  return open_stream(asset_group, sample_level, nullptr, nullptr, params);
+                                                         const alarms::AlarmParams& params,
+                                                         const prognosis::PrognosisParams& prognosis_params) {
+  return open_stream(asset_group, sample_level, nullptr, nullptr, params, prognosis_params);
 }
 
 std::vector<AlarmStateStore::Found> AlarmStateStore::checkpoints() const {
@@ -98,7 +100,8 @@ std::vector<AlarmStateStore::Found> AlarmStateStore::checkpoints() const {
 AlarmStateStore::Opened AlarmStateStore::open_stream(const std::string& asset_group, bool sample_level,
                                                      const std::vector<std::string>* channel_names,
                                                      const std::vector<std::string>* factor_names,
-                                                     const alarms::AlarmParams& params) {
+                                                     const alarms::AlarmParams& params,
+                                                     const prognosis::PrognosisParams& prognosis_params) {
   Opened out;
   Stream& s = streams_[{asset_group, sample_level}];
   s = Stream{};
@@ -122,7 +125,11 @@ AlarmStateStore::Opened AlarmStateStore::open_stream(const std::string& asset_gr
         s.last_events[e.alarm_id] = e;
       }
       out.engine = std::make_unique<alarms::AlarmEngine>(alarms::AlarmEngine::restore(in, params));
-      if (!in.at_end()) throw causal::StateError("unexpected data after the engine");
+      if (!in.at_end()) {  // checkpoints written before the prognosis end here
+        out.trends = std::make_unique<prognosis::ChannelTrends>(prognosis::ChannelTrends::restore(
+            in, static_cast<int>(out.engine->channel_names().size()), prognosis_params));
+      }
+      if (!in.at_end()) throw causal::StateError("unexpected data after the prognosis trends");
       if (channel_names != nullptr && out.engine->channel_names() != *channel_names) {
         throw causal::StateError("it was written for channels " + joined(out.engine->channel_names()) +
                                  ", the stream has " + joined(*channel_names));
@@ -147,8 +154,18 @@ AlarmStateStore::Opened AlarmStateStore::open_stream(const std::string& asset_gr
     }
     out.engine = std::make_unique<alarms::AlarmEngine>(asset_group, *channel_names, *factor_names, params);
   }
+  if (!out.trends) {
+    out.trends = std::make_unique<prognosis::ChannelTrends>(static_cast<int>(out.engine->channel_names().size()),
+                                                            prognosis_params);
+  }
   s.engine = out.engine.get();
+  s.trends = out.trends.get();
   return out;
+}
+
+std::optional<std::uint64_t> AlarmStateStore::last_index(const std::string& asset_group, bool sample_level) const {
+  const auto it = streams_.find({asset_group, sample_level});
+  return it == streams_.end() ? std::nullopt : it->second.last_index;
 }
 
 bool AlarmStateStore::is_duplicate(const std::string& asset_group, bool sample_level, std::uint64_t index) {
@@ -190,6 +207,7 @@ void AlarmStateStore::save(const Key& key, Stream& s) {
   out.put(static_cast<std::uint64_t>(s.last_events.size()));
   for (const auto& [id, e] : s.last_events) alarms::save(out, e);
   s.engine->save(out);
+  if (s.trends != nullptr) s.trends->save(out);
   const std::string file = path(key.first, key.second);
   try {
     causal::save_state_file(file, out.bytes());

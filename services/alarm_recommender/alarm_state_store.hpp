@@ -1,7 +1,8 @@
 // Crash and restart safety of alarm-recommender (--state-dir DIR). One checkpoint per alarm engine (asset
 // group and time scale): DIR/<sanitised asset group>.<condition|sample>.alarms.state, holding the engine
 // (baselines, detectors, alarm id counters, active alarms), the last observation index it processed and
-// the last published event of every alarm id. Without it a kill -9 meant: baseline re-learned on possibly
+// the last published event of every alarm id, then the asset group's prognosis trends (causal_prognosis
+// ChannelTrends; a checkpoint written before they existed ends after the engine and resumes with new trends). Without it a kill -9 meant: baseline re-learned on possibly
 // faulty data, alarm ids reused, and alarms raised before the crash invisible to readers that join later.
 //
 // Order per observation (see RecommenderNode::observe): is_duplicate() -> engine.observe() -> record()
@@ -14,6 +15,7 @@
 #pragma once
 
 #include "causal/alarms/alarm_engine.hpp"
+#include "causal/prognosis/channel_trends.hpp"
 
 #include <chrono>
 #include <cstdint>
@@ -47,6 +49,7 @@ class AlarmStateStore {
 
   struct Opened {
     std::unique_ptr<alarms::AlarmEngine> engine;
+    std::unique_ptr<prognosis::ChannelTrends> trends;  // the group's degradation trends (restored or new)
     bool resumed = false;                        // restored from a checkpoint
     std::vector<alarms::AlarmEvent> republish;   // last published event of every alarm id (when resumed)
   };
@@ -55,7 +58,10 @@ class AlarmStateStore {
   // truncated, other alarm parameters, other channels or factors): restarting silently would re-learn the
   // baseline and reuse alarm ids, so the operator decides (move the file away to start over).
   Opened open(const std::string& asset_group, bool sample_level, const std::vector<std::string>& channel_names,
-              const std::vector<std::string>& factor_names, const alarms::AlarmParams& params);
+              const std::vector<std::string>& factor_names, const alarms::AlarmParams& params,
+              const prognosis::PrognosisParams& prognosis_params = prognosis::PrognosisParams{});
+  // The last observation index the stream's engine processed (nullopt: none yet).
+  std::optional<std::uint64_t> last_index(const std::string& asset_group, bool sample_level) const;
 
   // Every checkpoint in the state directory (asset group and time scale, read from the file itself: the file
   // name is sanitised). The service restores them at start, before any data arrives, so the alarms raised
@@ -67,7 +73,8 @@ class AlarmStateStore {
   std::vector<Found> checkpoints() const;
   // open() of a stream not seen yet: the checkpoint's own channel and factor names are taken; the caller
   // compares them with the stream's when its first observation arrives (same refusal as open()).
-  Opened open_checkpoint(const std::string& asset_group, bool sample_level, const alarms::AlarmParams& params);
+  Opened open_checkpoint(const std::string& asset_group, bool sample_level, const alarms::AlarmParams& params,
+                         const prognosis::PrognosisParams& prognosis_params = prognosis::PrognosisParams{});
 
   // True (and counted) when `index` is not after the last index the stream's engine processed: a re-sent
   // observation (e.g. an estimator that resumed from an older checkpoint of its own). Call after open().
@@ -87,6 +94,7 @@ class AlarmStateStore {
  private:
   struct Stream {
     const alarms::AlarmEngine* engine = nullptr;  // owned by the caller (open() handed it out)
+    const prognosis::ChannelTrends* trends = nullptr;  // likewise
     std::optional<std::uint64_t> last_index;
     std::map<std::string, alarms::AlarmEvent> last_events;  // by alarm id
     bool unsaved = false;
@@ -96,7 +104,8 @@ class AlarmStateStore {
   void save(const Key& key, Stream& s);
   // open()'s body; null names: the checkpoint's (open_checkpoint).
   Opened open_stream(const std::string& asset_group, bool sample_level, const std::vector<std::string>* channel_names,
-                     const std::vector<std::string>* factor_names, const alarms::AlarmParams& params);
+                     const std::vector<std::string>* factor_names, const alarms::AlarmParams& params,
+                     const prognosis::PrognosisParams& prognosis_params);
 
   std::string dir_;
   std::chrono::milliseconds sample_interval_;

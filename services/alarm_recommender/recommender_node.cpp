@@ -4,6 +4,7 @@
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
 #include "advice_conversions.hpp"
+#include "prognosis_conversions.hpp"
 
 #include "causal/state_archive.hpp"
 
@@ -24,6 +25,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationWriter),
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
       status_writer_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusWriter),
+      prognoses_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisWriter),
       advisor_(params_.advice),
       store_(options_.state_dir),
       recommendation_store_(options_.state_dir),
@@ -102,7 +104,9 @@ int RecommenderNode::run() {
     spdlog::warn("not every alarm was acknowledged within 10 s");
   }
   recommendations_.wait_for_acknowledgments(std::chrono::seconds(10));
-  spdlog::info("{} alarm messages and {} recommendations published", alarms_published_, recommendations_published_);
+  prognoses_.wait_for_acknowledgments(std::chrono::seconds(10));
+  spdlog::info("{} alarm messages, {} recommendations and {} prognoses published", alarms_published_,
+               recommendations_published_, prognoses_published_);
   spdlog::info("summary advice events={} act_on_asset={} upstream_lever={}", events_advised_, events_act_on_asset_,
                events_upstream_lever_);
   // Samples refused for lack of room are resent by the reliable writers (back-pressure); refused instances and
@@ -118,6 +122,7 @@ int RecommenderNode::run() {
   spdlog::info("summary topic=causal_twin/recommendation sent={}", recommendations_published_);
   status_writer_.wait_for_acknowledgments(std::chrono::seconds(2));
   spdlog::info("summary topic=causal_twin/asset_status sent={}", statuses_published_);
+  spdlog::info("summary topic=causal_twin/prognosis sent={} failed={}", prognoses_published_, prognosis_write_failures_);
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete()) > 0 ? 4 : 0;
 }
@@ -144,8 +149,9 @@ void RecommenderNode::observe(AssembledObservation& a) {
   if (it == engines_.end()) {
     EngineState st;
     const alarms::AlarmParams p = params_for(sample);
-    auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p);  // checkpoint if any
-    st.engine = std::move(opened.engine);
+    auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p, params_.prognosis);
+    st.engine = std::move(opened.engine);  // from the checkpoint if any
+    st.trends = std::move(opened.trends);
     if (sample) st.engine->set_id_scope("sample");  // ids unique across time scales (issue 24, finding 3)
     st.channel_names = a.channel_names;
     st.baseline_logged = st.engine->baseline_ready();
@@ -155,6 +161,7 @@ void RecommenderNode::observe(AssembledObservation& a) {
                    sample ? "sample" : "condition", it->second.engine->observations_seen(),
                    it->second.engine->active_alarms().size());
       republish(a.asset_group, a.channel_names, opened.republish);
+      republish_prognoses(a.asset_group, it->second, sample);
     } else {
       spdlog::info("asset '{}' {} level: learning the baseline from the first {} observations", a.asset_group,
                    sample ? "sample" : "condition", p.warmup_observations + p.baseline_observations);
@@ -187,22 +194,33 @@ void RecommenderNode::observe(AssembledObservation& a) {
     }
   }
   const auto not_running_before = st.engine->not_running_observations();
+  const auto gaps_before = st.engine->discontinuities();
   const auto events = st.engine->observe(a.observation);
   const bool stopped_now = st.engine->not_running_observations() > not_running_before;
+  if (!sample) {  // the trends follow every snapshot, alarm or not, so a prognosis has history at the raise
+    const int refused = prognosis::observe_for_prognosis(*st.trends, *st.engine, a.observation,
+                                                         a.observation.discontinuity ||
+                                                             st.engine->discontinuities() > gaps_before);
+    if (refused > 0) {
+      spdlog::warn("asset '{}': {} feature values refused by the prognosis trends at observation {} ({} so far)",
+                   a.asset_group, refused, a.observation.index, st.trends->refused());
+    }
+  }
   store_.record(a.asset_group, sample, a.observation.index, events);  // checkpoint before publishing
   for (const auto& e : events) {
     const bool degradation = e.category == alarms::category::kDegradation;
     if (e.state == alarms::AlarmState::Raised && degradation) ++st.raised;
     // Every degradation raise and escalation carries an action, on the alarm and as recommendations at the
-    // event's own index (docs/advice.md "From alarm to action").
+    // event's own index (docs/advice.md "From alarm to action"), and the time to the next level (docs/prognosis.md).
     if (degradation && e.state != alarms::AlarmState::Cleared && params_.advice.enabled) {
       const Decision d = decide_for(a, st, e);
-      publish_event(a, e, d.action);
+      publish_event(a, st, e, d.action);
       recommend(a, e, d);
     } else {
-      publish_event(a, e, "");
+      publish_event(a, st, e, "");
     }
   }
+  if (!sample) publish_prognoses(a.asset_group, st, a.observation.index, a.observation.time_ns);
   publish_status(a, stopped_now);
   if (!st.baseline_logged && st.engine->baseline_ready()) {
     st.baseline_logged = true;
@@ -229,9 +247,10 @@ void RecommenderNode::restore_checkpoints() {
   for (const auto& found : store_.checkpoints()) {
     const bool sample = found.sample_level;
     if (sample ? !params_.sample_enabled : !params_.condition_enabled) continue;
-    auto opened = store_.open_checkpoint(found.asset_group, sample, params_for(sample));
+    auto opened = store_.open_checkpoint(found.asset_group, sample, params_for(sample), params_.prognosis);
     EngineState st;
     st.engine = std::move(opened.engine);
+    st.trends = std::move(opened.trends);
     if (sample) st.engine->set_id_scope("sample");  // as a new engine: ids unique across time scales
     st.channel_names = st.engine->channel_names();
     st.baseline_logged = st.engine->baseline_ready();
@@ -239,9 +258,10 @@ void RecommenderNode::restore_checkpoints() {
     spdlog::info("asset '{}' {} level: resumed from checkpoint: {} observations, {} active alarms", found.asset_group,
                  sample ? "sample" : "condition", st.engine->observations_seen(), st.engine->active_alarms().size());
     republish(found.asset_group, st.channel_names, opened.republish);
-    engines_.emplace(std::make_pair(found.asset_group, sample ? static_cast<int>(causal_twin::SAMPLE_LEVEL)
-                                                              : static_cast<int>(causal_twin::CONDITION_LEVEL)),
-                     std::move(st));
+    const auto placed = engines_.emplace(std::make_pair(found.asset_group, sample ? static_cast<int>(causal_twin::SAMPLE_LEVEL)
+                                                                                 : static_cast<int>(causal_twin::CONDITION_LEVEL)),
+                                         std::move(st));
+    republish_prognoses(found.asset_group, placed.first->second, sample);
   }
   const auto recommendations = recommendation_store_.load_all();
   for (auto r : recommendations) {
@@ -252,9 +272,20 @@ void RecommenderNode::restore_checkpoints() {
   }
 }
 
-void RecommenderNode::publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e,
+void RecommenderNode::republish_prognoses(const std::string& asset_group, const EngineState& st, bool sample) {
+  // The prognoses of the last observation processed: the process may have died after the checkpoint and
+  // before publishing them (the recorder drops the ones it already has).
+  const auto last = store_.last_index(asset_group, sample);
+  if (!last || sample || !st.trends) return;
+  std::int64_t time_ns = 0;
+  for (int k = 0; k < st.trends->channels(); ++k) time_ns = std::max(time_ns, st.trends->trend(k).state().time_ns);
+  publish_prognoses(asset_group, st, *last, time_ns);
+}
+
+void RecommenderNode::publish_event(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e,
                                     const std::string& action) {
   dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
+  if (a.time_scale == causal_twin::CONDITION_LEVEL) fill_next_level(st, e, alarm_msg_);
   alarm_msg_.action(action);
   if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
   const auto level = e.severity == alarms::Severity::Critical  ? spdlog::level::err
@@ -273,6 +304,30 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const alarms:
 }  // namespace causal::recommender
 
 namespace causal::recommender {
+
+void RecommenderNode::fill_next_level(const EngineState& st, const alarms::AlarmEvent& e, causal_twin::Alarm& msg) const {
+  prognosis::ChannelPrognosis p;
+  if (!params_.prognosis_enabled || !st.trends || !prognosis::next_level_of(*st.trends, *st.engine, e, p)) return;
+  set_next_level(p, msg);
+  spdlog::info("PROGNOSIS {}: {}", e.alarm_id,
+               prognosis_text(msg.channel_name(), p, st.trends->trend(e.channel).state().time_ns,
+                              params_.prognosis.coverage));
+}
+
+void RecommenderNode::publish_prognoses(const std::string& asset_group, const EngineState& st, std::uint64_t index,
+                                        std::int64_t time_ns) {
+  if (!params_.prognosis_enabled || !st.trends) return;
+  for (const auto& p : prognosis::open_alarm_prognoses(*st.trends, *st.engine, index)) {
+    to_prognosis(asset_group, st.channel_names, p, index, time_ns, params_.prognosis.coverage, prognosis_msg_);
+    if (prognoses_.write(prognosis_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
+      ++prognoses_published_;
+    } else if (prognosis_write_failures_++ % 100 == 0) {
+      spdlog::warn("prognosis for '{}' channel {} not published ({} failures so far)", asset_group, p.channel + 1,
+                   prognosis_write_failures_);
+    }
+    spdlog::debug("PROGNOSIS {}", prognosis_msg_.text());
+  }
+}
 
 void RecommenderNode::answer(const causal_twin::WhatIfRequest& request) {
   const auto ans = advisor_.what_if(request.asset_group(), static_cast<int>(request.intervene_channel()) - 1,

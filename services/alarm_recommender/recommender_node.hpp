@@ -41,6 +41,7 @@ class RecommenderNode {
  private:
   struct EngineState {
     std::unique_ptr<alarms::AlarmEngine> engine;
+    std::unique_ptr<prognosis::ChannelTrends> trends;  // degradation trend per channel (condition level)
     std::vector<std::string> channel_names;
     bool baseline_logged = false;
     int full_covariance = -1;  // last logged interval basis: -1 none yet, 0 diagonal, 1 full blocks
@@ -49,11 +50,21 @@ class RecommenderNode {
   };
   void handle(std::vector<AssembledObservation>& ready);
   void observe(AssembledObservation& a);
-  // action: the decision's action for a degradation event (Alarm.action), "" otherwise.
-  void publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e, const std::string& action);
+  // action: the decision's action for a degradation event (Alarm.action), "" otherwise; condition-level
+  // degradation events also carry the time to the next level (fill_next_level).
+  void publish_event(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e,
+                     const std::string& action);
   // The decision for a degradation raise or escalation (advice_policy.hpp); published by recommend().
   Decision decide_for(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e) const;
   void recommend(const AssembledObservation& a, const alarms::AlarmEvent& e, const Decision& d);
+  // One Prognosis per level for every channel with an open degradation alarm (condition level), at
+  // observation `index` of data time time_ns.
+  void publish_prognoses(const std::string& asset_group, const EngineState& st, std::uint64_t index,
+                         std::int64_t time_ns);
+  // After a restart: the prognoses of the last observation the checkpoint holds, published again.
+  void republish_prognoses(const std::string& asset_group, const EngineState& st, bool sample);
+  // Next level ahead and the time to it on a degradation alarm event (Alarm decision fields).
+  void fill_next_level(const EngineState& st, const alarms::AlarmEvent& e, causal_twin::Alarm& msg) const;
   void answer(const causal_twin::WhatIfRequest& request);
   void publish_health();  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
   // At start: every alarm engine and recommendation in --state-dir restored and their last messages published
@@ -78,6 +89,7 @@ class RecommenderNode {
   AssetStatusBoard status_;
   std::uint64_t statuses_published_ = 0;
   std::map<std::string, bool> status_last_stopped_;  // the condition level's latest operating-state verdict
+  dds::TypedWriter<causal_twin::PrognosisPubSubType> prognoses_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
   Advisor advisor_;
@@ -87,6 +99,8 @@ class RecommenderNode {
   std::map<std::pair<std::string, int>, EngineState> engines_;
   std::map<std::string, OrderTrust> order_trust_;  // per asset group, from its condition-level factor batches
   causal_twin::Alarm alarm_msg_;
+  causal_twin::Prognosis prognosis_msg_;
+  std::uint64_t prognoses_published_ = 0, prognosis_write_failures_ = 0;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
   std::uint64_t events_advised_ = 0, events_act_on_asset_ = 0, events_upstream_lever_ = 0;
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;

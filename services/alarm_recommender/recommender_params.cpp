@@ -6,10 +6,45 @@
 
 namespace causal::recommender {
 
+namespace {
+
+void load_prognosis(const config::Section& g, RecommenderParams& r) {
+  g.only({"enabled", "end_of_life_ratio", "coverage", "min_trend_z", "min_points_since_onset", "max_horizon_hours",
+          "max_width_factor", "acceleration_diffusion", "forecast_diffusion", "level_diffusion", "initial_slope_std",
+          "initial_acceleration_std", "min_noise_std", "huber_k", "noise_memory", "step_std"});
+  r.prognosis_enabled = g.boolean("enabled");
+  prognosis::PrognosisParams& p = r.prognosis;
+  p.end_of_life_ratio = g.positive("end_of_life_ratio");
+  p.coverage = g.positive("coverage");
+  p.min_trend_z = g.non_negative("min_trend_z");
+  p.min_points_since_onset = static_cast<int>(g.integer("min_points_since_onset", 2, 1000000));
+  p.max_horizon_hours = g.positive("max_horizon_hours");
+  p.max_width_factor = g.positive("max_width_factor");
+  p.trend.acceleration_diffusion = g.non_negative("acceleration_diffusion");
+  p.trend.forecast_diffusion = g.non_negative("forecast_diffusion");
+  p.trend.level_diffusion = g.non_negative("level_diffusion");
+  p.trend.initial_slope_std = g.positive("initial_slope_std");
+  p.trend.initial_acceleration_std = g.positive("initial_acceleration_std");
+  p.trend.min_noise_std = g.positive("min_noise_std");
+  p.trend.huber_k = g.positive("huber_k");
+  p.trend.noise_memory = g.positive("noise_memory");
+  p.trend.step_std = g.non_negative("step_std");
+  if (p.end_of_life_ratio <= r.condition.critical_ratio) {
+    g.fail("end_of_life_ratio", "must be above condition_level.critical_ratio (the end of life comes after critical)");
+  }
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& e) {
+    g.fail("enabled", std::string("inconsistent prognosis parameters: ") + e.what());
+  }
+}
+
+}  // namespace
+
 RecommenderParams load_recommender_params(const std::string& path) {
   using config::Section;
   const Section root = Section::load_file(path);
-  root.only({"condition_level", "sample_level", "recommendations", "health"});
+  root.only({"condition_level", "sample_level", "recommendations", "health", "prognosis"});
   RecommenderParams r;
 
   const Section c = root.child("condition_level");
@@ -98,6 +133,7 @@ RecommenderParams load_recommender_params(const std::string& path) {
   r.health_deadline_s = h.non_negative("deadline_s");
   // A deadline far beyond any plant cadence is a typo (e.g. milliseconds), not a choice: one day at most.
   if (r.health_deadline_s > 86400.0) h.fail("deadline_s", "must be <= 86400 s (one day)");
+  load_prognosis(root.child("prognosis"), r);
   return r;
 }
 

@@ -6,6 +6,7 @@
 #include "advisor.hpp"
 
 #include "causal/alarms/alarm_params.hpp"
+#include "causal/prognosis/time_to_level.hpp"
 
 #include <string>
 
@@ -22,6 +23,10 @@ struct RecommenderParams {
   // health.deadline_s: how long an asset group's causal factors may stay silent while the estimator is alive
   // before a HEALTH alarm is raised (0 = no deadline; a lost estimator still raises one).
   double health_deadline_s = 30.0;
+  // prognosis.*: time to the warning / critical / end-of-life level for channels with an open degradation
+  // alarm (causal_prognosis), published on causal_twin/prognosis and in the Alarm decision fields.
+  bool prognosis_enabled = true;
+  prognosis::PrognosisParams prognosis;
 };
 
 // Throws causal::config::ConfigError naming the file and key (also for values AlarmParams::validate refuses).

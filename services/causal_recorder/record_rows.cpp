@@ -6,6 +6,8 @@
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/io/time_format.hpp"
 
+#include <cmath>
+
 namespace causal::recorder {
 
 using report::format_integer;
@@ -14,6 +16,8 @@ using report::sanitize_file_component;
 
 namespace {
 std::string utc_or_empty(std::int64_t time_ns) { return time_ns == 0 ? std::string() : io::format_utc(time_ns); }
+// Hours: empty when unknown (NaN), as the interface says.
+std::string hours_or_empty(double h) { return std::isfinite(h) ? format_number(h) : std::string(); }
 }  // namespace
 
 std::string conditions_file_name(const std::string& asset_group, const std::string& feature) {
@@ -65,7 +69,11 @@ const std::vector<std::string>& alarm_header() {
                                           "root_cause_name", "score",      "threshold",          "reason",
                                           // appended: degradation, data_quality, health or operating_change;
                                           // the root-cause attribution's confidence in [0, 1]
-                                          "category", "root_cause_confidence"};
+                                          "category", "root_cause_confidence",
+                                          // appended (issue 22): the next level ahead of a degradation alarm and
+                                          // the predicted hours to it (median, 90 % interval; empty = unknown)
+                                          "next_level", "hours_to_next_level", "hours_to_next_level_low",
+                                          "hours_to_next_level_high"};
   return h;
 }
 
@@ -93,7 +101,52 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& a, std::optional<st
           format_number(a.threshold()),
           a.reason(),
           a.category(),
-          format_number(a.root_cause_confidence())};
+          format_number(a.root_cause_confidence()),
+          a.next_level(),
+          a.next_level().empty() ? std::string() : hours_or_empty(a.hours_to_next_level()),
+          a.next_level().empty() ? std::string() : hours_or_empty(a.hours_to_next_level_low()),
+          a.next_level().empty() ? std::string() : hours_or_empty(a.hours_to_next_level_high())};
+}
+
+const std::vector<std::string>& prognosis_header() {
+  static const std::vector<std::string> h{"asset_group", "channel",   "channel_name", "sample_index", "time_utc",
+                                          "level",       "hours",     "hours_low",    "hours_high",
+                                          // after the interface columns: the rest of the message
+                                          "known", "reached", "level_ratio", "current_ratio", "growth_per_hour",
+                                          "coverage", "eta_utc", "eta_low_utc", "eta_high_utc", "alarm_id", "text"};
+  return h;
+}
+
+std::vector<std::string> prognosis_row(const causal_twin::Prognosis& p) {
+  return {p.asset_group(),
+          format_integer(static_cast<std::uint64_t>(p.channel())),
+          p.channel_name(),
+          format_integer(static_cast<std::uint64_t>(p.sample_index())),
+          utc_or_empty(p.time_ns()),
+          p.level(),
+          hours_or_empty(p.hours()),
+          hours_or_empty(p.hours_low()),
+          hours_or_empty(p.hours_high()),
+          p.known() ? "true" : "false",
+          p.reached() ? "true" : "false",
+          format_number(p.level_ratio()),
+          format_number(p.current_ratio()),
+          format_number(p.growth_per_hour()),
+          format_number(p.coverage()),
+          utc_or_empty(p.eta_time_ns()),
+          utc_or_empty(p.eta_low_time_ns()),
+          utc_or_empty(p.eta_high_time_ns()),
+          p.alarm_id(),
+          p.text()};
+}
+
+bool PrognosisLedger::accept(const causal_twin::Prognosis& p) {
+  const std::string key = p.asset_group() + '\x1f' + std::to_string(p.channel()) + '\x1f' + p.level();
+  auto [it, created] = last_.try_emplace(key, p.sample_index());
+  if (created) return true;
+  if (p.sample_index() <= it->second) return false;
+  it->second = p.sample_index();
+  return true;
 }
 
 const std::vector<std::string>& recommendation_header() {

@@ -22,6 +22,7 @@ std::string factors_file_name(const std::string& asset_group, causal_twin::TimeS
                               causal_twin::EstimateKind kind);
 inline constexpr const char* kAlarmsFile = "alarms.csv";
 inline constexpr const char* kRecommendationsFile = "recommendations.csv";
+inline constexpr const char* kPrognosisFile = "prognosis.csv";
 
 // snapshot,time_ns,time_utc,<channel names...>
 std::vector<std::string> condition_header(const causal_twin::ConditionVector& in);
@@ -31,7 +32,8 @@ const char* to_string(causal_twin::Severity severity);  // advisory | warning | 
 const char* to_string(causal_twin::AlarmState state);   // raised | escalated | cleared
 
 // alarm_id,state,severity,kind,asset_group,channel,channel_name,sample_index,time_utc,raised_utc,
-// cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason
+// cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason,category,root_cause_confidence,
+// next_level,hours_to_next_level,hours_to_next_level_low,hours_to_next_level_high (empty hours: unknown)
 const std::vector<std::string>& alarm_header();
 // time_utc is the data time of this state change: the clearing time for CLEARED, the raising time for
 // RAISED, and for ESCALATED the time of sample_index when the caller knows it (evidence_time_ns, from the
@@ -41,6 +43,21 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& alarm, std::optiona
 // Every field of Recommendation, in IDL order.
 const std::vector<std::string>& recommendation_header();
 std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r);
+
+// asset_group,channel,channel_name,sample_index,time_utc,level,hours,hours_low,hours_high (the interface of
+// issue 22: channel 1-based, level warning | critical | end_of_life, empty hours = unknown), then known,
+// reached,level_ratio,current_ratio,growth_per_hour,coverage,eta_utc,eta_low_utc,eta_high_utc,alarm_id,text.
+const std::vector<std::string>& prognosis_header();
+std::vector<std::string> prognosis_row(const causal_twin::Prognosis& p);
+// Exactly once per key (asset group, channel, level) and snapshot: a prognosis whose sample_index is not
+// after the last one written for its key is a repeat (transient-local replay, re-publication after a restart).
+class PrognosisLedger {
+ public:
+  bool accept(const causal_twin::Prognosis& p);
+
+ private:
+  std::unordered_map<std::string, std::uint64_t> last_;
+};
 
 // Exactly once for the last-value topics (alarms, recommendations): a message whose signature equals the
 // last one written for its id is a repeat (a transient-local replay to a re-matched reader, a re-send

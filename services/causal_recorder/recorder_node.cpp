@@ -35,17 +35,20 @@ RecorderNode::RecorderNode(RecorderOptions options)
       factors_in_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
       alarms_in_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
       recommendations_in_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
-      status_in_(participant_, dds::topics::kAssetStatus, kAssetStatusHistoryReader) {
+      status_in_(participant_, dds::topics::kAssetStatus, kAssetStatusHistoryReader),
+      prognoses_in_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisReader) {
   loop_.attach(conditions_in_.get());
   loop_.attach(factors_in_.get());
   loop_.attach(alarms_in_.get());
   loop_.attach(recommendations_in_.get());
   loop_.attach(status_in_.get());
+  loop_.attach(prognoses_in_.get());
   // Alarms and recommendations always get a file: a header-only alarms.csv says "no alarms", which is
   // different from "not recorded".
   alarms_ = open(kAlarmsFile, alarm_header());
   recommendations_ = open(kRecommendationsFile, recommendation_header());
   statuses_ = open(kAssetStatusFile, asset_status_header());
+  prognoses_ = open(kPrognosisFile, prognosis_header());
 }
 
 std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name,
@@ -84,7 +87,8 @@ int RecorderNode::run() {
       // Idle exit once every publisher has left (the recommender's last alarms come after the estimator's data).
       [this] {
         return conditions_in_.matched_writers() + factors_in_.matched_writers() + alarms_in_.matched_writers() +
-               recommendations_in_.matched_writers() + status_in_.matched_writers();
+               recommendations_in_.matched_writers() + status_in_.matched_writers() +
+               prognoses_in_.matched_writers();
       });
   if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
@@ -107,12 +111,15 @@ std::size_t RecorderNode::take_available() {
   std::vector<std::pair<Key, causal_twin::Alarm>> alarms;
   std::vector<std::pair<Key, causal_twin::Recommendation>> recs;
   std::vector<std::pair<Key, causal_twin::AssetStatus>> statuses;
+  std::vector<std::pair<Key, causal_twin::Prognosis>> prognoses;  // keyed too: back into publication order
   const std::size_t n = conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
                         factors_in_.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
                         alarms_in_.take_all([&](const auto& a, const auto& info) { alarms.emplace_back(key_of(info), a); }) +
                         recommendations_in_.take_all(
                             [&](const auto& r, const auto& info) { recs.emplace_back(key_of(info), r); }) +
-                        status_in_.take_all([&](const auto& st, const auto& info) { statuses.emplace_back(key_of(info), st); });
+                        status_in_.take_all([&](const auto& st, const auto& info) { statuses.emplace_back(key_of(info), st); }) +
+                        prognoses_in_.take_all(
+                            [&](const auto& p, const auto& info) { prognoses.emplace_back(key_of(info), p); });
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   std::stable_sort(alarms.begin(), alarms.end(), by_key);
   std::stable_sort(recs.begin(), recs.end(), by_key);
@@ -120,6 +127,8 @@ std::size_t RecorderNode::take_available() {
   std::stable_sort(statuses.begin(), statuses.end(), by_key);
   for (const auto& [k, r] : recs) on_recommendation(r);
   for (const auto& [k, st] : statuses) on_status(st);
+  std::stable_sort(prognoses.begin(), prognoses.end(), by_key);
+  for (const auto& [k, p] : prognoses) on_prognosis(p);
   return n;
 }
 
@@ -227,6 +236,16 @@ void RecorderNode::on_status(const causal_twin::AssetStatus& in) {
   ++status_counts_.written;
 }
 
+void RecorderNode::on_prognosis(const causal_twin::Prognosis& in) {
+  ++prognosis_counts_.received;
+  if (!prognosis_ledger_.accept(in)) {
+    ++prognosis_counts_.duplicates;
+    return;
+  }
+  prognoses_->write_row(prognosis_row(in));
+  ++prognosis_counts_.written;
+}
+
 void RecorderNode::flush_all() {
   for (auto& [name, t] : conditions_) t.file->flush();
   for (auto& [key, t] : factor_tables_) {
@@ -235,6 +254,7 @@ void RecorderNode::flush_all() {
   alarms_->flush();
   recommendations_->flush();
   statuses_->flush();
+  prognoses_->flush();
 }
 
 int RecorderNode::finish() {
@@ -284,10 +304,14 @@ int RecorderNode::finish() {
   }
   spdlog::info("alarms: {}", describe(alarm_counts_));
   spdlog::info("recommendations: {}", describe(recommendation_counts_));
+  spdlog::info("prognoses: {}", describe(prognosis_counts_));
+  spdlog::info("summary topic=causal_twin/prognosis file={} written={} duplicates={}", kPrognosisFile,
+               prognoses_->rows_written(), prognosis_counts_.duplicates);
   add(kAlarmsFile, alarms_->rows_written());
   add(kRecommendationsFile, recommendations_->rows_written());
   spdlog::info("asset status: {}", describe(status_counts_));
   add(kAssetStatusFile, statuses_->rows_written());
+  add(kPrognosisFile, prognoses_->rows_written());
   spdlog::info("rows written: {}", summary);
   if (sample_level_skipped_ > 0) {
     spdlog::info("{} sample-level factor messages not recorded (use --sample-level to keep them)",

@@ -1,5 +1,5 @@
-// causal-recorder's DDS node (the historian): condition vectors, causal factors, alarms and
-// recommendations in; CSV files out, flushed after every batch, every row exactly once (re-sent and
+// causal-recorder's DDS node (the historian): condition vectors, causal factors, alarms,
+// recommendations and prognoses in; CSV files out, flushed after every batch, every row exactly once (re-sent and
 // replayed messages are counted as duplicates). Entities are built in the constructor, run() records
 // until idle/max-runtime/stop(), then writes pending partial factor rows and per topic what it received,
 // wrote, dropped as duplicate or refused, and the snapshot ranges it never got.
@@ -61,6 +61,7 @@ class RecorderNode {
   void on_alarm(const causal_twin::Alarm& in);
   void on_recommendation(const causal_twin::Recommendation& in);
   void on_status(const causal_twin::AssetStatus& in);
+  void on_prognosis(const causal_twin::Prognosis& in);
   void write_ready_rows(FactorTable& table);
   // Sanitised asset id for file names, unique per raw id (a clash gets "-2", "-3", ...).
   const std::string& file_asset(const std::string& asset_group);
@@ -76,6 +77,7 @@ class RecorderNode {
   dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
   dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
   dds::TypedReader<causal_twin::AssetStatusPubSubType> status_in_;
+  dds::TypedReader<causal_twin::PrognosisPubSubType> prognoses_in_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
 
   std::map<std::string, ConditionTable> conditions_;  // by file name
@@ -83,7 +85,9 @@ class RecorderNode {
   std::map<std::string, IndexClock> clocks_;          // per asset: condition-level index -> time
   std::map<std::string, std::string> file_assets_;    // raw asset id -> file-name component
   std::set<std::string> used_file_assets_;
-  std::unique_ptr<report::CsvFile> alarms_, recommendations_, statuses_;
+  std::unique_ptr<report::CsvFile> alarms_, recommendations_, statuses_, prognoses_;
+  PrognosisLedger prognosis_ledger_;
+  TopicCounts prognosis_counts_;
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;
   TopicCounts alarm_counts_, recommendation_counts_, status_counts_;
   std::uint64_t sample_level_skipped_ = 0, invalid_msgs_ = 0;

@@ -74,10 +74,11 @@ for g in "${groups[@]}"; do
 done
 # Alarms and recommendations: one file for every group, in arrival order, so two groups' rows interleave as
 # they happen to arrive; each group's rows (ids start with the group) must be identical and in the same order.
-for f in alarms.csv recommendations.csv; do
+# prognosis.csv: rows start with the group as the first column ("<group>,").
+for f in alarms.csv recommendations.csv prognosis.csv; do
   [ -s "$work/clean/rec/$f" ] || fail "$f not recorded in the clean run"
   for g in "${groups[@]}"; do
-    clean=$(grep "^$g/" "$work/clean/rec/$f"); crash=$(grep "^$g/" "$work/crash/rec/$f")
+    clean=$(grep -E "^$g[/,]" "$work/clean/rec/$f"); crash=$(grep -E "^$g[/,]" "$work/crash/rec/$f")
     [ -n "$clean" ] || fail "$f: no row of $g in the clean run"
     [ "$clean" = "$crash" ] || fail "$f ($g) differs after the takeover: $(diff <(cut -c1-60 <<< "$clean") <(cut -c1-60 <<< "$crash") | head -5)"
     echo "$f ($g): $(wc -l <<< "$crash") rows, identical"

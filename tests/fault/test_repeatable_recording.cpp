@@ -23,7 +23,7 @@ constexpr int kRuns = 5;
 constexpr std::uint64_t kSnapshots = 984;  // rows of the feature table
 const std::vector<std::string> kCompared = {"conditions_ims2-shaft1_meanabs.csv",
                                             "factors_ims2-shaft1_condition_filter.csv", "alarms.csv",
-                                            "recommendations.csv"};
+                                            "recommendations.csv", "prognosis.csv"};
 
 // "line N differs" (1-based) or "" when equal.
 std::string first_difference(const std::string& a, const std::string& b) {

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 using namespace causal::recorder;
 using causal::report::csv_line;
 
@@ -56,14 +58,82 @@ TEST(RecordRows, ConditionRow) {
 
 TEST(RecordRows, AlarmRowQuotesTextAndFormatsTimes) {
   const auto a = make_alarm();
-  ASSERT_EQ(alarm_header().size(), 18u);
+  ASSERT_EQ(alarm_header().size(), 22u);
   EXPECT_EQ(csv_line(alarm_header()),
             "alarm_id,state,severity,kind,asset_group,channel,channel_name,sample_index,time_utc,raised_utc,"
-            "cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason,category,root_cause_confidence\n");
+            "cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason,category,root_cause_confidence,"
+            "next_level,hours_to_next_level,hours_to_next_level_low,hours_to_next_level_high\n");
   EXPECT_EQ(csv_line(alarm_row(a, std::nullopt)),
             "\"plant/a,b/2/feature_drift/1\",raised,warning,feature_drift,\"plant/a,b\",2,Bearing 2,17,"
             "2004-02-12 10:42:39,2004-02-12 10:42:39,,3,Bearing 3,12.5,8,"
-            "\"rms rose 3x, \"\"sharply\"\"\nsince 10:42\",degradation,0.75\n");
+            "\"rms rose 3x, \"\"sharply\"\"\nsince 10:42\",degradation,0.75,,,,\n");
+}
+
+TEST(RecordRows, AlarmRowCarriesTheNextLevel) {
+  auto a = make_alarm();
+  a.next_level("critical");
+  a.hours_to_next_level(12.5);
+  a.hours_to_next_level_low(8.25);
+  a.hours_to_next_level_high(std::numeric_limits<double>::quiet_NaN());  // unbounded: empty
+  const auto row = alarm_row(a, std::nullopt);
+  ASSERT_EQ(row.size(), 22u);
+  EXPECT_EQ(row[18], "critical");
+  EXPECT_EQ(row[19], "12.5");
+  EXPECT_EQ(row[20], "8.25");
+  EXPECT_EQ(row[21], "");
+}
+
+TEST(RecordRows, PrognosisRowStartsWithTheInterfaceColumns) {
+  const std::string head = csv_line(prognosis_header());
+  EXPECT_EQ(head.rfind("asset_group,channel,channel_name,sample_index,time_utc,level,hours,hours_low,hours_high,", 0), 0u)
+      << head;
+  causal_twin::Prognosis p;
+  p.asset_group("ims2");
+  p.channel(1);
+  p.channel_name("bearing1");
+  p.level("critical");
+  p.sample_index(600);
+  p.time_ns(kT0);
+  p.known(true);
+  p.hours(10.5);
+  p.hours_low(6.0);
+  p.hours_high(20.0);
+  p.eta_time_ns(kT0 + 630 * kMin);
+  const auto row = prognosis_row(p);
+  ASSERT_EQ(row.size(), prognosis_header().size());
+  EXPECT_EQ(row[0], "ims2");
+  EXPECT_EQ(row[1], "1");
+  EXPECT_EQ(row[3], "600");
+  EXPECT_EQ(row[4], "2004-02-12 10:32:39");
+  EXPECT_EQ(row[5], "critical");
+  EXPECT_EQ(row[6], "10.5");
+  EXPECT_EQ(row[7], "6");
+  EXPECT_EQ(row[8], "20");
+  p.known(false);
+  p.hours(std::numeric_limits<double>::quiet_NaN());
+  p.hours_low(std::numeric_limits<double>::quiet_NaN());
+  p.hours_high(std::numeric_limits<double>::quiet_NaN());
+  const auto unknown = prognosis_row(p);
+  EXPECT_EQ(unknown[6], "");
+  EXPECT_EQ(unknown[7], "");
+  EXPECT_EQ(unknown[8], "");
+}
+
+TEST(RecordRows, PrognosisLedgerWritesEachKeyAndSnapshotOnce) {
+  PrognosisLedger ledger;
+  causal_twin::Prognosis p;
+  p.asset_group("g");
+  p.channel(1);
+  p.level("warning");
+  p.sample_index(10);
+  EXPECT_TRUE(ledger.accept(p));
+  EXPECT_FALSE(ledger.accept(p));  // re-published after a restart
+  p.level("critical");
+  EXPECT_TRUE(ledger.accept(p));   // another key
+  p.sample_index(11);
+  EXPECT_TRUE(ledger.accept(p));
+  p.sample_index(9);
+  EXPECT_FALSE(ledger.accept(p));  // replayed history
 }
 
 TEST(RecordRows, AlarmEventTimeFollowsTheState) {

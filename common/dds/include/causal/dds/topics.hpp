@@ -36,5 +36,7 @@ inline constexpr const char* kAssetStatusWriter = "asset_status_writer";  // tra
 inline constexpr const char* kAssetStatusReader = "asset_status_reader";
 inline constexpr const char* kWhatIfWriter = "whatif_writer";
 inline constexpr const char* kWhatIfReader = "whatif_reader";
+inline constexpr const char* kPrognosisWriter = "prognosis_writer";
+inline constexpr const char* kPrognosisReader = "prognosis_reader";
 
 }  // namespace causal::dds::profiles

@@ -1,0 +1,148 @@
+#include "causal/prognosis/degradation_trend.hpp"
+
+#include "causal/state_archive.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace causal::prognosis {
+
+namespace {
+
+constexpr const char* kTag = "prognosis_degradation_trend";
+constexpr std::uint32_t kVersion = 1;
+constexpr double kNsPerHour = 3.6e12;
+
+void require(bool ok, const char* field, const char* what) {
+  if (!ok) throw std::invalid_argument(std::string("TrendParams.") + field + " " + what);
+}
+
+}  // namespace
+
+void TrendParams::validate() const {
+  require(std::isfinite(acceleration_diffusion) && acceleration_diffusion >= 0, "acceleration_diffusion",
+          "must be finite and >= 0");
+  require(std::isfinite(forecast_diffusion) && forecast_diffusion >= 0 && forecast_diffusion <= 1, "forecast_diffusion",
+          "must be in [0, 1]");
+  require(std::isfinite(initial_acceleration_std) && initial_acceleration_std > 0, "initial_acceleration_std",
+          "must be finite and > 0");
+  require(std::isfinite(level_diffusion) && level_diffusion >= 0, "level_diffusion", "must be finite and >= 0");
+  require(std::isfinite(initial_slope_std) && initial_slope_std > 0, "initial_slope_std", "must be finite and > 0");
+  require(std::isfinite(min_noise_std) && min_noise_std > 0, "min_noise_std", "must be finite and > 0");
+  require(std::isfinite(huber_k) && huber_k >= 1, "huber_k", "must be finite and >= 1");
+  require(std::isfinite(noise_memory) && noise_memory >= 1, "noise_memory", "must be finite and >= 1");
+  require(std::isfinite(step_std) && step_std >= 0, "step_std", "must be finite and >= 0");
+}
+
+DegradationTrend::DegradationTrend(TrendParams params) : params_(params) { params_.validate(); }
+
+void DegradationTrend::predict(double dt, bool discontinuity) {
+  Eigen::Matrix3d f;
+  f << 1.0, dt, 0.5 * dt * dt, 0.0, 1.0, dt, 0.0, 0.0, 1.0;
+  const double q = params_.acceleration_diffusion, d2 = dt * dt, d3 = d2 * dt;
+  Eigen::Matrix3d qm;
+  qm << d3 * d2 / 20.0, d2 * d2 / 8.0, d3 / 6.0,  //
+      d2 * d2 / 8.0, d3 / 3.0, d2 / 2.0,            //
+      d3 / 6.0, d2 / 2.0, dt;
+  qm *= q;
+  qm(0, 0) += params_.level_diffusion * dt;
+  state_.x = f * state_.x;
+  state_.p = f * state_.p * f.transpose() + qm;
+  if (discontinuity) state_.p(0, 0) += params_.step_std * params_.step_std;
+}
+
+bool DegradationTrend::observe(std::int64_t time_ns, double y, double noise_std, bool discontinuity) {
+  if (!std::isfinite(y) || !std::isfinite(noise_std) || noise_std < 0 || (started() && time_ns <= state_.time_ns)) {
+    ++refused_;
+    return false;
+  }
+  const double r_base = std::pow(std::max(noise_std, params_.min_noise_std), 2);
+  if (!started()) {
+    state_.x << y, 0.0, 0.0;
+    state_.p.setZero();
+    state_.p(0, 0) = r_base;
+    state_.p(1, 1) = params_.initial_slope_std * params_.initial_slope_std;
+    state_.p(2, 2) = params_.initial_acceleration_std * params_.initial_acceleration_std;
+    state_.time_ns = time_ns;
+    ++observations_;
+    return true;
+  }
+  predict(static_cast<double>(time_ns - state_.time_ns) / kNsPerHour, discontinuity);
+  state_.time_ns = time_ns;
+  const double p00 = state_.p(0, 0);
+  const double s = p00 + r_base * noise_scale_;
+  const double v = y - state_.x[0];
+  const double z = v / std::sqrt(s);
+  // Huber: an innovation beyond k sigma moves the state as one of exactly k sigma would.
+  double w = 1.0;
+  if (std::abs(z) > params_.huber_k) {
+    w = params_.huber_k / std::abs(z);
+    ++downweighted_;
+  }
+  const Eigen::Vector3d ph = state_.p.col(0);
+  state_.x += ph * (w * v / s);
+  state_.p -= (w / s) * ph * ph.transpose();
+  state_.p = 0.5 * (state_.p + state_.p.transpose());
+  // Running scale of the measurement noise over its healthy value: E[v^2] = P00 + R. The excess is clipped at
+  // k^2 times the current scale, so one spike cannot inflate it; never below the healthy value.
+  const double excess = std::max(v * v - p00, 0.0) / r_base;
+  const double alpha = 1.0 / params_.noise_memory;
+  noise_scale_ = std::max(1.0, (1.0 - alpha) * noise_scale_ +
+                                   alpha * std::min(excess, params_.huber_k * params_.huber_k * noise_scale_));
+  ++observations_;
+  return true;
+}
+
+void DegradationTrend::save(causal::StateWriter& out) const {
+  out.begin(kTag, kVersion);
+  out.put(params_.acceleration_diffusion);
+  out.put(params_.forecast_diffusion);
+  out.put(params_.level_diffusion);
+  out.put(params_.initial_slope_std);
+  out.put(params_.initial_acceleration_std);
+  out.put(params_.min_noise_std);
+  out.put(params_.huber_k);
+  out.put(params_.noise_memory);
+  out.put(params_.step_std);
+  out.put(state_.x);
+  out.put(state_.p);
+  out.put(state_.time_ns);
+  out.put(noise_scale_);
+  out.put(observations_);
+  out.put(refused_);
+  out.put(downweighted_);
+}
+
+DegradationTrend DegradationTrend::restore(causal::StateReader& in, const TrendParams& params) {
+  in.expect(kTag, kVersion);
+  TrendParams saved;
+  saved.acceleration_diffusion = in.get<double>();
+  saved.forecast_diffusion = in.get<double>();
+  saved.level_diffusion = in.get<double>();
+  saved.initial_slope_std = in.get<double>();
+  saved.initial_acceleration_std = in.get<double>();
+  saved.min_noise_std = in.get<double>();
+  saved.huber_k = in.get<double>();
+  saved.noise_memory = in.get<double>();
+  saved.step_std = in.get<double>();
+  if (saved.acceleration_diffusion != params.acceleration_diffusion ||
+      saved.forecast_diffusion != params.forecast_diffusion || saved.level_diffusion != params.level_diffusion ||
+      saved.initial_slope_std != params.initial_slope_std ||
+      saved.initial_acceleration_std != params.initial_acceleration_std || saved.min_noise_std != params.min_noise_std ||
+      saved.huber_k != params.huber_k || saved.noise_memory != params.noise_memory || saved.step_std != params.step_std) {
+    throw causal::StateError("the degradation trend was written with other prognosis trend parameters");
+  }
+  DegradationTrend t(params);
+  t.state_.x = in.get<Eigen::Vector3d>();  // throws on another state size
+  t.state_.p = in.get<Eigen::Matrix3d>();
+  t.state_.time_ns = in.get<std::int64_t>();
+  t.noise_scale_ = in.get<double>();
+  t.observations_ = in.get<std::uint64_t>();
+  t.refused_ = in.get<std::uint64_t>();
+  t.downweighted_ = in.get<std::uint64_t>();
+  return t;
+}
+
+}  // namespace causal::prognosis

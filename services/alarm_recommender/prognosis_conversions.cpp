@@ -1,0 +1,86 @@
+#include "prognosis_conversions.hpp"
+
+#include "causal/io/time_format.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace causal::recommender {
+
+namespace {
+
+constexpr double kNsPerHour = 3.6e12;
+
+std::int64_t eta(std::int64_t time_ns, double hours) {
+  return std::isfinite(hours) ? time_ns + static_cast<std::int64_t>(std::llround(hours * kNsPerHour)) : 0;
+}
+
+std::string hours_text(double h) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, h < 10 ? "%.1f h" : "%.0f h", h);
+  return buf;
+}
+
+// Whole minutes: a prognosis is not more precise than that.
+std::string utc(std::int64_t time_ns) {
+  const std::int64_t minute = 60LL * 1000000000LL;
+  const std::string s = io::format_utc((time_ns / minute) * minute);
+  return s.substr(0, 16) + " UTC";
+}
+
+}  // namespace
+
+std::string prognosis_text(const std::string& channel_name, const prognosis::ChannelPrognosis& p, std::int64_t time_ns,
+                           double coverage) {
+  char ratio[48];
+  std::snprintf(ratio, sizeof ratio, "%s (%gx its baseline)", prognosis::to_string(p.level), p.ratio);
+  const prognosis::TimeToLevel& t = p.time;
+  if (t.reached) {
+    char now[32];
+    std::snprintf(now, sizeof now, "%.2fx", p.current_ratio);
+    return channel_name + " has reached " + ratio + ": its level is " + now + " its baseline now";
+  }
+  if (!t.known) return channel_name + ": time to " + ratio + " unknown: " + t.why;
+  char pct[16];
+  std::snprintf(pct, sizeof pct, "%g %%", 100.0 * coverage);
+  return channel_name + " reaches " + ratio + " in " + hours_text(t.hours) + " (" + pct + " interval " +
+         hours_text(t.hours_low) + " to " + hours_text(t.hours_high) + "): " + utc(eta(time_ns, t.hours)) + " (between " +
+         utc(eta(time_ns, t.hours_low)) + " and " + utc(eta(time_ns, t.hours_high)) + ")";
+}
+
+void to_prognosis(const std::string& asset_group, const std::vector<std::string>& channel_names,
+                  const prognosis::ChannelPrognosis& p, std::uint64_t sample_index, std::int64_t time_ns,
+                  double coverage, causal_twin::Prognosis& out) {
+  const std::string name = p.channel >= 0 && static_cast<std::size_t>(p.channel) < channel_names.size()
+                               ? channel_names[static_cast<std::size_t>(p.channel)]
+                               : std::to_string(p.channel + 1);
+  out.asset_group(asset_group);
+  out.channel(static_cast<uint16_t>(p.channel + 1));
+  out.level(prognosis::to_string(p.level));
+  out.channel_name(name);
+  out.alarm_id(p.alarm_id);
+  out.sample_index(sample_index);
+  out.time_ns(time_ns);
+  out.level_ratio(p.ratio);
+  out.current_ratio(p.current_ratio);
+  out.growth_per_hour(p.growth_per_hour);
+  out.known(p.time.known);
+  out.reached(p.time.reached);
+  out.hours(p.time.hours);
+  out.hours_low(p.time.hours_low);
+  out.hours_high(p.time.hours_high);
+  out.coverage(coverage);
+  out.eta_time_ns(p.time.known ? eta(time_ns, p.time.hours) : 0);
+  out.eta_low_time_ns(p.time.known ? eta(time_ns, p.time.hours_low) : 0);
+  out.eta_high_time_ns(p.time.known ? eta(time_ns, p.time.hours_high) : 0);
+  out.text(prognosis_text(name, p, time_ns, coverage));
+}
+
+void set_next_level(const prognosis::ChannelPrognosis& p, causal_twin::Alarm& out) {
+  out.next_level(prognosis::to_string(p.level));
+  out.hours_to_next_level(p.time.hours);
+  out.hours_to_next_level_low(p.time.hours_low);
+  out.hours_to_next_level_high(p.time.hours_high);
+}
+
+}  // namespace causal::recommender

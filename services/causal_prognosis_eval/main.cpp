@@ -1,0 +1,181 @@
+// causal-prognosis-eval: how well the twin's time-to-level prognosis (causal_prognosis, fed exactly as
+// alarm-recommender feeds it) predicts when a degrading channel reaches 2x and 4x its baseline and its end of
+// life, against a log-linear Theil-Sen trend since the alarm's onset. Two sources:
+//   --ims FILE      IMS-format feature table (tests/bench/prognosis_eval.sh uses test 2): the services' chain
+//                   (causal_alarm_pipeline) gives the observations; truth for 2x / 4x: the first snapshot whose
+//                   centred 5-snapshot median reaches the level (one spike is not "reached"); end of life: the
+//                   stop (--stop-index, default 981, the last running snapshot of test 2).
+//   --sim           simulated run-to-failure channels with known crossing times (run_to_failure_sim.hpp),
+//                   --seeds N per noise kind (Gaussian and uniform).
+// Prints one table per source: per level and method, decision points, share known, coverage of the 90 %
+// interval among the known ones and over all decision points (unknown = miss), median |error| in hours.
+#include "prognosis_scoring.hpp"
+#include "run_to_failure_sim.hpp"
+
+#include "alarm_pipeline.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+
+using namespace causal;
+using namespace causal::prognosis_eval;
+
+namespace {
+
+struct Options {
+  std::string ims;
+  std::string feature_name;
+  int channel = 1;
+  std::uint64_t stop_index = 981;
+  bool sim = false;
+  int seeds = 20;
+  bool trace = false;
+  prognosis::PrognosisParams params;
+};
+
+[[noreturn]] void usage(const std::string& why) {
+  std::cerr << "causal-prognosis-eval: " << why << "\n"
+            << "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | "
+               "--sim [--seeds 20]) [--acceleration-diffusion Q] [--forecast-diffusion F] [--min-trend-z Z] [--end-of-life-ratio R] [--trace]\n";
+  std::exit(2);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--ims") o.ims = value();
+    else if (a == "--feature-name") o.feature_name = value();
+    else if (a == "--channel") o.channel = std::stoi(value());
+    else if (a == "--stop-index") o.stop_index = std::stoull(value());
+    else if (a == "--sim") o.sim = true;
+    else if (a == "--seeds") o.seeds = std::stoi(value());
+    else if (a == "--trace") o.trace = true;
+    else if (a == "--acceleration-diffusion") o.params.trend.acceleration_diffusion = std::stod(value());
+    else if (a == "--forecast-diffusion") o.params.trend.forecast_diffusion = std::stod(value());
+    else if (a == "--min-trend-z") o.params.min_trend_z = std::stod(value());
+    else if (a == "--end-of-life-ratio") o.params.end_of_life_ratio = std::stod(value());
+    else usage("unknown option " + a);
+  }
+  if (o.ims.empty() == !o.sim) usage("give exactly one of --ims FILE and --sim");
+  o.params.validate();
+  return o;
+}
+
+void print_trace(const PrognosisScorer& s) {
+  for (const auto& line : s.trace) std::cout << "trace " << line << "\n";
+}
+
+int run_ims(const Options& o) {
+  const auto series = alarm_eval::series_from_feature_table(o.ims, o.feature_name);
+  const int ch = o.channel - 1;
+  if (ch < 0 || ch >= static_cast<int>(series.channel_names.size())) usage("--channel outside the table");
+  auto options = alarm_eval::shipped_options("ims2");
+  std::vector<alarms::Observation> observations;
+  options.on_observation = [&](const alarms::Observation& obs) { observations.push_back(obs); };
+  const auto result = alarm_eval::run_condition_pipeline(series, options);
+  auto scorer_with = [&](std::array<std::int64_t, kLevels> truth) {
+    auto engine = std::make_unique<alarms::AlarmEngine>("ims2", series.channel_names, result.factor_names, options.params);
+    PrognosisScorer s(std::move(engine), o.params, ch, truth);
+    for (const auto& obs : observations) s.observe(obs);
+    return s;
+  };
+  const PrognosisScorer first = scorer_with({0, 0, 0});
+  if (first.first_alarm_index() < 0) {
+    std::cout << "no degradation alarm on " << series.channel_names[static_cast<std::size_t>(ch)] << ": nothing to score\n";
+    return 1;
+  }
+  // Truth: first snapshot from the first alarm on whose centred 5-snapshot median reaches ratio x baseline.
+  const double base = std::exp(first.baseline_log());
+  std::array<std::int64_t, kLevels> truth{0, 0, 0};
+  std::array<std::int64_t, kLevels> truth_index{-1, -1, -1};
+  const auto n = static_cast<std::int64_t>(series.time_ns.size());
+  const double ratios[2] = {options.params.warning_ratio, options.params.critical_ratio};
+  for (int l = 0; l < 2; ++l) {
+    for (std::int64_t i = first.first_alarm_index(); i + 2 < n && i < static_cast<std::int64_t>(o.stop_index); ++i) {
+      std::vector<double> w;
+      for (std::int64_t j = i - 2; j <= i + 2; ++j) w.push_back(series.values(j, ch) / base);
+      std::nth_element(w.begin(), w.begin() + 2, w.end());
+      if (w[2] >= ratios[l]) {
+        truth[static_cast<std::size_t>(l)] = series.time_ns[static_cast<std::size_t>(i)];
+        truth_index[static_cast<std::size_t>(l)] = i;
+        break;
+      }
+    }
+  }
+  if (o.stop_index >= series.time_ns.size()) usage("--stop-index beyond the table");
+  truth[2] = series.time_ns[o.stop_index];
+  truth_index[2] = static_cast<std::int64_t>(o.stop_index);
+  const PrognosisScorer s = scorer_with(truth);
+  std::printf("IMS %s, channel %d (%s): first degradation alarm at snapshot %lld, baseline %.5g; truth: 2x at "
+              "snapshot %lld, 4x at %lld, stop at %lld (end of life = %.3gx)\n",
+              o.ims.c_str(), o.channel, series.channel_names[static_cast<std::size_t>(ch)].c_str(),
+              static_cast<long long>(s.first_alarm_index()), base, static_cast<long long>(truth_index[0]),
+              static_cast<long long>(truth_index[1]), static_cast<long long>(truth_index[2]), o.params.end_of_life_ratio);
+  std::cout << score_table("IMS: time to 2x, 4x baseline and to the stop; 90 % intervals", s.twin(), s.baseline());
+  if (o.trace) print_trace(s);
+  return 0;
+}
+
+int run_sim(const Options& o) {
+  MethodScores twin_all[2], base_all[2];
+  int no_alarm = 0;
+  for (int kind = 0; kind < 2; ++kind) {
+    for (int seed = 1; seed <= o.seeds; ++seed) {
+      SimSpec spec;
+      spec.seed = static_cast<std::uint64_t>(seed);
+      spec.gaussian = kind == 0;
+      const SimRun run = simulate_run_to_failure(spec);
+      auto engine = std::make_unique<alarms::AlarmEngine>("sim", std::vector<std::string>{"wearing", "healthy"},
+                                                          std::vector<std::string>{}, alarms::AlarmParams{});
+      PrognosisScorer s(std::move(engine), o.params, 0,
+                        {run.crossing_ns(2.0), run.crossing_ns(4.0), run.crossing_ns(o.params.end_of_life_ratio)});
+      for (std::size_t i = 0; i < run.time_ns.size(); ++i) {
+        alarms::Observation obs;
+        obs.index = i;
+        obs.time_ns = run.time_ns[i];
+        obs.discontinuity = run.discontinuity[i];
+        obs.features = run.features.row(static_cast<Eigen::Index>(i)).transpose();
+        s.observe(obs);
+      }
+      if (s.first_alarm_index() < 0) ++no_alarm;
+      for (int l = 0; l < kLevels; ++l) {
+        twin_all[kind].level[static_cast<std::size_t>(l)].merge(s.twin().level[static_cast<std::size_t>(l)]);
+        base_all[kind].level[static_cast<std::size_t>(l)].merge(s.baseline().level[static_cast<std::size_t>(l)]);
+      }
+      if (o.trace) print_trace(s);
+    }
+  }
+  MethodScores twin_both = twin_all[0], base_both = base_all[0];
+  for (int l = 0; l < kLevels; ++l) {
+    twin_both.level[static_cast<std::size_t>(l)].merge(twin_all[1].level[static_cast<std::size_t>(l)]);
+    base_both.level[static_cast<std::size_t>(l)].merge(base_all[1].level[static_cast<std::size_t>(l)]);
+  }
+  std::printf("simulated run-to-failure: %d seeds x {Gaussian, uniform} noise, acceleration_diffusion %g, forecast_diffusion %g, end of life %.3gx; "
+              "%d runs without a degradation alarm on the wearing channel\n",
+              o.seeds, o.params.trend.acceleration_diffusion, o.params.trend.forecast_diffusion, o.params.end_of_life_ratio, no_alarm);
+  std::cout << score_table("Gaussian noise", twin_all[0], base_all[0]) << "\n"
+            << score_table("uniform noise", twin_all[1], base_all[1]) << "\n"
+            << score_table("both", twin_both, base_both);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Options o = parse(argc, argv);
+    return o.sim ? run_sim(o) : run_ims(o);
+  } catch (const std::exception& e) {
+    std::cerr << "causal-prognosis-eval: " << e.what() << "\n";
+    return 2;
+  }
+}

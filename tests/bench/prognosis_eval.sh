@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Prognosis evaluation (issue 22, docs/prognosis.md): time to 2x / 4x the baseline and to the end of life,
+# predicted by the twin's prognosis (causal_prognosis, the code alarm-recommender runs) vs a log-linear
+# Theil-Sen trend since the alarm's onset, at every snapshot from the first alarm on:
+#   1. IMS test 2, bearing 1 (meanabs; truth: 2x / 4x = first snapshot whose centred 5-snapshot median reaches
+#      the level, end of life = the stop, snapshot 981);
+#   2. simulated run-to-failure channels with known crossing times (accelerating wear, recording gaps, level
+#      steps, Gaussian and uniform noise, spikes), SEEDS seeds per noise kind.
+# Usage: tests/bench/prognosis_eval.sh [BUILD_DIR] [SEEDS]   (defaults: build, 20). Prints the tables.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+build="${1:-$root/build}"
+seeds="${2:-20}"
+tool="$build/services/causal_prognosis_eval/causal-prognosis-eval"
+[ -x "$tool" ] || { echo "no $tool: build the target causal-prognosis-eval first" >&2; exit 2; }
+"$tool" --ims "$root/deploy/data/ims2-features/merged_dataset_BearingTest_2.csv" --feature-name "" --channel 1 --stop-index 981
+echo
+"$tool" --sim --seeds "$seeds"
