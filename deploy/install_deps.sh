@@ -24,6 +24,8 @@ PACKAGES=(
   nodejs                           # the browser test's driver: Node >= 20 with npm (as on the build image), runs playwright-core
   openssl libssl-dev               # DDS-Security: the PKI scripts (deploy/security) and the credential checks
   dpkg-dev file                    # cpack -G DEB: dpkg-shlibdeps derives the package's Depends from the binaries
+  help2man                         # the package's manual pages, made at build time from each command's --help
+  lintian                          # the package test: Debian's package checker must report no error
   systemd adduser                  # the package test: systemd-analyze verify on the units; the postinst's adduser
   libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
 )
