@@ -116,7 +116,10 @@ void RecommenderNode::publish_health() {
     const bool cleared = alarm.state() == causal_twin::CLEARED;
     spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
                 alarm.alarm_id(), alarm.reason());
-    if (alarms_.write(alarm, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
+    if (alarms_.write(alarm, loop_.stop_flag()) == dds::WriteResult::Ok) {
+      ++alarms_published_;
+      open_alarms_.on_published(alarm);
+    }
   }
 }
 
@@ -145,7 +148,10 @@ void RecommenderNode::observe(AssembledObservation& a) {
       // Transient-local readers that join after the restart must see the alarms raised before it.
       for (const auto& e : opened.republish) {
         dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
-        if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
+        if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
+          ++alarms_published_;
+          open_alarms_.on_published(alarm_msg_);
+        }
       }
       spdlog::info("asset '{}': {} alarm messages re-published from the checkpoint", a.asset_group,
                    opened.republish.size());
@@ -188,7 +194,10 @@ void RecommenderNode::observe(AssembledObservation& a) {
 
 void RecommenderNode::publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e) {
   dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
-  if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
+  if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
+    ++alarms_published_;
+    open_alarms_.on_published(alarm_msg_);
+  }
   const auto level = e.severity == alarms::Severity::Critical  ? spdlog::level::err
                      : e.severity == alarms::Severity::Warning ? spdlog::level::warn
                                                                : spdlog::level::info;

@@ -5,6 +5,7 @@
 #include "advisor.hpp"
 #include "alarm_state_store.hpp"
 #include "observation_assembler.hpp"
+#include "open_alarm_metrics.hpp"
 #include "recommender_params.hpp"
 
 #include "causal/alarms/alarm_engine.hpp"
@@ -67,6 +68,7 @@ class RecommenderNode {
   std::map<std::pair<std::string, int>, EngineState> engines_;
   causal_twin::Alarm alarm_msg_;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
+  OpenAlarmMetrics open_alarms_;  // causal_twin_alarms_open{asset_group, category, severity}
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;
 };
 

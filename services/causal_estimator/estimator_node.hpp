@@ -18,6 +18,7 @@
 #include "estimator_state_store.hpp"
 #include "standby_buffer.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -94,6 +95,12 @@ class EstimatorNode {
     // Prometheus: time to process one input (filters, smoothers, output queued), per asset group.
     metrics::Histogram* frame_seconds = nullptr;
     metrics::Histogram* condition_seconds = nullptr;
+    // Data age: when the group's last input arrived (steady clock, ns; read by the scrape through input_age)
+    // and the source's time of that input (estimator_last_input_timestamp_seconds).
+    std::shared_ptr<std::atomic<std::int64_t>> last_arrival_ns = std::make_shared<std::atomic<std::int64_t>>(0);
+    metrics::CallbackHandle input_age;
+    metrics::Gauge* input_time = nullptr;
+    void note_input(std::int64_t source_time_ns);
   };
 
   bool mine(const std::string& asset_group) const;
