@@ -7,9 +7,11 @@
 set(causal_twin_debian_dir ${CMAKE_CURRENT_BINARY_DIR}/debian)
 add_custom_command(OUTPUT ${causal_twin_debian_dir}/changelog.Debian.gz
   COMMAND ${CMAKE_COMMAND} -E make_directory ${causal_twin_debian_dir}
-  COMMAND sh -c "gzip -9n -c '${CMAKE_CURRENT_SOURCE_DIR}/deploy/packaging/changelog' > '${causal_twin_debian_dir}/changelog.Debian.gz'"
+  COMMAND ${CMAKE_COMMAND} -E copy ${CMAKE_CURRENT_SOURCE_DIR}/deploy/packaging/changelog ${causal_twin_debian_dir}/changelog.Debian
+  COMMAND gzip -9nf ${causal_twin_debian_dir}/changelog.Debian
   DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/deploy/packaging/changelog
-  COMMENT "changelog.Debian.gz")
+  COMMENT "changelog.Debian.gz"
+  VERBATIM)
 
 # One line per command for the NAME section of its page.
 set(causal_twin_man_names

@@ -80,17 +80,23 @@ set(CAUSAL_TWIN_MAINTAINER "Causal Digital Twin maintainers <causal-twin@maintai
   "Maintainer field of the Debian packages")
 set(CPACK_PACKAGE_CONTACT "${CAUSAL_TWIN_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${CAUSAL_TWIN_MAINTAINER}")
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Causal digital twin over DDS: causal factors, explained alarms and advice from vibration streams")
-set(CPACK_DEBIAN_RUNTIME_DESCRIPTION "Causal digital twin over DDS: causal factors, alarms and advice from vibration
- Services (sensor-replay, sensor-sim, sensor-ingest, causal-estimator, alarm-recommender,
- causal-recorder, twin-web) talking over Fast DDS, tools (causal-report, causal-ask, causal-offline,
- causal-whatif, causal-alarm-eval, causal-plant-profiles), systemd units (causal-twin.target), and an
- IMS test-2 data slice with causal-twin-demo to run the whole twin over loopback.")
-set(CPACK_DEBIAN_DEV_DESCRIPTION "Causal digital twin over DDS: development files for sensors and consumers
- The IDL of the twin's topics, the headers generated from it (Fast DDS 2.9) with the topic and QoS
- profile names, the shared library of the types (CausalTwin::types), the CMake package
- (find_package(CausalTwin)) and an example sensor publisher in
- /usr/share/doc/causal-twin-dev/examples.")
+# Each description's first line is its package's synopsis. CPACK_PACKAGE_DESCRIPTION_SUMMARY stays unset: CPack
+# would put it in front of both (one synopsis for two packages, and lintian's description-synopsis-is-duplicated).
+# Debian: synopsis and description lines under 80 characters (lintian); CPack indents the lines itself.
+set(CPACK_DEBIAN_RUNTIME_DESCRIPTION "causal digital twin over DDS: causal factors, alarms, advice
+Learns who causes what between the channels of vibration streams, and how
+that changes, and turns it into explained alarms and advice. Services
+(sensor-replay, sensor-sim, sensor-ingest, causal-estimator,
+alarm-recommender, causal-recorder, twin-web) talk over Fast DDS; tools
+(causal-report, causal-ask, causal-offline, causal-whatif, causal-alarm-eval,
+causal-plant-profiles); systemd units (causal-twin.target); an IMS test-2
+data slice with causal-twin-demo to run the whole twin over loopback.")
+set(CPACK_DEBIAN_DEV_DESCRIPTION "causal digital twin over DDS: development files
+What a sensor or consumer of the twin's topics needs: the IDL, the headers
+generated from it for Fast DDS 2.9 with the topic and QoS profile names, the
+link to the types' shared library (CausalTwin::types), the CMake package
+(find_package(CausalTwin)) and an example sensor publisher in
+/usr/share/doc/causal-twin-dev/examples.")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_STRIP_FILES ON)  # debug symbols stay in the build tree
@@ -125,7 +131,10 @@ foreach(script postinst prerm postrm)
   configure_file(${CMAKE_CURRENT_SOURCE_DIR}/deploy/packaging/${script} ${CMAKE_CURRENT_BINARY_DIR}/debian/${script}
     COPYONLY FILE_PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ WORLD_EXECUTE)
 endforeach()
-set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA ${CMAKE_CURRENT_BINARY_DIR}/debian/conffiles
+# libcausal_twin_types.so.0 in a public folder: ldconfig must run after install and removal (lintian error
+# lacks-ldconfig-trigger; CPack's GENERATE_SHLIBS writes the shlibs file but no trigger here).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/debian/triggers "activate-noawait ldconfig\n")
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA ${CMAKE_CURRENT_BINARY_DIR}/debian/triggers ${CMAKE_CURRENT_BINARY_DIR}/debian/conffiles
   ${CMAKE_CURRENT_BINARY_DIR}/debian/postinst ${CMAKE_CURRENT_BINARY_DIR}/debian/prerm
   ${CMAKE_CURRENT_BINARY_DIR}/debian/postrm)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)

@@ -17,7 +17,7 @@ web=1
 launch_args=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --web-port) web_port="$2"; shift 2 ;;
     --no-web) web=0; shift ;;
     *) launch_args+=("$1"); shift ;;

@@ -83,7 +83,7 @@ while [ $# -gt 0 ]; do
     --web-port) web_port="$2"; shift 2 ;;
     --verbose) verbose=1; shift ;;
     --alarm-summary) alarm_summary=1; shift ;;
-    -h|--help) sed -n '2,29p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done

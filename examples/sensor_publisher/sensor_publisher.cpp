@@ -7,6 +7,7 @@
 #include "causal_twinPubSubTypes.h"  // VibrationFrame and its TopicDataType (generated from causal_twin.idl)
 #include "causal_twinTypeObject.h"   // registercausal_twinTypes()
 
+#include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -19,6 +20,7 @@
 #include <thread>
 
 using namespace eprosima::fastdds::dds;
+using eprosima::fastrtps::Duration_t;
 using eprosima::fastrtps::types::ReturnCode_t;
 
 int main(int argc, char** argv) {

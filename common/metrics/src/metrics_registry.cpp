@@ -96,15 +96,16 @@ class MetricsRegistry::Scrape {
         else m.gauge.value = cb.second();
         it->second.metric.push_back(std::move(m));
       }
-      std::sort(it->second.metric.begin(), it->second.metric.end(),
-                [](const auto& a, const auto& b) { return a.label < b.label; });
     }
     if (r.with_process_metrics_) {
       for (auto& f : collect_process_metrics()) by_name[f.name] = std::move(f);
     }
     std::vector<prometheus::MetricFamily> out;
     for (auto& [name, f] : by_name) {
-      if (!f.metric.empty()) out.push_back(std::move(f));
+      if (f.metric.empty()) continue;
+      // prometheus-cpp keeps a family's series in a hash map: sorted by labels, a scrape reads the same way twice.
+      std::sort(f.metric.begin(), f.metric.end(), [](const auto& a, const auto& b) { return a.label < b.label; });
+      out.push_back(std::move(f));
     }
     return out;
   }
