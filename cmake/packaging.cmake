@@ -24,7 +24,13 @@ endforeach()
 install(PROGRAMS deploy/launch.sh DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME causal-twin-demo)
 
 set(CAUSAL_TWIN_SHARE ${CMAKE_INSTALL_DATADIR}/causal-twin)
-install(DIRECTORY deploy/dds deploy/config deploy/data deploy/plant DESTINATION ${CAUSAL_TWIN_SHARE})
+install(DIRECTORY deploy/dds deploy/config deploy/data deploy/plant DESTINATION ${CAUSAL_TWIN_SHARE}
+  PATTERN localhost.xml EXCLUDE)
+# An installed host runs services and tools as several users: its localhost.xml is the UDP-only profile (Fast DDS
+# 2.9's shared-memory segments belong to one user; docs/cross-user-and-restarts.md). The source tree's shared-memory
+# localhost.xml (one-user test runs) is installed as localhost-shm.xml, to be chosen on purpose.
+install(FILES deploy/dds/localhost-udp.xml DESTINATION ${CAUSAL_TWIN_SHARE}/dds RENAME localhost.xml)
+install(FILES deploy/dds/localhost.xml DESTINATION ${CAUSAL_TWIN_SHARE}/dds RENAME localhost-shm.xml)
 install(PROGRAMS deploy/security/make-pki.sh deploy/security/issue-identity.sh deploy/security/revoke-identity.sh
   DESTINATION ${CAUSAL_TWIN_SHARE}/security)
 
@@ -35,6 +41,7 @@ set(CAUSAL_TWIN_ETC_DIR /etc/causal-twin)
 file(GLOB causal_twin_etc_files CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/deploy/dds/*.xml ${CMAKE_CURRENT_SOURCE_DIR}/deploy/config/*.yaml
   ${CMAKE_CURRENT_SOURCE_DIR}/deploy/systemd/env/*.env)
+list(FILTER causal_twin_etc_files EXCLUDE REGEX "/deploy/dds/localhost\\.xml$")  # installed renamed, below
 install(CODE "
   if(CMAKE_INSTALL_PREFIX STREQUAL \"/usr\")
     set(causal_twin_etc ${CAUSAL_TWIN_ETC_DIR})
@@ -43,6 +50,11 @@ install(CODE "
   endif()
   # file(INSTALL) puts \$DESTDIR in front, as for every other install rule.
   file(INSTALL DESTINATION \"\${causal_twin_etc}\" TYPE FILE FILES ${causal_twin_etc_files})
+  # The UDP-only profile is the installed localhost.xml, the shared-memory one localhost-shm.xml (see above).
+  file(INSTALL DESTINATION \"\${causal_twin_etc}\" TYPE FILE
+       FILES ${CMAKE_CURRENT_SOURCE_DIR}/deploy/dds/localhost-udp.xml RENAME localhost.xml)
+  file(INSTALL DESTINATION \"\${causal_twin_etc}\" TYPE FILE
+       FILES ${CMAKE_CURRENT_SOURCE_DIR}/deploy/dds/localhost.xml RENAME localhost-shm.xml)
 ")
 
 # systemd units: ExecStart names the binaries by the prefix seen at install time (/usr in the package, where
@@ -126,6 +138,7 @@ foreach(f ${causal_twin_etc_files})
   get_filename_component(n ${f} NAME)
   string(APPEND causal_twin_conffiles "${CAUSAL_TWIN_ETC_DIR}/${n}\n")
 endforeach()
+string(APPEND causal_twin_conffiles "${CAUSAL_TWIN_ETC_DIR}/localhost.xml\n${CAUSAL_TWIN_ETC_DIR}/localhost-shm.xml\n")
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/debian/conffiles "${causal_twin_conffiles}")
 foreach(script postinst prerm postrm)
   configure_file(${CMAKE_CURRENT_SOURCE_DIR}/deploy/packaging/${script} ${CMAKE_CURRENT_BINARY_DIR}/debian/${script}

@@ -16,19 +16,26 @@
 # N: the largest live group count over the shard counts, L: its p99; R: the best pipeline throughput over the
 # shard counts / raw; S: pipeline throughput with 2 shards / with 1.
 # Exit code 1 when a measurement failed (frames missing in (a) or (b)); missed targets are reported, not failed.
-# Usage: deploy/bench_scale.sh [--quick] [--build DIR] [--duration S] [--max-groups N]
+# Usage: deploy/bench_scale.sh [--quick] [--build DIR] [--duration S] [--max-groups N] [--transport FILE]
+#        [--shards "1 2"]
+# --transport: another participant profile (e.g. deploy/dds/localhost-udp.xml, the installed UDP-only one) to compare
+# transports (docs/cross-user-and-restarts.md); --shards: the shard counts of (b) and (c).
 set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD="${BUILD_DIR:-$ROOT/build}"
 QUICK=0
 DURATION=10       # seconds of IMS-rate data per live probe
 MAX_GROUPS=256    # the live search stops here
+TRANSPORT_ARG=""
+SHARDS_ARG=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) QUICK=1 ;;
     --build) BUILD="$2"; shift ;;
     --duration) DURATION="$2"; shift ;;
     --max-groups) MAX_GROUPS="$2"; shift ;;
+    --transport) TRANSPORT_ARG="$2"; shift ;;
+    --shards) SHARDS_ARG="$2"; shift ;;
     -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "bench_scale.sh: unknown option $1" >&2; exit 2 ;;
   esac
@@ -43,7 +50,7 @@ for b in "$SIM" "$EST" "$RAW" "$COUNTER"; do
   [ -x "$b" ] || { echo "bench_scale.sh: $b missing: cmake --build $BUILD --target sensor-sim causal-estimator causal_bench_raw_dds causal_bench_factor_counter" >&2; exit 2; }
 done
 QOS="$ROOT/deploy/dds/qos.xml"
-TRANSPORT="$ROOT/deploy/dds/localhost.xml"
+TRANSPORT="${TRANSPORT_ARG:-$ROOT/deploy/dds/localhost.xml}"
 PARAMS="$ROOT/deploy/config/estimator.yaml"
 DDS=(--qos "$QOS" --transport "$TRANSPORT")
 WORK=$(mktemp -d /tmp/bench_scale.XXXXXX)
@@ -68,12 +75,13 @@ if [ "$QUICK" = 1 ]; then
 else
   TP_GROUPS=16; TP_FRAMES=500; SHARDS=(1 2 4); START_GROUPS=8
 fi
+if [ -n "$SHARDS_ARG" ]; then read -r -a SHARDS <<< "$SHARDS_ARG"; fi
 
 field() {  # field NAME LINE: the number after NAME=
   echo "$2" | tr ' ' '\n' | sed -n "s/^$1=//p" | head -n1
 }
 
-echo "bench_scale: $(date -u +%FT%TZ) on $(nproc) cores, $(uptime | sed 's/.*load average/load average/')"
+echo "bench_scale: $(date -u +%FT%TZ) on $(nproc) cores, $(uptime | sed 's/.*load average/load average/'), transport $(basename "$TRANSPORT")"
 
 # (a) raw Fast DDS ------------------------------------------------------------------------------------------
 "$RAW" --domain 230 --groups "$TP_GROUPS" --frames-per-group "$TP_FRAMES" --channels "$CHANNELS" \

@@ -29,6 +29,7 @@ PACKAGES=(
   lintian                          # the package test: Debian's package checker must report no error
   systemd adduser                  # the package test: systemd-analyze verify on the units; the postinst's adduser
   libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
+  passwd util-linux time           # cross-user fault test: useradd/userdel and runuser (a second Linux user); bench_transport.sh's CPU times
 )
 
 missing=()

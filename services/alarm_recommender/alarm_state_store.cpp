@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -50,6 +51,54 @@ AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bo
                                               const std::vector<std::string>& channel_names,
                                               const std::vector<std::string>& factor_names,
                                               const alarms::AlarmParams& params) {
+  return open_stream(asset_group, sample_level, &channel_names, &factor_names, params);
+}
+
+AlarmStateStore::Opened AlarmStateStore::open_checkpoint(const std::string& asset_group, bool sample_level,
+                                                         const alarms::AlarmParams& params) {
+  return open_stream(asset_group, sample_level, nullptr, nullptr, params);
+}
+
+std::vector<AlarmStateStore::Found> AlarmStateStore::checkpoints() const {
+  std::vector<Found> out;
+  if (!enabled()) return out;
+  const std::string suffix = ".alarms.state";
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && name.size() > suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      files.push_back(entry.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());  // a stable order: the same restart publishes in the same order
+  for (const auto& file : files) {
+    try {
+      auto bytes = causal::load_state_file(file);
+      if (!bytes) continue;  // removed meanwhile
+      StateReader in(std::move(*bytes));
+      in.expect(kTag, kVersion);
+      Found f;
+      f.asset_group = in.get<std::string>();
+      f.sample_level = in.get<bool>();
+      if (path(f.asset_group, f.sample_level) != file) {
+        throw causal::StateError("its content is for asset group '" + f.asset_group + "' at " +
+                                 level_name(f.sample_level) + " level, another file name");
+      }
+      out.push_back(std::move(f));
+    } catch (const causal::StateError& e) {
+      throw causal::StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
+                               ". Move it away to start this asset group over (the baseline is then re-learned "
+                               "and alarm ids restart at 1)");
+    }
+  }
+  return out;
+}
+
+AlarmStateStore::Opened AlarmStateStore::open_stream(const std::string& asset_group, bool sample_level,
+                                                     const std::vector<std::string>* channel_names,
+                                                     const std::vector<std::string>* factor_names,
+                                                     const alarms::AlarmParams& params) {
   Opened out;
   Stream& s = streams_[{asset_group, sample_level}];
   s = Stream{};
@@ -74,13 +123,13 @@ AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bo
       }
       out.engine = std::make_unique<alarms::AlarmEngine>(alarms::AlarmEngine::restore(in, params));
       if (!in.at_end()) throw causal::StateError("unexpected data after the engine");
-      if (out.engine->channel_names() != channel_names) {
+      if (channel_names != nullptr && out.engine->channel_names() != *channel_names) {
         throw causal::StateError("it was written for channels " + joined(out.engine->channel_names()) +
-                                 ", the stream has " + joined(channel_names));
+                                 ", the stream has " + joined(*channel_names));
       }
-      if (out.engine->factor_names() != factor_names) {
+      if (factor_names != nullptr && out.engine->factor_names() != *factor_names) {
         throw causal::StateError("it was written for factors " + joined(out.engine->factor_names()) +
-                                 ", the stream has " + joined(factor_names) +
+                                 ", the stream has " + joined(*factor_names) +
                                  " (did causal-estimator restart without its state and learn another causal order?)");
       }
       out.resumed = true;
@@ -92,7 +141,12 @@ AlarmStateStore::Opened AlarmStateStore::open(const std::string& asset_group, bo
                              ". Move it away to start this asset group over (the baseline is then re-learned "
                              "and alarm ids restart at 1)");
   }
-  if (!out.engine) out.engine = std::make_unique<alarms::AlarmEngine>(asset_group, channel_names, factor_names, params);
+  if (!out.engine) {
+    if (channel_names == nullptr || factor_names == nullptr) {
+      throw causal::StateError("checkpoint '" + file + "' is gone: nothing to restore");
+    }
+    out.engine = std::make_unique<alarms::AlarmEngine>(asset_group, *channel_names, *factor_names, params);
+  }
   s.engine = out.engine.get();
   return out;
 }

@@ -57,6 +57,18 @@ class AlarmStateStore {
   Opened open(const std::string& asset_group, bool sample_level, const std::vector<std::string>& channel_names,
               const std::vector<std::string>& factor_names, const alarms::AlarmParams& params);
 
+  // Every checkpoint in the state directory (asset group and time scale, read from the file itself: the file
+  // name is sanitised). The service restores them at start, before any data arrives, so the alarms raised
+  // before a restart reach readers that join after it even when no new data comes (a source that finished).
+  struct Found {
+    std::string asset_group;
+    bool sample_level = false;
+  };
+  std::vector<Found> checkpoints() const;
+  // open() of a stream not seen yet: the checkpoint's own channel and factor names are taken; the caller
+  // compares them with the stream's when its first observation arrives (same refusal as open()).
+  Opened open_checkpoint(const std::string& asset_group, bool sample_level, const alarms::AlarmParams& params);
+
   // True (and counted) when `index` is not after the last index the stream's engine processed: a re-sent
   // observation (e.g. an estimator that resumed from an older checkpoint of its own). Call after open().
   bool is_duplicate(const std::string& asset_group, bool sample_level, std::uint64_t index);
@@ -82,6 +94,9 @@ class AlarmStateStore {
   };
   using Key = std::pair<std::string, bool>;
   void save(const Key& key, Stream& s);
+  // open()'s body; null names: the checkpoint's (open_checkpoint).
+  Opened open_stream(const std::string& asset_group, bool sample_level, const std::vector<std::string>* channel_names,
+                     const std::vector<std::string>* factor_names, const alarms::AlarmParams& params);
 
   std::string dir_;
   std::chrono::milliseconds sample_interval_;

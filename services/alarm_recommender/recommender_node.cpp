@@ -5,6 +5,8 @@
 #include "causal/dds/topics.hpp"
 #include "advice_conversions.hpp"
 
+#include "causal/state_archive.hpp"
+
 #include <cmath>
 
 #include <spdlog/spdlog.h>
@@ -23,6 +25,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
       advisor_(params_.advice),
       store_(options_.state_dir),
+      recommendation_store_(options_.state_dir),
       health_(params_.health_deadline_s, "causal factors", "estimator", {dds::topics::kCausalFactors}) {
   loop_.attach(factors_.get());
   loop_.attach(conditions_.get());
@@ -31,6 +34,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
 
 int RecommenderNode::run() {
   spdlog::info("alarm-recommender on domain {}, waiting for causal factors", participant_.domain_id());
+  restore_checkpoints();
   std::vector<AssembledObservation> ready;
   const auto poll = [&] {
     ready.clear();
@@ -134,31 +138,31 @@ void RecommenderNode::observe(AssembledObservation& a) {
   auto it = engines_.find(key);
   if (it == engines_.end()) {
     EngineState st;
-    const alarms::AlarmParams p =
-        sample ? alarms::AlarmParams::sample_level(params_.sample_baseline_publications) : params_.condition;
+    const alarms::AlarmParams p = params_for(sample);
     auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p);  // checkpoint if any
     st.engine = std::move(opened.engine);
     st.channel_names = a.channel_names;
     st.baseline_logged = st.engine->baseline_ready();
     it = engines_.emplace(key, std::move(st)).first;
-    if (opened.resumed) {
+    if (opened.resumed) {  // its file appeared after the start (restore_checkpoints publishes the others)
       spdlog::info("asset '{}' {} level: resumed from checkpoint: {} observations, {} active alarms", a.asset_group,
                    sample ? "sample" : "condition", it->second.engine->observations_seen(),
                    it->second.engine->active_alarms().size());
-      // Transient-local readers that join after the restart must see the alarms raised before it.
-      for (const auto& e : opened.republish) {
-        dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
-        if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
-          ++alarms_published_;
-          open_alarms_.on_published(alarm_msg_);
-        }
-      }
-      spdlog::info("asset '{}': {} alarm messages re-published from the checkpoint", a.asset_group,
-                   opened.republish.size());
+      republish(a.asset_group, a.channel_names, opened.republish);
     } else {
       spdlog::info("asset '{}' {} level: learning the baseline from the first {} observations", a.asset_group,
                    sample ? "sample" : "condition", p.warmup_observations + p.baseline_observations);
     }
+  } else if (it->second.unverified) {
+    // Restored at start: the stream must be the one the checkpoint was written for (as AlarmStateStore::open).
+    const auto& engine = *it->second.engine;
+    if (engine.channel_names() != a.channel_names || engine.factor_names() != a.factor_names) {
+      throw causal::StateError("checkpoint '" + store_.path(a.asset_group, sample) +
+                               "' was written for other channels or factors than the stream has (did "
+                               "causal-estimator restart without its state and learn another causal order?). Move it "
+                               "away to start this asset group over");
+    }
+    it->second.unverified = false;
   }
   EngineState& st = it->second;
   if (store_.is_duplicate(a.asset_group, sample, a.observation.index)) {
@@ -189,6 +193,49 @@ void RecommenderNode::observe(AssembledObservation& a) {
     st.baseline_logged = true;
     spdlog::info("asset '{}' {} level: baseline learned, monitoring from observation {}", a.asset_group,
                  sample ? "sample" : "condition", a.observation.index);
+  }
+}
+
+alarms::AlarmParams RecommenderNode::params_for(bool sample_level) const {
+  return sample_level ? alarms::AlarmParams::sample_level(params_.sample_baseline_publications) : params_.condition;
+}
+
+void RecommenderNode::republish(const std::string& asset_group, const std::vector<std::string>& channel_names,
+                                const std::vector<alarms::AlarmEvent>& events) {
+  // Transient-local readers that join after the restart must see the alarms raised before it.
+  for (const auto& e : events) {
+    dds::to_alarm(asset_group, channel_names, e, alarm_msg_);
+    if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
+      ++alarms_published_;
+      open_alarms_.on_published(alarm_msg_);
+    }
+  }
+  spdlog::info("asset '{}': {} alarm messages re-published from the checkpoint", asset_group, events.size());
+}
+
+void RecommenderNode::restore_checkpoints() {
+  for (const auto& found : store_.checkpoints()) {
+    const bool sample = found.sample_level;
+    if (sample ? !params_.sample_enabled : !params_.condition_enabled) continue;
+    auto opened = store_.open_checkpoint(found.asset_group, sample, params_for(sample));
+    EngineState st;
+    st.engine = std::move(opened.engine);
+    st.channel_names = st.engine->channel_names();
+    st.baseline_logged = st.engine->baseline_ready();
+    st.unverified = true;
+    spdlog::info("asset '{}' {} level: resumed from checkpoint: {} observations, {} active alarms", found.asset_group,
+                 sample ? "sample" : "condition", st.engine->observations_seen(), st.engine->active_alarms().size());
+    republish(found.asset_group, st.channel_names, opened.republish);
+    engines_.emplace(std::make_pair(found.asset_group, sample ? static_cast<int>(causal_twin::SAMPLE_LEVEL)
+                                                              : static_cast<int>(causal_twin::CONDITION_LEVEL)),
+                     std::move(st));
+  }
+  const auto recommendations = recommendation_store_.load_all();
+  for (auto r : recommendations) {
+    if (recommendations_.write(r, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
+  }
+  if (!recommendations.empty()) {
+    spdlog::info("{} recommendations re-published from the checkpoint", recommendations.size());
   }
 }
 
@@ -240,6 +287,7 @@ void RecommenderNode::recommend(const AssembledObservation& a, const EngineState
   for (auto item : items) {
     item.text = prefix + item.text;
     to_recommendation(a.asset_group, e.alarm_id, item, msg);
+    recommendation_store_.record(msg);  // kept before it is published, as the alarm events
     if (recommendations_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
     spdlog::info("RECOMMENDATION {} #{}: {}", e.alarm_id, item.rank, item.text);
   }

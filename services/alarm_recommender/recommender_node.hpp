@@ -6,6 +6,7 @@
 #include "alarm_state_store.hpp"
 #include "observation_assembler.hpp"
 #include "open_alarm_metrics.hpp"
+#include "recommendation_store.hpp"
 #include "recommender_params.hpp"
 
 #include "causal/alarms/alarm_engine.hpp"
@@ -43,13 +44,20 @@ class RecommenderNode {
     bool baseline_logged = false;
     int full_covariance = -1;  // last logged interval basis: -1 none yet, 0 diagonal, 1 full blocks
     std::uint64_t raised = 0;
+    bool unverified = false;  // restored at start from its checkpoint: the stream's names are not compared yet
   };
   void handle(std::vector<AssembledObservation>& ready);
   void observe(AssembledObservation& a);
   void publish_event(const AssembledObservation& a, const alarms::AlarmEvent& e);
   void recommend(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e);
   void answer(const causal_twin::WhatIfRequest& request);
-  void publish_health();  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
+  void publish_health();
+  // At start: every alarm engine and recommendation in --state-dir restored and their last messages published
+  // again, before any data arrives (readers that join after a restart see the open alarms and their advice).
+  void restore_checkpoints();
+  void republish(const std::string& asset_group, const std::vector<std::string>& channel_names,
+                 const std::vector<alarms::AlarmEvent>& events);
+  alarms::AlarmParams params_for(bool sample_level) const;  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
 
   RecommenderOptions options_;
   RecommenderParams params_;
@@ -64,6 +72,7 @@ class RecommenderNode {
   ObservationAssembler assembler_;
   Advisor advisor_;
   AlarmStateStore store_;
+  RecommendationStore recommendation_store_;
   dds::HealthWatch health_;
   std::map<std::pair<std::string, int>, EngineState> engines_;
   causal_twin::Alarm alarm_msg_;

@@ -16,7 +16,7 @@ RecommenderParams load_recommender_params(const std::string& path) {
   c.only({"enabled", "warmup_observations", "baseline_observations", "min_baseline_coverage", "baseline_confidence",
           "cusum_k", "target_arl0", "clip_sigma", "cusum_cap_factor", "clear_fraction", "raise_persistence",
           "clear_persistence", "level_window", "feature_enabled", "feature_log_transform", "warning_ratio",
-          "critical_ratio", "innovation_enabled", "nis_enabled", "nis_window", "nis_false_alarm_prob",
+          "critical_ratio", "advisory_ratio", "baseline_tracking_observations", "max_absorbed_ratio", "innovation_enabled", "nis_enabled", "nis_window", "nis_false_alarm_prob",
           "warning_sigma", "critical_sigma", "factor_enabled", "factor_false_alarm_prob", "factor_persistence",
           "onset_tolerance", "explain_top_factors", "confirmation_observations", "gap_multiple", "operating_step_ratio",
           "settle_trend_sigma", "escalation_persistence", "root_cause_margin_z", "root_cause_persistence"});
@@ -38,6 +38,9 @@ RecommenderParams load_recommender_params(const std::string& path) {
   p.feature_log_transform = c.boolean("feature_log_transform");
   p.warning_ratio = c.positive("warning_ratio");
   p.critical_ratio = c.positive("critical_ratio");
+  p.advisory_ratio = c.positive("advisory_ratio");
+  p.baseline_tracking_observations = static_cast<int>(c.integer("baseline_tracking_observations", 0, 100000000));
+  p.max_absorbed_ratio = c.positive("max_absorbed_ratio");
   p.innovation_enabled = c.boolean("innovation_enabled");
   p.nis_enabled = c.boolean("nis_enabled");
   p.nis_window = static_cast<int>(c.integer("nis_window", 1, 100000));

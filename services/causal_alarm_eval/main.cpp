@@ -101,6 +101,10 @@ int main(int argc, char** argv) {
   app.add_option("--estimator-config", estimator_config,
                  "causal-estimator's parameter file: the condition-level model the services run")->capture_default_str();
   app.add_option("--target-arl0", opt.params.target_arl0, "in-control ARL of the CUSUM detectors")->capture_default_str();
+  app.add_option("--advisory-ratio", opt.params.advisory_ratio,
+                 "size floor of every degradation alarm: level / baseline (1 = none)")->capture_default_str();
+  app.add_option("--level-window", opt.params.level_window,
+                 "observations whose median is a channel's level (and for which the size floor must hold)")->capture_default_str();
   app.add_flag("--quiet", quiet, "print only the summary (not every event)");
   app.add_flag("--reasons", print_reasons, "print each event's plain-language reason");
   app.add_option("--trace-csv", trace_csv, "write per-observation standardised feature / innovation z to this CSV");

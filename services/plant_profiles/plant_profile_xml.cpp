@@ -56,7 +56,6 @@ std::string xml_escape(const std::string& text) {
 }
 
 std::string participant_profile_xml(const PlantDescription& plant, const PlantHost& host, const std::string& source) {
-  const bool shared_memory = host.roles.size() > 1;
   const int peers_range = max_participants_per_host(plant) + kSpareParticipantsPerHost;
   const PlantHost* server = plant.discovery_server ? find_host(plant, plant.discovery_server->host) : nullptr;
   std::ostringstream x;
@@ -67,7 +66,8 @@ std::string participant_profile_xml(const PlantDescription& plant, const PlantHo
     << "  Host " << host.name << " (" << host.address
     << (host.interface.empty() ? "" : " on " + xml_escape(host.interface)) << "), DDS domain " << plant.domain_id
     << ", services: " << roles_list(host) << " (commands: " << host.name << ".commands).\n"
-    << "  UDPv4 only on the plant address" << (shared_memory ? ", plus shared memory between this host's services" : "")
+    << "  UDPv4 only on the plant address, also between this host's own services (no shared memory: a DDS process\n"
+    << "  of another user on the host cannot use another user's segments and stalled the services, issue 24)"
     << "; no multicast; discovery "
     << (server ? "through the discovery server on " + server->name + " (" + server->address + ":" +
                      std::to_string(plant.discovery_server->port) + ")"
@@ -79,13 +79,6 @@ std::string participant_profile_xml(const PlantDescription& plant, const PlantHo
     << "<dds xmlns=\"http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles\">\n"
     << "  <profiles>\n"
     << "    <transport_descriptors>\n";
-  if (shared_memory) {
-    x << "      <transport_descriptor>\n"
-      << "        <transport_id>causal_twin_shm</transport_id>\n"
-      << "        <type>SHM</type>\n"
-      << "        <segment_size>8388608</segment_size>\n"
-      << "      </transport_descriptor>\n";
-  }
   x << "      <transport_descriptor>\n"
     << "        <transport_id>causal_twin_udp_plant</transport_id>\n"
     << "        <type>UDPv4</type>\n"
@@ -105,7 +98,6 @@ std::string participant_profile_xml(const PlantDescription& plant, const PlantHo
     << "        </propertiesPolicy>\n"
     << "        <useBuiltinTransports>false</useBuiltinTransports>\n"
     << "        <userTransports>\n";
-  if (shared_memory) x << "          <transport_id>causal_twin_shm</transport_id>\n";
   x << "          <transport_id>causal_twin_udp_plant</transport_id>\n"
     << "        </userTransports>\n"
     << "        <builtin>\n"

@@ -1,5 +1,7 @@
 #include "ingest_node.hpp"
 
+#include "causal/dds/peer_wait.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Core>
@@ -82,14 +84,18 @@ int IngestNode::run() {
         started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.max_runtime_s));
   }
   if (options_.wait_subscribers > 0 || !options_.wait_for.empty()) {
-    spdlog::info("waiting up to {:.0f} s for {} reader(s){}{} on domain {}", options_.wait_timeout_s,
-                 options_.wait_subscribers, options_.wait_for.empty() ? "" : " including ",
-                 fmt::join(options_.wait_for, ", "), participant_.domain_id());
-    const auto wait = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
+    const std::string what = fmt::format("{} reader(s){}{} on domain {}", options_.wait_subscribers,
+                                         options_.wait_for.empty() ? "" : " including ", fmt::join(options_.wait_for, ", "),
+                                         participant_.domain_id());
+    spdlog::info("waiting {} for {}", options_.wait_timeout_s > 0 ? fmt::format("up to {:.0f} s", options_.wait_timeout_s)
+                                                                   : std::string("for as long as it takes"), what);
     std::vector<dds::NamedReaders> named;
     for (const auto& w : options_.wait_for) named.push_back(dds::parse_named_readers(w));
-    if (!frames_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), wait, stop_) ||
-        !dds::wait_for_named_readers(frames_, named, wait, stop_).empty()) {
+    const auto ready = [&](std::chrono::milliseconds limit) {
+      return frames_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), limit, stop_) &&
+             dds::wait_for_named_readers(frames_, named, limit, stop_).empty();
+    };
+    if (!dds::wait_for_peers(ready, options_.wait_timeout_s, stop_, what)) {
       print_summary();
       if (stop_.load()) return 0;
       spdlog::error(

@@ -122,8 +122,10 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
   app.add_option("--wait-for", o.wait_for,
                  "and wait for readers of this participant name before taking input: NAME or NAME:COUNT, e.g. "
                  "--wait-for causal-estimator");
-  app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
-      ->check(CLI::PositiveNumber)
+  app.add_option("--wait-timeout", o.wait_timeout_s,
+                 "give up waiting for readers after this many seconds (exit 3); 0 = wait for as long as it takes, "
+                 "saying so every 10 s (the units do: a sensor host that boots first must not give up)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--write-timeout", o.write_timeout_s,
                  "a frame the readers do not accept within this many seconds is counted lost (exit 4)")

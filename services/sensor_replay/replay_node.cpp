@@ -1,5 +1,7 @@
 #include "replay_node.hpp"
 
+#include "causal/dds/peer_wait.hpp"
+
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/io/feature_table.hpp"
@@ -71,26 +73,32 @@ std::optional<std::size_t> ReplayNode::rewind_point(const Writer& writer, std::s
 
 template <typename Writer>
 bool ReplayNode::readers_present(const Writer& writer, bool first) {
-  const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
   const std::size_t want = static_cast<std::size_t>(options_.wait_subscribers);
   // At the start every reader asked for must be there; later one of each name is enough (a hot-standby
   // estimator carries on alone), and none of a name means pause until it is back (a restart).
   bool missing = writer.matched_readers() < (first ? want : std::min<std::size_t>(want, 1));
   for (const auto& w : wanted_) missing = missing || writer.matched_readers_named(w.name) < (first ? w.count : 1);
   if (!missing) return true;
+  const std::string what =
+      fmt::format("{} reader(s){}{} on domain {}", want, wanted_.empty() ? "" : " including ",
+                  fmt::join(options_.wait_for, ", "), participant_.domain_id());
+  const std::string bound = options_.wait_timeout_s > 0 ? fmt::format("up to {:.0f} s", options_.wait_timeout_s)
+                                                         : std::string("for as long as it takes");
   if (first) {
-    spdlog::info("waiting up to {:.0f} s for {} reader(s){}{} on domain {}", options_.wait_timeout_s, want,
-                 wanted_.empty() ? "" : " including ", fmt::join(options_.wait_for, ", "), participant_.domain_id());
+    spdlog::info("waiting {} for {}", bound, what);
   } else {
-    spdlog::warn("a reader it waits for has gone ({}): pausing until it is back (up to {:.0f} s)",
-                 fmt::join(options_.wait_for, ", "), options_.wait_timeout_s);
+    spdlog::warn("a reader it waits for has gone ({}): pausing until it is back ({})",
+                 fmt::join(options_.wait_for, ", "), bound);
   }
   std::vector<dds::NamedReaders> need = wanted_;
   if (!first) {
     for (auto& w : need) w.count = 1;
   }
-  const bool ok = writer.wait_for_readers(first ? want : std::min<std::size_t>(want, 1), timeout, stop_) &&
-                  dds::wait_for_named_readers(writer, need, timeout, stop_).empty();
+  const auto ready = [&](std::chrono::milliseconds limit) {
+    return writer.wait_for_readers(first ? want : std::min<std::size_t>(want, 1), limit, stop_) &&
+           dds::wait_for_named_readers(writer, need, limit, stop_).empty();
+  };
+  const bool ok = dds::wait_for_peers(ready, options_.wait_timeout_s, stop_, what);
   if (!ok && !stop_.load()) {
     readers_missing_ = true;
     spdlog::error("the readers did not match within {:.0f} s: is causal-estimator running on domain {} with the same "

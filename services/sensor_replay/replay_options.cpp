@@ -71,8 +71,10 @@ std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& ex
                  "also wait until readers of these participants are matched, before publishing and again whenever they "
                  "go away (e.g. an estimator that restarts): NAME or NAME:COUNT, e.g. --wait-for causal-estimator:2")
       ->each([](const std::string& spec) { dds::parse_named_readers(spec); });
-  app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
-      ->check(CLI::PositiveNumber)
+  app.add_option("--wait-timeout", o.wait_timeout_s,
+                 "give up waiting for readers after this many seconds (exit 3); 0 = wait for as long as it takes, "
+                 "saying so every 10 s (the units do)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--progress-every", o.progress_every_s, "seconds between progress lines")
       ->check(CLI::PositiveNumber)

@@ -1,8 +1,9 @@
 // The detection bar on real data (IMS test 2, bearing 1 outer-race failure), run through exactly the
 // chain of causal-alarm-eval and the services (features -> causal-estimator's condition-level pipeline with
 // the shipped estimator.yaml -> alarm-recommender's observation rule -> AlarmEngine, shipped AlarmParams):
-//  * a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 533
-//    (published detectors first flag bearing 1 between snapshots 526 and 541);
+//  * a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 547
+//    (published detectors first flag bearing 1 between snapshots 526 and 541; issue 23 put the bar at 547
+//    when every alarm got a size floor: +8 % held for 5 snapshots, reached at 541);
 //  * no alarm of any kind before snapshot 500.
 // Uses CAUSAL_TWIN_SHARED_DIR/data/ims2 (or the identical tables in deploy/data/ims2-features); skipped
 // when neither is present.
@@ -31,7 +32,7 @@ void expect_bar(const PipelineResult& res, const std::string& what) {
   for (const auto& e : res.events) EXPECT_GE(e.index, 500u) << what << ": early alarm " << e.alarm_id << ": " << e.reason;
   const auto& b1 = res.summary[0];
   ASSERT_TRUE(b1.alarmed) << what << ": no alarm on bearing 1";
-  EXPECT_LE(b1.first.index, 533u) << what << ": " << b1.first.reason;
+  EXPECT_LE(b1.first.index, 547u) << what << ": " << b1.first.reason;
   EXPECT_EQ(b1.first.root_cause_channel, 0) << what << ": " << b1.first.reason;
   EXPECT_TRUE(b1.first_sustained) << what << ": first bearing-1 alarm cleared at " << b1.first_cleared_index;
   EXPECT_EQ(b1.first_cleared_index, 0u) << what << ": the bearing-1 alarm should stay active to the end";

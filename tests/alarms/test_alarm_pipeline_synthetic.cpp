@@ -44,7 +44,11 @@ TEST(AlarmPipelineSynthetic, KalmanInnovationsSeparateRootFromFollower) {
     ASSERT_TRUE(res.summary[1].alarmed) << "seed " << seed;
     ASSERT_TRUE(res.summary[2].alarmed) << "seed " << seed;
     EXPECT_GE(res.summary[1].first.index, 400u);
-    EXPECT_LE(res.summary[1].first.index, 403u);
+    // +12 % step: the size floor (+8 %, median of 5) must hold for level_window observations (issue 23); when
+    // noise makes the first values look like a +15 % operating step, the confirmation window comes first.
+    const AlarmParams p;
+    EXPECT_LE(res.summary[1].first.index,
+              400u + static_cast<std::uint64_t>(p.confirmation_observations + 2 * p.level_window));
     bool innovation_on_2 = false;
     for (const auto& e : res.events) {
       EXPECT_GE(e.index, 400u) << "seed " << seed << ": " << e.reason;

@@ -13,6 +13,7 @@
 //
 // Every variant is asserted in its own test; RobustnessSuite.PrintsSideBySideTable prints the table for all.
 #include "ims_variants.hpp"
+#include "ims_variants_month.hpp"
 #include "robust_z_baseline.hpp"
 
 #include <gtest/gtest.h>
@@ -34,6 +35,7 @@ constexpr std::uint64_t kSeed = 12;
 struct EventLine {
   std::uint64_t index = 0;
   std::string state;     // raised, escalated, cleared, ...
+  std::string severity;  // advisory, warning, critical
   std::string channel;
   std::string kind;
   std::string root_cause;
@@ -67,7 +69,7 @@ std::vector<EventLine> parse_events(const std::string& output) {
     EventLine e;
     e.index = std::stoull(field(line, "index"));
     std::istringstream words(line.substr(line.find('"', line.find("time=\"") + 6) + 1));
-    words >> e.state;
+    words >> e.state >> e.severity;
     e.channel = field(line, "channel");
     e.kind = field(line, "kind");
     e.root_cause = field(line, "root_cause");
@@ -84,6 +86,7 @@ struct Score {
   std::string first_channel;              // the channel alarmed first after the healthy part
   std::string root_cause;                 // named with the failing bearing's first alarm ("-" = none)
   int other_events = 0;                   // product: events of another category (operating change, ...)
+  std::string end_severity = "-";         // product: highest severity of the failing bearing's alarms
 };
 
 struct Outcome {
@@ -109,6 +112,10 @@ Score score_product(const Variant& v, const std::vector<EventLine>& events) {
       ++s.other_events;
       continue;
     }
+    if (is_failing(v, e.channel) && e.state != "cleared" &&
+        (e.severity == "critical" || (e.severity == "warning" && s.end_severity != "critical") ||
+         (e.severity == "advisory" && s.end_severity == "-")))
+      s.end_severity = e.severity;
     if (e.state != "raised") continue;
     if (e.index < v.healthy_end) {
       false_channels.insert(e.channel);
@@ -183,8 +190,23 @@ Outcome evaluate(const Variant& v) {
   return o;
 }
 
+// Issue 23: the variants of make_all_variants plus 8 channels with gaps, and month-long simulated runs
+// (drift, daily cycle, gaps with level steps, single-bearing steps, a spike a day) ending in an
+// accelerating fault of bearing 1, with 4 and 8 channels (tests/support/ims_variants_month.hpp).
+std::vector<Variant> all_variants() {
+  auto all = causal::testing::make_all_variants(base(), kSeed);
+  all.push_back(causal::testing::make_eight_channel_gaps_variant(base(), kSeed));
+  for (int sensors : {1, 2}) {
+    causal::testing::MonthOptions o;
+    o.sensors_per_bearing = sensors;
+    o.fault = true;
+    all.push_back(causal::testing::make_month_variant(o, kSeed));
+  }
+  return all;
+}
+
 Outcome evaluate(const std::string& name) {
-  for (const auto& v : causal::testing::make_all_variants(base(), kSeed)) {
+  for (const auto& v : all_variants()) {
     if (v.name == name) return evaluate(v);
   }
   throw std::invalid_argument("no variant " + name);
@@ -206,21 +228,25 @@ void expect_holds(const Outcome& o) {
   if (o.baseline.first) {
     EXPECT_LE(*o.product.first, *o.baseline.first) << v.name << ": later than the robust-z baseline";
   }
+  EXPECT_TRUE(o.product.end_severity == "warning" || o.product.end_severity == "critical")
+      << v.name << ": the failing bearing ended at " << o.product.end_severity;
 }
 
 }  // namespace
 
 TEST(RobustnessSuite, PrintsSideBySideTable) {
   std::printf("\n| variant | rows x channels | healthy rows | product: false alarms | product: first alarm on the failing "
-              "bearing | product: root cause | product: other events | baseline: false alarms | baseline: first alarm "
-              "on the failing bearing | baseline: first channel |\n|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const auto& v : causal::testing::make_all_variants(base(), kSeed)) {
+              "bearing | product: root cause | product: severity at end | product: other events | baseline: false "
+              "alarms | baseline: first alarm on the failing bearing | baseline: first channel |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& v : all_variants()) {
     const Outcome o = evaluate(v);
     ASSERT_EQ(o.exit_code, 0) << v.name << ":\n" << o.output;
-    std::printf("| %s | %lld x %lld | %zu | %d (%d raises) | %s | %s | %d | %d | %s | %s |\n", v.name.c_str(),
+    std::printf("| %s | %lld x %lld | %zu | %d (%d raises) | %s | %s | %s | %d | %d | %s | %s |\n", v.name.c_str(),
                 static_cast<long long>(v.values.rows()), static_cast<long long>(v.values.cols()), v.healthy_end,
                 o.product.false_channels, o.product.false_raises, at(o.product.first).c_str(),
-                o.product.root_cause.empty() ? "-" : o.product.root_cause.c_str(), o.product.other_events,
+                o.product.root_cause.empty() ? "-" : o.product.root_cause.c_str(), o.product.end_severity.c_str(),
+                o.product.other_events,
                 o.baseline.false_channels, at(o.baseline.first).c_str(),
                 o.baseline.first_channel.empty() ? "-" : o.baseline.first_channel.c_str());
   }
@@ -258,3 +284,9 @@ TEST(RobustnessSuite, StretchedTo6000) { expect_holds(evaluate("stretched")); }
 // at once (Bearing 4 at 199, Bearing 2 at 351) and bearing 1's alarm at 533 named Bearing 4.
 TEST(RobustnessSuite, TimeGapsWithLevelShifts) { expect_holds(evaluate("gaps")); }
 TEST(RobustnessSuite, OperatingChangeSteps) { expect_holds(evaluate("steps")); }
+
+// Issue 23: 8 channels (two sensors per bearing) with the gaps and level steps of TimeGapsWithLevelShifts,
+// and month-long simulated runs with an accelerating fault at the end.
+TEST(RobustnessSuite, EightChannelsWithGaps) { expect_holds(evaluate("eight_channels_gaps")); }
+TEST(RobustnessSuite, MonthLongFourChannels) { expect_holds(evaluate("month_fault_4ch_s12")); }
+TEST(RobustnessSuite, MonthLongEightChannels) { expect_holds(evaluate("month_fault_8ch_s12")); }

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace {
 
 using causal::alarms::AlarmEvent;
@@ -121,7 +123,24 @@ TEST(AlarmConversions, AlarmSurvivesCdrSerialisation) {
   ASSERT_TRUE(type.serialize(&a, &payload));
   causal_twin::Alarm back;
   ASSERT_TRUE(type.deserialize(&payload, &back));
+  // "Unknown" hours are NaN, which never compares equal: check them as NaN, then the rest field by field.
+  EXPECT_TRUE(std::isnan(back.hours_to_next_level()));
+  EXPECT_TRUE(std::isnan(back.hours_to_next_level_low()));
+  EXPECT_TRUE(std::isnan(back.hours_to_next_level_high()));
+  for (causal_twin::Alarm* m : {&a, &back}) {
+    m->hours_to_next_level(0.0);
+    m->hours_to_next_level_low(0.0);
+    m->hours_to_next_level_high(0.0);
+  }
   EXPECT_TRUE(back == a);
+}
+
+TEST(AlarmConversions, DecisionFieldsStartAsNoneAndUnknown) {
+  causal_twin::Alarm a;
+  causal::dds::to_alarm("ims2", kNames, event(), a);
+  EXPECT_EQ(a.action(), "");
+  EXPECT_EQ(a.next_level(), "");
+  EXPECT_TRUE(std::isnan(a.hours_to_next_level()));
 }
 
 }  // namespace

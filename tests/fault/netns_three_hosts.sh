@@ -6,7 +6,7 @@
 #                   feature table (condition inputs, ims2-shaft1); one reads its profile from
 #                   $FASTRTPS_DEFAULT_PROFILES_FILE, the other from --transport (both mechanisms, no code change)
 #   estimator host  causal-estimator shards 0/2 and 1/2 (ims2-shaft1 hashes to shard 0, ims2-raw to shard 1)
-#   operator host   alarm-recommender and causal-recorder (UDPv4 to the others, shared memory between them)
+#   operator host   alarm-recommender and causal-recorder (UDPv4 to the others and between them)
 # Every host has its own /dev/shm. The same data runs at once on one host over loopback (localhost.xml, one
 # unsharded estimator, in a fifth namespace) as the reference. Checked exactly: frames and condition inputs
 # sent == received by the estimators, every service exit 0, and the recordings (condition vectors,

@@ -2,8 +2,8 @@
 // snapshots (mean |x|, from the embedded feature table) as condition vectors, causal-estimator runs the condition-level
 // filter across the 7-day run, alarm-recommender raises alarms with the SHIPPED parameters.
 // Snapshot i is 2004-02-12 10:32:39 + 10 i min; the index of an alarm is computed here from its time.
-// Bar: a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 533, and no alarm
-// of any kind before snapshot 500.
+// Bar: a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 547 (issue 23: every
+// alarm needs a size floor; 541 measured offline), and no alarm of any kind before snapshot 500.
 // Issue 11 on the same run: every recommendation and a live what-if answer are honest (point inside its
 // interval, percent never below -100 %, horizon and stability named; see check_honest_advice below).
 #include "dds_observer.hpp"
@@ -134,16 +134,16 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
                 a.severity() == causal_twin::CRITICAL ? "critical" : a.severity() == causal_twin::WARNING ? "warning" : "advisory",
                 a.kind().c_str(), a.root_cause_channel(), a.root_cause_name().c_str());
   }
-  // Bearing 1: an alarm with root cause bearing 1, raised by snapshot 533 and still active 12 snapshots later.
+  // Bearing 1: an alarm with root cause bearing 1, raised by snapshot 547 and still active 12 snapshots later.
   bool met = false;
   for (const auto& a : alarms) {
     if (a.state() != causal_twin::RAISED || a.channel() != 1 || a.root_cause_channel() != 1) continue;
     const long raised = index_of(a.raised_time_ns());
     const auto c = cleared_at.find(a.alarm_id());
     const bool sustained = c == cleared_at.end() || c->second >= raised + 12;
-    if (raised <= 533 && sustained) met = true;
+    if (raised <= 547 && sustained) met = true;
   }
-  EXPECT_TRUE(met) << "no sustained bearing-1 alarm with root cause bearing 1 by snapshot 533; alarm log:\n"
+  EXPECT_TRUE(met) << "no sustained bearing-1 alarm with root cause bearing 1 by snapshot 547; alarm log:\n"
                    << alarm.output();
   const auto recs = observer.recommendations();
   EXPECT_FALSE(recs.empty()) << alarm.output();

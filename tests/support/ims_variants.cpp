@@ -160,6 +160,26 @@ Variant make_eight_channel_variant(const BaseRun& base, std::uint64_t seed) {
   return v;
 }
 
+Variant make_eight_channel_gaps_variant(const BaseRun& base, std::uint64_t seed) {
+  Variant v = make_gaps_variant(base, seed);
+  const Variant eight = make_eight_channel_variant(base, seed);
+  const Eigen::Index n = v.values.rows(), g = v.values.cols();
+  Eigen::MatrixXd values(n, 2 * g);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index c = 0; c < g; ++c) {
+      // Both sensors of a bearing carry the gap's level step of that bearing; C2 keeps its own noise.
+      const double step = v.values(i, c) / base.values(i, c);
+      values(i, 2 * c) = eight.values(i, 2 * c) * step;
+      values(i, 2 * c + 1) = eight.values(i, 2 * c + 1) * step;
+    }
+  v.name = "eight_channels_gaps";
+  v.values = values;
+  v.channel_names = eight.channel_names;
+  v.failing_channels = eight.failing_channels;
+  v.description = "two sensors per bearing, with " + v.description;
+  return v;
+}
+
 Variant make_stretched_variant(const BaseRun& base, std::uint64_t seed, std::size_t total_rows) {
   check_base(base);
   const std::size_t n = base.time_ns.size(), h = base.healthy_end;

@@ -56,6 +56,9 @@ Variant make_steps_variant(const BaseRun& base, std::uint64_t seed);
 // C2 the base value times exp(N(0, 0.01^2)) drawn independently per snapshot (a second sensor on the same
 // bearing sees the same level with its own small noise).
 Variant make_eight_channel_variant(const BaseRun& base, std::uint64_t seed);
+// (c') (c) on top of (a): 8 channels, both sensors of a bearing stepping with the bearing after each gap
+// (issue 23, Run A). Not part of make_all_variants (its table is the issue-12 one); the suite adds it.
+Variant make_eight_channel_gaps_variant(const BaseRun& base, std::uint64_t seed);
 // (d) Stretched to `total_rows` snapshots by walking back and forth through the healthy part (so every
 // step continues the previous level: no jump at a join), each repeated row times exp(N(0, 0.005^2)); time
 // stamps continue at the base interval; the base's degrading part follows unchanged at the end.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -27,6 +28,8 @@ void finalize_signal(detail::SignalMonitor& s, const AlarmParams& p, double clip
   s.monitored = s.stats.valid && static_cast<double>(s.stats.count) >= needed;
   s.cusum = ClippedCusum(p.cusum_k, clip, cap);
   s.level = WindowMean(p.level_window);
+  s.reference_location = s.stats.location;
+  s.anchor_location = s.stats.location;
   s.baseline.clear();
   s.baseline.shrink_to_fit();
 }
@@ -203,28 +206,13 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
   }
   for (int c = 0; c < g; ++c) {
     auto& cs = m.ch[static_cast<std::size_t>(c)];
-    auto update_signal = [&](detail::SignalMonitor& s, double v) {
-      s.last_value = v;
-      s.last_z = s.monitored && std::isfinite(v) ? s.standardize(v) : kNaN;
-      s.nis_z = s.last_z / s.scale_inflation;
-      s.detect_z = s.nis_z - s.location_margin;
-      if (std::isfinite(s.last_z)) {
-        s.cusum.update(s.detect_z, obs.index, obs.time_ns);
-        s.level.push(s.last_z);
-      }
-    };
-    update_signal(cs.feature, feat[static_cast<std::size_t>(c)]);
-    update_signal(cs.innovation, innov[static_cast<std::size_t>(c)]);
+    detail::update_signal(cs.feature, feat[static_cast<std::size_t>(c)], m.p, obs, !cs.any_active());
+    detail::update_signal(cs.innovation, innov[static_cast<std::size_t>(c)], m.p, obs, false);
     if (!cs.feature.cusum.in_excursion() || cs.feature.cusum.onset_index() == obs.index) {
       cs.own_sum = 0.0;  // no excursion, or one that starts now: restart the evidence
       cs.own_count = 0;
-      cs.excursion_obs = 0;
-      cs.excursion_sum_z = 0.0;
     }
-    if (cs.feature.cusum.in_excursion() && std::isfinite(cs.feature.last_z)) {
-      ++cs.excursion_obs;
-      cs.excursion_sum_z += cs.feature.last_z;
-    }
+    detail::update_step_run(cs, m.p);
     if (cs.feature.cusum.in_excursion() && std::isfinite(cs.innovation.last_z)) {
       cs.own_sum += std::max(-m.p.clip_sigma, std::min(m.p.clip_sigma, cs.innovation.last_z));
       ++cs.own_count;
@@ -261,13 +249,15 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
   std::vector<Pending> pending;
   for (int c = 0; c < g; ++c) {
     auto& cs = m.ch[static_cast<std::size_t>(c)];
+    // Evidence AND size: below the size floor (AlarmParams::advisory_ratio) nothing is raised.
+    const bool sized = detail::size_matters(m, c);
     for (int k = 0; k < detail::kKindCount; ++k) {
       auto& slot = cs.slots[static_cast<std::size_t>(k)];
       const detail::DetectorReading r = detail::detector_table()[static_cast<std::size_t>(k)].read(m, c, obs);
       if (!r.enabled) continue;
       slot.score = r.statistic;
       slot.threshold = r.threshold;
-      const auto t = slot.latch.update(r.statistic, r.threshold, m.p.clear_fraction * r.threshold);
+      const auto t = slot.latch.update(r.statistic, sized ? r.threshold : std::numeric_limits<double>::infinity(), m.p.clear_fraction * r.threshold);
       if (t == PersistenceLatch::Transition::Raise) {
         m.begin_alarm(c, k, obs);
         pending.push_back({c, k, AlarmState::Raised, {}});

@@ -40,6 +40,9 @@ void for_each_param(P& p, F&& f) {
   f("feature_log_transform", p.feature_log_transform);
   f("warning_ratio", p.warning_ratio);
   f("critical_ratio", p.critical_ratio);
+  f("advisory_ratio", p.advisory_ratio);
+  f("baseline_tracking_observations", p.baseline_tracking_observations);
+  f("max_absorbed_ratio", p.max_absorbed_ratio);
   f("stopped_ratio", p.stopped_ratio);
   f("innovation_enabled", p.innovation_enabled);
   f("nis_enabled", p.nis_enabled);
@@ -62,10 +65,10 @@ void for_each_param(P& p, F&& f) {
   f("root_cause_margin_z", p.root_cause_margin_z);
   f("root_cause_persistence", p.root_cause_persistence);
 }
-constexpr std::uint32_t kParamCount = 37;
+constexpr std::uint32_t kParamCount = 40;
 // Tripwire (x86-64 layout): a field added to AlarmParams usually changes its size. List it in
 // for_each_param (or checkpoints would ignore it), bump kParamCount, then update this size.
-static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 224,
+static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 248,
               "AlarmParams changed: update for_each_param and kParamCount");
 
 }  // namespace
@@ -132,6 +135,11 @@ void AlarmParams::validate() const {
   require(clear_persistence >= 1, "clear_persistence must be >= 1");
   require(level_window >= 1, "level_window must be >= 1");
   require(warning_ratio > 1.0 && critical_ratio > warning_ratio, "need 1 < warning_ratio < critical_ratio");
+  require(std::isfinite(advisory_ratio) && advisory_ratio >= 1.0 && advisory_ratio < warning_ratio,
+          "need 1 <= advisory_ratio < warning_ratio");
+  require(baseline_tracking_observations >= 0, "baseline_tracking_observations must be >= 0 (0 = no tracking)");
+  require(std::isfinite(max_absorbed_ratio) && max_absorbed_ratio >= 1.0 && max_absorbed_ratio < warning_ratio,
+          "need 1 <= max_absorbed_ratio < warning_ratio");
   require(stopped_ratio >= 0.0 && stopped_ratio < 1.0, "stopped_ratio must be in [0, 1)");
   require(warning_sigma > 0.0 && critical_sigma > warning_sigma, "need 0 < warning_sigma < critical_sigma");
   require(nis_window >= 2, "nis_window must be >= 2");

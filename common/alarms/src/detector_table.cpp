@@ -1,6 +1,7 @@
 // The detector table: every alarm kind of the engine as one row (what it watches, its statistic and
 // threshold, where its change began, what severity its level calls for). AlarmEngine::observe loops over
 // it; adding a kind = one row + its three functions here + its KindIndex (engine_internal.hpp).
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -19,10 +20,16 @@ Severity by_sigma(const AlarmParams& p, double level) {
 }
 
 // ---- feature_drift: clipped CUSUM on the standardised (log) condition feature -----------------------
+// Escalation follows the failure: a level at warning_ratio x its reference (AlarmParams::max_absorbed_ratio)
+// is evidence on its own (a doubling of the median of 5 is no noise), whatever a step or gap rule did to the
+// CUSUM before: the statistic is then at least the threshold, so the alarm is raised and cannot clear.
 DetectorReading feature_read(AlarmEngine::Impl& m, int c, const Observation&) {
   const auto& cs = m.ch[static_cast<std::size_t>(c)];
-  return {m.p.feature_enabled && cs.feature.monitored,
-          std::isfinite(cs.feature.last_z) ? cs.feature.cusum.value() : kNaN, m.h};
+  double stat = std::isfinite(cs.feature.last_z) ? cs.feature.cusum.value() : kNaN;
+  const double ratio = cs.feature.escalation_log_ratio();
+  if (std::isfinite(stat) && m.p.feature_log_transform && std::isfinite(ratio) && ratio >= std::log(m.p.warning_ratio))
+    stat = std::max(stat, m.h);
+  return {m.p.feature_enabled && cs.feature.monitored, stat, m.h};
 }
 void feature_onset(AlarmEngine::Impl& m, int c, const Observation&, std::uint64_t& index, std::int64_t& time_ns) {
   auto& cs = m.ch[static_cast<std::size_t>(c)];
@@ -36,8 +43,9 @@ Severity feature_severity(const AlarmEngine::Impl& m, int c) {
   const double level = cs.feature.level.median();
   if (!m.p.feature_log_transform) return by_sigma(m.p, level);
   if (!std::isfinite(level)) return Severity::Advisory;
-  // Physical ratio of the current level to the baseline median: exp(z * scale) in log units.
-  const double ratio = std::exp(level * cs.feature.stats.scale);
+  // Physical ratio of the current level to the reference (the lower of the baseline median and the level
+  // before any step the engine followed; AlarmParams::max_absorbed_ratio).
+  const double ratio = std::exp(cs.feature.escalation_log_ratio());
   if (ratio >= m.p.critical_ratio) return Severity::Critical;
   if (ratio >= m.p.warning_ratio) return Severity::Warning;
   return Severity::Advisory;

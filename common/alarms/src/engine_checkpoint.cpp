@@ -45,7 +45,7 @@ std::size_t read_count(causal::StateReader& in, std::size_t expected, const char
 }  // namespace
 
 void save(causal::StateWriter& out, const SignalMonitor& s) {
-  out.begin("signal_monitor", 1);
+  out.begin("signal_monitor", 2);
   out.put(s.baseline);
   alarms::save(out, s.stats);
   out.put(s.monitored);
@@ -57,10 +57,13 @@ void save(causal::StateWriter& out, const SignalMonitor& s) {
   out.put(s.location_margin);
   s.cusum.save(out);
   s.level.save(out);
+  out.put(s.anchor_location);
+  out.put(s.refine_left);
+  out.put(s.reference_location);
 }
 
 void restore(causal::StateReader& in, SignalMonitor& s) {
-  in.expect("signal_monitor", 1);
+  in.expect("signal_monitor", 2);
   in.read(s.baseline);
   alarms::restore(in, s.stats);
   in.read(s.monitored);
@@ -72,6 +75,9 @@ void restore(causal::StateReader& in, SignalMonitor& s) {
   in.read(s.location_margin);
   s.cusum.restore(in);
   s.level.restore(in);
+  in.read(s.anchor_location);
+  in.read(s.refine_left);
+  in.read(s.reference_location);
 }
 
 void save(causal::StateWriter& out, const FactorMonitor& f) {
@@ -140,7 +146,7 @@ void restore(causal::StateReader& in, AlarmSlot& slot) {
 }
 
 void save(causal::StateWriter& out, const ChannelState& cs) {
-  out.begin("alarm_channel", 2);
+  out.begin("alarm_channel", 3);
   save(out, cs.feature);
   save(out, cs.innovation);
   cs.nis.save(out);
@@ -159,10 +165,11 @@ void save(causal::StateWriter& out, const ChannelState& cs) {
   out.put(cs.excursion_obs);
   out.put(cs.excursion_sum_z);
   out.put(cs.change_counter);
+  out.put(cs.size_run);
 }
 
 void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
-  in.expect("alarm_channel", 2);
+  in.expect("alarm_channel", 3);
   restore(in, cs.feature);
   restore(in, cs.innovation);
   cs.nis.restore(in);
@@ -185,6 +192,7 @@ void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
   in.read(cs.excursion_obs);
   in.read(cs.excursion_sum_z);
   in.read(cs.change_counter);
+  in.read(cs.size_run);
 }
 
 void save(causal::StateWriter& out, const Episode& e) {

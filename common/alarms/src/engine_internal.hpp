@@ -1,6 +1,7 @@
 // Internal state of AlarmEngine (not installed; shared by the engine's translation units).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -33,8 +34,34 @@ struct SignalMonitor {
   double location_margin = 0.0;  // confidence margin of the median, in sigmas
   ClippedCusum cusum;
   WindowMean level;              // recent z values: their median is the signal's current level
+  // Where the slow tracking started from (AlarmParams::baseline_tracking_observations): the location as
+  // learned or as last re-baselined; tracking stays within half the size floor of it.
+  double anchor_location = kNaN;
+  // Observations left in which a location re-learned on the short confirmation window (12 correlated
+  // values after a gap or step) is still refined, as a running mean (AlarmParams::baseline_tracking_observations).
+  int refine_left = 0;
+  // Reference of the escalation levels and of the limits on what the baseline may follow: the learned
+  // baseline location, moved only by a gap / restart re-baseline or a machine-wide operating change (not
+  // by slow tracking or a single channel's step; see AlarmParams::max_absorbed_ratio).
+  double reference_location = kNaN;
   double standardize(double v) const { return (v - stats.location) / stats.scale; }
+  // Log ratio of the current level (median of the level window) over the current / the lower of the
+  // current and reference locations (escalation). NaN without a level.
+  double level_log_ratio() const { return level.median() * stats.scale; }
+  double escalation_log_ratio() const {
+    const double ref = std::isfinite(reference_location) ? std::min(reference_location, stats.location) : stats.location;
+    return level_log_ratio() + stats.location - ref;
+  }
 };
+
+// Feeds one transformed value to a signal after the baseline (engine_signals.cpp): plain and conservative z,
+// the CUSUM, the level window, and the slow tracking of the location (feature signals,
+// AlarmParams::baseline_tracking_observations) while nothing builds up. `track` = the channel may follow.
+void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Observation& obs, bool track);
+struct ChannelState;
+// Counts the runs of observations at a step's size (ChannelState::excursion_obs) and at the size floor
+// (ChannelState::size_run).
+void update_step_run(ChannelState& cs, const AlarmParams& p);
 
 struct FactorMonitor {
   FactorRef ref;
@@ -87,11 +114,16 @@ struct ChannelState {
   double own_evidence() const { return own_count > 0 ? own_sum / std::sqrt(static_cast<double>(own_count)) : 0.0; }
   int baseline_from_filter = 0;  // baseline innovation values that were e / sqrt(S) (not log mean NIS)
   int baseline_from_nis = 0;
-  // Current feature excursion (feature CUSUM > 0): observations in it and sum of their plain z, for the
-  // abrupt-step test (AlarmParams::operating_step_ratio).
+  // Current run of consecutive observations whose level is at least operating_step_ratio x the baseline,
+  // and the sum of their plain z, for the abrupt-step test (AlarmParams::operating_step_ratio). A run, not
+  // the CUSUM's excursion: a step that lands while the CUSUM is already up (a daily-cycle high, a slow
+  // wander) is still recognised as a step.
   int excursion_obs = 0;
   double excursion_sum_z = 0.0;
   int change_counter = 0;        // operating-change / discontinuity events of this channel (id counter)
+  // Consecutive observations whose level (median of level_window) reached the size floor
+  // (AlarmParams::advisory_ratio): the floor must hold for level_window observations before a raise.
+  int size_run = 0;
   bool any_active() const {
     for (const auto& s : slots)
       if (s.latch.active()) return true;
@@ -242,6 +274,14 @@ struct AlarmEngine::Impl {
   void begin_alarm(int c, int kind, const Observation& obs);
   // Counts the level's persistence (AlarmParams::escalation_persistence); true when the severity rose.
   bool escalate(int c, int kind);
+  // At the end of a step's confirmation window: the channels that settled at a step's size (none for a gap).
+  std::vector<bool> settled_steps() const;
+  // Raises channel c's feature_drift alarm for a step that was not confirmed as an operating change (still
+  // rising, or a single channel beyond max_absorbed_ratio); `why` prefixes the reason.
+  void raise_unconfirmed_step(int c, const Observation& obs, const std::string& why, std::vector<AlarmEvent>& events);
+  // Appends an operating-change event of channel c (raised and cleared at once: a point event).
+  void emit_change(int c, const char* kind_name, const std::string& why, const Observation& obs,
+                   std::vector<AlarmEvent>& events);
   // Adds the observation's values to the window; at its end decides and appends the events.
   void confirm_step(const Observation& obs, const std::vector<double>& feat, const std::vector<double>& innov,
                     std::vector<AlarmEvent>& events);
@@ -254,3 +294,10 @@ struct AlarmEngine::Impl {
 };
 
 }  // namespace causal::alarms
+
+namespace causal::alarms::detail {
+// The size floor (AlarmParams::advisory_ratio): true when channel c's condition level has been at least
+// advisory_ratio x its baseline for level_window observations, or when it has no ratio scale (then the
+// statistics decide alone).
+bool size_matters(const AlarmEngine::Impl& m, int c);
+}  // namespace causal::alarms::detail

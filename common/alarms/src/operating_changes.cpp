@@ -59,7 +59,8 @@ int AlarmEngine::Impl::abrupt_step() const {
   for (int c = 0; c < channels(); ++c) {
     const auto& cs = ch[static_cast<std::size_t>(c)];
     if (!cs.feature.monitored || cs.slots[detail::kFeature].latch.active()) continue;
-    if (cs.feature.cusum.value() < h || cs.excursion_obs < 1 || cs.excursion_obs > p.onset_tolerance + 1) continue;
+    // At least 2 observations at the step's size (one is a spike), at most onset_tolerance + 1 (abrupt).
+    if (cs.feature.cusum.value() < h || cs.excursion_obs < 2 || cs.excursion_obs > p.onset_tolerance + 1) continue;
     const double ratio = std::exp(cs.excursion_sum_z / cs.excursion_obs * cs.feature.stats.scale);
     if (ratio >= p.operating_step_ratio && ratio > best_ratio) {
       best = c;
@@ -86,6 +87,65 @@ void AlarmEngine::Impl::start_confirmation(const Observation& obs, bool gap, int
   confirm.innovation.assign(ch.size(), {});
 }
 
+std::vector<bool> AlarmEngine::Impl::settled_steps() const {
+  std::vector<bool> moved(ch.size(), false);
+  if (confirm.gap) return moved;
+  const int w = p.confirmation_observations;
+  for (int c = 0; c < channels(); ++c) {
+    const auto& cs = ch[static_cast<std::size_t>(c)];
+    const auto& fv = confirm.feature[static_cast<std::size_t>(c)];
+    const double rise = theil_sen_slope(fv) * (w - 1) / cs.feature.stats.scale;
+    const double new_loc = median(fv);
+    // The step's channel too must have settled at a step's size: a smaller rise that only looked abrupt on
+    // a noisy observation or two is left to the detectors (it is not absorbed).
+    moved[static_cast<std::size_t>(c)] = std::isfinite(rise) && rise < p.settle_trend_sigma && std::isfinite(new_loc) &&
+                                         (c == confirm.step_channel || !cs.any_active()) && cs.feature.monitored &&
+                                         std::abs(new_loc - cs.feature.stats.location) >= std::log(p.operating_step_ratio);
+  }
+  return moved;
+}
+
+void AlarmEngine::Impl::raise_unconfirmed_step(int c, const Observation& obs, const std::string& why,
+                                               std::vector<AlarmEvent>& events) {
+  auto& cs = ch[static_cast<std::size_t>(c)];
+  cs.slots[detail::kFeature].latch.force_raise();
+  begin_alarm(c, detail::kFeature, obs);
+  auto& slot = cs.slots[detail::kFeature];
+  slot.score = cs.feature.cusum.value();
+  slot.threshold = h;
+  slot.root = root_cause(c, slot.onset_index);
+  slot.root_confidence = attribution_confidence(slot.root, departed_evidence());
+  AlarmEvent e = make_event(c, detail::kFeature, AlarmState::Raised, obs);
+  e.reason = why + e.reason;
+  slot.last_event = e;
+  events.push_back(std::move(e));
+}
+
+void AlarmEngine::Impl::emit_change(int c, const char* kind_name, const std::string& why, const Observation& obs,
+                                    std::vector<AlarmEvent>& events) {
+  auto& cs = ch[static_cast<std::size_t>(c)];
+  ++cs.change_counter;
+  ++operating_changes;
+  AlarmEvent e;
+  e.alarm_id = group + "/" + std::to_string(c + 1) + "/" + kind_name + "/" + std::to_string(cs.change_counter);
+  e.channel = c;
+  e.kind = kind_name;
+  e.category = category::kOperatingChange;
+  e.state = AlarmState::Raised;
+  e.raised_time_ns = obs.time_ns;
+  e.index = obs.index;
+  e.onset_index = confirm.step_channel == c ? confirm.step_onset_index : confirm.start_index;
+  e.onset_time_ns = confirm.step_channel == c ? confirm.step_onset_time_ns : confirm.start_time_ns;
+  e.root_cause_channel = c;
+  e.root_cause_confidence = 1.0;
+  e.reason = why;
+  events.push_back(e);
+  // A point event: raised and cleared at once, so a last-value reader never shows it as active.
+  e.state = AlarmState::Cleared;
+  e.cleared_time_ns = obs.time_ns;
+  events.push_back(std::move(e));
+}
+
 void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<double>& feat,
                                      const std::vector<double>& innov, std::vector<AlarmEvent>& events) {
   for (std::size_t c = 0; c < ch.size(); ++c) {
@@ -95,15 +155,21 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
   if (static_cast<int>(confirm.feature[0].size()) < p.confirmation_observations) return;
 
   const int w = p.confirmation_observations;
-  auto rebaseline = [&](int c) {
+  // new_reference: a gap / restart or a machine-wide operating change moves the escalation reference too;
+  // a single channel's step does not (AlarmParams::max_absorbed_ratio).
+  auto rebaseline = [&](int c, bool new_reference) {
     auto& cs = ch[static_cast<std::size_t>(c)];
     const double f = median(confirm.feature[static_cast<std::size_t>(c)]);
     if (cs.feature.monitored && std::isfinite(f)) cs.feature.stats.location = f;
+    cs.feature.anchor_location = cs.feature.stats.location;
+    cs.feature.refine_left = p.baseline_observations;
+    if (new_reference || !std::isfinite(cs.feature.reference_location)) cs.feature.reference_location = cs.feature.stats.location;
     restart(cs.feature);
     cs.own_sum = 0.0;
     cs.own_count = 0;
     cs.excursion_obs = 0;
     cs.excursion_sum_z = 0.0;
+    cs.size_run = 0;
   };
   // Innovations carry a level change until the filter's factors adapt: their location is re-learned
   // upwards only (see AlarmParams::settle_trend_sigma), for every channel without an active alarm.
@@ -114,32 +180,15 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
     restart(cs.innovation);
     cs.nis.reset();
   };
-  auto emit = [&](int c, const char* kind_name, const std::string& why) {
-    auto& cs = ch[static_cast<std::size_t>(c)];
-    ++cs.change_counter;
-    ++operating_changes;
-    AlarmEvent e;
-    e.alarm_id = group + "/" + std::to_string(c + 1) + "/" + kind_name + "/" + std::to_string(cs.change_counter);
-    e.channel = c;
-    e.kind = kind_name;
-    e.category = category::kOperatingChange;
-    e.state = AlarmState::Raised;
-    e.raised_time_ns = obs.time_ns;
-    e.index = obs.index;
-    e.onset_index = confirm.step_channel == c ? confirm.step_onset_index : confirm.start_index;
-    e.onset_time_ns = confirm.step_channel == c ? confirm.step_onset_time_ns : confirm.start_time_ns;
-    e.root_cause_channel = c;
-    e.root_cause_confidence = 1.0;
-    e.reason = why;
-    events.push_back(e);
-    // A point event: raised and cleared at once, so a last-value reader never shows it as active.
-    e.state = AlarmState::Cleared;
-    e.cleared_time_ns = obs.time_ns;
-    events.push_back(std::move(e));
-  };
+  auto emit = [&](int c, const char* kind_name, const std::string& why) { emit_change(c, kind_name, why, obs, events); };
 
   const std::string when = "observation " + std::to_string(confirm.start_index) + " (" +
                            format_utc_seconds(confirm.start_time_ns) + ")";
+  // Channels whose level moved by a step at least operating_step_ratio in the window and settled;
+  // machine-wide when they are at least two and at least half the channels.
+  const std::vector<bool> moved = settled_steps();
+  const int moved_count = static_cast<int>(std::count(moved.begin(), moved.end(), true));
+  const bool machine_wide = moved_count >= 2 && 2 * moved_count >= channels();
   for (int c = 0; c < channels(); ++c) {
     auto& cs = ch[static_cast<std::size_t>(c)];
     const auto& fv = confirm.feature[static_cast<std::size_t>(c)];
@@ -157,41 +206,50 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
                               : confirm.gap_s > 0.0 ? "a gap of " + duration(confirm.gap_s) + " (more than " +
                                                           fixed(p.gap_multiple, 1) + " x the usual interval of " +
                                                           duration(median_interval_ns * 1e-9) + ")"
-                                                    : "a discontinuity flagged by the source";
+                                                    : "a discontinuity or declared operating change flagged by the source";
       emit(c, kind::kDiscontinuity,
            name + ": the recording resumed after " + gap + " at " + when + "; its level is " + fixed(pct, 1, true) +
                " % against the old baseline and " + trend + ": re-baselined on the " + std::to_string(w) +
                " observations after the gap (not a fault; alarms judge changes from the new level).");
-      rebaseline(c);
+      rebaseline(c, true);
       relearn_innovation(c);
-    } else if (c == confirm.step_channel || (!cs.any_active() && cs.feature.monitored && std::isfinite(new_loc) &&
-                                              std::abs(new_loc - old_loc) >= std::log(p.operating_step_ratio))) {
-      // The step's channel, and any other channel whose level moved by a step as large in the same window
-      // (a change of load moves several bearings at once): settled -> re-baselined; still rising -> the
-      // step's channel alarms, the others are left to their detectors.
-      if (!settled && c != confirm.step_channel) continue;
-      if (!settled) {  // progressive: the alarm the step would have raised, raised now with its onset
-        cs.slots[detail::kFeature].latch.force_raise();
-        begin_alarm(c, detail::kFeature, obs);
-        auto& slot = cs.slots[detail::kFeature];
-        slot.score = cs.feature.cusum.value();
-        slot.threshold = h;
-        slot.root = root_cause(c, slot.onset_index);
-        slot.root_confidence = attribution_confidence(slot.root, departed_evidence());
-        AlarmEvent e = make_event(c, detail::kFeature, AlarmState::Raised, obs);
-        e.reason = "Abrupt rise at " + when + " did not settle: " + trend + ": progressive, not an operating change. " +
-                   e.reason;
-        slot.last_event = e;
-        events.push_back(std::move(e));
+    } else if (moved[static_cast<std::size_t>(c)] || (c == confirm.step_channel && !settled)) {
+      // The step's channel, and any other channel whose level moved by a step as large in the same window.
+      // Settled and machine-wide (at least half the channels: a change of load or speed moves the machine
+      // as a whole) -> a confirmed operating change, new reference. Settled on fewer channels -> followed as
+      // a level step while within max_absorbed_ratio of its reference. Still rising, or a step beyond that
+      // limit -> the step's channel alarms, the others are left to their detectors.
+      const double over_reference = new_loc - cs.feature.reference_location;
+      const bool absorbable = machine_wide || over_reference <= std::log(p.max_absorbed_ratio);
+      if ((!settled || !absorbable) && c != confirm.step_channel) continue;
+      if (!settled || !absorbable) {  // the alarm the step would have raised, raised now with its onset
+        raise_unconfirmed_step(
+            c, obs,
+            "Abrupt rise at " + when +
+                (settled ? " settled on this channel alone at " + fixed(100.0 * (std::exp(over_reference) - 1.0), 1, true) +
+                               " % over its reference, beyond the " + fixed(100.0 * (p.max_absorbed_ratio - 1.0), 0) +
+                               " % a single channel may step without the machine: degradation, not an operating change. "
+                         : " did not settle: " + trend + ": progressive, not an operating change. "),
+            events);
         continue;
       }
-      emit(c, kind::kOperatingChange,
-           name + ": operating change: its level stepped " + fixed(pct, 1, true) + " % at once at " + when +
-               (c == confirm.step_channel ? "" : " (with " + names[static_cast<std::size_t>(confirm.step_channel)] + ")") +
-               " and " +
-               trend + ": re-baselined at the new level (a change of load or speed, not a fault; alarms judge "
-               "changes from the new level).");
-      rebaseline(c);
+      const std::string with = c == confirm.step_channel ? "" : " (with " + names[static_cast<std::size_t>(confirm.step_channel)] + ")";
+      if (machine_wide) {
+        emit(c, kind::kOperatingChange,
+             name + ": operating change: its level stepped " + fixed(pct, 1, true) + " % at once at " + when + with +
+                 ", " + std::to_string(moved_count) + " of " + std::to_string(channels()) + " channels moved, and " + trend +
+                 ": re-baselined at the new level (a change of load or speed, not a fault; alarms judge changes from "
+                 "the new level).");
+      } else {
+        emit(c, kind::kLevelStep,
+             name + ": level step of " + fixed(pct, 1, true) + " % at " + when + with + " that " + trend + "; only " +
+                 std::to_string(moved_count) + " of " + std::to_string(channels()) +
+                 " channels moved, so it is not confirmed as an operating change: followed from the new level (" +
+                 fixed(100.0 * (std::exp(over_reference) - 1.0), 1, true) + " % over its reference, limit " +
+                 fixed(100.0 * (p.max_absorbed_ratio - 1.0), 0, true) +
+                 " %); warning and critical are still judged against the reference.");
+      }
+      rebaseline(c, machine_wide);
     }
   }
   if (!confirm.gap && std::find_if(events.begin(), events.end(), [](const AlarmEvent& e) {

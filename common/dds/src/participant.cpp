@@ -1,5 +1,6 @@
 #include "causal/dds/participant.hpp"
 
+#include "causal/dds/ack_watch.hpp"
 #include "causal/dds/security.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -13,6 +14,9 @@
 
 #include "causal_twinTypeObject.h"
 
+#include <pwd.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -21,6 +25,15 @@ namespace causal::dds {
 using eprosima::fastdds::dds::DomainParticipantFactory;
 using eprosima::fastdds::dds::DomainParticipantQos;
 using eprosima::fastrtps::types::ReturnCode_t;
+
+std::string process_description() {
+  const uid_t uid = getuid();
+  const passwd* pw = getpwuid(uid);
+  char host[256] = {0};
+  if (gethostname(host, sizeof(host) - 1) != 0) host[0] = '\0';
+  return "user " + std::string(pw != nullptr ? pw->pw_name : "?") + " (uid " + std::to_string(uid) + "), pid " +
+         std::to_string(getpid()) + ", host " + host;
+}
 
 Participant::Participant(const DdsSettings& settings) : domain_id_(settings.domain_id) {
   // The generated type objects (fastddsgen -typeobject) must be in the TypeObjectFactory before a type is
@@ -53,6 +66,8 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
   if (!settings.role_tag.empty()) {
     qos.user_data().data_vec(std::vector<eprosima::fastrtps::rtps::octet>(settings.role_tag.begin(), settings.role_tag.end()));
   }
+  // Sent with discovery: peers name this process (user, pid, host) when it stops acknowledging (AckWatch).
+  qos.properties().properties().emplace_back("causal_twin.process", process_description(), true);
   security_note_ = apply_security(settings.security_dir, settings.security_identity, qos.name().to_string(), qos);
   spdlog::info("{}", security_note_);
   secured_ = security_note_.rfind("DDS-Security on", 0) == 0;
@@ -71,6 +86,7 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
                                       : ""));
   }
   directory_->set_local(participant_->guid().guidPrefix, qos.name().to_string());
+  ack_watch_ = std::make_unique<AckWatch>(*this, settings.ack_stall_s);
   // Every participant knows the asset-group filter, so our sources' writers evaluate the shards' filters
   // themselves (writer-side filtering: a shard's frames never reach the others). See asset_group_filter.hpp.
   if (!register_asset_group_filter(participant_)) {
@@ -95,8 +111,12 @@ void ParticipantDirectory::on_participant_discovery(eprosima::fastdds::dds::Doma
     names_[prefix] = info.info.m_participantName.to_string();
     const auto& tag = info.info.m_userData.data_vec();
     role_tags_[prefix] = std::string(tag.begin(), tag.end());
+    for (auto it = info.info.m_properties.begin(); it != info.info.m_properties.end(); ++it) {
+      if (it->first() == "causal_twin.process") processes_[prefix] = it->second();
+    }
   } else {
     names_.erase(prefix);
+    processes_.erase(prefix);
     role_tags_.erase(prefix);  // REMOVED_PARTICIPANT, DROPPED_PARTICIPANT (lease expired), IGNORED_PARTICIPANT
     if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
       departures_.push_back({prefix, info.status == Status::DROPPED_PARTICIPANT});
@@ -199,6 +219,32 @@ std::vector<eprosima::fastrtps::rtps::GUID_t> ParticipantDirectory::reader_guids
   return out;
 }
 
+std::vector<std::string> ParticipantDirectory::reader_descriptions(const std::string& topic) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::string> out;
+  for (const auto& [guid, t] : readers_) {
+    if (t != topic) continue;
+    const auto name = names_.find(guid.guidPrefix);
+    if (name == names_.end()) continue;
+    const auto process = processes_.find(guid.guidPrefix);
+    out.push_back((name->second.empty() ? std::string("unnamed participant") : name->second) + " [" +
+                  (process == processes_.end() ? std::string("process not announced: not a causal-twin service")
+                                               : process->second) +
+                  "]");
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void Participant::watch_acknowledgments(eprosima::fastdds::dds::DataWriter* writer, const std::string& topic,
+                                        std::shared_ptr<const std::atomic<std::int64_t>> accepted_at) {
+  if (ack_watch_) ack_watch_->watch(writer, topic, std::move(accepted_at));
+}
+
+void Participant::unwatch_acknowledgments(eprosima::fastdds::dds::DataWriter* writer) {
+  if (ack_watch_) ack_watch_->unwatch(writer);
+}
+
 std::string ParticipantDirectory::name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = names_.find(prefix);
@@ -212,6 +258,7 @@ void ParticipantDirectory::set_local(const eprosima::fastrtps::rtps::GuidPrefix_
 }
 
 Participant::~Participant() {
+  ack_watch_.reset();  // its thread asks the writers: stopped before they go
   if (participant_ != nullptr) {
     participant_->delete_contained_entities();
     DomainParticipantFactory::get_instance()->delete_participant(participant_);

@@ -58,6 +58,11 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
       ->capture_default_str();
   app.add_option("--metrics-bind", options.metrics_bind, "address the metrics endpoint listens on")
       ->capture_default_str();
+  app.add_option("--ack-stall", options.ack_stall_s,
+                 "a reliable writer whose matched readers have not all acknowledged for this many seconds raises a "
+                 "HEALTH alarm naming them (reader_not_acknowledging; 0 = off)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   config::add_version_flag(app);
 }
 
@@ -94,6 +99,7 @@ DdsSettings to_dds_settings(const CommonOptions& options, const std::string& par
   s.participant_name = participant_name;
   s.security_dir = options.security_dir;
   s.security_identity = options.security_identity;
+  s.ack_stall_s = options.ack_stall_s;
   return s;
 }
 

@@ -141,9 +141,9 @@ double innovation_log_likelihood(const SvarLayout& layout, int k, const Eigen::M
   return t.exact(noise, updates);
 }
 
-NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::MatrixXd& samples,
-                             const std::vector<bool>& discontinuity, const NoiseTuningOptions& options) {
-  check_outcome(layout, k, "tune_noise");
+namespace {
+
+void validate_tuning_options(const NoiseTuningOptions& options) {
   if (!(options.log10_ratio_min < options.log10_ratio_max) || !std::isfinite(options.log10_ratio_min) ||
       !std::isfinite(options.log10_ratio_max)) {
     throw std::invalid_argument("NoiseTuningOptions: need finite log10_ratio_min < log10_ratio_max");
@@ -154,11 +154,13 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
   if (options.max_evaluations < 8) {
     throw std::invalid_argument("NoiseTuningOptions.max_evaluations must be >= 8");
   }
-  const std::vector<SampleStatus> status = detail::classify_all(layout, samples, discontinuity);
-  NoiseTuningResult result;
-  result.noise.p0 = options.p0;
+}
 
-  // Initial r reference: mean square of y_k over the usable samples (an upper bound on r for zero factors).
+// Initial r reference: mean square of y_k over the usable samples (an upper bound on r for zero factors).
+// Returns false, with result.message saying why, when outcome k cannot be tuned (too few samples, absurd or
+// dead channel) or needs no search (no factors: r = mean square of y, result complete).
+bool reference_r(const SvarLayout& layout, int k, const Eigen::MatrixXd& samples,
+                 const std::vector<SampleStatus>& status, NoiseTuningResult& result, double& r_ref) {
   double sum_sq = 0.0;
   long usable = 0;
   for (Eigen::Index n = 0; n < samples.rows(); ++n) {
@@ -171,18 +173,18 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
   if (usable < 2 * d + 10) {
     result.message = "too few usable samples for outcome " + std::to_string(k + 1) + ": " +
                      std::to_string(usable) + " < " + std::to_string(2 * d + 10) + "; default noise kept";
-    return result;
+    return false;
   }
-  double r_ref = sum_sq / static_cast<double>(usable);
+  r_ref = sum_sq / static_cast<double>(usable);
   if (!std::isfinite(r_ref)) {
     result.message = "outcome " + std::to_string(k + 1) + ": the mean square of y over the window is not finite "
                      "(absurd values in the window); not tuned, use configured noise";
-    return result;
+    return false;
   }
   if (!(r_ref > 0.0)) {
     result.message = "outcome " + std::to_string(k + 1) + " is identically zero over the window (dead channel?); "
                      "not tuned, use configured noise";
-    return result;
+    return false;
   }
   if (d == 0) {
     result.noise.r = r_ref;
@@ -191,36 +193,43 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
     result.converged = true;
     result.usable = std::isfinite(result.log_likelihood);
     result.message = "outcome " + std::to_string(k + 1) + " has no factors: r = mean square of y";
-    return result;
+    return false;
   }
+  return true;
+}
 
-  Tuner t(layout, k, samples, discontinuity, r_ref);
+struct SearchOutcome {
+  Point best;
+  bool search_done = false;  // the last bracket shrank below kSearchTol
+  bool rounds_done = false;  // r_hat and lambda stopped moving between rounds
+};
+
+// Maximises the concentrated likelihood over log10(q/r) in rounds: each round re-centres r on the previous
+// round's r_hat (the concentrated likelihood is exact only at the r it was concentrated at).
+SearchOutcome search_ratio(Tuner& t, const NoiseTuningOptions& options, double r_ref) {
   const int budget = options.max_evaluations - 1;  // keep one pass for the exact final likelihood
   const double lo = options.log10_ratio_min, hi = options.log10_ratio_max;
-
+  SearchOutcome out;
   // Round 1 starts from a coarse 1-decade grid.
   double pi = options.p0 / r_ref;
   std::vector<double> grid;
   for (double v = lo; v < hi + 0.5; v += 1.0) grid.push_back(std::min(v, hi));
-  Point best{lo, -std::numeric_limits<double>::infinity(), r_ref};
+  out.best = Point{lo, -std::numeric_limits<double>::infinity(), r_ref};
   for (const Point& p : t.concentrated(grid, pi)) {
-    if (p.loglik > best.loglik) best = p;
+    if (p.loglik > out.best.loglik) out.best = p;
   }
-
-  bool search_done = false;
-  bool rounds_done = false;
   double half = 1.0;
   for (int round = 0; t.passes < budget; ++round) {
-    const double center = best.log10_lambda;
+    const double center = out.best.log10_lambda;
     // 4-point search: each pass evaluates 4 equally spaced interior points of [a, b] (one per lane) and
     // shrinks the bracket to +-1 spacing around the best point seen (for a unimodal likelihood the maximum
     // lies within one spacing of the best sample): width x 0.4 per pass.
     double a = std::max(lo, center - half), b = std::min(hi, center + half);
     Point round_best{center, -std::numeric_limits<double>::infinity(), r_ref};
-    search_done = false;
+    out.search_done = false;
     while (t.passes < budget) {
       if (b - a < kSearchTol) {
-        search_done = true;
+        out.search_done = true;
         break;
       }
       const double step = (b - a) / 5.0;
@@ -232,20 +241,54 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
       a = std::max(a, round_best.log10_lambda - step);
       b = std::min(b, round_best.log10_lambda + step);
     }
-    if (b - a < kSearchTol) search_done = true;
+    if (b - a < kSearchTol) out.search_done = true;
     if (!std::isfinite(round_best.loglik)) break;  // every candidate of this round failed: keep the last good one
     const double r_change = std::abs(round_best.r_hat / r_ref - 1.0);
     const double lambda_change = std::abs(round_best.log10_lambda - center);
-    best = round_best;
+    out.best = round_best;
     r_ref = round_best.r_hat;
     pi = options.p0 / r_ref;
     half = 0.5;
-    if (round > 0 && search_done && r_change < kRoundRTol && lambda_change < kRoundLambdaTol) {
-      rounds_done = true;
+    if (round > 0 && out.search_done && r_change < kRoundRTol && lambda_change < kRoundLambdaTol) {
+      out.rounds_done = true;
       break;
     }
   }
+  return out;
+}
 
+std::string tuning_message(int k, const NoiseTuningResult& result, const NoiseTuningOptions& options,
+                           double log10_lambda, int failed) {
+  const double lo = options.log10_ratio_min, hi = options.log10_ratio_max;
+  std::ostringstream os;
+  os << "outcome " << (k + 1) << ": q = " << result.noise.q << ", r = " << result.noise.r
+     << ", log10(q/r) = " << log10_lambda << ", log-likelihood = " << result.log_likelihood << " over "
+     << result.updates << " samples, " << result.evaluations << " filter passes";
+  if (!result.converged) os << "; NOT converged within max_evaluations = " << options.max_evaluations;
+  if (result.at_range_limit) {
+    os << "; optimum at the " << (log10_lambda - lo < 0.05 ? "lower" : "upper")
+       << " limit of the log10(q/r) range [" << lo << ", " << hi << "]";
+  }
+  if (failed > 0) os << "; " << failed << " candidates failed (non-finite likelihood)";
+  if (!result.usable) os << "; NOT usable (non-finite q, r or likelihood): not tuned, use configured noise";
+  return os.str();
+}
+
+}  // namespace
+
+NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::MatrixXd& samples,
+                             const std::vector<bool>& discontinuity, const NoiseTuningOptions& options) {
+  check_outcome(layout, k, "tune_noise");
+  validate_tuning_options(options);
+  const std::vector<SampleStatus> status = detail::classify_all(layout, samples, discontinuity);
+  NoiseTuningResult result;
+  result.noise.p0 = options.p0;
+  double r_ref = 0.0;
+  if (!reference_r(layout, k, samples, status, result, r_ref)) return result;
+
+  Tuner t(layout, k, samples, discontinuity, r_ref);
+  const SearchOutcome found = search_ratio(t, options, r_ref);
+  const Point& best = found.best;
   result.evaluations = t.passes;
   result.failed_candidates = t.failed;
   if (!std::isfinite(best.loglik)) {
@@ -260,21 +303,10 @@ NoiseTuningResult tune_noise(const SvarLayout& layout, int k, const Eigen::Matri
   result.evaluations = t.passes;
   result.usable = std::isfinite(result.noise.q) && result.noise.q >= 0.0 && std::isfinite(result.noise.r) &&
                   result.noise.r > 0.0 && std::isfinite(result.log_likelihood);
-  result.converged = search_done && rounds_done;
-  result.at_range_limit = best.log10_lambda - lo < 0.05 || hi - best.log10_lambda < 0.05;
-
-  std::ostringstream os;
-  os << "outcome " << (k + 1) << ": q = " << result.noise.q << ", r = " << result.noise.r
-     << ", log10(q/r) = " << best.log10_lambda << ", log-likelihood = " << result.log_likelihood << " over "
-     << usable << " samples, " << result.evaluations << " filter passes";
-  if (!result.converged) os << "; NOT converged within max_evaluations = " << options.max_evaluations;
-  if (result.at_range_limit) {
-    os << "; optimum at the " << (best.log10_lambda - lo < 0.05 ? "lower" : "upper")
-       << " limit of the log10(q/r) range [" << lo << ", " << hi << "]";
-  }
-  if (t.failed > 0) os << "; " << t.failed << " candidates failed (non-finite likelihood)";
-  if (!result.usable) os << "; NOT usable (non-finite q, r or likelihood): not tuned, use configured noise";
-  result.message = os.str();
+  result.converged = found.search_done && found.rounds_done;
+  result.at_range_limit =
+      best.log10_lambda - options.log10_ratio_min < 0.05 || options.log10_ratio_max - best.log10_lambda < 0.05;
+  result.message = tuning_message(k, result, options, best.log10_lambda, t.failed);
   return result;
 }
 

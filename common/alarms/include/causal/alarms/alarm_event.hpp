@@ -25,6 +25,7 @@ inline constexpr const char* kFactorShift = "factor_shift";        // causal fac
 // Operating-change events (category kOperatingChange): a level re-baselined, not a fault.
 inline constexpr const char* kOperatingChange = "operating_change";  // an abrupt step that settled
 inline constexpr const char* kDiscontinuity = "discontinuity";      // re-baselined after a gap / restart
+inline constexpr const char* kLevelStep = "level_step";  // one channel stepped and settled: followed, not confirmed
 }  // namespace kind
 
 // What an event is about (Alarm.category in the IDL): the machine degrading, or a change of operating

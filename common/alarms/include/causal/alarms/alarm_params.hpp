@@ -79,6 +79,34 @@ struct AlarmParams {
   // Critical = four times (+12 dB): the customary 6 dB-per-step alert ladder of vibration trending.
   double warning_ratio = 2.0;
   double critical_ratio = 4.0;
+  // Minimum effect (size floor) of EVERY degradation alarm, on top of its statistical test: no alarm is
+  // raised while the channel's condition level (median of the last level_window values, so one snapshot
+  // cannot carry it) is below advisory_ratio x its baseline. 1.08 = +8 % = +0.67 dB. Why a size at all: a
+  // long healthy recording wanders by a few percent (temperature, load, re-mounting; +1.5 % to +7 % measured
+  // on month-long IMS-format runs), which is "+3 sigma" against a baseline learned on a quiet early window.
+  // Why this size (docs/alarm-rules.md): above that healthy wander, below the first significant rise of a
+  // real failure (IMS test 2, bearing 1: +8.8 % at snapshot 537, four snapshots into its rise, +10.4 % at
+  // 547). It is an early, "watch the trend" tier well below ISO 20816 practice for action (ALERT = baseline
+  // + 25 % of the zone B/C boundary, i.e. ~x1.5-x2 the baseline of a machine running in zone A/B, which is
+  // where warning_ratio sits). Log-transformed features only (a ratio needs a scale feature); 1 = no floor.
+  double advisory_ratio = 1.08;
+  // Slow healthy drift: while a channel's feature CUSUM is at 0 (nothing building up), no alarm is active
+  // and no confirmation runs, its baseline location follows the feature with an exponential forgetting of
+  // this many observations, each step limited to +-cusum_k sigma (1008 = one week at 10-minute spacing:
+  // a +7 %-per-month drift is followed with a lag of ~1.6 %, a failure that rises within hours or days
+  // moves it by nothing: it is frozen as soon as the CUSUM starts to build). The tracked location never
+  // departs from the reference (learned baseline, or the level after a gap / machine-wide operating change)
+  // by more than half the size floor: a fault slower than the tracking is still alarmed at
+  // advisory_ratio^1.5 over its reference. 0 = no tracking.
+  int baseline_tracking_observations = 1008;
+  // A single channel that steps and settles while the rest of the machine does not move is not a confirmed
+  // operating change (a load or speed change moves the machine as a whole): it is followed (kind
+  // level_step, not an alarm) only while its level stays within max_absorbed_ratio x its reference; a step
+  // beyond that is judged as degradation. 1.5 = +3.5 dB: covers the +20-40 % single-channel steps of healthy
+  // recordings, halfway (in dB) to warning_ratio, so a bearing that keeps rising in settled steps is caught
+  // long before it doubles. Escalation to warning / critical is always judged against the reference (never
+  // against a level a step rule adopted).
+  double max_absorbed_ratio = 1.5;
   // Operating-state gate (log-transformed features, after the baseline): when EVERY channel's feature is
   // below stopped_ratio x its baseline median, the machine is not running (or the acquisition failed):
   // the observation says nothing about condition, so it is skipped and counted (no detector update).

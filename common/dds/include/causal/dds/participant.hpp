@@ -14,6 +14,8 @@
 
 #include "causal/dds/asset_group_filter.hpp"
 
+#include <atomic>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -21,6 +23,12 @@
 #include <vector>
 
 namespace causal::dds {
+
+class AckWatch;
+
+// "user NAME (uid N), pid P, host H" of this process: announced by every participant (property
+// causal_twin.process, sent with discovery) so a peer can name who it is talking to.
+std::string process_description();
 
 // Names of the remote participants this one has discovered (by GUID prefix), kept current by discovery:
 // lets a writer wait for a NAMED reader ("causal-estimator") instead of any reader.
@@ -41,6 +49,9 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   // Remote writers of `topic` in participants that are alive, whatever their name (a restarted source, a hot
   // standby that may take over).
   std::size_t live_writers(const std::string& topic) const;
+  // One line per remote reader of `topic`: its participant's name and process as announced (our services
+  // announce causal_twin.process; others "process not announced"), sorted.
+  std::vector<std::string> reader_descriptions(const std::string& topic) const;
   // Name of the participant with this GUID prefix ("" when unknown).
   std::string name_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
   void set_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix, const std::string& name);
@@ -64,6 +75,7 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   mutable std::mutex mutex_;
   std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> names_;
   std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> role_tags_;  // USER_DATA as text
+  std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string> processes_;  // property causal_twin.process
   eprosima::fastrtps::rtps::GuidPrefix_t local_;
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> readers_;  // reader -> topic
   std::vector<Departure> departures_;  // a few bytes per departed participant
@@ -86,6 +98,9 @@ struct DdsSettings {
   // participants of one name that do different work (an estimator's shard: a hot standby follows only the
   // primary of its own shard). Empty = none.
   std::string role_tag;
+  // A reliable writer whose matched readers have not all acknowledged for this long raises a HEALTH alarm
+  // (ack_watch.hpp); 0 = not watched.
+  double ack_stall_s = 4.0;
 };
 
 class Participant {
@@ -123,6 +138,12 @@ class Participant {
   // Whether DDS-Security is on, and how it was set up ("DDS-Security on: identity sensor from DIR ...").
   bool secured() const { return secured_; }
   const std::string& security_note() const { return security_note_; }
+  // Every reliable writer is watched for readers that stop acknowledging (TypedWriter registers itself).
+  // accepted_at: steady_clock time of the writer's last accepted write (KEEP_ALL writers: an accepted write is
+  // progress), null for KEEP_LAST writers.
+  void watch_acknowledgments(eprosima::fastdds::dds::DataWriter* writer, const std::string& topic,
+                             std::shared_ptr<const std::atomic<std::int64_t>> accepted_at);
+  void unwatch_acknowledgments(eprosima::fastdds::dds::DataWriter* writer);
 
  private:
   eprosima::fastdds::dds::Topic* topic_for(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
@@ -133,6 +154,7 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   std::unique_ptr<ParticipantDirectory> directory_;  // the listener: ~Participant deletes participant_ first
+  std::unique_ptr<AckWatch> ack_watch_;               // stopped first in ~Participant
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
   std::map<std::string, eprosima::fastdds::dds::ContentFilteredTopic*> filtered_topics_;  // by name
   std::mutex mutex_;

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -30,7 +31,10 @@ class TypedWriter {
  public:
   using Sample = typename PubSubType::type;
 
-  TypedWriter(Participant& participant, const std::string& topic_name, const std::string& profile)
+  // watch_acks: registered with the participant's AckWatch (readers that stop acknowledging raise a HEALTH
+  // alarm); false only for the AckWatch's own alarm writer.
+  TypedWriter(Participant& participant, const std::string& topic_name, const std::string& profile,
+              bool watch_acks = true)
       : participant_(participant) {
     auto* topic = participant.topic<PubSubType>(topic_name);
     writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
@@ -57,8 +61,14 @@ class TypedWriter {
                                          w->get_publication_matched_status(st);
                                          return static_cast<double>(st.current_count);
                                        });
+    if (watch_acks) {
+      // KEEP_ALL: an accepted write means the readers made room (acknowledged); KEEP_LAST accepts regardless.
+      const bool keep_all = writer_->get_qos().history().kind == eprosima::fastdds::dds::KEEP_ALL_HISTORY_QOS;
+      participant.watch_acknowledgments(writer_, topic_name, keep_all ? accepted_at_ : nullptr);
+    }
   }
   ~TypedWriter() {
+    participant_.unwatch_acknowledgments(writer_);  // before the writer goes: the watch asks it
     matched_metric_.reset();  // before the writer goes: a scrape must not reach it
     participant_.publisher()->delete_datawriter(writer_);
   }
@@ -81,6 +91,7 @@ class TypedWriter {
       const ReturnCode_t rc = writer_->write(&sample, eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
       if (rc == ReturnCode_t::RETCODE_OK) {
         written_->inc();
+        accepted_at_->store(std::chrono::steady_clock::now().time_since_epoch().count());
         return WriteResult::Ok;
       }
       if (rc != ReturnCode_t::RETCODE_TIMEOUT && rc != ReturnCode_t::RETCODE_OUT_OF_RESOURCES) {
@@ -173,6 +184,8 @@ class TypedWriter {
   int last_error_ = 0;
   std::uint64_t retries_ = 0;
   bool blocked_after_stop_ = false;
+  // steady_clock time of the last accepted write, read by the participant's AckWatch
+  std::shared_ptr<std::atomic<std::int64_t>> accepted_at_ = std::make_shared<std::atomic<std::int64_t>>(0);
   metrics::Counter* written_ = nullptr;  // owned by the process registry, which outlives every endpoint
   metrics::Counter* refused_ = nullptr;
   metrics::Counter* abandoned_ = nullptr;

@@ -1,0 +1,57 @@
+// Per-signal updates of the alarm engine after the baseline (see engine_internal.hpp: update_signal).
+#include <algorithm>
+#include <cmath>
+
+#include "engine_internal.hpp"
+
+namespace causal::alarms::detail {
+
+void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Observation& obs, bool track) {
+  s.last_value = v;
+  s.last_z = s.monitored && std::isfinite(v) ? s.standardize(v) : kNaN;
+  s.nis_z = s.last_z / s.scale_inflation;
+  s.detect_z = s.nis_z - s.location_margin;
+  if (!std::isfinite(s.last_z)) return;
+  // Bounded influence of one snapshot: it adds at most clip - k to the CUSUM (< h), and it moves the level
+  // (median of level_window) by at most one rank, so it cannot carry the size floor either.
+  s.cusum.update(s.detect_z, obs.index, obs.time_ns);
+  s.level.push(s.last_z);
+  // Slow healthy drift (AlarmParams::baseline_tracking_observations): followed only while nothing builds
+  // up, each step limited to +-k sigma, and never further than half the size floor from where it started.
+  // After a re-baseline on the short confirmation window the location is refined faster, as the running mean
+  // of the next baseline_observations values (12 correlated values locate a slowly wandering level poorly:
+  // issue 22.5), within the same limits.
+  double tau = p.baseline_tracking_observations;
+  if (s.refine_left > 0) {
+    tau = std::min(tau, static_cast<double>(p.baseline_observations - s.refine_left + p.confirmation_observations));
+    --s.refine_left;
+  }
+  if (!track || tau <= 0.0 || s.cusum.value() > 0.0 || !std::isfinite(s.anchor_location)) return;
+  const double step = std::clamp(s.last_z, -p.cusum_k, p.cusum_k) * s.stats.scale / tau;
+  const double room = 0.5 * std::log(p.advisory_ratio);
+  s.stats.location = std::clamp(s.stats.location + step, s.anchor_location - room, s.anchor_location + room);
+}
+
+void update_step_run(ChannelState& cs, const AlarmParams& p) {
+  const auto& f = cs.feature;
+  if (!std::isfinite(f.last_z)) return;
+  const double r = f.level_log_ratio();
+  cs.size_run = std::isfinite(r) && r >= std::log(p.advisory_ratio) ? cs.size_run + 1 : 0;
+  if (p.feature_log_transform && f.last_z * f.stats.scale >= std::log(p.operating_step_ratio)) {
+    ++cs.excursion_obs;
+    cs.excursion_sum_z += f.last_z;
+  } else {
+    cs.excursion_obs = 0;
+    cs.excursion_sum_z = 0.0;
+  }
+}
+
+bool size_matters(const AlarmEngine::Impl& m, int c) {
+  const auto& f = m.ch[static_cast<std::size_t>(c)].feature;
+  if (m.p.advisory_ratio <= 1.0 || !m.p.feature_log_transform || !f.monitored) return true;  // no floor / no ratio scale
+  // A level that holds for level_window observations: a healthy excursion that touches the floor (a daily
+  // high on top of a load swing) is not enough; a fault stays there.
+  return !std::isfinite(f.level_log_ratio()) || m.ch[static_cast<std::size_t>(c)].size_run >= m.p.level_window;
+}
+
+}  // namespace causal::alarms::detail
