@@ -1,6 +1,6 @@
 // A minimal sensor for the causal twin: publishes SNAPSHOTS recordings of 4 channels as VibrationFrames on
 // causal_twin/vibration_frame, the way causal-estimator expects them (docs/integrators.md, "Writing a sensor").
-//   sensor-publisher [--domain N] [--snapshots S] [--frames F] [--group NAME] [--qos FILE] [--transport FILE]
+//   example-sensor [--domain N] [--snapshots S] [--frames F] [--group NAME] [--qos FILE] [--transport FILE]
 // Exit codes: 0 every frame written and acknowledged, 2 bad arguments or profiles, 3 no estimator matched,
 // 4 a write failed or was not acknowledged.
 #include "causal/dds/topics.hpp"   // topic and QoS profile names
@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cannot load the profiles from %s and %s\n", qos_file.c_str(), transport_file.c_str());
     return 2;
   }
-  pqos.name("sensor-publisher");
+  pqos.name("example-sensor");
   DomainParticipant* participant = factory->create_participant(domain, pqos);
   if (participant == nullptr) return 2;
   TypeSupport type(new causal_twin::VibrationFramePubSubType());
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   frame.unit("V");
   frame.sample_rate_hz(rate_hz);
   frame.samples_per_channel(samples_per_frame);
-  frame.source("sensor-publisher example");
+  frame.source("example-sensor");
   const long long t0_ns = 1700000000LL * 1000000000LL;
   unsigned long long sequence = 0, sample_index = 0, failed = 0;
   double previous_b1 = 0.0;
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
     }
   }
   const bool acknowledged = writer->wait_for_acknowledgments(Duration_t(30, 0)) == ReturnCode_t::RETCODE_OK;
-  std::printf("sensor-publisher: sent frames=%llu snapshots=%d failed=%llu acknowledged=%s\n", sequence - failed,
+  std::printf("example-sensor: sent frames=%llu snapshots=%d failed=%llu acknowledged=%s\n", sequence - failed,
               snapshots, failed, acknowledged ? "yes" : "no");
   participant->delete_contained_entities();
   factory->delete_participant(participant);

@@ -38,7 +38,7 @@ cmake -S "$work/example_src" -B "$work/example_build" -DCMAKE_BUILD_TYPE=Release
 grep -Eq "CausalTwin_DIR:PATH=/usr/lib/([a-z0-9_-]+/)?cmake/CausalTwin" "$work/example_build/CMakeCache.txt" \
   || fail "find_package(CausalTwin) did not take /usr/lib/cmake/CausalTwin: $(grep CausalTwin_DIR "$work/example_build/CMakeCache.txt")"
 cmake --build "$work/example_build" > "$work/example_build.log" 2>&1 || { cat "$work/example_build.log"; fail "building the example"; }
-publisher="$work/example_build/sensor-publisher"
+publisher="$work/example_build/example-sensor"
 lib=$(ldd "$publisher" | awk '/libcausal_twin_types/ {print $3}')
 [ -n "$lib" ] && [ "$(readlink -f "$lib")" = "$(readlink -f /usr/lib/libcausal_twin_types.so.0)" ] \
   || fail "the example does not load the installed libcausal_twin_types.so.0 (ldd: ${lib:-none})"
@@ -58,7 +58,7 @@ done
 pids=()
 sent=$((snapshots * frames))
 cat "$work/example_publisher.log"
-grep -qx "sensor-publisher: sent frames=$sent snapshots=$snapshots failed=0 acknowledged=yes" "$work/example_publisher.log" \
+grep -qx "example-sensor: sent frames=$sent snapshots=$snapshots failed=0 acknowledged=yes" "$work/example_publisher.log" \
   || fail "the example did not send and have acknowledged $sent frames"
 summary=$(grep -o "summary topic=causal_twin/vibration_frame .*" "$work/example_estimator.log" || true)
 echo "causal-estimator: $summary"

@@ -62,7 +62,7 @@ verify=$(systemd-analyze verify "${units[@]}" 2>&1) || { echo "$verify"; fail "s
 for u in "${units[@]}"; do
   grep -q '^Wants=network-online.target$' "$u" || fail "$u: After=network-online.target without Wants="
 done
-echo "7 units verified, each Wants=network-online.target"
+echo "7 units verified, each with Wants= beside After= for the network-online target"
 # The environment files are systemd's format and also valid shell: a shell reads the same values.
 for f in /etc/causal-twin/*.env; do
   while IFS= read -r line; do
