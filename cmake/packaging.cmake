@@ -9,6 +9,9 @@
 # Installed services find /etc/causal-twin first, then share/causal-twin next to their binary
 # (causal/config/config_search.hpp), so nothing refers to the source tree.
 include(GNUInstallDirs)
+# Two packages (CPack components): causal-twin (component runtime: every rule without a COMPONENT) and
+# causal-twin-dev (component dev: cmake/dev_package.cmake).
+set(CMAKE_INSTALL_DEFAULT_COMPONENT_NAME runtime)
 
 # Tools (a folder left out with CAUSAL_TWIN_SKIP has no target).
 foreach(tool sensor-replay sensor-sim sensor-ingest causal-estimator alarm-recommender causal-recorder causal-ask
@@ -71,26 +74,59 @@ foreach(unit ${causal_twin_units})
   ")
 endforeach()
 
-# --- CPack: one causal-twin_<version>_<arch>.deb -------------------------------------------------------------
+# Debian documentation and manual pages of both packages (cmake/debian_docs.cmake), the -dev package's files.
+include(${CMAKE_CURRENT_LIST_DIR}/debian_docs.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/dev_package.cmake)
+
+# --- CPack: causal-twin_<version>_<arch>.deb and causal-twin-dev_<version>_<arch>.deb -------------------------
 set(CPACK_GENERATOR DEB)
+set(CPACK_DEB_COMPONENT_INSTALL ON)
+set(CPACK_COMPONENTS_ALL runtime dev)
 set(CPACK_PACKAGE_NAME causal-twin)
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME causal-twin)
+set(CPACK_DEBIAN_DEV_PACKAGE_NAME causal-twin-dev)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
-set(CPACK_PACKAGE_CONTACT "Causal Digital Twin maintainers <causal-twin@localhost>")
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Causal digital twin over DDS: causal factors, explained alarms and advice from vibration streams")
-set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "Services (sensor-replay, sensor-sim, causal-estimator, alarm-recommender,
-causal-recorder, twin-web) talking over Fast DDS, tools (causal-report, causal-ask, causal-offline,
-causal-whatif, causal-alarm-eval), systemd units (causal-twin.target), and an IMS test-2 data slice
-with causal-twin-demo to run the whole twin over loopback.")
+# lintian refuses a maintainer address on a host that is not a domain (bogus-mail-host, e.g. @localhost); the
+# .invalid domain (RFC 2606) says that this one is a placeholder: a distributor sets its own.
+set(CAUSAL_TWIN_MAINTAINER "Causal Digital Twin maintainers <causal-twin@maintainers.invalid>" CACHE STRING
+  "Maintainer field of the Debian packages")
+set(CPACK_PACKAGE_CONTACT "${CAUSAL_TWIN_MAINTAINER}")
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${CAUSAL_TWIN_MAINTAINER}")
+# Each description's first line is its package's synopsis. CPACK_PACKAGE_DESCRIPTION_SUMMARY stays unset: CPack
+# would put it in front of both (one synopsis for two packages, and lintian's description-synopsis-is-duplicated).
+# Debian: synopsis and description lines under 80 characters (lintian); CPack indents the lines itself.
+set(CPACK_DEBIAN_RUNTIME_DESCRIPTION "causal digital twin over DDS: causal factors, alarms, advice
+Learns who causes what between the channels of vibration streams, and how
+that changes, and turns it into explained alarms and advice. Services
+(sensor-replay, sensor-sim, sensor-ingest, causal-estimator,
+alarm-recommender, causal-recorder, twin-web) talk over Fast DDS; tools
+(causal-report, causal-ask, causal-offline, causal-whatif, causal-alarm-eval,
+causal-plant-profiles); systemd units (causal-twin.target); an IMS test-2
+data slice with causal-twin-demo to run the whole twin over loopback.")
+set(CPACK_DEBIAN_DEV_DESCRIPTION "causal digital twin over DDS: development files
+What a sensor or consumer of the twin's topics needs: the IDL, the headers
+generated from it for Fast DDS 2.9 with the topic and QoS profile names, the
+link to the types' shared library (CausalTwin::types), the CMake package
+(find_package(CausalTwin)) and an example sensor publisher in
+/usr/share/doc/causal-twin-dev/examples.")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_STRIP_FILES ON)  # debug symbols stay in the build tree
 set(CPACK_DEBIAN_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # dpkg-shlibdeps derives the library packages (libfastrtps2.9, libspdlog1.10, libyaml-cpp0.7, ...) from the
 # binaries; what is used at run time but not linked is named here.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-chart.js")
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "gnuplot-nox | gnuplot, graphviz, fastdds-tools")
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_DEPENDS "adduser, libjs-chart.js")
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_RECOMMENDS "gnuplot-nox | gnuplot, graphviz, fastdds-tools")
+# The library itself is in causal-twin (a sensor host runs the services' package anyway); -dev adds what a
+# build needs: headers, the .so link, the CMake package, and Fast DDS's own development files.
+set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "causal-twin (= ${PROJECT_VERSION}), libfastrtps-dev, libfastcdr-dev")
+set(CPACK_DEBIAN_DEV_PACKAGE_RECOMMENDS "cmake, g++")
+# libcausal_twin_types.so.0: a shlibs file and the ldconfig trigger (lintian: package-must-activate-ldconfig-trigger).
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY "=")
 # Tests and benchmarks are never installed: cpack installs what was built (build first) instead of building
 # every test target again.
 set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY ON)
@@ -108,7 +144,10 @@ foreach(script postinst prerm postrm)
   configure_file(${CMAKE_CURRENT_SOURCE_DIR}/deploy/packaging/${script} ${CMAKE_CURRENT_BINARY_DIR}/debian/${script}
     COPYONLY FILE_PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ WORLD_EXECUTE)
 endforeach()
-set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${CMAKE_CURRENT_BINARY_DIR}/debian/conffiles
+# libcausal_twin_types.so.0 in a public folder: ldconfig must run after install and removal (lintian error
+# lacks-ldconfig-trigger; CPack's GENERATE_SHLIBS writes the shlibs file but no trigger here).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/debian/triggers "activate-noawait ldconfig\n")
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA ${CMAKE_CURRENT_BINARY_DIR}/debian/triggers ${CMAKE_CURRENT_BINARY_DIR}/debian/conffiles
   ${CMAKE_CURRENT_BINARY_DIR}/debian/postinst ${CMAKE_CURRENT_BINARY_DIR}/debian/prerm
   ${CMAKE_CURRENT_BINARY_DIR}/debian/postrm)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)

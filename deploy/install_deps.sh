@@ -15,7 +15,8 @@ PACKAGES=(
   zlib1g-dev                       # gzip-compressed embedded snapshots
   gnuplot-nox                      # causal-report's plots
   graphviz                         # causal-report's causal graph (dot places edge labels without overlap)
-  libcpp-httplib-dev               # /metrics endpoints and twin-web (HTTP server; Debian has no prometheus-cpp package)
+  libcpp-httplib-dev               # /metrics endpoints and twin-web (HTTP server)
+  prometheus-cpp-dev               # metrics registry and text exposition (prometheus-cpp 1.0, "core")
   prometheus curl                  # metrics test: a real Prometheus scrapes the running pipeline; promtool lints
   iproute2                         # network-namespace tests (ip netns)
   nlohmann-json3-dev               # twin-web's JSON
@@ -24,6 +25,8 @@ PACKAGES=(
   nodejs                           # the browser test's driver: Node >= 20 with npm (as on the build image), runs playwright-core
   openssl libssl-dev               # DDS-Security: the PKI scripts (deploy/security) and the credential checks
   dpkg-dev file                    # cpack -G DEB: dpkg-shlibdeps derives the package's Depends from the binaries
+  help2man                         # the package's manual pages, made at build time from each command's --help
+  lintian                          # the package test: Debian's package checker must report no error
   systemd adduser                  # the package test: systemd-analyze verify on the units; the postinst's adduser
   libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
   passwd util-linux time           # cross-user fault test: useradd/userdel and runuser (a second Linux user); bench_transport.sh's CPU times

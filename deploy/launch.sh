@@ -20,6 +20,8 @@
 # --verbose shows every service's log lines live; by default the terminal shows progress, alarms, warnings and
 #   errors only, then the delivery table and the verdict (status, first alarm, root cause, advice per group).
 # --web-port P also runs twin-web: the live view at http://127.0.0.1:P/, up until 30 s after the run.
+# --alarm-summary: no line per alarm on the terminal; one summary of the alarms after the run (deploy/demo.sh,
+#   part 1: a burst of alarms in a millisecond reads better as counts by severity, channel and root cause).
 # Exit code: 0 when every service exited 0 (nothing lost, refused or dropped), else the first non-zero code;
 # the summary at the end says per topic: sent, received, dropped, rejected, and which service failed.
 # Every process is ended by its pid (only those started here); the run is bounded by --max-runtime.
@@ -60,6 +62,7 @@ security=""
 metrics_port=""
 web_port=""
 verbose=0
+alarm_summary=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --domain) domain="$2"; shift 2 ;;
@@ -79,7 +82,8 @@ while [ $# -gt 0 ]; do
     --metrics-port) metrics_port="$2"; shift 2 ;;
     --web-port) web_port="$2"; shift 2 ;;
     --verbose) verbose=1; shift ;;
-    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
+    --alarm-summary) alarm_summary=1; shift ;;
+    -h|--help) sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -143,9 +147,11 @@ for n in causal-recorder alarm-recommender causal-estimator sensor-replay causal
 # The terminal: every line with --verbose, else what an operator acts on (progress, alarms, problems).
 quiet_filter=' (warning|error|critical) |progress:| ALARM (raised|escalated) |serving http'
 [ "$verbose" = 1 ] && quiet_filter='.'
+alarm_lines=' ALARM (raised|escalated|cleared) '
+[ "$alarm_summary" = 1 ] || alarm_lines='^$'
 tail -q -n +1 -F "$logs"/causal-recorder.log "$logs"/alarm-recommender.log "$logs"/causal-estimator.log \
   "$logs"/sensor-replay.log "$logs"/causal-ask.log "$logs"/twin-web.log 2>/dev/null \
-  > >(grep --line-buffered -E "$quiet_filter") &
+  > >(grep --line-buffered -E "$quiet_filter" | grep --line-buffered -vE "$alarm_lines") &
 tail_pid=$!  # tail's own pid: the filter ends when tail does
 
 estimator_waits=(--wait-for alarm-recommender)
@@ -227,6 +233,18 @@ pids=()
 sleep 0.5  # let tail print the last lines
 kill "$tail_pid" 2>/dev/null || true; wait "$tail_pid" 2>/dev/null || true; tail_pid=""
 
+if [ "$alarm_summary" = 1 ]; then
+  # One line: the alarm events by state, severity, time scale, channel and root cause.
+  { grep -oE 'ALARM (raised|escalated) [^ ]+ \[[a-z]+ [a-z]+-level, root cause [^ ]+ confidence [0-9.]+\] [^:]+' \
+      "$logs/alarm-recommender.log" || true; } | awk '
+    { n++; state[$2]++; sev[substr($4, 2)]++; scale[$5]++; cause[$8]++; channel[$NF]++ }
+    function list(a,   k, s) { s = ""; for (k in a) s = s (s == "" ? "" : ", ") k " " a[k]; return s }
+    END {
+      if (n == 0) { print "alarms: none"; exit }
+      printf "alarms: %d events (%s); severity %s; %s; channel %s; root cause %s\n", n, list(state),
+        list(sev), list(scale), list(channel), list(cause)
+    }' | sed 's/-level,/-level/g'
+fi
 echo
 echo "=== delivery summary (per topic, from each service's own counters) ==="
 printf '%-36s %-18s %s\n' "topic" "service" "counts"

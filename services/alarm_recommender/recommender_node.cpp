@@ -133,7 +133,10 @@ void RecommenderNode::publish_health() {
     const bool cleared = alarm.state() == causal_twin::CLEARED;
     spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
                 alarm.alarm_id(), alarm.reason());
-    if (alarms_.write(alarm, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
+    if (alarms_.write(alarm, loop_.stop_flag()) == dds::WriteResult::Ok) {
+      ++alarms_published_;
+      open_alarms_.on_published(alarm);
+    }
   }
 }
 
@@ -238,7 +241,10 @@ void RecommenderNode::republish(const std::string& asset_group, const std::vecto
   // Transient-local readers that join after the restart must see the alarms raised before it.
   for (const auto& e : events) {
     dds::to_alarm(asset_group, channel_names, e, alarm_msg_);
-    if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
+    if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
+      ++alarms_published_;
+      open_alarms_.on_published(alarm_msg_);
+    }
   }
   spdlog::info("asset '{}': {} alarm messages re-published from the checkpoint", asset_group, events.size());
 }
@@ -287,7 +293,10 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const EngineS
   dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
   if (a.time_scale == causal_twin::CONDITION_LEVEL) fill_next_level(st, e, alarm_msg_);
   alarm_msg_.action(action);
-  if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) ++alarms_published_;
+  if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
+    ++alarms_published_;
+    open_alarms_.on_published(alarm_msg_);
+  }
   const auto level = e.severity == alarms::Severity::Critical  ? spdlog::level::err
                      : e.severity == alarms::Severity::Warning ? spdlog::level::warn
                                                                : spdlog::level::info;

@@ -7,6 +7,7 @@
 #include "alarm_state_store.hpp"
 #include "asset_status.hpp"
 #include "observation_assembler.hpp"
+#include "open_alarm_metrics.hpp"
 #include "recommendation_store.hpp"
 #include "recommender_params.hpp"
 
@@ -103,6 +104,7 @@ class RecommenderNode {
   std::uint64_t prognoses_published_ = 0, prognosis_write_failures_ = 0;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
   std::uint64_t events_advised_ = 0, events_act_on_asset_ = 0, events_upstream_lever_ = 0;
+  OpenAlarmMetrics open_alarms_;  // causal_twin_alarms_open{asset_group, category, severity}
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;
 };
 

@@ -84,6 +84,12 @@ void EstimatorNode::watch_primary() {
 
 // The content filter already keeps other shards' samples away; this check catches what a filter could not
 // judge (a sample whose asset group it could not read is let through) and is counted (foreign_frames_).
+void EstimatorNode::Asset::note_input(std::int64_t source_time_ns) {
+  last_arrival_ns->store(std::chrono::nanoseconds(std::chrono::steady_clock::now().time_since_epoch()).count(),
+                         std::memory_order_relaxed);
+  if (input_time != nullptr) input_time->set(static_cast<double>(source_time_ns) * 1e-9);
+}
+
 bool EstimatorNode::mine(const std::string& asset_group) const { return options_.groups.matches(asset_group); }
 
 EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
@@ -98,6 +104,17 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
     a.condition_seconds = &metrics::process_metrics().histogram("estimator_processing_seconds", help,
                                                                 {{"asset_group", asset_group}, {"input", "condition"}},
                                                                 metrics::latency_buckets_seconds());
+    a.input_age = metrics::process_metrics().gauge_callback(
+        "estimator_input_age_seconds", "Seconds since the asset group's last input (frame or condition vector) arrived",
+        {{"asset_group", asset_group}}, [t = a.last_arrival_ns] {
+          const std::int64_t last = t->load(std::memory_order_relaxed);
+          const auto now = std::chrono::steady_clock::now().time_since_epoch();
+          return last == 0 ? 0.0 : static_cast<double>(std::chrono::nanoseconds(now).count() - last) * 1e-9;
+        });
+    a.input_time = &metrics::process_metrics().gauge(
+        "estimator_last_input_timestamp_seconds",
+        "Source time (UTC, Unix seconds) of the asset group's last input: time() minus this is the data's age",
+        {{"asset_group", asset_group}});
     try {
       std::vector<std::string> resend;
       if (store_.restore(asset_group, a.pipeline, resend, &a.last_time_ns)) {
@@ -205,6 +222,7 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame, const Wri
   }
   if (!admitted(frame.asset_group(), writer)) return;
   Asset& a = asset(frame.asset_group());
+  a.note_input(frame.first_sample_time_ns());
   if (!a.refused.empty()) {
     ++a.refused_inputs;
     report_refusal(frame.asset_group(), frame.snapshot_index(), frame.first_sample_time_ns(), a.refused);
@@ -280,6 +298,7 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in, const W
   }
   if (!admitted(in.asset_group(), writer)) return;
   Asset& a = asset(in.asset_group());
+  a.note_input(in.time_ns());
   if (!a.refused.empty()) {
     ++a.refused_inputs;
     report_refusal(in.asset_group(), in.snapshot_index(), in.time_ns(), a.refused);

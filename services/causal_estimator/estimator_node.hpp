@@ -19,6 +19,7 @@
 #include "group_quota.hpp"
 #include "standby_buffer.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <climits>
 #include <map>
@@ -102,6 +103,12 @@ class EstimatorNode {
     // Prometheus: time to process one input (filters, smoothers, output queued), per asset group.
     metrics::Histogram* frame_seconds = nullptr;
     metrics::Histogram* condition_seconds = nullptr;
+    // Data age: when the group's last input arrived (steady clock, ns; read by the scrape through input_age)
+    // and the source's time of that input (estimator_last_input_timestamp_seconds).
+    std::shared_ptr<std::atomic<std::int64_t>> last_arrival_ns = std::make_shared<std::atomic<std::int64_t>>(0);
+    metrics::CallbackHandle input_age;
+    metrics::Gauge* input_time = nullptr;
+    void note_input(std::int64_t source_time_ns);
   };
 
   using WriterGuid = eprosima::fastrtps::rtps::GUID_t;

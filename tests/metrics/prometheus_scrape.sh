@@ -115,6 +115,28 @@ lat=$(query 'sum(causal_twin_estimator_processing_seconds_count{service="causal-
 p99=$(query 'histogram_quantile(0.99, sum by (le) (causal_twin_estimator_processing_seconds_bucket{input="condition"}))')
 echo "prometheus: 3 of 3 targets up; estimator processing latency p99 = ${p99} s over $lat condition inputs"
 
+# The operator's metrics: build_info and process_* on every target; the estimator's data age per group (the
+# source time of its last input = the table's last timestamp, read from the table); the recommender's open
+# alarms = the alarm ids whose last published state is not CLEARED, counted from its own log (ALARM/HEALTH
+# lines name every raise, escalation and clearing).
+builds=$(query 'count(causal_twin_build_info{job="causal_twin"} == 1)')
+[ "$builds" = 3 ] || { echo "FAIL: causal_twin_build_info on $builds of 3 targets"; exit 1; }
+cpu=$(query 'count(process_cpu_seconds_total{job="causal_twin"} > 0 and process_resident_memory_bytes > 0 and process_open_fds > 0)')
+[ "$cpu" = 3 ] || { echo "FAIL: process_* metrics on $cpu of 3 targets"; exit 1; }
+last_ts=$(tail -1 "$deploy/data/ims2-features/derived_per_file_stats_all984.csv" | cut -d, -f2)
+want_ts=$(date -u -d "$last_ts" +%s)
+got_ts=$(query 'causal_twin_estimator_last_input_timestamp_seconds{asset_group="ims2-shaft1"}')
+[ "$got_ts" = "$want_ts" ] || { echo "FAIL: last input timestamp $got_ts, the table ends at $want_ts ($last_ts)"; exit 1; }
+age=$(query 'causal_twin_estimator_input_age_seconds{asset_group="ims2-shaft1"}')
+[ -n "$age" ] || { echo "FAIL: no causal_twin_estimator_input_age_seconds for ims2-shaft1"; exit 1; }
+open_alarms=$(query 'sum(causal_twin_alarms_open{service="alarm-recommender",category=~"degradation|health"})')
+expected_open=$(grep -oE '(ALARM (raised|escalated|cleared)|HEALTH (RAISED|CLEARED)) [^ :]+' "$work/recommender.log" \
+  | awk '{ state[$3] = ($2 == "cleared" || $2 == "CLEARED") ? 0 : 1 } END { n = 0; for (k in state) n += state[k]; print n }')
+[ "$open_alarms" = "$expected_open" ] \
+  || { echo "FAIL: causal_twin_alarms_open sums to $open_alarms, the recommender's log leaves $expected_open open"; exit 1; }
+echo "prometheus: build_info and process_* on 3 of 3 targets; ims2-shaft1 last input at $got_ts ($last_ts UTC)," \
+     "input age ${age} s; open alarms $open_alarms (= raised - cleared in the recommender's log)"
+
 for port in "$est_port" "$rec_port" "$hist_port"; do
   curl -s --max-time 5 "http://127.0.0.1:$port/metrics" > "$work/scrape_$port.txt"
   if ! promtool check metrics < "$work/scrape_$port.txt" > "$work/promtool_$port.log" 2>&1 \

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -111,6 +112,30 @@ TEST(MetricsRegistry, InvalidNamesAndTypeClashesAreRefused) {
   r.gauge("depth", "d");
   EXPECT_THROW(r.histogram("depth", "d", {}, {1.0}), std::invalid_argument);
   EXPECT_THROW(r.histogram("h", "h", {}, {1.0, 0.5}), std::invalid_argument);
+}
+
+// The value of the sample line starting with `name ` in an exposition, NaN when there is none.
+double sample_value(const std::string& text, const std::string& name) {
+  const auto at = text.find("\n" + name + " ");
+  if (at == std::string::npos) return std::nan("");
+  return std::stod(text.substr(at + name.size() + 2));
+}
+
+TEST(MetricsRegistry, ProcessRegistryHasBuildInfoAndProcessMetrics) {
+  const std::string text = process_metrics().exposition();
+  EXPECT_NE(text.find("# TYPE causal_twin_build_info gauge\ncausal_twin_build_info{fastdds=\""), std::string::npos)
+      << text;
+  EXPECT_NE(text.find(",version=\"" CAUSAL_TWIN_VERSION "\"} 1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("# TYPE process_cpu_seconds_total counter\n"), std::string::npos) << text;
+  EXPECT_GT(sample_value(text, "process_resident_memory_bytes"), 1e6);  // this test binary: several MB
+  EXPECT_GE(sample_value(text, "process_virtual_memory_bytes"), sample_value(text, "process_resident_memory_bytes"));
+  EXPECT_GE(sample_value(text, "process_open_fds"), 3.0);  // stdin, stdout, stderr at least
+  EXPECT_GE(sample_value(text, "process_max_fds"), sample_value(text, "process_open_fds"));
+  // Started within the last hour, not in the future (the boot time plus the start ticks, against the clock).
+  const double started = sample_value(text, "process_start_time_seconds");
+  const double now = static_cast<double>(std::time(nullptr));
+  EXPECT_LE(started, now + 1.0);
+  EXPECT_GT(started, now - 3600.0);
 }
 
 TEST(MetricsRegistry, PromtoolAcceptsTheExposition) {

@@ -26,11 +26,12 @@ done
 mount -t tmpfs tmpfs /dev/shm
 
 cd /
-echo "--- dpkg -i $(basename "$deb")"
-dpkg -i "$deb" > "$work/installed_dpkg_i.log" 2>&1 || { cat "$work/installed_dpkg_i.log"; fail "dpkg -i"; }
+dev_deb=$(ls "$(dirname "$deb")"/causal-twin-dev_*.deb)
+echo "--- dpkg -i $(basename "$deb") $(basename "$dev_deb")"
+dpkg -i "$deb" "$dev_deb" > "$work/installed_dpkg_i.log" 2>&1 || { cat "$work/installed_dpkg_i.log"; fail "dpkg -i"; }
 getent passwd causal-twin > /dev/null || fail "postinst made no user causal-twin"
 [ "$(stat -c %U "/var/lib/causal-twin")" = causal-twin ] || fail "/var/lib/causal-twin not owned by causal-twin"
-listed=$(dpkg -L causal-twin)
+listed=$(dpkg -L causal-twin causal-twin-dev)
 
 echo "--- with the package installed, a build-tree binary still reads its own source tree"
 # (--help captured first: grep -q ending the pipe early would fail it under pipefail)
@@ -50,12 +51,29 @@ qos_line=$(grep -m1 -o "default: [^ ]*qos.xml[^;]*" <<< "$help" || true)
 [ "$qos_line" = "default: /etc/causal-twin/qos.xml (from /etc/causal-twin)" ] || fail "--help: qos.xml not from /etc/causal-twin: $qos_line"
 echo "$qos_line"
 
+# The -dev package, the documentation and manual pages, and an example sensor built against the installed files.
+bash "$work/dev_package_check.sh" "$work" "$domain"
+
 echo "--- systemd-analyze verify"
 units=(/usr/lib/systemd/system/causal-twin.target /usr/lib/systemd/system/causal-twin-*.service)
 [ ${#units[@]} = 7 ] || fail "expected 7 units, found ${#units[@]}"
 verify=$(systemd-analyze verify "${units[@]}" 2>&1) || { echo "$verify"; fail "systemd-analyze verify"; }
 [ -z "$(grep -i causal-twin <<< "$verify" || true)" ] || { echo "$verify"; fail "systemd-analyze verify warned"; }
-echo "7 units verified"
+for u in "${units[@]}"; do
+  grep -q '^Wants=network-online.target$' "$u" || fail "$u: After=network-online.target without Wants="
+done
+echo "7 units verified, each with Wants= beside After= for the network-online target"
+# The environment files are systemd's format and also valid shell: a shell reads the same values.
+for f in /etc/causal-twin/*.env; do
+  while IFS= read -r line; do
+    [[ "$line" =~ ^([A-Za-z_][A-Za-z0-9_]*)=(.*)$ ]] || continue
+    key="${BASH_REMATCH[1]}"; value="${BASH_REMATCH[2]}"
+    [[ "$value" =~ ^\"(.*)\"$ ]] && value="${BASH_REMATCH[1]}"
+    shell_value=$(env -i bash -c "set -a; . '$f' && printf '%s' \"\${$key}\"") || fail "$f cannot be sourced by a shell"
+    [ "$shell_value" = "$value" ] || fail "$f: $key is '$value' for systemd, '$shell_value' for a shell"
+  done < "$f"
+done
+echo "$(ls /etc/causal-twin/*.env | wc -l) environment files: the same values for systemd and a shell"
 
 echo "--- causal-twin-demo from / (the slice, domain $domain)"
 timeout 120 causal-twin-demo --domain "$domain" --record "$work/installed_slice" > "$work/installed_slice.log" 2>&1 \
@@ -83,6 +101,7 @@ unit_argv() {
     while IFS= read -r line; do
       [[ "$line" =~ ^[A-Za-z_][A-Za-z0-9_]*= ]] || continue
       key="${line%%=*}"; value="${line#*=}"
+      [[ "$value" =~ ^\"(.*)\"$ ]] && value="${BASH_REMATCH[1]}"  # systemd removes the quotes
       unit_env[$key]="$value"; envv+=("$key=$value")
     done < "$file"
   done < <(sed -n 's/^EnvironmentFile=//p' "$unit")
@@ -123,8 +142,8 @@ for d in estimator-main recommender recordings; do
 done
 echo "units: checkpoints in estimator-main ($(ls /var/lib/causal-twin/estimator-main | wc -l) files) and recommender ($(ls /var/lib/causal-twin/recommender | wc -l) files), all owned by causal-twin; every service exited 0 on SIGTERM"
 
-echo "--- dpkg -P causal-twin"
-dpkg -P causal-twin > "$work/installed_dpkg_p.log" 2>&1 || { cat "$work/installed_dpkg_p.log"; fail "dpkg -P"; }
+echo "--- dpkg -P causal-twin-dev causal-twin"
+dpkg -P causal-twin-dev causal-twin > "$work/installed_dpkg_p.log" 2>&1 || { cat "$work/installed_dpkg_p.log"; fail "dpkg -P"; }
 # Every path dpkg -L listed is gone, unless it existed before the install (a folder such as /usr/bin).
 left=""
 while read -r f; do

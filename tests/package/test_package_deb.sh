@@ -40,10 +40,25 @@ echo "--- cpack -G DEB"
 (cd "$build" && cpack -G DEB -B "$work/cpack" > "$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack"; }
 debs=("$work"/cpack/causal-twin_*.deb)
 [ ${#debs[@]} = 1 ] && [ -f "${debs[0]}" ] || fail "expected one causal-twin_*.deb, found: ${debs[*]}"
+dev_debs=("$work"/cpack/causal-twin-dev_*.deb)
+[ ${#dev_debs[@]} = 1 ] && [ -f "${dev_debs[0]}" ] || fail "expected one causal-twin-dev_*.deb, found: ${dev_debs[*]}"
 deb="$work/$(basename "${debs[0]}")"
+dev_deb="$work/$(basename "${dev_debs[0]}")"
 mv "${debs[0]}" "$deb"
+mv "${dev_debs[0]}" "$dev_deb"
 rm -rf "$work/cpack"
-echo "$(basename "$deb"): $(stat -c %s "$deb") bytes"
+echo "$(basename "$deb"): $(stat -c %s "$deb") bytes; $(basename "$dev_deb"): $(stat -c %s "$dev_deb") bytes"
+
+# lintian (Debian's package checker): no error in either package; warnings and info are printed, not fatal.
+if command -v lintian > /dev/null; then
+  lintian --no-tag-display-limit "$deb" "$dev_deb" > "$work/lintian.log" 2>&1 || true
+  errors=$(grep -c '^E: ' "$work/lintian.log" || true); warnings=$(grep -c '^W: ' "$work/lintian.log" || true)
+  echo "lintian: $errors errors, $warnings warnings, $(grep -c '^[IP]: ' "$work/lintian.log" || true) info/pedantic"
+  grep '^[EW]: ' "$work/lintian.log" || true
+  [ "$errors" = 0 ] || fail "lintian reports $errors errors"
+else
+  skip "no lintian (deploy/install_deps.sh installs it)"
+fi
 
 features="$src/deploy/data/ims2-features/derived_per_file_stats_all984.csv"
 feature_args=(--feature-suffix _meanabs --feature-name meanabs --ask 3:-10)
@@ -52,7 +67,7 @@ CAUSAL_TWIN_BUILD_DIR="$build" timeout 120 "$src/deploy/launch.sh" --domain "$re
   "${feature_args[@]}" --record "$work/ref_features" > "$work/ref_features.log" 2>&1 \
   || { tail -20 "$work/ref_features.log"; fail "build-tree demo exited non-zero"; }
 
-cp "$src/tests/package/package_root_check.sh" "$work/"
+cp "$src/tests/package/package_root_check.sh" "$src/tests/package/dev_package_check.sh" "$work/"
 echo "--- cmake --install into a separate prefix (DESTDIR)"
 DESTDIR="$work/destdir" cmake --install "$build" --prefix /opt/causal-twin > "$work/prefix_install.log" 2>&1 \
   || { cat "$work/prefix_install.log"; fail "cmake --install"; }

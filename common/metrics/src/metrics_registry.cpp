@@ -1,20 +1,22 @@
 #include "causal/metrics/metrics_registry.hpp"
 
+#include "process_metrics.hpp"
+
+#include <prometheus/collectable.h>
+#include <prometheus/counter.h>
+#include <prometheus/family.h>
+#include <prometheus/gauge.h>
+#include <prometheus/histogram.h>
+#include <prometheus/registry.h>
+#include <prometheus/text_serializer.h>
+
+#include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <sstream>
 #include <stdexcept>
 
 namespace causal::metrics {
 
 namespace {
-
-void atomic_add(std::atomic<double>& a, double by) {
-  double old = a.load(std::memory_order_relaxed);
-  while (!a.compare_exchange_weak(old, old + by, std::memory_order_relaxed)) {
-  }
-}
 
 // [a-zA-Z_:][a-zA-Z0-9_:]* for metric names, [a-zA-Z_][a-zA-Z0-9_]* for label names (no "__" prefix).
 bool valid_name(const std::string& name, bool label) {
@@ -29,83 +31,28 @@ bool valid_name(const std::string& name, bool label) {
   return true;
 }
 
-// Go's strconv-compatible float text: integers without exponent noise, +Inf/-Inf/NaN spelled as Prometheus does.
-std::string number(double v) {
-  if (std::isnan(v)) return "NaN";
-  if (std::isinf(v)) return v > 0 ? "+Inf" : "-Inf";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.15g", v);  // shortest that reads back exactly, else all 17 digits
-  if (std::strtod(buf, nullptr) != v) std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-std::string label_text(const Labels& labels, const std::pair<std::string, std::string>* extra = nullptr) {
-  if (labels.empty() && extra == nullptr) return "";
-  std::string out = "{";
-  const char* sep = "";
-  for (const auto& [k, v] : labels) {
-    out += sep + k + "=\"" + escape_label_value(v) + "\"";
-    sep = ",";
-  }
-  if (extra != nullptr) out += sep + extra->first + "=\"" + escape_label_value(extra->second) + "\"";
-  return out + "}";
-}
-
-std::string escape_help(const std::string& help) {
-  std::string out;
-  for (char c : help) {
-    if (c == '\\') out += "\\\\";
-    else if (c == '\n') out += "\\n";
-    else out += c;
-  }
-  return out;
+prometheus::ClientMetric client_metric(const Labels& labels) {
+  prometheus::ClientMetric m;
+  for (const auto& [k, v] : labels) m.label.push_back({k, v});
+  return m;
 }
 
 }  // namespace
 
-std::string escape_label_value(const std::string& value) {
-  std::string out;
-  for (char c : value) {
-    if (c == '\\') out += "\\\\";
-    else if (c == '"') out += "\\\"";
-    else if (c == '\n') out += "\\n";
-    else out += c;
-  }
-  return out;
-}
-
 void Counter::inc(double by) {
   if (!(by >= 0.0) || !std::isfinite(by)) return;
-  atomic_add(value_, by);
+  c_->Increment(by);
 }
+double Counter::value() const { return c_->Value(); }
 
+void Gauge::set(double v) { g_->Set(v); }
 void Gauge::add(double by) {
-  if (std::isfinite(by)) atomic_add(value_, by);
+  if (std::isfinite(by)) g_->Increment(by);
 }
-
-Histogram::Histogram(std::vector<double> upper_bounds) : bounds_(std::move(upper_bounds)) {
-  for (std::size_t i = 0; i < bounds_.size(); ++i) {
-    if (!std::isfinite(bounds_[i]) || (i > 0 && bounds_[i] <= bounds_[i - 1])) {
-      throw std::invalid_argument("histogram bounds must be finite and strictly increasing");
-    }
-  }
-  counts_ = std::make_unique<std::atomic<std::uint64_t>[]>(bounds_.size() + 1);
-  for (std::size_t i = 0; i <= bounds_.size(); ++i) counts_[i].store(0);
-}
+double Gauge::value() const { return g_->Value(); }
 
 void Histogram::observe(double v) {
-  if (!std::isfinite(v)) return;
-  std::size_t i = 0;
-  while (i < bounds_.size() && v > bounds_[i]) ++i;  // le: a value equal to a bound falls in that bucket
-  counts_[i].fetch_add(1, std::memory_order_relaxed);
-  atomic_add(sum_, v);
-}
-
-std::vector<std::uint64_t> Histogram::cumulative_counts() const {
-  std::vector<std::uint64_t> out(bounds_.size() + 1);
-  std::uint64_t running = 0;
-  for (std::size_t i = 0; i <= bounds_.size(); ++i) out[i] = running += counts_[i].load(std::memory_order_relaxed);
-  return out;
+  if (std::isfinite(v)) h_->Observe(v);
 }
 
 std::vector<double> latency_buckets_seconds() {
@@ -125,6 +72,55 @@ void CallbackHandle::reset() {
   if (unregister_) unregister_();
   unregister_ = nullptr;
 }
+
+// What a scrape sees: prometheus-cpp's registry (counters, gauges, histograms), the callbacks read now, and
+// the process metrics, one family per name in name order. Called with the registry's mutex held.
+class MetricsRegistry::Scrape {
+ public:
+  static std::vector<prometheus::MetricFamily> collect(const MetricsRegistry& r) {
+    std::map<std::string, prometheus::MetricFamily> by_name;
+    for (auto& f : r.registry_->Collect()) by_name[f.name] = std::move(f);
+    for (const auto& [base, f] : r.families_) {
+      if (f.callbacks.empty()) continue;
+      const std::string name = kMetricPrefix + base;
+      auto [it, inserted] = by_name.try_emplace(name);
+      if (inserted) {
+        it->second.name = name;
+        it->second.help = f.help;
+        it->second.type = f.type == Type::Counter ? prometheus::MetricType::Counter : prometheus::MetricType::Gauge;
+      }
+      for (const auto& [labels, cb] : f.callbacks) {
+        if (f.gauges.count(labels) || f.counters.count(labels)) continue;  // one sample per label set
+        prometheus::ClientMetric m = client_metric(labels);
+        if (f.type == Type::Counter) m.counter.value = cb.second();
+        else m.gauge.value = cb.second();
+        it->second.metric.push_back(std::move(m));
+      }
+    }
+    if (r.with_process_metrics_) {
+      for (auto& f : collect_process_metrics()) by_name[f.name] = std::move(f);
+    }
+    std::vector<prometheus::MetricFamily> out;
+    for (auto& [name, f] : by_name) {
+      if (f.metric.empty()) continue;
+      // prometheus-cpp keeps a family's series in a hash map: sorted by labels, a scrape reads the same way twice.
+      std::sort(f.metric.begin(), f.metric.end(), [](const auto& a, const auto& b) { return a.label < b.label; });
+      out.push_back(std::move(f));
+    }
+    return out;
+  }
+};
+
+MetricsRegistry::MetricsRegistry(bool with_process_metrics)
+    : registry_(std::make_shared<prometheus::Registry>()), with_process_metrics_(with_process_metrics) {
+  if (with_process_metrics_) {
+    gauge("build_info", "Build of this process (value 1): version of the causal twin and of Fast DDS it was built with",
+          build_info_labels())
+        .set(1.0);
+  }
+}
+
+MetricsRegistry::~MetricsRegistry() = default;
 
 MetricsRegistry::Family& MetricsRegistry::family(const std::string& name, Type type, const std::string& help,
                                                  const Labels& labels) {
@@ -147,23 +143,43 @@ MetricsRegistry::Family& MetricsRegistry::family(const std::string& name, Type t
 
 Counter& MetricsRegistry::counter(const std::string& name, const std::string& help, const Labels& labels) {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto& slot = family(name, Type::Counter, help, labels).counters[labels];
-  if (!slot) slot = std::make_unique<Counter>();
+  Family& f = family(name, Type::Counter, help, labels);
+  if (f.prometheus_family == nullptr) {
+    f.prometheus_family = &prometheus::BuildCounter().Name(kMetricPrefix + name).Help(help).Register(*registry_);
+  }
+  auto& slot = f.counters[labels];
+  if (!slot) slot = std::make_unique<Counter>(static_cast<prometheus::Family<prometheus::Counter>*>(f.prometheus_family)->Add(labels));
   return *slot;
 }
 
 Gauge& MetricsRegistry::gauge(const std::string& name, const std::string& help, const Labels& labels) {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto& slot = family(name, Type::Gauge, help, labels).gauges[labels];
-  if (!slot) slot = std::make_unique<Gauge>();
+  Family& f = family(name, Type::Gauge, help, labels);
+  if (f.prometheus_family == nullptr) {
+    f.prometheus_family = &prometheus::BuildGauge().Name(kMetricPrefix + name).Help(help).Register(*registry_);
+  }
+  auto& slot = f.gauges[labels];
+  if (!slot) slot = std::make_unique<Gauge>(static_cast<prometheus::Family<prometheus::Gauge>*>(f.prometheus_family)->Add(labels));
   return *slot;
 }
 
 Histogram& MetricsRegistry::histogram(const std::string& name, const std::string& help, const Labels& labels,
                                       const std::vector<double>& upper_bounds) {
+  for (std::size_t i = 0; i < upper_bounds.size(); ++i) {
+    if (!std::isfinite(upper_bounds[i]) || (i > 0 && upper_bounds[i] <= upper_bounds[i - 1])) {
+      throw std::invalid_argument("histogram bounds must be finite and strictly increasing");
+    }
+  }
   std::lock_guard<std::mutex> lock(mutex_);
-  auto& slot = family(name, Type::Histogram, help, labels).histograms[labels];
-  if (!slot) slot = std::make_unique<Histogram>(upper_bounds);
+  Family& f = family(name, Type::Histogram, help, labels);
+  if (f.prometheus_family == nullptr) {
+    f.prometheus_family = &prometheus::BuildHistogram().Name(kMetricPrefix + name).Help(help).Register(*registry_);
+  }
+  auto& slot = f.histograms[labels];
+  if (!slot) {
+    auto* fam = static_cast<prometheus::Family<prometheus::Histogram>*>(f.prometheus_family);
+    slot = std::make_unique<Histogram>(fam->Add(labels, prometheus::Histogram::BucketBoundaries(upper_bounds)));
+  }
   return *slot;
 }
 
@@ -193,34 +209,11 @@ CallbackHandle MetricsRegistry::add_callback(const std::string& name, Type type,
 
 std::string MetricsRegistry::exposition() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  std::ostringstream out;
-  for (const auto& [base, f] : families_) {
-    const std::string name = kMetricPrefix + base;
-    if (f.counters.empty() && f.gauges.empty() && f.histograms.empty() && f.callbacks.empty()) continue;
-    out << "# HELP " << name << " " << escape_help(f.help) << "\n# TYPE " << name << " "
-        << (f.type == Type::Counter ? "counter" : f.type == Type::Gauge ? "gauge" : "histogram") << "\n";
-    for (const auto& [labels, c] : f.counters) out << name << label_text(labels) << " " << number(c->value()) << "\n";
-    for (const auto& [labels, g] : f.gauges) out << name << label_text(labels) << " " << number(g->value()) << "\n";
-    for (const auto& [labels, cb] : f.callbacks) {
-      if (f.gauges.count(labels) || f.counters.count(labels)) continue;  // one sample per label set
-      out << name << label_text(labels) << " " << number(cb.second()) << "\n";
-    }
-    for (const auto& [labels, h] : f.histograms) {
-      const auto counts = h->cumulative_counts();
-      for (std::size_t i = 0; i < counts.size(); ++i) {
-        const std::pair<std::string, std::string> le{"le", i < h->upper_bounds().size() ? number(h->upper_bounds()[i])
-                                                                                           : std::string("+Inf")};
-        out << name << "_bucket" << label_text(labels, &le) << " " << counts[i] << "\n";
-      }
-      out << name << "_sum" << label_text(labels) << " " << number(h->sum()) << "\n";
-      out << name << "_count" << label_text(labels) << " " << counts.back() << "\n";
-    }
-  }
-  return out.str();
+  return prometheus::TextSerializer().Serialize(Scrape::collect(*this));
 }
 
 MetricsRegistry& process_metrics() {
-  static MetricsRegistry registry;
+  static MetricsRegistry registry(true);
   return registry;
 }
 

@@ -266,15 +266,19 @@ class TypedReader {
                                                    r->get_sample_lost_status(st);
                                                    return static_cast<double>(st.total_count);
                                                  }));
-    const char* help = "Samples the reader's resource limits refused (no_room: resent by reliable writers)";
     auto* limit = &rejections_.instances_limit;
     auto* room = &rejections_.no_room;
-    reader_metrics_.push_back(m.counter_callback("dds_samples_rejected_total", help,
-                                                 {{"topic", topic_name}, {"reason", "instances_limit"}},
-                                                 [limit] { return static_cast<double>(limit->load()); }));
-    reader_metrics_.push_back(m.counter_callback("dds_samples_rejected_total", help,
-                                                 {{"topic", topic_name}, {"reason", "no_room"}},
-                                                 [room] { return static_cast<double>(room->load()); }));
+    reader_metrics_.push_back(m.counter_callback(
+        "dds_samples_rejected_total",
+        "Samples the reader refused for good: its instance limit was reached (a new asset group beyond max_instances)",
+        {{"topic", topic_name}, {"reason", "instances_limit"}}, [limit] { return static_cast<double>(limit->load()); }));
+    // Not loss: a reliable KEEP_ALL reader whose queue is full refuses the sample for now and the writer resends
+    // it (back-pressure, seen in normal running at full speed). It was counted as
+    // dds_samples_rejected_total{reason="no_room"}, which read like data loss.
+    reader_metrics_.push_back(m.counter_callback(
+        "dds_samples_deferred_total",
+        "Samples the reader had no room for yet (queue full): not lost, the reliable writer resends them (back-pressure)",
+        by_topic, [room] { return static_cast<double>(room->load()); }));
   }
   ~TypedReader() {
     reader_metrics_.clear();  // before the reader goes: a scrape must not reach it

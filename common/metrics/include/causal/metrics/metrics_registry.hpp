@@ -1,13 +1,11 @@
-// Prometheus metrics of one process: counters, gauges and histograms, rendered in the Prometheus text
-// exposition format (version 0.0.4) for a /metrics endpoint. Debian 12 has no prometheus-cpp package, and
-// the format is small and stable (https://prometheus.io/docs/instrumenting/exposition_formats/), so this is
-// written here: std only, lock-free updates (atomics), one mutex for registration and rendering.
-//
-// Names follow the Prometheus conventions: one prefix (kMetricPrefix), base units (seconds, bytes),
-// `_total` on counters; a family (one name) has one type and one help text and many label sets.
+// Prometheus metrics of one process: counters, gauges and histograms kept by prometheus-cpp (Debian's
+// prometheus-cpp-dev, "core"), rendered by its text serializer (exposition format 0.0.4) for a /metrics
+// endpoint. This layer adds what the services rely on: one name prefix (kMetricPrefix), names checked against
+// the conventions (`_total` on counters, base units), a name never reused with another type, gauges and
+// counters read at scrape time from their owner (callbacks, gone with their handle), and, for the process's
+// own registry, build_info and the standard process_* metrics.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -17,6 +15,14 @@
 #include <utility>
 #include <vector>
 
+namespace prometheus {
+class Collectable;
+class Counter;
+class Gauge;
+class Histogram;
+class Registry;
+}  // namespace prometheus
+
 namespace causal::metrics {
 
 inline constexpr const char* kMetricPrefix = "causal_twin_";
@@ -24,38 +30,35 @@ inline constexpr const char* kMetricPrefix = "causal_twin_";
 // Label name -> value, e.g. {{"topic", "causal_twin/alarm"}}. Ordered, so one label set renders one way.
 using Labels = std::map<std::string, std::string>;
 
+// Handles to prometheus-cpp metrics (owned by the registry, alive as long as it is); updates are lock-free.
 class Counter {
  public:
+  explicit Counter(prometheus::Counter& c) : c_(&c) {}
   void inc(double by = 1.0);  // by >= 0 (a negative or non-finite increment is ignored: counters only go up)
-  double value() const { return value_.load(std::memory_order_relaxed); }
+  double value() const;
 
  private:
-  std::atomic<double> value_{0.0};
+  prometheus::Counter* c_;
 };
 
 class Gauge {
  public:
-  void set(double v) { value_.store(v, std::memory_order_relaxed); }
-  void add(double by);
-  double value() const { return value_.load(std::memory_order_relaxed); }
+  explicit Gauge(prometheus::Gauge& g) : g_(&g) {}
+  void set(double v);
+  void add(double by);  // non-finite: ignored
+  double value() const;
 
  private:
-  std::atomic<double> value_{0.0};
+  prometheus::Gauge* g_;
 };
 
 class Histogram {
  public:
-  explicit Histogram(std::vector<double> upper_bounds);  // strictly increasing, finite; +Inf is implicit
-  void observe(double v);                                 // non-finite values are ignored
-  const std::vector<double>& upper_bounds() const { return bounds_; }
-  // Cumulative counts per bound (the last one is +Inf), the sum and the count, as one consistent-enough read.
-  std::vector<std::uint64_t> cumulative_counts() const;
-  double sum() const { return sum_.load(std::memory_order_relaxed); }
+  explicit Histogram(prometheus::Histogram& h) : h_(&h) {}
+  void observe(double v);  // non-finite values are ignored
 
  private:
-  std::vector<double> bounds_;
-  std::unique_ptr<std::atomic<std::uint64_t>[]> counts_;  // per bucket (not cumulative), bounds_.size() + 1
-  std::atomic<double> sum_{0.0};
+  prometheus::Histogram* h_;
 };
 
 // Latency buckets in seconds from 50 us to 10 s (1-2.5-5 steps): processing one snapshot or frame.
@@ -82,6 +85,12 @@ class CallbackHandle {
 
 class MetricsRegistry {
  public:
+  // with_process_metrics: also build_info (version) and process_* (CPU, memory, file descriptors, start time).
+  explicit MetricsRegistry(bool with_process_metrics = false);
+  ~MetricsRegistry();
+  MetricsRegistry(const MetricsRegistry&) = delete;
+  MetricsRegistry& operator=(const MetricsRegistry&) = delete;
+
   // The metric `name` (without the prefix) with these labels, created at the first call; the same object
   // afterwards. Throws std::invalid_argument for an invalid name or label, or a name reused with another type.
   Counter& counter(const std::string& name, const std::string& help, const Labels& labels = {});
@@ -94,7 +103,8 @@ class MetricsRegistry {
   [[nodiscard]] CallbackHandle counter_callback(const std::string& name, const std::string& help, const Labels& labels,
                                                 std::function<double()> read);
 
-  // Every family in name order, each with its # HELP and # TYPE lines, then its samples.
+  // Every family in name order, each with its # HELP and # TYPE lines, then its samples (prometheus-cpp's
+  // TextSerializer).
   std::string exposition() const;
 
  private:
@@ -102,25 +112,27 @@ class MetricsRegistry {
   struct Family {
     Type type;
     std::string help;
+    void* prometheus_family = nullptr;  // prometheus::Family<Counter|Gauge|Histogram>, by type
     std::map<Labels, std::unique_ptr<Counter>> counters;
     std::map<Labels, std::unique_ptr<Gauge>> gauges;
     std::map<Labels, std::unique_ptr<Histogram>> histograms;
     std::map<Labels, std::pair<std::uint64_t, std::function<double()>>> callbacks;  // id, reader
   };
+  class Scrape;  // the prometheus::Collectable view: registry + callbacks (+ process metrics), merged by name
+  friend class Scrape;
   Family& family(const std::string& name, Type type, const std::string& help, const Labels& labels);
   CallbackHandle add_callback(const std::string& name, Type type, const std::string& help, const Labels& labels,
                               std::function<double()> read);
 
   mutable std::mutex mutex_;
+  std::shared_ptr<prometheus::Registry> registry_;
   std::map<std::string, Family> families_;
   std::uint64_t next_callback_id_ = 1;
+  bool with_process_metrics_;
 };
 
 // The process's registry (like prometheus-cpp's default registry): services and the DDS endpoints count
-// into it; the /metrics endpoint renders it.
+// into it; the /metrics endpoint renders it. It has build_info and the process_* metrics.
 MetricsRegistry& process_metrics();
-
-// Escapes a label value for the exposition format: backslash, double quote and line feed.
-std::string escape_label_value(const std::string& value);
 
 }  // namespace causal::metrics
