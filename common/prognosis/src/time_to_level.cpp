@@ -45,9 +45,9 @@ double first_time_at_or_above(const TrendState& st, const TrendParams& trend, do
   return kNaN;
 }
 
-// Pessimistic scenario (PrognosisParams::pessimistic_z): slope b' = b + z sd(b) and acceleration
-// a' = max(a, 0) + z sd(a), both at their upper z-quantile, and the log level's slope growing exponentially at
-// the rate lambda = a' / b' that matches a' now: m(s) = m + b' (exp(lambda s) - 1) / lambda. Why exponential:
+// Pessimistic scenario (PrognosisParams::pessimistic_z): level m' = m + z sd(m), slope b' = b + z sd(b) and
+// acceleration a' = max(a, 0) + z sd(a) (sds scaled by the calibration's inflation), and the log level's slope
+// growing exponentially at the rate lambda = a' / b' that matches a' now: m(s) = m' + b' (exp(lambda s) - 1) / lambda. Why exponential:
 // wear whose amplitude grows exponentially (w = c (exp(lambda tau) - 1)) has a log level whose acceleration
 // itself grows, faster than any quadratic extrapolation (the "truth earlier than the interval" misses in
 // docs/prognosis.md). Returns the first s in (0, horizon] at which this path reaches the threshold, NaN if none.

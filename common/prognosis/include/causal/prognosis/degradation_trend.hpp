@@ -19,6 +19,11 @@
 // than it was healthy), and a single innovation beyond huber_k standard deviations has bounded influence
 // (Huber weight: its gain is scaled by huber_k / |z|). A discontinuity (recording gap, restart) adds level
 // variance step_std^2, so a level step there is absorbed by the level, not read as a slope.
+//
+// Calibration: the trend checks its own forecasts against what came (calibration_lag_hours later) and keeps the
+// running mean square of the standardised errors as an inflation >= 1 of its acceleration diffusion and of the
+// forecast variance: on the simulations the truth came EARLIER than the intervals (the filter lagged wear whose
+// acceleration itself grows), and a channel's own errors are the evidence of how much (docs/prognosis.md).
 #pragma once
 
 #include <Eigen/Core>

@@ -4,7 +4,8 @@
 // state). With the trend posterior x = [m, b, a] ~ N(x, P) at now, the log level s hours ahead is Gaussian:
 //   m(s) ~ N(mu(s), sigma^2(s)),  h(s) = [1, s, s^2/2],  d^2(s) = f q s^5 / 20,
 //   mu(s) = h(s) x + sqrt(2/pi) d(s),  sigma^2(s) = h(s) P h(s)^T + (1 - 2/pi) d^2(s) + f q_level s
-// (f = TrendParams::forecast_diffusion: how much of the filter's acceleration diffusion the forecast keeps).
+// (f = TrendParams::forecast_diffusion: how much of the filter's acceleration diffusion the forecast keeps;
+// with the online calibration, q and h P h^T are multiplied by TrendState::inflation >= 1).
 // d(s) is the future acceleration's random walk folded to non-negative increments, because wear does not
 // heal: its contribution to the level is approximated by the mean and variance of a half-normal of scale d
 // (a symmetric diffusion made the late side of the interval run past any horizon, and on the simulations
