@@ -11,7 +11,8 @@ namespace {
 void load_prognosis(const config::Section& g, RecommenderParams& r) {
   g.only({"enabled", "end_of_life_ratio", "coverage", "min_trend_z", "min_points_since_onset", "max_horizon_hours",
           "max_width_factor", "acceleration_diffusion", "forecast_diffusion", "level_diffusion", "initial_slope_std",
-          "initial_acceleration_std", "min_noise_std", "huber_k", "noise_memory", "step_std"});
+          "initial_acceleration_std", "min_noise_std", "huber_k", "noise_memory", "step_std", "pessimistic_z",
+          "calibration_lag_hours", "calibration_memory"});
   r.prognosis_enabled = g.boolean("enabled");
   prognosis::PrognosisParams& p = r.prognosis;
   p.end_of_life_ratio = g.positive("end_of_life_ratio");
@@ -20,6 +21,7 @@ void load_prognosis(const config::Section& g, RecommenderParams& r) {
   p.min_points_since_onset = static_cast<int>(g.integer("min_points_since_onset", 2, 1000000));
   p.max_horizon_hours = g.positive("max_horizon_hours");
   p.max_width_factor = g.positive("max_width_factor");
+  p.pessimistic_z = g.non_negative("pessimistic_z");
   p.trend.acceleration_diffusion = g.non_negative("acceleration_diffusion");
   p.trend.forecast_diffusion = g.non_negative("forecast_diffusion");
   p.trend.level_diffusion = g.non_negative("level_diffusion");
@@ -29,6 +31,8 @@ void load_prognosis(const config::Section& g, RecommenderParams& r) {
   p.trend.huber_k = g.positive("huber_k");
   p.trend.noise_memory = g.positive("noise_memory");
   p.trend.step_std = g.non_negative("step_std");
+  p.trend.calibration_lag_hours = g.non_negative("calibration_lag_hours");
+  p.trend.calibration_memory = g.positive("calibration_memory");
   if (p.end_of_life_ratio <= r.condition.critical_ratio) {
     g.fail("end_of_life_ratio", "must be above condition_level.critical_ratio (the end of life comes after critical)");
   }

@@ -33,6 +33,7 @@ struct Options {
   std::uint64_t stop_index = 981;
   bool sim = false;
   int seeds = 20;
+  int first_seed = 1;  // seeds first_seed .. first_seed + seeds - 1 (other seeds: a held-out judge)
   bool trace = false;
   prognosis::PrognosisParams params;
 };
@@ -40,7 +41,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "causal-prognosis-eval: " << why << "\n"
             << "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | "
-               "--sim [--seeds 20]) [--acceleration-diffusion Q] [--forecast-diffusion F] [--min-trend-z Z] [--end-of-life-ratio R] [--trace]\n";
+               "--sim [--seeds 20]) [--acceleration-diffusion Q] [--forecast-diffusion F] [--first-seed 1] [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N] [--huber-k K] [--end-of-life-ratio R] [--trace]\n";
   std::exit(2);
 }
 
@@ -82,6 +83,11 @@ Options parse(int argc, char** argv) {
     else if (a == "--trace") o.trace = true;
     else if (a == "--acceleration-diffusion") o.params.trend.acceleration_diffusion = std::stod(value());
     else if (a == "--forecast-diffusion") o.params.trend.forecast_diffusion = std::stod(value());
+    else if (a == "--pessimistic-z") o.params.pessimistic_z = std::stod(value());
+    else if (a == "--calibration-lag") o.params.trend.calibration_lag_hours = std::stod(value());
+    else if (a == "--calibration-memory") o.params.trend.calibration_memory = std::stod(value());
+    else if (a == "--huber-k") o.params.trend.huber_k = std::stod(value());
+    else if (a == "--first-seed") o.first_seed = std::stoi(value());
     else if (a == "--min-trend-z") o.params.min_trend_z = std::stod(value());
     else if (a == "--end-of-life-ratio") o.params.end_of_life_ratio = std::stod(value());
     else usage("unknown option " + a);
@@ -150,7 +156,7 @@ int run_sim(const Options& o) {
   MethodScores twin_all[2], base_all[2];
   int no_alarm = 0;
   for (int kind = 0; kind < 2; ++kind) {
-    for (int seed = 1; seed <= o.seeds; ++seed) {
+    for (int seed = o.first_seed; seed < o.first_seed + o.seeds; ++seed) {
       SimSpec spec;
       spec.seed = static_cast<std::uint64_t>(seed);
       spec.gaussian = kind == 0;
@@ -180,9 +186,11 @@ int run_sim(const Options& o) {
     twin_both.level[static_cast<std::size_t>(l)].merge(twin_all[1].level[static_cast<std::size_t>(l)]);
     base_both.level[static_cast<std::size_t>(l)].merge(base_all[1].level[static_cast<std::size_t>(l)]);
   }
-  std::printf("simulated run-to-failure: %d seeds x {Gaussian, uniform} noise, acceleration_diffusion %g, forecast_diffusion %g, end of life %.3gx; "
-              "%d runs without a degradation alarm on the wearing channel\n",
-              o.seeds, o.params.trend.acceleration_diffusion, o.params.trend.forecast_diffusion, o.params.end_of_life_ratio, no_alarm);
+  std::printf("simulated run-to-failure: seeds %d..%d x {Gaussian, uniform} noise, acceleration_diffusion %g, forecast_diffusion %g, "
+              "pessimistic_z %g, calibration lag %g h memory %g, end of life %.3gx; %d runs without a degradation alarm on the wearing channel\n",
+              o.first_seed, o.first_seed + o.seeds - 1, o.params.trend.acceleration_diffusion, o.params.trend.forecast_diffusion,
+              o.params.pessimistic_z, o.params.trend.calibration_lag_hours, o.params.trend.calibration_memory,
+              o.params.end_of_life_ratio, no_alarm);
   std::cout << score_table("Gaussian noise", twin_all[0], base_all[0]) << "\n"
             << score_table("uniform noise", twin_all[1], base_all[1]) << "\n"
             << score_table("both", twin_both, base_both);

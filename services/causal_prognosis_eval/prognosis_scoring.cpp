@@ -82,6 +82,8 @@ void LevelScore::add(const Prediction& p, double actual) {
   if (!p.known) return;
   ++known;
   if (p.low <= actual && actual <= p.high) ++covered;
+  if (actual < p.low) ++truth_earlier;
+  widths.push_back(p.high - p.low);
   abs_errors.push_back(std::abs(p.hours - actual));
 }
 
@@ -90,6 +92,8 @@ void LevelScore::merge(const LevelScore& o) {
   known += o.known;
   covered += o.covered;
   reached_early += o.reached_early;
+  truth_earlier += o.truth_earlier;
+  widths.insert(widths.end(), o.widths.begin(), o.widths.end());
   abs_errors.insert(abs_errors.end(), o.abs_errors.begin(), o.abs_errors.end());
 }
 
@@ -149,19 +153,22 @@ void PrognosisScorer::observe(const alarms::Observation& obs) {
 std::string score_table(const std::string& title, const MethodScores& twin, const MethodScores& baseline) {
   std::string out = title + "\n";
   char buf[300];
-  std::snprintf(buf, sizeof buf, "| %-11s | %-10s | %9s | %6s | %15s | %13s | %14s | %7s |\n", "level", "method",
-                "decisions", "known", "coverage(known)", "coverage(all)", "median|err| h", "reached");
+  std::snprintf(buf, sizeof buf, "| %-11s | %-10s | %9s | %6s | %15s | %13s | %14s | %7s | %13s | %14s |\n", "level", "method",
+                "decisions", "known", "coverage(known)", "coverage(all)", "median|err| h", "reached", "truth earlier",
+                "median width h");
   out += buf;
-  out += "|-------------|------------|-----------|--------|-----------------|---------------|----------------|---------|\n";
+  out += "|-------------|------------|-----------|--------|-----------------|---------------|----------------|---------|---------------|----------------|\n";
   for (int l = 0; l < kLevels; ++l) {
     for (int m = 0; m < 2; ++m) {
       const LevelScore& s = (m == 0 ? twin : baseline).level[static_cast<std::size_t>(l)];
       const double d = static_cast<double>(s.decisions);
-      std::snprintf(buf, sizeof buf, "| %-11s | %-10s | %9llu | %5.1f%% | %14.1f%% | %12.1f%% | %14.2f | %7llu |\n",
+      std::snprintf(buf, sizeof buf, "| %-11s | %-10s | %9llu | %5.1f%% | %14.1f%% | %12.1f%% | %14.2f | %7llu | %12.1f%% | %14.2f |\n",
                     prognosis::to_string(kAll[l]), m == 0 ? "twin" : "theil-sen",
                     static_cast<unsigned long long>(s.decisions), s.decisions ? 100.0 * s.known / d : 0.0,
                     s.known ? 100.0 * s.covered / static_cast<double>(s.known) : 0.0, s.decisions ? 100.0 * s.covered / d : 0.0,
-                    median_of(s.abs_errors), static_cast<unsigned long long>(s.reached_early));
+                    median_of(s.abs_errors), static_cast<unsigned long long>(s.reached_early),
+                    s.known ? 100.0 * static_cast<double>(s.truth_earlier) / static_cast<double>(s.known) : 0.0,
+                    median_of(s.widths));
       out += buf;
     }
   }

@@ -33,7 +33,9 @@ struct LevelScore {
   std::uint64_t known = 0;        // ... with a known interval
   std::uint64_t covered = 0;      // ... whose interval holds the actual time
   std::uint64_t reached_early = 0;  // said "reached" while it was not
+  std::uint64_t truth_earlier = 0;  // known intervals that missed because the truth came before their low end
   std::vector<double> abs_errors;   // |median - actual| of the known ones, hours
+  std::vector<double> widths;       // high - low of the known ones, hours
   void add(const Prediction& p, double actual_hours);
   void merge(const LevelScore& o);
 };

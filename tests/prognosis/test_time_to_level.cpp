@@ -41,9 +41,11 @@ TrendParams no_forecast_diffusion() {
   return t;
 }
 
+// The Gaussian closed form alone: no pessimistic lower end.
 PrognosisParams lenient() {
   PrognosisParams p;
   p.min_points_since_onset = 2;
+  p.pessimistic_z = 0.0;
   return p;
 }
 
@@ -114,6 +116,59 @@ TEST(TimeToLevel, IntervalCoversTheTruthOnNoisyLines) {
   const double share = static_cast<double>(covered) / known;
   EXPECT_GT(share, 0.84) << covered << "/" << known;
   EXPECT_LT(share, 0.97) << covered << "/" << known;
+}
+
+TEST(TimeToLevel, PessimisticScenarioMovesOnlyTheLowerEnd) {
+  // State with a rising slope and acceleration: the pessimistic lower end is the exponential path's closed form
+  // m' + b' (exp(lambda s) - 1) / lambda = L, lambda = a' / b', every quantity at +z sd; median and upper end
+  // stay those of the Gaussian forecast.
+  TrendParams trend;
+  trend.acceleration_diffusion = 0.0;
+  trend.level_diffusion = 0.0;
+  TrendState s;
+  s.x << 0.1, 0.02, 0.0005;
+  s.p.setZero();
+  s.p(0, 0) = 0.01 * 0.01;
+  s.p(1, 1) = 0.002 * 0.002;
+  s.p(2, 2) = 0.0001 * 0.0001;
+  const double l = std::log(4.0), z = 2.0;
+  const auto gauss = time_to_level(s, trend, l, 100, lenient());
+  PrognosisParams pessimistic = lenient();
+  pessimistic.pessimistic_z = z;
+  const auto r = time_to_level(s, trend, l, 100, pessimistic);
+  ASSERT_TRUE(gauss.known && r.known) << gauss.why << r.why;
+  EXPECT_EQ(r.hours, gauss.hours);
+  EXPECT_EQ(r.hours_high, gauss.hours_high);
+  const double m = 0.1 + z * 0.01, b = 0.02 + z * 0.002, a = 0.0005 + z * 0.0001, lambda = a / b;
+  const double expected = std::log1p(lambda * (l - m) / b) / lambda;
+  ASSERT_LT(expected, gauss.hours_low);  // the scenario is earlier here, so it is the lower end
+  EXPECT_NEAR(r.hours_low, expected, 1e-9);
+}
+
+TEST(DegradationTrend, CalibrationInflatesOnlyWhenForecastsMiss) {
+  // A steady noisy line: the model's 1-h forecasts hold, the inflation stays near 1. A line whose slope jumps
+  // tenfold: the forecasts made an hour before miss by many sds, the inflation rises.
+  std::mt19937_64 a(3), b(3);
+  TrendParams calibrated;
+  calibrated.calibration_lag_hours = 1.0;
+  auto steady = ramp(0.0, 0.01, 48.0, 0.02, &a, calibrated);
+  EXPECT_GT(steady.calibration_checks(), 40u);
+  EXPECT_LT(steady.state().inflation, 2.0);
+  auto jump = ramp(0.0, 0.01, 48.0, 0.02, &b, calibrated);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const double y48 = 0.48;
+  for (int i = 1; i <= 18; ++i) {
+    const double h = i / 6.0;
+    ASSERT_TRUE(jump.observe(jump.state().time_ns + kHour / 6, y48 + 0.1 * h + 0.02 * n(b), 0.02, false));
+  }
+  EXPECT_GT(jump.state().inflation, 2.0 * std::max(1.0, steady.state().inflation));
+  // Off: no checks, no inflation.
+  std::mt19937_64 c(3);
+  TrendParams off;
+  off.calibration_lag_hours = 0.0;
+  auto plain = ramp(0.0, 0.01, 48.0, 0.02, &c, off);
+  EXPECT_EQ(plain.calibration_checks(), 0u);
+  EXPECT_EQ(plain.state().inflation, 1.0);
 }
 
 TEST(DegradationTrend, OneSpikeHasBoundedInfluence) {

@@ -10,7 +10,7 @@ namespace causal::prognosis {
 
 namespace {
 constexpr const char* kTag = "prognosis_channel_trends";
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: the trends carry their forecast calibration
 }  // namespace
 
 ChannelTrends::ChannelTrends(int channels, PrognosisParams params) : params_(params) {

@@ -12,7 +12,7 @@ namespace causal::prognosis {
 namespace {
 
 constexpr const char* kTag = "prognosis_degradation_trend";
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: forecast calibration (reference state, error mean square)
 constexpr double kNsPerHour = 3.6e12;
 
 void require(bool ok, const char* field, const char* what) {
@@ -24,8 +24,8 @@ void require(bool ok, const char* field, const char* what) {
 void TrendParams::validate() const {
   require(std::isfinite(acceleration_diffusion) && acceleration_diffusion >= 0, "acceleration_diffusion",
           "must be finite and >= 0");
-  require(std::isfinite(forecast_diffusion) && forecast_diffusion >= 0 && forecast_diffusion <= 1, "forecast_diffusion",
-          "must be in [0, 1]");
+  require(std::isfinite(forecast_diffusion) && forecast_diffusion >= 0, "forecast_diffusion",
+          "must be finite and >= 0");
   require(std::isfinite(initial_acceleration_std) && initial_acceleration_std > 0, "initial_acceleration_std",
           "must be finite and > 0");
   require(std::isfinite(level_diffusion) && level_diffusion >= 0, "level_diffusion", "must be finite and >= 0");
@@ -34,6 +34,23 @@ void TrendParams::validate() const {
   require(std::isfinite(huber_k) && huber_k >= 1, "huber_k", "must be finite and >= 1");
   require(std::isfinite(noise_memory) && noise_memory >= 1, "noise_memory", "must be finite and >= 1");
   require(std::isfinite(step_std) && step_std >= 0, "step_std", "must be finite and >= 0");
+  require(std::isfinite(calibration_lag_hours) && calibration_lag_hours >= 0, "calibration_lag_hours",
+          "must be finite and >= 0");
+  require(std::isfinite(calibration_memory) && calibration_memory >= 1, "calibration_memory", "must be finite and >= 1");
+}
+
+Forecast forecast(const TrendState& st, const TrendParams& trend, double s) {
+  const Eigen::Vector3d h(1.0, s, 0.5 * s * s);
+  // Future acceleration: wear does not heal, so its random walk is folded to non-negative increments; the
+  // level it adds by s hours, of variance d2 = q s^5 / 20 if unfolded, is approximated by the moments of the
+  // half-normal: mean sqrt(2 / pi) d, variance (1 - 2 / pi) d^2.
+  const double s5 = s * s * s * s * s;
+  const double d2 = trend.forecast_diffusion * trend.acceleration_diffusion * st.inflation * s5 / 20.0;
+  constexpr double kTwoOverPi = 0.6366197723675814;
+  Forecast f;
+  f.mean = h.dot(st.x) + std::sqrt(kTwoOverPi * d2);
+  f.var = st.inflation * h.dot(st.p * h) + (1.0 - kTwoOverPi) * d2 + trend.forecast_diffusion * trend.level_diffusion * s;
+  return f;
 }
 
 DegradationTrend::DegradationTrend(TrendParams params) : params_(params) { params_.validate(); }
@@ -41,7 +58,9 @@ DegradationTrend::DegradationTrend(TrendParams params) : params_(params) { param
 void DegradationTrend::predict(double dt, bool discontinuity) {
   Eigen::Matrix3d f;
   f << 1.0, dt, 0.5 * dt * dt, 0.0, 1.0, dt, 0.0, 0.0, 1.0;
-  const double q = params_.acceleration_diffusion, d2 = dt * dt, d3 = d2 * dt;
+  // Adaptive process noise: when this channel's own forecasts missed by more than their variance, the
+  // acceleration is allowed to change faster by the same factor (the filter lagged accelerating wear).
+  const double q = params_.acceleration_diffusion * state_.inflation, d2 = dt * dt, d3 = d2 * dt;
   Eigen::Matrix3d qm;
   qm << d3 * d2 / 20.0, d2 * d2 / 8.0, d3 / 6.0,  //
       d2 * d2 / 8.0, d3 / 3.0, d2 / 2.0,            //
@@ -66,6 +85,7 @@ bool DegradationTrend::observe(std::int64_t time_ns, double y, double noise_std,
     state_.p(1, 1) = params_.initial_slope_std * params_.initial_slope_std;
     state_.p(2, 2) = params_.initial_acceleration_std * params_.initial_acceleration_std;
     state_.time_ns = time_ns;
+    reference_ = state_;
     ++observations_;
     return true;
   }
@@ -91,8 +111,28 @@ bool DegradationTrend::observe(std::int64_t time_ns, double y, double noise_std,
   const double alpha = 1.0 / params_.noise_memory;
   noise_scale_ = std::max(1.0, (1.0 - alpha) * noise_scale_ +
                                    alpha * std::min(excess, params_.huber_k * params_.huber_k * noise_scale_));
+  calibrate(y, r_base * noise_scale_, discontinuity);
   ++observations_;
   return true;
+}
+
+void DegradationTrend::calibrate(double y, double r, bool discontinuity) {
+  if (params_.calibration_lag_hours <= 0) return;
+  if (discontinuity) {  // a level step is not a forecast error of the trend: restart the check from here
+    reference_ = state_;
+    return;
+  }
+  const double lag = static_cast<double>(state_.time_ns - reference_.time_ns) / kNsPerHour;
+  if (lag < params_.calibration_lag_hours) return;
+  TrendState ref = reference_;
+  ref.inflation = 1.0;  // the model's own forecast: the inflation measures it, it does not correct itself
+  const Forecast f = forecast(ref, params_, lag);
+  const double e2 = (y - f.mean) * (y - f.mean) / std::max(f.var + r, 1e-300);
+  const double alpha = 1.0 / params_.calibration_memory;
+  error_ms_ = (1.0 - alpha) * error_ms_ + alpha * std::min(e2, params_.huber_k * params_.huber_k * std::max(error_ms_, 1.0));
+  state_.inflation = std::max(1.0, error_ms_);
+  ++checks_;
+  reference_ = state_;
 }
 
 void DegradationTrend::save(causal::StateWriter& out) const {
@@ -106,10 +146,19 @@ void DegradationTrend::save(causal::StateWriter& out) const {
   out.put(params_.huber_k);
   out.put(params_.noise_memory);
   out.put(params_.step_std);
+  out.put(params_.calibration_lag_hours);
+  out.put(params_.calibration_memory);
   out.put(state_.x);
   out.put(state_.p);
   out.put(state_.time_ns);
   out.put(noise_scale_);
+  out.put(state_.inflation);
+  out.put(reference_.x);
+  out.put(reference_.p);
+  out.put(reference_.time_ns);
+  out.put(reference_.inflation);
+  out.put(error_ms_);
+  out.put(checks_);
   out.put(observations_);
   out.put(refused_);
   out.put(downweighted_);
@@ -127,11 +176,14 @@ DegradationTrend DegradationTrend::restore(causal::StateReader& in, const TrendP
   saved.huber_k = in.get<double>();
   saved.noise_memory = in.get<double>();
   saved.step_std = in.get<double>();
+  saved.calibration_lag_hours = in.get<double>();
+  saved.calibration_memory = in.get<double>();
   if (saved.acceleration_diffusion != params.acceleration_diffusion ||
       saved.forecast_diffusion != params.forecast_diffusion || saved.level_diffusion != params.level_diffusion ||
       saved.initial_slope_std != params.initial_slope_std ||
       saved.initial_acceleration_std != params.initial_acceleration_std || saved.min_noise_std != params.min_noise_std ||
-      saved.huber_k != params.huber_k || saved.noise_memory != params.noise_memory || saved.step_std != params.step_std) {
+      saved.huber_k != params.huber_k || saved.noise_memory != params.noise_memory || saved.step_std != params.step_std ||
+      saved.calibration_lag_hours != params.calibration_lag_hours || saved.calibration_memory != params.calibration_memory) {
     throw causal::StateError("the degradation trend was written with other prognosis trend parameters");
   }
   DegradationTrend t(params);
@@ -139,6 +191,13 @@ DegradationTrend DegradationTrend::restore(causal::StateReader& in, const TrendP
   t.state_.p = in.get<Eigen::Matrix3d>();
   t.state_.time_ns = in.get<std::int64_t>();
   t.noise_scale_ = in.get<double>();
+  t.state_.inflation = in.get<double>();
+  t.reference_.x = in.get<Eigen::Vector3d>();
+  t.reference_.p = in.get<Eigen::Matrix3d>();
+  t.reference_.time_ns = in.get<std::int64_t>();
+  t.reference_.inflation = in.get<double>();
+  t.error_ms_ = in.get<double>();
+  t.checks_ = in.get<std::uint64_t>();
   t.observations_ = in.get<std::uint64_t>();
   t.refused_ = in.get<std::uint64_t>();
   t.downweighted_ = in.get<std::uint64_t>();

@@ -17,16 +17,8 @@ constexpr int kGridPoints = 400;           // log-spaced up to the horizon (2.4 
 
 // Standardised distance of the predicted log level s hours ahead above the threshold.
 double standardised(const TrendState& st, const TrendParams& trend, double log_threshold, double s) {
-  const Eigen::Vector3d h(1.0, s, 0.5 * s * s);
-  // Future acceleration: wear does not heal, so its random walk is folded to non-negative increments; the
-  // level it adds by s hours, of variance d2 = q s^5 / 20 if unfolded, is approximated by the moments of the
-  // half-normal: mean sqrt(2 / pi) d, variance (1 - 2 / pi) d^2.
-  const double s5 = s * s * s * s * s;
-  const double d2 = trend.forecast_diffusion * trend.acceleration_diffusion * s5 / 20.0;
-  constexpr double kTwoOverPi = 0.6366197723675814;
-  const double mu = h.dot(st.x) + std::sqrt(kTwoOverPi * d2) - log_threshold;
-  const double var = h.dot(st.p * h) + (1.0 - kTwoOverPi) * d2 + trend.forecast_diffusion * trend.level_diffusion * s;
-  return mu / std::sqrt(std::max(var, 1e-300));
+  const Forecast f = forecast(st, trend, s);
+  return (f.mean - log_threshold) / std::sqrt(std::max(f.var, 1e-300));
 }
 
 double grid_time(int k, double horizon) {
@@ -51,6 +43,24 @@ double first_time_at_or_above(const TrendState& st, const TrendParams& trend, do
     before = t;
   }
   return kNaN;
+}
+
+// Pessimistic scenario (PrognosisParams::pessimistic_z): level m' = m + z sd(m), slope b' = b + z sd(b) and
+// acceleration a' = max(a, 0) + z sd(a) (sds scaled by the calibration's inflation), and the log level's slope
+// growing exponentially at the rate lambda = a' / b' that matches a' now: m(s) = m' + b' (exp(lambda s) - 1) / lambda. Why exponential:
+// wear whose amplitude grows exponentially (w = c (exp(lambda tau) - 1)) has a log level whose acceleration
+// itself grows, faster than any quadratic extrapolation (the "truth earlier than the interval" misses in
+// docs/prognosis.md). Returns the first s in (0, horizon] at which this path reaches the threshold, NaN if none.
+double pessimistic_time(const TrendState& st, double log_threshold, double z, double horizon) {
+  const double b = st.x[1] + z * std::sqrt(std::max(st.inflation * st.p(1, 1), 0.0));
+  const double a = std::max(st.x[2], 0.0) + z * std::sqrt(std::max(st.inflation * st.p(2, 2), 0.0));
+  const double gap = log_threshold - (st.x[0] + z * std::sqrt(std::max(st.inflation * st.p(0, 0), 0.0)));
+  if (gap <= 0.0) return 0.0;
+  if (b <= 0.0) return kNaN;
+  const double lambda = a / b;
+  // Solve m + b (exp(lambda s) - 1) / lambda = L for s; lambda -> 0 is the straight line.
+  const double s = lambda * horizon < 1e-9 ? gap / b : std::log1p(lambda * gap / b) / lambda;
+  return s <= horizon ? s : kNaN;
 }
 
 void unknown(TimeToLevel& out, std::string why) {
@@ -82,6 +92,7 @@ void PrognosisParams::validate() const {
   require(min_points_since_onset >= 2, "min_points_since_onset", "must be >= 2");
   require(std::isfinite(max_horizon_hours) && max_horizon_hours > 1, "max_horizon_hours", "must be finite and > 1");
   require(std::isfinite(max_width_factor) && max_width_factor > 1, "max_width_factor", "must be finite and > 1");
+  require(std::isfinite(pessimistic_z) && pessimistic_z >= 0, "pessimistic_z", "must be finite and >= 0");
 }
 
 double crossing_probability(const TrendState& s, const TrendParams& trend, double log_threshold, double hours) {
@@ -140,6 +151,10 @@ TimeToLevel time_to_level(const TrendState& s, const TrendParams& trend, double 
   out.known = true;
   out.hours = median;
   out.hours_low = low;
+  if (params.pessimistic_z > 0) {
+    const double early = pessimistic_time(s, log_threshold, params.pessimistic_z, h);
+    if (std::isfinite(early) && early < low) out.hours_low = early;
+  }
   out.hours_high = high;
   return out;
 }

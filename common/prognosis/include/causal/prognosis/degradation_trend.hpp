@@ -19,6 +19,11 @@
 // than it was healthy), and a single innovation beyond huber_k standard deviations has bounded influence
 // (Huber weight: its gain is scaled by huber_k / |z|). A discontinuity (recording gap, restart) adds level
 // variance step_std^2, so a level step there is absorbed by the level, not read as a slope.
+//
+// Calibration: the trend checks its own forecasts against what came (calibration_lag_hours later) and keeps the
+// running mean square of the standardised errors as an inflation >= 1 of its acceleration diffusion and of the
+// forecast variance: on the simulations the truth came EARLIER than the intervals (the filter lagged wear whose
+// acceleration itself grows), and a channel's own errors are the evidence of how much (docs/prognosis.md).
 #pragma once
 
 #include <Eigen/Core>
@@ -45,6 +50,15 @@ struct TrendParams {
   double huber_k = 3.0;             // innovations beyond k sigma have bounded influence
   double noise_memory = 36.0;       // observations of the running noise scale (36 = 6 h at 10-min spacing)
   double step_std = 0.2;            // level std added at a discontinuity (re-levelling after a gap: +15-20 %)
+  // Online calibration of the forecast from the channel's own past forecast errors: every calibration_lag_hours
+  // the forecast made calibration_lag_hours ago is compared with the observation now, and the running mean
+  // square of that standardised error (memory calibration_memory checks, each clipped at huber_k^2 times the
+  // current value) becomes TrendState::inflation (never below 1): it scales the forecast's posterior
+  // variance and the acceleration diffusion of both the filter and the forecast (the filter lagged accelerating
+  // wear: let its acceleration change faster). 0 lag = off. Chosen on simulation seeds 1-20, judged on
+  // seeds 101-120 and IMS (docs/prognosis.md).
+  double calibration_lag_hours = 1.0;
+  double calibration_memory = 8.0;
   void validate() const;            // throws std::invalid_argument naming the bad field
 };
 
@@ -53,7 +67,17 @@ struct TrendState {
   Eigen::Vector3d x = Eigen::Vector3d::Zero();  // [log level, slope per hour, acceleration per hour^2]
   Eigen::Matrix3d p = Eigen::Matrix3d::Zero();  // its covariance
   std::int64_t time_ns = 0;                     // time of the last observation
+  // Forecast variance inflation (>= 1) from the calibration: the model's own past forecasts missed by this
+  // many times their variance on this channel (adaptive variance inflation; Jazwinski 1970, ch. 8).
+  double inflation = 1.0;
 };
+
+// Predicted log level s hours after the state's time: mean and variance, including the forecast diffusion
+// folded to non-negative increments (time_to_level.hpp) and the inflation.
+struct Forecast {
+  double mean = 0.0, var = 0.0;
+};
+Forecast forecast(const TrendState& s, const TrendParams& trend, double hours);
 
 class DegradationTrend {
  public:
@@ -69,6 +93,7 @@ class DegradationTrend {
   std::uint64_t refused() const { return refused_; }
   std::uint64_t downweighted() const { return downweighted_; }  // innovations beyond huber_k sigma
   double noise_scale() const { return noise_scale_; }           // current R / R_baseline
+  std::uint64_t calibration_checks() const { return checks_; }  // forecast errors the inflation has seen
   const TrendParams& params() const { return params_; }
 
   // Checkpoint: every field, so a restored trend continues bit for bit (restore throws causal::StateError).
@@ -77,10 +102,14 @@ class DegradationTrend {
 
  private:
   void predict(double dt_hours, bool discontinuity);
+  void calibrate(double y, double r, bool discontinuity);
 
   TrendParams params_;
   TrendState state_;
   double noise_scale_ = 1.0;
+  TrendState reference_;      // the posterior calibration_lag_hours ago, whose forecast is checked next
+  double error_ms_ = 1.0;     // running mean square of the standardised forecast errors
+  std::uint64_t checks_ = 0;
   std::uint64_t observations_ = 0, refused_ = 0, downweighted_ = 0;
 };
 
