@@ -149,7 +149,7 @@ TEST(OperatorStatus, AssetStatusSaysLearningThenHealthyThenAlarmAndIsRecorded) {
   EXPECT_EQ(rows[1][col.at("learning_seen")], "1");
   EXPECT_EQ(learning_rows, 139u);  // 1 of 140 .. 139 of 140; the 140th observation completes the baseline
   EXPECT_GT(first.at("healthy"), first.at("learning"));
-  EXPECT_EQ(first.at("alarm"), 533);  // bearing 1's first alarm (README: snapshot 533)
+  EXPECT_EQ(first.at("alarm"), 541);  // bearing 1's first alarm (docs/results-ims.md: snapshot 541)
   const auto& last = rows.back();
   EXPECT_EQ(last[col.at("state")], "alarm");
   EXPECT_EQ(last[col.at("root_cause_name")], "bearing1");

@@ -44,7 +44,10 @@ std::vector<std::string> env_words(const fs::path& file, const std::string& key)
   std::string line;
   while (std::getline(lines, line)) {
     if (line.rfind(key + "=", 0) != 0) continue;
-    std::istringstream words(line.substr(key.size() + 1));
+    std::string value = line.substr(key.size() + 1);
+    // systemd EnvironmentFile syntax: a value may be quoted as a whole (the shipped files quote theirs).
+    if (value.size() >= 2 && value.front() == '"' && value.back() == '"') value = value.substr(1, value.size() - 2);
+    std::istringstream words(value);
     std::vector<std::string> out;
     for (std::string w; words >> w;) out.push_back(w);
     return out;

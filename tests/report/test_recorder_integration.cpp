@@ -394,7 +394,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   EXPECT_EQ(alarm_rows[3][3], "innovation_nis");
   const auto rec = causal::report::parse_csv(slurp(run / "recommendations.csv"));
   ASSERT_EQ(rec.rows.size(), 1u);
-  EXPECT_EQ(rec.header.size(), 26u);
+  EXPECT_EQ(rec.header.size(), 34u);  // 26 + sample_index, action, action_kind, act_on_*, horizon_hours, order_*
   EXPECT_EQ(rec.rows[0][12], "lower Bearing 3's load, then re-check");
 
   // The report, when gnuplot is there.
