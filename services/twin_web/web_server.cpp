@@ -23,7 +23,7 @@ namespace {
 using nlohmann::json;
 
 // In index.html: replaced by the CSRF token when the page is served.
-constexpr const char* kCsrfPlaceholder = "__TWIN_CSRF_TOKEN__";
+constexpr const char* kCsrfMarker = "__TWIN_CSRF_TOKEN__";
 
 void send_json(httplib::Response& res, int status, const json& body) {
   res.status = status;
@@ -218,10 +218,11 @@ void WebServer::guard_requests() {
 void WebServer::routes() {
   auto& s = *server_;
   for (const auto& asset : kEmbeddedAssets) {
-    // The page carries this process's CSRF token (a placeholder in index.html); only it can read it.
+    // The page carries this process's CSRF token (a marker in index.html, replaced when the page is served);
+    // only it can read it.
     std::string body(asset.body.data(), asset.body.size());
-    if (const auto at = body.find(kCsrfPlaceholder); at != std::string::npos) {
-      body.replace(at, std::string(kCsrfPlaceholder).size(), guard_->csrf_token());
+    if (const auto at = body.find(kCsrfMarker); at != std::string::npos) {
+      body.replace(at, std::string(kCsrfMarker).size(), guard_->csrf_token());
     }
     auto serve = [asset, body](const httplib::Request&, httplib::Response& res) {
       res.set_header("Cache-Control", "no-cache");

@@ -101,7 +101,7 @@ struct DdsSettings {
   std::string role_tag;
   // A reliable writer whose matched readers have not all acknowledged for this long raises a HEALTH alarm
   // (ack_watch.hpp); 0 = not watched.
-  double ack_stall_s = 4.0;
+  double ack_stall_s = 7.0;  // > the 5 s lease: a crashed reader is unmatched by its lease, not reported twice
 };
 
 class Participant {

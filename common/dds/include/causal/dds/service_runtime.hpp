@@ -33,7 +33,8 @@ struct CommonOptions {
   std::string security_identity;  // --security-identity NAME: the identity folder in it (default: per service)
   int metrics_port = 0;                       // 0 = no /metrics endpoint
   std::string metrics_bind = "127.0.0.1";     // loopback unless the operator opens it on purpose
-  double ack_stall_s = 4.0;  // --ack-stall: readers not acknowledging this long raise a HEALTH alarm (ack_watch.hpp)
+  double ack_stall_s = 7.0;  // --ack-stall: readers not acknowledging this long raise a HEALTH alarm (ack_watch.hpp);
+                             // longer than the 5 s lease, so a crashed reader is reported by its lease alone
 };
 
 // Folder of the qos.xml the configuration search chose ("" when none): flag, $CAUSAL_TWIN_DDS_DIR, the source
