@@ -14,7 +14,8 @@
 #    acknowledge over shared memory (Fast DDS 2.9 creates its segments and ports with mode 0644), so the
 #    services' writers stall; checked: a reader_not_acknowledging HEALTH alarm within 15 s of the tool joining (--ack-stall 7 s),
 #    naming it (causal-recorder [user ctwin-other ...]). Bounded: the run is stopped once it is seen.
-# Fixed DDS domain 223 (tests/fault/CMakeLists.txt).
+# Fixed DDS domains: 223 shipped, 224 shm (tests/fault/CMakeLists.txt): the two modes must never hear each other
+# (on one domain a second causal-estimator appears, the replay rewinds for it and resends).
 set -uo pipefail
 bin="$1"; deploy="$2"; mode="${3:-shipped}"
 other=ctwin-other
@@ -44,7 +45,9 @@ services_profile="$deploy/dds/localhost-udp.xml"
 [ "$mode" = shm ] && services_profile="$deploy/dds/localhost.xml"
 tool_profile="$deploy/dds/localhost.xml"
 table="$deploy/data/ims2-features/derived_per_file_stats_all984.csv"
-c=(--domain 223 --qos "$deploy/dds/qos.xml" --transport "$services_profile")
+domain=223
+[ "$mode" = shm ] && domain=224
+c=(--domain "$domain" --qos "$deploy/dds/qos.xml" --transport "$services_profile")
 limit=90
 [ "$mode" = shm ] && limit=40
 echo "services: $(id -un) on $(basename "$services_profile"); the other user's tool: $other on $(basename "$tool_profile")"
@@ -58,8 +61,8 @@ echo "services: $(id -un) on $(basename "$services_profile"); the other user's t
 mkdir -p "$work/other"; chown "$other" "$work/other"
 sleep 5
 grep -q "ingest\|snapshot\|sent" "$work/replay.log" || echo "note: replay log so far: $(tail -2 "$work/replay.log")"
-runuser -u "$other" -- sh -c 'echo $$ > "$1/other.pid"; exec "$2" --domain 223 --qos "$3" --transport "$4" --out "$1/other/rec" --idle-exit 6 --max-runtime "$5"' \
-  sh "$work" "$bin/causal_recorder/causal-recorder" "$deploy/dds/qos.xml" "$tool_profile" "$limit" > "$work/other.log" 2>&1 &
+runuser -u "$other" -- sh -c 'echo $$ > "$1/other.pid"; exec "$2" --domain "$6" --qos "$3" --transport "$4" --out "$1/other/rec" --idle-exit 6 --max-runtime "$5"' \
+  sh "$work" "$bin/causal_recorder/causal-recorder" "$deploy/dds/qos.xml" "$tool_profile" "$limit" "$domain" > "$work/other.log" 2>&1 &
 other_job=$!
 joined_at=$(date +%s.%N)
 echo "$other's causal-recorder joined 5 s into the run"
@@ -84,7 +87,7 @@ cat "$work/exits"
 [ "$other_rc" = 0 ] || fail "the other user's recorder exited $other_rc: $(tail -3 "$work/other.log")"
 sent=$(sed -n 's/.*summary topic=causal_twin\/condition_input sent=\([0-9]*\).*/\1/p' "$work/replay.log")
 got=$(sed -n 's/.*summary topic=causal_twin\/condition_input received=\([0-9]*\).*/\1/p' "$work/estimator.log")
-[ "$sent" = 984 ] && [ "$got" = 984 ] || fail "condition inputs: sent=$sent received=$got (want 984 = 984)"
+[ "$sent" = 984 ] && [ "$got" = 984 ] || fail "condition inputs: sent=$sent received=$got (want 984 = 984); replay: $(grep -h "summary\|warn" "$work/replay.log" | head -5)"
 cond="$work/rec/conditions_ims2-shaft1_meanabs.csv"
 rows=$(( $(wc -l < "$cond") - 1 ))
 [ "$rows" = 984 ] || fail "recorded condition vectors: $rows (want 984)"

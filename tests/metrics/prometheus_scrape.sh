@@ -24,6 +24,8 @@ cleanup() {
   rm -rf "$work"
 }
 trap cleanup EXIT
+# Under `set -e` a failing command would end the test without a word: name it.
+trap 'echo "FAIL: line $LINENO: \"$BASH_COMMAND\" exited $?"' ERR
 
 # Four free TCP ports on 127.0.0.1 (a port nobody listens on now).
 free_ports=()
@@ -67,6 +69,14 @@ prometheus --config.file "$work/prometheus.yml" --storage.tsdb.path "$work/tsdb"
   --web.listen-address "127.0.0.1:$prom_port" > "$work/prometheus.log" 2>&1 &
 pids+=($!); prometheus_pid=$!
 
+# Prometheus must be serving before it is asked (bounded: 60 s; on a loaded machine its start takes seconds).
+ready_deadline=$((SECONDS + 60))
+until curl -sf --max-time 2 "http://127.0.0.1:$prom_port/-/ready" > /dev/null; do
+  kill -0 "$prometheus_pid" 2> /dev/null || { tail -5 "$work/prometheus.log"; echo "FAIL: prometheus exited"; exit 1; }
+  [ $SECONDS -lt $ready_deadline ] || { tail -5 "$work/prometheus.log"; echo "FAIL: prometheus not ready in 60 s"; exit 1; }
+  sleep 0.5
+done
+
 rc=0
 "$svc/sensor_replay/sensor-replay" "${dds[@]}" --speed 0 --wait-for causal-estimator --wait-timeout 60 \
   --features "$deploy/data/ims2-features/derived_per_file_stats_all984.csv" --feature-suffix _meanabs \
@@ -75,9 +85,10 @@ rc=0
 sent=$(sed -n 's/.*summary topic=causal_twin\/condition_input sent=\([0-9]*\).*/\1/p' "$work/replay.log")
 [ -n "$sent" ] || { cat "$work/replay.log"; echo "FAIL: no replay summary"; exit 1; }
 
-# query EXPR: the value of a one-sample instant query ("" when there is none yet).
+# query EXPR: the value of a one-sample instant query ("" when there is none yet, or Prometheus did not answer
+# this time: the callers wait, bounded, or fail naming the value).
 query() {
-  curl -s --max-time 5 --get "http://127.0.0.1:$prom_port/api/v1/query" --data-urlencode "query=$1" \
+  { curl -s --max-time 5 --get "http://127.0.0.1:$prom_port/api/v1/query" --data-urlencode "query=$1" || true; } \
     | sed -n 's/.*"value":\[[0-9.e+]*,"\([^"]*\)"\].*/\1/p'
 }
 metric() {  # metric SERVICE NAME TOPIC
