@@ -87,6 +87,13 @@ std::string claim_problem(const AlarmSituation& s, const AdviceItem& c, bool che
            ": the interval includes no change";
   }
   if (!trusted) return trust_why;
+  if (c.reference == "appeared") {
+    // Both rising at once from their own causes looks like a new link to a time-varying model: a lever must
+    // have been one while the plant was healthy (docs/advice.md, "A lever must predate the fault").
+    return "the link from " + name_of(s, c.intervene) + " to " + name_of(s, s.target) +
+           " was not in the healthy model (effect then " + analysis::percent_text(c.reference_percent) +
+           "): it came with the fault, and a common cause of both rises explains it as well";
+  }
   return "";
 }
 

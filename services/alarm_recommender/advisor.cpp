@@ -62,6 +62,28 @@ void Advisor::update(const AssembledObservation& a) {
     if (m.spacings_h.size() > 31) m.spacings_h.erase(m.spacings_h.begin());
   }
   if (t != 0) m.last_time_ns = t;
+  ++m.observations;
+  note_reference(m, params_.reference_confirm_observations);
+}
+
+Advisor::FactorSnapshot Advisor::snapshot_of(const AssetModel& m) {
+  return FactorSnapshot{m.factors, m.factor_std, m.blocks, m.observations};
+}
+
+void Advisor::note_reference(AssetModel& m, int confirm) {
+  if (m.candidate && m.observations - m.candidate->at >= static_cast<std::uint64_t>(std::max(confirm, 0))) {
+    m.reference = std::move(m.candidate);
+    m.candidate.reset();
+  }
+  if (!m.candidate && m.settled) m.candidate = snapshot_of(m);
+}
+
+void Advisor::set_health(const std::string& asset_group, bool learning, bool degraded) {
+  const auto it = models_.find(asset_group);
+  if (it == models_.end()) return;
+  it->second.settled = !learning && !degraded;
+  // A candidate captured shortly before the alarm may already carry the fault: it never becomes the reference.
+  if (!it->second.settled) it->second.candidate.reset();
 }
 
 double Advisor::snapshot_hours(const std::string& asset_group) const {
@@ -73,18 +95,24 @@ double Advisor::snapshot_hours(const std::string& asset_group) const {
   return s[s.size() / 2];
 }
 
-bool Advisor::blocks_usable(const AssetModel& m) {
-  if (!m.layout || m.blocks.empty()) return false;
-  for (const auto& b : m.blocks) {
+namespace {
+
+bool blocks_fit(const SvarLayout& layout, const Eigen::VectorXd& factors, const std::vector<Eigen::MatrixXd>& blocks) {
+  if (blocks.empty()) return false;
+  for (const auto& b : blocks) {
     if (!b.allFinite()) return false;  // a NaN block would poison every Monte Carlo draw
   }
   try {
-    analysis::validate_posterior(*m.layout, analysis::FactorPosterior{m.factors, m.blocks});
+    analysis::validate_posterior(layout, analysis::FactorPosterior{factors, blocks});
   } catch (const std::invalid_argument&) {
     return false;  // block sizes do not match the layout rebuilt from the names
   }
   return true;
 }
+
+}  // namespace
+
+bool Advisor::blocks_usable(const AssetModel& m) { return m.layout && blocks_fit(*m.layout, m.factors, m.blocks); }
 
 bool Advisor::full_covariance(const std::string& asset_group) const {
   const auto it = models_.find(asset_group);
@@ -94,6 +122,35 @@ bool Advisor::full_covariance(const std::string& asset_group) const {
 analysis::FactorPosterior Advisor::posterior(const AssetModel& m) const {
   if (blocks_usable(m)) return analysis::FactorPosterior{m.factors, m.blocks};
   return analysis::posterior_from_std_devs(*m.layout, m.factors, m.factor_std);
+}
+
+analysis::FactorPosterior Advisor::posterior(const SvarLayout& layout, const FactorSnapshot& s) const {
+  if (blocks_fit(layout, s.factors, s.blocks)) return analysis::FactorPosterior{s.factors, s.blocks};
+  return analysis::posterior_from_std_devs(layout, s.factors, s.factor_std);
+}
+
+void Advisor::compare_with_reference(const AssetModel& m, int target,
+                                     const std::vector<analysis::CandidateIntervention>& candidates,
+                                     const analysis::RecommendationOptions& options, double level,
+                                     std::vector<AdviceItem>& items) const {
+  if (!m.reference || m.reference->factors.size() != m.factors.size()) return;
+  // The same questions on the model as it was while healthy: a lever must have been a lever before the fault.
+  const auto before = analysis::rank_interventions(*m.layout, posterior(*m.layout, *m.reference), target, candidates, options);
+  const analysis::EffectUnits u = units(&m);
+  for (auto& item : items) {
+    for (const auto& r : before) {
+      if (r.action.channel != item.intervene) continue;
+      // Held: the healthy model gives the same effect, reliably, or at least half of it with the same sign
+      // (an early reference is uncertain: its 12-snapshot interval can be wide near a unit root even where
+      // the link is strong). On the simulated plants the healthy medians are -42..-52 % with a lever and
+      // -9..+12 % without one (causal_bench_lever_decisions, VERBOSE=1).
+      const bool finite = std::isfinite(r.effect) && std::isfinite(item.effect);
+      const bool held = finite && (r.effect > 0.0) == (item.effect > 0.0) &&
+                        (r.reliable || std::abs(r.effect) >= 0.5 * std::abs(item.effect));
+      item.reference = held ? "held" : "appeared";
+      item.reference_percent = analysis::percent_of_level(r.effect, level, u);
+    }
+  }
 }
 
 Eigen::VectorXd Advisor::to_model_units(const Eigen::VectorXd& features) const {
@@ -248,6 +305,7 @@ std::vector<AdviceItem> Advisor::evaluate(const std::string& asset_group, int ta
     }
     out.push_back(std::move(a));
   }
+  compare_with_reference(m, target, candidates, options, level, out);
   return out;
 }
 

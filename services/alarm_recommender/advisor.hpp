@@ -41,6 +41,9 @@ struct AdvisorParams {
   int draws = 2000;               // Monte Carlo draws
   bool model_log_features = true; // the estimator's condition_level.log_transform
   analysis::AnswerRule rule;      // steady state / horizon / refusal (alarms.yaml recommendations.answer_*)
+  // The healthy reference model (Advisor::set_health): a model captured past learning with no degradation alarm
+  // open becomes the reference once this many further observations passed so (144 = 1 day at 10 min).
+  int reference_confirm_observations = 144;
 };
 
 // Stability and units of one answer, as published (Recommendation, WhatIfReply).
@@ -69,6 +72,12 @@ struct AdviceItem {
   std::string summary;            // the one line: horizon, interval, confidence, stability
   std::string text;
   std::string action;             // set by the advice policy: what to do (the published Recommendation.action)
+  // The same intervention answered on the healthy reference model (the causal links before the fault).
+  // "held": there too (reliable, or at least half the effect with the same sign); "appeared": not (a link that
+  // came with the fault: a common cause of both rises explains it as well, so no lever may be claimed on it);
+  // "none": no confirmed reference yet (Advisor::set_health).
+  std::string reference = "none";
+  double reference_percent = 0.0; // the reference model's median effect, % of the target's current level
 };
 
 struct WhatIfAnswer {
@@ -89,6 +98,11 @@ class Advisor {
 
   // Condition-level filter observations update the asset group's model; others are ignored.
   void update(const AssembledObservation& a);
+  // The group's alarm state now: still learning its baseline, and whether a degradation alarm is open. While
+  // it is neither, the advisor captures the current model as a candidate reference; a candidate becomes the
+  // group's healthy reference after reference_confirm_observations more observations in that state (a fault
+  // that began after the capture cannot have shaped it). No reference before the first confirmation.
+  void set_health(const std::string& asset_group, bool learning, bool degraded);
   bool has_model(const std::string& asset_group) const { return models_.count(asset_group) > 0; }
   // True when the group's latest model has full per-outcome covariance blocks (else: diagonal fallback).
   bool full_covariance(const std::string& asset_group) const;
@@ -109,6 +123,11 @@ class Advisor {
   WhatIfAnswer what_if(const std::string& asset_group, int channel, double delta, bool sustained) const;
 
  private:
+  struct FactorSnapshot {
+    Eigen::VectorXd factors, factor_std;
+    std::vector<Eigen::MatrixXd> blocks;
+    std::uint64_t at = 0;  // the model's observation count when captured
+  };
   struct AssetModel {
     std::unique_ptr<SvarLayout> layout;
     std::vector<std::string> channel_names;
@@ -116,7 +135,16 @@ class Advisor {
     std::vector<Eigen::MatrixXd> blocks;  // P_k per outcome; empty when the latest observation had none
     std::int64_t last_time_ns = 0;
     std::vector<double> spacings_h;       // the last few snapshot spacings (hours), for horizons in hours
+    std::uint64_t observations = 0;
+    bool settled = false;                 // past learning and no degradation alarm open (set_health)
+    std::optional<FactorSnapshot> reference, candidate;
   };
+  static FactorSnapshot snapshot_of(const AssetModel& m);
+  static void note_reference(AssetModel& m, int confirm);
+  analysis::FactorPosterior posterior(const SvarLayout& layout, const FactorSnapshot& s) const;
+  void compare_with_reference(const AssetModel& m, int target, const std::vector<analysis::CandidateIntervention>& candidates,
+                              const analysis::RecommendationOptions& options, double level,
+                              std::vector<AdviceItem>& items) const;
   // Full blocks when usable, else diagonal blocks from factor_std.
   analysis::FactorPosterior posterior(const AssetModel& m) const;
   static bool blocks_usable(const AssetModel& m);

@@ -14,6 +14,17 @@
 
 namespace causal::recommender {
 
+namespace {
+
+bool has_open_degradation(const alarms::AlarmEngine& engine) {
+  for (const auto& e : engine.active_alarms()) {
+    if (e.category == alarms::category::kDegradation) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams params)
     : options_(std::move(options)),
       params_(std::move(params)),
@@ -200,6 +211,7 @@ void RecommenderNode::observe(AssembledObservation& a) {
   const auto gaps_before = st.engine->discontinuities();
   const auto events = st.engine->observe(a.observation);
   const bool stopped_now = st.engine->not_running_observations() > not_running_before;
+  if (!sample) advisor_.set_health(a.asset_group, !st.engine->baseline_ready(), has_open_degradation(*st.engine));
   if (!sample) {  // the trends follow every snapshot, alarm or not, so a prognosis has history at the raise
     const int refused = prognosis::observe_for_prognosis(*st.trends, *st.engine, a.observation,
                                                          a.observation.discontinuity ||

@@ -112,7 +112,7 @@ RecommenderParams load_recommender_params(const std::string& path) {
   const Section a = root.child("recommendations");
   a.only({"enabled", "max_per_alarm", "excess_fraction", "min_excess_percent", "coverage", "draws", "model_log_features",
           "max_stable_radius", "max_unstable_share", "horizon_snapshots", "refuse_unstable_share",
-          "min_order_confidence"});
+          "min_order_confidence", "reference_confirm_observations"});
   r.advice.enabled = a.boolean("enabled");
   r.advice.max_per_alarm = static_cast<int>(a.integer("max_per_alarm", 1, 64));
   r.advice.excess_fraction = a.positive("excess_fraction");
@@ -131,6 +131,7 @@ RecommenderParams load_recommender_params(const std::string& path) {
   if (r.advice.rule.refuse_unstable_share > 1.0) a.fail("refuse_unstable_share", "must be in [0, 1]");
   r.policy.min_order_confidence = a.non_negative("min_order_confidence");
   if (r.policy.min_order_confidence > 1.0) a.fail("min_order_confidence", "must be in [0, 1]");
+  r.advice.reference_confirm_observations = static_cast<int>(a.integer("reference_confirm_observations", 1, 10000000));
 
   const Section h = root.child("health");
   h.only({"deadline_s"});

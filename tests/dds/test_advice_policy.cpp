@@ -120,6 +120,23 @@ TEST(AdvicePolicy, AReliableHealthyUpstreamLeverOnATrustedOrderIsClaimed) {
   EXPECT_TRUE(d.items[0].reliable);
 }
 
+TEST(AdvicePolicy, ALinkThatCameWithTheFaultIsNoLever) {
+  // Both bearings rose at once from their own causes: the time-varying model now links them, the healthy
+  // reference model did not (-3 % then). A common cause explains that as well: act on the alarmed asset.
+  AlarmSituation s = situation(0, 1, Severity::Warning);
+  AdviceItem c = candidate(0, 1, -30, -50, -10, true);
+  c.reference = "appeared";
+  c.reference_percent = -3.0;
+  const Decision d = decide(s, {c}, "", kTrusted, kCatalogue, kPolicy);
+  EXPECT_EQ(d.kind, "act_on_asset");
+  EXPECT_EQ(d.act_on, 0);
+  EXPECT_TRUE(contains(d.note, "was not in the healthy model (effect then -3.0 %)")) << d.note;
+  c.reference = "held";  // the same link before the fault: a lever
+  EXPECT_EQ(decide(s, {c}, "", kTrusted, kCatalogue, kPolicy).kind, "upstream_lever");
+  c.reference = "none";  // no reference yet (a group's first model): decided as before
+  EXPECT_EQ(decide(s, {c}, "", kTrusted, kCatalogue, kPolicy).kind, "upstream_lever");
+}
+
 TEST(AdvicePolicy, NoLeverClaimOnAnUntrustedOrUnassessedOrder) {
   AlarmSituation s = situation(0, 1, Severity::Warning);
   const auto c = candidate(0, 1, -30, -50, -10, true);

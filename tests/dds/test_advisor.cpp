@@ -323,3 +323,49 @@ TEST(Advisor, FallsBackToDiagonalWhenBlocksAreMissingOrUnusable) {
 }
 
 }  // namespace
+
+namespace {
+
+// The b1 -> b2 link (x21, xL21) set to zero: the model of a plant where b1 does not drive b2.
+AssembledObservation observation_without_link(const SvarLayout& l) {
+  AssembledObservation a = observation(l, true);
+  const auto& names = l.factor_names();
+  for (const char* f : {"x21", "xL21"}) {
+    a.observation.factors[std::find(names.begin(), names.end(), f) - names.begin()] = 0.0;
+  }
+  return a;
+}
+
+std::string reference_of_b1_lever(const Advisor& adv) {
+  std::string why;
+  for (const auto& c : adv.evaluate("ims2", 1, baseline(), why)) {
+    if (c.intervene == 0) return c.reference;
+  }
+  return "no candidate: " + why;
+}
+
+}  // namespace
+
+TEST(Advisor, ALinkAbsentFromTheHealthyReferenceIsMarkedAppeared) {
+  // Healthy models without the b1 -> b2 link, then models with it (x21 + xL21 = 0.7); 3 observations confirm a
+  // candidate reference. No reference while learning or before a confirmation ("none"); a confirmed linkless
+  // one makes the lever "appeared"; a confirmed one with the link "held"; while a degradation alarm is open
+  // no candidate is captured or confirmed.
+  const SvarLayout l = make_layout();
+  AdvisorParams p = params();
+  p.reference_confirm_observations = 3;
+  for (const bool degraded : {false, true}) {
+    Advisor adv(p);
+    adv.update(observation_without_link(l));  // 1: learning (no set_health yet): nothing captured
+    EXPECT_EQ(reference_of_b1_lever(adv), "none");
+    adv.set_health("ims2", false, false);
+    adv.update(observation_without_link(l));  // 2: candidate without the link
+    for (int n = 3; n <= 4; ++n) adv.update(observation(l, true));
+    EXPECT_EQ(reference_of_b1_lever(adv), "none");  // not confirmed yet
+    adv.update(observation(l, true));  // 5: candidate 2 confirmed (no link); candidate 5 (link) captured
+    EXPECT_EQ(reference_of_b1_lever(adv), "appeared");
+    adv.set_health("ims2", false, degraded);
+    for (int n = 6; n <= 8; ++n) adv.update(observation(l, true));  // 8: candidate 5 confirmed unless degraded
+    EXPECT_EQ(reference_of_b1_lever(adv), degraded ? "appeared" : "held") << (degraded ? "degraded" : "healthy");
+  }
+}
