@@ -338,16 +338,19 @@ void RecommenderNode::fill_next_level(const EngineState& st, const alarms::Alarm
 void RecommenderNode::publish_prognoses(const std::string& asset_group, const EngineState& st, std::uint64_t index,
                                         std::int64_t time_ns) {
   if (!params_.prognosis_enabled || !st.trends) return;
+  prognosis_metrics_.begin(asset_group);
   for (const auto& p : prognosis::open_alarm_prognoses(*st.trends, *st.engine, index)) {
     to_prognosis(asset_group, st.channel_names, p, index, time_ns, params_.prognosis.coverage, prognosis_msg_);
     if (prognoses_.write(prognosis_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
       ++prognoses_published_;
+      prognosis_metrics_.on_published(prognosis_msg_);
     } else if (prognosis_write_failures_++ % 100 == 0) {
       spdlog::warn("prognosis for '{}' channel {} not published ({} failures so far)", asset_group, p.channel + 1,
                    prognosis_write_failures_);
     }
     spdlog::debug("PROGNOSIS {}", prognosis_msg_.text());
   }
+  prognosis_metrics_.end(asset_group);
 }
 
 void RecommenderNode::answer(const causal_twin::WhatIfRequest& request) {

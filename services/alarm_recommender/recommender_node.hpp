@@ -8,6 +8,7 @@
 #include "asset_status.hpp"
 #include "observation_assembler.hpp"
 #include "open_alarm_metrics.hpp"
+#include "prognosis_metrics.hpp"
 #include "recommendation_store.hpp"
 #include "recommender_params.hpp"
 
@@ -105,6 +106,7 @@ class RecommenderNode {
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
   std::uint64_t events_advised_ = 0, events_act_on_asset_ = 0, events_upstream_lever_ = 0;
   OpenAlarmMetrics open_alarms_;  // causal_twin_alarms_open{asset_group, category, severity}
+  PrognosisMetrics prognosis_metrics_;  // causal_twin_prognosis_time_to_level_seconds{...}
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;
 };
 

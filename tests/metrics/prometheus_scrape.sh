@@ -140,13 +140,44 @@ got_ts=$(query 'causal_twin_estimator_last_input_timestamp_seconds{asset_group="
 [ "$got_ts" = "$want_ts" ] || { echo "FAIL: last input timestamp $got_ts, the table ends at $want_ts ($last_ts)"; exit 1; }
 age=$(query 'causal_twin_estimator_input_age_seconds{asset_group="ims2-shaft1"}')
 [ -n "$age" ] || { echo "FAIL: no causal_twin_estimator_input_age_seconds for ims2-shaft1"; exit 1; }
-open_alarms=$(query 'sum(causal_twin_alarms_open{service="alarm-recommender",category=~"degradation|health"})')
-expected_open=$(grep -oE '(ALARM (raised|escalated|cleared)|HEALTH (RAISED|CLEARED)) [^ :]+' "$work/recommender.log" \
-  | awk '{ state[$3] = ($2 == "cleared" || $2 == "CLEARED") ? 0 : 1 } END { n = 0; for (k in state) n += state[k]; print n }')
-[ "$open_alarms" = "$expected_open" ] \
-  || { echo "FAIL: causal_twin_alarms_open sums to $open_alarms, the recommender's log leaves $expected_open open"; exit 1; }
+# Bounded wait: the last scrape may predate the last alarm event.
+deadline=$((SECONDS + 30))
+while :; do
+  open_alarms=$(query 'sum(causal_twin_alarms_open{service="alarm-recommender",category=~"degradation|health"})')
+  expected_open=$(grep -oE '(ALARM (raised|escalated|cleared)|HEALTH (RAISED|CLEARED)) [^ :]+' "$work/recommender.log" \
+    | awk '{ state[$3] = ($2 == "cleared" || $2 == "CLEARED") ? 0 : 1 } END { n = 0; for (k in state) n += state[k]; print n }')
+  [ "$open_alarms" = "$expected_open" ] && break
+  [ $SECONDS -lt $deadline ] \
+    || { echo "FAIL: causal_twin_alarms_open sums to $open_alarms, the recommender's log leaves $expected_open open"; exit 1; }
+  sleep 1
+done
 echo "prometheus: build_info and process_* on 3 of 3 targets; ims2-shaft1 last input at $got_ts ($last_ts UTC)," \
      "input age ${age} s; open alarms $open_alarms (= raised - cleared in the recommender's log)"
+
+# The prognosis gauges: one series per (channel, level) the recommender ever published a prognosis for, and at the
+# end a number (not NaN) exactly for those whose last published prognosis, at the run's last snapshot, was known
+# or reached. Both counted from the recorder's prognosis.csv (bounded wait: the last scrape may predate the end).
+read -r want_series want_known < <(python3 - "$work/record/prognosis.csv" << 'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+last = max(int(r["sample_index"]) for r in rows)
+series = {(r["channel_name"], r["level"]) for r in rows}
+known = {(r["channel_name"], r["level"]) for r in rows
+         if int(r["sample_index"]) == last and (r["known"] == "true" or r["reached"] == "true")}
+print(len(series), len(known))
+PY
+)
+deadline=$((SECONDS + 30))
+while :; do
+  got_series=$(query 'count(causal_twin_prognosis_time_to_level_seconds{service="alarm-recommender",bound="median"})')
+  got_known=$(query 'count(causal_twin_prognosis_time_to_level_seconds{service="alarm-recommender",bound="median"} >= 0)')
+  [ "${got_series:-0}" = "$want_series" ] && [ "${got_known:-0}" = "$want_known" ] && break
+  [ $SECONDS -lt $deadline ] || { echo "FAIL: prognosis_time_to_level_seconds: ${got_series:-0} series, ${got_known:-0} with a number;" \
+    "prognosis.csv: $want_series (channel, level) pairs, $want_known known at the last snapshot"; exit 1; }
+  sleep 1
+done
+echo "prometheus: causal_twin_prognosis_time_to_level_seconds: $got_series (channel, level) series, $want_known with a time at the end" \
+     "(= prognosis.csv)"
 
 for port in "$est_port" "$rec_port" "$hist_port"; do
   curl -s --max-time 5 "http://127.0.0.1:$port/metrics" > "$work/scrape_$port.txt"
