@@ -102,12 +102,18 @@ std::vector<RecommendationRecord> recommendations_of(const fs::path& file, const
   return fs::exists(file, ec) ? load_recommendations(file, asset) : std::vector<RecommendationRecord>{};
 }
 
+std::vector<PrognosisRecord> prognoses_of(const fs::path& file, const std::string& asset) {
+  std::error_code ec;
+  return fs::exists(file, ec) ? load_prognoses(file, asset) : std::vector<PrognosisRecord>{};
+}
+
 // The verdict and every recommendation (publication order) as Markdown.
 std::string verdict_markdown(const std::string& asset, const std::vector<AlarmRecord>& alarms,
                              const fs::path& recommendations_file) {
   const auto recs = recommendations_of(recommendations_file, asset);
   std::ostringstream md;
-  md << "\n## Verdict\n\n```\n" << verdict_table({verdict_of(asset, alarms, recs)}) << "```\n";
+  const auto prognoses = prognoses_of(recommendations_file.parent_path() / "prognosis.csv", asset);
+  md << "\n## Verdict\n\n```\n" << verdict_table({verdict_of(asset, alarms, recs, prognoses)}) << "```\n";
   md << "\n## Recommendations (" << recs.size() << ", in the order they were published)\n\n";
   if (recs.empty()) md << "None recorded.\n";
   for (const auto& r : recs) {
@@ -263,7 +269,8 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
     try {
       for (const AssetFiles* a : selected) {
         const auto alarms = files.alarms.empty() ? std::vector<AlarmRecord>{} : load_alarms(files.alarms, a->asset);
-        verdicts.push_back(verdict_of(a->asset, alarms, recommendations_of(run / "recommendations.csv", a->asset)));
+        verdicts.push_back(verdict_of(a->asset, alarms, recommendations_of(run / "recommendations.csv", a->asset),
+                                      prognoses_of(run / "prognosis.csv", a->asset)));
       }
     } catch (const std::exception& e) {
       err << "causal-report: " << e.what() << "\n";
@@ -297,7 +304,8 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
     try {
       render_asset(*a, files.alarms, options.run_dir, r);
       const auto alarms = files.alarms.empty() ? std::vector<AlarmRecord>{} : load_alarms(files.alarms, a->asset);
-      verdicts.push_back(verdict_of(a->asset, alarms, recommendations_of(run / "recommendations.csv", a->asset)));
+      verdicts.push_back(verdict_of(a->asset, alarms, recommendations_of(run / "recommendations.csv", a->asset),
+                                      prognoses_of(run / "prognosis.csv", a->asset)));
     } catch (const std::exception& e) {
       err << "causal-report: asset '" << a->asset << "': " << e.what() << "\n";
       r.failed = true;

@@ -60,8 +60,57 @@ std::vector<RecommendationRecord> load_recommendations(const std::filesystem::pa
   return out;
 }
 
+std::vector<PrognosisRecord> load_prognoses(const std::filesystem::path& file, const std::string& asset) {
+  const CsvTable t = read_csv(file);
+  const int group = t.column("asset_group"), name = t.column("channel_name"), index = t.column("sample_index"),
+            level = t.column("level"), known = t.column("known"), reached = t.column("reached"), text = t.column("text");
+  if (group < 0 || name < 0 || index < 0 || level < 0 || text < 0) {
+    throw std::runtime_error(file.string() + ": not a prognosis.csv (needs asset_group, channel_name, sample_index, "
+                             "level, text)");
+  }
+  std::vector<PrognosisRecord> out;
+  for (const auto& row : t.rows) {
+    if (!asset.empty() && sanitize_file_component(cell(row, group)) != asset) continue;
+    PrognosisRecord p;
+    p.asset_group = cell(row, group);
+    p.channel_name = cell(row, name);
+    p.sample_index = CsvTable::number(cell(row, index)).value_or(0.0);
+    p.level = cell(row, level);
+    p.known = cell(row, known) == "true";
+    p.reached = cell(row, reached) == "true";
+    p.text = cell(row, text);
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+namespace {
+
+// The next level of `channel` above `severity` (an open WARNING looks at critical, a CRITICAL at end_of_life)
+// and not yet reached, from the channel's latest prognoses; "" when the channel has none.
+std::string next_level_prognosis(const std::vector<PrognosisRecord>& prognoses, const std::string& channel,
+                                 Severity severity) {
+  static const char* const kLevels[] = {"warning", "critical", "end_of_life"};
+  const int first = severity == Severity::Critical ? 2 : severity == Severity::Warning ? 1 : 0;
+  double latest = -1.0;
+  for (const auto& p : prognoses) {
+    if (p.channel_name == channel) latest = std::max(latest, p.sample_index);
+  }
+  for (int l = first; l < 3; ++l) {
+    for (const auto& p : prognoses) {
+      if (p.channel_name == channel && p.sample_index == latest && p.level == kLevels[l] && !p.reached) {
+        return one_line(p.text, 200);
+      }
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 AssetVerdict verdict_of(const std::string& asset, const std::vector<AlarmRecord>& alarms,
-                        const std::vector<RecommendationRecord>& recommendations) {
+                        const std::vector<RecommendationRecord>& recommendations,
+                        const std::vector<PrognosisRecord>& prognoses) {
   AssetVerdict v;
   v.asset = asset;
   // The last row of each alarm id is its state at the end of the recording.
@@ -98,6 +147,10 @@ AssetVerdict verdict_of(const std::string& asset, const std::vector<AlarmRecord>
       std::snprintf(buf, sizeof buf, " (confidence %.2f)", *worst->root_cause_confidence);
       v.root_cause += buf;
     }
+    if (!worst->root_cause_name.empty()) {
+      v.prognosis = next_level_prognosis(prognoses, worst->root_cause_name, worst->severity);
+    }
+    if (v.prognosis.empty()) v.prognosis = next_level_prognosis(prognoses, worst->channel_name, worst->severity);
   } else {
     v.status = any ? "recovered" : "healthy";
     v.root_cause = "-";
@@ -152,6 +205,7 @@ std::string verdict_table(const std::vector<AssetVerdict>& verdicts) {
     out << pad(v.asset, w_asset) << "  " << pad(v.status, w_status) << "  " << pad(v.first_alarm, w_first) << "  "
         << v.root_cause << "\n";
     out << "  advice: " << v.top_recommendation << "\n";
+    if (!v.prognosis.empty()) out << "  prognosis: " << v.prognosis << "\n";
     if (!v.events.empty()) out << "  also: " << v.events << " (not faults of the machine)\n";
   }
   return out.str();

@@ -11,7 +11,10 @@
 //  * root cause = the root named by the latest row of the open alarms at the highest severity (the engine
 //    re-evaluates it), with its confidence when recorded;
 //  * top recommendation = the latest rank-1 recommendation of the asset whose interval excludes no effect
-//    (reliable); when none is reliable, the latest rank-1 text, which says why there is no reliable lever.
+//    (reliable); when none is reliable, the latest rank-1 text, which says why there is no reliable lever;
+//  * prognosis (prognosis.csv) = while an alarm is open: the root cause's (else the worst alarm's channel's)
+//    next level above the worst open severity (WARNING: critical, CRITICAL: end_of_life) not yet reached, as
+//    its latest prognosis says it (hours, interval, UTC), or why it is unknown.
 #pragma once
 
 #include "run_data.hpp"
@@ -30,6 +33,15 @@ struct RecommendationRecord {
   bool reliable = true;  // older recordings have no such column: their advice is taken as given
 };
 
+struct PrognosisRecord {
+  std::string asset_group, channel_name, level, text;
+  double sample_index = 0.0;
+  bool known = false, reached = false;
+};
+
+// Rows of prognosis.csv for `asset` (sanitised id; all rows when empty), in file order.
+std::vector<PrognosisRecord> load_prognoses(const std::filesystem::path& file, const std::string& asset);
+
 // Rows of recommendations.csv for `asset` (sanitised id; all rows when empty), in file (publication) order.
 std::vector<RecommendationRecord> load_recommendations(const std::filesystem::path& file, const std::string& asset);
 
@@ -41,10 +53,13 @@ struct AssetVerdict {
   std::string top_recommendation;  // one line, or "-": the latest action (at its alarm event's index) when the
                                    // recording has actions, else the best rank-1 text
   std::string events;              // "2 operating changes, 1 data quality" or ""
+  std::string prognosis;           // "bearing1 reaches critical (4x its baseline) in 1.0 h (...)" or "" (no alarm open
+                                   // or no prognosis recorded)
 };
 
 AssetVerdict verdict_of(const std::string& asset, const std::vector<AlarmRecord>& alarms,
-                        const std::vector<RecommendationRecord>& recommendations);
+                        const std::vector<RecommendationRecord>& recommendations,
+                        const std::vector<PrognosisRecord>& prognoses = {});
 
 // A fixed-width table with one row per asset (the top recommendation on its own indented line).
 std::string verdict_table(const std::vector<AssetVerdict>& verdicts);

@@ -86,3 +86,42 @@ TEST(Verdict, ShowsTheLatestAlarmEventsActionAtItsIndex) {
 }
 
 }  // namespace
+
+namespace {
+
+PrognosisRecord prog(const std::string& channel, double index, const std::string& level, bool reached,
+                     const std::string& text) {
+  PrognosisRecord p;
+  p.asset_group = "g";
+  p.channel_name = channel;
+  p.sample_index = index;
+  p.level = level;
+  p.known = true;
+  p.reached = reached;
+  p.text = text;
+  return p;
+}
+
+}  // namespace
+
+TEST(Verdict, PrognosisOfTheRootCausesNextLevelFromItsLatestSnapshot) {
+  const std::vector<AlarmRecord> alarms{
+      row("g/2/feature_drift/1", "raised", Severity::Warning, 100, "degradation", "B2", "B1", 10)};
+  const std::vector<PrognosisRecord> prognoses{
+      prog("B1", 9, "warning", false, "B1 old"), prog("B1", 10, "warning", true, "B1 has reached warning"),
+      prog("B1", 10, "critical", false, "B1 reaches critical in 1.0 h"), prog("B2", 10, "critical", false, "B2 x")};
+  const AssetVerdict v = verdict_of("g", alarms, {}, prognoses);
+  EXPECT_EQ(v.prognosis, "B1 reaches critical in 1.0 h");  // the root cause, its next level above WARNING
+  EXPECT_NE(verdict_table({v}).find("  prognosis: B1 reaches critical in 1.0 h\n"), std::string::npos);
+  // Root cause without prognoses: the alarmed channel's; a healthy asset: none.
+  EXPECT_EQ(verdict_of("g", alarms, {}, {prognoses[3]}).prognosis, "B2 x");
+  EXPECT_EQ(verdict_of("g", {}, {}, prognoses).prognosis, "");
+  // An open ADVISORY looks at warning: reached already, so critical.
+  std::vector<AlarmRecord> advisory = alarms;
+  advisory[0].severity = Severity::Advisory;
+  EXPECT_EQ(verdict_of("g", advisory, {}, prognoses).prognosis, "B1 reaches critical in 1.0 h");
+  // A CRITICAL looks at end_of_life: none recorded for B1 or B2, so nothing.
+  std::vector<AlarmRecord> critical = alarms;
+  critical[0].severity = Severity::Critical;
+  EXPECT_EQ(verdict_of("g", critical, {}, prognoses).prognosis, "");
+}
