@@ -74,6 +74,7 @@ bool AssetStatusBoard::update(const std::string& group, const StatusInput& in, c
     s.root_cause_name(known ? names[static_cast<std::size_t>(root)] : "");
     const auto action = actions_.find(worst->alarm_id);
     s.action(action != actions_.end() ? action->second : "");
+    if (in.prognosis) s.prognosis_text(in.prognosis(*worst));
     const std::string channel =
         worst->channel >= 0 && static_cast<std::size_t>(worst->channel) < names.size()
             ? names[static_cast<std::size_t>(worst->channel)] : "?";

@@ -12,6 +12,7 @@
 #include "causal_twin.h"
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -23,6 +24,9 @@ struct StatusInput {
   bool stopped_now = false;  // the latest observation was gated as "not running"
   std::uint64_t index = 0;
   std::int64_t time_ns = 0;
+  // The prognosis line for the worst open degradation alarm (AssetStatus.prognosis_text): "" when none is given.
+  // A function, so the board stays free of the prognosis trends (the node owns them).
+  std::function<std::string(const alarms::AlarmEvent& worst)> prognosis;
 };
 
 class AssetStatusBoard {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace causal::recommender {
 
@@ -28,7 +29,37 @@ std::string utc(std::int64_t time_ns) {
   return s.substr(0, 16) + " UTC";
 }
 
+// Two significant digits (0.5 h, 12 h, 120 h): the interval is far wider than the third digit.
+std::string rounded_hours(double h) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", h);
+  double v = std::strtod(buf, nullptr);
+  std::snprintf(buf, sizeof buf, v < 10 ? "%.1f" : "%.0f", v);
+  std::string s = buf;
+  if (s.size() > 2 && s.compare(s.size() - 2, 2, ".0") == 0) s.resize(s.size() - 2);
+  return s;
+}
+
+// To the hour: the operator plans a shift, and the line does not change with every snapshot.
+std::string utc_hour(std::int64_t time_ns) {
+  const std::int64_t hour = 3600LL * 1000000000LL;
+  const std::int64_t rounded = ((time_ns + hour / 2) / hour) * hour;
+  return io::format_utc(rounded).substr(0, 16) + " UTC";
+}
+
 }  // namespace
+
+std::string status_prognosis_text(const std::string& channel_name, const prognosis::ChannelPrognosis& p,
+                                  std::int64_t time_ns) {
+  std::string level = prognosis::to_string(p.level);  // "end_of_life" reads "end of life"
+  for (auto& c : level) c = c == '_' ? ' ' : c;
+  const std::string head = channel_name + ": " + level;
+  const prognosis::TimeToLevel& t = p.time;
+  if (t.reached) return head + " reached";
+  if (!t.known) return head + ": unknown" + (t.why.empty() ? std::string() : " (" + t.why + ")");
+  return head + " in ~" + rounded_hours(t.hours) + " h (" + rounded_hours(t.hours_low) + "-" +
+         rounded_hours(t.hours_high) + " h), ~" + utc_hour(eta(time_ns, t.hours));
+}
 
 std::string prognosis_text(const std::string& channel_name, const prognosis::ChannelPrognosis& p, std::int64_t time_ns,
                            double coverage) {

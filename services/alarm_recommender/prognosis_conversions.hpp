@@ -21,6 +21,12 @@ void to_prognosis(const std::string& asset_group, const std::vector<std::string>
 std::string prognosis_text(const std::string& channel_name, const prognosis::ChannelPrognosis& p, std::int64_t time_ns,
                            double coverage);
 
+// The operator's short form (AssetStatus.prognosis_text), rounded so it changes when the forecast does, not at
+// every snapshot: "bearing1: warning in ~12 h (6-30 h), ~2004-02-19 18:00 UTC"; "bearing1: critical reached";
+// "bearing1: warning: unknown (<why>)"; end_of_life reads "end of life".
+std::string status_prognosis_text(const std::string& channel_name, const prognosis::ChannelPrognosis& p,
+                                  std::int64_t time_ns);
+
 // The decision fields of a degradation alarm: the next level ahead and the time to it (NaN when unknown).
 void set_next_level(const prognosis::ChannelPrognosis& p, causal_twin::Alarm& out);
 

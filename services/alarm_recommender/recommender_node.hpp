@@ -77,6 +77,8 @@ class RecommenderNode {
   alarms::AlarmParams params_for(bool sample_level) const;
   // AssetStatus of the group after an observation (recommender_status.cpp): published when it changed.
   void publish_status(const AssembledObservation& a, bool stopped_now);
+  // AssetStatus.prognosis_text for the group's worst open degradation alarm ("unknown" when no time is given).
+  std::string status_prognosis(const EngineState& st, const alarms::AlarmEvent& worst) const;
 
   RecommenderOptions options_;
   RecommenderParams params_;

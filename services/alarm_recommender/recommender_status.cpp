@@ -2,9 +2,35 @@
 // it changes (transient-local, last value per group: a view that joins later gets every group's state).
 #include "recommender_node.hpp"
 
+#include "prognosis_conversions.hpp"
+
 #include <spdlog/spdlog.h>
 
 namespace causal::recommender {
+
+std::string RecommenderNode::status_prognosis(const EngineState& st, const alarms::AlarmEvent& worst) const {
+  if (!params_.prognosis_enabled || !st.trends) return "";
+  // The root cause's own condition-level alarm when it has one (the asset to act on), else the worst alarm's
+  // channel; the prognosis trends follow the condition level only.
+  const int channel = worst.root_cause_channel >= 0 ? worst.root_cause_channel : worst.channel;
+  const alarms::AlarmEvent* chosen = nullptr;
+  const auto active = st.engine->active_alarms();
+  for (const auto& e : active) {
+    if (e.category != alarms::category::kDegradation || e.channel != channel) continue;
+    if (chosen == nullptr || e.severity > chosen->severity) chosen = &e;
+  }
+  if (chosen == nullptr) {
+    for (const auto& e : active) {
+      if (e.alarm_id == worst.alarm_id) chosen = &e;
+    }
+  }
+  prognosis::ChannelPrognosis p;
+  if (chosen == nullptr || !prognosis::next_level_of(*st.trends, *st.engine, *chosen, p)) return "unknown";
+  const auto& names = st.channel_names;
+  const std::string name = p.channel >= 0 && static_cast<std::size_t>(p.channel) < names.size()
+                               ? names[static_cast<std::size_t>(p.channel)] : std::to_string(p.channel + 1);
+  return status_prognosis_text(name, p, st.trends->trend(p.channel).state().time_ns);
+}
 
 void RecommenderNode::publish_status(const AssembledObservation& a, bool stopped_now) {
   StatusInput in;
@@ -24,6 +50,10 @@ void RecommenderNode::publish_status(const AssembledObservation& a, bool stopped
   }
   in.index = a.observation.index;
   in.time_ns = a.observation.time_ns;
+  if (condition != engines_.end()) {
+    const EngineState& st = condition->second;
+    in.prognosis = [this, &st](const alarms::AlarmEvent& worst) { return status_prognosis(st, worst); };
+  }
   causal_twin::AssetStatus msg;
   if (!status_.update(a.asset_group, in, msg)) return;
   const bool learning = msg.state() == "learning";

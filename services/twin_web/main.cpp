@@ -6,12 +6,14 @@
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
   causal::web::TwinWebOptions o;
-  CLI::App app{"twin-web: the live twin in the browser. Subscribes to the condition vectors, causal factors, alarms\n"
-               "and recommendations on a DDS domain and serves, per asset group, the condition trends with alarm\n"
-               "bands, the current causal graph (condition-level filter, links at |z| >= 2), the open alarms with\n"
-               "root cause and reason, the recommendations and a what-if form that asks the running\n"
-               "alarm-recommender. Endpoints: / (the page); /api/state?group=ID (JSON: that group and one line per\n"
-               "group; without ?group= every group); /api/events?group=ID (the same as Server-Sent Events, on change);\n"
+  CLI::App app{"twin-web: the live twin in the browser. Subscribes to the condition vectors, causal factors, alarms,\n"
+               "recommendations, asset status and prognoses on a DDS domain and serves one status line per asset\n"
+               "group and, per group, the condition trends over UTC time with alarm bands, the current causal graph\n"
+               "(condition-level filter, links at |z| >= 2, the root cause ringed), the open alarms with time scale,\n"
+               "root cause and full reason, the prognosis, the recommendations and a what-if form that asks the\n"
+               "running alarm-recommender. Endpoints: / and /?group=ID (the page, with its state in the response);\n"
+               "/api/state?group=ID (JSON: that group and one line per group; without ?group= every group);\n"
+               "/api/events?group=ID (the same as Server-Sent Events, on change);\n"
                "POST /api/whatif {asset_group, channel, percent | delta, sustained} (same origin only, with the page's\n"
                "X-Twin-CSRF token)."};
   causal::dds::add_common_options(app, o.dds);

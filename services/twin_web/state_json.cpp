@@ -65,6 +65,13 @@ json graph_json(const GroupState& g) {
           {"unusable", graph.unusable}};
 }
 
+// Which model the alarm comes from: the sample-level engine scopes its ids "<group>/sample/..."
+// (AlarmEngine::set_id_scope, pinned by tests/dds/test_asset_status.cpp); health alarms are about the twin.
+const char* time_scale_of(const causal_twin::Alarm& a) {
+  if (a.category() == "health") return "twin";
+  return a.alarm_id().rfind(a.asset_group() + "/sample/", 0) == 0 ? "sample" : "condition";
+}
+
 json alarm_json(const AlarmView& v) {
   const auto& a = v.last;
   json factors = json::array();
@@ -92,7 +99,43 @@ json alarm_json(const AlarmView& v) {
           {"threshold", number(a.threshold())},
           {"factors", std::move(factors)},
           {"reason", a.reason()},
+          {"time_scale", time_scale_of(a)},
+          {"root_cause_confidence", number(a.root_cause_confidence())},
+          {"action", a.action()},
+          {"next_level", a.next_level()},
+          {"hours_to_next_level", number(a.hours_to_next_level())},
+          {"hours_to_next_level_low", number(a.hours_to_next_level_low())},
+          {"hours_to_next_level_high", number(a.hours_to_next_level_high())},
           {"arrival", v.arrival}};
+}
+
+// Time-to-level forecasts of the channels whose alarm is still open (a closed alarm's last forecast is history).
+json prognoses_json(const GroupState& g) {
+  json out = json::array();
+  for (const auto& [key, p] : g.prognoses) {
+    const auto alarm = g.alarms.find(p.alarm_id());
+    if (alarm == g.alarms.end() || !alarm->second.open()) continue;
+    auto eta = [](std::int64_t ns) { return ns != 0 ? json(ms(ns)) : json(nullptr); };
+    out.push_back({{"channel", p.channel()},
+                   {"channel_name", p.channel_name()},
+                   {"level", p.level()},
+                   {"alarm_id", p.alarm_id()},
+                   {"index", p.sample_index()},
+                   {"time_ms", ms(p.time_ns())},
+                   {"level_ratio", number(p.level_ratio())},
+                   {"current_ratio", number(p.current_ratio())},
+                   {"known", p.known()},
+                   {"reached", p.reached()},
+                   {"hours", number(p.hours())},
+                   {"hours_low", number(p.hours_low())},
+                   {"hours_high", number(p.hours_high())},
+                   {"coverage", number(p.coverage())},
+                   {"eta_ms", eta(p.eta_time_ns())},
+                   {"eta_low_ms", eta(p.eta_low_time_ns())},
+                   {"eta_high_ms", eta(p.eta_high_time_ns())},
+                   {"text", p.text()}});
+  }
+  return out;
 }
 
 json recommendation_json(const RecommendationView& v, const GroupState& g) {
@@ -139,8 +182,12 @@ json status_json(const GroupState& g) {
           {"index", s.sample_index()},
           {"time_ms", ms(s.time_ns())},
           {"open_alarms", s.open_alarms()},
+          {"has_alarm", s.has_alarm()},
+          {"worst_severity", s.has_alarm() ? json(severity_name(s.worst_severity())) : json(nullptr)},
+          {"root_cause_channel", s.root_cause_channel()},
           {"root_cause_name", s.root_cause_name()},
-          {"action", s.action()}};
+          {"action", s.action()},
+          {"prognosis_text", s.prognosis_text()}};
 }
 
 json group_json(const std::string& id, const GroupState& g) {
@@ -157,6 +204,7 @@ json group_json(const std::string& id, const GroupState& g) {
           {"graph", graph_json(g)},
           {"alarms", std::move(alarms)},
           {"recommendations", std::move(recs)},
+          {"prognoses", prognoses_json(g)},
           {"status", status_json(g)}};
 }
 
@@ -184,6 +232,8 @@ std::string overview_to_json(const std::map<std::string, GroupState>& groups,
                     {"has_trend", !g.trend.empty()},
                     {"open_alarms", open},
                     {"state", g.status ? json(g.status->state()) : json(nullptr)},
+                    {"status", status_json(g)},
+                    {"last_time_ms", g.trend.empty() ? json(nullptr) : json(ms(g.trend.back().time_ns))},
                     {"worst_severity", worst < 0 ? json(nullptr) : json(severity_name(static_cast<causal_twin::Severity>(worst)))}});
   }
   const json out = {{"version", version}, {"info", info}, {"groups", std::move(list)}};
@@ -204,7 +254,9 @@ std::string state_to_json(const std::map<std::string, GroupState>& groups, const
                      {"factor_messages_rejected", c.factor_messages_rejected},
                      {"alarm_events", c.alarm_events},
                      {"recommendations", c.recommendations},
-                     {"statuses", c.statuses}};
+                     {"statuses", c.statuses},
+                     {"prognoses", c.prognoses},
+                     {"prognoses_stale", c.prognoses_stale}};
   json list = json::array();
   for (const auto& [id, g] : groups) list.push_back(group_json(id, g));
   out["groups"] = std::move(list);

@@ -169,9 +169,31 @@ void TwinState::on_status(const causal_twin::AssetStatus& in) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++counters_.statuses;
   GroupState& g = group_locked(in.asset_group());
-  const bool state_changed = !g.status || g.status->state() != in.state();
   g.status = in;
-  changed_locked(&g, state_changed);  // the overview shows the state: it changes with it
+  changed_locked(&g, true);  // the overview holds every group's status line (sent on change only)
+}
+
+void TwinState::on_prognosis(const causal_twin::Prognosis& in) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++counters_.prognoses;
+  GroupState& g = group_locked(in.asset_group());
+  auto [it, inserted] = g.prognoses.try_emplace({static_cast<int>(in.channel()), in.level()}, in);
+  if (!inserted) {
+    if (in.sample_index() < it->second.sample_index()) {
+      ++counters_.prognoses_stale;
+      return;
+    }
+    it->second = in;
+  }
+  changed_locked(&g);
+}
+
+std::string TwinState::default_group() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& [id, g] : groups_) {
+    if (!g.trend.empty()) return id;
+  }
+  return groups_.empty() ? std::string() : groups_.begin()->first;
 }
 
 std::uint64_t TwinState::version() const {

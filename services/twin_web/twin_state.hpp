@@ -79,6 +79,8 @@ struct GroupState {
   std::map<std::string, RecommendationView> recommendations;  // by recommendation id
   // The recommender's operator line (causal_twin/asset_status): learning n of N, healthy, stopped, alarm.
   std::optional<causal_twin::AssetStatus> status;
+  // The latest time-to-level forecast (causal_twin/prognosis) by 1-based channel and level name.
+  std::map<std::pair<int, std::string>, causal_twin::Prognosis> prognoses;
 };
 
 struct StateCounters {
@@ -92,6 +94,8 @@ struct StateCounters {
   std::uint64_t alarm_events = 0;
   std::uint64_t recommendations = 0;
   std::uint64_t statuses = 0;
+  std::uint64_t prognoses = 0;
+  std::uint64_t prognoses_stale = 0;  // older than the one held for that channel and level (re-sent), not kept
 };
 
 // The causal graph of one group from its outcomes' latest factors (names parsed by the project's convention).
@@ -107,6 +111,7 @@ class TwinState {
   void on_alarm(const causal_twin::Alarm& in);
   void on_recommendation(const causal_twin::Recommendation& in);
   void on_status(const causal_twin::AssetStatus& in);
+  void on_prognosis(const causal_twin::Prognosis& in);
 
   // Any thread.
   std::uint64_t version() const;
@@ -127,6 +132,8 @@ class TwinState {
   bool wait_for_change(const std::string& asset_group, Versions seen, std::chrono::milliseconds timeout) const;
   // {"version": "<overview>.<group>", "overview": {...}, "group": {...} | null}; parts cached per version.
   std::string page_json(const std::string& asset_group) const;
+  // The group a page without ?group= shows: the first with a condition trend, else the first known, else "".
+  std::string default_group() const;
   // Channel names of a group (empty when the group is unknown or has sent no condition vector yet).
   std::vector<std::string> channels(const std::string& asset_group) const;
   StateCounters counters() const;

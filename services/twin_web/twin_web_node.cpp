@@ -15,6 +15,7 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
       alarms_in_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
       recommendations_in_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
       status_in_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusReader),
+      prognoses_in_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisReader),
       replies_in_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader),
       requests_out_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter) {
   loop_.attach(conditions_in_.get());
@@ -22,6 +23,7 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
   loop_.attach(alarms_in_.get());
   loop_.attach(recommendations_in_.get());
   loop_.attach(status_in_.get());
+  loop_.attach(prognoses_in_.get());
   loop_.attach(replies_in_.get());
   state_.set_info("service", "twin-web");
   state_.set_info("domain", std::to_string(participant_.domain_id()));
@@ -65,10 +67,12 @@ int TwinWebNode::run() {
   spdlog::info("summary topic={} received={}", dds::topics::kAlarm, c.alarm_events);
   spdlog::info("summary topic={} received={}", dds::topics::kRecommendation, c.recommendations);
   spdlog::info("summary topic={} received={}", dds::topics::kAssetStatus, c.statuses);
+  spdlog::info("summary topic={} received={} stale={}", dds::topics::kPrognosis, c.prognoses, c.prognoses_stale);
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kWhatIfRequest, requests_sent_,
                requests_failed_, whatif_.asked(), whatif_.answered());
   const auto refused = conditions_in_.rejections().total() + factors_in_.rejections().total() +
-                       alarms_in_.rejections().total() + recommendations_in_.rejections().total();
+                       alarms_in_.rejections().total() + recommendations_in_.rejections().total() +
+                       status_in_.rejections().total() + prognoses_in_.rejections().total();
   if (refused > 0) spdlog::warn("DDS readers refused {} samples (resource limits)", refused);
   return 0;
 }
@@ -79,6 +83,7 @@ std::size_t TwinWebNode::take_available() {
   n += factors_in_.take_all([this](const auto& f, const auto&) { state_.on_factors(f); }, loop_.stop_flag());
   n += alarms_in_.take_all([this](const auto& a, const auto&) { state_.on_alarm(a); }, loop_.stop_flag());
   n += status_in_.take_all([this](const auto& st, const auto&) { state_.on_status(st); }, loop_.stop_flag());
+  n += prognoses_in_.take_all([this](const auto& p, const auto&) { state_.on_prognosis(p); }, loop_.stop_flag());
   n += recommendations_in_.take_all([this](const auto& r, const auto&) { state_.on_recommendation(r); },
                                     loop_.stop_flag());
   n += replies_in_.take_all(

@@ -47,6 +47,7 @@ class TwinWebNode {
   dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
   dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
   dds::TypedReader<causal_twin::AssetStatusPubSubType> status_in_;
+  dds::TypedReader<causal_twin::PrognosisPubSubType> prognoses_in_;
   dds::TypedReader<causal_twin::WhatIfReplyPubSubType> replies_in_;
   dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> requests_out_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first

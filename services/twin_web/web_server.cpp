@@ -24,6 +24,27 @@ using nlohmann::json;
 
 // In index.html: replaced by the CSRF token when the page is served.
 constexpr const char* kCsrfMarker = "__TWIN_CSRF_TOKEN__";
+// In index.html: replaced by the state the page shows (page_json of its group), so the first response is
+// complete: the page draws at once, before any event arrives (a screenshot taken at load shows the twin).
+constexpr const char* kInitialStateMarker = "__TWIN_INITIAL_STATE__";
+
+// JSON inside <script type="application/json">: "<" escaped, so no text from the twin can end the element.
+std::string script_safe(const std::string& json_text) {
+  std::string out;
+  out.reserve(json_text.size() + 64);
+  for (char c : json_text) {
+    if (c == '<') {
+      out += "\\u003c";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+void replace_marker(std::string& body, const char* marker, const std::string& value) {
+  if (const auto at = body.find(marker); at != std::string::npos) body.replace(at, std::string(marker).size(), value);
+}
 
 void send_json(httplib::Response& res, int status, const json& body) {
   res.status = status;
@@ -221,12 +242,20 @@ void WebServer::routes() {
     // The page carries this process's CSRF token (a marker in index.html, replaced when the page is served);
     // only it can read it.
     std::string body(asset.body.data(), asset.body.size());
-    if (const auto at = body.find(kCsrfMarker); at != std::string::npos) {
-      body.replace(at, std::string(kCsrfMarker).size(), guard_->csrf_token());
-    }
-    auto serve = [asset, body](const httplib::Request&, httplib::Response& res) {
-      res.set_header("Cache-Control", "no-cache");
-      res.set_content(body, std::string(asset.content_type).c_str());
+    replace_marker(body, kCsrfMarker, guard_->csrf_token());
+    const bool page = body.find(kInitialStateMarker) != std::string::npos;
+    auto serve = [this, asset, body, page](const httplib::Request& req, httplib::Response& res) {
+      if (!page) {
+        res.set_header("Cache-Control", "no-cache");
+        res.set_content(body, std::string(asset.content_type).c_str());
+        return;
+      }
+      // ?group=ID, or the group the page would choose itself: the state it shows is in the response.
+      const std::string group = req.has_param("group") ? req.get_param_value("group") : state_.default_group();
+      std::string filled = body;
+      replace_marker(filled, kInitialStateMarker, script_safe(state_.page_json(group)));
+      res.set_header("Cache-Control", "no-store");
+      res.set_content(filled, std::string(asset.content_type).c_str());
     };
     s.Get(std::string(asset.path), serve);
     if (asset.path == "/index.html") s.Get("/", serve);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <map>
 #include <thread>
 
 using causal::web::StateLimits;
@@ -333,4 +334,96 @@ TEST(WhatIfBridge, TimesOutWithoutReplyAndStopsWaiters) {
   bridge.stop();
   EXPECT_EQ(asked.get().status, WhatIfBridge::Status::Stopped);
   EXPECT_EQ(bridge.ask(q, std::chrono::seconds(30)).status, WhatIfBridge::Status::Stopped);
+}
+
+// Issue 26: the overview is the operator's status line per group (state, worst severity, root cause, action,
+// prognosis, learning n of N); a new prognosis line alone is a change every page sees.
+TEST(TwinState, OverviewCarriesEveryGroupsStatusLine) {
+  TwinState s;
+  EXPECT_EQ(s.default_group(), "");
+  causal_twin::AssetStatus st;
+  st.asset_group("h");
+  st.state("alarm");
+  st.has_alarm(true);
+  st.worst_severity(causal_twin::WARNING);
+  st.open_alarms(2);
+  st.root_cause_channel(1);
+  st.root_cause_name("a");
+  st.action("act on a: inspect it");
+  st.prognosis_text("a: critical in ~12 h (6-30 h), ~2004-02-19 18:00 UTC");
+  st.learning_seen(140);
+  st.learning_needed(140);
+  s.on_status(st);
+  s.on_condition(vec(0, {1, 2, 3}));  // group g has a trend, h has none: a page without ?group= shows g
+  EXPECT_EQ(s.default_group(), "g");
+  json page = json::parse(s.page_json("g"));
+  ASSERT_EQ(page["overview"]["groups"].size(), 2u);
+  const json& line = page["overview"]["groups"][1]["status"];
+  EXPECT_EQ(page["overview"]["groups"][1]["id"], "h");
+  EXPECT_EQ(line["state"], "alarm");
+  EXPECT_EQ(line["worst_severity"], "warning");
+  EXPECT_EQ(line["open_alarms"], 2);
+  EXPECT_EQ(line["root_cause_channel"], 1);
+  EXPECT_EQ(line["root_cause_name"], "a");
+  EXPECT_EQ(line["action"], "act on a: inspect it");
+  EXPECT_EQ(line["prognosis_text"], "a: critical in ~12 h (6-30 h), ~2004-02-19 18:00 UTC");
+  EXPECT_EQ(line["learning_seen"], 140);
+  EXPECT_TRUE(page["overview"]["groups"][0]["status"].is_null());
+  EXPECT_EQ(page["overview"]["groups"][0]["last_time_ms"], 0.0);
+  const auto before = s.versions("g");
+  st.prognosis_text("a: critical in ~11 h (5-28 h), ~2004-02-19 17:00 UTC");
+  s.on_status(st);
+  EXPECT_NE(s.versions("g").overview, before.overview);
+}
+
+static causal_twin::Prognosis prognosis(const std::string& alarm_id, const std::string& level, std::uint64_t index, double hours) {
+  causal_twin::Prognosis p;
+  p.asset_group("g");
+  p.channel(1);
+  p.channel_name("a");
+  p.level(level);
+  p.alarm_id(alarm_id);
+  p.sample_index(index);
+  p.time_ns(static_cast<std::int64_t>(index) * 10 * kMinute);
+  p.known(std::isfinite(hours));
+  p.hours(hours);
+  p.hours_low(hours / 2);
+  p.hours_high(std::numeric_limits<double>::quiet_NaN());
+  p.eta_time_ns(std::isfinite(hours) ? p.time_ns() + static_cast<std::int64_t>(hours * 60) * kMinute : 0);
+  return p;
+}
+
+// The prognosis of a channel is shown while its alarm is open, newest first; NaN reaches the page as null; the
+// time scale of every alarm is named (the sample-level engine's ids are "<group>/sample/...").
+TEST(TwinState, PrognosisWhileItsAlarmIsOpenAndTimeScalePerAlarm) {
+  TwinState s;
+  s.on_condition(vec(0, {1, 2, 3}));
+  s.on_alarm(alarm("g/1/feature_drift/1", causal_twin::RAISED, 5, 50 * kMinute));
+  auto sample = alarm("g/sample/1/innovation_nis/1", causal_twin::RAISED, 7, 70 * kMinute);
+  s.on_alarm(sample);
+  auto health = alarm("g/health/estimator", causal_twin::RAISED, 7, 70 * kMinute);
+  health.category("health");
+  s.on_alarm(health);
+  s.on_prognosis(prognosis("g/1/feature_drift/1", "critical", 9, 12.0));
+  s.on_prognosis(prognosis("g/1/feature_drift/1", "critical", 8, 20.0));  // older: not kept
+  s.on_prognosis(prognosis("g/1/feature_drift/1", "end_of_life", 9, std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_EQ(s.counters().prognoses, 3u);
+  EXPECT_EQ(s.counters().prognoses_stale, 1u);
+  json g = json::parse(s.page_json("g"))["group"];
+  std::map<std::string, std::string> scales;
+  for (const auto& a : g["alarms"]) scales[a["id"].get<std::string>()] = a["time_scale"].get<std::string>();
+  EXPECT_EQ(scales["g/1/feature_drift/1"], "condition");
+  EXPECT_EQ(scales["g/sample/1/innovation_nis/1"], "sample");
+  EXPECT_EQ(scales["g/health/estimator"], "twin");
+  ASSERT_EQ(g["prognoses"].size(), 2u);
+  EXPECT_EQ(g["prognoses"][0]["level"], "critical");
+  EXPECT_EQ(g["prognoses"][0]["hours"], 12.0);
+  EXPECT_EQ(g["prognoses"][0]["eta_ms"], (90.0 + 720.0) * 60e3);
+  EXPECT_TRUE(g["prognoses"][0]["hours_high"].is_null());
+  EXPECT_EQ(g["prognoses"][1]["level"], "end_of_life");
+  EXPECT_TRUE(g["prognoses"][1]["hours"].is_null());
+  EXPECT_TRUE(g["prognoses"][1]["eta_ms"].is_null());
+  s.on_alarm(alarm("g/1/feature_drift/1", causal_twin::CLEARED, 12, 50 * kMinute));
+  g = json::parse(s.page_json("g"))["group"];
+  EXPECT_EQ(g["prognoses"].size(), 0u) << "a cleared alarm's forecast is history";
 }

@@ -9,6 +9,7 @@
 #include "process_runner.hpp"
 
 #include "causal/io/feature_table.hpp"
+#include "causal/io/time_format.hpp"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -67,6 +68,113 @@ json driver_result(const std::string& output) {
   return json::parse(output.substr(at + 7, end == std::string::npos ? std::string::npos : end - at - 7), nullptr, false);
 }
 
+std::string utc_minutes(std::int64_t ns) { return causal::io::format_utc(ns).substr(0, 16); }
+
+// The recommender's own count of what it published on a topic ("summary topic=T sent=N").
+long published(const std::string& log, const std::string& topic) {
+  std::smatch m;
+  const std::regex sent("summary topic=" + topic + " sent=(\\d+)");
+  return std::regex_search(log, m, sent) ? std::stol(m[1]) : -1;
+}
+
+// Issue 26, the operator's page: what the driver read from the final page and from a cold load of the group's
+// link, against the test's own DDS observer (the alarms' last events) and the recommender's log.
+void check_operator_page(const json& r, const DdsObserver& observer, std::size_t channels, const std::string& alarm_log) {
+  ASSERT_TRUE(r.contains("operator") && r.contains("at_load")) << r.dump(1).substr(0, 2000);
+  const json& op = r["operator"];
+  std::map<std::string, causal_twin::Alarm> last;
+  for (const auto& a : observer.alarms()) last[a.alarm_id()] = a;
+  // The worst open degradation alarm (highest severity, then the earliest raised), as the status board picks it.
+  const causal_twin::Alarm* worst = nullptr;
+  std::size_t open_degradation = 0;
+  std::set<int> forecast_channels;  // channels with an open condition-level degradation alarm
+  for (const auto& [id, a] : last) {
+    if (a.state() == causal_twin::CLEARED || a.category() != "degradation") continue;
+    ++open_degradation;
+    if (id.find("/sample/") == std::string::npos) forecast_channels.insert(a.channel());
+    if (worst == nullptr || a.severity() > worst->severity() ||
+        (a.severity() == worst->severity() && a.raised_time_ns() < worst->raised_time_ns())) {
+      worst = &a;
+    }
+  }
+  ASSERT_NE(worst, nullptr) << "the IMS replay ends with open degradation alarms";
+  const std::string severity[] = {"advisory", "warning", "critical"};
+  std::printf("operator: worst %s %s, root cause %s, status line: %s\n", worst->alarm_id().c_str(),
+              severity[worst->severity()].c_str(), worst->root_cause_name().c_str(), op["status_rows"].dump().c_str());
+
+  // One status line per group: state, worst severity, root cause, the action, the prognosis, learning n of N.
+  ASSERT_EQ(op["status_rows"].size(), 1u);
+  const json& line = op["status_rows"][0];
+  EXPECT_EQ(line["group"], "ims2-shaft1");
+  EXPECT_EQ(line["state"], "alarm");
+  EXPECT_EQ(line["worst"], severity[worst->severity()] + " \u00d7" + std::to_string(open_degradation));
+  EXPECT_EQ(line["root"], worst->root_cause_name());
+  EXPECT_EQ(line["action"], worst->action());
+  EXPECT_FALSE(worst->action().empty());
+  const std::regex prognosis(worst->root_cause_name() + R"(: (warning|critical|end of life)( in ~[0-9.]+ h \([0-9.]+-[0-9.]+ h\), ~2004-02-\d\d \d\d:00 UTC| reached|: unknown.*))");
+  EXPECT_TRUE(std::regex_match(line.value("prognosis", std::string()), prognosis)) << line["prognosis"];
+  const std::regex learned(R"((\d+) of (\d+))");
+  std::smatch m;
+  const std::string learning = line.value("learning", std::string());
+  ASSERT_TRUE(std::regex_match(learning, m, learned)) << learning;
+  EXPECT_EQ(m[1], m[2]) << "the baseline is learned by the end";
+  EXPECT_TRUE(line.value("active", false));
+  EXPECT_EQ(op["group_links"], json::array({"?group=ims2-shaft1"}));
+
+  // The root-cause node marked in the graph, and only it.
+  EXPECT_EQ(op["root_nodes"], json::array({worst->root_cause_channel()}));
+  EXPECT_EQ(op["root_labels"], 1);
+
+  // UTC axes and times: the trend's x axis in UTC dates within the replay's days, no snapshot numbers.
+  EXPECT_EQ(op["x_title"], "time (UTC)");
+  ASSERT_GE(op["x_ticks"].size(), 3u);
+  for (const auto& t : op["x_ticks"]) {
+    EXPECT_TRUE(std::regex_match(t.get<std::string>(), std::regex(R"(2004-02-(1[2-9])|02-(1[2-9]) \d\d:\d\d)"))) << t;
+  }
+  for (const char* key : {"stamp", "graph_info", "trend_info"}) {
+    EXPECT_NE(op.value(key, std::string()).find(" UTC"), std::string::npos) << key << ": " << op[key];
+  }
+  EXPECT_EQ(op["alarm_header"][3], "since (UTC)");
+  EXPECT_EQ(op["alarm_header"][2], "time scale");
+
+  // Per alarm: its time scale, its raise time in UTC, its whole reason readable without horizontal scrolling.
+  std::set<std::string> rows;
+  for (const auto& row : op["alarm_rows"]) {
+    const std::string id = row["id"].get<std::string>();
+    rows.insert(id);
+    ASSERT_TRUE(last.count(id)) << id;
+    const causal_twin::Alarm& a = last[id];
+    const std::string scale = a.category() == "health" ? "twin" : id.find("/sample/") != std::string::npos ? "sample" : "condition";
+    EXPECT_EQ(row["scale"], scale) << id;
+    EXPECT_EQ(row["since"], utc_minutes(a.raised_time_ns())) << id;
+    EXPECT_EQ(row["reason_shown"], a.reason()) << id;
+    EXPECT_LE(row["reason_overflow"].get<int>(), 0) << id << ": the reason needs a horizontal scroll";
+    if (!a.action().empty()) EXPECT_EQ(row["action"], "Action: " + a.action()) << id;
+  }
+  EXPECT_EQ(op["alarm_sections"].size() > 0, !rows.empty());
+  EXPECT_LE(op["page_overflow_x"].get<int>(), 0) << "the page scrolls sideways";
+  EXPECT_LE(op["alarms_overflow_x"].get<int>(), 0) << "the alarm table is wider than its card";
+  // The forecast of every channel with an open condition-level degradation alarm, at its three levels; and every
+  // prognosis the recommender published reached the page's server.
+  EXPECT_EQ(op["prognosis_rows"].size(), 3 * forecast_channels.size()) << op["prognosis_rows"].dump(1);
+  EXPECT_GT(published(alarm_log, "causal_twin/prognosis"), 0);
+
+  // The group's link opened cold, with an event stream that never answers: the first response drew it all.
+  const json& cold = r["at_load"];
+  std::printf("operator: at load of %s: %d points, %zu alarm rows, connection '%s'\n", cold.value("url", std::string()).c_str(),
+              cold.value("points", -1), cold["alarm_rows"].size(), cold.value("connection", std::string()).c_str());
+  EXPECT_EQ(cold["initial"], "rendered");
+  EXPECT_EQ(cold["connection"], "connecting") << "an event reached the page: the test proves nothing about load";
+  EXPECT_EQ(cold["selected"], "ims2-shaft1");
+  EXPECT_NE(cold.value("url", std::string()).find("?group=ims2-shaft1"), std::string::npos);
+  EXPECT_EQ(cold.value("points", 0), static_cast<int>(984 * channels));
+  EXPECT_FALSE(cold.value("empty_visible", true)) << "'Waiting for data' shows at load";
+  EXPECT_EQ(cold["status_rows"], op["status_rows"]);
+  EXPECT_EQ(cold["alarm_rows"], op["alarm_rows"]);
+  EXPECT_EQ(cold["root_nodes"], op["root_nodes"]);
+  EXPECT_EQ(cold["x_ticks"], op["x_ticks"]);
+}
+
 }  // namespace
 
 TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
@@ -84,8 +192,8 @@ TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
   causal::test::clean_stale_shared_memory();
   // Nothing of an earlier run may be read as this run's (a log is read before its process truncates it).
   const fs::path done_file = out_dir / "services_done";
-  for (const char* name : {"services_done", "twin_web.png", "twin-web.log", "alarm-recommender.log",
-                           "causal-estimator.log", "sensor-replay.log", "drive_twin_web.log"}) {
+  for (const char* name : {"services_done", "twin_web.png", "twin_web_at_load.png", "twin_web_graph.png", "twin-web.log",
+                           "alarm-recommender.log", "causal-estimator.log", "sensor-replay.log", "drive_twin_web.log"}) {
     fs::remove(out_dir / name);
   }
   const std::string d = std::to_string(kDomain);
@@ -156,6 +264,9 @@ TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
   EXPECT_FALSE(r.value("first_alarm_id", std::string()).empty());
   ASSERT_TRUE(fs::exists(out_dir / "twin_web.png"));
   EXPECT_GT(fs::file_size(out_dir / "twin_web.png"), 20000u) << "a screenshot that small is a blank page";
+  ASSERT_TRUE(fs::exists(out_dir / "twin_web_graph.png"));
+  ASSERT_TRUE(fs::exists(out_dir / "twin_web_at_load.png"));
+  EXPECT_GT(fs::file_size(out_dir / "twin_web_at_load.png"), 20000u) << "a screenshot that small is a blank page";
 
   // The end state, against independent truth: the feature table's rows and the observer's alarms.
   httplib::Client client("127.0.0.1", port);
@@ -207,6 +318,9 @@ TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
   EXPECT_EQ(std::set<std::string>(page_open.begin(), page_open.end()), open_truth);
   EXPECT_EQ(state["counters"]["alarm_events"].get<std::size_t>(), observer.alarms().size());
   EXPECT_EQ(state["counters"]["recommendations"].get<std::size_t>(), observer.recommendations().size());
+  EXPECT_EQ(state["counters"]["prognoses"].get<long>(), published(alarm.output(), "causal_twin/prognosis"));
+
+  check_operator_page(r, observer, kChannels.size(), alarm.output());
 
   const int web_code = web.terminate(std::chrono::seconds(10));
   EXPECT_EQ(web_code, 0) << web.output();

@@ -1,6 +1,9 @@
 // Issue 24 findings 3 and 6: the operator's status line per asset group (alarm-recommender's AssetStatusBoard,
 // fed by a real AlarmEngine on synthetic data with a known change) and alarm ids that differ across time scales.
 #include "asset_status.hpp"
+#include "prognosis_conversions.hpp"
+
+#include "causal/io/time_format.hpp"
 
 #include "../alarms/synthetic_group.hpp"
 
@@ -115,4 +118,60 @@ TEST(AlarmIds, ScopedEnginesNeverShareAnIdWithTheConditionLevel) {
   }
   for (const auto& id : sample_ids) EXPECT_EQ(id.rfind("g/sample/", 0), 0u) << id;
   EXPECT_TRUE(condition_ids.count("g/2/feature_drift/1")) << "the changed channel's alarm";
+}
+
+// Issue 26: the status line carries the prognosis of its worst alarm (the node's function), only in alarm.
+TEST(AssetStatus, CarriesThePrognosisLineOnlyWhileInAlarm) {
+  syn::SyntheticConfig cfg;
+  cfg.n = 400;
+  cfg.own_change = [](int t) { return t >= 250 ? 0.3 * (t - 250) : 0.0; };
+  const auto obs = syn::make_run(cfg);
+  AlarmEngine engine("g", syn::channel_names4(), {}, AlarmParams{});
+  AssetStatusBoard board;
+  int asked = 0;
+  std::string asked_for;
+  bool seen_alarm = false;
+  for (const auto& o : obs) {
+    engine.observe(o);
+    StatusInput in;
+    in.condition = &engine;
+    in.index = o.index;
+    in.time_ns = o.time_ns;
+    in.prognosis = [&](const causal::alarms::AlarmEvent& worst) {
+      ++asked;
+      asked_for = worst.alarm_id;
+      return "prognosis of " + worst.alarm_id;
+    };
+    causal_twin::AssetStatus s;
+    if (!board.update("g", in, s)) continue;
+    if (s.state() == "alarm") {
+      seen_alarm = true;
+      EXPECT_EQ(s.prognosis_text(), "prognosis of " + asked_for) << s.text();
+    } else {
+      EXPECT_EQ(s.prognosis_text(), "") << s.state();
+    }
+  }
+  EXPECT_TRUE(seen_alarm);
+  EXPECT_GT(asked, 0);
+}
+
+TEST(AssetStatus, PrognosisLineInRoundedHoursAndUtc) {
+  causal::prognosis::ChannelPrognosis p;
+  p.channel = 0;
+  p.level = causal::prognosis::Level::warning;
+  p.time.known = true;
+  p.time.hours = 12.34;
+  p.time.hours_low = 6.14;
+  p.time.hours_high = 29.7;
+  const std::int64_t at = *causal::io::parse_utc("2004-02-19 06:00:00");
+  EXPECT_EQ(causal::recommender::status_prognosis_text("bearing1", p, at),
+            "bearing1: warning in ~12 h (6.1-30 h), ~2004-02-19 18:00 UTC");
+  p.level = causal::prognosis::Level::critical;
+  p.time.known = false;
+  p.time.why = "no rising trend";
+  EXPECT_EQ(causal::recommender::status_prognosis_text("bearing1", p, at), "bearing1: critical: unknown (no rising trend)");
+  p.time.reached = true;
+  EXPECT_EQ(causal::recommender::status_prognosis_text("bearing1", p, at), "bearing1: critical reached");
+  p.level = causal::prognosis::Level::end_of_life;
+  EXPECT_EQ(causal::recommender::status_prognosis_text("bearing1", p, at), "bearing1: end of life reached");
 }

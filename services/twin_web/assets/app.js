@@ -1,37 +1,29 @@
 // The live view: the selected asset group's state (Server-Sent Events from /api/events?group=ID, or polling
-// /api/state?group=ID when a stream cannot be had) with the overview of every group for the group buttons.
+// /api/state?group=ID when a stream cannot be had) with the overview of every group (one status line each).
+// The first response carries the state (twin-initial-state): the page is drawn before any event arrives.
 // Text from the twin is always set as text, never as HTML.
 'use strict';
 
 (function () {
-  const COLOURS = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#8c564b', '#e377c2'];
-  const BAND = { advisory: 'rgba(240,190,30,0.14)', warning: 'rgba(240,130,30,0.16)', critical: 'rgba(215,40,40,0.18)' };
-  const SEVERITY_RANK = { critical: 3, warning: 2, advisory: 1 };
+  const { node, utc, channelName, SEVERITY_RANK } = window.twinFormat;
+  const panels = window.operatorPanels;
   const KNOWN_REC_FIELDS = new Set(['id', 'alarm_id', 'current', 'rank', 'target_channel', 'intervene_channel', 'delta',
     'effect_immediate', 'effect_steady_state', 'effect_low', 'effect_high', 'confidence', 'text', 'arrival',
     'answer_kind', 'horizon_snapshots', 'spectral_radius', 'draws', 'unstable_draws', 'unstable_draw_share',
     'effect_median', 'effect_percent', 'effect_percent_low', 'effect_percent_high', 'effect_level_change', 'reliable',
     'summary']);
   const $ = (id) => document.getElementById(id);
+  const urlGroup = new URLSearchParams(window.location.search).get('group');
   let state = null;     // {version, overview: {groups: [...]}, group: {...} | null}
-  let selected = null;  // asset-group id shown (null: none yet)
-  let chosen = false;   // the user picked it (else the first group with data is followed)
-  let chart = null;
+  let selected = urlGroup;      // asset-group id shown (null: none yet)
+  let chosen = urlGroup !== null;  // chosen by the link or the user (else the first group with data is followed)
+  let started = false;  // the event stream is open (select() reconnects only then)
   let source = null;
   let polling = null;
   let points = 0;
 
-  function node(tag, attrs, text) {
-    const e = document.createElement(tag);
-    for (const [k, v] of Object.entries(attrs || {})) e.setAttribute(k, String(v));
-    if (text !== undefined && text !== null) e.textContent = String(text);
-    return e;
-  }
-  // "x; y; z" -> "x" and "A. B." -> "A.": the headline of a long explanation (the rest stays available).
-  const firstClause = (t) => { const s = String(t || ''); const i = s.indexOf('; '); return i > 0 ? s.slice(0, i) : s; };
+  // "A. B." -> "A.": the headline of a long explanation (the rest stays available as the title).
   const firstSentence = (t) => { const s = String(t || ''); const m = /\.\s+(?=[A-Z[])/.exec(s); return m ? s.slice(0, m.index + 1) : s; };
-  const fmtTime = (ms) => (ms ? new Date(ms).toISOString().slice(0, 16).replace('T', ' ') + ' UTC' : '');
-  const channelName = (g, c) => (g.channels[c - 1] !== undefined ? g.channels[c - 1] : `channel ${c}`);
   // Effects are in model units: log levels (estimator log_transform), shown as level changes in percent.
   const pct = (v) => (v === null || v === undefined || !isFinite(v) ? 'n/a'
     : `${v >= 0 ? '+' : ''}${(100 * Math.expm1(v)).toFixed(1)} %`);
@@ -52,6 +44,7 @@
   const groupQuery = () => `?group=${encodeURIComponent(selected === null ? '' : selected)}`;
 
   function connect() {
+    started = true;
     if (source) { source.close(); source = null; }
     if (polling) { clearInterval(polling); polling = null; }
     if (!('EventSource' in window)) { poll(); return; }
@@ -77,10 +70,23 @@
     chosen = chosen || byUser;
     if (id === selected) return;
     selected = id;
+    if (byUser) window.history.pushState({ group: id }, '', `?group=${encodeURIComponent(id)}`);
     const out = $('whatif-result');
     out.replaceChildren();
     out.dataset.status = 'idle';
-    connect();  // the next event carries the new group
+    if (started) connect();  // the next event carries the new group
+  }
+  window.addEventListener('popstate', () => {
+    const id = new URLSearchParams(window.location.search).get('group');
+    if (id !== null) select(id, false);
+  });
+
+  // The root cause the operator should look at: the status line's, else the worst open degradation alarm's.
+  function rootChannel(g) {
+    if (g.status && g.status.state === 'alarm' && g.status.root_cause_channel) return g.status.root_cause_channel;
+    const open = g.alarms.filter((a) => a.open && a.category === 'degradation' && a.root_cause_channel)
+      .sort((a, b) => (SEVERITY_RANK[b.severity] || 0) - (SEVERITY_RANK[a.severity] || 0));
+    return open.length ? open[0].root_cause_channel : 0;
   }
 
   function apply(s) {
@@ -89,200 +95,32 @@
     const current = groups.find((x) => x.id === selected);
     if (!current || (!chosen && !current.has_trend)) {
       const first = groups.find((x) => x.has_trend) || groups[0];
-      if (first && first.id !== selected) select(first.id, false);
+      if (first && first.id !== selected && !chosen) select(first.id, false);
     }
-    renderNav(groups);
+    panels.renderOverview(groups, selected, (id) => select(id, true));
     const g = s.group && s.group.id === selected ? s.group : null;
     $('empty').hidden = !!g;
     $('view').hidden = !g;
     if (!g) {
       const info = (s.overview && s.overview.info) || {};
-      $('empty').textContent = `Waiting for data from the twin on DDS domain ${info.domain || '?'}\u2026`;
+      $('empty').textContent = selected && chosen && !current
+        ? `No asset group "${selected}" on DDS domain ${info.domain || '?'} (yet).`
+        : `Waiting for data from the twin on DDS domain ${info.domain || '?'}\u2026`;
       return;
     }
-    renderStamp(g);
-    renderStatus(g);
-    renderTrend(g);
-    renderGraph(g);
-    renderAlarms(g);
+    $('stamp').textContent = g.last ? `${g.id} \u00b7 latest snapshot ${utc(g.last.time_ms)}` : g.id;
+    points = window.renderTrendChart($('trend'), g, $('band-note'));
+    $('trend').dataset.points = String(points);
+    const t = g.trend.time_ms;
+    $('trend-info').textContent = `${g.feature || ''} \u00b7 ${t.length} snapshots` +
+      (t.length ? ` \u00b7 ${utc(t[0])} to ${utc(t[t.length - 1])}` : '');
+    const root = rootChannel(g);
+    const drawn = window.drawCausalGraph($('graph'), g.channels, g.graph, root);
+    $('graph-info').textContent = g.graph.outcomes > 0 ? `${utc(g.graph.time_ms)} \u00b7 ${drawn} links` : '';
+    panels.renderAlarms(g);
+    panels.renderPrognoses(g);
     renderRecommendations(g);
     renderWhatIfChannels(g);
-  }
-
-  function renderNav(groups) {
-    const nav = $('groups');
-    const ids = groups.map((g) => g.id).join('\u0000');
-    if (nav.dataset.ids !== ids) {
-      nav.dataset.ids = ids;
-      nav.replaceChildren(...groups.map((g) => {
-        const b = node('button', { type: 'button', 'data-group': g.id }, g.id || '(twin)');
-        b.appendChild(node('span', { class: 'badge' }));
-        b.addEventListener('click', () => select(g.id, true));
-        return b;
-      }));
-    }
-    groups.forEach((g, i) => {
-      const b = nav.children[i];
-      b.classList.toggle('active', g.id === selected);
-      const badge = b.lastChild;  // open alarms, coloured by the worst
-      badge.textContent = g.open_alarms > 0 ? String(g.open_alarms) : '';
-      badge.className = g.open_alarms > 0 ? `badge sev ${g.worst_severity}` : 'badge';
-      b.dataset.state = g.state || '';
-      b.title = g.state ? `${g.id}: ${g.state}` : g.id;
-    });
-  }
-
-  // The recommender's operator line: learning n of N, healthy, stopped (an operating state) or alarm.
-  function renderStatus(g) {
-    const el = $('status');
-    const s = g.status;
-    el.dataset.state = s ? s.state : '';
-    el.textContent = s ? `${s.state.toUpperCase()} \u00b7 ${s.text}` +
-      (s.action ? ` \u00b7 advice: ${s.action}` : '') : 'no status from the alarm-recommender yet';
-  }
-
-  function renderStamp(g) {
-    $('stamp').textContent = g.last ? `snapshot ${g.last.index} \u00b7 ${fmtTime(g.last.time_ms)}` : '';
-  }
-
-  // Log-axis labels at 1, 2, 3 and 5 times a power of ten (Chart.js's own skip 3, which leaves a narrow range
-  // with one label); every label on a linear axis.
-  function logTick(v) {
-    if (this.type !== 'logarithmic') return Number(Number(v).toPrecision(3)).toString();
-    const m = v / Math.pow(10, Math.floor(Math.log10(v)));
-    return [1, 2, 3, 5].some((x) => Math.abs(m - x) < 1e-6) ? Number(Number(v).toPrecision(2)).toString() : '';
-  }
-
-  function union(spans) {
-    const sorted = spans.map((b) => ({ from: b.from, to: b.to })).sort((a, b) => a.from - b.from);
-    const out = [];
-    for (const b of sorted) {
-      const last = out[out.length - 1];
-      if (last && b.from <= last.to) last.to = Math.max(last.to, b.to); else out.push(b);
-    }
-    return out;
-  }
-
-  const bandPlugin = {
-    id: 'alarmBands',
-    beforeDatasetsDraw(c) {
-      const bands = c.$alarmBands || [];
-      const x = c.scales.x, area = c.chartArea, ctx = c.ctx;
-      const span = (b) => {
-        const x0 = Math.max(area.left, x.getPixelForValue(b.from));
-        const x1 = Math.min(area.right, x.getPixelForValue(b.to));
-        return x1 < x0 ? null : [x0, Math.max(2, x1 - x0)];
-      };
-      ctx.save();
-      // One layer per severity (the union of its alarms' spans), so overlapping alarms do not darken the plot.
-      for (const severity of ['advisory', 'warning', 'critical']) {
-        ctx.fillStyle = BAND[severity];
-        for (const u of union(bands.filter((b) => b.severity === severity))) {
-          const s = span(u);
-          if (s) ctx.fillRect(s[0], area.top, s[1], area.bottom - area.top);
-        }
-      }
-      for (const b of bands) {  // which channel: a strip in its colour along the top
-        const s = span(b);
-        if (!s) continue;
-        ctx.fillStyle = COLOURS[(b.channel - 1) % COLOURS.length];
-        ctx.fillRect(s[0], area.top + 4 * (b.channel - 1), s[1], 3);
-      }
-      ctx.restore();
-    },
-  };
-
-  function renderTrend(g) {
-    const t = g.trend;
-    const n = t.index.length;
-    points = n * g.channels.length;
-    $('trend').dataset.points = String(points);
-    $('trend-info').textContent = `${g.feature || ''} \u00b7 ${n} snapshots`;
-    if (!window.Chart) { $('band-note').textContent = 'Chart.js is not installed (Debian package libjs-chart.js).'; return; }
-    const datasets = g.channels.map((name, c) => ({
-      label: name,
-      data: t.index.map((x, i) => ({ x, y: t.values[c][i] })),
-      borderColor: COLOURS[c % COLOURS.length],
-      backgroundColor: COLOURS[c % COLOURS.length],
-      borderWidth: 1.4, pointRadius: 0, tension: 0,
-    }));
-    const positive = t.values.every((v) => v.every((y) => y > 0));
-    // A robust lower end (the 1st percentile): a stopped machine's last snapshot must not crush the axis.
-    const all = t.values.flat().sort((a, b) => a - b);
-    const p1 = all.length ? all[Math.floor(0.01 * all.length)] : undefined;
-    const yMin = p1 === undefined ? undefined : (positive ? p1 * 0.8 : p1 - 0.05 * Math.abs(all[all.length - 1] - p1));
-    const last = n > 0 ? t.index[n - 1] : 0;
-    const bands = g.alarms.filter((a) => a.channel >= 1)
-      .map((a) => ({ from: a.raised_index, to: a.cleared_index !== null ? a.cleared_index : last, severity: a.severity, channel: a.channel }));
-    const timeOf = new Map(t.index.map((x, i) => [x, t.time_ms[i]]));
-    if (!chart) {
-      chart = new window.Chart($('trend'), {
-        type: 'line',
-        data: { datasets },
-        options: {
-          animation: false, parsing: false, normalized: true, maintainAspectRatio: false,
-          interaction: { mode: 'nearest', axis: 'x', intersect: false },
-          scales: {
-            x: { type: 'linear', title: { display: true, text: 'snapshot' } },
-            y: {
-              type: positive ? 'logarithmic' : 'linear',
-              title: { display: true, text: g.feature || 'condition' },
-              ticks: { callback: logTick },
-            },
-          },
-          plugins: { legend: { position: 'top' }, tooltip: { callbacks: {} } },
-        },
-        plugins: [bandPlugin],
-      });
-    } else {
-      chart.data.datasets = datasets;
-      chart.options.scales.y.type = positive ? 'logarithmic' : 'linear';
-      chart.options.scales.y.title.text = g.feature || 'condition';
-    }
-    chart.options.scales.y.min = yMin;
-    chart.options.plugins.tooltip.callbacks.title = (items) =>
-      (items.length ? `snapshot ${items[0].parsed.x} \u00b7 ${fmtTime(timeOf.get(items[0].parsed.x))}` : '');
-    chart.$alarmBands = bands;
-    chart.update('none');
-  }
-
-  function renderGraph(g) {
-    const drawn = window.drawCausalGraph($('graph'), g.channels, g.graph);
-    $('graph-info').textContent = g.graph.outcomes > 0 ? `snapshot ${g.graph.index} \u00b7 ${drawn} links` : '';
-  }
-
-  function renderAlarms(g) {
-    const open = g.alarms.filter((a) => a.open)
-      .sort((a, b) => (SEVERITY_RANK[b.severity] || 0) - (SEVERITY_RANK[a.severity] || 0) || a.raised_index - b.raised_index);
-    const body = $('alarms').tBodies[0];
-    body.replaceChildren(...open.map((a) => {
-      const tr = node('tr', { 'data-alarm-id': a.id });
-      const sev = node('td');
-      sev.appendChild(node('span', { class: `sev ${a.severity}` }, a.severity));
-      tr.appendChild(sev);
-      tr.appendChild(node('td', {}, a.channel_name || (a.channel ? channelName(g, a.channel) : a.category)));
-      tr.appendChild(node('td', { title: fmtTime(a.raised_time_ms) }, `#${a.raised_index}`));
-      tr.appendChild(node('td', {}, a.root_cause_channel ? (a.root_cause_name || channelName(g, a.root_cause_channel)) : '\u2014'));
-      // The first clause says what happened; the whole reason (often a paragraph) opens on a click.
-      const reason = node('td', { class: 'reason' });
-      const details = node('details');
-      details.appendChild(node('summary', {}, firstClause(a.reason)));
-      details.appendChild(node('div', {}, a.reason));
-      reason.appendChild(details);
-      reason.appendChild(node('div', { class: 'muted' }, `${a.category} \u00b7 ${a.kind} \u00b7 ${a.id}`));
-      tr.appendChild(reason);
-      return tr;
-    }));
-    if (open.length === 0) {
-      const tr = node('tr');
-      tr.appendChild(node('td', { colspan: 5, class: 'muted' }, 'No open alarm.'));
-      body.appendChild(tr);
-    }
-    const badge = $('alarm-count');
-    badge.textContent = String(open.length);
-    badge.classList.toggle('hot', open.length > 0);
-    const closed = g.alarms.length - open.length;
-    $('closed-note').textContent = closed > 0 ? `${closed} alarm${closed === 1 ? '' : 's'} cleared earlier (shaded on the trends).` : '';
   }
 
   function renderRecommendations(g) {
@@ -385,6 +223,15 @@
   });
 
   // For tests and the curious: what the page shows, without scraping pixels.
-  window.twinView = { pointCount: () => points, selected: () => selected, state: () => state };
+  window.twinView = { pointCount: () => points, selected: () => selected, state: () => state, rootChannel: () => (state && state.group ? rootChannel(state.group) : 0) };
+  // The state served with the page: drawn now, then kept current by the event stream.
+  const initial = document.getElementById('twin-initial-state');
+  let first = null;
+  try { first = JSON.parse(initial ? initial.textContent : 'null'); } catch (e) { first = null; }
+  if (first && first.overview) {
+    if (selected === null && first.group) selected = first.group.id;
+    apply(first);
+    document.documentElement.dataset.initial = 'rendered';
+  }
   connect();
 })();

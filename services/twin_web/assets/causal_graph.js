@@ -1,6 +1,7 @@
 // Draws the causal graph of one asset group as SVG: channels on a circle, an arrow j -> k for every
 // significant link (|z| >= graph.min_z) of the condition-level filter, solid at once, dashed through the
-// previous snapshot, width by |factor|, blue when j raises k and red when it lowers it. No library needed.
+// previous snapshot, width by |factor|, blue when j raises k and red when it lowers it. The root cause of the
+// open alarms (1-based, 0 = none) gets a red ring and says so. No library needed.
 'use strict';
 
 window.drawCausalGraph = (function () {
@@ -20,7 +21,7 @@ window.drawCausalGraph = (function () {
     return m;
   }
 
-  return function draw(svg, channels, graph) {
+  return function draw(svg, channels, graph, rootCause) {
     while (svg.firstChild) svg.removeChild(svg.firstChild);
     const defs = el('defs');
     defs.appendChild(marker('arrow-pos', '#1f5fa8'));
@@ -69,7 +70,15 @@ window.drawCausalGraph = (function () {
     }
     channels.forEach((name, i) => {
       const p = pos[i];
-      svg.appendChild(el('circle', { cx: p.x, cy: p.y, r: NODE, fill: '#eef3fa', stroke: '#17324f', 'stroke-width': 1.5 }));
+      const root = rootCause === i + 1;
+      svg.appendChild(el('circle', { cx: p.x, cy: p.y, r: NODE, fill: root ? '#fde4e1' : '#eef3fa',
+        stroke: root ? '#c0392b' : '#17324f', 'stroke-width': root ? 4 : 1.5,
+        class: root ? 'node root-cause' : 'node', 'data-channel': i + 1 }));
+      if (root) {  // above the node, or below it when above would leave the drawing
+        const below = p.y - NODE - 6 < 10;
+        svg.appendChild(el('text', { x: p.x, y: below ? p.y + NODE + 14 : p.y - NODE - 6, 'text-anchor': 'middle',
+          'font-size': 11, 'font-weight': 700, fill: '#c0392b', class: 'root-cause-label' }, 'root cause'));
+      }
       svg.appendChild(el('text', { x: p.x, y: p.y + 1, 'text-anchor': 'middle', 'font-size': 11, 'font-weight': 600, fill: '#17324f' }, name));
       const s = selfLags.get(i + 1);
       if (s) {
