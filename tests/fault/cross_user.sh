@@ -14,7 +14,7 @@
 #    acknowledge over shared memory (Fast DDS 2.9 creates its segments and ports with mode 0644), so the
 #    services' writers stall; checked: a reader_not_acknowledging HEALTH alarm within 15 s of the tool joining (--ack-stall 7 s),
 #    naming it (causal-recorder [user ctwin-other ...]). Bounded: the run is stopped once it is seen.
-# Fixed DDS domains: 223 shipped, 224 shm (tests/fault/CMakeLists.txt): the two modes must never hear each other
+# Fixed DDS domains: 223 shipped, 68 shm (tests/fault/CMakeLists.txt): the two modes must never hear each other
 # (on one domain a second causal-estimator appears, the replay rewinds for it and resends).
 set -uo pipefail
 bin="$1"; deploy="$2"; mode="${3:-shipped}"
@@ -46,7 +46,7 @@ services_profile="$deploy/dds/localhost-udp.xml"
 tool_profile="$deploy/dds/localhost.xml"
 table="$deploy/data/ims2-features/derived_per_file_stats_all984.csv"
 domain=223
-[ "$mode" = shm ] && domain=224
+[ "$mode" = shm ] && domain=68
 c=(--domain "$domain" --qos "$deploy/dds/qos.xml" --transport "$services_profile")
 limit=90
 [ "$mode" = shm ] && limit=40
