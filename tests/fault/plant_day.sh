@@ -27,13 +27,15 @@ bin="$1"; deploy="$2"; seed="${PLANT_DAY_SEED:-24}"
 other=ctwin-other
 work="$(mktemp -d)"
 chmod 755 "$work"
-pids=()
 made_user=0
-broker=
-cleanup() {
-  for p in "${pids[@]}" $broker; do kill -TERM "$p" 2>/dev/null; done
-  sleep 1
-  for p in "${pids[@]}" $broker; do kill -KILL "$p" 2>/dev/null; wait "$p" 2>/dev/null; done
+
+cleanup() {  # only this shell's jobs still running: a pid that has exited may belong to another process by now
+  local live
+  live=$(jobs -pr)
+  [ -n "$live" ] && kill -TERM $live 2>/dev/null && sleep 1
+  live=$(jobs -pr)
+  [ -n "$live" ] && kill -KILL $live 2>/dev/null
+  wait 2>/dev/null
   for f in "$work"/*/other/other.pid; do [ -f "$f" ] && kill -TERM "$(cat "$f")" 2>/dev/null; done
   [ "$made_user" = 1 ] && userdel "$other" 2>/dev/null
   if [ "${PLANT_DAY_KEEP:-0}" = 1 ]; then echo "kept $work"; else rm -rf "$work"; fi
@@ -57,7 +59,7 @@ total=$(wc -l < "$work/blocks.jsonl")
 # The broker: loopback only, no persistence, no limit on queued messages (the default 1000 would drop).
 port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 printf 'listener %s 127.0.0.1\nallow_anonymous true\npersistence false\nmax_queued_messages 0\n' "$port" > "$work/mosquitto.conf"
-/usr/sbin/mosquitto -c "$work/mosquitto.conf" > "$work/mosquitto.log" 2>&1 & broker=$!
+/usr/sbin/mosquitto -c "$work/mosquitto.conf" > "$work/mosquitto.log" 2>&1 &
 
 # Kill points: three distinct snapshots in 200..899 drawn from the seed, and which victim dies at which.
 read -r -a points <<< "$(awk -v s="$seed" 'BEGIN { srand(s); n = 0
@@ -73,7 +75,7 @@ echo "seed $seed: kill ${victims[0]} after snapshot ${points[0]}, ${victims[1]} 
 declare -A cmd pid
 start() {  # $1 = service name; (re)starts it with its command, log appended
   eval "exec ${cmd[$1]}" >> "$out/$1.log" 2>&1 &
-  pid[$1]=$!; pids+=($!)
+  pid[$1]=$!
 }
 rows_of() { [ -f "$1" ] && echo $(( $(wc -l < "$1") - 1 )) || echo 0; }
 wait_rows() {  # $1 = file, $2 = rows, $3 = seconds
