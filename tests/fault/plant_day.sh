@@ -11,10 +11,12 @@
 # second Linux user (ctwin-other, created here with useradd and removed) starting its own causal-recorder with
 # runuser mid-run, on the shared-memory profile (the worst case, as in cross_user.sh). The recorder is never
 # killed. The publisher holds at each kill point until the snapshot before it went through (the recorder has its
-# condition vector), so the victim holds nothing in flight, and goes on once the restarted victim is back:
-# a message inside a killed sensor-ingest is acknowledged to the broker already (libmosquitto 2.0 acknowledges a
-# QoS 1 message before handing it over) and frames written while no estimator reads are not kept (VOLATILE), so
-# a kill in mid-flight loses them (docs/reliability.md "Plant day").
+# condition vector), so the victim holds nothing in flight: a message inside a killed sensor-ingest is acknowledged
+# to the broker already (libmosquitto 2.0 acknowledges a QoS 1 message before handing it over) and frames written
+# while no estimator reads are not kept (VOLATILE), so a kill in mid-flight loses them (docs/reliability.md "Plant
+# day"). After an estimator or recommender kill it goes on once the restarted one is back; after the ingest kill it
+# publishes the next snapshots while the ingest is down (--mqtt-keep-session: the broker queues them) and the
+# ingest is restarted after that.
 # Checked, exactly: the recordings of both runs are equal file by file (conditions, factors, alarms,
 # recommendations, asset status, prognosis); every snapshot counted: published (984) == taken by sensor-ingest
 # (across its two runs) == frames received by causal-estimator == condition vectors recorded, each snapshot
@@ -93,6 +95,11 @@ publish() {  # $1..$2 = first and last snapshot (0-based, inclusive): QoS 1, ret
     mosquitto_pub -h 127.0.0.1 -p "$port" -t "plant/$run_name/$group" -q 1 -l -i "daq-$run_name" ||
     fail "mosquitto_pub of snapshots $1..$2 failed"
   published=$(( published + $2 - $1 + 1 ))
+  if [ "$ingest_down" = 1 ]; then  # published while it was down: the broker queued them for its session
+    ingest_down=0
+    start ingest; wait_log "$out/ingest.log" "subscribed to" 30 2 || fail "the restarted sensor-ingest did not subscribe"
+    echo "$run_name: sensor-ingest restarted after snapshots $1..$2 were published without it"
+  fi
 }
 stable() {  # waits until the recorder's alarm, recommendation and status files stop growing for 3 s (bounded)
   local before now i same=0
@@ -109,8 +116,8 @@ kill_and_restart() {  # $1 = victim at snapshot $2
   echo "$run_name: $v killed (SIGKILL) after snapshot $2"
   echo "--- restarted after SIGKILL ---" >> "$out/$v.log"
   case $v in
-    ingest)  # no message is published while it is away; it subscribes again, then the publisher goes on
-      start ingest; wait_log "$out/ingest.log" "subscribed to" 30 2 || fail "the restarted sensor-ingest did not subscribe" ;;
+    ingest)  # the DAQ goes on publishing while it is down (its MQTT session is kept); restarted after that
+      ingest_down=1 ;;
     estimator)  # the ingest's frames are volatile: the restarted estimator must be matched before the next one
       start estimator; wait_log "$out/estimator.log" "waiting for frames" 30 2 || fail "the restarted estimator did not start: $(tail -3 "$out/estimator.log")"
       sleep 6 ;;  # the killed estimator's lease (5 s) ends, the new one is matched to the ingest and the recommender
@@ -121,13 +128,13 @@ kill_and_restart() {  # $1 = victim at snapshot $2
 }
 
 run_day() {  # $1 = name, $2 = domain, $3 = 1 with faults
-  run_name=$1; out="$work/$1"; published=0; domain=$2
+  run_name=$1; out="$work/$1"; published=0; domain=$2; ingest_down=0
   mkdir -p "$out/state/ingest" "$out/state/estimator" "$out/state/recommender"
   local c="--domain $2 --qos '$deploy/dds/qos.xml' --transport '$profile' --max-runtime 110"
   cmd[recorder]="'$bin/causal_recorder/causal-recorder' $c --out '$out/rec' --idle-exit 30"
   cmd[recommender]="'$bin/alarm_recommender/alarm-recommender' $c --idle-exit 30 --state-dir '$out/state/recommender'"
   cmd[estimator]="'$bin/causal_estimator/causal-estimator' $c --idle-exit 30 --state-dir '$out/state/estimator' --wait-for alarm-recommender --wait-for causal-recorder --wait-timeout 60"
-  cmd[ingest]="'$bin/sensor_ingest/sensor-ingest' $c --source 'mqtt://127.0.0.1:$port/plant/$1/$group' --client-id 'ingest-$1' --state-dir '$out/state/ingest' --wait-for causal-estimator --wait-timeout 0"
+  cmd[ingest]="'$bin/sensor_ingest/sensor-ingest' $c --source 'mqtt://127.0.0.1:$port/plant/$1/$group' --client-id 'ingest-$1' --mqtt-keep-session --state-dir '$out/state/ingest' --wait-for causal-estimator --wait-timeout 0"
   start recorder; start recommender; start estimator; start ingest
   wait_log "$out/ingest.log" "subscribed to" 60 || fail "$1: sensor-ingest did not subscribe: $(tail -3 "$out/ingest.log")"
   local from=0 k i joined
