@@ -17,12 +17,14 @@
 # day"). After an estimator or recommender kill it goes on once the restarted one is back; after the ingest kill it
 # publishes the next snapshots while the ingest is down (--mqtt-keep-session: the broker queues them) and the
 # ingest is restarted after that.
-# Checked, exactly: the recordings of both runs are equal file by file (conditions, factors, alarms,
-# recommendations, asset status, prognosis); every snapshot counted: published (984) == taken by sensor-ingest
-# (across its two runs) == frames received by causal-estimator == condition vectors recorded, each snapshot
-# index 0..983 once, duplicates after restarts counted; no alarm id used for two alarms (same id, different
-# channel/kind/category); a causal-recorder that joins at the end receives every alarm id open in the recording
-# with the same last state. Root only (useradd): exit 77 otherwise. Fixed DDS domains 66 (reference) and 67
+# Checked, exactly: conditions, both factor files and prognosis.csv byte-identical to the run without faults;
+# alarms.csv and recommendations.csv the same rows and per id the same events in order (the order across ids follows
+# the arrival of the two time scales, which differs between undisturbed runs too); asset_status.csv's last line;
+# every snapshot counted: published (984) == taken by sensor-ingest (across its two runs) == frames received by
+# causal-estimator == condition vectors recorded, each snapshot index 0..983 once, duplicates after restarts
+# counted; no alarm id used for two alarms (channel, kind and raised time constant per id); every service exits 0;
+# a causal-recorder that joins at the end receives every alarm open in the recording with the same last state.
+# PLANT_DAY_FAULTS=0: the second run without faults too (what differs between two undisturbed runs). Root only (useradd): exit 77 otherwise. Fixed DDS domains 66 (reference) and 67
 # (faults); the runs follow each other. RESOURCE_LOCK causal_user_ctwin_other (tests/fault/CMakeLists.txt).
 set -uo pipefail
 bin="$1"; deploy="$2"; seed="${PLANT_DAY_SEED:-24}"
