@@ -1,40 +1,44 @@
-// The recommendations alarm-recommender published, kept per asset group in
-// DIR/<sanitised asset group>.recommendations.state (--state-dir), so a restarted recommender publishes them
-// again: the recommendation topic keeps the last value per recommendation id for readers that join later
-// (transient local), and without this a live view or recorder that joined after a restart saw the open alarms
-// with none of their advice. Last value per recommendation id, as the topic keeps them. Written (atomically,
-// not fsync'ed) after each recommendation is made, before it is published, like the alarm checkpoints.
+// What alarm-recommender keeps of its published keep-last topics (kept_messages.hpp), per asset group:
+//  * RecommendationStore: DIR/<group>.recommendations.state, last value per recommendation id. Without it a live
+//    view or recorder that joined after a restart saw the open alarms with none of their advice.
+//  * AlarmMessageStore: DIR/<group>.alarm_messages.state, the last Alarm message per open alarm id as published, with
+//    its decision (action, next_level, hours_to_next_level*). The engine checkpoint restores the alarm events;
+//    their decision is taken when they are published and was lost at a restart (republished alarms had an
+//    empty action).
 #pragma once
 
-#include "causal_twin.h"
-
-#include <cstdint>
-#include <map>
-#include <string>
-#include <vector>
+#include "causal_twinPubSubTypes.h"
+#include "kept_messages.hpp"
 
 namespace causal::recommender {
 
-class RecommendationStore {
- public:
-  explicit RecommendationStore(std::string state_dir);  // empty: nothing is kept (the directory exists already)
-
-  // Remembers `r` (replacing the last one with its id) and writes its asset group's file. A failed write is
-  // counted and logged, never thrown: advice keeps flowing when the disk is full.
-  void record(const causal_twin::Recommendation& r);
-  // Every recommendation of every file in the directory, for republishing at start. Throws causal::StateError
-  // naming the file when one cannot be used.
-  std::vector<causal_twin::Recommendation> load_all();
-
-  std::uint64_t save_failures() const { return save_failures_; }
-
- private:
-  std::string path(const std::string& asset_group) const;
-  void save(const std::string& asset_group);
-
-  std::string dir_;
-  std::map<std::string, std::map<std::string, std::string>> kept_;  // group -> id -> message (CDR bytes)
-  std::uint64_t save_failures_ = 0;
+struct RecommendationTraits {
+  static constexpr const char* kTag = "alarm_recommender_recommendations";
+  static constexpr std::uint32_t kVersion = 1;
+  static constexpr const char* kSuffix = ".recommendations.state";
+  static constexpr const char* kWhat = "recommendation";
+  static const std::string& id(const causal_twin::Recommendation& r) { return r.recommendation_id(); }
+  static const std::string& group(const causal_twin::Recommendation& r) { return r.asset_group(); }
+  static bool keep(const causal_twin::Recommendation&) { return true; }  // the topic keeps every one
 };
+using RecommendationStore =
+    KeptMessages<causal_twin::Recommendation, causal_twin::RecommendationPubSubType, RecommendationTraits>;
+
+struct AlarmMessageTraits {
+  static constexpr const char* kTag = "alarm_recommender_alarm_messages";
+  static constexpr std::uint32_t kVersion = 1;
+  static constexpr const char* kSuffix = ".alarm_messages.state";
+  static constexpr const char* kWhat = "alarm message";
+  static const std::string& id(const causal_twin::Alarm& a) { return a.alarm_id(); }
+  static const std::string& group(const causal_twin::Alarm& a) { return a.asset_group(); }
+  // Open alarms only: a cleared one carries no decision, and the engine checkpoint republishes it as it is.
+  static bool keep(const causal_twin::Alarm& a) { return a.state() != causal_twin::AlarmState::CLEARED; }
+};
+using AlarmMessageStore = KeptMessages<causal_twin::Alarm, causal_twin::AlarmPubSubType, AlarmMessageTraits>;
+
+// Copies the decision fields of `kept` (the message last published for this alarm id) onto `rebuilt` (the same
+// alarm's last event rebuilt from the engine checkpoint) when both describe the same event (state, severity,
+// evidence index); false otherwise (the process died between the engine checkpoint and publishing).
+bool restore_decision(const causal_twin::Alarm& kept, causal_twin::Alarm& rebuilt);
 
 }  // namespace causal::recommender

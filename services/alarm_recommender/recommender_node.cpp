@@ -40,6 +40,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       advisor_(params_.advice),
       store_(options_.state_dir),
       recommendation_store_(options_.state_dir),
+      alarm_message_store_(options_.state_dir),
       health_(params_.health_deadline_s, "causal factors", "estimator", {dds::topics::kCausalFactors}) {
   loop_.attach(factors_.get());
   loop_.attach(conditions_.get());
@@ -103,7 +104,10 @@ int RecommenderNode::run() {
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
   spdlog::info("{} re-sent observations dropped (index not after the last one processed)", store_.duplicates());
   if (store_.enabled()) {
-    spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.save_failures());
+    spdlog::info("{} checkpoints written to '{}', {} failed; alarm messages: {} not written, {} re-published "
+                 "without their decision; recommendations: {} not written", store_.saves(), options_.state_dir,
+                 store_.save_failures(), alarm_message_store_.save_failures(), decisions_not_kept_,
+                 recommendation_store_.save_failures());
   }
   if (const auto c = assembler_.factor_counters(); c.dropped + c.duplicates + c.refused > 0) {
     spdlog::warn("causal factors: {} messages assembled into {} observations; {} duplicates (re-sent or replayed "
@@ -250,18 +254,30 @@ alarms::AlarmParams RecommenderNode::params_for(bool sample_level) const {
 
 void RecommenderNode::republish(const std::string& asset_group, const std::vector<std::string>& channel_names,
                                 const std::vector<alarms::AlarmEvent>& events) {
-  // Transient-local readers that join after the restart must see the alarms raised before it.
+  // Transient-local readers that join after the restart must see the alarms raised before it, with the decision
+  // (action, next level) they carried when published: kept beside the engine checkpoint, which has the events only.
+  std::size_t without_decision = 0;
+  causal_twin::Alarm kept;
   for (const auto& e : events) {
     dds::to_alarm(asset_group, channel_names, e, alarm_msg_);
+    if (!alarm_message_store_.find(asset_group, e.alarm_id, kept) || !restore_decision(kept, alarm_msg_)) {
+      if (e.category == alarms::category::kDegradation && e.state != alarms::AlarmState::Cleared) ++without_decision;
+    }
     if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
       ++alarms_published_;
       open_alarms_.on_published(alarm_msg_);
     }
   }
   spdlog::info("asset '{}': {} alarm messages re-published from the checkpoint", asset_group, events.size());
+  if (without_decision > 0) {  // the process died after the engine checkpoint, before the message was kept
+    decisions_not_kept_ += without_decision;
+    spdlog::warn("asset '{}': {} open alarm(s) re-published without their action: not kept before the restart "
+                 "(the next escalation carries one again)", asset_group, without_decision);
+  }
 }
 
 void RecommenderNode::restore_checkpoints() {
+  alarm_message_store_.load_all();  // before the engines: republish() takes each alarm's decision from it
   for (const auto& found : store_.checkpoints()) {
     const bool sample = found.sample_level;
     if (sample ? !params_.sample_enabled : !params_.condition_enabled) continue;
@@ -305,6 +321,7 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const EngineS
   dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
   if (a.time_scale == causal_twin::CONDITION_LEVEL) fill_next_level(st, e, alarm_msg_);
   alarm_msg_.action(action);
+  alarm_message_store_.record(alarm_msg_);  // kept before it is published, as the engine checkpoint
   if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
     ++alarms_published_;
     open_alarms_.on_published(alarm_msg_);

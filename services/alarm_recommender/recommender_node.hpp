@@ -99,6 +99,8 @@ class RecommenderNode {
   Advisor advisor_;
   AlarmStateStore store_;
   RecommendationStore recommendation_store_;
+  AlarmMessageStore alarm_message_store_;  // each alarm as published, with its decision (republished after a restart)
+  std::uint64_t decisions_not_kept_ = 0;   // republished alarms whose decision was not kept (died in between)
   dds::HealthWatch health_;
   std::map<std::pair<std::string, int>, EngineState> engines_;
   std::map<std::string, OrderTrust> order_trust_;  // per asset group, from its condition-level factor batches

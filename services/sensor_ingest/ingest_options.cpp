@@ -123,6 +123,9 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
       ->check(CLI::Range(0, 2))
       ->capture_default_str();
   app.add_option("--client-id", o.mqtt_client_id, "MQTT client id (default sensor-ingest-<pid>)");
+  app.add_flag("--mqtt-keep-session", o.mqtt_keep_session,
+               "keep the MQTT session at the broker (clean session off; needs --client-id and --mqtt-qos 1 or 2): "
+               "messages published while sensor-ingest is down are queued by the broker and delivered at its restart");
   app.add_option("--mqtt-cafile", o.mqtt_security.ca_file,
                  "connect to the broker over TLS, trusting this CA (PEM); the broker's name must match its certificate")
       ->check(CLI::ExistingFile);
@@ -183,6 +186,8 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
     for (const auto& a : allow) o.udp_allow.push_back(parse_ipv4_network(a));
     if (o.udp_allow.empty()) o.udp_allow.push_back(parse_ipv4_network("127.0.0.0/8"));
     if (!allow.empty() && o.source.kind != SourceKind::Udp) throw CLI::ValidationError("--udp-allow", "only with a udp:// source");
+    if (o.mqtt_keep_session && (o.mqtt_client_id.empty() || o.mqtt_qos == 0 || o.source.kind != SourceKind::Mqtt))
+      throw CLI::ValidationError("--mqtt-keep-session", "needs an mqtt:// source, a fixed --client-id and --mqtt-qos 1 or 2");
     const auto& m = o.mqtt_security;
     if (m.cert_file.empty() != m.key_file.empty()) throw CLI::ValidationError("--mqtt-cert", "give --mqtt-key with it");
     if (!m.cert_file.empty() && m.ca_file.empty()) throw CLI::ValidationError("--mqtt-cert", "needs --mqtt-cafile (TLS)");

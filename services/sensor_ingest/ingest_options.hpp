@@ -53,6 +53,7 @@ struct IngestOptions {
   SourceSpec source;
   int mqtt_qos = 1;
   std::string mqtt_client_id;  // default sensor-ingest-<pid>
+  bool mqtt_keep_session = false;  // clean session off: the broker queues QoS >= 1 messages while we are down
   MqttSecurity mqtt_security;
   // UDP datagrams are taken only from these networks (default loopback, 127.0.0.0/8); others are refused and
   // counted (ingest_udp_refused_total).

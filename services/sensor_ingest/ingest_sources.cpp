@@ -54,8 +54,10 @@ MqttSource::MqttSource(const IngestOptions& options, MessageQueue& queue)
     : spec_(options.source), qos_(options.mqtt_qos), queue_(queue) {
   static const int init = mosquitto_lib_init();  // once per process; the library stays up until exit
   (void)init;
-  // Clean session: a restarted adapter starts with the broker's current traffic; QoS 1 covers the link.
-  client_ = mosquitto_new(options.mqtt_client_id.c_str(), true, this);
+  // Clean session by default: a restarted adapter starts with the broker's current traffic; QoS 1 covers the link.
+  // --mqtt-keep-session: the broker keeps the subscription and queues what is published while the adapter is down
+  // (a message handed to a process that then dies is still lost: libmosquitto 2.0 acknowledges before on_message).
+  client_ = mosquitto_new(options.mqtt_client_id.c_str(), !options.mqtt_keep_session, this);
   if (!client_) throw std::runtime_error("mosquitto_new failed (out of memory or bad client id)");
   mosquitto_connect_callback_set(client_, &MqttSource::on_connect);
   mosquitto_disconnect_callback_set(client_, &MqttSource::on_disconnect);

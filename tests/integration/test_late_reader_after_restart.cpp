@@ -7,7 +7,8 @@
 // from the start by a DDS observer (the reference: the last event of every alarm id, every recommendation id).
 // Then the recommender is killed (SIGKILL) and started again on the same state directory with no estimator and
 // no source. Checked: a DDS reader and twin-web that join only after the restart receive the last event of every
-// alarm id (same state, same severity) and every recommendation id; twin-web shows every open alarm as open.
+// alarm id (same state, same severity, same decision: action, next level and hours to it) and every
+// recommendation id; twin-web shows every open alarm as open.
 // Fixed DDS domain 227; about 25 s.
 #include "dds_observer.hpp"
 #include "process_runner.hpp"
@@ -17,6 +18,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -52,6 +54,9 @@ std::map<std::string, causal_twin::Alarm> last_events(const std::vector<causal_t
   }
   return out;
 }
+
+// Equal, or both NaN (unknown).
+bool same_number(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
 
 std::set<std::string> recommendation_ids(const std::vector<causal_twin::Recommendation>& recs) {
   std::set<std::string> out;
@@ -126,6 +131,9 @@ TEST(LateReaderAfterRestart, OpenAlarmsAndAdviceReachReadersThatJoinAfterTheServ
   std::size_t open = 0;
   for (const auto& [id, a] : reference) open += a.state() != causal_twin::CLEARED ? 1 : 0;
   ASSERT_GT(open, 0u) << "no alarm open at the end of the run";
+  std::size_t with_action = 0;
+  for (const auto& [id, a] : reference) with_action += a.state() != causal_twin::CLEARED && !a.action().empty() ? 1 : 0;
+  ASSERT_GT(with_action, 0u) << "no open alarm carries an action: the decision check below could not fail";
 
   // Restarted with nothing upstream: no estimator, no source, so no new observation will ever arrive.
   auto second = recommender("recommender2.log");
@@ -163,6 +171,12 @@ TEST(LateReaderAfterRestart, OpenAlarmsAndAdviceReachReadersThatJoinAfterTheServ
     EXPECT_EQ(it->second.state(), want.state()) << id;
     EXPECT_EQ(it->second.severity(), want.severity()) << id;
     EXPECT_EQ(it->second.sample_index(), want.sample_index()) << id;
+    // The decision published with the event (before: republished alarms carried an empty action).
+    EXPECT_EQ(it->second.action(), want.action()) << id;
+    EXPECT_EQ(it->second.next_level(), want.next_level()) << id;
+    EXPECT_TRUE(same_number(it->second.hours_to_next_level(), want.hours_to_next_level())) << id;
+    EXPECT_TRUE(same_number(it->second.hours_to_next_level_low(), want.hours_to_next_level_low())) << id;
+    EXPECT_TRUE(same_number(it->second.hours_to_next_level_high(), want.hours_to_next_level_high())) << id;
     const auto row = web_rows.find(id);
     ASSERT_NE(row, web_rows.end()) << id << " not in twin-web's state after the restart";
     EXPECT_EQ(row->second, want.state() != causal_twin::CLEARED) << id << ": open/closed differs in twin-web";
@@ -171,9 +185,9 @@ TEST(LateReaderAfterRestart, OpenAlarmsAndAdviceReachReadersThatJoinAfterTheServ
       << "recommendations a late reader received after the restart";
   const std::string out2 = second->output();
   EXPECT_NE(out2.find("recommendations re-published from the checkpoint"), std::string::npos) << out2;
-  std::printf("reference: %zu alarm ids (%zu open), %zu recommendations; after the restart a late reader got %zu "
+  std::printf("reference: %zu alarm ids (%zu open, %zu with an action), %zu recommendations; after the restart a late reader got %zu "
               "alarm ids and %zu recommendations, twin-web %zu alarm rows\n",
-              reference.size(), open, reference_recs.size(), got.size(), recommendation_ids(late.recommendations()).size(),
+              reference.size(), open, with_action, reference_recs.size(), got.size(), recommendation_ids(late.recommendations()).size(),
               web_rows.size());
   second->terminate();
   web.terminate();

@@ -100,6 +100,7 @@ FrameCheck AssetPipeline::feed_frame(const Eigen::Ref<const RowMajorMatrix>& row
   if (!fix_channels(static_cast<int>(rows.cols()), check)) return check;
   // Bad values and quarantined channels become NaN here, before any stream sees them.
   screened_rows_ = rows;
+  frame_screen_->continue_at(first_sample_index);
   frame_screen_->screen(screened_rows_.data(), static_cast<std::size_t>(screened_rows_.rows()), out.quality_events);
   const RowMajorMatrix& screened = screened_rows_;
   // Lost frames break the sample stream: treat the frame as a discontinuity so no lag spans the hole.
@@ -136,6 +137,7 @@ FrameCheck AssetPipeline::feed_condition(const Eigen::VectorXd& values, std::uin
   s.snapshot_index = snapshot_index;
   s.time_ns = time_ns;
   s.values = values;
+  condition_screen_->continue_at(snapshot_index);
   condition_screen_->screen(s.values.data(), 1, out.quality_events);
   s.model_input = condition_model_input(s.values, params_.condition.log_transform);
   s.discontinuity = discontinuity;

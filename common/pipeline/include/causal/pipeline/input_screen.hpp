@@ -98,7 +98,7 @@ struct QualityEvent {
   ScreenLevel level = ScreenLevel::Sample;
   int channel = 0;                 // 0-based
   QualityEventKind kind = QualityEventKind::NonFinite;
-  std::uint64_t index = 0;         // 0-based row (sample level) or condition vector index of the value
+  std::uint64_t index = 0;         // the value's sample index (sample level) or condition vector index
   std::uint64_t count = 0;         // cumulative count of this kind on this channel, this event included
   std::string reason;              // human-readable, 1-based channel
 };
@@ -123,12 +123,14 @@ class InputScreen {
 
   // Screens n rows of G values (sample-major, rows[i * G + j]) in place; events are appended to `events`.
   void screen(double* rows, std::size_t n, std::vector<QualityEvent>& events);
+  // The source's index of the next row screened (sample index / condition vector index): events name the data by
+  // the source's indices, also after a restart from a checkpoint (the screen itself starts afresh) or a gap.
+  void continue_at(std::uint64_t index) { next_index_ = index; }
 
   int channels() const { return static_cast<int>(channels_.size()); }
   bool machine_stopped() const { return stopped_; }
   std::uint64_t stopped_rows() const { return stopped_rows_; }
   const std::vector<ChannelQualityCounters>& counters() const { return counters_; }
-  std::uint64_t rows_screened() const { return next_index_; }
   const InputScreenParams& params() const { return params_; }
 
  private:
