@@ -5,7 +5,7 @@
 // (revocation_watch.hpp) and its new participant refuses the retired identity:
 // * the estimator restarts within a minute of the revocation (measured: kRevocationPoll = 10 s + the restart);
 // * after it, no input of line-r reaches it; line-a's snapshots are all processed exactly once across the
-//   restart (checkpoints, and the replay's own restart resends what the estimator skips as processed).
+//   restart (checkpoints; the replay rewinds to the restarted estimator's progress).
 // Fixed loopback domain 53 (tests/security/CMakeLists.txt); about 30 s.
 #include "../fault/delivery_checks.hpp"
 #include "pki_fixture.hpp"
@@ -25,19 +25,21 @@ using namespace causal::test::security;
 namespace {
 
 constexpr const char* kDomain = "53";
-constexpr std::uint64_t kPlantSnapshots = 100;
+// The plant's sensor runs about 25 s, so the estimator restarts while it still sends (the watch polls every 10 s
+// from the estimator's start; the revocation comes 5 s after it): the restart is in the middle of its stream.
+constexpr std::uint64_t kPlantSnapshots = 500;
 const std::string kRestartLine = "restarting with the new revocation list";
 
 std::string feature_table() {
   return std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
 }
 
-// 0.1 s per snapshot (10 minutes apart in the data).
+// 0.05 s per snapshot (10 minutes apart in the data).
 std::vector<std::string> replay_args(const fs::path& pki, const std::string& identity, const std::string& group,
                                      std::uint64_t snapshots) {
   return {SENSOR_REPLAY_BIN, "--domain", kDomain, "--security", pki.string(), "--security-identity", identity,
           "--features", feature_table(), "--feature-suffix", "_meanabs", "--feature-name", "meanabs",
-          "--max-snapshots", std::to_string(snapshots), "--speed", "6000", "--wait-for", "causal-estimator",
+          "--max-snapshots", std::to_string(snapshots), "--speed", "12000", "--wait-for", "causal-estimator",
           "--wait-timeout", "60", "--asset-group", group};
 }
 
@@ -66,13 +68,16 @@ TEST(LiveRevocation, RunningEstimatorRefusesARevokedSensorWithinAMinute) {
   ASSERT_TRUE(fs::exists(pki / "identity_ca.crl")) << "make-pki.sh writes an empty revocation list";
   run(script("issue-identity.sh") + " '" + pki.string() + "' retired-sensor sensor");
   fs::copy(pki, work / "retired-host", fs::copy_options::recursive);  // the retired host keeps its files
+  // The plant's sensor host gets the new list later: its replay does not restart with the estimator (a sensor
+  // that does restarts from its first snapshot and the estimator skips what it processed: counted apart).
+  fs::copy(pki, work / "plant-host", fs::copy_options::recursive);
   ServiceProcess estimator("causal-estimator",
                            {CAUSAL_ESTIMATOR_BIN, "--domain", kDomain, "--security", pki.string(), "--state-dir",
                             (work / "state").string(), "--idle-exit", "4", "--max-runtime", "110"},
                            (work / "estimator.log").string());
-  ServiceProcess plant("sensor-replay", replay_args(pki, "sensor", "line-a", kPlantSnapshots),
+  ServiceProcess plant("sensor-replay", replay_args(work / "plant-host", "sensor", "line-a", kPlantSnapshots),
                        (work / "plant.log").string());
-  ServiceProcess retired("sensor-replay", replay_args(work / "retired-host", "retired-sensor", "line-r", 250),
+  ServiceProcess retired("sensor-replay", replay_args(work / "retired-host", "retired-sensor", "line-r", 600),
                          (work / "retired.log").string());
   // Both feed the estimator for a while before the revocation (checked below from its first run's summary).
   ASSERT_TRUE(wait_for_text(estimator, "DDS-Security on", std::chrono::seconds(40))) << estimator.output();
