@@ -32,6 +32,7 @@ identities=""
 if [ -n "$plant" ]; then
   # The plant file's sensor hosts and their asset groups, validated by the tool that reads the plant file.
   tool="${CAUSAL_PLANT_PROFILES:-causal-plant-profiles}"
+  command -v "$tool" >/dev/null || { echo "make-pki: --plant needs causal-plant-profiles ($tool not found; set \$CAUSAL_PLANT_PROFILES)" >&2; exit 2; }
   identities="$("$tool" "$plant" --identities)" || { echo "make-pki: $plant: invalid plant file (see above)" >&2; exit 2; }
 fi
 mkdir -p "$dir"
