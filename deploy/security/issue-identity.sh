@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
 # Issues one DDS-Security identity from the PKI made by make-pki.sh: a key, a certificate signed by the
 # identity CA and a permissions document for its role, signed (S/MIME) by the permissions CA.
-#   deploy/security/issue-identity.sh DIR NAME ROLE [--days N] [--expired]
-# ROLE is one of: sensor estimator recommender recorder operator (least privilege, see grant_for below).
+#   deploy/security/issue-identity.sh DIR NAME ROLE [--days N] [--expired] [--groups G1,G2,...]
+# ROLE is one of: sensor estimator recommender recorder operator (least privilege, see the roles below).
+# --groups (sensor only): the asset groups it may write, as DDS partitions causal_twin/group/G in its grant;
+# the estimator refuses and counts its samples of any other group. Without it a sensor may write every group.
 # Writes DIR/NAME/{key.pem,cert.pem,permissions.xml,permissions.p7s}; copy that folder, DIR/identity_ca.pem,
-# DIR/permissions_ca.pem and DIR/governance.p7s (and DIR/identity_ca.crl after a revocation) to the host.
+# DIR/permissions_ca.pem, DIR/governance.p7s and DIR/identity_ca.crl to the host.
 # --expired issues a certificate that expired in 2020 (for tests of the failure message).
 # Exit code: 0 issued, 2 bad usage or the identity exists already.
 set -euo pipefail
-usage() { sed -n '2,9p' "$0"; exit 2; }
+usage() { sed -n '2,11p' "$0"; exit 2; }
 [ $# -ge 3 ] || usage
+groups=""
 dir="$1"; name="$2"; role="$3"; shift 3
 days=825
 expired=0
@@ -17,6 +20,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --days) days="$2"; shift 2 ;;
     --expired) expired=1; shift ;;
+    --groups) groups="$2"; shift 2 ;;
     *) usage ;;
   esac
 done
@@ -24,6 +28,13 @@ done
 case "$name" in *[!A-Za-z0-9._-]*|"") echo "issue-identity: name '$name' must be [A-Za-z0-9._-]+" >&2; exit 2 ;; esac
 [ -e "$dir/$name" ] && { echo "issue-identity: $dir/$name exists already (revoke it, then use a new name)" >&2; exit 2; }
 
+# Asset groups: names as the estimator compares them (literally; no wildcards, which would widen a grant).
+if [ -n "$groups" ]; then
+  [ "$role" = sensor ] || { echo "issue-identity: --groups is for the sensor role only" >&2; exit 2; }
+  for g in ${groups//,/ }; do
+    case "$g" in *[!A-Za-z0-9._-]*) echo "issue-identity: asset group '$g' must be [A-Za-z0-9._-]+" >&2; exit 2 ;; esac
+  done
+fi
 # Topics each role may publish / subscribe (names from common/dds/include/causal/dds/topics.hpp).
 t=causal_twin
 case "$role" in
@@ -59,6 +70,20 @@ subject="$(openssl x509 -in "$out/cert.pem" -noout -subject -nameopt RFC2253 | s
 not_before="$(date -u +%Y-%m-%dT%H:%M:%S -d "$(openssl x509 -in "$out/cert.pem" -noout -startdate | cut -d= -f2)")"
 not_after="$(date -u +%Y-%m-%dT%H:%M:%S -d "$(openssl x509 -in "$out/cert.pem" -noout -enddate | cut -d= -f2)")"
 topics() { for x in $1; do printf '            <topic>%s</topic>\n' "$x"; done; }
+# Partitions of a criteria (common/dds/include/causal/dds/group_partitions.hpp): the sensor's groups; the
+# estimator reads the empty partition (sensors of every group) and every group partition.
+partitions() {
+  [ -n "$1" ] || return 0
+  printf '          <partitions>\n'
+  for x in $1; do
+    if [ "$x" = "<empty>" ]; then printf '            <partition></partition>\n'
+    else printf '            <partition>%s</partition>\n' "$x"; fi
+  done
+  printf '          </partitions>\n'
+}
+pub_partitions=""; sub_partitions=""
+if [ -n "$groups" ]; then for g in ${groups//,/ }; do pub_partitions="$pub_partitions causal_twin/group/$g"; done; fi
+[ "$role" = estimator ] && sub_partitions="<empty> causal_twin/group/*"
 {
   cat <<XML
 <?xml version="1.0" encoding="UTF-8"?>
@@ -74,10 +99,12 @@ topics() { for x in $1; do printf '            <topic>%s</topic>\n' "$x"; done; 
 XML
   if [ -n "$pub" ]; then
     printf '      <allow_rule>\n        <domains><id_range><min>0</min><max>232</max></id_range></domains>\n'
-    printf '        <publish>\n          <topics>\n'; topics "$pub"; printf '          </topics>\n        </publish>\n      </allow_rule>\n'
+    printf '        <publish>\n          <topics>\n'; topics "$pub"; printf '          </topics>\n'
+    partitions "$pub_partitions"; printf '        </publish>\n      </allow_rule>\n'
   fi
   printf '      <allow_rule>\n        <domains><id_range><min>0</min><max>232</max></id_range></domains>\n'
-  printf '        <subscribe>\n          <topics>\n'; topics "$sub"; printf '          </topics>\n        </subscribe>\n      </allow_rule>\n'
+  printf '        <subscribe>\n          <topics>\n'; topics "$sub"; printf '          </topics>\n'
+  partitions "$sub_partitions"; printf '        </subscribe>\n      </allow_rule>\n'
   cat <<XML
       <default>DENY</default>
     </grant>
@@ -87,4 +114,4 @@ XML
 } > "$out/permissions.xml"
 openssl smime -sign -text -in "$out/permissions.xml" -out "$out/permissions.p7s" \
   -signer "$dir/permissions_ca.pem" -inkey "$dir/private/permissions_ca.key"
-echo "issue-identity: $out ($role, $subject, valid until $not_after UTC)"
+echo "issue-identity: $out ($role${groups:+, asset groups $groups}, $subject, valid until $not_after UTC)"

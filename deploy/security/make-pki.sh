@@ -1,27 +1,40 @@
 #!/usr/bin/env bash
 # A DDS-Security PKI in one command (openssl): an identity CA, a permissions CA, the signed governance
 # document and one identity per service role with least-privilege permissions.
-#   deploy/security/make-pki.sh DIR [--days N]
+#   deploy/security/make-pki.sh DIR [--days N] [--plant PLANT.yaml]
 # DIR gets:
 #   identity_ca.pem, permissions_ca.pem   the two CA certificates (public; every host needs both)
+#   identity_ca.crl                       the revocation list, empty from the start (every host needs it too:
+#                                         revoke-identity.sh rewrites it)
 #   governance.xml / governance.p7s       domain rules, signed (S/MIME) by the permissions CA
 #   sensor/ ingest/ estimator/ recommender/ recorder/ operator/   cert.pem, key.pem, permissions.p7s per identity
 #                                         (ingest: sensor-ingest's own, with the sensor grants)
 #   private/                              the CA keys and the issuing database: keep them OFF the plant hosts
+#   sensor-<host>/                        with --plant: one per sensor host that names its asset groups, granted
+#                                         only those (causal-plant-profiles --identities; $CAUSAL_PLANT_PROFILES)
 # Services take it with --security DIR (each picks its own identity folder). ECDSA P-256 keys, SHA-256.
-# Exit code: 0 made, 2 bad usage or DIR not empty.
+# Exit code: 0 made, 2 bad usage, DIR not empty or an invalid plant file.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-[ $# -ge 1 ] || { sed -n '2,12p' "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,16p' "$0"; exit 2; }
 dir="$1"; shift
 days=825
+plant=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --days) days="$2"; shift 2 ;;
-    *) sed -n '2,12p' "$0"; exit 2 ;;
+    --plant) plant="$2"; shift 2 ;;
+    *) sed -n '2,16p' "$0"; exit 2 ;;
   esac
 done
 command -v openssl >/dev/null || { echo "make-pki: openssl is not installed (deploy/install_deps.sh)" >&2; exit 2; }
+identities=""
+if [ -n "$plant" ]; then
+  # The plant file's sensor hosts and their asset groups, validated by the tool that reads the plant file.
+  tool="${CAUSAL_PLANT_PROFILES:-causal-plant-profiles}"
+  command -v "$tool" >/dev/null || { echo "make-pki: --plant needs causal-plant-profiles ($tool not found; set \$CAUSAL_PLANT_PROFILES)" >&2; exit 2; }
+  identities="$("$tool" "$plant" --identities)" || { echo "make-pki: $plant: invalid plant file (see above)" >&2; exit 2; }
+fi
 mkdir -p "$dir"
 [ -z "$(ls -A "$dir")" ] || { echo "make-pki: $dir is not empty" >&2; exit 2; }
 dir="$(cd "$dir" && pwd)"
@@ -65,6 +78,9 @@ make_ca() {  # name, common name
 }
 make_ca identity_ca "Causal Twin Identity CA"
 make_ca permissions_ca "Causal Twin Permissions CA"
+# An empty revocation list from the start: every host gets the file now, so a revocation later only replaces
+# it (deploy/security/revoke-identity.sh) and the services watching it pick it up.
+openssl ca -batch -config "$dir/private/ca.cnf" -name identity_ca -gencrl -crldays 3650 -out "$dir/identity_ca.crl" 2>/dev/null
 
 # Governance: only authenticated participants join (join access control), discovery and liveliness
 # encrypted, and on every causal_twin topic read/write access control with the payload encrypted (AES-GCM)
@@ -107,6 +123,10 @@ for role in sensor estimator recommender recorder operator; do
 done
 # sensor-ingest's own identity (sensor grants), so the edge adapter never shares a key with replays.
 "$here/issue-identity.sh" "$dir" ingest sensor --days "$days"
+# Sensor hosts of the plant file that name their asset groups: an identity granted only those.
+while read -r name role groups; do
+  [ -n "$name" ] && "$here/issue-identity.sh" "$dir" "$name" "$role" --days "$days" --groups "$groups"
+done <<< "$identities"
 echo "make-pki: PKI in $dir (CA keys in $dir/private: keep them off the plant hosts)"
 case "$dir/" in
   /etc/causal-twin/*|/var/lib/causal-twin/*)

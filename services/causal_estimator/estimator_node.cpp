@@ -50,6 +50,7 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
   not_processed_renumbered_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "renumbered"}});
   not_processed_quota_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "group_quota"}});
   not_processed_invalid_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "invalid"}});
+  not_processed_entitlement_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "not_entitled"}});
   if (options_.standby) {
     standing_by_ = true;
     primary_progress_ = std::make_unique<dds::TypedReader<causal_twin::ConditionVectorPubSubType>>(
@@ -220,7 +221,7 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame, const Wri
     spdlog::warn("asset '{}': frame {} refused: {}", frame.asset_group(), frame.sequence_number(), problem);
     return;
   }
-  if (!admitted(frame.asset_group(), writer)) return;
+  if (!entitled(frame.asset_group(), writer, true) || !admitted(frame.asset_group(), writer)) return;
   Asset& a = asset(frame.asset_group());
   a.note_input(frame.first_sample_time_ns());
   if (!a.refused.empty()) {
@@ -296,7 +297,7 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in, const W
     spdlog::warn("asset '{}': condition vector {} refused: {}", in.asset_group(), in.snapshot_index(), problem);
     return;
   }
-  if (!admitted(in.asset_group(), writer)) return;
+  if (!entitled(in.asset_group(), writer, false) || !admitted(in.asset_group(), writer)) return;
   Asset& a = asset(in.asset_group());
   a.note_input(in.time_ns());
   if (!a.refused.empty()) {

@@ -113,6 +113,14 @@ class EstimatorNode {
 
   using WriterGuid = eprosima::fastrtps::rtps::GUID_t;
   bool mine(const std::string& asset_group) const;
+  // Authorisation per asset group (dds/group_partitions.hpp): false when the writer's partitions, checked by
+  // Fast DDS against its signed grant, do not name the group (counted per topic, logged, HEALTH alarm per writer
+  // and group, exit 4). `frame`: a vibration frame (else a condition input).
+  bool entitled(const std::string& asset_group, const WriterGuid* writer, bool frame);
+  // A HEALTH alarm (once) when this process's own certificate expires within kCertificateWarningDays.
+  void check_certificate_expiry();
+  static constexpr double kCertificateWarningDays = 14.0;
+  bool certificate_alarmed_ = false;
   // Quota on new asset groups (group_quota.hpp): false when the input is refused (counted, logged, alarmed).
   bool admitted(const std::string& asset_group, const WriterGuid* writer);
   // An input whose indices were processed already: a resend (skipped, counted) or new data under old numbers
@@ -179,6 +187,9 @@ class EstimatorNode {
   std::uint64_t foreign_frames_ = 0, invalid_msgs_ = 0;
   GroupQuota quota_;
   std::set<std::string> quota_alarmed_writers_;  // one HEALTH alarm per writer over its quota
+  std::uint64_t not_entitled_frames_ = 0, not_entitled_conditions_ = 0;  // refused by entitled()
+  std::set<std::string> not_entitled_pairs_;  // "writer|group": one HEALTH alarm each (at most 1024)
+  metrics::Counter* not_processed_entitlement_ = nullptr;
   metrics::Counter* not_processed_renumbered_ = nullptr;  // estimator_inputs_not_processed_total{reason=..}
   metrics::Counter* not_processed_quota_ = nullptr;
   metrics::Counter* not_processed_invalid_ = nullptr;

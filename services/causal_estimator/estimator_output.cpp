@@ -307,6 +307,7 @@ void EstimatorNode::watch_output() {
 
 void EstimatorNode::publish_health() {
   watch_output();
+  check_certificate_expiry();
   health_.check(participant_.directory());
   for (auto& alarm : health_.take_alarms()) {
     const bool cleared = alarm.state() == causal_twin::CLEARED;
@@ -402,8 +403,14 @@ int EstimatorNode::finish_all() {
     renumbered += a.renumbered;
   }
   // Machine-readable: every input received and not processed, by reason (the tests read it).
-  spdlog::info("summary not_processed already_processed={} renumbered={} group_quota={} invalid={} groups={}",
-               skipped, renumbered, quota_.refused_inputs(), invalid_msgs_, assets_.size());
+  const std::uint64_t not_entitled = not_entitled_frames_ + not_entitled_conditions_;
+  if (not_entitled > 0) {
+    spdlog::error("{} inputs refused: their writers may not write their asset group ({} writer/group pairs)",
+                  not_entitled, not_entitled_pairs_.size());
+  }
+  spdlog::info("summary not_processed already_processed={} renumbered={} group_quota={} invalid={} not_entitled={} "
+               "groups={}",
+               skipped, renumbered, quota_.refused_inputs(), invalid_msgs_, not_entitled, assets_.size());
   if (!options_.groups.all()) {
     // Machine-readable: the fault test checks that shards divide the groups exactly.
     spdlog::info("summary shard={} groups={} foreign={} filter='{}'", options_.shard_name, assets_.size(),
@@ -419,10 +426,12 @@ int EstimatorNode::finish_all() {
                "rejected_no_room={} published factors={} unpublished={}",
                frames, assets_.size(), lost, refused + invalid_msgs_, rejected_no_instance_, rejected_no_room_, published,
                unpublished);
-  spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={}", frames + refused, lost,
-               refused + invalid_msgs_ + rejected_no_instance_);
-  spdlog::info("summary topic=causal_twin/condition_input received={} refused={} lost={}",
-               conditions_received + conditions_refused + conditions_late, conditions_refused, conditions_late);
+  spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={} not_entitled={}",
+               frames + refused + not_entitled_frames_, lost,
+               refused + invalid_msgs_ + rejected_no_instance_ + not_entitled_frames_, not_entitled_frames_);
+  spdlog::info("summary topic=causal_twin/condition_input received={} refused={} lost={} not_entitled={}",
+               conditions_received + conditions_refused + conditions_late + not_entitled_conditions_,
+               conditions_refused + not_entitled_conditions_, conditions_late, not_entitled_conditions_);
   // Snapshots whose condition window was dropped (too few usable samples: a channel quarantined for the whole
   // snapshot, a gap): stated here and in the data-quality alarms, never published as a vector.
   std::uint64_t dropped_windows = 0;
@@ -447,7 +456,7 @@ int EstimatorNode::finish_all() {
                  standby_unpublished_, standby_.discarded());
   }
   return (lost + refused + conditions_refused + conditions_late + invalid_msgs_ + rejected_no_instance_ + unpublished +
-          dropped_windows + quota_.refused_inputs()) > 0
+          dropped_windows + quota_.refused_inputs() + not_entitled) > 0
              ? 4 : 0;
 }
 

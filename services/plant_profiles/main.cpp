@@ -23,10 +23,12 @@ Plant file (YAML; every problem is reported at once, each naming its host or key
   security: /etc/causal-twin/security      # PKI folder on every host (make-pki.sh), or off (open bus)
   discovery_server: {host: ops, port: 11811}   # optional: Fast DDS discovery server instead of peers lists
   hosts:
-    - {name: sensors, address: 10.20.0.11, interface: eth1, roles: [sensor]}
+    - {name: sensors, address: 10.20.0.11, interface: eth1, roles: [sensor], groups: [line1-pump, line1-fan]}
     - {name: analytics, address: 10.20.0.12, roles: [estimator 0/2, estimator 1/2]}
     - {name: ops, address: 10.20.0.13, roles: [recommender, recorder, web, operator]}
   Roles: sensor, estimator (or estimator K/N: shard K of N), recommender, recorder, web, operator.
+  groups (sensor hosts, optional): the asset groups their sensors may write; make-pki.sh --plant issues the
+  identity sensor-<host> granted only those, and the estimator refuses (and counts) any other group from it.
 
 Output (in --out): <host>.xml, the host's participant profile, and <host>.commands, the command lines of
 its services; with a discovery server, also <host>.discovery-server.xml for its host (the server's own
@@ -46,6 +48,10 @@ int main(int argc, char** argv) {
   app.add_option("--installed-as", installed_as, "path of the profile on each host, used in the commands")
       ->capture_default_str();
   app.add_flag("--check", check_only, "validate the plant file only; write nothing");
+  bool identities = false;
+  app.add_flag("--identities", identities,
+               "print the sensor identities the plant names, one line each: NAME sensor GROUP,GROUP,... "
+               "(read by deploy/security/make-pki.sh --plant); write nothing");
   app.footer(kHelpFooter);
   causal::config::add_version_flag(app);
   try {
@@ -61,6 +67,15 @@ int main(int argc, char** argv) {
     return kExitInvalid;
   }
   const auto& plant = parsed.plant;
+  if (identities) {
+    for (const auto& host : plant.hosts) {
+      if (host.groups.empty()) continue;
+      std::string groups;
+      for (const auto& g : host.groups) groups += (groups.empty() ? "" : ",") + g;
+      std::cout << causal::plant::sensor_identity(host) << " sensor " << groups << "\n";
+    }
+    return 0;
+  }
   std::cout << "plant " << plant_file << ": " << plant.hosts.size() << " hosts, domain " << plant.domain_id
             << ", security " << (plant.security == "off" ? "OFF (open bus)" : plant.security) << ", discovery "
             << (plant.discovery_server ? "server on " + plant.discovery_server->host : std::string("unicast peers"))

@@ -80,12 +80,31 @@ void check_keys(const YAML::Node& map, const std::set<std::string>& known, const
   }
 }
 
+// The asset groups a sensor host may write (its identity's grant: deploy/security/make-pki.sh --plant).
+void parse_groups(const YAML::Node& node, const std::string& label, PlantHost& host, Problems& p) {
+  if (!node) return;
+  if (!node.IsSequence() || node.size() == 0) {
+    p.add(label, "'groups' must be a list of asset groups (the ones this host's sensors may write)");
+    return;
+  }
+  for (const auto& g : node) {
+    const std::string name = g.IsScalar() ? g.as<std::string>() : std::string();
+    if (name.empty() || name.size() > 200 || !is_valid_host_name(name)) {
+      p.add(label, "asset group '" + name + "': 1..200 letters, digits, '.', '_', '-' (named literally in the grant)");
+      continue;
+    }
+    host.groups.push_back(name);
+  }
+  const bool sensor = std::any_of(host.roles.begin(), host.roles.end(), [](const Role& r) { return r.kind == RoleKind::Sensor; });
+  if (!sensor) p.add(label, "'groups' is for hosts with the role 'sensor' (the asset groups their identity may write)");
+}
+
 void parse_host(const YAML::Node& node, const std::string& where, PlantHost& host, Problems& p) {
   if (!node.IsMap()) {
     p.add(where, "must be a map with name, address and roles");
     return;
   }
-  check_keys(node, {"name", "address", "interface", "roles"}, where, p);
+  check_keys(node, {"name", "address", "interface", "roles", "groups"}, where, p);
   if (!node["name"] || !node["name"].IsScalar()) {
     p.add(where, "missing 'name'");
   } else {
@@ -125,6 +144,7 @@ void parse_host(const YAML::Node& node, const std::string& where, PlantHost& hos
     if (twice) p.add(label, "role '" + text + "' given twice");
     host.roles.push_back(role);
   }
+  parse_groups(node["groups"], label, host, p);
 }
 
 // Plant-wide rules: unique names and addresses, the services a pipeline needs, complete estimator shards.

@@ -23,7 +23,13 @@ struct PlantHost {
   std::string address;    // IPv4 address on the plant network (Fast DDS 2.9 whitelists by address)
   std::string interface;  // optional: the interface that holds the address, written as a comment only
   std::vector<Role> roles;
+  // Sensor hosts only, optional: the asset groups their sensors may write. make-pki.sh --plant issues the
+  // identity sensor_identity(host) granted only these; empty = the shared 'sensor' identity (every group).
+  std::vector<std::string> groups;
 };
+
+// "sensor-<host name>": the identity of a sensor host that names its asset groups.
+inline std::string sensor_identity(const PlantHost& host) { return "sensor-" + host.name; }
 
 // Discovery through a Fast DDS discovery server (fastdds discovery) on one of the hosts instead of unicast
 // announcements between every pair of hosts.

@@ -190,7 +190,10 @@ std::vector<std::string> host_commands(const PlantDescription& plant, const Plan
     switch (r.kind) {
       case RoleKind::Sensor:
         // The source waits for every estimator shard, so no shard misses the start of the data.
-        out.push_back("sensor-replay" + common + " --wait-for causal-estimator" +
+        out.push_back("sensor-replay" + common +
+                      (host.groups.empty() || plant.security == "off" ? std::string()
+                                                                      : " --security-identity " + sensor_identity(host)) +
+                      " --wait-for causal-estimator" +
                       (estimators > 1 ? ":" + std::to_string(estimators) : "") + "   # or your sensor driver; data options");
         break;
       case RoleKind::Estimator:

@@ -160,3 +160,25 @@ TEST(PlantDescription, TopLevelKeys) {
 }
 
 }  // namespace
+
+// Issue 25, finding 3: a sensor host may name the asset groups its identity is granted (make-pki.sh --plant).
+TEST(PlantDescription, SensorHostsNameTheirAssetGroups) {
+  const auto ok = parse_plant_description(plant(R"(
+hosts:
+  - {name: a, address: 10.1.0.1, roles: [sensor], groups: [line-1.pump, line_2]}
+  - {name: b, address: 10.1.0.2, roles: [estimator, recommender]}
+)"), "plant.yaml");
+  ASSERT_TRUE(ok.ok()) << joined(ok.problems);
+  EXPECT_EQ(ok.plant.hosts[0].groups, (std::vector<std::string>{"line-1.pump", "line_2"}));
+  EXPECT_EQ(causal::plant::sensor_identity(ok.plant.hosts[0]), "sensor-a");
+  EXPECT_TRUE(ok.plant.hosts[1].groups.empty());
+  const auto bad = parse_plant_description(plant(R"(
+hosts:
+  - {name: a, address: 10.1.0.1, roles: [sensor], groups: ["line*", ok]}
+  - {name: b, address: 10.1.0.2, roles: [estimator, recommender], groups: [x]}
+  - {name: c, address: 10.1.0.3, roles: [sensor], groups: []}
+)"), "plant.yaml");
+  EXPECT_TRUE(reported(bad.problems, {"hosts[0]", "asset group 'line*'"})) << joined(bad.problems);
+  EXPECT_TRUE(reported(bad.problems, {"hosts[1]", "'groups' is for hosts with the role 'sensor'"})) << joined(bad.problems);
+  EXPECT_TRUE(reported(bad.problems, {"hosts[2]", "'groups' must be a list"})) << joined(bad.problems);
+}

@@ -247,8 +247,8 @@ TEST(SecuredBus, RevokedSensorIsRejectedByItsPeers) {
   const fs::path work = fresh_dir("revoked");
   const fs::path pki = make_pki(work / "pki");
   run(script("issue-identity.sh") + " '" + pki.string() + "' retired-sensor sensor");
-  // The retired host keeps its files as they were (no revocation list), so it starts; the plant's services
-  // get the list from revoke-identity.sh and must refuse it.
+  // The retired host keeps its files as they were (the empty revocation list of make-pki.sh), so it starts; the
+  // plant's services get the new list from revoke-identity.sh and must refuse it.
   fs::copy(pki, work / "stolen", fs::copy_options::recursive);
   run(script("revoke-identity.sh") + " '" + pki.string() + "' retired-sensor");
   ASSERT_TRUE(fs::exists(pki / "identity_ca.crl"));

@@ -1,7 +1,9 @@
 #include "causal/dds/participant.hpp"
 
 #include "causal/dds/ack_watch.hpp"
+#include "causal/dds/revocation_watch.hpp"
 #include "causal/dds/security.hpp"
+#include "causal/metrics/metrics_registry.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
@@ -68,9 +70,21 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
   }
   // Sent with discovery: peers name this process (user, pid, host) when it stops acknowledging (AckWatch).
   qos.properties().properties().emplace_back("causal_twin.process", process_description(), true);
-  security_note_ = apply_security(settings.security_dir, settings.security_identity, qos.name().to_string(), qos);
+  AppliedSecurity applied;
+  security_note_ =
+      apply_security(settings.security_dir, settings.security_identity, qos.name().to_string(), qos, &applied);
+  grants_ = GrantedPartitions::parse(applied.grant);
+  certificate_expiry_s_ = applied.certificate_expiry_s;
+  if (!applied.crl.empty()) process_revocation_watch().watch(applied.crl);
   spdlog::info("{}", security_note_);
   secured_ = security_note_.rfind("DDS-Security on", 0) == 0;
+  if (certificate_expiry_s_ > 0) {
+    // Renewal is due before this (deploy/security/issue-identity.sh); services alarm 14 days ahead.
+    metrics::process_metrics()
+        .gauge("dds_security_certificate_expiry_timestamp_seconds",
+               "When this process's own DDS-Security identity certificate expires (seconds since the epoch)", {})
+        .set(static_cast<double>(certificate_expiry_s_));
+  }
   directory_ = std::make_unique<ParticipantDirectory>();
   // Discovery callbacks do not depend on the status mask; no other status is routed to this listener.
   participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(settings.domain_id), qos,
@@ -144,11 +158,49 @@ void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::Domain
                                                   eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) {
   using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
   std::lock_guard<std::mutex> lock(mutex_);
+  const auto& guid = info.info.guid();
   if (info.status == Status::REMOVED_WRITER) {
-    writers_.erase(info.info.guid());
+    writers_.erase(guid);
+    departed_writers_.push_back(guid);
+    while (departed_writers_.size() > kKeptPartitions) {
+      if (writers_.count(departed_writers_.front()) == 0) writer_partitions_.erase(departed_writers_.front());
+      departed_writers_.erase(departed_writers_.begin());
+    }
   } else {
-    writers_[info.info.guid()] = info.info.topicName().to_string();
+    writers_[guid] = info.info.topicName().to_string();
+    std::vector<std::string> partitions;
+    for (auto it = info.info.m_qos.m_partition.begin(); it != info.info.m_qos.m_partition.end(); ++it) {
+      partitions.emplace_back(it->name());
+    }
+    writer_partitions_[guid] = std::move(partitions);
   }
+}
+
+std::optional<std::vector<std::string>> ParticipantDirectory::writer_partitions(
+    const eprosima::fastrtps::rtps::GUID_t& writer) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = writer_partitions_.find(writer);
+  if (it == writer_partitions_.end()) return std::nullopt;
+  return it->second;
+}
+
+namespace {
+void set_partitions_property(eprosima::fastrtps::rtps::PropertyPolicy& properties,
+                             const std::vector<std::string>& partitions) {
+  if (partitions.empty()) return;
+  auto& list = properties.properties();
+  list.erase(std::remove_if(list.begin(), list.end(), [](const auto& p) { return p.name() == "partitions"; }),
+             list.end());
+  list.emplace_back("partitions", partitions_property(partitions));
+}
+}  // namespace
+
+void Participant::add_granted_partitions(const std::string& topic, eprosima::fastdds::dds::DataWriterQos& qos) const {
+  set_partitions_property(qos.properties(), grants_.for_endpoint(topic, true));
+}
+
+void Participant::add_granted_partitions(const std::string& topic, eprosima::fastdds::dds::DataReaderQos& qos) const {
+  set_partitions_property(qos.properties(), grants_.for_endpoint(topic, false));
 }
 
 std::size_t ParticipantDirectory::live_writers(const std::string& topic) const {

@@ -173,7 +173,8 @@ std::time_t utc_seconds(const std::string& text) {
   return timegm(&tm);
 }
 
-void check_permissions(const std::string& path, const std::string& xml, X509* cert, const std::string& cert_path) {
+// Checks the grant for the certificate's subject and returns its text.
+std::string check_permissions(const std::string& path, const std::string& xml, X509* cert, const std::string& cert_path) {
   const std::string subject = name_text(X509_get_subject_name(cert));
   const std::time_t now = std::time(nullptr);
   std::size_t pos = 0;
@@ -190,7 +191,7 @@ void check_permissions(const std::string& path, const std::string& xml, X509* ce
     if (from < 0 || to < 0) fail(path, "grant for " + subject + " has unreadable validity dates");
     if (now < from) fail(path, "grant for " + subject + " not valid before " + nb + " UTC");
     if (now > to) fail(path, "grant for " + subject + " expired on " + na + " UTC");
-    return;
+    return grant;
   }
   if (!any_grant) fail(path, "no <grant> in the permissions document");
   fail(path, "no grant for the subject of " + cert_path + " (" + subject + ")");
@@ -234,7 +235,18 @@ SecurityFiles security_files(const std::string& dir, const std::string& identity
   return f;
 }
 
-void check_security_files(const SecurityFiles& f) {
+void check_security_files(const SecurityFiles& f) { (void)verified_grant(f); }
+
+std::int64_t certificate_expiry(const std::string& certificate) {
+  BioPtr bio = open_file(certificate);
+  X509Ptr cert(PEM_read_bio_X509(bio.get(), nullptr, nullptr, nullptr), X509_free);
+  if (!cert) fail(certificate, "not a PEM certificate" + openssl_error());
+  std::tm tm{};
+  if (ASN1_TIME_to_tm(X509_get0_notAfter(cert.get()), &tm) != 1) fail(certificate, "unreadable expiry date");
+  return static_cast<std::int64_t>(timegm(&tm));
+}
+
+std::string verified_grant(const SecurityFiles& f) {
   ERR_clear_error();
   X509Ptr identity_ca = read_certificate(f.identity_ca, "identity CA certificate");
   X509Ptr permissions_ca = read_certificate(f.permissions_ca, "permissions CA certificate");
@@ -246,7 +258,7 @@ void check_security_files(const SecurityFiles& f) {
     fail(f.governance, "not a governance document (no <domain_access_rules>)");
   }
   const std::string permissions = signed_content(f.permissions, permissions_ca.get(), f.permissions_ca);
-  check_permissions(f.permissions, permissions, cert.get(), f.certificate);
+  return check_permissions(f.permissions, permissions, cert.get(), f.certificate);
 }
 
 void add_security_properties(const SecurityFiles& f, eprosima::fastdds::dds::DomainParticipantQos& qos) {
@@ -266,7 +278,7 @@ void add_security_properties(const SecurityFiles& f, eprosima::fastdds::dds::Dom
 }
 
 std::string apply_security(const std::string& dir, const std::string& identity, const std::string& participant_name,
-                           eprosima::fastdds::dds::DomainParticipantQos& qos) {
+                           eprosima::fastdds::dds::DomainParticipantQos& qos, AppliedSecurity* applied) {
   std::string chosen = dir;
   std::string source = "--security";
   auto& props = qos.properties().properties();
@@ -305,7 +317,10 @@ std::string apply_security(const std::string& dir, const std::string& identity, 
         key_note = ", key from the systemd credential dds-key.pem";
       }
     }
-    check_security_files(files);
+    const std::string checked = verified_grant(files);
+    if (applied != nullptr) {
+      *applied = {checked, certificate_expiry(files.certificate), (fs::absolute(chosen) / "identity_ca.crl").string()};
+    }
     add_security_properties(files, qos);
     return "DDS-Security on: identity " + id + " from " + fs::absolute(chosen).string() + " (" + source + key_note +
            ")";
@@ -327,7 +342,8 @@ std::string apply_security(const std::string& dir, const std::string& identity, 
     f.permissions_ca = file_of(access + "permissions_ca");
     f.governance = file_of(access + "governance");
     f.permissions = file_of(access + "permissions");
-    check_security_files(f);
+    const std::string checked = verified_grant(f);
+    if (applied != nullptr) *applied = {checked, certificate_expiry(f.certificate), f.crl};
     return "DDS-Security on: configured by the DDS profile (" + f.certificate + ")";
   }
   return "DDS-Security off (open bus: any process on this domain can read and publish; see README, Security)";

@@ -4,13 +4,24 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
 
 namespace causal::dds {
 
+namespace {
+std::atomic<bool> reloading{false};
+}  // namespace
+
+NotifyResult notify_systemd_reloading() {
+  reloading = true;
+  return notify_systemd("RELOADING=1");
+}
+
 NotifyResult notify_systemd(const std::string& state) {
+  if (reloading && state == "STOPPING=1") return NotifyResult::Sent;  // not stopping: reloading (see header)
   const char* name = std::getenv("NOTIFY_SOCKET");
   if (name == nullptr || name[0] == '\0') return NotifyResult::NoSocket;
   const std::size_t length = std::strlen(name);

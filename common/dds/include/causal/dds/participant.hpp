@@ -13,13 +13,18 @@
 #include <fastdds/rtps/common/Guid.h>
 
 #include "causal/dds/asset_group_filter.hpp"
+#include "causal/dds/group_partitions.hpp"
 #include "causal/dds/guarded_type.hpp"
+
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
 #include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,6 +64,10 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   // Remote readers of `topic` whose participant is named `name` and is alive (Fast DDS 2.9 does not
   // implement DataWriter::get_matched_subscriptions, so readers are tracked from discovery).
   std::size_t readers_named(const std::string& topic, const std::string& name) const;
+  // The partitions a remote writer announced (group_partitions.hpp), as discovery reported them before it was
+  // matched (secured: checked by Fast DDS against its signed grant); nullopt for a writer never discovered.
+  // Kept after the writer left: its last samples may still be queued in our readers.
+  std::optional<std::vector<std::string>> writer_partitions(const eprosima::fastrtps::rtps::GUID_t& writer) const;
   // Their GUIDs (a restarted participant's readers have new ones).
   std::vector<eprosima::fastrtps::rtps::GUID_t> reader_guids_named(const std::string& topic,
                                                                    const std::string& name) const;
@@ -81,6 +90,10 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> readers_;  // reader -> topic
   std::vector<Departure> departures_;  // a few bytes per departed participant
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> writers_;  // writer -> topic
+  // writer -> its partitions; departed writers' entries are dropped oldest first beyond kKeptPartitions
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::vector<std::string>> writer_partitions_;
+  std::vector<eprosima::fastrtps::rtps::GUID_t> departed_writers_;
+  static constexpr std::size_t kKeptPartitions = 4096;
 };
 
 struct DdsSettings {
@@ -141,12 +154,19 @@ class Participant {
   // Whether DDS-Security is on, and how it was set up ("DDS-Security on: identity sensor from DIR ...").
   bool secured() const { return secured_; }
   const std::string& security_note() const { return security_note_; }
+  // Seconds since the epoch when this participant's own identity certificate expires; 0 when the bus is open.
+  // Also the metric dds_security_certificate_expiry_timestamp_seconds (a renewal is due before it).
+  std::int64_t certificate_expiry_s() const { return certificate_expiry_s_; }
   // Every reliable writer is watched for readers that stop acknowledging (TypedWriter registers itself).
   // accepted_at: steady_clock time of the writer's last accepted write (KEEP_ALL writers: an accepted write is
   // progress), null for KEEP_LAST writers.
   void watch_acknowledgments(eprosima::fastdds::dds::DataWriter* writer, const std::string& topic,
                              std::shared_ptr<const std::atomic<std::int64_t>> accepted_at);
   void unwatch_acknowledgments(eprosima::fastdds::dds::DataWriter* writer);
+  // Endpoints announce the partitions their signed grant names for the topic (group_partitions.hpp; none when
+  // the bus is open or the grant names none): TypedWriter and TypedReader call these on the profile's QoS.
+  void add_granted_partitions(const std::string& topic, eprosima::fastdds::dds::DataWriterQos& qos) const;
+  void add_granted_partitions(const std::string& topic, eprosima::fastdds::dds::DataReaderQos& qos) const;
 
  private:
   eprosima::fastdds::dds::Topic* topic_for(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
@@ -164,6 +184,8 @@ class Participant {
   int domain_id_ = 0;
   bool secured_ = false;
   std::string security_note_;
+  GrantedPartitions grants_;  // of this participant's identity (empty when the bus is open)
+  std::int64_t certificate_expiry_s_ = 0;
 };
 
 }  // namespace causal::dds

@@ -10,6 +10,7 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
+#include <cstdint>
 #include <string>
 
 namespace causal::dds {
@@ -43,6 +44,9 @@ SecurityFiles security_files(const std::string& dir, const std::string& identity
 // permissions are signed by the permissions CA; the permissions grant names this certificate's subject and
 // is valid now. Throws std::invalid_argument "<file>: <problem>" on the first failure.
 void check_security_files(const SecurityFiles& files);
+// The same checks; returns the text of the grant for the certificate's subject (<grant ...> ... ), from the
+// permissions document whose signature was verified.
+std::string verified_grant(const SecurityFiles& files);
 
 // Adds the builtin plugins' dds.sec.* properties (file:// URIs) to the participant QoS.
 void add_security_properties(const SecurityFiles& files, eprosima::fastdds::dds::DomainParticipantQos& qos);
@@ -50,8 +54,17 @@ void add_security_properties(const SecurityFiles& files, eprosima::fastdds::dds:
 // Decides and applies the security of one participant: `dir` from the command line ("" = the profile's
 // kSecurityDirProperty, if any; "off" = open). Returns a line for the log ("DDS-Security on: identity
 // sensor from DIR" / "DDS-Security off"). A profile that already sets dds.sec.* properties itself keeps
-// them (and they are checked too). Throws std::invalid_argument like check_security_files.
+// them (and they are checked too). Throws std::invalid_argument like check_security_files. `applied`, when
+// given, receives what the participant needs later when security is on.
+struct AppliedSecurity {
+  std::string grant;                // the verified grant's text (group_partitions.hpp reads its partitions)
+  std::int64_t certificate_expiry_s = 0;  // notAfter of the identity certificate, seconds since the epoch
+  std::string crl;  // the revocation list it loads, or would load once it exists (revocation_watch.hpp)
+};
 std::string apply_security(const std::string& dir, const std::string& identity, const std::string& participant_name,
-                           eprosima::fastdds::dds::DomainParticipantQos& qos);
+                           eprosima::fastdds::dds::DomainParticipantQos& qos, AppliedSecurity* applied = nullptr);
+
+// notAfter of a PEM certificate, seconds since the epoch; throws std::invalid_argument naming the file.
+std::int64_t certificate_expiry(const std::string& certificate);
 
 }  // namespace causal::dds

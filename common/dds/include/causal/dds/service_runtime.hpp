@@ -4,11 +4,14 @@
 #pragma once
 
 #include "causal/dds/participant.hpp"
+#include "causal/dds/revocation_watch.hpp"
+#include "causal/dds/systemd_notify.hpp"
 #include "causal/metrics/metrics_server.hpp"
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <exception>
 #include <functional>
 #include <memory>
@@ -98,16 +101,38 @@ int run_service(ShutdownSignal& signals, const std::string& name, const CommonOp
     }
     auto node = make_node();
     std::mutex node_mutex;  // the signal thread must not reach a node that is being torn down
-    signals.start([&node, &node_mutex](int sig) {
+    bool signalled = false;  // guarded by node_mutex: a stop asked for is never turned into a restart
+    signals.start([&node, &node_mutex, &signalled](int sig) {
       std::lock_guard<std::mutex> lock(node_mutex);
       spdlog::info("signal {} received, stopping", sig);
+      signalled = true;
+      if (node) node->stop();
+    });
+    // A new revocation list restarts the process in place (revocation_watch.hpp): a clean stop first.
+    std::atomic<bool> restart{false};
+    bool running = true;  // guarded by node_mutex: a run that has ended is not restarted
+    struct WatchStop {    // declared after what the watch's callback uses, so it is stopped before they go
+      ~WatchStop() { process_revocation_watch().stop(); }
+    } watch_stop;
+    process_revocation_watch().start(kRevocationPoll, [&](const std::string& crl) {
+      std::lock_guard<std::mutex> lock(node_mutex);
+      if (!running || signalled) return;
+      spdlog::warn("revocation list {} changed: stopping cleanly and restarting to load it (revoked peers are "
+                   "refused from then on)", crl);
+      restart = true;
+      notify_systemd_reloading();
       if (node) node->stop();
     });
     const int code = node->run();
+    {
+      std::lock_guard<std::mutex> lock(node_mutex);
+      running = false;
+    }
     // Everything is delivered or counted by now. Tearing down the DDS entities can hang (measured: sensor-sim and
     // causal-estimator signalled together while 256 groups were in flight, each waiting on the other for
     // minutes), so it gets a bound: past it the process leaves with run()'s code. SIGTERM is always honoured.
-    std::thread([code] {
+    // A restart that cannot finish its teardown leaves with 1 instead, so a supervisor restarts it.
+    std::thread([code = restart ? 1 : code] {
       std::this_thread::sleep_for(kTeardownBound);
       spdlog::warn("DDS teardown did not finish within {} s: leaving now (exit code {})", kTeardownBound.count(), code);
       spdlog::default_logger()->flush();
@@ -118,6 +143,17 @@ int run_service(ShutdownSignal& signals, const std::string& name, const CommonOp
       node.reset();
     }
     metrics_server.reset();
+    process_revocation_watch().stop();
+    bool exec_now = false;
+    {
+      std::lock_guard<std::mutex> lock(node_mutex);
+      exec_now = restart && !signalled;
+    }
+    if (exec_now) {
+      spdlog::warn("restarting with the new revocation list (this run's exit code was {})", code);
+      exec_self();
+      return 1;  // exec failed (logged): a supervisor restarts the unit (Restart=on-failure)
+    }
     return code;
   } catch (const std::invalid_argument& e) {
     spdlog::critical("{}", e.what());

@@ -16,4 +16,8 @@ enum class NotifyResult { Sent, NoSocket, Failed };
 // Sends `state` (e.g. "READY=1", newline-separated assignments) to $NOTIFY_SOCKET. Never throws.
 NotifyResult notify_systemd(const std::string& state);
 
+// A restart in place (revocation_watch.hpp: the process execs itself, same pid) is a reload for systemd:
+// RELOADING=1 now, READY=1 from the new run; the STOPPING=1 of this run's end is then not sent.
+NotifyResult notify_systemd_reloading();
+
 }  // namespace causal::dds

@@ -37,7 +37,12 @@ class TypedWriter {
               bool watch_acks = true)
       : participant_(participant) {
     auto* topic = participant.topic<PubSubType>(topic_name);
-    writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
+    // The profile's QoS plus the partitions the identity's grant names (per asset group: group_partitions.hpp).
+    eprosima::fastdds::dds::DataWriterQos qos;
+    if (participant.publisher()->get_datawriter_qos_from_profile(profile, qos) == ReturnCode_t::RETCODE_OK) {
+      participant.add_granted_partitions(topic_name, qos);
+      writer_ = participant.publisher()->create_datawriter(topic, qos);
+    }
     if (writer_ == nullptr) {
       // Secured, the usual cause is the identity's permissions or the governance: a configuration error.
       if (participant.secured()) {
@@ -239,8 +244,12 @@ class TypedReader {
               const AssetGroupSelection& groups = {})
       : participant_(participant) {
     auto* topic = participant.topic_for_groups<PubSubType>(topic_name, groups);
-    reader_ = participant.subscriber()->create_datareader_with_profile(
-        topic, profile, &rejections_, eprosima::fastdds::dds::StatusMask::sample_rejected());
+    eprosima::fastdds::dds::DataReaderQos qos;
+    if (participant.subscriber()->get_datareader_qos_from_profile(profile, qos) == ReturnCode_t::RETCODE_OK) {
+      participant.add_granted_partitions(topic_name, qos);
+      reader_ = participant.subscriber()->create_datareader(topic, qos, &rejections_,
+                                                            eprosima::fastdds::dds::StatusMask::sample_rejected());
+    }
     if (reader_ == nullptr) {
       if (participant.secured()) {
         throw std::invalid_argument("cannot create DataReader for '" + topic_name + "': DDS-Security refused it (" +

@@ -1,0 +1,100 @@
+// causal-estimator and DDS-Security: authorisation per asset group (a writer may write only the groups its
+// signed grant names as partitions: dds/group_partitions.hpp) and the HEALTH alarm before this process's own
+// certificate expires. Every refusal is counted (summary, estimator_inputs_not_processed_total{reason=
+// "not_entitled"}), logged, alarmed and makes the exit code 4.
+#include "estimator_node.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <sstream>
+
+namespace causal::estimator {
+
+namespace {
+std::int64_t unix_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+}  // namespace
+
+bool EstimatorNode::entitled(const std::string& asset_group, const WriterGuid* writer, bool frame) {
+  if (writer == nullptr) return true;  // released from the reorder hold: checked when it arrived
+  const auto partitions = participant_.directory().writer_partitions(*writer);
+  // Discovery reports a writer (with its partitions) before Fast DDS matches it, so every sample's writer is
+  // known; one that is not cannot be checked and is refused like a writer without the grant.
+  if (partitions && dds::partitions_allow_group(*partitions, asset_group)) return true;
+  (frame ? not_entitled_frames_ : not_entitled_conditions_) += 1;
+  not_processed_entitlement_->inc();
+  std::ostringstream text;
+  text << *writer;
+  const std::string who = text.str();
+  const std::string participant = participant_.directory().name_of(writer->guidPrefix);
+  std::string granted;
+  if (partitions) {
+    for (const auto& p : *partitions) granted += (granted.empty() ? "" : ", ") + p;
+  }
+  const std::string why =
+      partitions ? fmt::format("writer {} of participant '{}' may write only its partitions [{}]", who, participant,
+                               granted)
+                 : fmt::format("writer {} was never discovered (its grant is unknown)", who);
+  const std::uint64_t total = not_entitled_frames_ + not_entitled_conditions_;
+  const bool first_of_pair =
+      not_entitled_pairs_.size() < 1024 && not_entitled_pairs_.insert(who + "|" + asset_group).second;
+  if (!first_of_pair) {
+    if (total % 1000 == 0) spdlog::error("{} inputs refused so far: their writers may not write their asset group", total);
+    return false;
+  }
+  spdlog::error("asset group '{}' refused from this writer: {} (issue-identity.sh --groups); its input is refused "
+                "(counted, exit 4)", asset_group, why);
+  causal_twin::Alarm alarm;
+  const std::int64_t now = unix_now_ns();
+  alarm.alarm_id(fmt::format("{}/input/group_not_entitled/t{}.{}", asset_group, now / 1000000000,
+                             not_entitled_pairs_.size()));
+  alarm.asset_group(asset_group);
+  alarm.kind("group_not_entitled");
+  alarm.category("health");
+  alarm.severity(causal_twin::CRITICAL);
+  alarm.state(causal_twin::RAISED);
+  alarm.raised_time_ns(now);
+  alarm.score(static_cast<double>(total));
+  alarm.threshold(0.0);
+  alarm.reason("input for asset group '" + asset_group + "' refused: " + why +
+               "; a sensor identity is granted only its own asset groups");
+  spdlog::warn("HEALTH RAISED {}: {}", alarm.alarm_id(), alarm.reason());
+  if (!standing_by_) {
+    auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
+    outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
+                   [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+  }
+  return false;
+}
+
+void EstimatorNode::check_certificate_expiry() {
+  const std::int64_t expiry = participant_.certificate_expiry_s();
+  if (expiry == 0 || certificate_alarmed_) return;
+  const std::int64_t now = unix_now_ns();
+  const double days_left = (static_cast<double>(expiry) - static_cast<double>(now) / 1e9) / 86400.0;
+  if (days_left > kCertificateWarningDays) return;
+  certificate_alarmed_ = true;
+  causal_twin::Alarm alarm;
+  alarm.alarm_id(fmt::format("estimator/security/certificate_expiring/t{}", now / 1000000000));
+  alarm.asset_group("");
+  alarm.kind("certificate_expiring");
+  alarm.category("health");
+  alarm.severity(days_left <= 1.0 ? causal_twin::CRITICAL : causal_twin::WARNING);
+  alarm.state(causal_twin::RAISED);
+  alarm.raised_time_ns(now);
+  alarm.score(days_left);
+  alarm.threshold(kCertificateWarningDays);
+  alarm.reason(fmt::format("this causal-estimator's DDS-Security certificate expires in {:.1f} days ({}): issue a new "
+                           "one (deploy/security/issue-identity.sh) and restart it before then, or it can no longer "
+                           "join the bus",
+                           days_left, participant_.security_note()));
+  spdlog::warn("HEALTH RAISED {}: {}", alarm.alarm_id(), alarm.reason());
+  if (standing_by_) return;
+  auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
+  outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
+                 [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+}
+
+}  // namespace causal::estimator
