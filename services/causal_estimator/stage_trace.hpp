@@ -5,8 +5,10 @@
 // All times are wall-clock ns (system_clock, the clock of first_sample_time_ns under sensor-sim
 // --wall-clock-stamps and of DDS's source/reception timestamps), so the stages line up with the frame's due time:
 //   source - due: the source's own delay; received - source: transport; taken - received: the event loop's wake-up;
-//   fed - taken: the filters; queued - fed: output conversion (and the checkpoint); write_start - queued: the
-//   outbound queue; write_end - write_start: the DDS write. queue_depth: messages queued when this one was pushed.
+//   fed - taken: the filters; queued - fed: output conversion, the checkpoint and the push (which includes the
+//   write itself when it is written inline); write_start - queued: the outbound queue's wait (negative when the
+//   message was written inline, OutboundQueue::write_or_push); write_end - write_start: the DDS write.
+//   queue_depth: messages queued or in flight when the frame's output was pushed.
 #pragma once
 
 #include <atomic>
