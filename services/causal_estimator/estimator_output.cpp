@@ -448,16 +448,6 @@ int EstimatorNode::finish_all() {
                "rejected_no_room={} published factors={} unpublished={}",
                frames, assets_.size(), lost, refused + invalid_msgs_, rejected_no_instance_, rejected_no_room_, published,
                unpublished);
-  {
-    // Machine-readable: the process's CPU over the run (start-up included), per frame processed
-    // (deploy/bench_scale.sh compares it with the filter kernel's benchmark).
-    rusage ru{};
-    getrusage(RUSAGE_SELF, &ru);
-    const double user_s = static_cast<double>(ru.ru_utime.tv_sec) + static_cast<double>(ru.ru_utime.tv_usec) * 1e-6;
-    const double sys_s = static_cast<double>(ru.ru_stime.tv_sec) + static_cast<double>(ru.ru_stime.tv_usec) * 1e-6;
-    spdlog::info("summary cpu user_s={:.3f} sys_s={:.3f} frames={} cpu_per_frame_us={:.1f}", user_s, sys_s, frames,
-                 frames > 0 ? (user_s + sys_s) * 1e6 / static_cast<double>(frames) : 0.0);
-  }
   spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={}", frames + refused, lost,
                refused + invalid_msgs_ + rejected_no_instance_);
   spdlog::info("summary topic=causal_twin/condition_input received={} refused={} lost={}",
@@ -475,6 +465,16 @@ int EstimatorNode::finish_all() {
   spdlog::info("summary topic=causal_twin/condition_vector windows_dropped={}", dropped_windows);
   for (const auto& [stream, c] : streams) {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
+  }
+  {
+    // Machine-readable: the process's CPU over the run (start-up included), per frame processed
+    // (deploy/bench_scale.sh compares it with the filter kernel's benchmark).
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    const double user_s = static_cast<double>(ru.ru_utime.tv_sec) + static_cast<double>(ru.ru_utime.tv_usec) * 1e-6;
+    const double sys_s = static_cast<double>(ru.ru_stime.tv_sec) + static_cast<double>(ru.ru_stime.tv_usec) * 1e-6;
+    spdlog::info("summary cpu user_s={:.3f} sys_s={:.3f} frames={} cpu_per_frame_us={:.1f}", user_s, sys_s, frames,
+                 frames > 0 ? (user_s + sys_s) * 1e6 / static_cast<double>(frames) : 0.0);
   }
   if (trace_.enabled()) {
     const std::string problem = trace_.write();
