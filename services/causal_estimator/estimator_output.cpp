@@ -8,8 +8,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <sys/resource.h>
-
 #include <cstring>
 #include <stdexcept>
 
@@ -466,16 +464,8 @@ int EstimatorNode::finish_all() {
   for (const auto& [stream, c] : streams) {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
   }
-  {
-    // Machine-readable: the process's CPU over the run (start-up included), per frame processed
-    // (deploy/bench_scale.sh compares it with the filter kernel's benchmark).
-    rusage ru{};
-    getrusage(RUSAGE_SELF, &ru);
-    const double user_s = static_cast<double>(ru.ru_utime.tv_sec) + static_cast<double>(ru.ru_utime.tv_usec) * 1e-6;
-    const double sys_s = static_cast<double>(ru.ru_stime.tv_sec) + static_cast<double>(ru.ru_stime.tv_usec) * 1e-6;
-    spdlog::info("summary cpu user_s={:.3f} sys_s={:.3f} frames={} cpu_per_frame_us={:.1f}", user_s, sys_s, frames,
-                 frames > 0 ? (user_s + sys_s) * 1e6 / static_cast<double>(frames) : 0.0);
-  }
+  // Machine-readable: the process's CPU over the run (deploy/bench_scale.sh compares it with the kernel).
+  spdlog::info("summary cpu {}", process_cpu_summary(frames));
   if (trace_.enabled()) {
     const std::string problem = trace_.write();
     if (problem.empty()) spdlog::info("stage trace: {} frames written to '{}'", trace_.rows(), options_.stage_trace);

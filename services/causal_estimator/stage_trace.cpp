@@ -1,5 +1,7 @@
 #include "stage_trace.hpp"
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 
@@ -36,6 +38,18 @@ std::string StageTrace::write() const {
   }
   const bool ok = std::fclose(f) == 0;
   return ok ? "" : "cannot write '" + path_ + "' (disk full?)";
+}
+
+std::string process_cpu_summary(std::uint64_t frames) {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  const double user_s = static_cast<double>(ru.ru_utime.tv_sec) + static_cast<double>(ru.ru_utime.tv_usec) * 1e-6;
+  const double sys_s = static_cast<double>(ru.ru_stime.tv_sec) + static_cast<double>(ru.ru_stime.tv_usec) * 1e-6;
+  const double per_frame = frames > 0 ? (user_s + sys_s) * 1e6 / static_cast<double>(frames) : 0.0;
+  char text[160];
+  std::snprintf(text, sizeof text, "user_s=%.3f sys_s=%.3f frames=%llu cpu_per_frame_us=%.1f", user_s, sys_s,
+                static_cast<unsigned long long>(frames), per_frame);
+  return text;
 }
 
 }  // namespace causal::estimator

@@ -45,4 +45,8 @@ class StageTrace {
   std::vector<std::shared_ptr<Frame>> frames_;
 };
 
+// "user_s=U sys_s=S frames=N cpu_per_frame_us=C": this process's user and system CPU so far (start-up included)
+// and per frame processed.
+std::string process_cpu_summary(std::uint64_t frames);
+
 }  // namespace causal::estimator
