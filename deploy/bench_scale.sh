@@ -1,25 +1,31 @@
 #!/usr/bin/env bash
-# The scale benchmark (issue 16), one run, bounded (< 10 min; --quick < 1 min, a smoke test of the format):
+# The scale benchmark (issues 16 and 28), one run, bounded (< 10 min; --quick < 1 min, a smoke test of the format):
+#  (k) the kernel: BM_SampleLevelFactorStream at the fixed lag of estimator.yaml (one group's sample-level work,
+#      filter + fixed-lag smoother, CPU time) -> kernel_per_frame_us (per 1024-sample frame) and kernel_groups
+#      (the groups one core could serve at the IMS rate, 20 frames/s each); BM_FilterStep G=4 M=1 for the record;
 #  (a) raw Fast DDS: causal_bench_raw_dds, the pipeline's VibrationFrame (4 channels x 1024 samples, 32 KiB),
 #      the same groups (instances), QoS profiles and loopback transport, no estimation -> frames/s;
-#  (b) the pipeline end to end, for 1, 2 and 4 estimator shards (hash slices, content-filtered readers):
+#  (b) the pipeline end to end, for 1 and 2 estimator shards (hash slices, content-filtered readers):
 #      sensor-sim as fast as possible, the SAME frames (count, groups, size) -> causal-estimator(s) ->
-#      causal_bench_factor_counter (frames covered by factor messages, exactly) -> frames/s, ratio vs (a);
-#  (c) groups live: sensor-sim at the IMS rate (20,480 Hz x 4 channels, 1024-sample frames as sensor-replay
-#      sends them, groups staggered over the frame period), for 1, 2 and 4 shards: the largest N with every
-#      frame's factors delivered (nothing lost or dropped) and steady-state p99 frame-to-factor latency < 5 ms
-#      (each group's first 2 s left out: start-up calibration, reported as startup_max_ms), searched by
-#      doubling then bisection over short runs.
+#      causal_bench_factor_counter (frames covered by factor messages, exactly) -> frames/s, and each
+#      estimator's user+system CPU over its run (its "summary cpu" line) -> cpu_per_frame_us (1 shard) and
+#      shard_cpu_ratio (summed CPU of the 2 shards / 1 shard, same frames);
+#  (c) groups live on ONE estimator process: sensor-sim at the IMS rate (20,480 Hz x 4 channels, 1024-sample
+#      frames, groups staggered over the frame period): the largest N with every frame's factors delivered
+#      exactly (nothing lost or dropped) and steady-state p99 frame-to-factor latency < 5 ms (each group's first
+#      2 s left out: start-up calibration, reported as startup_max_ms), searched by doubling then bisection over
+#      short runs. --live-shards "1 2" also searches with more shards (reported, not in the last line).
 # Every process runs on the loopback profile (deploy/dds/localhost.xml) on domains 230 (raw), 231 (pipeline),
 # 232 (live), is started here and ended by its pid. The last line reads
-#   groups_live=N ratio_vs_raw=R shard2_speedup=S p99_ms=L
-# N: the largest live group count over the shard counts, L: its p99; R: the best pipeline throughput over the
-# shard counts / raw; S: pipeline throughput with 2 shards / with 1.
-# Exit code 1 when a measurement failed (frames missing in (a) or (b)); missed targets are reported, not failed.
+#   groups_live=N kernel_groups=K live_efficiency=E cpu_per_frame_us=C kernel_per_frame_us=k shard_cpu_ratio=S p99_ms=L
+# E = N / K; targets (issue 28): E >= 0.5, C <= 1.5 k, S <= 1.1, L < 5 ms; the line before it says which are met.
+# Exit code 1 when a measurement failed (frames missing in (a) or (b), a benchmark that did not run); missed
+# targets are reported, not failed. Live probes that did not deliver every frame exactly are counted
+# (inexact_probes) and never count as held.
 # Usage: deploy/bench_scale.sh [--quick] [--build DIR] [--duration S] [--max-groups N] [--transport FILE]
-#        [--shards "1 2"]
+#        [--shards "1 2"] [--live-shards "1"]
 # --transport: another participant profile (e.g. deploy/dds/localhost-udp.xml, the installed UDP-only one) to compare
-# transports (docs/cross-user-and-restarts.md); --shards: the shard counts of (b) and (c).
+# transports (docs/cross-user-and-restarts.md); --shards: the shard counts of (b); --live-shards: of (c).
 set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD="${BUILD_DIR:-$ROOT/build}"
@@ -28,6 +34,7 @@ DURATION=10       # seconds of IMS-rate data per live probe
 MAX_GROUPS=256    # the live search stops here
 TRANSPORT_ARG=""
 SHARDS_ARG=""
+LIVE_SHARDS_ARG=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) QUICK=1 ;;
@@ -36,7 +43,8 @@ while [ $# -gt 0 ]; do
     --max-groups) MAX_GROUPS="$2"; shift ;;
     --transport) TRANSPORT_ARG="$2"; shift ;;
     --shards) SHARDS_ARG="$2"; shift ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    --live-shards) LIVE_SHARDS_ARG="$2"; shift ;;
+    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
     *) echo "bench_scale.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -46,8 +54,10 @@ SIM="$BUILD/services/sensor_sim/sensor-sim"
 EST="$BUILD/services/causal_estimator/causal-estimator"
 RAW="$BUILD/tests/bench/causal_bench_raw_dds"
 COUNTER="$BUILD/tests/bench/causal_bench_factor_counter"
-for b in "$SIM" "$EST" "$RAW" "$COUNTER"; do
-  [ -x "$b" ] || { echo "bench_scale.sh: $b missing: cmake --build $BUILD --target sensor-sim causal-estimator causal_bench_raw_dds causal_bench_factor_counter" >&2; exit 2; }
+KERNEL="$BUILD/tests/bench/causal_bench_pipeline"
+FILTER_STEP="$BUILD/tests/bench/causal_bench_estimation"
+for b in "$SIM" "$EST" "$RAW" "$COUNTER" "$KERNEL" "$FILTER_STEP"; do
+  [ -x "$b" ] || { echo "bench_scale.sh: $b missing: cmake --build $BUILD --target sensor-sim causal-estimator causal_bench_raw_dds causal_bench_factor_counter causal_bench_pipeline causal_bench_estimation" >&2; exit 2; }
 done
 QOS="$ROOT/deploy/dds/qos.xml"
 TRANSPORT="${TRANSPORT_ARG:-$ROOT/deploy/dds/localhost.xml}"
@@ -70,18 +80,39 @@ RATE=20480      # IMS: 20,480 samples/s per channel
 SKIP_FRAMES=40
 CHANNELS=4
 FRAME=1024
+IMS_FPS=$((RATE / FRAME))  # frames per second per group at the IMS rate (20)
+LIVE_SHARDS=(1)
 if [ "$QUICK" = 1 ]; then
-  TP_GROUPS=2; TP_FRAMES=20; SHARDS=(1 2); DURATION=3; MAX_GROUPS=2; START_GROUPS=2; SKIP_FRAMES=8
+  TP_GROUPS=2; TP_FRAMES=20; SHARDS=(1 2); DURATION=3; MAX_GROUPS=2; START_GROUPS=2; SKIP_FRAMES=8; BENCH_TIME=0.05
 else
-  TP_GROUPS=16; TP_FRAMES=500; SHARDS=(1 2 4); START_GROUPS=8
+  TP_GROUPS=16; TP_FRAMES=500; SHARDS=(1 2); START_GROUPS=8; BENCH_TIME=0.5
 fi
 if [ -n "$SHARDS_ARG" ]; then read -r -a SHARDS <<< "$SHARDS_ARG"; fi
+if [ -n "$LIVE_SHARDS_ARG" ]; then read -r -a LIVE_SHARDS <<< "$LIVE_SHARDS_ARG"; fi
 
 field() {  # field NAME LINE: the number after NAME=
   echo "$2" | tr ' ' '\n' | sed -n "s/^$1=//p" | head -n1
 }
 
 echo "bench_scale: $(date -u +%FT%TZ) on $(nproc) cores, $(uptime | sed 's/.*load average/load average/'), transport $(basename "$TRANSPORT")"
+
+# (k) the kernel, same model (G = 4 channels, M = 1) and fixed lag as the estimator's sample level -----------------
+FAILED=0
+LAG=$(awk '/^sample_level:/ { s = 1; next } /^[a-z_]+:/ { s = 0 } s && $1 == "fixed_lag:" { print $2; exit }' "$PARAMS")
+"$KERNEL" --benchmark_filter="BM_SampleLevelFactorStream/L:${LAG}\$" --benchmark_min_time="$BENCH_TIME" \
+  --benchmark_format=csv > "$WORK/kernel.csv" 2> "$WORK/kernel.err"
+# items_per_second is per CPU second (Google Benchmark's default): the kernel's CPU per 1024-sample frame.
+KERNEL_IPS=$(awk -F, '/^"BM_SampleLevelFactorStream/ { print $7 }' "$WORK/kernel.csv" | head -n1)
+if [ -z "$KERNEL_IPS" ]; then
+  echo "bench_scale.sh: BM_SampleLevelFactorStream/L:$LAG did not run (only L = 0, 16, 64 are registered):"; cat "$WORK/kernel.err"
+  KERNEL_IPS=0; FAILED=1
+fi
+K_US=$(awk -v i="$KERNEL_IPS" -v f="$FRAME" 'BEGIN { printf "%.1f", (i > 0 ? f / i * 1e6 : 0) }')
+K_GROUPS=$(awk -v k="$K_US" -v r="$IMS_FPS" 'BEGIN { printf "%d", (k > 0 ? 1e6 / (k * r) : 0) }')
+"$FILTER_STEP" --benchmark_filter='BM_FilterStep/G:4/M:1$' --benchmark_min_time="$BENCH_TIME" --benchmark_format=csv \
+  > "$WORK/filter_step.csv" 2>/dev/null
+STEP_NS=$(awk -F, '/^"BM_FilterStep/ { printf "%.1f", $4 }' "$WORK/filter_step.csv" | head -n1)
+echo "kernel: BM_SampleLevelFactorStream/L:$LAG ${K_US} us CPU per ${FRAME}-sample frame -> ${K_GROUPS} groups per core at ${IMS_FPS} frames/s; BM_FilterStep/G:4/M:1 ${STEP_NS:-?} ns CPU per sample vector"
 
 # (a) raw Fast DDS ------------------------------------------------------------------------------------------
 "$RAW" --domain 230 --groups "$TP_GROUPS" --frames-per-group "$TP_FRAMES" --channels "$CHANNELS" \
@@ -92,7 +123,6 @@ raw_rc=$?
 RAW_LINE=$(grep '^raw_dds:' "$WORK/raw.out" | tail -n1)
 RAW_FPS=$(field frames_per_s "$RAW_LINE")
 echo "raw fast-dds: $RAW_LINE (exit $raw_rc)"
-FAILED=0
 [ -n "$RAW_FPS" ] && [ "$raw_rc" = 0 ] || { echo "bench_scale.sh: the raw benchmark failed:"; cat "$WORK/raw.out"; RAW_FPS=0; FAILED=1; }
 
 # One pipeline run: run_pipeline DOMAIN SHARDS GROUPS FRAMES_PER_GROUP PACED(0|1) -> sets RUN_LINE, RUN_OK.
@@ -117,7 +147,7 @@ run_pipeline() {
     # the last 16 messages of each instance from the transient-local ring).
     "$EST" --domain "$domain" "${DDS[@]}" --params "$PARAMS" "${shard_args[@]}" --idle-exit 1 \
       --wait-for bench-factor-counter \
-      --max-runtime "$limit" --log-level warn > "$dir/est$i.log" 2>&1 &
+      --max-runtime "$limit" --log-level info > "$dir/est$i.log" 2>&1 &
     est+=($!)
     PIDS+=($!)
   done
@@ -135,17 +165,24 @@ run_pipeline() {
   RUN_LINE=$(grep '^factors:' "$dir/counter.out" | tail -n1)
   local lost
   lost=$(field lost "$(grep '^sensor-sim:' "$dir/sim.out" | tail -n1)")
+  # The estimators' CPU over the run (user + system, start-up included), summed over the shards.
+  RUN_CPU=$(cat "$dir"/est*.log | awk '/summary cpu / { for (i = 1; i <= NF; ++i) { split($i, kv, "=");
+            if (kv[1] == "user_s" || kv[1] == "sys_s") s += kv[2] } } END { printf "%.3f", s }')
+  RUN_EST_FRAMES=$(cat "$dir"/est*.log | awk '/summary cpu / { for (i = 1; i <= NF; ++i) { split($i, kv, "=");
+            if (kv[1] == "frames") n += kv[2] } } END { print n + 0 }')
   RUN_OK=0
   [ "$sim_rc" = 0 ] && [ "$est_rc" = 0 ] && [ "$counter_rc" = 0 ] && [ "${lost:-1}" = 0 ] && RUN_OK=1
-  RUN_STATUS="sim exit $sim_rc lost=${lost:-?}, estimators exit $est_rc, counter exit $counter_rc"
+  RUN_STATUS="sim exit $sim_rc lost=${lost:-?}, estimators exit $est_rc, counter exit $counter_rc, estimator cpu ${RUN_CPU} s for $RUN_EST_FRAMES frames"
 }
 
 # (b) the pipeline end to end, same frames as (a) ------------------------------------------------------------
-declare -A FPS
+declare -A FPS CPU
 BEST_FPS=0; BEST_SHARDS=1
 for s in "${SHARDS[@]}"; do
   run_pipeline 231 "$s" "$TP_GROUPS" "$TP_FRAMES" 0
   FPS[$s]=$(field frames_per_s "$RUN_LINE")
+  CPU[$s]=$RUN_CPU
+  [ "$RUN_EST_FRAMES" = $((TP_GROUPS * TP_FRAMES)) ] || { echo "  (the estimators processed $RUN_EST_FRAMES frames, not $((TP_GROUPS * TP_FRAMES)))"; FAILED=1; }
   [ "$RUN_OK" = 1 ] || { FPS[$s]=0; FAILED=1; echo "  (run failed: see the logs kept in $WORK)"; KEEP=1; }
   ratio=$(awk -v p="${FPS[$s]}" -v r="$RAW_FPS" 'BEGIN { printf "%.3f", (r > 0 ? p / r : 0) }')
   echo "pipeline shards=$s: ${RUN_LINE:-no factor line} ($RUN_STATUS) ratio_vs_raw=$ratio"
@@ -153,6 +190,10 @@ for s in "${SHARDS[@]}"; do
 done
 RATIO=$(awk -v p="$BEST_FPS" -v r="$RAW_FPS" 'BEGIN { printf "%.3f", (r > 0 ? p / r : 0) }')
 SPEEDUP=$(awk -v a="${FPS[2]:-0}" -v b="${FPS[1]:-0}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
+CPU_US=$(awk -v c="${CPU[1]:-0}" -v n=$((TP_GROUPS * TP_FRAMES)) 'BEGIN { printf "%.1f", c * 1e6 / n }')
+SHARD_CPU=$(awk -v a="${CPU[2]:-0}" -v b="${CPU[1]:-0}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
+echo "estimator cpu: ${CPU_US} us per frame with 1 shard (user+system over the run, start-up included; kernel ${K_US} us);" \
+  "2 shards ${CPU[2]:-?} s vs 1 shard ${CPU[1]:-?} s for the same $((TP_GROUPS * TP_FRAMES)) frames"
 
 # (c) groups live at the IMS rate ------------------------------------------------------------------------------
 FRAMES_LIVE=$((DURATION * RATE / FRAME))
@@ -160,11 +201,12 @@ probe() {  # probe SHARDS GROUPS -> PROBE_OK, PROBE_P99
   run_pipeline 232 "$1" "$2" "$FRAMES_LIVE" 1
   PROBE_P99=$(field p99_ms "$RUN_LINE")
   PROBE_OK=0
+  [ "$RUN_OK" = 1 ] || INEXACT=$((INEXACT + 1))
   [ "$RUN_OK" = 1 ] && awk -v p="${PROBE_P99:-1e9}" 'BEGIN { exit !(p < 5.0) }' && PROBE_OK=1
   echo "  live shards=$1 groups=$2: ${RUN_LINE:-no factor line} ($RUN_STATUS) -> $([ "$PROBE_OK" = 1 ] && echo held || echo NOT held)"
 }
-LIVE_BEST=0; LIVE_P99=0; LIVE_SHARDS=1
-for s in "${SHARDS[@]}"; do
+LIVE_BEST=0; LIVE_P99=0; INEXACT=0; N1=0; N1_P99=0
+for s in "${LIVE_SHARDS[@]}"; do
   good=0; good_p99=0; bad=0; n=$START_GROUPS
   while [ "$n" -le "$MAX_GROUPS" ]; do  # doubling until a probe fails
     probe "$s" "$n"
@@ -179,11 +221,16 @@ for s in "${SHARDS[@]}"; do
     if [ "$PROBE_OK" = 1 ]; then good=$mid; good_p99=$PROBE_P99; else bad=$mid; fi
   done
   echo "groups live with shards=$s: $good (p99 ${good_p99} ms)"
-  if [ "$good" -gt "$LIVE_BEST" ]; then LIVE_BEST=$good; LIVE_P99=$good_p99; LIVE_SHARDS=$s; fi
+  [ "$s" = 1 ] && { N1=$good; N1_P99=$good_p99; }
 done
 
-echo "summary: raw ${RAW_FPS} frames/s; pipeline ${FPS[1]:-0} (1 shard) ${FPS[2]:-0} (2) ${FPS[4]:--} (4) frames/s; best ratio at shards=$BEST_SHARDS; most groups live at shards=$LIVE_SHARDS; $(uptime | sed 's/.*load average/load average/')"
-echo "groups_live=$LIVE_BEST ratio_vs_raw=$RATIO shard2_speedup=$SPEEDUP p99_ms=$LIVE_P99"
+E=$(awk -v n="$N1" -v k="$K_GROUPS" 'BEGIN { printf "%.3f", (k > 0 ? n / k : 0) }')
+met() { awk "BEGIN { exit !($1) }" && echo "met" || echo "MISSED"; }
+echo "summary: raw ${RAW_FPS} frames/s; pipeline ${FPS[1]:-0} (1 shard) ${FPS[2]:-0} (2) frames/s, best ratio_vs_raw=$RATIO" \
+  "shard2_speedup=$SPEEDUP; inexact_probes=$INEXACT; $(uptime | sed 's/.*load average/load average/')"
+echo "targets: live_efficiency $E >= 0.5 $(met "$E >= 0.5"); cpu_per_frame_us $CPU_US <= 1.5 x $K_US $(met "$CPU_US <= 1.5 * $K_US");" \
+  "shard_cpu_ratio $SHARD_CPU <= 1.1 $(met "$SHARD_CPU > 0 && $SHARD_CPU <= 1.1"); p99_ms $N1_P99 < 5 $(met "$N1 > 0 && $N1_P99 < 5")"
+echo "groups_live=$N1 kernel_groups=$K_GROUPS live_efficiency=$E cpu_per_frame_us=$CPU_US kernel_per_frame_us=$K_US shard_cpu_ratio=$SHARD_CPU p99_ms=$N1_P99"
 # Exit 1 when a measurement itself failed (raw frames missing, a throughput run that lost or refused data);
 # targets missed are not failures: the figures say so.
 exit "$FAILED"

@@ -41,6 +41,7 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       health_(options_.health_deadline_s, "frames/condition inputs", "source",
               {dds::topics::kVibrationFrame, dds::topics::kConditionInput}),
       quota_(options_.quota),
+      trace_(options_.stage_trace),
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
@@ -188,7 +189,17 @@ int EstimatorNode::run() {
                 [this](const auto& f, const auto& info) {
                   if (mine(f.asset_group())) health_.on_sample(f.asset_group(), f.snapshot_index(), info);
                   const WriterGuid writer = info.sample_identity.writer_guid();
+                  if (trace_.enabled()) {
+                    frame_trace_ = std::make_shared<StageTrace::Frame>();
+                    frame_trace_->group = f.asset_group();
+                    frame_trace_->sequence = f.sequence_number();
+                    frame_trace_->due_ns = f.first_sample_time_ns();
+                    frame_trace_->source_ns = info.source_timestamp.to_ns();
+                    frame_trace_->received_ns = info.reception_timestamp.to_ns();
+                    frame_trace_->taken_ns = StageTrace::now_ns();
+                  }
                   on_frame(f, &writer);
+                  if (frame_trace_) trace_.keep(std::move(frame_trace_));
                 },
                 state, loop_.stop_flag()) +
             conditions_in_.take_all_and_states(
@@ -269,6 +280,7 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame, const Wri
     report_refusal(frame.asset_group(), frame.snapshot_index(), frame.first_sample_time_ns(), a.refused);
     return;
   }
+  if (frame_trace_) frame_trace_->fed_ns = StageTrace::now_ns();
   if (!check.ok) {
     ++a.refused_frames;
     spdlog::debug("asset '{}': frame {} refused: {}", frame.asset_group(), frame.sequence_number(), check.problem);

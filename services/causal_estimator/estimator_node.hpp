@@ -17,6 +17,7 @@
 #include "data_quality_alarms.hpp"
 #include "estimator_state_store.hpp"
 #include "group_quota.hpp"
+#include "stage_trace.hpp"
 #include "standby_buffer.hpp"
 
 #include <atomic>
@@ -51,6 +52,7 @@ struct EstimatorOptions {
   bool verbose = false;
   double health_deadline_s = 30.0;  // estimator.yaml health.deadline_s (HealthWatch)
   GroupQuotaLimits quota;  // --max-groups, --max-groups-per-writer (group_quota.hpp)
+  std::string stage_trace;  // per-frame stage timestamps written here at exit (stage_trace.hpp); empty = off
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none  // log every condition-level factor vector (off: progress only)  // messages queued for the DDS writers (see OutboundQueue)
 };
 
@@ -195,6 +197,8 @@ class EstimatorNode {
   metrics::Counter* not_processed_invalid_ = nullptr;
   metrics::Counter* not_processed_already_ = nullptr;
   std::uint64_t rejected_no_instance_ = 0, rejected_no_room_ = 0;  // refused by our readers' resource limits
+  StageTrace trace_;
+  std::shared_ptr<StageTrace::Frame> frame_trace_;  // the frame being processed, when tracing
   dds::OutboundQueue outbound_;  // last: its drain thread stops before the writers are destroyed
 };
 

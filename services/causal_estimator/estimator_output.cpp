@@ -90,6 +90,7 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
     const char* stream;
     Class cls;
     dds::OutboundQueue::WriteFn write;
+    std::function<bool()> try_write;  // sample level: written at once when nothing is queued (write_or_push)
   };
   std::vector<Item> items;
   std::vector<std::uint64_t> indices;  // the snapshot (or sample) index of every item
@@ -101,7 +102,7 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
     dds::to_condition_vector(h, c.values, *msg);
     if (keep) resend.push_back("C" + to_bytes<causal_twin::ConditionVectorPubSubType>(*msg));
     items.push_back({"condition_vector", Class::Essential,
-                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }});
+                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, nullptr});
     indices.push_back(c.snapshot_index);
   }
   auto send = [&](const std::vector<pipeline::FactorReport>& reports, const pipeline::FactorStream* stream,
@@ -129,7 +130,28 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
                        condition ? Class::Essential : Class::Droppable,
                        [this, msg, condition](const std::atomic<bool>& s) {
                          return (condition ? factors_ : sample_factors_).write(*msg, s);
-                       }});
+                       },
+                       nullptr});
+      if (!condition) {
+        // The sample-level writer never blocks (max_blocking_time 0 in qos.xml): one attempt on this thread.
+        items.back().try_write = [this, msg] { return sample_factors_.try_write(*msg) == dds::WriteResult::Ok; };
+      }
+      if (frame_trace_ && !condition && msg->kind() == causal_twin::FILTER) {
+        // Tracing: the write of the frame's filter message (the one readers wait for) is stamped, inline or queued.
+        auto& it = items.back();
+        it.write = [trace = frame_trace_, write = std::move(it.write)](const std::atomic<bool>& s) {
+          trace->write_start_ns = StageTrace::now_ns();
+          const auto result = write(s);
+          trace->write_end_ns = StageTrace::now_ns();
+          return result;
+        };
+        it.try_write = [trace = frame_trace_, try_write = std::move(it.try_write)] {
+          trace->write_start_ns = StageTrace::now_ns();
+          const bool ok = try_write();
+          if (ok) trace->write_end_ns = StageTrace::now_ns();
+          return ok;
+        };
+      }
       indices.push_back(msg->sample_index());
       ++counter;
     }
@@ -155,7 +177,12 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
     standby_.retain(name, std::move(kept));
     return;
   }
-  for (auto& item : items) outbound_.push(item.stream, item.cls, std::move(item.write), stop);
+  if (frame_trace_) frame_trace_->queue_depth = outbound_.size();
+  for (auto& item : items) {
+    if (item.try_write) outbound_.write_or_push(item.stream, item.cls, item.try_write, std::move(item.write), stop);
+    else outbound_.push(item.stream, item.cls, std::move(item.write), stop);
+  }
+  if (frame_trace_) frame_trace_->queued_ns = StageTrace::now_ns();
   log_structure(name, a, "sample level", a.pipeline.sample_structure(), a.sample_structure_logged);
   log_structure(name, a, "condition level", a.pipeline.condition_structure(), a.condition_structure_logged);
   const auto* s = a.pipeline.sample_stream();
@@ -445,6 +472,13 @@ int EstimatorNode::finish_all() {
   spdlog::info("summary topic=causal_twin/condition_vector windows_dropped={}", dropped_windows);
   for (const auto& [stream, c] : streams) {
     spdlog::info("summary topic=causal_twin/{} sent={} dropped={} failed={}", stream, c.written, c.dropped, c.failed);
+  }
+  // Machine-readable: the process's CPU over the run (deploy/bench_scale.sh compares it with the kernel).
+  spdlog::info("summary cpu {}", process_cpu_summary(frames));
+  if (trace_.enabled()) {
+    const std::string problem = trace_.write();
+    if (problem.empty()) spdlog::info("stage trace: {} frames written to '{}'", trace_.rows(), options_.stage_trace);
+    else spdlog::error("stage trace: {}", problem);
   }
   const auto& h = health_.health();
   spdlog::info("summary health sources={} raised={} cleared={} active={} deadline_s={}", h.sources(), h.raised(),

@@ -61,6 +61,9 @@ int main(int argc, char** argv) {
                  "raise a HEALTH alarm when a reader has kept an output write waiting this many seconds (cleared when "
                  "it acknowledges again)")
       ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--stage-trace", o.stage_trace,
+                 "write per-frame stage timestamps (received, filtered, queued, written) to this CSV at exit, to find "
+                 "where latency goes (docs/scale-and-benchmarks.md); empty = off");
   app.add_option("--state-dir", o.state_dir,
                  "checkpoint every asset group's state here after each snapshot and resume from it after a restart "
                  "(input already processed is skipped); empty = no checkpoints");

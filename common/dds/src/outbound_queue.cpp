@@ -78,6 +78,34 @@ bool OutboundQueue::push(const std::string& stream, Class cls, WriteFn write, co
   return true;
 }
 
+bool OutboundQueue::write_or_push(const std::string& stream, Class cls, const std::function<bool()>& try_write,
+                                  WriteFn write, const std::atomic<bool>& stop) {
+  bool inline_write = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    // Only with nothing ahead of it (and a queue that has not given up); otherwise in order, through the queue.
+    if (!abort_.load() && items_.empty() && in_flight_ == 0) {
+      ++in_flight_;  // holds the drain thread's place: what is pushed meanwhile waits behind this write
+      write_started_ = std::chrono::steady_clock::now();
+      inline_write = true;
+    }
+  }
+  if (inline_write) {
+    const bool written = try_write();
+    std::lock_guard<std::mutex> lock(mutex_);
+    --in_flight_;
+    if (written) {
+      auto& c = counters_[stream];
+      ++c.queued;
+      count(stream, c, &StreamCounters::written);
+    }
+    update_depth();
+    changed_.notify_all();
+    if (written) return true;
+  }
+  return push(stream, cls, std::move(write), stop);
+}
+
 void OutboundQueue::run() {
   while (true) {
     Item item;

@@ -48,6 +48,14 @@ class OutboundQueue {
   // item could not be queued because `stop` was set while waiting for room (counted as failed).
   bool push(const std::string& stream, Class cls, WriteFn write, const std::atomic<bool>& stop);
 
+  // Writes on the caller's thread when nothing is queued or being written and `try_write` (one attempt that does
+  // not wait: a writer with max_blocking_time 0) succeeds; otherwise queues `write` as push() does. This saves
+  // the hand-off to the drain thread, a wake-up that on a loaded host waits for a free core (measured: the largest
+  // stage of the frames whose factors were late, docs/scale-and-benchmarks.md "Latency spikes"). Order is kept
+  // for one producer: an item is written inline only when everything pushed before it has been written.
+  bool write_or_push(const std::string& stream, Class cls, const std::function<bool()>& try_write, WriteFn write,
+                     const std::atomic<bool>& stop);
+
   // Waits until everything queued has been written (or failed), or `timeout` passes. True when empty.
   bool drain(std::chrono::milliseconds timeout);
   // Gives up: the write in progress is abandoned and every queued item is counted as failed (waits until the

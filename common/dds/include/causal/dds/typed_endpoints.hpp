@@ -122,6 +122,17 @@ class TypedWriter {
     }
   }
 
+  // One attempt, no retry: Ok, or TimedOut when the writer refused it (no room in its history: the caller queues
+  // it for write_until instead; not counted as a refusal, the queued write is). Waits only as long as the
+  // profile's max_blocking_time, so use it on writers whose profile sets 0 (causal_factors_sample_writer).
+  WriteResult try_write(Sample& sample) {
+    const ReturnCode_t rc = writer_->write(&sample, eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
+    if (rc != ReturnCode_t::RETCODE_OK) return WriteResult::TimedOut;
+    written_->inc();
+    accepted_at_->store(std::chrono::steady_clock::now().time_since_epoch().count());
+    return WriteResult::Ok;
+  }
+
   WriteResult write(Sample& sample, const std::atomic<bool>& stop,
                     std::chrono::milliseconds give_up_after = std::chrono::seconds(60)) {
     return write_until(sample, stop, std::chrono::steady_clock::now() + give_up_after);
