@@ -1,7 +1,7 @@
 // causal-estimator's parameter loader (services/causal_estimator/estimator_params.cpp): the shipped file
 // loads with the documented values, and every kind of mistake in a copy of it is a ConfigError naming the
 // file and the dotted key.
-#include "estimator_params.hpp"
+#include "causal/pipeline/estimator_params.hpp"
 
 #include "config_test_util.hpp"
 

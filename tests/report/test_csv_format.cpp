@@ -1,5 +1,5 @@
 // The recorder/report CSV dialect: quoting, number round trip, file names, parsing, append rules.
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include <gtest/gtest.h>
 
