@@ -352,7 +352,11 @@ int EstimatorNode::finish_all() {
   }
   conditions_out_.wait_for_acknowledgments(ack_wait);
 
-  // The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).
+  return log_summary();
+}
+
+// The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).
+int EstimatorNode::log_summary() const {
   std::uint64_t frames = 0, lost = 0, refused = 0, conditions_received = 0, conditions_refused = 0, conditions_late = 0;
   for (const auto& [name, a] : assets_) {
     const auto* s = a.pipeline.sample_stream();
