@@ -301,7 +301,8 @@ void EstimatorNode::watch_output() {
   spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
               stuck_alarm_->alarm_id(), stuck_alarm_->reason());
   // Written directly, not through the (blocked) queue: the alarm writer keeps the last value per id and never waits.
-  quality_alarms_.write(*stuck_alarm_, loop_.stop_flag());
+  if (quality_alarms_.write(*stuck_alarm_, loop_.stop_flag()) != dds::WriteResult::Ok)
+    spdlog::error("HEALTH {} could not be published (stopping or the alarm writer failed)", stuck_alarm_->alarm_id());
   if (cleared) stuck_alarm_.reset();
 }
 
