@@ -42,10 +42,11 @@ else
   # The source tree: deploy/launch.sh with the binaries of the build folder.
   data_dir="$root/deploy/data"
   bin="${CAUSAL_TWIN_BUILD_DIR:-$root/build}/services"
+  tools_bin="${CAUSAL_TWIN_BUILD_DIR:-$root/build}/tools"  # the offline tools (causal-report)
   tool=([sensor-replay]="$bin/sensor_replay/sensor-replay" [causal-estimator]="$bin/causal_estimator/causal-estimator"
         [alarm-recommender]="$bin/alarm_recommender/alarm-recommender"
         [causal-recorder]="$bin/causal_recorder/causal-recorder" [causal-ask]="$bin/whatif_ask/causal-ask"
-        [causal-report]="$bin/causal_report/causal-report" [twin-web]="$bin/twin_web/twin-web")
+        [causal-report]="$tools_bin/causal_report/causal-report" [twin-web]="$bin/twin_web/twin-web")
   default_transport="$root/deploy/dds/localhost.xml"
 fi
 domain=$(( 100 + $$ % 100 ))

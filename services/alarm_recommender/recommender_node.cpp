@@ -375,7 +375,9 @@ void RecommenderNode::answer(const causal_twin::WhatIfRequest& request) {
                                     request.delta(), request.sustained());
   causal_twin::WhatIfReply reply;
   to_whatif_reply(request, ans, reply);
-  whatif_replies_.write(reply, loop_.stop_flag());
+  if (whatif_replies_.write(reply, loop_.stop_flag()) != dds::WriteResult::Ok) {
+    spdlog::error("what-if {}: the reply could not be published (stopping or the writer failed)", request.request_id());
+  }
   spdlog::info("what-if {} on '{}': {}", request.request_id(), request.asset_group(), ans.ok ? ans.text : ans.error);
 }
 

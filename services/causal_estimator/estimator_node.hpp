@@ -159,6 +159,7 @@ class EstimatorNode {
                      const pipeline::LearnedStructure* learned, bool& logged) const;
   void log_condition_report(const std::string& name, const Asset& a, const pipeline::FactorReport& r);
   int finish_all();  // publishes what is left, drains, logs the summary; returns the exit code
+  int log_summary() const;  // the summary of finish_all; returns the exit code (4: something lost or refused)
   void report_rejections();  // logs samples the readers' resource limits refused
 
   EstimatorOptions options_;

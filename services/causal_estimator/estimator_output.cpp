@@ -328,7 +328,8 @@ void EstimatorNode::watch_output() {
   spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
               stuck_alarm_->alarm_id(), stuck_alarm_->reason());
   // Written directly, not through the (blocked) queue: the alarm writer keeps the last value per id and never waits.
-  quality_alarms_.write(*stuck_alarm_, loop_.stop_flag());
+  if (quality_alarms_.write(*stuck_alarm_, loop_.stop_flag()) != dds::WriteResult::Ok)
+    spdlog::error("HEALTH {} could not be published (stopping or the alarm writer failed)", stuck_alarm_->alarm_id());
   if (cleared) stuck_alarm_.reset();
 }
 
@@ -380,7 +381,11 @@ int EstimatorNode::finish_all() {
   }
   conditions_out_.wait_for_acknowledgments(ack_wait);
 
-  // The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).
+  return log_summary();
+}
+
+// The summary: one line per asset group, then machine-readable lines (launch.sh and the tests read them).
+int EstimatorNode::log_summary() const {
   std::uint64_t frames = 0, lost = 0, refused = 0, conditions_received = 0, conditions_refused = 0, conditions_late = 0;
   for (const auto& [name, a] : assets_) {
     const auto* s = a.pipeline.sample_stream();

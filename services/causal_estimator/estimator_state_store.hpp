@@ -37,7 +37,7 @@ class EstimatorStateStore {
   // Saves the pipeline and `resend` (serialized messages to send again after a restart); returns false (and
   // counts it) when the file cannot be written, with the reason in last_error().
   // `last_time_ns`: the data time of the last input fed (tells a resent input from new data under old numbers).
-  bool save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
+  [[nodiscard]] bool save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
             const std::vector<std::string>& resend, std::int64_t last_time_ns = INT64_MIN);
 
   std::uint64_t saves() const { return saves_; }

@@ -1,6 +1,6 @@
 // causal-estimator: vibration frames in, causal factor vectors out. See --help.
 #include "estimator_node.hpp"
-#include "estimator_params.hpp"
+#include "causal/pipeline/estimator_params.hpp"
 #include "shard_assignment.hpp"
 
 #include "causal/config/config_search.hpp"

@@ -1,6 +1,6 @@
 #include "factor_row_assembler.hpp"
 
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include "causal/io/time_format.hpp"
 

@@ -1,6 +1,6 @@
 #include "record_rows.hpp"
 
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"

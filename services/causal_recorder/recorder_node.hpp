@@ -9,7 +9,7 @@
 #include "record_rows.hpp"
 #include "status_rows.hpp"
 
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"

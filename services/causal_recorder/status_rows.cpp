@@ -1,6 +1,6 @@
 #include "status_rows.hpp"
 
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 #include "record_rows.hpp"
 
 #include "causal/io/time_format.hpp"

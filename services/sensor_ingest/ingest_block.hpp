@@ -69,10 +69,10 @@ struct ParseResult {
 };
 
 // Any of the three encodings, chosen by the first byte(s).
-ParseResult parse_block(const std::string& message, const BlockLimits& limits = {});
-ParseResult parse_json_block(const std::string& message, const BlockLimits& limits = {});
-ParseResult parse_csv_block(const std::string& message, const BlockLimits& limits = {});
-ParseResult parse_binary_block(const std::string& message, const BlockLimits& limits = {});
+[[nodiscard]] ParseResult parse_block(const std::string& message, const BlockLimits& limits = {});
+[[nodiscard]] ParseResult parse_json_block(const std::string& message, const BlockLimits& limits = {});
+[[nodiscard]] ParseResult parse_csv_block(const std::string& message, const BlockLimits& limits = {});
+[[nodiscard]] ParseResult parse_binary_block(const std::string& message, const BlockLimits& limits = {});
 
 // Splits a byte stream (stdin) into messages: JSON lines, CSV blocks (header + N lines), binary blocks
 // (length from their header). Bytes that start none of these are returned up to the next line end as one

@@ -23,7 +23,7 @@ struct SourceSpec {
 };
 
 // Parses a --source value; throws std::invalid_argument naming what is wrong.
-SourceSpec parse_source(const std::string& text);
+[[nodiscard]] SourceSpec parse_source(const std::string& text);
 const char* source_kind_name(SourceKind kind);  // "mqtt", "udp", "stdin"
 
 // An IPv4 network a UDP datagram may come from (address and prefix length, host byte order).
@@ -70,6 +70,6 @@ struct IngestOptions {
 };
 
 // Parses argv. Returns nullopt after printing --help / an error; `exit_code` tells the caller what to return.
-std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& exit_code);
+[[nodiscard]] std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& exit_code);
 
 }  // namespace causal::ingest

@@ -25,7 +25,7 @@ class IngestStateStore {
   // exists but cannot be read (damaged, another group's): silently numbering from 0 again is what this prevents.
   std::optional<ResumePoint> load(const std::string& asset_group) const;
   // False (counted, reason in last_error()) when the file cannot be written.
-  bool save(const std::string& asset_group, const ResumePoint& point);
+  [[nodiscard]] bool save(const std::string& asset_group, const ResumePoint& point);
   std::uint64_t saves() const { return saves_; }
   std::uint64_t failures() const { return failures_; }
   const std::string& last_error() const { return last_error_; }

@@ -70,7 +70,7 @@ std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& ex
   app.add_option("--wait-for", o.wait_for,
                  "also wait until readers of these participants are matched, before publishing and again whenever they "
                  "go away (e.g. an estimator that restarts): NAME or NAME:COUNT, e.g. --wait-for causal-estimator:2")
-      ->each([](const std::string& spec) { dds::parse_named_readers(spec); });
+      ->each([](const std::string& spec) { (void)dds::parse_named_readers(spec); });  // refused here, used later
   app.add_option("--wait-timeout", o.wait_timeout_s,
                  "give up waiting for readers after this many seconds (exit 3); 0 = wait for as long as it takes, "
                  "saying so every 10 s (the units do)")

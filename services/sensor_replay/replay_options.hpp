@@ -38,6 +38,6 @@ struct ReplayOptions {
 };
 
 // Parses argv. Returns nullopt after printing --help / an error; `exit_code` tells the caller what to return.
-std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& exit_code);
+[[nodiscard]] std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& exit_code);
 
 }  // namespace causal::replay

@@ -35,6 +35,6 @@ struct SimOptions {
 };
 
 // Parses argv. Returns nullopt after printing --help / an error; `exit_code` tells the caller what to return.
-std::optional<SimOptions> parse_sim_options(int argc, char** argv, int& exit_code);
+[[nodiscard]] std::optional<SimOptions> parse_sim_options(int argc, char** argv, int& exit_code);
 
 }  // namespace causal::sim

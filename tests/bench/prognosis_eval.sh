@@ -12,7 +12,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="${1:-$root/build}"
 seeds="${2:-20}"
-tool="$build/services/causal_prognosis_eval/causal-prognosis-eval"
+tool="$build/tools/causal_prognosis_eval/causal-prognosis-eval"
 [ -x "$tool" ] || { echo "no $tool: build the target causal-prognosis-eval first" >&2; exit 2; }
 "$tool" --ims "$root/deploy/data/ims2-features/merged_dataset_BearingTest_2.csv" --feature-name "" --channel 1 --stop-index 981
 echo

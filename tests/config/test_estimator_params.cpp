@@ -1,7 +1,7 @@
 // causal-estimator's parameter loader (services/causal_estimator/estimator_params.cpp): the shipped file
 // loads with the documented values, and every kind of mistake in a copy of it is a ConfigError naming the
 // file and the dotted key.
-#include "estimator_params.hpp"
+#include "causal/pipeline/estimator_params.hpp"
 
 #include "config_test_util.hpp"
 
@@ -143,8 +143,8 @@ TEST_P(EstimatorParamsMutation, ThrowsConfigErrorNamingFileAndKey) {
   const std::string path = mutated_copy(kShipped, std::string("est_") + m.name + ".yaml", m.apply);
   // Both loaders of the file: the estimator's parameters and its health section.
   const std::string msg = config_error([&] {
-    load_estimator_params(path);
-    load_estimator_health(path);
+    (void)load_estimator_params(path);
+    (void)load_estimator_health(path);
   });
   EXPECT_HAS(msg, path + ": ");
   EXPECT_HAS(msg, std::string(": ") + m.key + ":");
@@ -177,7 +177,7 @@ TEST(EstimatorParams, ZeroDeadlineTurnsTheDeadlineOff) {
 
 TEST(EstimatorParams, MissingFileIsAConfigError) {
   const std::string p = causal::test::temp_yaml_path("does_not_exist_estimator.yaml");
-  EXPECT_HAS(config_error([&] { load_estimator_params(p); }), p);
+  EXPECT_HAS(config_error([&] { (void)load_estimator_params(p); }), p);
 }
 
 }  // namespace

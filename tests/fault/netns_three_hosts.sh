@@ -56,7 +56,7 @@ hosts:
   - {name: operator-host, address: $sub.3, interface: plant0, roles: [recommender, recorder]}
 PLANT
 [ "$mode" = discovery-server ] && echo "discovery_server: {host: operator-host, port: 11811}" >> "$work/plant.yaml"
-"$bin/plant_profiles/causal-plant-profiles" "$work/plant.yaml" --out "$work/profiles" > "$work/profiles.log" 2>&1 \
+"$bin/../tools/plant_profiles/causal-plant-profiles" "$work/plant.yaml" --out "$work/profiles" > "$work/profiles.log" 2>&1 \
   || fail "causal-plant-profiles: $(cat "$work/profiles.log")"
 for h in sensor-host estimator-host operator-host; do [ -s "$work/profiles/$h.xml" ] || fail "no profile for $h"; done
 

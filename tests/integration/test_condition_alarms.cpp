@@ -13,7 +13,7 @@
 #include "process_runner.hpp"
 
 #include "causal/io/feature_table.hpp"
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include <gtest/gtest.h>
 

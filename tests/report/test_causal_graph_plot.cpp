@@ -1,4 +1,4 @@
-// The causal-graph figure (services/causal_report/causal_graph_plot.cpp): which factors become arrows (only
+// The causal-graph figure (tools/causal_report/causal_graph_plot.cpp): which factors become arrows (only
 // cross factors at least min_z sd from 0, with the right direction and lag), which samples are shown, and
 // what the Graphviz graph draws for them.
 #include "causal_graph_plot.hpp"

@@ -1,5 +1,5 @@
 // The recorder/report CSV dialect: quoting, number round trip, file names, parsing, append rules.
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include <gtest/gtest.h>
 
@@ -104,7 +104,7 @@ TEST(ParseCsv, ShortRowsArePaddedLongRowsAndBadQuotesFail) {
   EXPECT_THROW(parse_csv("a,b\n1,\"open\n"), std::runtime_error);
   EXPECT_THROW(parse_csv("a,b\n\"x\"y,2\n"), std::runtime_error);
   try {
-    parse_csv("a,b\n1,2\n1,2,3\n", "f.csv");
+    (void)parse_csv("a,b\n1,2\n1,2,3\n", "f.csv");
     FAIL() << "no exception";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("f.csv:3"), std::string::npos) << e.what();

@@ -2,7 +2,7 @@
 // once, partial rows at exit, bounded pending rows, refusals, duplicates, gaps and layout changes.
 #include "factor_row_assembler.hpp"
 
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include <gtest/gtest.h>
 

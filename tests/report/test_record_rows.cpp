@@ -1,7 +1,7 @@
 // What the recorder writes per topic: file names, condition / alarm / recommendation rows, quoting.
 #include "record_rows.hpp"
 
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include <gtest/gtest.h>
 

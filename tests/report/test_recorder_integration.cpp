@@ -1,7 +1,7 @@
 // causal-recorder against real DDS publishers (private domains 161..163, loopback transport), then
 // causal-report on what it recorded. Every wait is bounded; only processes started here are signalled,
 // by pid; leftover Fast DDS shared-memory files of dead processes are cleaned with `fastdds shm clean`.
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"

@@ -1,4 +1,4 @@
-// The verdict (services/causal_report/verdict.cpp): status from the degradation alarms still open at the end,
+// The verdict (tools/causal_report/verdict.cpp): status from the degradation alarms still open at the end,
 // events of other categories counted beside it, first alarm, root cause of the worst open alarm, top
 // recommendation (reliable first), against hand-built alarm histories.
 #include "verdict.hpp"

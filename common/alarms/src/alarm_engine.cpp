@@ -69,6 +69,217 @@ AlarmEngine::~AlarmEngine() = default;
 AlarmEngine::AlarmEngine(AlarmEngine&&) noexcept = default;
 AlarmEngine& AlarmEngine::operator=(AlarmEngine&&) noexcept = default;
 
+namespace {
+
+using Impl = AlarmEngine::Impl;
+
+// A latch transition, escalation or re-evaluated root cause of one (channel, kind), turned into an event once
+// every detector of the observation has been read (simultaneous onsets see each other).
+struct Pending {
+  int c, kind;
+  AlarmState state;
+  std::string note;  // prefix of the reason (a re-evaluated root cause)
+};
+
+// The observation's per-channel values as the detectors see them: the (log) condition feature, and the
+// innovation signal (log mean NIS when the observation summarises many samples, else e / sqrt(S)); NaN where
+// there is none, and a non-finite or non-positive value is counted as rejected.
+void transform_inputs(Impl& m, const Observation& obs, std::vector<double>& feat, std::vector<double>& innov) {
+  const int g = m.channels();
+  const auto G = static_cast<Eigen::Index>(g);
+  for (int c = 0; c < g; ++c) {
+    auto& cs = m.ch[static_cast<std::size_t>(c)];
+    if (obs.features.size() == G) {
+      const double v = obs.features(c);
+      if (std::isfinite(v) && (!m.p.feature_log_transform || v > 0.0))
+        feat[static_cast<std::size_t>(c)] = m.p.feature_log_transform ? std::log(v) : v;
+      else
+        ++cs.rejected;
+    }
+    if (obs.mean_nis.size() == G && std::isfinite(obs.mean_nis(c))) {
+      if (obs.mean_nis(c) > 0.0) {
+        innov[static_cast<std::size_t>(c)] = std::log(obs.mean_nis(c));
+        if (!m.ready) ++cs.baseline_from_nis;
+      } else {
+        ++cs.rejected;
+      }
+    } else if (obs.innovations.size() == G) {
+      const double e = obs.innovations(c), s = obs.innovation_variances(c);
+      if (std::isfinite(e) && std::isfinite(s) && s > 0.0) {
+        innov[static_cast<std::size_t>(c)] = e / std::sqrt(s);
+        if (!m.ready) ++cs.baseline_from_filter;
+      } else if (!std::isnan(e)) {
+        ++cs.rejected;  // NaN innovation = "none this time" (e.g. filter warm-up), not an error
+      }
+    }
+  }
+}
+
+// Baseline collection; at its last observation the statistics, margins and the usual interval are fixed.
+void collect_baseline(Impl& m, const Observation& obs, const std::vector<double>& feat,
+                      const std::vector<double>& innov, bool last) {
+  for (int c = 0; c < m.channels(); ++c) {
+    auto& cs = m.ch[static_cast<std::size_t>(c)];
+    cs.feature.baseline.push_back(feat[static_cast<std::size_t>(c)]);
+    cs.innovation.baseline.push_back(innov[static_cast<std::size_t>(c)]);
+  }
+  for (Eigen::Index i = 0; i < obs.factors.size(); ++i) m.fac[static_cast<std::size_t>(i)].baseline.push_back(obs.factors(i));
+  m.baseline_times.push_back(obs.time_ns);
+  if (!last) return;
+  const double cap = m.p.cusum_cap_factor * m.h;
+  for (auto& cs : m.ch) {
+    finalize_signal(cs.feature, m.p, m.p.clip_sigma, cap);
+    finalize_signal(cs.innovation, m.p, m.p.clip_sigma, cap);
+  }
+  for (auto& f : m.fac) {
+    f.stats = robust_stats(f.baseline);
+    f.monitored = f.stats.valid &&
+                  static_cast<double>(f.stats.count) >= m.p.min_baseline_coverage * m.p.baseline_observations;
+    f.baseline.clear();
+    f.baseline.shrink_to_fit();
+  }
+  // The usual interval: median of the positive steps between baseline observations (0 = unknown,
+  // e.g. no time stamps: then only flagged discontinuities count).
+  std::vector<double> dt;
+  for (std::size_t i = 1; i < m.baseline_times.size(); ++i)
+    if (m.baseline_times[i] > m.baseline_times[i - 1])
+      dt.push_back(static_cast<double>(m.baseline_times[i] - m.baseline_times[i - 1]));
+  m.median_interval_ns = dt.empty() ? 0.0 : median(dt);
+  m.baseline_times.clear();
+  m.baseline_times.shrink_to_fit();
+  m.ready = true;
+}
+
+// The operating-state gate (AlarmParams::stopped_ratio): true when every monitored channel's level fell below
+// stopped_ratio x its baseline (the machine is not running: nothing is judged).
+bool machine_stopped(const Impl& m, const Observation& obs, const std::vector<double>& feat) {
+  if (!m.p.feature_log_transform || !(m.p.stopped_ratio > 0.0) || obs.features.size() != static_cast<Eigen::Index>(m.channels()))
+    return false;
+  const double drop = std::log(m.p.stopped_ratio);
+  int checked = 0, below = 0;
+  for (int c = 0; c < m.channels(); ++c) {
+    const auto& f = m.ch[static_cast<std::size_t>(c)].feature;
+    if (!f.monitored || !std::isfinite(feat[static_cast<std::size_t>(c)])) continue;
+    ++checked;
+    below += feat[static_cast<std::size_t>(c)] - f.stats.location < drop ? 1 : 0;
+  }
+  return checked > 0 && below == checked;
+}
+
+// Every factor's z against its baseline (the baseline spread and the current estimation uncertainty add in
+// quadrature: a factor counts as moved only when it left both its usual range and its own error bar).
+void update_factors(Impl& m, const Observation& obs) {
+  const auto F = static_cast<Eigen::Index>(m.fac.size());
+  const double factor_inflation =
+      1.0 + normal_upper_quantile(1.0 - m.p.baseline_confidence) * 1.166 /
+                std::sqrt(std::max(1.0, static_cast<double>(m.p.baseline_observations)));
+  for (std::size_t i = 0; i < m.fac.size(); ++i) {
+    auto& f = m.fac[i];
+    f.last_value = obs.factors.size() == F ? obs.factors(static_cast<Eigen::Index>(i)) : kNaN;
+    f.last_std = obs.factor_std.size() == F ? obs.factor_std(static_cast<Eigen::Index>(i)) : 0.0;
+    if (!std::isfinite(f.last_std) || f.last_std < 0.0) f.last_std = 0.0;
+    const double scale = f.stats.scale * factor_inflation;
+    f.last_z = f.monitored && std::isfinite(f.last_value)
+                   ? (f.last_value - f.stats.location) / std::sqrt(scale * scale + f.last_std * f.last_std)
+                   : kNaN;
+  }
+}
+
+// Channel c's signals: feature and innovation CUSUMs, the own-change evidence of an excursion, the NIS
+// window and the largest factor z of the factors into c.
+void update_channel(Impl& m, int c, const Observation& obs, double feat, double innov) {
+  auto& cs = m.ch[static_cast<std::size_t>(c)];
+  detail::update_signal(cs.feature, feat, m.p, obs, !cs.any_active());
+  detail::update_signal(cs.innovation, innov, m.p, obs, false);
+  if (!cs.feature.cusum.in_excursion() || cs.feature.cusum.onset_index() == obs.index) {
+    cs.own_sum = 0.0;  // no excursion, or one that starts now: restart the evidence
+    cs.own_count = 0;
+  }
+  detail::update_step_run(cs, m.p);
+  if (cs.feature.cusum.in_excursion() && std::isfinite(cs.innovation.last_z)) {
+    cs.own_sum += std::max(-m.p.clip_sigma, std::min(m.p.clip_sigma, cs.innovation.last_z));
+    ++cs.own_count;
+  }
+  if (std::isfinite(cs.innovation.last_z)) {
+    const double z = std::min(m.p.nis_two_sided ? std::abs(cs.innovation.nis_z) : std::max(0.0, cs.innovation.nis_z),
+                              m.p.clip_sigma);
+    cs.nis.push(z * z);
+  }
+  cs.factor_stat = kNaN;
+  cs.factor_argmax = -1;
+  for (int i : cs.factors) {
+    const double z = m.fac[static_cast<std::size_t>(i)].last_z;
+    if (std::isfinite(z) && (!std::isfinite(cs.factor_stat) || std::abs(z) > cs.factor_stat)) {
+      cs.factor_stat = std::abs(z);
+      cs.factor_argmax = i;
+    }
+  }
+}
+
+// Phase 1, the detector table: every kind of every channel read, its latch updated; raises, clears and
+// escalations collected. Evidence AND size: below the size floor (AlarmParams::advisory_ratio) nothing is raised.
+std::vector<Pending> read_detectors(Impl& m, const Observation& obs) {
+  std::vector<Pending> pending;
+  for (int c = 0; c < m.channels(); ++c) {
+    auto& cs = m.ch[static_cast<std::size_t>(c)];
+    const bool sized = detail::size_matters(m, c);
+    for (int k = 0; k < detail::kKindCount; ++k) {
+      auto& slot = cs.slots[static_cast<std::size_t>(k)];
+      const detail::DetectorReading r = detail::detector_table()[static_cast<std::size_t>(k)].read(m, c, obs);
+      if (!r.enabled) continue;
+      slot.score = r.statistic;
+      slot.threshold = r.threshold;
+      const auto t = slot.latch.update(r.statistic, sized ? r.threshold : std::numeric_limits<double>::infinity(), m.p.clear_fraction * r.threshold);
+      if (t == PersistenceLatch::Transition::Raise) {
+        m.begin_alarm(c, k, obs);
+        pending.push_back({c, k, AlarmState::Raised, {}});
+      } else if (t == PersistenceLatch::Transition::Clear) {
+        pending.push_back({c, k, AlarmState::Cleared, {}});
+      } else if (slot.latch.active() && m.escalate(c, k)) {
+        pending.push_back({c, k, AlarmState::Escalated, {}});
+      }
+    }
+  }
+  return pending;
+}
+
+// The root cause of every active alarm re-evaluated on the evidence accumulated so far; a changed verdict
+// prefixes the alarm's event of this observation, or becomes an escalation event of its own.
+void reevaluate_roots(Impl& m, const std::vector<double>& evidence, std::vector<Pending>& pending) {
+  for (int c = 0; c < m.channels(); ++c) {
+    auto& cs = m.ch[static_cast<std::size_t>(c)];
+    for (int k = 0; k < detail::kKindCount; ++k) {
+      auto& slot = cs.slots[static_cast<std::size_t>(k)];
+      if (!slot.latch.active() || slot.root < 0) continue;  // new alarms get their root in phase 2
+      const bool has_event = std::any_of(pending.begin(), pending.end(), [&](const Pending& pe) { return pe.c == c && pe.kind == k; });
+      std::string why = m.reevaluate_root(c, slot, evidence);
+      if (why.empty()) continue;
+      auto it = std::find_if(pending.begin(), pending.end(), [&](const Pending& pe) { return pe.c == c && pe.kind == k; });
+      if (has_event && it != pending.end())
+        it->note = why + " ";
+      else
+        pending.push_back({c, k, AlarmState::Escalated, why + " "});
+    }
+  }
+}
+
+// Phase 2: the events, with root cause, its confidence and the explanation.
+void make_events(Impl& m, const Observation& obs, const std::vector<double>& evidence,
+                 const std::vector<Pending>& pending, std::vector<AlarmEvent>& events) {
+  events.reserve(pending.size());
+  for (const auto& pe : pending) {
+    auto& slot = m.ch[static_cast<std::size_t>(pe.c)].slots[static_cast<std::size_t>(pe.kind)];
+    if (pe.state == AlarmState::Raised) slot.root = m.root_cause(pe.c, slot.onset_index);
+    slot.root_confidence = m.attribution_confidence(slot.root, evidence);
+    AlarmEvent e = m.make_event(pe.c, pe.kind, pe.state, obs);
+    e.reason = pe.note + e.reason;
+    slot.last_event = e;
+    events.push_back(std::move(e));
+  }
+}
+
+}  // namespace
+
 std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
   Impl& m = *impl_;
   const int g = m.channels();
@@ -91,92 +302,22 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
   m.last_time_ns = obs.time_ns;
   if (n < warm) return {};
 
-  // ---- transformed per-channel values ------------------------------------------------------------
   std::vector<double> feat(static_cast<std::size_t>(g), kNaN), innov(static_cast<std::size_t>(g), kNaN);
-  for (int c = 0; c < g; ++c) {
-    auto& cs = m.ch[static_cast<std::size_t>(c)];
-    if (obs.features.size() == G) {
-      const double v = obs.features(c);
-      if (std::isfinite(v) && (!m.p.feature_log_transform || v > 0.0))
-        feat[static_cast<std::size_t>(c)] = m.p.feature_log_transform ? std::log(v) : v;
-      else
-        ++cs.rejected;
-    }
-    // Innovation signal: log mean NIS when the observation summarises many samples, else e / sqrt(S).
-    if (obs.mean_nis.size() == G && std::isfinite(obs.mean_nis(c))) {
-      if (obs.mean_nis(c) > 0.0) {
-        innov[static_cast<std::size_t>(c)] = std::log(obs.mean_nis(c));
-        if (!m.ready) ++cs.baseline_from_nis;
-      } else {
-        ++cs.rejected;
-      }
-    } else if (obs.innovations.size() == G) {
-      const double e = obs.innovations(c), s = obs.innovation_variances(c);
-      if (std::isfinite(e) && std::isfinite(s) && s > 0.0) {
-        innov[static_cast<std::size_t>(c)] = e / std::sqrt(s);
-        if (!m.ready) ++cs.baseline_from_filter;
-      } else if (!std::isnan(e)) {
-        ++cs.rejected;  // NaN innovation = "none this time" (e.g. filter warm-up), not an error
-      }
-    }
-  }
-
-  if (!m.ready) {  // ---- baseline collection --------------------------------------------------------
-    for (int c = 0; c < g; ++c) {
-      auto& cs = m.ch[static_cast<std::size_t>(c)];
-      cs.feature.baseline.push_back(feat[static_cast<std::size_t>(c)]);
-      cs.innovation.baseline.push_back(innov[static_cast<std::size_t>(c)]);
-    }
-    for (Eigen::Index i = 0; i < obs.factors.size(); ++i) m.fac[static_cast<std::size_t>(i)].baseline.push_back(obs.factors(i));
-    m.baseline_times.push_back(obs.time_ns);
-    if (n + 1 == base_end) {
-      const double cap = m.p.cusum_cap_factor * m.h;
-      for (auto& cs : m.ch) {
-        finalize_signal(cs.feature, m.p, m.p.clip_sigma, cap);
-        finalize_signal(cs.innovation, m.p, m.p.clip_sigma, cap);
-      }
-      for (auto& f : m.fac) {
-        f.stats = robust_stats(f.baseline);
-        f.monitored = f.stats.valid &&
-                      static_cast<double>(f.stats.count) >= m.p.min_baseline_coverage * m.p.baseline_observations;
-        f.baseline.clear();
-        f.baseline.shrink_to_fit();
-      }
-      // The usual interval: median of the positive steps between baseline observations (0 = unknown,
-      // e.g. no time stamps: then only flagged discontinuities count).
-      std::vector<double> dt;
-      for (std::size_t i = 1; i < m.baseline_times.size(); ++i)
-        if (m.baseline_times[i] > m.baseline_times[i - 1])
-          dt.push_back(static_cast<double>(m.baseline_times[i] - m.baseline_times[i - 1]));
-      m.median_interval_ns = dt.empty() ? 0.0 : median(dt);
-      m.baseline_times.clear();
-      m.baseline_times.shrink_to_fit();
-      m.ready = true;
-    }
+  transform_inputs(m, obs, feat, innov);
+  if (!m.ready) {
+    collect_baseline(m, obs, feat, innov, n + 1 == base_end);
     return {};
   }
-
-  // ---- operating-state gate (AlarmParams::stopped_ratio) -------------------------------------------
-  if (m.p.feature_log_transform && m.p.stopped_ratio > 0.0 && obs.features.size() == G) {
-    const double drop = std::log(m.p.stopped_ratio);
-    int checked = 0, below = 0;
-    for (int c = 0; c < g; ++c) {
-      const auto& f = m.ch[static_cast<std::size_t>(c)].feature;
-      if (!f.monitored || !std::isfinite(feat[static_cast<std::size_t>(c)])) continue;
-      ++checked;
-      below += feat[static_cast<std::size_t>(c)] - f.stats.location < drop ? 1 : 0;
-    }
-    if (checked > 0 && below == checked) {
-      ++m.not_running;
-      m.stopped = true;
-      return {};
-    }
+  if (machine_stopped(m, obs, feat)) {
+    ++m.not_running;
+    m.stopped = true;
+    return {};
   }
   // Running again after a stop: the machine restarted, levels may differ (a discontinuity, as a gap).
   const bool restarted = m.stopped;
   m.stopped = false;
 
-  // ---- gaps: hold the detectors and re-baseline after the confirmation window ----------------------
+  // Gaps: hold the detectors and re-baseline after the confirmation window.
   std::vector<AlarmEvent> events;
   if (discontinuity || restarted) {
     ++m.discontinuities;
@@ -188,116 +329,21 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
     return events;
   }
 
-  // ---- update the detectors -----------------------------------------------------------------------
-  const double factor_inflation =
-      1.0 + normal_upper_quantile(1.0 - m.p.baseline_confidence) * 1.166 /
-                std::sqrt(std::max(1.0, static_cast<double>(m.p.baseline_observations)));
-  for (std::size_t i = 0; i < m.fac.size(); ++i) {
-    auto& f = m.fac[i];
-    f.last_value = obs.factors.size() == F ? obs.factors(static_cast<Eigen::Index>(i)) : kNaN;
-    f.last_std = obs.factor_std.size() == F ? obs.factor_std(static_cast<Eigen::Index>(i)) : 0.0;
-    if (!std::isfinite(f.last_std) || f.last_std < 0.0) f.last_std = 0.0;
-    // The baseline spread (MAD) and the current estimation uncertainty (std) add in quadrature: a factor
-    // counts as moved only when it left both its usual range and its own error bar.
-    const double scale = f.stats.scale * factor_inflation;
-    f.last_z = f.monitored && std::isfinite(f.last_value)
-                   ? (f.last_value - f.stats.location) / std::sqrt(scale * scale + f.last_std * f.last_std)
-                   : kNaN;
-  }
-  for (int c = 0; c < g; ++c) {
-    auto& cs = m.ch[static_cast<std::size_t>(c)];
-    detail::update_signal(cs.feature, feat[static_cast<std::size_t>(c)], m.p, obs, !cs.any_active());
-    detail::update_signal(cs.innovation, innov[static_cast<std::size_t>(c)], m.p, obs, false);
-    if (!cs.feature.cusum.in_excursion() || cs.feature.cusum.onset_index() == obs.index) {
-      cs.own_sum = 0.0;  // no excursion, or one that starts now: restart the evidence
-      cs.own_count = 0;
-    }
-    detail::update_step_run(cs, m.p);
-    if (cs.feature.cusum.in_excursion() && std::isfinite(cs.innovation.last_z)) {
-      cs.own_sum += std::max(-m.p.clip_sigma, std::min(m.p.clip_sigma, cs.innovation.last_z));
-      ++cs.own_count;
-    }
-    if (std::isfinite(cs.innovation.last_z)) {
-      const double z = std::min(m.p.nis_two_sided ? std::abs(cs.innovation.nis_z) : std::max(0.0, cs.innovation.nis_z),
-                                m.p.clip_sigma);
-      cs.nis.push(z * z);
-    }
-    cs.factor_stat = kNaN;
-    cs.factor_argmax = -1;
-    for (int i : cs.factors) {
-      const double z = m.fac[static_cast<std::size_t>(i)].last_z;
-      if (std::isfinite(z) && (!std::isfinite(cs.factor_stat) || std::abs(z) > cs.factor_stat)) {
-        cs.factor_stat = std::abs(z);
-        cs.factor_argmax = i;
-      }
-    }
-  }
+  update_factors(m, obs);
+  for (int c = 0; c < g; ++c)
+    update_channel(m, c, obs, feat[static_cast<std::size_t>(c)], innov[static_cast<std::size_t>(c)]);
 
-  // ---- abrupt steps: confirm before alarming (AlarmParams::operating_step_ratio) --------------------
+  // Abrupt steps: confirm before alarming (AlarmParams::operating_step_ratio).
   if (const int step = m.abrupt_step(); step >= 0) {
     m.start_confirmation(obs, false, step, 0.0);
     m.confirm_step(obs, feat, innov, events);
     return events;
   }
 
-  // ---- phase 1: latch transitions, escalations and episode onsets (the detector table) --------------
-  struct Pending {
-    int c, kind;
-    AlarmState state;
-    std::string note;  // prefix of the reason (a re-evaluated root cause)
-  };
-  std::vector<Pending> pending;
-  for (int c = 0; c < g; ++c) {
-    auto& cs = m.ch[static_cast<std::size_t>(c)];
-    // Evidence AND size: below the size floor (AlarmParams::advisory_ratio) nothing is raised.
-    const bool sized = detail::size_matters(m, c);
-    for (int k = 0; k < detail::kKindCount; ++k) {
-      auto& slot = cs.slots[static_cast<std::size_t>(k)];
-      const detail::DetectorReading r = detail::detector_table()[static_cast<std::size_t>(k)].read(m, c, obs);
-      if (!r.enabled) continue;
-      slot.score = r.statistic;
-      slot.threshold = r.threshold;
-      const auto t = slot.latch.update(r.statistic, sized ? r.threshold : std::numeric_limits<double>::infinity(), m.p.clear_fraction * r.threshold);
-      if (t == PersistenceLatch::Transition::Raise) {
-        m.begin_alarm(c, k, obs);
-        pending.push_back({c, k, AlarmState::Raised, {}});
-      } else if (t == PersistenceLatch::Transition::Clear) {
-        pending.push_back({c, k, AlarmState::Cleared, {}});
-      } else if (slot.latch.active() && m.escalate(c, k)) {
-        pending.push_back({c, k, AlarmState::Escalated, {}});
-      }
-    }
-  }
-
-  // ---- root cause re-evaluated on the evidence accumulated so far -----------------------------------
+  std::vector<Pending> pending = read_detectors(m, obs);
   const std::vector<double> evidence = m.departed_evidence();
-  for (int c = 0; c < g; ++c) {
-    auto& cs = m.ch[static_cast<std::size_t>(c)];
-    for (int k = 0; k < detail::kKindCount; ++k) {
-      auto& slot = cs.slots[static_cast<std::size_t>(k)];
-      if (!slot.latch.active() || slot.root < 0) continue;  // new alarms get their root in phase 2
-      const bool has_event = std::any_of(pending.begin(), pending.end(), [&](const Pending& pe) { return pe.c == c && pe.kind == k; });
-      std::string why = m.reevaluate_root(c, slot, evidence);
-      if (why.empty()) continue;
-      auto it = std::find_if(pending.begin(), pending.end(), [&](const Pending& pe) { return pe.c == c && pe.kind == k; });
-      if (has_event && it != pending.end())
-        it->note = why + " ";
-      else
-        pending.push_back({c, k, AlarmState::Escalated, why + " "});
-    }
-  }
-
-  // ---- phase 2: events with root cause and explanation ---------------------------------------------
-  events.reserve(pending.size());
-  for (const auto& pe : pending) {
-    auto& slot = m.ch[static_cast<std::size_t>(pe.c)].slots[static_cast<std::size_t>(pe.kind)];
-    if (pe.state == AlarmState::Raised) slot.root = m.root_cause(pe.c, slot.onset_index);
-    slot.root_confidence = m.attribution_confidence(slot.root, evidence);
-    AlarmEvent e = m.make_event(pe.c, pe.kind, pe.state, obs);
-    e.reason = pe.note + e.reason;
-    slot.last_event = e;
-    events.push_back(std::move(e));
-  }
+  reevaluate_roots(m, evidence, pending);
+  make_events(m, obs, evidence, pending, events);
 
   bool any_active = false;
   for (const auto& cs : m.ch) any_active = any_active || cs.any_active();

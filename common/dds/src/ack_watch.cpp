@@ -146,7 +146,8 @@ void AckWatch::publish(const causal_twin::Alarm& alarm) {
     causal_twin::Alarm copy = alarm;
     std::atomic<bool> no_stop{false};
     // Keep-last per id: never blocks on the stalled reader.
-    static_cast<AlarmWriter*>(alarm_writer_.get())->write(copy, no_stop, std::chrono::seconds(1));
+    if (static_cast<AlarmWriter*>(alarm_writer_.get())->write(copy, no_stop, std::chrono::seconds(1)) != WriteResult::Ok)
+      spdlog::error("the reader_not_acknowledging alarm {} could not be published within 1 s", alarm.alarm_id());
   } catch (const std::exception& e) {
     spdlog::error("the reader_not_acknowledging alarm could not be published: {}", e.what());
   }

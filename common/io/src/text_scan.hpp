@@ -51,7 +51,7 @@ inline bool is_blank_line(std::string_view s) { return trim(s).empty(); }
 // Clinger's fast path for the common short decimal "[-]ddd.ddd" (<= 15 significant digits, no exponent):
 // the digits form an integer m < 2^53 and 10^k (k <= 15) is exact, so m / 10^k is ONE correctly rounded
 // IEEE division: bit-identical to from_chars, ~3x faster on IMS files. Returns false to fall back.
-inline bool parse_short_decimal(std::string_view tok, double& out) {
+[[nodiscard]] inline bool parse_short_decimal(std::string_view tok, double& out) {
   static constexpr double kPow10[16] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                         1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
   std::size_t i = 0;
@@ -80,7 +80,7 @@ inline bool parse_short_decimal(std::string_view tok, double& out) {
 
 // Whole token must be a number. Accepts a leading '+' (from_chars does not). "nan"/"inf" parse
 // (callers decide whether non-finite values are allowed).
-inline std::optional<double> parse_double(std::string_view tok) {
+[[nodiscard]] inline std::optional<double> parse_double(std::string_view tok) {
   if (tok.empty()) return std::nullopt;
   if (double fast = 0.0; parse_short_decimal(tok, fast)) return fast;
   if (tok.front() == '+') {
@@ -94,7 +94,7 @@ inline std::optional<double> parse_double(std::string_view tok) {
   return v;
 }
 
-inline std::optional<std::int64_t> parse_int64(std::string_view tok) {
+[[nodiscard]] inline std::optional<std::int64_t> parse_int64(std::string_view tok) {
   if (!tok.empty() && tok.front() == '+') tok.remove_prefix(1);
   std::int64_t v = 0;
   const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);

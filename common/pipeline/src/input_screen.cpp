@@ -116,6 +116,29 @@ bool InputScreen::scale_block_bad(int j, ChannelState& c) {
   return ratio < params_.scale_collapse || ratio > params_.scale_explosion;
 }
 
+// A value above scale_explosion x the calibration scale (and maybe the physical limit too): one out-of-range
+// value, NaN; sudden_run of them in a row quarantine the channel (a scale change, not a spike).
+double InputScreen::screen_exploded(int j, ChannelState& c, ChannelQualityCounters& k, double x, std::uint64_t index,
+                                    std::vector<QualityEvent>& events) {
+  ++k.out_of_range;
+  if (c.last != Last::OutOfRange) {
+    std::ostringstream os;
+    os << "|" << x << "| above " << params_.scale_explosion << " x its calibration scale " << k.reference_scale
+       << (std::abs(x) > params_.max_abs_value ? " and above the physical limit" : "") << ": replaced by NaN";
+    emit(events, j, QualityEventKind::OutOfRange, index, k.out_of_range, os.str());
+  }
+  c.last = Last::OutOfRange;
+  c.healthy_run = 0;
+  if (++c.high_run >= params_.sudden_run && params_.sudden_run > 0 && !k.quarantined) {
+    k.quarantined = true;
+    std::ostringstream os;
+    os << c.high_run << " values in a row above " << params_.scale_explosion << " x its calibration scale "
+       << k.reference_scale << ": quarantined";
+    emit(events, j, QualityEventKind::ScaleChange, index, ++k.scale_change, os.str());
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vector<QualityEvent>& events) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   ChannelState& c = channels_[static_cast<std::size_t>(j)];
@@ -144,25 +167,8 @@ double InputScreen::screen_value(int j, double x, std::uint64_t index, std::vect
   bool evidence = false;
   QualityEventKind cause = QualityEventKind::Stuck;
   std::string why;
-  if (exploded) {  // above the physical limit, the relative one or both: one out-of-range value either way
-    ++k.out_of_range;
-    if (c.last != Last::OutOfRange) {
-      std::ostringstream os;
-      os << "|" << x << "| above " << params_.scale_explosion << " x its calibration scale " << k.reference_scale
-         << (std::abs(x) > params_.max_abs_value ? " and above the physical limit" : "") << ": replaced by NaN";
-      emit(events, j, QualityEventKind::OutOfRange, index, k.out_of_range, os.str());
-    }
-    c.last = Last::OutOfRange;
-    c.healthy_run = 0;
-    if (++c.high_run >= params_.sudden_run && params_.sudden_run > 0 && !k.quarantined) {
-      k.quarantined = true;
-      std::ostringstream os;
-      os << c.high_run << " values in a row above " << params_.scale_explosion << " x its calibration scale "
-         << k.reference_scale << ": quarantined";
-      emit(events, j, QualityEventKind::ScaleChange, index, ++k.scale_change, os.str());
-    }
-    return kNaN;
-  }
+  // Above the physical limit, the relative one or both: one out-of-range value either way.
+  if (exploded) return screen_exploded(j, c, k, x, index, events);
   c.high_run = 0;
   c.last = Last::Good;
 

@@ -14,6 +14,6 @@ struct FactorRef {
 };
 
 // Returns an invalid FactorRef when `name` does not follow the convention for `channels` channels.
-FactorRef parse_factor_name(const std::string& name, int channels);
+[[nodiscard]] FactorRef parse_factor_name(const std::string& name, int channels);
 
 }  // namespace causal::alarms

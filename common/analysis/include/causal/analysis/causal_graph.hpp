@@ -55,7 +55,7 @@ std::string describe_cycle(const std::vector<int>& cycle, const std::vector<std:
 // Parses "1->2, 2->4" or "bearing 1 -> bearing 3; bearing 2 -> bearing 3": edges separated by ',' or ';',
 // each side a channel name from `names` or a 1-based index. Throws std::invalid_argument with the
 // offending token. Cycles are NOT rejected here (call find_cycle / apply_to).
-CausalGraph parse_causal_graph(const std::string& text, int channels, const std::vector<std::string>& names = {});
+[[nodiscard]] CausalGraph parse_causal_graph(const std::string& text, int channels, const std::vector<std::string>& names = {});
 
 // Restricts spec to a causal order: j may cause k instantaneously only if j precedes k. An existing
 // spec.instantaneous_allowed mask is intersected (links it forbids stay forbidden).

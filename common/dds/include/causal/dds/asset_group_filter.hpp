@@ -60,7 +60,7 @@ struct AssetGroupSelection {
   std::string expression() const;
   std::string describe() const;  // for logs: "asset groups with hash % 4 == 1", "asset groups sim-00*, ..."
   // Throws std::invalid_argument naming the problem (unknown keyword, index out of range, bad pattern).
-  static AssetGroupSelection parse(std::string_view expression);
+  [[nodiscard]] static AssetGroupSelection parse(std::string_view expression);
   static AssetGroupSelection hash_slice(int index, int count);
 };
 

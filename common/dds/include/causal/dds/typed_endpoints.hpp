@@ -24,7 +24,9 @@ namespace causal::dds {
 
 using eprosima::fastrtps::types::ReturnCode_t;
 
-enum class WriteResult { Ok, TimedOut, Stopped, Error };
+// [[nodiscard]]: every function returning it (write, write_until, the queue's write functions) must be looked at:
+// a sample not written is counted or logged by its caller, never dropped unseen.
+enum class [[nodiscard]] WriteResult { Ok, TimedOut, Stopped, Error };
 
 template <typename PubSubType>
 class TypedWriter {
@@ -214,7 +216,7 @@ struct NamedReaders {
   std::size_t count = 1;
 };
 
-inline NamedReaders parse_named_readers(const std::string& spec) {
+[[nodiscard]] inline NamedReaders parse_named_readers(const std::string& spec) {
   NamedReaders r;
   const auto colon = spec.rfind(':');
   r.name = spec.substr(0, colon);

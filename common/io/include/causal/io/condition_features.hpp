@@ -28,7 +28,7 @@ namespace causal::io {
 enum class ConditionFeature { Rms, MeanAbs, Kurtosis, Peak };
 
 // "rms", "meanabs", "kurtosis", "peak" (any case; also "mean_abs", "peakabs", "peak_abs").
-std::optional<ConditionFeature> parse_condition_feature(std::string_view name);
+[[nodiscard]] std::optional<ConditionFeature> parse_condition_feature(std::string_view name);
 // "rms", "meanabs", "kurtosis", "peak".
 std::string to_string(ConditionFeature feature);
 // Column suffix of that feature in derived_per_file_stats_all984.csv: "_rms", "_meanabs", "_kurtosis",

@@ -15,7 +15,7 @@ namespace causal::io {
 
 // "2004.02.12.10.32.39" or "2004.02.12.10.32.39.gz" (a leading directory is ignored) -> UTC ns since
 // the epoch. nullopt for any other name or an impossible date/time.
-std::optional<std::int64_t> parse_ims_timestamp(std::string_view file_name);
+[[nodiscard]] std::optional<std::int64_t> parse_ims_timestamp(std::string_view file_name);
 
 struct ImsSnapshotInfo {
   std::string path;        // dir + "/" + name

@@ -20,7 +20,7 @@ std::string format_utc_exact(std::int64_t time_ns);
 // Accepts "YYYY-MM-DD hh:mm:ss", "YYYY-MM-DDThh:mm:ss" (optional trailing 'Z'), each with an optional
 // fraction ".f" of 1..9 digits, and the IMS file-name form "YYYY.MM.DD.hh.mm.ss". Fields are
 // range-checked (day within the month, hh < 24, mm < 60, ss < 60). Leading/trailing blanks are ignored.
-std::optional<std::int64_t> parse_utc(std::string_view text);
+[[nodiscard]] std::optional<std::int64_t> parse_utc(std::string_view text);
 
 // Civil date/time -> ns since epoch; no range checking (callers validate). Exposed for the tests and
 // for tools that build time axes.

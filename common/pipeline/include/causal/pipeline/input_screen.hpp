@@ -146,6 +146,8 @@ class InputScreen {
   };
   double screen_value(int j, double x, std::uint64_t index, std::vector<QualityEvent>& events);
   bool screen_plain_value(ChannelState& c, ChannelQualityCounters& k, double x);
+  double screen_exploded(int j, ChannelState& c, ChannelQualityCounters& k, double x, std::uint64_t index,
+                         std::vector<QualityEvent>& events);
   bool scale_block_bad(int j, ChannelState& c);
   bool at_quantisation_floor(const double* rows, std::size_t n) const;
   int scale_verdict_by_counting(const std::vector<double>& block, double reference) const;

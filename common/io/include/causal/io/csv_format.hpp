@@ -82,7 +82,7 @@ struct CsvTable {
 // Parses RFC 4180 text (quoted cells may hold commas, doubled quotes and line breaks; CRLF accepted).
 // Throws std::runtime_error "<path>:<line>: ..." for an unterminated quote, text after a closing quote,
 // or a row with more cells than the header. Empty text gives an empty table (no header).
-CsvTable parse_csv(std::string_view text, const std::string& path_for_messages = "<text>");
+[[nodiscard]] CsvTable parse_csv(std::string_view text, const std::string& path_for_messages = "<text>");
 CsvTable read_csv(const std::filesystem::path& path);
 
 }  // namespace causal::report

@@ -1,6 +1,6 @@
 #include "verdict.hpp"
 
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -8,7 +8,7 @@
 
 #include "causal/alarms/condition_alarm_chain.hpp"
 #include "causal/alarms/statistics.hpp"
-#include "estimator_params.hpp"
+#include "causal/pipeline/estimator_params.hpp"
 #include "causal/io/condition_features.hpp"
 #include "causal/io/feature_table.hpp"
 #include "causal/io/ims_directory.hpp"

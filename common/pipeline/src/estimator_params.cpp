@@ -1,4 +1,4 @@
-#include "estimator_params.hpp"
+#include "causal/pipeline/estimator_params.hpp"
 
 #include "causal/config/yaml_fields.hpp"
 

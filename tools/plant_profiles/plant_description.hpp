@@ -53,9 +53,9 @@ struct PlantParseResult {
 };
 
 // Parses and validates a YAML text; `source` names it in the problems ("plant.yaml: hosts[1] ...").
-PlantParseResult parse_plant_description(const std::string& yaml_text, const std::string& source);
+[[nodiscard]] PlantParseResult parse_plant_description(const std::string& yaml_text, const std::string& source);
 // Same for a file; a missing or unreadable file is one problem.
-PlantParseResult load_plant_description(const std::string& path);
+[[nodiscard]] PlantParseResult load_plant_description(const std::string& path);
 
 // "sensor", "estimator 1/2", ... as written in the YAML.
 std::string role_text(const Role& role);

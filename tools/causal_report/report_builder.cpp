@@ -1,6 +1,6 @@
 #include "report_builder.hpp"
 
-#include "csv_format.hpp"
+#include "causal/io/csv_format.hpp"
 #include "causal_graph_plot.hpp"
 #include "gnuplot_plots.hpp"
 #include "process.hpp"

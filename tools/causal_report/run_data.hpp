@@ -46,7 +46,7 @@ struct FactorSeries {
 enum class Severity { Advisory = 0, Warning = 1, Critical = 2 };
 const char* to_string(Severity s);
 const char* severity_colour(Severity s);  // "#RRGGBB"
-std::optional<Severity> parse_severity(const std::string& text);
+[[nodiscard]] std::optional<Severity> parse_severity(const std::string& text);
 
 struct AlarmRecord {
   std::string alarm_id, state, kind, asset_group, channel_name, root_cause_name, reason;
@@ -79,7 +79,7 @@ struct AlarmSpan {
 struct FactorName {
   int outcome = 0, source = 0, lag = 0;
 };
-std::optional<FactorName> parse_factor_name(const std::string& name, int channel_count);
+[[nodiscard]] std::optional<FactorName> parse_factor_name(const std::string& name, int channel_count);
 
 ConditionSeries load_conditions(const std::filesystem::path& file, const std::string& feature);
 FactorSeries load_factors(const std::filesystem::path& file, const std::string& kind);

@@ -76,6 +76,113 @@ int run_sample_level_mode(const std::string& dir, const SampleLevelOptions& so, 
   return ok ? 0 : 1;
 }
 
+// What the run found: the chain and its baseline, every event (unless quiet) and a summary line per channel.
+void print_run(const ConditionSeries& series, const PipelineResult& res, const PipelineOptions& opt,
+               const std::string& estimator_config, const std::string& source, bool quiet, bool print_reasons) {
+  const auto n = series.values.rows();
+  std::printf("causal-alarm-eval: feature %s, %lld observations, %lld channels, source %s\n", series.feature.c_str(),
+              static_cast<long long>(n), static_cast<long long>(series.values.cols()),
+              source.c_str());
+  std::printf("chain: estimator %s (condition level) -> observation rule -> AlarmEngine; %llu observations judged, "
+              "%llu vectors refused, %llu operating changes\n", estimator_config.c_str(),
+              static_cast<unsigned long long>(res.observations), static_cast<unsigned long long>(res.refused),
+              static_cast<unsigned long long>(res.operating_changes));
+  std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, not running %llu\n",
+              opt.params.warmup_observations, opt.params.warmup_observations + opt.params.baseline_observations,
+              opt.params.cusum_k, res.cusum_threshold, opt.params.target_arl0, opt.params.nis_window, res.nis_threshold,
+              static_cast<unsigned long long>(res.not_running));
+  for (std::size_t k = 0; k < res.noise.size(); ++k)
+    std::printf("noise outcome %zu: q=%.3g r=%.3g p0=%.3g\n", k + 1, res.noise[k].q, res.noise[k].r, res.noise[k].p0);
+  for (const auto& note : res.estimator_notes) std::printf("estimator: %s\n", note.c_str());
+
+  for (std::size_t c = 0; c < res.diagnostics.size(); ++c) {
+    const auto& d = res.diagnostics[c];
+    std::printf("baseline %s: log-feature median %.4f scale %.4f lag1 %.2f | innovation median %.3f scale %.3f lag1 %.2f\n",
+                channel_label(series, static_cast<int>(c)).c_str(), d.feature.baseline_location, d.feature.baseline_scale,
+                d.feature.baseline_lag1_autocorr, d.innovation.baseline_location, d.innovation.baseline_scale,
+                d.innovation.baseline_lag1_autocorr);
+  }
+  auto time_of = [&](std::uint64_t index) {
+    const auto it = std::lower_bound(series.index.begin(), series.index.end(), index);
+    return it == series.index.end() ? series.time_ns.back() : series.time_ns[static_cast<std::size_t>(it - series.index.begin())];
+  };
+  if (!quiet) {
+    for (const auto& e : res.events) {
+      std::printf("event index=%llu time=\"%s\" %-9s %-8s id=%s channel=%s kind=%s category=%s score=%.3f threshold=%.3f root_cause=%s confidence=%.2f\n",
+                  static_cast<unsigned long long>(e.index), format_utc_seconds(time_of(e.index)).c_str(),
+                  to_string(e.state), to_string(e.severity), e.alarm_id.c_str(), channel_label(series, e.channel).c_str(),
+                  e.kind.c_str(), e.category.c_str(), e.score, e.threshold, channel_label(series, e.root_cause_channel).c_str(),
+                  e.root_cause_confidence);
+      if (print_reasons) std::printf("  reason: %s\n", e.reason.c_str());
+    }
+  }
+
+  for (const auto& s : res.summary) {
+    if (!s.alarmed) {
+      std::printf("summary channel=%s no alarm\n", s.name.c_str());
+      continue;
+    }
+    std::printf("summary channel=%s first_alarm_index=%llu time=\"%s\" kind=%s severity=%s root_cause=%s sustained=%s "
+                "cleared_index=%llu max_severity=%s@%llu first_feature_drift_index=%s\n",
+                s.name.c_str(), static_cast<unsigned long long>(s.first.index), format_utc_seconds(s.first.raised_time_ns).c_str(),
+                s.first.kind.c_str(), to_string(s.first.severity), channel_label(series, s.first.root_cause_channel).c_str(),
+                s.first_sustained ? "yes" : "no", static_cast<unsigned long long>(s.first_cleared_index),
+                to_string(s.max_severity), static_cast<unsigned long long>(s.max_severity_index),
+                s.feature_alarmed ? std::to_string(s.first_feature.index).c_str() : "none");
+  }
+
+}
+
+// --trace-csv: the standardised feature and innovation z of every observation.
+void write_trace(const std::string& trace_csv, const ConditionSeries& series, const PipelineResult& res) {
+  const auto n = series.values.rows();
+  std::ofstream out(trace_csv);
+  out << "index,time";
+  for (const auto& c : series.channel_names) out << "," << c << "_feature_z," << c << "_innovation_z";
+  out << "\n";
+  for (Eigen::Index t = 0; t < n; ++t) {
+    out << series.index[static_cast<std::size_t>(t)] << "," << format_utc_seconds(series.time_ns[static_cast<std::size_t>(t)]);
+    for (Eigen::Index c = 0; c < series.values.cols(); ++c) out << "," << res.feature_z(t, c) << "," << res.innovation_z(t, c);
+    out << "\n";
+  }
+}
+
+// The --check-* options (the ctest long check): 0 when the recording meets the detection bar, 1 when not.
+int check_detection(const ConditionSeries& series, const PipelineResult& res, int check_channel, int check_by,
+                    int check_quiet_before) {
+  if (check_by < 0 && check_quiet_before < 0) return 0;
+  bool ok = true;
+  if (check_quiet_before >= 0) {
+    for (const auto& e : res.events) {
+      if (e.category != category::kDegradation) continue;  // operating changes are not alarms
+      if (e.index < static_cast<std::uint64_t>(check_quiet_before)) {
+        std::printf("CHECK FAILED: %s %s at snapshot %llu, before %d\n", e.alarm_id.c_str(), to_string(e.state),
+                    static_cast<unsigned long long>(e.index), check_quiet_before);
+        ok = false;
+        break;
+      }
+    }
+  }
+  if (check_by >= 0) {
+    const int c = check_channel - 1;
+    if (c < 0 || c >= static_cast<int>(res.summary.size())) {
+      std::printf("CHECK FAILED: --check-channel %d out of range\n", check_channel);
+      return 1;
+    }
+    const auto& s = res.summary[static_cast<std::size_t>(c)];
+    if (!s.alarmed || s.first.index > static_cast<std::uint64_t>(check_by) || !s.first_sustained || s.first.root_cause_channel != c) {
+      std::printf("CHECK FAILED: channel %s needs a sustained alarm with root cause itself by snapshot %d (got %s)\n",
+                  s.name.c_str(), check_by,
+                  s.alarmed ? ("index " + std::to_string(s.first.index) + ", root cause " + channel_label(series, s.first.root_cause_channel) +
+                               (s.first_sustained ? ", sustained" : ", not sustained")).c_str()
+                            : "no alarm");
+      ok = false;
+    }
+  }
+  std::printf("CHECK %s\n", ok ? "PASSED" : "FAILED");
+  return ok ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -145,100 +252,8 @@ int main(int argc, char** argv) {
     std::cerr << "causal-alarm-eval: the estimator refused " << res.refused << " of " << series.values.rows()
               << " condition vectors: " << res.refusal << "\n";
   }
-  const auto n = series.values.rows();
-  std::printf("causal-alarm-eval: feature %s, %lld observations, %lld channels, source %s\n", series.feature.c_str(),
-              static_cast<long long>(n), static_cast<long long>(series.values.cols()),
-              table.empty() ? ims_dir.c_str() : table.c_str());
-  std::printf("chain: estimator %s (condition level) -> observation rule -> AlarmEngine; %llu observations judged, "
-              "%llu vectors refused, %llu operating changes\n", estimator_config.c_str(),
-              static_cast<unsigned long long>(res.observations), static_cast<unsigned long long>(res.refused),
-              static_cast<unsigned long long>(res.operating_changes));
-  std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, not running %llu\n",
-              opt.params.warmup_observations, opt.params.warmup_observations + opt.params.baseline_observations,
-              opt.params.cusum_k, res.cusum_threshold, opt.params.target_arl0, opt.params.nis_window, res.nis_threshold,
-              static_cast<unsigned long long>(res.not_running));
-  for (std::size_t k = 0; k < res.noise.size(); ++k)
-    std::printf("noise outcome %zu: q=%.3g r=%.3g p0=%.3g\n", k + 1, res.noise[k].q, res.noise[k].r, res.noise[k].p0);
-  for (const auto& note : res.estimator_notes) std::printf("estimator: %s\n", note.c_str());
-
-  for (std::size_t c = 0; c < res.diagnostics.size(); ++c) {
-    const auto& d = res.diagnostics[c];
-    std::printf("baseline %s: log-feature median %.4f scale %.4f lag1 %.2f | innovation median %.3f scale %.3f lag1 %.2f\n",
-                channel_label(series, static_cast<int>(c)).c_str(), d.feature.baseline_location, d.feature.baseline_scale,
-                d.feature.baseline_lag1_autocorr, d.innovation.baseline_location, d.innovation.baseline_scale,
-                d.innovation.baseline_lag1_autocorr);
-  }
-  auto time_of = [&](std::uint64_t index) {
-    const auto it = std::lower_bound(series.index.begin(), series.index.end(), index);
-    return it == series.index.end() ? series.time_ns.back() : series.time_ns[static_cast<std::size_t>(it - series.index.begin())];
-  };
-  if (!quiet) {
-    for (const auto& e : res.events) {
-      std::printf("event index=%llu time=\"%s\" %-9s %-8s id=%s channel=%s kind=%s category=%s score=%.3f threshold=%.3f root_cause=%s confidence=%.2f\n",
-                  static_cast<unsigned long long>(e.index), format_utc_seconds(time_of(e.index)).c_str(),
-                  to_string(e.state), to_string(e.severity), e.alarm_id.c_str(), channel_label(series, e.channel).c_str(),
-                  e.kind.c_str(), e.category.c_str(), e.score, e.threshold, channel_label(series, e.root_cause_channel).c_str(),
-                  e.root_cause_confidence);
-      if (print_reasons) std::printf("  reason: %s\n", e.reason.c_str());
-    }
-  }
-
-  for (const auto& s : res.summary) {
-    if (!s.alarmed) {
-      std::printf("summary channel=%s no alarm\n", s.name.c_str());
-      continue;
-    }
-    std::printf("summary channel=%s first_alarm_index=%llu time=\"%s\" kind=%s severity=%s root_cause=%s sustained=%s "
-                "cleared_index=%llu max_severity=%s@%llu first_feature_drift_index=%s\n",
-                s.name.c_str(), static_cast<unsigned long long>(s.first.index), format_utc_seconds(s.first.raised_time_ns).c_str(),
-                s.first.kind.c_str(), to_string(s.first.severity), channel_label(series, s.first.root_cause_channel).c_str(),
-                s.first_sustained ? "yes" : "no", static_cast<unsigned long long>(s.first_cleared_index),
-                to_string(s.max_severity), static_cast<unsigned long long>(s.max_severity_index),
-                s.feature_alarmed ? std::to_string(s.first_feature.index).c_str() : "none");
-  }
-
-  if (!trace_csv.empty()) {
-    std::ofstream out(trace_csv);
-    out << "index,time";
-    for (const auto& c : series.channel_names) out << "," << c << "_feature_z," << c << "_innovation_z";
-    out << "\n";
-    for (Eigen::Index t = 0; t < n; ++t) {
-      out << series.index[static_cast<std::size_t>(t)] << "," << format_utc_seconds(series.time_ns[static_cast<std::size_t>(t)]);
-      for (Eigen::Index c = 0; c < series.values.cols(); ++c) out << "," << res.feature_z(t, c) << "," << res.innovation_z(t, c);
-      out << "\n";
-    }
-  }
-
+  print_run(series, res, opt, estimator_config, table.empty() ? ims_dir : table, quiet, print_reasons);
+  if (!trace_csv.empty()) write_trace(trace_csv, series, res);
   if (res.refused > 0) return 2;
-  if (check_by < 0 && check_quiet_before < 0) return 0;
-  bool ok = true;
-  if (check_quiet_before >= 0) {
-    for (const auto& e : res.events) {
-      if (e.category != category::kDegradation) continue;  // operating changes are not alarms
-      if (e.index < static_cast<std::uint64_t>(check_quiet_before)) {
-        std::printf("CHECK FAILED: %s %s at snapshot %llu, before %d\n", e.alarm_id.c_str(), to_string(e.state),
-                    static_cast<unsigned long long>(e.index), check_quiet_before);
-        ok = false;
-        break;
-      }
-    }
-  }
-  if (check_by >= 0) {
-    const int c = check_channel - 1;
-    if (c < 0 || c >= static_cast<int>(res.summary.size())) {
-      std::printf("CHECK FAILED: --check-channel %d out of range\n", check_channel);
-      return 1;
-    }
-    const auto& s = res.summary[static_cast<std::size_t>(c)];
-    if (!s.alarmed || s.first.index > static_cast<std::uint64_t>(check_by) || !s.first_sustained || s.first.root_cause_channel != c) {
-      std::printf("CHECK FAILED: channel %s needs a sustained alarm with root cause itself by snapshot %d (got %s)\n",
-                  s.name.c_str(), check_by,
-                  s.alarmed ? ("index " + std::to_string(s.first.index) + ", root cause " + channel_label(series, s.first.root_cause_channel) +
-                               (s.first_sustained ? ", sustained" : ", not sustained")).c_str()
-                            : "no alarm");
-      ok = false;
-    }
-  }
-  std::printf("CHECK %s\n", ok ? "PASSED" : "FAILED");
-  return ok ? 0 : 1;
+  return check_detection(series, res, check_channel, check_by, check_quiet_before);
 }
