@@ -83,6 +83,33 @@ Ipv4Network parse_ipv4_network(const std::string& text) {
   return n;
 }
 
+namespace {
+
+// The MQTT source's options (session, QoS, TLS and credentials).
+void add_mqtt_options(CLI::App& app, IngestOptions& o) {
+  app.add_option("--mqtt-qos", o.mqtt_qos,
+                 "MQTT subscription QoS (1: at least once; duplicates are rejected by sequence)")
+      ->check(CLI::Range(0, 2))
+      ->capture_default_str();
+  app.add_option("--client-id", o.mqtt_client_id, "MQTT client id (default sensor-ingest-<pid>)");
+  app.add_flag("--mqtt-keep-session", o.mqtt_keep_session,
+               "keep the MQTT session at the broker (clean session off; needs --client-id and --mqtt-qos 1 or 2): "
+               "messages published while sensor-ingest is down are queued by the broker and delivered at its restart");
+  app.add_option("--mqtt-cafile", o.mqtt_security.ca_file,
+                 "connect to the broker over TLS, trusting this CA (PEM); the broker's name must match its certificate")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mqtt-cert", o.mqtt_security.cert_file, "client certificate for mutual TLS (PEM, with --mqtt-key)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mqtt-key", o.mqtt_security.key_file, "the client certificate's private key (PEM)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mqtt-username", o.mqtt_security.username, "MQTT user name (with --mqtt-password-file)");
+  app.add_option("--mqtt-password-file", o.mqtt_security.password_file,
+                 "file (mode 0600) whose first line is the MQTT password")
+      ->check(CLI::ExistingFile);
+}
+
+}  // namespace
+
 std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& exit_code) {
   IngestOptions o;
   std::string source;
@@ -118,25 +145,7 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
   dds::add_common_options(app, o.dds);
   app.add_option("--source", source, "mqtt://HOST:PORT/TOPIC, udp://HOST:PORT (bind address) or - (stdin)")->required();
   app.add_option("--topic", topics, "more MQTT topics to subscribe to (wildcards + and # allowed)");
-  app.add_option("--mqtt-qos", o.mqtt_qos,
-                 "MQTT subscription QoS (1: at least once; duplicates are rejected by sequence)")
-      ->check(CLI::Range(0, 2))
-      ->capture_default_str();
-  app.add_option("--client-id", o.mqtt_client_id, "MQTT client id (default sensor-ingest-<pid>)");
-  app.add_flag("--mqtt-keep-session", o.mqtt_keep_session,
-               "keep the MQTT session at the broker (clean session off; needs --client-id and --mqtt-qos 1 or 2): "
-               "messages published while sensor-ingest is down are queued by the broker and delivered at its restart");
-  app.add_option("--mqtt-cafile", o.mqtt_security.ca_file,
-                 "connect to the broker over TLS, trusting this CA (PEM); the broker's name must match its certificate")
-      ->check(CLI::ExistingFile);
-  app.add_option("--mqtt-cert", o.mqtt_security.cert_file, "client certificate for mutual TLS (PEM, with --mqtt-key)")
-      ->check(CLI::ExistingFile);
-  app.add_option("--mqtt-key", o.mqtt_security.key_file, "the client certificate's private key (PEM)")
-      ->check(CLI::ExistingFile);
-  app.add_option("--mqtt-username", o.mqtt_security.username, "MQTT user name (with --mqtt-password-file)");
-  app.add_option("--mqtt-password-file", o.mqtt_security.password_file,
-                 "file (mode 0600) whose first line is the MQTT password")
-      ->check(CLI::ExistingFile);
+  add_mqtt_options(app, o);
   std::vector<std::string> allow;
   app.add_option("--udp-allow", allow,
                  "take UDP datagrams only from this sender network, A.B.C.D[/N] (repeatable; default 127.0.0.0/8); "
