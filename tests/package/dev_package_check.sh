@@ -62,7 +62,7 @@ grep -qx "example-sensor: sent frames=$sent snapshots=$snapshots failed=0 acknow
   || fail "the example did not send and have acknowledged $sent frames"
 summary=$(grep -o "summary topic=causal_twin/vibration_frame .*" "$work/example_estimator.log" || true)
 echo "causal-estimator: $summary"
-[ "$summary" = "summary topic=causal_twin/vibration_frame received=$sent lost=0 refused=0" ] \
+[ "$summary" = "summary topic=causal_twin/vibration_frame received=$sent lost=0 refused=0 not_entitled=0" ] \
   || fail "the estimator did not receive exactly $sent frames: $summary"
 conditions="$work/example_recorded/conditions_example-pump_meanabs.csv"
 [ -f "$conditions" ] || fail "the recorder wrote no $conditions: $(ls "$work/example_recorded" 2>&1)"
