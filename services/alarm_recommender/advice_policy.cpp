@@ -90,9 +90,11 @@ std::string claim_problem(const AlarmSituation& s, const AdviceItem& c, bool che
   if (c.reference == "appeared") {
     // Both rising at once from their own causes looks like a new link to a time-varying model: a lever must
     // have been one while the plant was healthy (docs/advice.md, "A lever must predate the fault").
+    // The reference's own number is not quoted: the reference is not checkpointed, so after a restart it is
+    // rebuilt from other snapshots and the number would change while the decision does not (fault_plant_day).
     return "the link from " + name_of(s, c.intervene) + " to " + name_of(s, s.target) +
-           " was not in the healthy model (effect then " + analysis::percent_text(c.reference_percent) +
-           "): it came with the fault, and a common cause of both rises explains it as well";
+           " was not in the healthy model: it came with the fault, and a common cause of both rises explains it "
+           "as well";
   }
   return "";
 }

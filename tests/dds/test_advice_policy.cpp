@@ -130,7 +130,7 @@ TEST(AdvicePolicy, ALinkThatCameWithTheFaultIsNoLever) {
   const Decision d = decide(s, {c}, "", kTrusted, kCatalogue, kPolicy);
   EXPECT_EQ(d.kind, "act_on_asset");
   EXPECT_EQ(d.act_on, 0);
-  EXPECT_TRUE(contains(d.note, "was not in the healthy model (effect then -3.0 %)")) << d.note;
+  EXPECT_TRUE(contains(d.note, "was not in the healthy model: it came with the fault")) << d.note;
   c.reference = "held";  // the same link before the fault: a lever
   EXPECT_EQ(decide(s, {c}, "", kTrusted, kCatalogue, kPolicy).kind, "upstream_lever");
   c.reference = "none";  // no reference yet (a group's first model): decided as before
