@@ -39,28 +39,40 @@ bool EstimatorNode::admitted(const std::string& asset_group, const WriterGuid* w
   if (!quota_alarmed_writers_.insert(who).second) return false;  // counted; one alarm and error line per writer
   spdlog::error("asset group '{}' refused: {}; its input and further new groups of this writer are refused "
                 "(counted, exit 4)", asset_group, why);
+  raise_input_alarm(asset_group, "asset_group_quota", causal_twin::WARNING, quota_alarmed_writers_.size(),
+                    static_cast<double>(quota_.groups()),
+                    static_cast<double>(verdict == GroupQuota::Verdict::OverTotal ? limits.max_groups
+                                                                                 : limits.max_groups_per_writer),
+                    "new asset group '" + asset_group + "' refused: " + why +
+                        "; a source that names ever new groups would exhaust memory and checkpoint files");
+  return false;
+}
+
+void EstimatorNode::raise_input_alarm(const std::string& asset_group, const std::string& kind,
+                                      causal_twin::Severity severity, std::size_t serial, double score,
+                                      double threshold, const std::string& reason) {
   causal_twin::Alarm alarm;
   const std::int64_t now = unix_now_ns();
-  alarm.alarm_id(fmt::format("{}/input/asset_group_quota/t{}.{}", asset_group, now / 1000000000,
-                             quota_alarmed_writers_.size()));
+  // Wall-clock time and a per-kind serial: a refusal has no source index of its own.
+  alarm.alarm_id(fmt::format("{}/input/{}/t{}.{}", asset_group, kind, now / 1000000000, serial));
   alarm.asset_group(asset_group);
-  alarm.kind("asset_group_quota");
+  alarm.kind(kind);
   alarm.category("health");
-  alarm.severity(causal_twin::WARNING);
+  alarm.severity(severity);
   alarm.state(causal_twin::RAISED);
   alarm.raised_time_ns(now);
-  alarm.score(static_cast<double>(quota_.groups()));
-  alarm.threshold(static_cast<double>(verdict == GroupQuota::Verdict::OverTotal ? limits.max_groups
-                                                                               : limits.max_groups_per_writer));
-  alarm.reason("new asset group '" + asset_group + "' refused: " + why +
-               "; a source that names ever new groups would exhaust memory and checkpoint files");
+  alarm.score(score);
+  alarm.threshold(threshold);
+  alarm.reason(reason);
+  publish_health_alarm(std::move(alarm));
+}
+
+void EstimatorNode::publish_health_alarm(causal_twin::Alarm alarm) {
   spdlog::warn("HEALTH RAISED {}: {}", alarm.alarm_id(), alarm.reason());
-  if (!standing_by_) {
-    auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
-    outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
-                   [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
-  }
-  return false;
+  if (standing_by_) return;  // the active estimator raises it
+  auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
+  outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
+                 [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
 }
 
 void EstimatorNode::not_again(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,

@@ -125,6 +125,10 @@ class EstimatorNode {
   bool certificate_alarmed_ = false;
   // Quota on new asset groups (group_quota.hpp): false when the input is refused (counted, logged, alarmed).
   bool admitted(const std::string& asset_group, const WriterGuid* writer);
+  // A HEALTH alarm about refused input (quota, grant): logged and, unless standing by, published.
+  void raise_input_alarm(const std::string& asset_group, const std::string& kind, causal_twin::Severity severity,
+                         std::size_t serial, double score, double threshold, const std::string& reason);
+  void publish_health_alarm(causal_twin::Alarm alarm);
   // An input whose indices were processed already: a resend (skipped, counted) or new data under old numbers
   // (refused: counted, logged, alarmed, exit 4). Never processed either way.
   void not_again(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,

@@ -46,26 +46,10 @@ bool EstimatorNode::entitled(const std::string& asset_group, const WriterGuid* w
   }
   spdlog::error("asset group '{}' refused from this writer: {} (issue-identity.sh --groups); its input is refused "
                 "(counted, exit 4)", asset_group, why);
-  causal_twin::Alarm alarm;
-  const std::int64_t now = unix_now_ns();
-  alarm.alarm_id(fmt::format("{}/input/group_not_entitled/t{}.{}", asset_group, now / 1000000000,
-                             not_entitled_pairs_.size()));
-  alarm.asset_group(asset_group);
-  alarm.kind("group_not_entitled");
-  alarm.category("health");
-  alarm.severity(causal_twin::CRITICAL);
-  alarm.state(causal_twin::RAISED);
-  alarm.raised_time_ns(now);
-  alarm.score(static_cast<double>(total));
-  alarm.threshold(0.0);
-  alarm.reason("input for asset group '" + asset_group + "' refused: " + why +
-               "; a sensor identity is granted only its own asset groups");
-  spdlog::warn("HEALTH RAISED {}: {}", alarm.alarm_id(), alarm.reason());
-  if (!standing_by_) {
-    auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
-    outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
-                   [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
-  }
+  raise_input_alarm(asset_group, "group_not_entitled", causal_twin::CRITICAL, not_entitled_pairs_.size(),
+                    static_cast<double>(total), 0.0,
+                    "input for asset group '" + asset_group + "' refused: " + why +
+                        "; a sensor identity is granted only its own asset groups");
   return false;
 }
 
@@ -90,11 +74,7 @@ void EstimatorNode::check_certificate_expiry() {
                            "one (deploy/security/issue-identity.sh) and restart it before then, or it can no longer "
                            "join the bus",
                            days_left, participant_.security_note()));
-  spdlog::warn("HEALTH RAISED {}: {}", alarm.alarm_id(), alarm.reason());
-  if (standing_by_) return;
-  auto msg = std::make_shared<causal_twin::Alarm>(std::move(alarm));
-  outbound_.push("alarm/health", dds::OutboundQueue::Class::Essential,
-                 [this, msg](const std::atomic<bool>& s) { return quality_alarms_.write(*msg, s); }, loop_.stop_flag());
+  publish_health_alarm(std::move(alarm));
 }
 
 }  // namespace causal::estimator
