@@ -20,7 +20,7 @@
 #include "causal/analysis/effect_units.hpp"
 #include "causal/analysis/recommendation.hpp"
 #include "causal/analysis/uncertainty.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 #include <Eigen/Core>
 

@@ -2,7 +2,7 @@
 
 #include "causal/io/file_names.hpp"
 
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -7,7 +7,7 @@
 
 #include "causal/dds/cdr_bytes.hpp"
 #include "causal/io/file_names.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -6,7 +6,7 @@
 #include "advice_conversions.hpp"
 #include "prognosis_conversions.hpp"
 
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <cmath>
 

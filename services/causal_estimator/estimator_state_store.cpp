@@ -1,7 +1,7 @@
 #include "estimator_state_store.hpp"
 
 #include "causal/io/file_names.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <filesystem>
 #include <stdexcept>

@@ -4,7 +4,7 @@
 // numbering instead of starting at 0 again: the estimator skips input whose indices it already processed (a
 // resending replay), so a live source that numbered from 0 again would have its new data taken for old.
 // Saving before publishing means a crash can leave a number unused (a gap the estimator counts as lost frames),
-// never a number used twice. Files are replaced atomically (causal/state_archive.hpp), not fsync'ed.
+// never a number used twice. Files are replaced atomically (causal/estimation/state_archive.hpp), not fsync'ed.
 #pragma once
 
 #include "block_sequencer.hpp"

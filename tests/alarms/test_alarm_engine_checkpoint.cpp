@@ -20,8 +20,8 @@
 
 #include "alarm_pipeline.hpp"
 #include "causal/alarms/alarm_engine.hpp"
-#include "causal/state_archive.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/svar_layout.hpp"
 #include "synthetic_group.hpp"
 
 using namespace causal::alarms;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "causal/alarms/alarm_engine.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 #include "synthetic_group.hpp"
 
 using namespace causal::alarms;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "causal/alarms/detectors.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 using namespace causal::alarms;
 

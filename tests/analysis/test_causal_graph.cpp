@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <functional>
 #include <stdexcept>

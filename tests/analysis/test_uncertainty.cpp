@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include <causal/svar_kalman_filter.hpp>
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/svar_kalman_filter.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <cmath>
 #include <cstdio>

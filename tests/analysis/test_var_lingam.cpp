@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include <causal/batch_estimation.hpp>
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/batch_estimation.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <cmath>
 #include <cstdio>

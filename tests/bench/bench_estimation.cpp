@@ -6,9 +6,9 @@
 #include <Eigen/Core>
 #include <random>
 
-#include "causal/batch_estimation.hpp"
-#include "causal/fixed_lag_smoother.hpp"
-#include "causal/svar_kalman_filter.hpp"
+#include "causal/estimation/batch_estimation.hpp"
+#include "causal/estimation/fixed_lag_smoother.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
 
 namespace {
 

@@ -11,7 +11,7 @@
 
 #include "causal/pipeline/asset_pipeline.hpp"
 #include "causal/pipeline/factor_stream.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include <random>
 #include <string>
 
-#include "causal/batch_estimation.hpp"
+#include "causal/estimation/batch_estimation.hpp"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include "alarm_state_store.hpp"
 
 #include "../alarms/synthetic_group.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

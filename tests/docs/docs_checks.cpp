@@ -79,7 +79,7 @@ bool repository_path_exists(const Repository& repo, const std::string& path) {
   });
 }
 
-// A bare name ("noise_tuning.hpp", "causal/noise_tuning.hpp"): some file of the tree ends with it.
+// A bare name ("noise_tuning.hpp", "causal/estimation/noise_tuning.hpp"): some file of the tree ends with it.
 bool found_in_tree(const Repository& repo, const std::string& name) {
   return std::any_of(repo.files.begin(), repo.files.end(),
                      [&](const std::string& f) { return f == name || ends_with(f, "/" + name); });

@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "causal/noise_params.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/noise_params.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 namespace causal::test {
 

@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "causal/batch_estimation.hpp"
+#include "causal/estimation/batch_estimation.hpp"
 #include "matrix_asserts.hpp"
 #include "svar_test_support.hpp"
 

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "causal/batch_estimation.hpp"
+#include "causal/estimation/batch_estimation.hpp"
 #include "causal/io/numeric_table.hpp"
-#include "causal/kernel_dispatch.hpp"
+#include "causal/estimation/kernel_dispatch.hpp"
 #include "svar_test_support.hpp"
 
 namespace causal {

@@ -5,9 +5,9 @@
 #include <limits>
 #include <stdexcept>
 
-#include "causal/batch_estimation.hpp"
-#include "causal/fixed_lag_smoother.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/batch_estimation.hpp"
+#include "causal/estimation/fixed_lag_smoother.hpp"
+#include "causal/estimation/state_archive.hpp"
 #include "matrix_asserts.hpp"
 #include "svar_test_support.hpp"
 

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 
-#include "causal/innovation_stats.hpp"
-#include "causal/state_archive.hpp"
-#include "causal/svar_kalman_filter.hpp"
+#include "causal/estimation/innovation_stats.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
 
 namespace causal {
 namespace {

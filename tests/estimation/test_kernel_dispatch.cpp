@@ -1,6 +1,6 @@
 // kernel_instruction_set() against the CPU flags the kernel reports in /proc/cpuinfo (an independent source):
 // the variant named must be the best one the flags allow.
-#include "causal/kernel_dispatch.hpp"
+#include "causal/estimation/kernel_dispatch.hpp"
 
 #include <gtest/gtest.h>
 

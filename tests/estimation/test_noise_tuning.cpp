@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "causal/noise_tuning.hpp"
+#include "causal/estimation/noise_tuning.hpp"
 #include "svar_test_support.hpp"
 
 namespace causal {

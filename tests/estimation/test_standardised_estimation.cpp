@@ -7,7 +7,7 @@
 #include <iostream>
 #include <limits>
 
-#include "causal/standardised_estimation.hpp"
+#include "causal/estimation/standardised_estimation.hpp"
 #include "svar_test_support.hpp"
 
 namespace causal {

@@ -1,5 +1,5 @@
 // The checkpoint archive: exact round trips, and every kind of damaged file refused with a clear error.
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <gtest/gtest.h>
 

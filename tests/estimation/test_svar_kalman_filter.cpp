@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "causal/batch_estimation.hpp"
-#include "causal/state_archive.hpp"
-#include "causal/svar_kalman_filter.hpp"
+#include "causal/estimation/batch_estimation.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
 #include "matrix_asserts.hpp"
 #include "svar_test_support.hpp"
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 namespace causal {
 namespace {

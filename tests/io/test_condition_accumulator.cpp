@@ -8,7 +8,7 @@
 
 #include "causal/io/condition_features.hpp"
 #include "causal/io/ims_directory.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 #include "io_test_util.hpp"
 #include "matrix_asserts.hpp"
 #include "real_stats.hpp"

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "causal/pipeline/asset_pipeline.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>

@@ -4,8 +4,8 @@
 #pragma once
 
 #include "causal/pipeline/factor_stream.hpp"
-#include "causal/svar_kalman_filter.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 #include <Eigen/Dense>
 

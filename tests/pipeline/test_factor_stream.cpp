@@ -3,8 +3,8 @@
 // framing; automatic noise must equal tune_noise_all on the calibration window and lose no sample.
 #include "causal/pipeline/factor_stream.hpp"
 
-#include "causal/batch_estimation.hpp"
-#include "causal/noise_tuning.hpp"
+#include "causal/estimation/batch_estimation.hpp"
+#include "causal/estimation/noise_tuning.hpp"
 #include "matrix_asserts.hpp"
 #include "pipeline_test_util.hpp"
 

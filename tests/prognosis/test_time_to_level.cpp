@@ -5,7 +5,7 @@
 #include "causal/prognosis/degradation_trend.hpp"
 #include "causal/prognosis/time_to_level.hpp"
 
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <gtest/gtest.h>
 

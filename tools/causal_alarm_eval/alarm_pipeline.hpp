@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "causal/alarms/alarm_engine.hpp"
-#include "causal/noise_params.hpp"
+#include "causal/estimation/noise_params.hpp"
 #include "causal/pipeline/asset_pipeline.hpp"
 
 namespace causal::alarm_eval {

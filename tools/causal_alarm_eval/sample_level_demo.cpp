@@ -3,11 +3,11 @@
 #include <limits>
 #include <stdexcept>
 
-#include "causal/innovation_stats.hpp"
+#include "causal/estimation/innovation_stats.hpp"
 #include "causal/io/ims_directory.hpp"
-#include "causal/noise_tuning.hpp"
-#include "causal/svar_kalman_filter.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/noise_tuning.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 namespace causal::alarm_eval {
 

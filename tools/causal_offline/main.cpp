@@ -6,7 +6,7 @@
 //   causal-offline big.csv --format columns -o factors.cols        (binary float64 columns, no text formatting)
 //
 // Channels are divided by a robust scale learned on the calibration window before estimation, and the factors
-// are written in the file's units (causal/standardised_estimation.hpp), so the result does not depend on
+// are written in the file's units (causal/estimation/standardised_estimation.hpp), so the result does not depend on
 // each channel's units; --q/--r/--p0 are then in standardised units (--no-standardise: in the file's units).
 //
 // Exit codes: 0 success; 2 bad input or bad arguments (message names the file and line, or the constant /

@@ -5,12 +5,12 @@
 #include <ostream>
 #include <string>
 
-#include "causal/batch_estimation.hpp"
+#include "causal/estimation/batch_estimation.hpp"
 #include "causal/io/numeric_table.hpp"
-#include "causal/kernel_dispatch.hpp"
-#include "causal/noise_tuning.hpp"
-#include "causal/standardised_estimation.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/kernel_dispatch.hpp"
+#include "causal/estimation/noise_tuning.hpp"
+#include "causal/estimation/standardised_estimation.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 namespace causal::offline {
 namespace {

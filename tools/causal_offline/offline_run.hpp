@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "causal/io/channel_csv.hpp"
-#include "causal/noise_params.hpp"
+#include "causal/estimation/noise_params.hpp"
 
 namespace causal::offline {
 

@@ -1,6 +1,6 @@
 #include "prognosis_scoring.hpp"
 
-#include "causal/normal_quantile.hpp"
+#include "causal/estimation/normal_quantile.hpp"
 
 #include <algorithm>
 #include <cmath>

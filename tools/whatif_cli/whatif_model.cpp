@@ -1,8 +1,8 @@
 #include "whatif_model.hpp"
 
 #include <causal/analysis/causal_graph.hpp>
-#include <causal/noise_tuning.hpp>
-#include <causal/svar_kalman_filter.hpp>
+#include <causal/estimation/noise_tuning.hpp>
+#include <causal/estimation/svar_kalman_filter.hpp>
 
 #include <algorithm>
 #include <cctype>

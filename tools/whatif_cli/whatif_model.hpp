@@ -9,10 +9,10 @@
 
 #include <causal/analysis/structural_model.hpp>
 #include <causal/analysis/var_lingam.hpp>
-#include <causal/batch_estimation.hpp>
+#include <causal/estimation/batch_estimation.hpp>
 #include <causal/io/channel_csv.hpp>
-#include <causal/noise_params.hpp>
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/noise_params.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <Eigen/Core>
 #include <optional>

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <utility>
 
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 namespace causal::alarms {
 

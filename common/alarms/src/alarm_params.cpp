@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "causal/alarms/statistics.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 namespace causal::alarms {
 

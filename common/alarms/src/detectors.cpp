@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "causal/alarms/statistics.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 namespace causal::alarms {
 

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "causal/alarms/alarm_engine.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 #include "engine_internal.hpp"
 
 namespace causal::alarms {

@@ -1,7 +1,7 @@
 #include "causal/alarms/statistics.hpp"
 
-#include "causal/normal_quantile.hpp"
-#include "causal/state_archive.hpp"
+#include "causal/estimation/normal_quantile.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <algorithm>
 #include <cmath>

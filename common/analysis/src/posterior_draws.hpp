@@ -4,7 +4,7 @@
 
 #include "causal/analysis/structural_model.hpp"
 
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <Eigen/Core>
 #include <cstdint>

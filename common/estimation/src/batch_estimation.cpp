@@ -1,4 +1,4 @@
-#include "causal/batch_estimation.hpp"
+#include "causal/estimation/batch_estimation.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "causal/fixed_lag_smoother.hpp"
+#include "causal/estimation/fixed_lag_smoother.hpp"
 #include "filter_access.hpp"
 #include "rts_pass.hpp"
 

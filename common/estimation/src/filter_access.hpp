@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "causal/svar_kalman_filter.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 

@@ -1,11 +1,11 @@
-#include "causal/fixed_lag_smoother.hpp"
+#include "causal/estimation/fixed_lag_smoother.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "causal/state_archive.hpp"
-#include "causal/state_checks.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_checks.hpp"
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 

@@ -1,11 +1,11 @@
-#include "causal/innovation_stats.hpp"
+#include "causal/estimation/innovation_stats.hpp"
 
 #include <cmath>
 #include <limits>
 #include <string>
 
-#include "causal/state_archive.hpp"
-#include "causal/svar_kalman_filter.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
 
 namespace causal {
 

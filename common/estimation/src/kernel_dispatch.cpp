@@ -1,4 +1,4 @@
-#include "causal/kernel_dispatch.hpp"
+#include "causal/estimation/kernel_dispatch.hpp"
 
 #include "kernels.hpp"
 

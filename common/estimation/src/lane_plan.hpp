@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/svar_layout.hpp"
 #include "kernels.hpp"
 
 namespace causal::detail {

@@ -1,4 +1,4 @@
-#include "causal/noise_params.hpp"
+#include "causal/estimation/noise_params.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -1,4 +1,4 @@
-#include "causal/noise_tuning.hpp"
+#include "causal/estimation/noise_tuning.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "causal/normal_quantile.hpp"
+#include "causal/estimation/normal_quantile.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "causal/svar_kalman_filter.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
+#include "causal/estimation/svar_layout.hpp"
 #include "lane_plan.hpp"
 
 namespace causal::detail {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "causal/svar_kalman_filter.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
 
 namespace causal::detail {
 

@@ -1,4 +1,4 @@
-#include "causal/standardised_estimation.hpp"
+#include "causal/estimation/standardised_estimation.hpp"
 
 #include <algorithm>
 #include <cmath>

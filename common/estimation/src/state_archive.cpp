@@ -1,4 +1,4 @@
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <filesystem>
 #include <fstream>

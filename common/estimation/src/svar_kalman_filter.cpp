@@ -1,12 +1,12 @@
-#include "causal/svar_kalman_filter.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
 
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
 
-#include "causal/state_archive.hpp"
-#include "causal/state_checks.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_checks.hpp"
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 #include "segment_tracker.hpp"

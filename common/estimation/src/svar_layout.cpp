@@ -1,6 +1,6 @@
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "causal/io/condition_features.hpp"
-#include "causal/state_archive.hpp"
-#include "causal/state_checks.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_checks.hpp"
 #include "moments.hpp"
 
 namespace causal::io {

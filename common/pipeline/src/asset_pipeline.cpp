@@ -1,8 +1,8 @@
 #include "causal/pipeline/asset_pipeline.hpp"
 
 #include "causal/analysis/causal_graph.hpp"
-#include "causal/state_archive.hpp"
-#include "causal/state_checks.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_checks.hpp"
 
 #include <stdexcept>
 

@@ -1,7 +1,7 @@
 #include "causal/pipeline/factor_stream.hpp"
 
-#include "causal/state_archive.hpp"
-#include "causal/state_checks.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_checks.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -2,8 +2,8 @@
 
 #include "causal/analysis/order_trust.hpp"
 #include "causal/analysis/var_lingam.hpp"
-#include "causal/state_archive.hpp"
-#include "causal/state_checks.hpp"
+#include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_checks.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "causal/prognosis/channel_trends.hpp"
 
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <cmath>
 #include <limits>

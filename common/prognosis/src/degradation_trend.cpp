@@ -1,6 +1,6 @@
 #include "causal/prognosis/degradation_trend.hpp"
 
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "causal/prognosis/time_to_level.hpp"
 
-#include "causal/normal_quantile.hpp"
+#include "causal/estimation/normal_quantile.hpp"
 
 #include <cmath>
 #include <cstdio>

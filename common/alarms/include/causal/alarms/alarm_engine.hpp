@@ -46,7 +46,7 @@
 #include "causal/alarms/observation.hpp"
 
 namespace causal {
-class StateWriter;  // causal/state_archive.hpp (checkpoints)
+class StateWriter;  // causal/estimation/state_archive.hpp (checkpoints)
 class StateReader;
 }  // namespace causal
 

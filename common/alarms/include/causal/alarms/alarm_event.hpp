@@ -7,7 +7,7 @@
 #include <vector>
 
 namespace causal {
-class StateWriter;  // causal/state_archive.hpp (checkpoints)
+class StateWriter;  // causal/estimation/state_archive.hpp (checkpoints)
 class StateReader;
 }  // namespace causal
 

@@ -8,7 +8,7 @@
 // a structural equation. Lagged links are not restricted here: they cannot form instantaneous loops.
 #pragma once
 
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <string>
 #include <vector>

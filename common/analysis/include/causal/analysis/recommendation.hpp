@@ -13,7 +13,7 @@
 #include "causal/analysis/bounded_answer.hpp"
 #include "causal/analysis/uncertainty.hpp"
 
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <Eigen/Core>
 #include <string>

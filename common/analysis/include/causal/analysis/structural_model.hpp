@@ -20,8 +20,8 @@
 
 #include "causal/analysis/analysis_status.hpp"
 
-#include <causal/svar_kalman_filter.hpp>
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/svar_kalman_filter.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <Eigen/Core>
 #include <string>

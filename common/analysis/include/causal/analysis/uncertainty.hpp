@@ -11,12 +11,12 @@
 //    the factors (near-singular or near-unstable systems, where (W3) blows up).
 #pragma once
 
-#include "causal/normal_quantile.hpp"
+#include "causal/estimation/normal_quantile.hpp"
 
 #include "causal/analysis/intervention.hpp"
 #include "causal/analysis/structural_model.hpp"
 
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -61,7 +61,7 @@ UncertainEffect predict_intervention_with_uncertainty(const SvarLayout& layout, 
 
 // Standard normal quantile Phi^{-1}(p), p in (0, 1) (Acklam's rational approximation refined by one
 // Halley step on erfc; |error| < 1e-12).
-using causal::normal_quantile;  // common/estimation: <causal/normal_quantile.hpp>
+using causal::normal_quantile;  // common/estimation: <causal/estimation/normal_quantile.hpp>
 
 const char* to_string(IntervalMethod method);
 

@@ -9,7 +9,7 @@
 #include "causal/analysis/structural_model.hpp"
 #include "causal/analysis/var_fit.hpp"
 
-#include <causal/svar_layout.hpp>
+#include <causal/estimation/svar_layout.hpp>
 
 #include <Eigen/Core>
 #include <vector>

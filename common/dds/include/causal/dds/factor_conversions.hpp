@@ -2,7 +2,7 @@
 #pragma once
 
 #include "causal/pipeline/factor_stream.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/svar_layout.hpp"
 #include "causal_twin.h"
 
 #include <Eigen/Core>

@@ -56,7 +56,7 @@ class ConditionAccumulator {
   Eigen::VectorXd value(ConditionFeature feature) const;
   void reset();
 
-  // Checkpoint (causal/state_archive.hpp), section "condition_accumulator": the channel count (restore
+  // Checkpoint (causal/estimation/state_archive.hpp), section "condition_accumulator": the channel count (restore
   // throws StateError when it differs, leaving the accumulator unchanged), the accepted and rejected row
   // counts and the per-channel running moments, compensated |x| sums and peaks, so that a window cut by a
   // restart yields the same features bit for bit.

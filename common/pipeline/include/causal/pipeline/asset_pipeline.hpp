@@ -134,7 +134,7 @@ class AssetPipeline {
     return last_.has_snapshot && snapshot_index <= last_.snapshot;
   }
 
-  // Checkpoint (causal/state_archive.hpp), section "asset_pipeline". Saved: which levels run and the
+  // Checkpoint (causal/estimation/state_archive.hpp), section "asset_pipeline". Saved: which levels run and the
   // configured graphs, the channel count and names, the last source indices, and every stream's state
   // (StructuredFactorStream::save for both levels, ConditionStream::save). restore() takes the channel
   // count and names from the checkpoint, rebuilds the streams from this pipeline's params (resolving the

@@ -2,7 +2,7 @@
 //
 // Wraps the Kalman filter (and optionally the fixed-lag smoother) with what a streaming service needs:
 //  * automatic noise: the first `calibration_samples` samples are buffered, q and r are tuned on them by
-//    maximising the innovation likelihood (causal/noise_tuning.hpp), then the buffer is replayed through
+//    maximising the innovation likelihood (causal/estimation/noise_tuning.hpp), then the buffer is replayed through
 //    the filter, so no sample is lost to calibration;
 //  * a publication cadence: every `publish_every` samples one report per outcome with the factors, their
 //    standard deviations and the innovation statistics since the previous report; the fixed-lag smoother
@@ -13,12 +13,12 @@
 //  * checkpoints: save() / restore() (state_archive.hpp) let a restarted service continue bit for bit.
 #pragma once
 
-#include "causal/fixed_lag_smoother.hpp"
-#include "causal/innovation_stats.hpp"
-#include "causal/noise_params.hpp"
-#include "causal/noise_tuning.hpp"
-#include "causal/svar_kalman_filter.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/fixed_lag_smoother.hpp"
+#include "causal/estimation/innovation_stats.hpp"
+#include "causal/estimation/noise_params.hpp"
+#include "causal/estimation/noise_tuning.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 #include <Eigen/Core>
 

@@ -21,8 +21,8 @@
 #include <memory>
 #include <vector>
 
-#include "causal/noise_params.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/noise_params.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 namespace causal {
 

@@ -23,9 +23,9 @@
 #include <optional>
 #include <vector>
 
-#include "causal/noise_params.hpp"
-#include "causal/svar_kalman_filter.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/noise_params.hpp"
+#include "causal/estimation/svar_kalman_filter.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 namespace causal {
 

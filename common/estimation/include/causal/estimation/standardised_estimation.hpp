@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "causal/batch_estimation.hpp"
-#include "causal/noise_params.hpp"
-#include "causal/noise_tuning.hpp"
-#include "causal/svar_layout.hpp"
+#include "causal/estimation/batch_estimation.hpp"
+#include "causal/estimation/noise_params.hpp"
+#include "causal/estimation/noise_tuning.hpp"
+#include "causal/estimation/svar_layout.hpp"
 
 namespace causal {
 

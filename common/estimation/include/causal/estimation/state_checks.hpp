@@ -4,7 +4,7 @@
 // with state that means something else.
 #pragma once
 
-#include "causal/state_archive.hpp"
+#include "causal/estimation/state_archive.hpp"
 
 #include <cstdint>
 #include <cstring>
