@@ -32,6 +32,7 @@ install(DIRECTORY deploy/dds deploy/config deploy/data deploy/plant DESTINATION 
 install(FILES deploy/dds/localhost-udp.xml DESTINATION ${CAUSAL_TWIN_SHARE}/dds RENAME localhost.xml)
 install(FILES deploy/dds/localhost.xml DESTINATION ${CAUSAL_TWIN_SHARE}/dds RENAME localhost-shm.xml)
 install(PROGRAMS deploy/security/make-pki.sh deploy/security/issue-identity.sh deploy/security/revoke-identity.sh
+  deploy/security/install-unit-keys.sh
   DESTINATION ${CAUSAL_TWIN_SHARE}/security)
 
 # The site configuration: /etc/causal-twin (where config_search looks) for the package (prefix /usr), else

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Runs inside a private mount namespace (test_package_deb.sh starts it with unshare -m): /usr, /etc and /var
 # become copy-on-write overlays on a tmpfs, so the real dpkg -i / dpkg -P below change nothing outside this
-# namespace; /dev/shm is private. Then: install the .deb, check that a build-tree binary still reads its own
-# source tree, hide the source and build trees under empty tmpfs mounts, run the installed binaries, the demo and
-# the units' commands from /, purge, and check that nothing is left.
+# namespace; /dev/shm and /root are private. Then: install the .deb, check that a build-tree binary still reads
+# its own source tree, hide the source and build trees under empty tmpfs mounts, run the installed binaries, the
+# demo and the units' commands (as their own users, units_check.sh) from /, purge, and check that nothing is left
+# but the CA keys' copy in /root.
 #   package_root_check.sh WORK DEB DOMAIN BUILD_TREE_ESTIMATOR PREFIX_DIR HIDE_DIR...
 # PREFIX_DIR: a `cmake --install --prefix` tree, run after the purge (no /etc/causal-twin then).
 # Writes its results under WORK/installed_* and WORK/units_conditions.csv (WORK must not be under a hidden
@@ -11,9 +12,6 @@
 set -euo pipefail
 work="$1"; deb="$2"; domain="$3"; build_estimator="$4"; prefix_dir="$5"; shift 5
 fail() { echo "FAIL: $*" >&2; exit 1; }
-# Services started here (the units' commands) are ended by pid also when a check fails half-way.
-unit_pids=()
-trap 'for p in "${unit_pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done; wait' EXIT
 
 mount --make-rprivate /
 mkdir -p "$work/ov"
@@ -24,13 +22,22 @@ for d in usr etc var; do
   mount -t overlay overlay -o "lowerdir=/$d,upperdir=$work/ov/$d/upper,workdir=$work/ov/$d/work" "/$d"
 done
 mount -t tmpfs tmpfs /dev/shm
+mount -t tmpfs -o mode=0700 tmpfs /root  # the purge keeps CA keys in /root/causal-twin-ca-keys.*: checked below
 
 cd /
 dev_deb=$(ls "$(dirname "$deb")"/causal-twin-dev_*.deb)
 echo "--- dpkg -i $(basename "$deb") $(basename "$dev_deb")"
 dpkg -i "$deb" "$dev_deb" > "$work/installed_dpkg_i.log" 2>&1 || { cat "$work/installed_dpkg_i.log"; fail "dpkg -i"; }
-getent passwd causal-twin > /dev/null || fail "postinst made no user causal-twin"
-[ "$(stat -c %U "/var/lib/causal-twin")" = causal-twin ] || fail "/var/lib/causal-twin not owned by causal-twin"
+# One user per service, each in the group causal-twin (issue 25: a unit reads only its own key and state).
+services=(estimator ingest recommender recorder sensor web)
+getent group causal-twin > /dev/null || fail "postinst made no group causal-twin"
+for s in "${services[@]}"; do
+  getent passwd "causal-twin-$s" > /dev/null || fail "postinst made no user causal-twin-$s"
+  [ "$(id -gn "causal-twin-$s")" = causal-twin ] || fail "causal-twin-$s is not in the group causal-twin"
+done
+[ "$(stat -c '%U:%G %a' /var/lib/causal-twin)" = "root:causal-twin 750" ] \
+  || fail "/var/lib/causal-twin is $(stat -c '%U:%G %a' /var/lib/causal-twin), not root:causal-twin 750"
+echo "postinst: users ${services[*]/#/causal-twin-} in the group causal-twin; /var/lib/causal-twin root:causal-twin 0750"
 listed=$(dpkg -L causal-twin causal-twin-dev)
 
 echo "--- with the package installed, a build-tree binary still reads its own source tree"
@@ -86,61 +93,8 @@ timeout 120 causal-twin-demo --domain "$domain" --features /usr/share/causal-twi
 extra=$(cd "$work/ov/usr/upper" && find . -type f | sed 's|^\.|/usr|' | grep -vxF -f <(echo "$listed") || true)
 [ -z "$extra" ] || fail "written under /usr besides the package: $extra"
 
-echo "--- the units' commands as user causal-twin (no systemd here: ExecStart and the .env files read as systemd does)"
-# The operator's one edit: this cell's domain.
-echo "CAUSAL_TWIN_DOMAIN_ID=$domain" >> /etc/causal-twin/twin.env
-# unit_argv UNIT INSTANCE: ExecStart with %i and the unit's EnvironmentFile variables expanded ($VAR splits
-# into words, as in systemd), into argv; the environment files' assignments into envv.
-unit_argv() {
-  local unit="/usr/lib/systemd/system/$1" instance="$2" line file key value
-  declare -gA unit_env=()
-  envv=()
-  while read -r file; do
-    file="${file#-}"; file="${file//%i/$instance}"
-    [ -f "$file" ] || continue
-    while IFS= read -r line; do
-      [[ "$line" =~ ^[A-Za-z_][A-Za-z0-9_]*= ]] || continue
-      key="${line%%=*}"; value="${line#*=}"
-      [[ "$value" =~ ^\"(.*)\"$ ]] && value="${BASH_REMATCH[1]}"  # systemd removes the quotes
-      unit_env[$key]="$value"; envv+=("$key=$value")
-    done < "$file"
-  done < <(sed -n 's/^EnvironmentFile=//p' "$unit")
-  line="$(sed -n 's/^ExecStart=//p' "$unit")"; line="${line//%i/$instance}"
-  for key in "${!unit_env[@]}"; do line="${line//\$$key/${unit_env[$key]}}"; done
-  read -ra argv <<< "$line"
-  [ "$(grep -c '^User=causal-twin$' "$unit")" = 1 ] || fail "$1 does not run as causal-twin"
-}
-unit_names=()
-start_unit() {  # UNIT INSTANCE
-  unit_argv "$1" "$2"
-  env "${envv[@]}" setpriv --reuid causal-twin --regid causal-twin --init-groups "${argv[@]}" \
-    > "$work/unit_$1.log" 2>&1 &
-  unit_pids+=($!); unit_names+=("$1")
-}
-cd /var/lib/causal-twin
-start_unit causal-twin-recorder.service ""
-start_unit causal-twin-recommender.service ""
-start_unit causal-twin-estimator@.service main
-unit_argv causal-twin-sensor@.service ims2-slice
-env "${envv[@]}" setpriv --reuid causal-twin --regid causal-twin --init-groups timeout 60 "${argv[@]}" \
-  > "$work/unit_sensor.log" 2>&1 || { tail "$work/unit_sensor.log"; fail "causal-twin-sensor@ims2-slice"; }
-recorded=/var/lib/causal-twin/recordings/conditions_ims2-shaft1_meanabs.csv
-for _ in $(seq 300); do [ -f "$recorded" ] && [ "$(($(wc -l < "$recorded") - 1))" = 6 ] && break; sleep 0.1; done
-for p in "${unit_pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
-for i in "${!unit_pids[@]}"; do
-  rc=0; wait "${unit_pids[$i]}" || rc=$?
-  [ "$rc" = 0 ] || { tail "$work/unit_${unit_names[$i]}.log"; fail "${unit_names[$i]} exited $rc on SIGTERM"; }
-done
-unit_pids=()
-cd /
-[ -f "$recorded" ] || fail "the recorder unit wrote no $recorded"
-cp "$recorded" "$work/units_conditions.csv"
-echo "units: recorder wrote $(($(wc -l < "$recorded") - 1)) condition vectors to /var/lib/causal-twin/recordings"
-for d in estimator-main recommender recordings; do
-  [ -n "$(ls -A "/var/lib/causal-twin/$d" 2>/dev/null)" ] || fail "nothing in /var/lib/causal-twin/$d"
-  [ -z "$(find "/var/lib/causal-twin/$d" ! -user causal-twin)" ] || fail "/var/lib/causal-twin/$d: files not owned by causal-twin"
-done
-echo "units: checkpoints in estimator-main ($(ls /var/lib/causal-twin/estimator-main | wc -l) files) and recommender ($(ls /var/lib/causal-twin/recommender | wc -l) files), all owned by causal-twin; every service exited 0 on SIGTERM"
+# The units as their own users, DDS-Security on, each with only its own key (units_check.sh).
+bash "$work/units_check.sh" "$work" "$domain"
 
 echo "--- dpkg -P causal-twin-dev causal-twin"
 dpkg -P causal-twin-dev causal-twin > "$work/installed_dpkg_p.log" 2>&1 || { cat "$work/installed_dpkg_p.log"; fail "dpkg -P"; }
@@ -155,7 +109,13 @@ while read -r f; do
 done <<< "$listed"
 [ -z "$left" ] || fail "left after purge: $left"
 for p in /etc/causal-twin /var/lib/causal-twin /usr/share/causal-twin; do [ ! -e "$p" ] || fail "$p left after purge"; done
-! getent passwd causal-twin > /dev/null || fail "user causal-twin left after purge"
+for s in "${services[@]}"; do ! getent passwd "causal-twin-$s" > /dev/null || fail "user causal-twin-$s left after purge"; done
+[ -z "$(ls -d /etc/systemd/system/causal-twin-* 2>/dev/null)" ] || fail "left after purge: $(ls -d /etc/systemd/system/causal-twin-*)"
+# The CA keys of the PKI made under /etc/causal-twin (units_check.sh) are kept for root, root-only.
+kept=$(ls -d /root/causal-twin-ca-keys.*/private 2>/dev/null || true)
+[ -n "$kept" ] && [ -f "$kept/identity_ca.key" ] && [ -f "$kept/permissions_ca.key" ] || fail "purge kept no CA keys in /root"
+[ "$(stat -c '%U %a' "$(dirname "$kept")")" = "root 700" ] || fail "$(dirname "$kept") is not root 0700"
+echo "purge: CA keys kept in $(dirname "$kept") (root 0700)"
 ! getent group causal-twin > /dev/null || fail "group causal-twin left after purge"
 # Every file the install touched is back as it was, except dpkg's own records and the account files' backups.
 changed=""

@@ -5,9 +5,10 @@
 #   3. in a private mount namespace (package_root_check.sh: /usr, /etc, /var copy-on-write) the .deb is installed
 #      with dpkg -i and the build-tree causal-estimator still takes qos.xml from the source tree; then, with the
 #      source and build trees hidden, causal-estimator --help and causal-twin-demo run from / on the shipped slice
-#      and feature table (domain 81), the units pass systemd-analyze verify, their commands run as user
-#      causal-twin (recorder, recommender, estimator@main, then sensor@ims2-slice; stopped by SIGTERM, exit 0,
-#      state in /var/lib/causal-twin), and dpkg -P leaves nothing behind;
+#      and feature table (domain 81), the units pass systemd-analyze verify, their commands run as the units'
+#      own users with DDS-Security on and each unit's key handed over as its LoadCredential= drop-in says
+#      (units_check.sh: recorder, recommender, estimator@main, then sensor@ims2-slice; no user reads another's
+#      key or state; stopped by SIGTERM, exit 0), and dpkg -P leaves nothing behind but the CA keys' copy in /root;
 #      Also cmake --install into a separate prefix (DESTDIR): nothing outside it, and after the purge its binaries
 #      and demo run from / without /etc/causal-twin;
 #   4. the installed runs are counted exactly: the slice gives one condition vector and one factor row per
@@ -67,7 +68,7 @@ CAUSAL_TWIN_BUILD_DIR="$build" timeout 120 "$src/deploy/launch.sh" --domain "$re
   "${feature_args[@]}" --record "$work/ref_features" > "$work/ref_features.log" 2>&1 \
   || { tail -20 "$work/ref_features.log"; fail "build-tree demo exited non-zero"; }
 
-cp "$src/tests/package/package_root_check.sh" "$src/tests/package/dev_package_check.sh" "$work/"
+cp "$src/tests/package/package_root_check.sh" "$src/tests/package/dev_package_check.sh" "$src/tests/package/units_check.sh" "$work/"
 echo "--- cmake --install into a separate prefix (DESTDIR)"
 DESTDIR="$work/destdir" cmake --install "$build" --prefix /opt/causal-twin > "$work/prefix_install.log" 2>&1 \
   || { cat "$work/prefix_install.log"; fail "cmake --install"; }
