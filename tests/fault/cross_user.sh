@@ -28,11 +28,19 @@ cleanup() {
   sleep 1
   for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null; wait "$p" 2>/dev/null; done
   pkill_user_tools
-  [ "$made_user" = 1 ] && userdel "$other" 2>/dev/null
+  # userdel refuses a user with a running process: give the other user's tool 5 s to end on SIGTERM, then
+  # SIGKILL (before, its pid file could not be written, the tool ran on to its --max-runtime and the user
+  # ctwin-other was left behind).
+  if [ -n "${other_job:-}" ]; then
+    for _ in $(seq 50); do kill -0 "$other_job" 2>/dev/null || break; sleep 0.1; done
+    [ -f "$work/other/tool.pid" ] && kill -KILL "$(cat "$work/other/tool.pid")" 2>/dev/null
+    wait "$other_job" 2>/dev/null
+  fi
+  [ "$made_user" = 1 ] && { userdel "$other" || echo "warning: userdel $other failed: the user is left" >&2; }
   rm -rf "$work"
 }
 pkill_user_tools() {  # only the tool this script started as the other user (its pid file)
-  [ -f "$work/other.pid" ] && kill -TERM "$(cat "$work/other.pid")" 2>/dev/null
+  [ -f "$work/other/tool.pid" ] && kill -TERM "$(cat "$work/other/tool.pid")" 2>/dev/null
 }
 trap cleanup EXIT
 fail() { echo "FAIL: $1"; exit 1; }
@@ -61,7 +69,7 @@ echo "services: $(id -un) on $(basename "$services_profile"); the other user's t
 mkdir -p "$work/other"; chown "$other" "$work/other"
 sleep 5
 grep -q "ingest\|snapshot\|sent" "$work/replay.log" || echo "note: replay log so far: $(tail -2 "$work/replay.log")"
-runuser -u "$other" -- sh -c 'echo $$ > "$1/other.pid"; exec "$2" --domain "$6" --qos "$3" --transport "$4" --out "$1/other/rec" --idle-exit 6 --max-runtime "$5"' \
+runuser -u "$other" -- sh -c 'echo $$ > "$1/other/tool.pid"; exec "$2" --domain "$6" --qos "$3" --transport "$4" --out "$1/other/rec" --idle-exit 6 --max-runtime "$5"' \
   sh "$work" "$bin/causal_recorder/causal-recorder" "$deploy/dds/qos.xml" "$tool_profile" "$limit" "$domain" > "$work/other.log" 2>&1 &
 other_job=$!
 joined_at=$(date +%s.%N)
