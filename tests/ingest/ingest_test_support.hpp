@@ -24,6 +24,7 @@
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "loopback_settings.hpp"
 #include "process_runner.hpp"
 
 namespace causal::test {
@@ -78,12 +79,7 @@ class FrameRecorder {
 
  private:
   static dds::DdsSettings settings(int domain_id, const std::string& name) {
-    dds::DdsSettings s;
-    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                       std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-    s.domain_id = domain_id;
-    s.participant_name = name;
-    return s;
+    return causal::test::loopback_settings(domain_id, name);
   }
   void run() {
     while (!stop_.load()) {
@@ -209,15 +205,7 @@ inline std::vector<std::pair<std::string, std::string>> bad_messages(const std::
 
 // The adapter's machine-readable summary line, e.g. "received=7 published=5 ... malformed=1".
 inline std::map<std::string, std::uint64_t> summary_counts(const std::string& output) {
-  std::map<std::string, std::uint64_t> counts;
-  const auto at = output.rfind("sensor-ingest: received=");
-  if (at == std::string::npos) return counts;
-  const std::string line = output.substr(at, output.find('\n', at) - at);
-  const std::regex word("([a-z_]+)=([0-9]+)");
-  for (auto it = std::sregex_iterator(line.begin(), line.end(), word); it != std::sregex_iterator(); ++it) {
-    counts[(*it)[1]] = std::stoull((*it)[2]);
-  }
-  return counts;
+  return counts_in_last_line(output, "sensor-ingest: received=");
 }
 
 // A loopback port nobody listens on now (TCP and UDP), from the kernel's ephemeral range.
@@ -231,19 +219,6 @@ inline int free_port(int type) {
   ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
   ::close(fd);
   return ntohs(addr.sin_port);
-}
-
-inline bool wait_for_text(const ServiceProcess& p, const std::string& text, std::size_t occurrences,
-                          std::chrono::seconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    const std::string out = p.output();
-    std::size_t n = 0;
-    for (auto at = out.find(text); at != std::string::npos; at = out.find(text, at + 1)) ++n;
-    if (n >= occurrences) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return false;
 }
 
 }  // namespace causal::test
