@@ -24,6 +24,7 @@
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "free_port.hpp"
 #include "loopback_settings.hpp"
 #include "process_runner.hpp"
 
@@ -206,19 +207,6 @@ inline std::vector<std::pair<std::string, std::string>> bad_messages(const std::
 // The adapter's machine-readable summary line, e.g. "received=7 published=5 ... malformed=1".
 inline std::map<std::string, std::uint64_t> summary_counts(const std::string& output) {
   return counts_in_last_line(output, "sensor-ingest: received=");
-}
-
-// A loopback port nobody listens on now (TCP and UDP), from the kernel's ephemeral range.
-inline int free_port(int type) {
-  const int fd = ::socket(AF_INET, type, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
-  socklen_t len = sizeof addr;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-  ::close(fd);
-  return ntohs(addr.sin_port);
 }
 
 }  // namespace causal::test
