@@ -15,6 +15,7 @@
 #include <random>
 #include <vector>
 
+#include "causal/alarms/alarm_engine.hpp"
 #include "causal/alarms/observation.hpp"
 
 namespace causal::alarms::test {
@@ -88,6 +89,14 @@ inline std::vector<Observation> make_run(const SyntheticConfig& cfg) {
     out.push_back(std::move(o));
   }
   return out;
+}
+
+// Every event the engine gives for the observations, in order.
+inline std::vector<AlarmEvent> run_all(AlarmEngine& e, const std::vector<Observation>& obs) {
+  std::vector<AlarmEvent> all;
+  for (const auto& o : obs)
+    for (auto& ev : e.observe(o)) all.push_back(std::move(ev));
+  return all;
 }
 
 }  // namespace causal::alarms::test

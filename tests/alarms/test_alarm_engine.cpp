@@ -30,13 +30,6 @@ AlarmEngine make_engine(const AlarmParams& p = step_faults(), bool factors = fal
   return AlarmEngine("grp", channel_names4(), factors ? factor_names4() : std::vector<std::string>{}, p);
 }
 
-std::vector<AlarmEvent> run_all(AlarmEngine& e, const std::vector<Observation>& obs) {
-  std::vector<AlarmEvent> all;
-  for (const auto& o : obs)
-    for (auto& ev : e.observe(o)) all.push_back(std::move(ev));
-  return all;
-}
-
 const AlarmEvent* first_of(const std::vector<AlarmEvent>& ev, int channel, const std::string& kind) {
   for (const auto& e : ev)
     if (e.channel == channel && e.kind == kind && e.state == AlarmState::Raised) return &e;

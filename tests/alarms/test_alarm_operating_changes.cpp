@@ -17,13 +17,6 @@ using namespace causal::alarms::test;
 
 namespace {
 
-std::vector<AlarmEvent> run_all(AlarmEngine& e, const std::vector<Observation>& obs) {
-  std::vector<AlarmEvent> all;
-  for (const auto& o : obs)
-    for (auto& ev : e.observe(o)) all.push_back(std::move(ev));
-  return all;
-}
-
 AlarmEngine make_engine(const AlarmParams& p = AlarmParams{}) { return AlarmEngine("grp", channel_names4(), {}, p); }
 
 std::vector<AlarmEvent> of_category(const std::vector<AlarmEvent>& ev, const std::string& category) {

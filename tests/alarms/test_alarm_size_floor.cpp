@@ -20,13 +20,6 @@ using namespace causal::alarms::test;
 
 namespace {
 
-std::vector<AlarmEvent> run_all(AlarmEngine& e, const std::vector<Observation>& obs) {
-  std::vector<AlarmEvent> all;
-  for (const auto& o : obs)
-    for (auto& ev : e.observe(o)) all.push_back(std::move(ev));
-  return all;
-}
-
 std::vector<AlarmEvent> degradation_raises(const std::vector<AlarmEvent>& ev) {
   std::vector<AlarmEvent> out;
   for (const auto& e : ev)

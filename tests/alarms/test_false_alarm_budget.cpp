@@ -26,11 +26,9 @@
 
 #include "alarm_pipeline.hpp"
 
+namespace causal::alarms {
 namespace {
 
-using causal::alarms::AlarmEvent;
-using causal::alarms::AlarmState;
-using causal::alarms::Severity;
 using causal::testing::MonthOptions;
 using causal::testing::Variant;
 
@@ -185,3 +183,5 @@ TEST(FalseAlarmBudget, PrintsTables) {
     }
   }
 }
+
+}  // namespace causal::alarms

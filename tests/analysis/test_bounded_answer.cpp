@@ -14,11 +14,9 @@
 #include <random>
 
 #include "svar_sim.hpp"
+#include "two_channel_posterior.hpp"
 
-using causal::ModelSpec;
-using causal::NoiseParams;
-using causal::SvarKalmanFilter;
-using causal::SvarLayout;
+using namespace causal;  // ModelSpec, NoiseParams, SvarKalmanFilter, SvarLayout
 using namespace causal::analysis;
 using namespace causal::analysis::test;
 
@@ -26,26 +24,8 @@ namespace {
 
 // G = 2: y2 = b y1 + a y2[n-1] + e2, y1 = e1. Sustained do(y1 + delta): y2 changes by
 // d[t] = b delta (1 - a^{t+1}) / (1 - a) after t snapshots, b delta / (1 - a) at steady state.
-struct TwoChannel {
-  SvarLayout layout{[] {
-    ModelSpec spec;
-    spec.channels = 2;
-    spec.include_self_lags = true;
-    spec.instantaneous_allowed = {{false, false}, {true, false}};
-    return spec;
-  }()};
-  FactorPosterior posterior;
-  int ib = 0, ia = 0;
-  TwoChannel(double b, double a, double sd_b, double sd_a) {
-    posterior.mean = Eigen::VectorXd::Zero(layout.total_factors());
-    ib = layout.factor_index(1, 0, 0);
-    ia = layout.factor_index(1, 1, 1);
-    posterior.mean(layout.offset(1) + ib) = b;
-    posterior.mean(layout.offset(1) + ia) = a;
-    for (int k = 0; k < 2; ++k) posterior.blocks.push_back(Eigen::MatrixXd::Zero(layout.factor_count(k), layout.factor_count(k)));
-    posterior.blocks[1](ib, ib) = sd_b * sd_b;
-    posterior.blocks[1](ia, ia) = sd_a * sd_a;
-  }
+struct TwoChannel : TwoChannelPosterior {
+  using TwoChannelPosterior::TwoChannelPosterior;
   BoundedAnswer ask(double delta, int draws = 1000, AnswerRule rule = {}) const {
     InterventionQuery q;
     q.channel = 0;

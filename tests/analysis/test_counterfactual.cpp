@@ -9,19 +9,12 @@
 #include <random>
 
 #include "matrix_asserts.hpp"
-#include "svar_sim.hpp"
+#include "true_model.hpp"
 
 using namespace causal::analysis;
 using namespace causal::analysis::test;
 
 namespace {
-
-StructuralModel model_of(const TrueSvar& s) {
-  StructuralModel m;
-  m.a0 = s.a0;
-  m.lags = s.lags;
-  return m;
-}
 
 struct Fixture {
   TrueSvar truth;

@@ -8,19 +8,12 @@
 #include <random>
 
 #include "matrix_asserts.hpp"
-#include "svar_sim.hpp"
+#include "true_model.hpp"
 
 using namespace causal::analysis;
 using namespace causal::analysis::test;
 
 namespace {
-
-StructuralModel model_of(const TrueSvar& s) {
-  StructuralModel m;
-  m.a0 = s.a0;
-  m.lags = s.lags;
-  return m;
-}
 
 TEST(Intervention, TwoChannelClosedForm) {
   // y1 = 0.3 y1[n-1] + e1;  y2 = b y1 + 0.5 y2[n-1] + e2.

@@ -14,11 +14,9 @@
 #include "causal/analysis/var_lingam.hpp"
 #include "matrix_asserts.hpp"
 #include "svar_sim.hpp"
+#include "two_channel_posterior.hpp"
 
-using causal::ModelSpec;
-using causal::NoiseParams;
-using causal::SvarKalmanFilter;
-using causal::SvarLayout;
+using namespace causal;  // ModelSpec, NoiseParams, SvarKalmanFilter, SvarLayout
 using namespace causal::analysis;
 using namespace causal::analysis::test;
 
@@ -39,25 +37,9 @@ TEST(Uncertainty, NormalQuantile) {
 
 // G = 2, one lag, y2 = b y1 + a y2[n-1] + e2 with only b uncertain: the steady-state effect of do(y1 + delta)
 // on y2 is b delta / (1 - a), LINEAR in b, so its interval is exactly b delta/(1-a) +- z s delta/(1-a).
-struct LinearCase {
-  SvarLayout layout{[] {
-    ModelSpec spec;
-    spec.channels = 2;
-    spec.include_self_lags = true;
-    spec.instantaneous_allowed = {{false, false}, {true, false}};
-    return spec;
-  }()};
-  FactorPosterior posterior;
+struct LinearCase : TwoChannelPosterior {
   double b = 0.6, a = 0.5, s = 0.05, delta = -0.2;
-  LinearCase() {
-    posterior.mean = Eigen::VectorXd::Zero(layout.total_factors());
-    const int ib = layout.offset(1) + layout.factor_index(1, 0, 0);
-    const int ia = layout.offset(1) + layout.factor_index(1, 1, 1);
-    posterior.mean(ib) = b;
-    posterior.mean(ia) = a;
-    for (int k = 0; k < 2; ++k) posterior.blocks.push_back(Eigen::MatrixXd::Zero(layout.factor_count(k), layout.factor_count(k)));
-    posterior.blocks[1](layout.factor_index(1, 0, 0), layout.factor_index(1, 0, 0)) = s * s;
-  }
+  LinearCase() : TwoChannelPosterior(0.6, 0.5, 0.05, 0.0) {}
 };
 
 TEST(Uncertainty, LinearCaseMatchesClosedFormBothMethods) {

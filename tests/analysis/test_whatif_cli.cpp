@@ -27,7 +27,7 @@ struct CliRun {
 };
 
 CliRun run_cli(const std::string& args) {
-  const std::string cmd = std::string(CAUSAL_WHATIF_EXE) + " " + args + " 2>&1";
+  const std::string cmd = std::string(CAUSAL_WHATIF_BIN) + " " + args + " 2>&1";
   CliRun r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;

@@ -8,11 +8,10 @@
 
 #include <string>
 
+namespace causal::recommender {
 namespace {
 
 using causal::alarms::Severity;
-using causal::recommender::ActionCatalogue;
-using causal::recommender::load_action_catalogue;
 using causal::test::config_error;
 using causal::test::mutated_copy;
 
@@ -65,3 +64,5 @@ TEST(ActionCatalogue, MistakesNameTheFileAndKey) {
 }
 
 }  // namespace
+
+}  // namespace causal::recommender

@@ -24,13 +24,8 @@
 #include <string>
 #include <vector>
 
+namespace causal::recommender {
 namespace {
-
-using causal::ModelSpec;
-using causal::SvarLayout;
-using causal::recommender::Advisor;
-using causal::recommender::AdvisorParams;
-using causal::recommender::AssembledObservation;
 
 constexpr double kSigma = 0.05;  // sd of every factor
 constexpr double kRho = -0.9;    // correlation of x_kj with xL_kj (instantaneous vs lag-1, same j)
@@ -369,3 +364,5 @@ TEST(Advisor, ALinkAbsentFromTheHealthyReferenceIsMarkedAppeared) {
     EXPECT_EQ(reference_of_b1_lever(adv), degraded ? "appeared" : "held") << (degraded ? "degraded" : "healthy");
   }
 }
+
+}  // namespace causal::recommender

@@ -16,13 +16,9 @@
 #include <string>
 #include <vector>
 
+namespace causal::alarms {
 namespace {
 
-using causal::alarms::AlarmEngine;
-using causal::alarms::AlarmEvent;
-using causal::alarms::AlarmParams;
-using causal::alarms::AlarmState;
-using causal::alarms::Observation;
 using causal::recommender::AlarmStateStore;
 
 namespace fs = std::filesystem;
@@ -211,3 +207,5 @@ TEST(AlarmStateStore, UnusableCheckpointsAreRefusedNamingTheFile) {
   fs::resize_file(file, size - 10);
   refused(p, names, "truncated");
 }
+
+}  // namespace causal::alarms

@@ -44,14 +44,19 @@ std::vector<Step> run(AlarmEngine& engine, AssetStatusBoard& board, const std::v
   return steps;
 }
 
+// 400 observations of the synthetic group; bearing 2's own change from 250 on, still rising (a settled step
+// would be an operating change, re-baselined).
+std::vector<causal::alarms::Observation> rising_bearing2() {
+  syn::SyntheticConfig cfg;
+  cfg.n = 400;
+  cfg.own_change = [](int t) { return t >= 250 ? 0.3 * (t - 250) : 0.0; };
+  return syn::make_run(cfg);
+}
+
 }  // namespace
 
 TEST(AssetStatus, NeverHealthyWhileLearningThenHealthyThenAlarmWithRootCause) {
-  syn::SyntheticConfig cfg;
-  cfg.n = 400;
-  // Bearing 2's own change, still rising (a settled step would be an operating change, re-baselined).
-  cfg.own_change = [](int t) { return t >= 250 ? 0.3 * (t - 250) : 0.0; };
-  const auto obs = syn::make_run(cfg);
+  const auto obs = rising_bearing2();
   AlarmEngine engine("g", syn::channel_names4(), {}, AlarmParams{});
   AssetStatusBoard board;
   const auto steps = run(engine, board, obs);
@@ -98,10 +103,7 @@ TEST(AssetStatus, AMachineBelowItsOperatingGateIsStoppedNotHealthyNorAFault) {
 }
 
 TEST(AlarmIds, ScopedEnginesNeverShareAnIdWithTheConditionLevel) {
-  syn::SyntheticConfig cfg;
-  cfg.n = 400;
-  cfg.own_change = [](int t) { return t >= 250 ? 0.3 * (t - 250) : 0.0; };
-  const auto obs = syn::make_run(cfg);
+  const auto obs = rising_bearing2();
   AlarmEngine condition("g", syn::channel_names4(), {}, AlarmParams{});
   AlarmEngine sample("g", syn::channel_names4(), {}, AlarmParams{});
   sample.set_id_scope("sample");
@@ -122,10 +124,7 @@ TEST(AlarmIds, ScopedEnginesNeverShareAnIdWithTheConditionLevel) {
 
 // Issue 26: the status line carries the prognosis of its worst alarm (the node's function), only in alarm.
 TEST(AssetStatus, CarriesThePrognosisLineOnlyWhileInAlarm) {
-  syn::SyntheticConfig cfg;
-  cfg.n = 400;
-  cfg.own_change = [](int t) { return t >= 250 ? 0.3 * (t - 250) : 0.0; };
-  const auto obs = syn::make_run(cfg);
+  const auto obs = rising_bearing2();
   AlarmEngine engine("g", syn::channel_names4(), {}, AlarmParams{});
   AssetStatusBoard board;
   int asked = 0;

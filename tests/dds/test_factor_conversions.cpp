@@ -14,11 +14,9 @@
 #include <string>
 #include <vector>
 
+namespace causal::dds {
 namespace {
 
-using causal::ModelSpec;
-using causal::SvarLayout;
-using causal::dds::FactorContext;
 using causal::pipeline::EstimateKind;
 using causal::pipeline::FactorReport;
 
@@ -371,3 +369,5 @@ TEST(FactorCovariance, WrongCountIsMalformedAndUnpacksEmpty) {
 }
 
 }  // namespace
+
+}  // namespace causal::dds

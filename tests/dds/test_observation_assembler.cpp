@@ -13,13 +13,10 @@
 #include <random>
 #include <vector>
 
+namespace causal::recommender {
 namespace {
 
-using causal::ModelSpec;
-using causal::SvarLayout;
 using causal::dds::FactorMessage;
-using causal::recommender::AssembledObservation;
-using causal::recommender::ObservationAssembler;
 
 constexpr std::int64_t kT0 = 1'077'000'000'000'000'000LL;
 constexpr std::int64_t kStep = 600'000'000'000LL;  // 10 min
@@ -505,3 +502,5 @@ TEST(ObservationAssembler, CovarianceBlocksAreAllOrNothing) {
 }
 
 }  // namespace
+
+}  // namespace causal::recommender

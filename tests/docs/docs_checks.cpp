@@ -1,4 +1,5 @@
 #include "docs_checks.hpp"
+#include "test_files.hpp"
 
 #include <sys/wait.h>
 
@@ -27,12 +28,7 @@ const std::map<std::string, std::string> kNotBuilt = {
 // Installed names of repository scripts: their options are checked against the script.
 const std::map<std::string, std::string> kInstalledScripts = {{"causal-twin-demo", "deploy/launch.sh"}};
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
+using causal::test::slurp;
 
 bool starts_with(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 
@@ -140,7 +136,7 @@ void check_script_command(const Repository& repo, const std::string& page, const
   }
   if ((fs::status(file).permissions() & fs::perms::owner_exec) == fs::perms::none)
     report.problems.push_back({page, quote.line, "quoted script '" + script + "' is not executable"});
-  const std::string text = read_text(file);
+  const std::string text = slurp(file);
   for (const std::string& option : long_options(words))
     if (!mentions_option(text, option))
       report.problems.push_back({page, quote.line, "'" + script + "' does not know the quoted option " + option});
@@ -314,7 +310,7 @@ CheckReport check_links(const Repository& repo, const std::string& page, const M
     } else if (!fs::exists(target)) {
       report.problems.push_back({page, link.line, "link '" + link.target + "': " + relative + " does not exist"});
     } else if (!anchor.empty() && target.extension() == ".md") {
-      const auto anchors = scan_markdown(read_text(target)).anchors;
+      const auto anchors = scan_markdown(slurp(target)).anchors;
       if (std::find(anchors.begin(), anchors.end(), anchor) == anchors.end())
         report.problems.push_back({page, link.line, "link '" + link.target + "': no heading #" + anchor + " in " + relative});
     }

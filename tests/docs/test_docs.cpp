@@ -3,6 +3,7 @@
 // a small tree with known mistakes, so a checker that finds nothing cannot pass.
 #include "docs_checks.hpp"
 #include "markdown_quotes.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -21,12 +22,7 @@ namespace {
 const fs::path kSource = CAUSAL_TWIN_SOURCE_DIR;
 const fs::path kBuild = CAUSAL_TWIN_BINARY_DIR;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
+using causal::test::slurp;
 
 void write_text(const fs::path& path, const std::string& text, bool executable = false) {
   fs::create_directories(path.parent_path());
@@ -44,7 +40,7 @@ CheckReport over_all_pages(const Repository& repo,
                            const std::function<CheckReport(const std::string&, const MarkdownPage&)>& check) {
   CheckReport all;
   for (const std::string& page : documentation_pages(repo.source)) {
-    CheckReport one = check(page, scan_markdown(read_text(repo.source / page)));
+    CheckReport one = check(page, scan_markdown(slurp(repo.source / page)));
     all.problems.insert(all.problems.end(), one.problems.begin(), one.problems.end());
     all.notes.insert(all.notes.end(), one.notes.begin(), one.notes.end());
     all.checked += one.checked;
@@ -92,7 +88,7 @@ TEST(DocsChecks, ReportMissingPathsToolsOptionsAndLinks) {
              "[later](docs/advice.md) [self](#nothing)\n");
   const Repository repo = load_repository(root, root / "build", false);
   HelpCache help;
-  const MarkdownPage page = scan_markdown(read_text(root / "README.md"));
+  const MarkdownPage page = scan_markdown(slurp(root / "README.md"));
   const std::string paths = format(check_paths(repo, "README.md", page).problems);
   const std::string commands = format(check_commands(repo, "README.md", page, help).problems);
   const CheckReport links = check_links(repo, "README.md", page);
@@ -116,7 +112,7 @@ TEST(DocsChecks, ReportMissingPathsToolsOptionsAndLinks) {
 }
 
 TEST(Docs, ReadmeIsTheFrontDoorWithTheTwoSetUpCommands) {
-  const std::string readme = read_text(kSource / "README.md");
+  const std::string readme = slurp(kSource / "README.md");
   const auto lines = std::count(readme.begin(), readme.end(), '\n');
   EXPECT_LE(lines, 200) << "README.md is the front door; move detail to docs/";
   bool demo = false;

@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -12,6 +13,16 @@
 #include "causal/estimation/svar_layout.hpp"
 
 namespace causal::test {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// G channels, lag order M, every other ModelSpec field at its default.
+inline ModelSpec spec_g(int g, int m) {
+  ModelSpec s;
+  s.channels = g;
+  s.lag_order = m;
+  return s;
+}
 
 struct Simulation {
   Eigen::MatrixXd y;  // N x G observations

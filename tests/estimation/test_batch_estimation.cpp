@@ -13,14 +13,8 @@
 namespace causal {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-ModelSpec spec_g(int g, int m) {
-  ModelSpec s;
-  s.channels = g;
-  s.lag_order = m;
-  return s;
-}
+using test::kNaN;
+using test::spec_g;
 
 struct GappyData {
   test::Simulation sim;

@@ -16,6 +16,7 @@
 #include "causal/io/numeric_table.hpp"
 #include "causal/estimation/kernel_dispatch.hpp"
 #include "svar_test_support.hpp"
+#include "test_files.hpp"
 
 namespace causal {
 namespace {
@@ -27,12 +28,7 @@ struct Result {
   std::string out, err;
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using causal::test::slurp;
 
 class CausalOfflineCli : public ::testing::Test {
  protected:

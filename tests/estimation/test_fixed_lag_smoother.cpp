@@ -14,12 +14,7 @@
 namespace causal {
 namespace {
 
-ModelSpec spec_g(int g, int m) {
-  ModelSpec s;
-  s.channels = g;
-  s.lag_order = m;
-  return s;
-}
+using test::spec_g;
 
 struct Case {
   int g, m, lag, n;

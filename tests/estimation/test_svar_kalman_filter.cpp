@@ -17,14 +17,8 @@
 namespace causal {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-ModelSpec spec_g(int g, int m) {
-  ModelSpec s;
-  s.channels = g;
-  s.lag_order = m;
-  return s;
-}
+using test::kNaN;
+using test::spec_g;
 
 // G = 2, M = 1: outcome 1 has factors (x12, xL12) with h = (y2[n], y2[n-1]); outcome 2 has (x21, xL21) with
 // h = (y1[n], y1[n-1]). q = 0.5, r = 1, p0 = 1. Data y[0] = (0, 1), y[1] = (1, 1), y[2] = (2, 0).

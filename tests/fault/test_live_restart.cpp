@@ -21,6 +21,7 @@
 #include "process_runner.hpp"
 
 namespace fs = std::filesystem;
+using causal::test::counts_in_last_line;
 using causal::test::ServiceProcess;
 
 namespace {
@@ -90,19 +91,6 @@ std::pair<int, std::string> run_ingest(const fs::path& work, const std::string& 
   return {code.value_or(-1), ingest.output()};
 }
 
-// key=value numbers of the last line containing `marker`.
-std::map<std::string, std::uint64_t> counts_after(const std::string& output, const std::string& marker) {
-  std::map<std::string, std::uint64_t> counts;
-  const auto at = output.rfind(marker);
-  if (at == std::string::npos) return counts;
-  const std::string line = output.substr(at, output.find('\n', at) - at);
-  const std::regex word("([a-z_]+)=([0-9]+)");
-  for (auto it = std::sregex_iterator(line.begin(), line.end(), word); it != std::sregex_iterator(); ++it) {
-    counts[(*it)[1]] = std::stoull((*it)[2]);
-  }
-  return counts;
-}
-
 // SIGTERM once the input has surely been taken (the ingest waited for its acknowledgements before it exited).
 int stop(ServiceProcess& p) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
@@ -124,13 +112,13 @@ TEST(LiveRestart, RestartedIngestWithStateDirContinuesItsNumbering) {
   // The restarted source counts from 0 again and its data goes on an hour later.
   const auto second = run_ingest(work, d, "2", csv_stream("pump-a", kSnapshots, kT0 + 3600000000000LL, 2), true);
   ASSERT_EQ(second.first, 0) << second.second;
-  EXPECT_EQ(counts_after(second.second, "sensor-ingest: received=")["resumed_groups"], 1u) << second.second;
+  EXPECT_EQ(counts_in_last_line(second.second, "sensor-ingest: received=")["resumed_groups"], 1u) << second.second;
   const int code = stop(*estimator);
   const std::string out = estimator->output();
   std::cout << out.substr(out.rfind("summary not_processed")).substr(0, 120) << "\n";
   EXPECT_EQ(code, 0) << out;
-  EXPECT_EQ(counts_after(out, "causal-estimator: received frames=")["frames"], 2 * kFrames) << out;
-  auto skipped = counts_after(out, "summary not_processed");
+  EXPECT_EQ(counts_in_last_line(out, "causal-estimator: received frames=")["frames"], 2 * kFrames) << out;
+  auto skipped = counts_in_last_line(out, "summary not_processed");
   EXPECT_EQ(skipped["renumbered"], 0u) << out;
   EXPECT_EQ(skipped["already_processed"], 0u) << out;
   if (!HasFailure()) fs::remove_all(work);
@@ -152,7 +140,7 @@ TEST(LiveRestart, RestartedEstimatorRefusesRenumberedInputLoudlyAndSurvivesSigte
   const int code = stop(*estimator);
   const std::string out = estimator->output();
   EXPECT_EQ(code, 4) << "refused input must show in the exit code (and never crash, e.g. exit 1):\n" << out;
-  auto skipped = counts_after(out, "summary not_processed");
+  auto skipped = counts_in_last_line(out, "summary not_processed");
   std::cout << "not processed: renumbered=" << skipped["renumbered"] << " already_processed="
             << skipped["already_processed"] << "\n";
   EXPECT_EQ(skipped["renumbered"], kFrames) << out;
@@ -171,14 +159,14 @@ TEST(LiveRestart, PerWriterQuotaOnAssetGroupsAndAbsurdRatesAreRefusedAndCounted)
   input += csv_stream("slow-rate", 1, kT0, 20, 1e-300);  // rejected by sensor-ingest: 4 blocks
   const auto ingest = run_ingest(work, d, "1", input, false);
   EXPECT_EQ(ingest.first, 4) << ingest.second;  // rejections make the exit code
-  const auto in = counts_after(ingest.second, "sensor-ingest: received=");
+  const auto in = counts_in_last_line(ingest.second, "sensor-ingest: received=");
   EXPECT_EQ(in.at("published"), 5 * kBlocksPerSnapshot) << ingest.second;
   EXPECT_EQ(in.at("field"), kBlocksPerSnapshot) << ingest.second;
   EXPECT_NE(ingest.second.find("sample_rate_hz 1e-300 is outside"), std::string::npos) << ingest.second;
   const int code = stop(*estimator);
   const std::string out = estimator->output();
   EXPECT_EQ(code, 4) << out;
-  auto skipped = counts_after(out, "summary not_processed");
+  auto skipped = counts_in_last_line(out, "summary not_processed");
   EXPECT_EQ(skipped["group_quota"], 2 * kBlocksPerSnapshot) << out;
   EXPECT_EQ(skipped["groups"], 3u) << out;
   EXPECT_NE(out.find("/input/asset_group_quota/"), std::string::npos) << out;

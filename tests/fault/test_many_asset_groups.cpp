@@ -5,6 +5,7 @@
 // (the simulator's arguments), factor messages = groups x G x (samples per group / publish_every) (the
 // parameter file tests/fault/estimator_fault.yaml: sample level only, filter only, fixed noise). They must
 // equal what each process says it did (summary lines) and what crossed the wire (counted here).
+#include "loopback_settings.hpp"
 #include "process_runner.hpp"
 
 #include "causal/dds/event_loop.hpp"
@@ -87,12 +88,7 @@ class FactorCounter {
 
  private:
   static causal::dds::DdsSettings settings(int domain_id) {
-    causal::dds::DdsSettings s;
-    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                       std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-    s.domain_id = domain_id;
-    s.participant_name = "fault-test-counter";
-    return s;
+    return causal::test::loopback_settings(domain_id, "fault-test-counter");
   }
   causal::dds::Participant participant_;
   causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_;
@@ -152,6 +148,21 @@ std::size_t groups_reporting(const std::string& out, std::uint64_t frames) {
   return static_cast<std::size_t>(std::distance(std::sregex_iterator(out.begin(), out.end(), re), std::sregex_iterator()));
 }
 
+// causal-estimator with the fault parameters, waiting for this test's FactorCounter.
+std::vector<std::string> estimator_argv(const std::string& d) {
+  return {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", FAULT_ESTIMATOR_PARAMS,
+          "--wait-for", "fault-test-counter", "--max-runtime", "100"};
+}
+
+// sensor-sim with kGroups groups of kChannels channels, kFrameSamples per frame, once the estimator subscribed.
+std::vector<std::string> sim_argv(const std::string& d, const std::string& frames_per_group, const std::string& seed,
+                                  const std::string& max_runtime) {
+  return {SENSOR_SIM_BIN, "--domain", d, "--groups", std::to_string(kGroups), "--channels",
+          std::to_string(kChannels), "--frame-samples", std::to_string(kFrameSamples),
+          "--frames-per-group", frames_per_group, "--seed", seed, "--wait-subscribers", "1",
+          "--wait-timeout", "30", "--max-runtime", max_runtime};
+}
+
 fs::path work_dir(const std::string& name) {
   const fs::path p = fs::temp_directory_path() / ("causal_fault_" + name + "_" + std::to_string(getpid()));
   fs::create_directories(p);
@@ -171,16 +182,8 @@ TEST(ManyAssetGroups, ExactCountsFrom256GroupsThroughOneEstimator) {
   const std::string d = std::to_string(fault_domain_id(1));
 
   FactorCounter counter(std::stoi(d));
-  ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", FAULT_ESTIMATOR_PARAMS,
-                            "--wait-for", "fault-test-counter", "--max-runtime", "100"},
-                           (work / "estimator.log").string());
-  ServiceProcess sim("sensor-sim",
-                     {SENSOR_SIM_BIN, "--domain", d, "--groups", std::to_string(kGroups), "--channels",
-                      std::to_string(kChannels), "--frame-samples", std::to_string(kFrameSamples),
-                      "--frames-per-group", std::to_string(kFramesPerGroup), "--seed", "42",
-                      "--wait-subscribers", "1", "--wait-timeout", "30", "--max-runtime", "60"},
-                     (work / "sim.log").string());
+  ServiceProcess estimator("causal-estimator", estimator_argv(d), (work / "estimator.log").string());
+  ServiceProcess sim("sensor-sim", sim_argv(d, std::to_string(kFramesPerGroup), "42", "60"), (work / "sim.log").string());
 
   const auto sim_code = sim.wait(std::chrono::seconds(70));
   ASSERT_TRUE(sim_code.has_value()) << "sensor-sim did not finish in 70 s:\n" << sim.output();
@@ -236,16 +239,8 @@ TEST(ManyAssetGroups, SigtermWhileBusyEndsEveryProcessWithinAMinute) {
   const std::string d = std::to_string(fault_domain_id(2));
 
   FactorCounter counter(std::stoi(d));
-  ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", FAULT_ESTIMATOR_PARAMS,
-                            "--wait-for", "fault-test-counter", "--max-runtime", "100"},
-                           (work / "estimator.log").string());
-  ServiceProcess sim("sensor-sim",
-                     {SENSOR_SIM_BIN, "--domain", d, "--groups", std::to_string(kGroups), "--channels",
-                      std::to_string(kChannels), "--frame-samples", std::to_string(kFrameSamples),
-                      "--frames-per-group", "1000000", "--seed", "43", "--wait-subscribers", "1",
-                      "--wait-timeout", "30", "--max-runtime", "80"},
-                     (work / "sim.log").string());
+  ServiceProcess estimator("causal-estimator", estimator_argv(d), (work / "estimator.log").string());
+  ServiceProcess sim("sensor-sim", sim_argv(d, "1000000", "43", "80"), (work / "sim.log").string());
 
   // Busy: factor messages flowing, i.e. frames published, taken and processed, for a few rounds.
   const std::size_t busy = std::size_t{kGroups} * kChannels * 10;

@@ -14,9 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "process_expect.hpp"
 #include "process_runner.hpp"
 
 namespace fs = std::filesystem;
+using causal::test::expect_exit_zero;
 using causal::test::ServiceProcess;
 
 namespace {
@@ -79,9 +81,7 @@ TEST(OperatorStatus, StoppedMachineIsAnOperatingStateNotBadInput) {
                         {SENSOR_REPLAY_BIN, "--domain", d, "--transport", transport(), "--ims-dir", dir.string(),
                          "--asset-group", "ims2-end", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
                         (work / "replay.log").string());
-  const auto replayed = replay.wait(std::chrono::seconds(90));
-  ASSERT_TRUE(replayed.has_value()) << replay.output();
-  EXPECT_EQ(*replayed, 0) << replay.output();
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(replay, std::chrono::seconds(90)));
   const auto code = estimator.wait(std::chrono::seconds(60));
   ASSERT_TRUE(code.has_value()) << estimator.output();
   const std::string out = estimator.output();
@@ -118,9 +118,7 @@ TEST(OperatorStatus, AssetStatusSaysLearningThenHealthyThenAlarmAndIsRecorded) {
   ASSERT_TRUE(estimator.wait(std::chrono::seconds(60)).has_value()) << estimator.output();
   const auto alarm_code = alarm.wait(std::chrono::seconds(60));
   ASSERT_TRUE(alarm_code.has_value()) << alarm.output();
-  const auto recorder_code = recorder.wait(std::chrono::seconds(60));
-  ASSERT_TRUE(recorder_code.has_value()) << recorder.output();
-  EXPECT_EQ(*recorder_code, 0) << recorder.output();
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(recorder, std::chrono::seconds(60)));
 
   const auto rows = read_csv(work / "rec" / "asset_status.csv");
   ASSERT_GT(rows.size(), 1u) << recorder.output();

@@ -6,7 +6,9 @@
 //
 // Expectations come from the set-up: 984 rows in the table (read here), G = 4 outcomes per snapshot, the
 // pacing (speed x plant time), the lease in deploy/dds/localhost.xml (5 s).
+#include "loopback_settings.hpp"
 #include "delivery_checks.hpp"
+#include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
 
 #include "causal/dds/event_loop.hpp"
@@ -26,6 +28,7 @@
 #include <thread>
 
 namespace fs = std::filesystem;
+using causal::test::ims_feature_replay_argv;
 using causal::test::ServiceProcess;
 using namespace causal::test::delivery;
 using Clock = std::chrono::steady_clock;
@@ -92,12 +95,7 @@ class ConditionArrivals {
 
  private:
   static causal::dds::DdsSettings settings(int domain_id) {
-    causal::dds::DdsSettings s;
-    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                       std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-    s.domain_id = domain_id;
-    s.participant_name = kReaderName;
-    return s;
+    return causal::test::loopback_settings(domain_id, kReaderName);
   }
   causal::dds::Participant participant_;
   causal::dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_;
@@ -138,9 +136,7 @@ TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
                            (work / "estimator.log").string());
   const auto replay_started = Clock::now();
   ServiceProcess replay("sensor-replay",
-                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
-                         "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
-                         "--speed", std::to_string(kSpeed), "--wait-for", "causal-estimator", "--wait-timeout", "60"},
+                        ims_feature_replay_argv(SENSOR_REPLAY_BIN, d, table, {"--speed", std::to_string(kSpeed)}),
                         (work / "replay.log").string());
 
   // Freeze the recorder mid-run, once the stream is flowing.

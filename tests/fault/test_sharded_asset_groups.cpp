@@ -8,6 +8,8 @@
 // not from the code under test; frames = groups x frames per group, factor messages = frames x G (the
 // parameter file tests/fault/estimator_fault.yaml: sample level, filter only, one report per 1024-sample frame).
 // Fixed DDS domains 86 (shards file) and 87 (hash slices): the shards helper's range.
+#include "loopback_settings.hpp"
+#include "process_expect.hpp"
 #include "process_runner.hpp"
 
 #include "causal/dds/event_loop.hpp"
@@ -31,6 +33,7 @@
 #include <unistd.h>
 
 namespace fs = std::filesystem;
+using causal::test::expect_exit_zero;
 using causal::test::ServiceProcess;
 using Clock = std::chrono::steady_clock;
 
@@ -73,12 +76,7 @@ class FactorCounter {
 
  private:
   static causal::dds::DdsSettings settings(int domain) {
-    causal::dds::DdsSettings s;
-    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                       std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-    s.domain_id = domain;
-    s.participant_name = "fault-test-counter";
-    return s;
+    return causal::test::loopback_settings(domain, "fault-test-counter");
   }
   causal::dds::Participant participant_;
   causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_;
@@ -142,9 +140,7 @@ void run_and_check(int domain, const std::vector<std::vector<std::string>>& shar
                       "7", "--wait-subscribers", std::to_string(shard_args.size()), "--wait-timeout", "30",
                       "--max-runtime", "60"},
                      (work / "sim.log").string());
-  const auto sim_code = sim.wait(std::chrono::seconds(70));
-  ASSERT_TRUE(sim_code.has_value()) << sim.output();
-  EXPECT_EQ(*sim_code, 0) << sim.output();
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(sim, std::chrono::seconds(70)));
   const std::string sent = "sensor-sim: sent frames=" + std::to_string(kGroups * kFramesPerGroup) +
                            " groups=" + std::to_string(kGroups) + " per_group=" + std::to_string(kFramesPerGroup) +
                            " lost=0";

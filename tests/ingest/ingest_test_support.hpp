@@ -24,6 +24,8 @@
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "free_port.hpp"
+#include "loopback_settings.hpp"
 #include "process_runner.hpp"
 
 namespace causal::test {
@@ -78,12 +80,7 @@ class FrameRecorder {
 
  private:
   static dds::DdsSettings settings(int domain_id, const std::string& name) {
-    dds::DdsSettings s;
-    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                       std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-    s.domain_id = domain_id;
-    s.participant_name = name;
-    return s;
+    return causal::test::loopback_settings(domain_id, name);
   }
   void run() {
     while (!stop_.load()) {
@@ -209,41 +206,7 @@ inline std::vector<std::pair<std::string, std::string>> bad_messages(const std::
 
 // The adapter's machine-readable summary line, e.g. "received=7 published=5 ... malformed=1".
 inline std::map<std::string, std::uint64_t> summary_counts(const std::string& output) {
-  std::map<std::string, std::uint64_t> counts;
-  const auto at = output.rfind("sensor-ingest: received=");
-  if (at == std::string::npos) return counts;
-  const std::string line = output.substr(at, output.find('\n', at) - at);
-  const std::regex word("([a-z_]+)=([0-9]+)");
-  for (auto it = std::sregex_iterator(line.begin(), line.end(), word); it != std::sregex_iterator(); ++it) {
-    counts[(*it)[1]] = std::stoull((*it)[2]);
-  }
-  return counts;
-}
-
-// A loopback port nobody listens on now (TCP and UDP), from the kernel's ephemeral range.
-inline int free_port(int type) {
-  const int fd = ::socket(AF_INET, type, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
-  socklen_t len = sizeof addr;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-  ::close(fd);
-  return ntohs(addr.sin_port);
-}
-
-inline bool wait_for_text(const ServiceProcess& p, const std::string& text, std::size_t occurrences,
-                          std::chrono::seconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    const std::string out = p.output();
-    std::size_t n = 0;
-    for (auto at = out.find(text); at != std::string::npos; at = out.find(text, at + 1)) ++n;
-    if (n >= occurrences) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return false;
+  return counts_in_last_line(output, "sensor-ingest: received=");
 }
 
 }  // namespace causal::test

@@ -22,6 +22,7 @@
 #include <algorithm>
 
 #include "ingest_test_support.hpp"
+#include "test_files.hpp"
 
 namespace fs = std::filesystem;
 using causal::test::FrameRecorder;
@@ -31,16 +32,11 @@ namespace {
 
 constexpr int kDomain = 78;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using causal::test::slurp;
 
 // The value of KEY= in a systemd environment file, split on spaces (as systemd does for $KEY).
 std::vector<std::string> env_words(const fs::path& file, const std::string& key) {
-  std::istringstream lines(read_file(file));
+  std::istringstream lines(slurp(file));
   std::string line;
   while (std::getline(lines, line)) {
     if (line.rfind(key + "=", 0) != 0) continue;
@@ -62,7 +58,7 @@ TEST(IngestStartOrder, UnitsRestartOnEverythingButAConfigurationError) {
   std::size_t checked = 0;
   for (const auto& entry : fs::directory_iterator(units)) {
     if (entry.path().extension() != ".service") continue;
-    const std::string unit = read_file(entry.path());
+    const std::string unit = slurp(entry.path());
     ++checked;
     EXPECT_NE(unit.find("\nRestart=on-failure\n"), std::string::npos) << entry.path();
     EXPECT_NE(unit.find("\nStartLimitIntervalSec=0\n"), std::string::npos)
@@ -101,13 +97,13 @@ TEST(IngestStartOrder, IngestWaitsForAnEstimatorThatComesLaterAndDeliversEveryth
   }
   ServiceProcess ingest("sensor-ingest", argv, (work / "ingest.log").string());
   // 12 s without an estimator: it must still be waiting, and say so.
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "still waiting for", 1, std::chrono::seconds(15))) << ingest.output();
+  ASSERT_TRUE(ingest.wait_for_output("still waiting for", std::chrono::seconds(15))) << ingest.output();
   std::this_thread::sleep_for(std::chrono::seconds(1));
   ASSERT_TRUE(ingest.running()) << ingest.output();
   EXPECT_EQ(ingest.output().find("ingesting from"), std::string::npos) << ingest.output();
 
   FrameRecorder estimator(kDomain, "causal-estimator");  // the estimator's host is up at last
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "ingesting from", 1, std::chrono::seconds(20))) << ingest.output();
+  ASSERT_TRUE(ingest.wait_for_output("ingesting from", std::chrono::seconds(20))) << ingest.output();
   constexpr std::size_t kBlocks = 12;
   const std::string group = "late-estimator-pump";
   const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);

@@ -136,9 +136,9 @@ TEST(SensorIngest, MqttBlocksBecomeFramesAcrossABrokerStartedLateAndRestarted) {
                         ingest_args("ingest-test-mqtt", "mqtt://127.0.0.1:" + std::to_string(broker.port()) + "/" + topic),
                         (work / "ingest.log").string());
   // The adapter may start before its broker: it keeps trying.
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "cannot connect", 1, std::chrono::seconds(40))) << ingest.output();
+  ASSERT_TRUE(ingest.wait_for_output("cannot connect", std::chrono::seconds(40))) << ingest.output();
   broker.start(1);
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "(connection 1)", 1, std::chrono::seconds(40))) << ingest.output();
+  ASSERT_TRUE(ingest.wait_for_output("(connection 1)", std::chrono::seconds(40))) << ingest.output();
 
   constexpr std::size_t kFirst = 12, kSecond = 9;
   std::vector<std::string> messages;
@@ -151,9 +151,9 @@ TEST(SensorIngest, MqttBlocksBecomeFramesAcrossABrokerStartedLateAndRestarted) {
 
   // The broker dies and comes back on the same port: the adapter reconnects and subscribes again by itself.
   broker.kill();
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "lost the broker", 1, std::chrono::seconds(20))) << ingest.output();
+  ASSERT_TRUE(ingest.wait_for_output("lost the broker", std::chrono::seconds(20))) << ingest.output();
   broker.start(2);
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "(connection 2)", 1, std::chrono::seconds(30))) << ingest.output();
+  ASSERT_TRUE(ingest.wait_for_output("(connection 2)", std::chrono::seconds(30))) << ingest.output();
   messages.clear();
   for (std::uint64_t k = kFirst; k < kFirst + kSecond; ++k) {
     messages.push_back(causal::test::encode(causal::test::stream_block(group, k), static_cast<int>(k % 3)));
@@ -175,7 +175,7 @@ TEST(SensorIngest, UdpDatagramsBecomeFrames) {
   FrameRecorder recorder(kDomain, "ingest-test-udp");
   ServiceProcess ingest("sensor-ingest", ingest_args("ingest-test-udp", "udp://127.0.0.1:" + std::to_string(port)),
                         (work / "ingest.log").string());
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "ingesting from", 1, std::chrono::seconds(40))) << ingest.output();
+  ASSERT_TRUE(ingest.wait_for_output("ingesting from", std::chrono::seconds(40))) << ingest.output();
 
   constexpr std::size_t kGood = 15;
   const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
@@ -194,7 +194,7 @@ TEST(SensorIngest, UdpDatagramsBecomeFrames) {
   ::close(fd);
   ASSERT_EQ(recorder.wait_for(group, kGood, std::chrono::seconds(30)), kGood) << ingest.output();
   // Every datagram is taken before the stop (the bad ones came last): wait until the adapter logged the last.
-  ASSERT_TRUE(causal::test::wait_for_text(ingest, "rejected (out_of_order)", 1, std::chrono::seconds(10)))
+  ASSERT_TRUE(ingest.wait_for_output("rejected (out_of_order)", std::chrono::seconds(10)))
       << ingest.output();
 
   EXPECT_EQ(ingest.terminate(), 4) << ingest.output();

@@ -2,6 +2,7 @@
 // arrives, so integration tests check real traffic between real processes.
 #pragma once
 
+#include "loopback_settings.hpp"
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
@@ -91,12 +92,7 @@ class DdsObserver {
 
  private:
   static dds::DdsSettings settings(int domain_id) {
-    dds::DdsSettings s;
-    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                       std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-    s.domain_id = domain_id;
-    s.participant_name = "test-observer";
-    return s;
+    return loopback_settings(domain_id, "test-observer");
   }
   void run() {
     while (loop_.wait(std::chrono::milliseconds(100))) {

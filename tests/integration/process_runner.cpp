@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fcntl.h>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <sys/wait.h>
@@ -88,6 +89,32 @@ std::string ServiceProcess::output() const {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+bool ServiceProcess::wait_for_output(const std::string& text, std::chrono::milliseconds timeout,
+                                     std::size_t occurrences) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    const bool ended = !running();  // before reading: what it printed before it ended is all there
+    const std::string out = output();
+    std::size_t n = 0;
+    for (auto at = out.find(text); at != std::string::npos; at = out.find(text, at + 1)) ++n;
+    if (n >= occurrences) return true;
+    if (ended || std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+std::map<std::string, std::uint64_t> counts_in_last_line(const std::string& output, const std::string& marker) {
+  std::map<std::string, std::uint64_t> counts;
+  const auto at = output.rfind(marker);
+  if (at == std::string::npos) return counts;
+  const std::string line = output.substr(at, output.find('\n', at) - at);
+  const std::regex word("([a-z_]+)=([0-9]+)");
+  for (auto it = std::sregex_iterator(line.begin(), line.end(), word); it != std::sregex_iterator(); ++it) {
+    counts[(*it)[1]] = std::stoull((*it)[2]);
+  }
+  return counts;
 }
 
 int private_domain_id(int salt) { return 100 + static_cast<int>((static_cast<unsigned>(getpid()) * 7u + static_cast<unsigned>(salt)) % 100u); }

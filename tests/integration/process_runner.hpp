@@ -4,6 +4,9 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <sys/types.h>
@@ -27,6 +30,9 @@ class ServiceProcess {
   // SIGKILL at once, as a crash would end it (no signal handler, no clean-up). Returns the exit code.
   int kill_hard();
   std::string output() const;  // everything it printed so far
+  // Waits up to `timeout` until its output holds `text` (`occurrences` times); false when it has not by then or
+  // ended without it.
+  bool wait_for_output(const std::string& text, std::chrono::milliseconds timeout, std::size_t occurrences = 1);
   const std::string& name() const { return name_; }
   pid_t pid() const { return pid_; }
 
@@ -36,6 +42,10 @@ class ServiceProcess {
   pid_t pid_ = -1;
   std::optional<int> exit_code_;
 };
+
+// The key=value numbers of the last line of `output` that contains `marker` (a service's summary line, e.g.
+// "sensor-ingest: received=7 published=5 ... malformed=1"); empty when there is no such line.
+std::map<std::string, std::uint64_t> counts_in_last_line(const std::string& output, const std::string& marker);
 
 // A private DDS domain id for this test process (100..199), so concurrent runs do not hear each other.
 int private_domain_id(int salt);

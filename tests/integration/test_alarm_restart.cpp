@@ -5,6 +5,8 @@
 //  * a reader that joins after the restart (transient-local) receives every alarm id raised before the crash;
 //  * no alarm id is raised twice across the two processes (the id counters are part of the checkpoint).
 #include "dds_observer.hpp"
+#include "process_expect.hpp"
+#include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
 
 #include <gtest/gtest.h>
@@ -19,8 +21,7 @@
 #include <thread>
 
 namespace fs = std::filesystem;
-using causal::test::DdsObserver;
-using causal::test::ServiceProcess;
+using namespace causal::test;
 
 namespace {
 
@@ -31,16 +32,6 @@ std::map<std::string, std::vector<std::string>> alarm_lines(const std::string& l
   for (auto it = std::sregex_iterator(log.begin(), log.end(), re); it != std::sregex_iterator(); ++it)
     out[(*it)[2].str()].push_back((*it)[1].str());
   return out;
-}
-
-bool wait_for(ServiceProcess& p, const std::string& text, std::chrono::seconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (p.output().find(text) != std::string::npos) return true;
-    if (!p.running()) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return false;
 }
 
 }  // namespace
@@ -65,21 +56,17 @@ TEST(AlarmRestart, KillNineResumesRepublishesAndNeverReusesIds) {
                            (work / "estimator.log").string());
   // 60 snapshots per second of wall clock: the kill lands mid-run, the run lasts ~20 s.
   ServiceProcess replay("sensor-replay",
-                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
-                         "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
-                         "--speed", "36000", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
+                        ims_feature_replay_argv(SENSOR_REPLAY_BIN, d, table, {"--speed", "36000"}),
                         (work / "replay.log").string());
-  ASSERT_TRUE(wait_for(*first, "ALARM raised", std::chrono::seconds(120))) << first->output();
+  ASSERT_TRUE(first->wait_for_output("ALARM raised", std::chrono::seconds(120))) << first->output();
   EXPECT_EQ(first->kill_hard(), 128 + 9);
   const auto before = alarm_lines(first->output());
   ASSERT_FALSE(before.empty());
 
   auto second = recommender("alarm2.log", true);
-  ASSERT_TRUE(wait_for(*second, "re-published from the checkpoint", std::chrono::seconds(120))) << second->output();
+  ASSERT_TRUE(second->wait_for_output("re-published from the checkpoint", std::chrono::seconds(120))) << second->output();
   DdsObserver late(std::stoi(d));  // joins after the restart and the republishing
-  const auto replay_code = replay.wait(std::chrono::seconds(240));
-  ASSERT_TRUE(replay_code.has_value()) << replay.output();
-  EXPECT_EQ(*replay_code, 0) << replay.output();
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(replay, std::chrono::seconds(240)));
   ASSERT_TRUE(estimator.wait(std::chrono::seconds(120)).has_value()) << estimator.output();
   const auto code = second->wait(std::chrono::seconds(120));
   ASSERT_TRUE(code.has_value()) << second->output();

@@ -2,6 +2,7 @@
 // `sensor-replay --features FILE` alone (no per-file flags), 2-16 channels, time gaps marked as
 // discontinuities, and anything refused refused loudly. Variants of IMS test 2 from tests/support/ims_variants.
 // Fixed DDS domains of the alarms-suite range: 228 (eight channels), 229 (gaps, then the refusal).
+#include "loopback_settings.hpp"
 #include "dds_observer.hpp"
 #include "ims_variants.hpp"
 #include "process_runner.hpp"
@@ -113,10 +114,7 @@ TEST(AnyFeatureTable, GapsAreDiscontinuitiesAndRefusalIsLoud) {
   causal::testing::write_variant_csv(v, csv);
   const std::string d = "229";
   {
-    causal::dds::DdsSettings s;
-    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml", std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-    s.domain_id = 229;
-    s.participant_name = "test-conditions";
+    causal::dds::DdsSettings s = causal::test::loopback_settings(229, "test-conditions");
     causal::dds::Participant participant(s);
     causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors(participant, causal::dds::topics::kCausalFactors,
                                                                            causal::dds::profiles::kCausalFactorsReader);

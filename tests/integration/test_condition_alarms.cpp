@@ -10,6 +10,8 @@
 // recommendation at the event's own sample_index; no advice reduces the failing bearing 1; causal-recorder's
 // recommendations.csv has the sample_index and action columns with the same content.
 #include "dds_observer.hpp"
+#include "process_expect.hpp"
+#include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
 
 #include "causal/io/feature_table.hpp"
@@ -23,8 +25,7 @@
 #include <set>
 
 namespace fs = std::filesystem;
-using causal::test::DdsObserver;
-using causal::test::ServiceProcess;
+using namespace causal::test;
 
 namespace {
 constexpr std::int64_t kTenMinutesNs = 600LL * 1000000000LL;
@@ -144,15 +145,7 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
                             "--wait-for", "alarm-recommender", "--wait-for", "test-observer", "--wait-for",
                             "causal-recorder"},
                            (work / "estimator.log").string());
-  ServiceProcess replay("sensor-replay",
-                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
-                         "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
-                         "--wait-for", "causal-estimator", "--wait-timeout", "60"},
-                        (work / "replay.log").string());
-  const auto replay_code = replay.wait(std::chrono::seconds(240));
-  ASSERT_TRUE(replay_code.has_value()) << replay.output();
-  EXPECT_EQ(*replay_code, 0) << replay.output();
-  ASSERT_TRUE(estimator.wait(std::chrono::seconds(120)).has_value()) << estimator.output();
+  ASSERT_NO_FATAL_FAILURE(replay_through(estimator, SENSOR_REPLAY_BIN, d, table, work / "replay.log"));
   // Issue 11: a what-if on the final IMS model, a sustained 10 % cut of bearing 1's level: answered honestly
   // (medians inside their intervals, horizon and stability named) or refused with the reason.
   causal_twin::WhatIfRequest question;
@@ -226,9 +219,7 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
   }
   EXPECT_EQ(first_action, first_degradation) << "the first alarm must carry an action";
   EXPECT_LE(first_action, 547);
-  const auto rec_code = recorder.wait(std::chrono::seconds(120));
-  ASSERT_TRUE(rec_code.has_value()) << recorder.output();
-  EXPECT_EQ(*rec_code, 0) << recorder.output();
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(recorder, std::chrono::seconds(120)));
   check_recorded_actions(work / "rec" / "recommendations.csv", recs);
   if (!HasFailure()) fs::remove_all(work);
   causal::test::clean_stale_shared_memory();

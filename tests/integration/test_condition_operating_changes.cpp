@@ -9,6 +9,8 @@
 //  * bearing 1 still alarms by snapshot 547 with root cause bearing 1 (issue 23's bar).
 // Fixed domain id 226 (helper range of issue 12's engine work).
 #include "dds_observer.hpp"
+#include "process_expect.hpp"
+#include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
 
 #include "causal/io/feature_table.hpp"
@@ -22,8 +24,7 @@
 #include <string>
 
 namespace fs = std::filesystem;
-using causal::test::DdsObserver;
-using causal::test::ServiceProcess;
+using namespace causal::test;
 
 namespace {
 constexpr int kDomain = 226;
@@ -69,15 +70,7 @@ TEST(ConditionOperatingChanges, GapAndOperatingStepAreReportedNotAlarmed) {
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
                             "--wait-for", "alarm-recommender", "--wait-for", "test-observer"},
                            (work / "estimator.log").string());
-  ServiceProcess replay("sensor-replay",
-                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", variant, "--feature-suffix", "_meanabs",
-                         "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
-                         "--wait-for", "causal-estimator", "--wait-timeout", "60"},
-                        (work / "replay.log").string());
-  const auto replay_code = replay.wait(std::chrono::seconds(240));
-  ASSERT_TRUE(replay_code.has_value()) << replay.output();
-  EXPECT_EQ(*replay_code, 0) << replay.output();
-  ASSERT_TRUE(estimator.wait(std::chrono::seconds(120)).has_value()) << estimator.output();
+  ASSERT_NO_FATAL_FAILURE(replay_through(estimator, SENSOR_REPLAY_BIN, d, variant, work / "replay.log"));
   ASSERT_TRUE(alarm.wait(std::chrono::seconds(120)).has_value()) << alarm.output();
 
   // The alarm topic is keep-last per id: the observer keeps every sample it received.

@@ -11,6 +11,8 @@
 // recommendation id; twin-web shows every open alarm as open.
 // Fixed DDS domain 227; about 25 s.
 #include "dds_observer.hpp"
+#include "process_expect.hpp"
+#include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
 
 #include <gtest/gtest.h>
@@ -27,22 +29,11 @@
 #include <thread>
 
 namespace fs = std::filesystem;
-using causal::test::DdsObserver;
-using causal::test::ServiceProcess;
+using namespace causal::test;
 
 namespace {
 
 constexpr int kDomain = 227;
-
-bool wait_for_text(ServiceProcess& p, const std::string& text, std::chrono::seconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (p.output().find(text) != std::string::npos) return true;
-    if (!p.running()) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return false;
-}
 
 // The alarms the recommender's engines own (degradation, operating changes): the estimator's data-quality and
 // every service's HEALTH alarms are not part of the recommender's checkpoint.
@@ -111,16 +102,12 @@ TEST(LateReaderAfterRestart, OpenAlarmsAndAdviceReachReadersThatJoinAfterTheServ
                               "--state-dir", (work / "estimator-state").string(), "--wait-for", "alarm-recommender"},
                              (work / "estimator.log").string());
     ServiceProcess replay("sensor-replay",
-                          {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
-                           "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3",
-                           "bearing4", "--speed", "60000", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
+                          ims_feature_replay_argv(SENSOR_REPLAY_BIN, d, table, {"--speed", "60000"}),
                           (work / "replay.log").string());
     const auto replay_code = replay.wait(std::chrono::seconds(90));
     ASSERT_TRUE(replay_code.has_value()) << replay.output();
     ASSERT_EQ(*replay_code, 0) << replay.output();
-    const auto est_code = estimator.wait(std::chrono::seconds(60));
-    ASSERT_TRUE(est_code.has_value()) << estimator.output();
-    EXPECT_EQ(*est_code, 0) << estimator.output();
+    ASSERT_NO_FATAL_FAILURE(expect_exit_zero(estimator, std::chrono::seconds(60)));
     std::this_thread::sleep_for(std::chrono::seconds(1));  // the last alarms reach the watcher
     // The services go down hard (a host reboot, a crash): no clean exit of the recommender.
     EXPECT_EQ(first->kill_hard(), 128 + 9);
@@ -137,7 +124,7 @@ TEST(LateReaderAfterRestart, OpenAlarmsAndAdviceReachReadersThatJoinAfterTheServ
 
   // Restarted with nothing upstream: no estimator, no source, so no new observation will ever arrive.
   auto second = recommender("recommender2.log");
-  ASSERT_TRUE(wait_for_text(*second, "re-published from the checkpoint", std::chrono::seconds(30))) << second->output();
+  ASSERT_TRUE(second->wait_for_output("re-published from the checkpoint", std::chrono::seconds(30))) << second->output();
   ServiceProcess web("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "60"},
                      (work / "web.log").string());
   DdsObserver late(kDomain);  // joins after the restart

@@ -8,6 +8,7 @@
 #include "process_runner.hpp"
 
 #include "causal/io/ims_directory.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,12 +26,7 @@ namespace {
 constexpr int kFrameSamples = 1024;
 constexpr int kPublishEvery = 2048;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using causal::test::slurp;
 
 std::string write_estimator_params(const fs::path& dir) {
   const fs::path p = dir / "estimator.yaml";
@@ -49,7 +45,7 @@ std::string write_estimator_params(const fs::path& dir) {
 
 // The shipped alarm parameters, with the sample-level baseline set to the healthy half of the slice.
 std::string write_alarm_params(const fs::path& dir, int baseline_publications) {
-  std::string text = read_file(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/config/alarms.yaml");
+  std::string text = slurp(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/config/alarms.yaml");
   text = std::regex_replace(text, std::regex("baseline_publications: *[0-9]+"),
                             "baseline_publications: " + std::to_string(baseline_publications));
   const fs::path p = dir / "alarms.yaml";

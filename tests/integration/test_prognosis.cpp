@@ -5,6 +5,8 @@
 // asset_group,channel,channel_name,sample_index,time_utc,level,hours,hours_low,hours_high, bearing 1 (channel
 // 1) gets rows for all three levels from its first degradation alarm on and none before it, and the alarm's
 // decision fields (next level, hours) are in alarms.csv.
+#include "process_expect.hpp"
+#include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
 
 #include <gtest/gtest.h>
@@ -17,7 +19,7 @@
 #include <set>
 
 namespace fs = std::filesystem;
-using causal::test::ServiceProcess;
+using namespace causal::test;
 
 namespace {
 
@@ -75,21 +77,9 @@ TEST(Prognosis, ImsReplayPublishesAndRecordsTimeToLevel) {
                            {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
                             "--wait-for", "alarm-recommender", "--wait-for", "causal-recorder"},
                            (work / "estimator.log").string());
-  ServiceProcess replay("sensor-replay",
-                        {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-suffix", "_meanabs",
-                         "--feature-name", "meanabs", "--channel-names", "bearing1", "bearing2", "bearing3", "bearing4",
-                         "--wait-for", "causal-estimator", "--wait-timeout", "60"},
-                        (work / "replay.log").string());
-  const auto replay_code = replay.wait(std::chrono::seconds(240));
-  ASSERT_TRUE(replay_code.has_value()) << replay.output();
-  EXPECT_EQ(*replay_code, 0) << replay.output();
-  ASSERT_TRUE(estimator.wait(std::chrono::seconds(120)).has_value()) << estimator.output();
-  const auto alarm_code = alarm.wait(std::chrono::seconds(120));
-  ASSERT_TRUE(alarm_code.has_value()) << alarm.output();
-  EXPECT_EQ(*alarm_code, 0) << alarm.output();
-  const auto recorder_code = recorder.wait(std::chrono::seconds(120));
-  ASSERT_TRUE(recorder_code.has_value()) << recorder.output();
-  EXPECT_EQ(*recorder_code, 0) << recorder.output();
+  ASSERT_NO_FATAL_FAILURE(replay_through(estimator, SENSOR_REPLAY_BIN, d, table, work / "replay.log"));
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(alarm, std::chrono::seconds(120)));
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(recorder, std::chrono::seconds(120)));
 
   // Exact counting: every prognosis the recommender published is one row, none dropped or repeated.
   const long sent = last_number(alarm.output(), R"(summary topic=causal_twin/prognosis sent=(\d+) failed=0)");

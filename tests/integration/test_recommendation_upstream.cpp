@@ -7,7 +7,9 @@
 //  * Learned: told nothing; it centres the inputs and learns the causal order with VAR-LiNGAM on the first
 //    200 snapshots (the noise is uniform, so the order is identifiable), then must publish x12 but not x21,
 //    and the what-if on bearing 2 must predict no change of the unlinked bearings 3 and 4.
+#include "condition_level_params.hpp"
 #include "dds_observer.hpp"
+#include "process_expect.hpp"
 #include "process_runner.hpp"
 
 #include <gtest/gtest.h>
@@ -23,8 +25,7 @@
 #include <vector>
 
 namespace fs = std::filesystem;
-using causal::test::DdsObserver;
-using causal::test::ServiceProcess;
+using namespace causal::test;
 
 namespace {
 
@@ -63,23 +64,6 @@ struct Scenario {
   const char* structure;  // condition_level.structure (flow style)
 };
 
-std::string write_estimator_params(const fs::path& dir, const Scenario& sc) {
-  const fs::path p = dir / "estimator.yaml";
-  std::ofstream(p) << "sample_level:\n  enabled: false\n  lag_order: 1\n  include_self_lags: false\n"
-                      "  instantaneous_graph: \"\"\n"
-                      "  noise: {mode: fixed, q: 1.0e-6, r: 1.0e-2, p0: 1.0, calibration_samples: 4096}\n"
-                      "  structure: {calibration_samples: 0, centre: false, causal_order: configured, prune_threshold: 0.0}\n"
-                      "  publish_every: 1024\n  fixed_lag: 0\n"
-                      "condition_level:\n  enabled: true\n  feature: meanabs\n  log_transform: true\n"
-                      "  window_samples: 0\n  min_samples: 256\n  lag_order: 1\n  include_self_lags: true\n"
-                      "  instantaneous_graph: \"" << sc.graph << "\"\n"
-                      "  noise: {mode: fixed, q: 1.0e-4, r: 1.0e-2, p0: 1.0, calibration_samples: 100}\n"
-                      "  structure: " << sc.structure << "\n"
-                      "  publish_every: 1\n  fixed_lag: 0\n"
-                      "health:\n  deadline_s: 30\n";
-  return p.string();
-}
-
 causal_twin::WhatIfRequest sustained_cut(int channel) {
   causal_twin::WhatIfRequest q;
   q.request_id("it-" + std::to_string(getpid()));
@@ -113,16 +97,15 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
   ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "20", "--max-runtime", "300"},
                        (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", write_estimator_params(work, sc),
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params",
+                            write_condition_level_params(work / "estimator.yaml", sc.graph, sc.structure),
                             "--idle-exit", "3", "--max-runtime", "300", "--wait-for", "alarm-recommender", "--wait-for", "test-observer"},
                            (work / "estimator.log").string());
   ServiceProcess replay("sensor-replay",
                         {SENSOR_REPLAY_BIN, "--domain", d, "--features", table, "--feature-name", "meanabs",
                          "--asset-group", "sim-shaft", "--wait-for", "causal-estimator", "--wait-timeout", "60"},
                         (work / "replay.log").string());
-  const auto code = replay.wait(std::chrono::seconds(240));
-  ASSERT_TRUE(code.has_value()) << replay.output();
-  EXPECT_EQ(*code, 0) << replay.output();
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(replay, std::chrono::seconds(240)));
 
   // The estimator drains its output after the replay has gone: ask once it has published everything and left
   // (the recommender then holds the final model, so both askers below get the same answer).
@@ -164,9 +147,7 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
     ServiceProcess ask("causal-ask", {CAUSAL_ASK_BIN, "--domain", d, "--asset-group", "sim-shaft", "--intervene", "2",
                                       "--percent", "-10", "--timeout", "20"},
                        (work / "ask.log").string());
-    const auto ask_code = ask.wait(std::chrono::seconds(40));
-    ASSERT_TRUE(ask_code.has_value()) << ask.output();
-    EXPECT_EQ(*ask_code, 0) << ask.output();
+    ASSERT_NO_FATAL_FAILURE(expect_exit_zero(ask, std::chrono::seconds(40)));
     EXPECT_NE(ask.output().find(reply->text()), std::string::npos) << "CLI and observer got different answers:\n"
                                                                  << ask.output();
     // Channels by the names the replayed CSV gave them (its header), in the reply and in causal-ask's table.

@@ -11,10 +11,7 @@
 #include "io_test_util.hpp"
 #include "matrix_asserts.hpp"
 
-using causal::io::ChannelTable;
-using causal::io::InputError;
-using causal::io::read_channel_csv;
-using causal::io::write_channel_csv;
+using namespace causal::io;
 using causal::io::test::TempDir;
 
 namespace {

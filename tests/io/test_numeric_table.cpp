@@ -15,10 +15,7 @@
 #include "causal/io/input_error.hpp"
 #include "io_test_util.hpp"
 
-using causal::io::InputError;
-using causal::io::NumericTable;
-using causal::io::NumericTableView;
-using causal::io::read_numeric_columns;
+using namespace causal::io;
 using causal::io::test::TempDir;
 
 namespace {

@@ -3,6 +3,7 @@
 // validation, Debian's `promtool check metrics` on the output, and the HTTP endpoint.
 #include "causal/metrics/metrics_registry.hpp"
 #include "causal/metrics/metrics_server.hpp"
+#include "free_port.hpp"
 
 #include <gtest/gtest.h>
 
@@ -45,18 +46,7 @@ std::string http_get(int port, const std::string& path) {
   return out;
 }
 
-int free_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
-  socklen_t len = sizeof addr;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-  const int port = ntohs(addr.sin_port);
-  ::close(fd);
-  return port;
-}
+using causal::test::free_port;
 
 TEST(MetricsRegistry, ExpositionOfCountersGaugesAndLabels) {
   MetricsRegistry r;
@@ -161,7 +151,7 @@ TEST(MetricsRegistry, PromtoolAcceptsTheExposition) {
 TEST(MetricsServer, ServesTheRegistryOnLoopbackAndRefusesABusyPort) {
   MetricsRegistry r;
   r.counter("requests_total", "Requests").inc(2);
-  const int port = free_port();
+  const int port = free_port(SOCK_STREAM);
   MetricsServer server(r, "127.0.0.1", port);
   EXPECT_EQ(server.url(), "http://127.0.0.1:" + std::to_string(port) + "/metrics");
   const std::string reply = http_get(port, "/metrics");

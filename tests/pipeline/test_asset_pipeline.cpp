@@ -11,19 +11,8 @@
 #include <cmath>
 #include <vector>
 
+namespace causal::pipeline {
 namespace {
-
-using causal::ModelSpec;
-using causal::NoiseParams;
-using causal::SvarLayout;
-using causal::pipeline::AssetPipeline;
-using causal::pipeline::AssetPipelineParams;
-using causal::pipeline::ConditionSample;
-using causal::pipeline::ConditionStream;
-using causal::pipeline::EstimateKind;
-using causal::pipeline::FrameCheck;
-using causal::pipeline::PipelineOutput;
-using causal::pipeline::RowMajorMatrix;
 
 constexpr std::int64_t kT0 = 1'650'000'000'000'000'000LL;
 constexpr double kRate = 20'000.0;  // 50 us per sample
@@ -306,3 +295,5 @@ TEST(AssetPipeline, CalibrationWindowsScaleWithTheChannelCount) {
         << "the window is replayed: every vector is estimated";
   }
 }
+
+}  // namespace causal::pipeline

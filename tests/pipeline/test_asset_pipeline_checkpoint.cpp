@@ -17,13 +17,9 @@
 
 #include <unistd.h>
 
+namespace causal::pipeline {
 namespace {
 
-using causal::StateError;
-using causal::pipeline::AssetPipeline;
-using causal::pipeline::AssetPipelineParams;
-using causal::pipeline::PipelineOutput;
-using causal::pipeline::RowMajorMatrix;
 using causal::test::checkpoint_of;
 using causal::test::expect_identical;
 using causal::test::restore_from;
@@ -305,3 +301,5 @@ TEST_F(AssetPipelineCheckpoint, AnotherShapeOrADamagedCheckpointIsRefused) {
 }
 
 }  // namespace
+
+}  // namespace causal::pipeline

@@ -11,13 +11,10 @@
 #include <limits>
 #include <vector>
 
+namespace causal::pipeline {
 namespace {
 
 using causal::io::ConditionFeature;
-using causal::pipeline::condition_model_input;
-using causal::pipeline::ConditionSample;
-using causal::pipeline::ConditionStream;
-using causal::pipeline::ConditionStreamParams;
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 constexpr double kPi = 3.14159265358979323846;
@@ -338,3 +335,5 @@ TEST(ConditionStream, CheckpointBetweenAnyTwoFramesGivesTheUninterruptedVectors)
 }
 
 }  // namespace
+
+}  // namespace causal::pipeline

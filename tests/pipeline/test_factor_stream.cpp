@@ -15,16 +15,9 @@
 #include <limits>
 #include <stdexcept>
 
+namespace causal::pipeline {
 namespace {
 
-using causal::ModelSpec;
-using causal::NoiseParams;
-using causal::SvarLayout;
-using causal::pipeline::EstimateKind;
-using causal::pipeline::FactorReport;
-using causal::pipeline::FactorStream;
-using causal::pipeline::FactorStreamParams;
-using causal::pipeline::RowMajorMatrix;
 using causal::test::ExpectedReport;
 
 constexpr std::int64_t kT0 = 1'700'000'000'000'000'000LL;  // an epoch time in ns
@@ -478,3 +471,5 @@ TEST(FactorStream, BlockWithWrongChannelCountThrows) {
 }
 
 }  // namespace
+
+}  // namespace causal::pipeline

@@ -10,15 +10,8 @@
 #include <string>
 #include <vector>
 
+namespace causal::pipeline {
 namespace {
-
-using causal::ModelSpec;
-using causal::NoiseParams;
-using causal::SvarLayout;
-using causal::pipeline::FactorReport;
-using causal::pipeline::FactorStream;
-using causal::pipeline::FactorStreamParams;
-using causal::pipeline::RowMajorMatrix;
 
 constexpr std::int64_t kT0 = 1'700'000'000'000'000'000LL;
 constexpr double kPeriod = 50'000.0;
@@ -79,6 +72,15 @@ TEST(FactorStreamAutomatic, AbsurdValueInTheWindowFallsBackToTheConfiguredNoiseA
   }
 }
 
+// Every report of a 3-channel run of 2000 samples at cadence 64 is there, finite, with no clamped standard deviation.
+void expect_every_report_finite(const std::vector<FactorReport>& out) {
+  ASSERT_EQ(out.size(), 3u * (2000 / 64));
+  for (const auto& r : out) {
+    EXPECT_TRUE(r.factors.allFinite() && r.std_devs.allFinite()) << r.outcome << " at " << r.sample_index;
+    EXPECT_EQ(r.degenerate_std, 0u) << r.outcome << " at " << r.sample_index;
+  }
+}
+
 // A dead channel with automatic noise gave NaN standard deviations on main (r tuned to ~1e-308). Its outcome
 // now runs the configured noise; no report holds a NaN or a clamped (degenerate) standard deviation.
 TEST(FactorStreamAutomatic, DeadChannelGivesNoNaN) {
@@ -87,11 +89,7 @@ TEST(FactorStreamAutomatic, DeadChannelGivesNoNaN) {
   y.col(2).setZero();
   FactorStream stream(auto_params(layout.spec(), 64, 400));
   const auto out = feed_all(stream, y);
-  ASSERT_EQ(out.size(), 3u * (2000 / 64));
-  for (const auto& r : out) {
-    EXPECT_TRUE(r.factors.allFinite() && r.std_devs.allFinite()) << r.outcome << " at " << r.sample_index;
-    EXPECT_EQ(r.degenerate_std, 0u) << r.outcome << " at " << r.sample_index;
-  }
+  ASSERT_NO_FATAL_FAILURE(expect_every_report_finite(out));
   EXPECT_FALSE(stream.tuning()[2].usable);
   ASSERT_EQ(stream.warnings().size(), 1u);
   EXPECT_NE(stream.warnings()[0].find("outcome 3"), std::string::npos) << stream.warnings()[0];
@@ -107,11 +105,7 @@ TEST(FactorStreamAutomatic, ChannelScaledBy1e9GivesNoNaN) {
   y.col(1) *= 1e-9;
   FactorStream stream(auto_params(layout.spec(), 64, 400));
   const auto out = feed_all(stream, y);
-  ASSERT_EQ(out.size(), 3u * (2000 / 64));
-  for (const auto& r : out) {
-    EXPECT_TRUE(r.factors.allFinite() && r.std_devs.allFinite()) << r.outcome << " at " << r.sample_index;
-    EXPECT_EQ(r.degenerate_std, 0u) << r.outcome << " at " << r.sample_index;
-  }
+  ASSERT_NO_FATAL_FAILURE(expect_every_report_finite(out));
   EXPECT_FALSE(stream.tuning()[1].usable);
   EXPECT_GT(stream.tuning()[1].failed_candidates, 0);
   EXPECT_TRUE(stream.tuning()[0].usable && stream.tuning()[2].usable);
@@ -120,3 +114,5 @@ TEST(FactorStreamAutomatic, ChannelScaledBy1e9GivesNoNaN) {
 }
 
 }  // namespace
+
+}  // namespace causal::pipeline

@@ -12,14 +12,9 @@
 
 #include <limits>
 
+namespace causal::pipeline {
 namespace {
 
-using causal::StateError;
-using causal::pipeline::EstimateKind;
-using causal::pipeline::FactorReport;
-using causal::pipeline::FactorStream;
-using causal::pipeline::FactorStreamParams;
-using causal::pipeline::RowMajorMatrix;
 using causal::test::checkpoint_of;
 using causal::test::expect_identical;
 using causal::test::restore_from;
@@ -217,3 +212,5 @@ TEST(FactorStreamCheckpoint, TruncatedOrForeignCheckpointsThrow) {
 }
 
 }  // namespace
+
+}  // namespace causal::pipeline

@@ -29,19 +29,9 @@
 #include <stdexcept>
 #include <vector>
 
+namespace causal::pipeline {
 namespace {
 
-using causal::pipeline::AssetPipeline;
-using causal::pipeline::AssetPipelineParams;
-using causal::pipeline::ChannelQualityCounters;
-using causal::pipeline::FactorReport;
-using causal::pipeline::InputScreen;
-using causal::pipeline::InputScreenParams;
-using causal::pipeline::PipelineOutput;
-using causal::pipeline::QualityEvent;
-using causal::pipeline::QualityEventKind;
-using causal::pipeline::RowMajorMatrix;
-using causal::pipeline::ScreenLevel;
 namespace sim = causal::analysis::test;
 
 constexpr int kG = 4;
@@ -516,3 +506,5 @@ TEST(InputScreenStoppedMachine, OneChannelAtTheFloorWhileTheOthersRunIsStillQuar
   EXPECT_EQ(count_kind(events, QualityEventKind::MachineStopped), 0u);
   EXPECT_TRUE(screen.counters()[1].quarantined);
 }
+
+}  // namespace causal::pipeline

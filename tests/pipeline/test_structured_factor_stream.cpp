@@ -15,16 +15,8 @@
 #include <random>
 #include <stdexcept>
 
+namespace causal::pipeline {
 namespace {
-
-using causal::ModelSpec;
-using causal::NoiseParams;
-using causal::pipeline::FactorReport;
-using causal::pipeline::FactorStream;
-using causal::pipeline::FactorStreamParams;
-using causal::pipeline::RowMajorMatrix;
-using causal::pipeline::StructuredFactorStream;
-using causal::pipeline::StructureSetting;
 
 constexpr int kG = 4;
 constexpr std::int64_t kT0 = 1'700'000'000'000'000'000LL;
@@ -249,3 +241,5 @@ TEST(StructuredFactorStream, InvalidSettingsAreRejectedUpFront) {
 }
 
 }  // namespace
+
+}  // namespace causal::pipeline

@@ -11,14 +11,9 @@
 
 #include <limits>
 
+namespace causal::pipeline {
 namespace {
 
-using causal::StateError;
-using causal::pipeline::FactorReport;
-using causal::pipeline::FactorStreamParams;
-using causal::pipeline::RowMajorMatrix;
-using causal::pipeline::StructuredFactorStream;
-using causal::pipeline::StructureSetting;
 using causal::test::checkpoint_of;
 using causal::test::expect_identical;
 using causal::test::restore_from;
@@ -175,3 +170,5 @@ TEST(StructuredFactorStreamCheckpoint, OtherSettingsAreRefused) {
 }
 
 }  // namespace
+
+}  // namespace causal::pipeline

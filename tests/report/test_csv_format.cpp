@@ -1,5 +1,6 @@
 // The recorder/report CSV dialect: quoting, number round trip, file names, parsing, append rules.
 #include "causal/io/csv_format.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,25 +16,10 @@ using namespace causal::report;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using causal::test::slurp;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("causal_report_csv_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct TempDir : causal::test::TestTempDir {
+  TempDir() : TestTempDir("causal_report_csv") {}
 };
 
 }  // namespace

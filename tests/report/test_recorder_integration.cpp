@@ -7,6 +7,7 @@
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -52,12 +53,7 @@ double factor_sd(std::uint64_t n, int k, std::size_t i) { return 0.05 + 0.01 * k
 }
 double feature_value(std::uint64_t n, int c) { return 0.05 * c * std::exp(0.08 * static_cast<double>(n)); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using causal::test::slurp;
 
 std::vector<std::string> lines_of(const fs::path& p) {
   std::vector<std::string> lines;
@@ -154,7 +150,7 @@ class RecorderIntegration : public ::testing::Test {
   }
 
   pid_t start_recorder(int domain, const std::vector<std::string>& extra) {
-    std::vector<std::string> argv{CAUSAL_RECORDER_EXE, "--domain", std::to_string(domain), "--out",
+    std::vector<std::string> argv{CAUSAL_RECORDER_BIN, "--domain", std::to_string(domain), "--out",
                                   (dir_ / "run").string(), "--max-runtime", "60"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     return spawn(argv, dir_ / "recorder.log");
@@ -238,6 +234,34 @@ class RecorderIntegration : public ::testing::Test {
     return false;
   }
 
+  // The rms condition vector of snapshot n (three channels).
+  causal_twin::ConditionVector condition_vector(std::uint64_t n) const {
+    causal_twin::ConditionVector c;
+    c.asset_group(asset_);
+    c.feature("rms");
+    c.snapshot_index(n);
+    c.time_ns(kT0 + static_cast<std::int64_t>(n) * kDt);
+    c.channel_names({channel(1), channel(2), channel(3)});
+    c.values({feature_value(n, 1), feature_value(n, 2), feature_value(n, 3)});
+    return c;
+  }
+
+  // A RAISED alarm "<asset>/<channel>/<kind>/1" of this test's asset at snapshot `index`.
+  causal_twin::Alarm raised_alarm(int ch, const std::string& kind, causal_twin::Severity severity,
+                                  std::uint64_t index) const {
+    causal_twin::Alarm a;
+    a.alarm_id(asset_ + "/" + std::to_string(ch) + "/" + kind + "/1");
+    a.asset_group(asset_);
+    a.channel(static_cast<std::uint16_t>(ch));
+    a.channel_name(channel(ch));
+    a.kind(kind);
+    a.severity(severity);
+    a.state(causal_twin::RAISED);
+    a.raised_time_ns(kT0 + static_cast<std::int64_t>(index) * kDt);
+    a.sample_index(index);
+    return a;
+  }
+
   void publish_alarm(causal_twin::Alarm& a) {
     ASSERT_EQ(writers_->alarms.write(a, stop_), causal::dds::WriteResult::Ok);
     // KEEP_LAST 1 per alarm id: the recorder must have this state before the next one replaces it.
@@ -261,13 +285,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
 
   // Condition vectors and condition-level factors, outcomes interleaved differently at every index.
   for (std::uint64_t n = 0; n < kSnapshots; ++n) {
-    causal_twin::ConditionVector c;
-    c.asset_group(asset_);
-    c.feature("rms");
-    c.snapshot_index(n);
-    c.time_ns(kT0 + static_cast<std::int64_t>(n) * kDt);
-    c.channel_names({channel(1), channel(2), channel(3)});
-    c.values({feature_value(n, 1), feature_value(n, 2), feature_value(n, 3)});
+    causal_twin::ConditionVector c = condition_vector(n);
     c.discontinuity(n == 0);
     ASSERT_EQ(writers_->conditions.write(c, stop_), causal::dds::WriteResult::Ok);
     for (int i = 0; i < kG; ++i) {
@@ -281,16 +299,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   ASSERT_TRUE(wait_rows("factors_" + file_asset_ + "_condition_filter.csv", kSnapshots));
   ASSERT_TRUE(wait_rows("factors_" + file_asset_ + "_condition_fixed-lag.csv", kSnapshots - 2));
 
-  causal_twin::Alarm a;
-  a.alarm_id(asset_ + "/2/feature_drift/1");
-  a.asset_group(asset_);
-  a.channel(2);
-  a.channel_name(channel(2));
-  a.kind("feature_drift");
-  a.severity(causal_twin::WARNING);
-  a.state(causal_twin::RAISED);
-  a.raised_time_ns(kT0 + 4 * kDt);
-  a.sample_index(4);
+  causal_twin::Alarm a = raised_alarm(2, "feature_drift", causal_twin::WARNING, 4);
   a.root_cause_channel(3);
   a.root_cause_name(channel(3));
   a.score(9.5);
@@ -307,16 +316,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   a.sample_index(10);
   a.cleared_time_ns(kT0 + 10 * kDt);
   publish_alarm(a);
-  causal_twin::Alarm b;
-  b.alarm_id(asset_ + "/3/innovation_nis/1");
-  b.asset_group(asset_);
-  b.channel(3);
-  b.channel_name(channel(3));
-  b.kind("innovation_nis");
-  b.severity(causal_twin::ADVISORY);
-  b.state(causal_twin::RAISED);
-  b.raised_time_ns(kT0 + 6 * kDt);
-  b.sample_index(6);
+  causal_twin::Alarm b = raised_alarm(3, "innovation_nis", causal_twin::ADVISORY, 6);
   publish_alarm(b);
   causal_twin::Recommendation r;
   r.recommendation_id(a.alarm_id() + "/1");
@@ -400,10 +400,10 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   // The report, when gnuplot is there.
   const fs::path report = dir_ / "report";
   if (!on_path("gnuplot")) {
-    EXPECT_EQ(run_sync({CAUSAL_REPORT_EXE, "--run", run.string(), "--out", report.string()}, dir_ / "report.log"), 2);
+    EXPECT_EQ(run_sync({CAUSAL_REPORT_BIN, "--run", run.string(), "--out", report.string()}, dir_ / "report.log"), 2);
     GTEST_SKIP() << "gnuplot is not installed: CSV checks passed, PNG rendering skipped";
   }
-  ASSERT_EQ(run_sync({CAUSAL_REPORT_EXE, "--run", run.string(), "--out", report.string()}, dir_ / "report.log"), 0)
+  ASSERT_EQ(run_sync({CAUSAL_REPORT_BIN, "--run", run.string(), "--out", report.string()}, dir_ / "report.log"), 0)
       << slurp(dir_ / "report.log");
   std::vector<std::string> pngs{"condition_trends_" + file_asset_, "alarm_timeline_" + file_asset_,
                                 "causal_graph_" + file_asset_};
@@ -457,29 +457,14 @@ TEST_F(RecorderIntegration, ReSentMessagesAreWrittenOnceAndGapsAreLogged) {
   if (HasFatalFailure()) return;
   // Condition vectors 0, 1, 3, 4 (2 never sent), then 0 and 1 again (the estimator restarted).
   for (std::uint64_t n : {0u, 1u, 3u, 4u, 0u, 1u}) {
-    causal_twin::ConditionVector c;
-    c.asset_group(asset_);
-    c.feature("rms");
-    c.snapshot_index(n);
-    c.time_ns(kT0 + static_cast<std::int64_t>(n) * kDt);
-    c.channel_names({channel(1), channel(2), channel(3)});
-    c.values({feature_value(n, 1), feature_value(n, 2), feature_value(n, 3)});
+    causal_twin::ConditionVector c = condition_vector(n);
     ASSERT_EQ(writers_->conditions.write(c, stop_), causal::dds::WriteResult::Ok);
   }
   // Factors of indices 0..2 and 4 (3 never sent), then index 1 again.
   for (std::uint64_t n : {0u, 1u, 2u, 4u, 1u}) {
     for (int k = 1; k <= kG; ++k) publish(factors(n, k, causal_twin::FILTER));
   }
-  causal_twin::Alarm a;
-  a.alarm_id(asset_ + "/1/feature_drift/1");
-  a.asset_group(asset_);
-  a.channel(1);
-  a.channel_name(channel(1));
-  a.kind("feature_drift");
-  a.severity(causal_twin::ADVISORY);
-  a.state(causal_twin::RAISED);
-  a.raised_time_ns(kT0 + 3 * kDt);
-  a.sample_index(3);
+  causal_twin::Alarm a = raised_alarm(1, "feature_drift", causal_twin::ADVISORY, 3);
   a.reason("drift");
   publish_alarm(a);
   // The same state again (a replayed last value): received, not written. KEEP_LAST 1 per alarm id, so it
@@ -524,7 +509,7 @@ TEST(ReportErrors, MissingInputsExitWithCodeTwoAndSayWhat) {
   fs::remove_all(dir);
   fs::create_directories(dir / "empty");
   auto run = [&](const std::vector<std::string>& args, std::string& output) {
-    std::string cmd = CAUSAL_REPORT_EXE;
+    std::string cmd = CAUSAL_REPORT_BIN;
     for (const auto& a : args) cmd += " '" + a + "'";
     cmd += " > '" + (dir / "out.log").string() + "' 2>&1";
     const int status = std::system(cmd.c_str());

@@ -1,5 +1,6 @@
 // Reading a recorder folder back: file discovery, factor names, series, alarm spans.
 #include "run_data.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,19 +15,8 @@ namespace {
 
 const double kT0 = 1076581959.0;  // 2004-02-12 10:32:39 UTC
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("causal_report_run_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  void write(const std::string& name, const std::string& text) const { std::ofstream(path / name) << text; }
+struct TempDir : causal::test::TestTempDir {
+  TempDir() : TestTempDir("causal_report_run") {}
 };
 
 AlarmRecord row(const std::string& id, const std::string& state, Severity sev, int channel,

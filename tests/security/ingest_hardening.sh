@@ -26,18 +26,9 @@ ip addr add 10.77.0.1/32 dev lo
 ingest="$build/services/sensor_ingest/sensor-ingest"
 domain=$((100 + $$ % 100))
 work="$(mktemp -d /tmp/causal_ingest_hardening_XXXXXX)"
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -TERM "$p" 2> /dev/null || true; done
-  for p in "${pids[@]}"; do wait "$p" 2> /dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+# pids, cleanup on exit, check NAME EXPECTED GOT
+. "$(dirname "$0")/../support/script_checks.sh"
 [ -z "${KEEP_LOGS:-}" ] || trap 'cp "$work"/*.log /tmp/ 2> /dev/null; cleanup' EXIT
-fail=0
-check() {  # check NAME EXPECTED GOT
-  if [ "$2" = "$3" ]; then echo "ok   $1: $3"; else echo "FAIL $1: expected $2, got $3"; fail=1; fi
-}
 block() {  # block GROUP SEQUENCE: one JSON block of 2 samples x 2 channels, 2 ms apart per block
   printf '{"asset_group":"%s","channels":["c1","c2"],"sample_rate_hz":1000,"t0_ns":%d,"sequence":%d,"samples":[[1,2],[3,4]]}' \
     "$1" $((1700000000000000000 + $2 * 2000000)) "$2"

@@ -4,6 +4,7 @@
 // receives is counted per topic, split into its own samples (a control that it works) and everyone else's.
 #pragma once
 
+#include "loopback_settings.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/security.hpp"
 #include "causal/dds/topics.hpp"
@@ -102,11 +103,7 @@ class Intruder {
   };
 
   static dds::DdsSettings settings(int domain_id, const std::string& dir, const std::string& identity) {
-    dds::DdsSettings s;
-    s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                       std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-    s.domain_id = domain_id;
-    s.participant_name = "intruder";
+    dds::DdsSettings s = causal::test::loopback_settings(domain_id, "intruder");
     s.security_dir = dir.empty() ? dds::kSecurityOff : dir;
     s.security_identity = identity;
     return s;

@@ -10,6 +10,7 @@
 //  * on the topics only this test writes (the estimator's vibration_frame and condition_input, the
 //    recommender's whatif_request), dds_samples_received_total == the samples sent that the guard accepts.
 #include "fuzz_corpus.hpp"
+#include "loopback_settings.hpp"
 #include "process_runner.hpp"
 
 #include "causal/dds/participant.hpp"
@@ -81,12 +82,7 @@ class RawType : public eprosima::fastdds::dds::TopicDataType {
 };
 
 causal::dds::DdsSettings settings(int domain) {
-  causal::dds::DdsSettings s;
-  s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                     std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-  s.domain_id = domain;
-  s.participant_name = "fuzzer";
-  return s;
+  return causal::test::loopback_settings(domain, "fuzzer");
 }
 
 int free_tcp_port() {

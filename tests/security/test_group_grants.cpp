@@ -12,7 +12,9 @@
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "loopback_settings.hpp"
 #include "pki_fixture.hpp"
+#include "process_expect.hpp"
 #include "process_runner.hpp"
 
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -22,6 +24,7 @@
 #include <fstream>
 #include <iostream>
 
+using causal::test::expect_exit_zero;
 using causal::test::ServiceProcess;
 using namespace causal::test::delivery;
 using namespace causal::test::security;
@@ -69,11 +72,7 @@ TEST(GroupGrants, FastDdsRefusesAWriterInAnotherGroupsPartition) {
   const fs::path pki = make_plant_pki(work);
   const std::string grant = read_text(pki / "sensor-line-a-sensors" / "permissions.xml");
   EXPECT_NE(grant.find("<partition>causal_twin/group/" + kGranted + "</partition>"), std::string::npos) << grant;
-  causal::dds::DdsSettings s;
-  s.profile_files = {std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml",
-                     std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"};
-  s.domain_id = kDomain;
-  s.participant_name = "group-grant-probe";
+  causal::dds::DdsSettings s = causal::test::loopback_settings(kDomain, "group-grant-probe");
   s.security_dir = pki.string();
   s.security_identity = "sensor-line-a-sensors";
   causal::dds::Participant p(s);
@@ -143,9 +142,7 @@ TEST(CertificateExpiry, EstimatorAlarmsOnceWhenItsOwnCertificateExpiresWithin14D
                          "5", "--speed", "120000", "--wait-for", "causal-estimator", "--wait-timeout", "60",
                          "--asset-group", "line-a"},
                         (work / "replay.log").string());
-  const auto replayed = replay.wait(std::chrono::seconds(60));
-  ASSERT_TRUE(replayed.has_value()) << replay.output();
-  EXPECT_EQ(*replayed, 0) << replay.output();
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(replay, std::chrono::seconds(60)));
   const auto code = estimator.wait(std::chrono::seconds(60));
   ASSERT_TRUE(code.has_value()) << estimator.output();
   const std::string log = estimator.output();

@@ -15,17 +15,8 @@ build="$1"
 web="$build/services/twin_web/twin-web"
 domain=$((100 + $$ % 100))
 work="$(mktemp -d /tmp/causal_web_hardening_XXXXXX)"
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -TERM "$p" 2> /dev/null || true; done
-  for p in "${pids[@]}"; do wait "$p" 2> /dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
-fail=0
-check() {  # check NAME EXPECTED GOT
-  if [ "$2" = "$3" ]; then echo "ok   $1: $3"; else echo "FAIL $1: expected $2, got $3"; fail=1; fi
-}
+# pids, cleanup on exit, check NAME EXPECTED GOT
+. "$(dirname "$0")/../support/script_checks.sh"
 free_port() {
   local p=$((20000 + RANDOM % 30000))
   while ss -ltnH "sport = :$p" | grep -q .; do p=$((p + 1)); done
