@@ -1,5 +1,6 @@
 #include "recorder_node.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
@@ -213,7 +214,7 @@ void RecorderNode::on_alarm(const causal_twin::Alarm& in) {
   }
   alarms_->write_row(alarm_row(in, evidence_time));
   ++alarm_counts_.written;
-  spdlog::info("alarm {} {} {}: {}", in.alarm_id(), to_string(in.state()), to_string(in.severity()), in.reason());
+  spdlog::info("alarm {} {} {}: {}", in.alarm_id(), dds::to_string(in.state(), "?"), dds::to_string(in.severity(), "?"), in.reason());
 }
 
 void RecorderNode::on_recommendation(const causal_twin::Recommendation& in) {

@@ -100,6 +100,8 @@ std::string format_utc(std::int64_t time_ns) {
   return s;
 }
 
+std::string format_utc_seconds(std::int64_t time_ns) { return format_seconds(floor_div(time_ns, kNsPerSec)) + " UTC"; }
+
 std::string format_utc_exact(std::int64_t time_ns) {
   const std::int64_t secs = floor_div(time_ns, kNsPerSec);
   const std::int64_t frac = time_ns - secs * kNsPerSec;

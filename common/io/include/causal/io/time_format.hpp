@@ -13,6 +13,10 @@ namespace causal::io {
 // past) is appended: "2004-02-12 10:32:39.250". Negative times (before 1970) are supported.
 std::string format_utc(std::int64_t time_ns);
 
+// "2004-02-12 10:32:39 UTC": whole seconds (truncated towards the past) and the zone spelt out, for
+// plain-language text (alarm reasons, advice, causal-alarm-eval).
+std::string format_utc_seconds(std::int64_t time_ns);
+
 // Like format_utc but exact: appends the shortest of ".mmm", ".mmmuuu", ".mmmuuunnn" that represents
 // time_ns without loss, so parse_utc(format_utc_exact(t)) == t for every t.
 std::string format_utc_exact(std::int64_t time_ns);
