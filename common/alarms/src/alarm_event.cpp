@@ -3,7 +3,7 @@
 #include <utility>
 
 #include "causal/estimation/state_archive.hpp"
-#include "checkpoint_fields.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 namespace causal::alarms {
 
@@ -35,7 +35,7 @@ const char* to_string(AlarmState s) {
 namespace {
 
 // The event's fields after its severity and state (both written as int32 and checked on restore); one list
-// for save and restore (checkpoint_fields.hpp).
+// for save and restore (SaveFields / RestoreFields, state_fields.hpp).
 template <class Io, class E>
 void fields_after_state(Io io, E& e) {
   io(e.kind);
@@ -63,7 +63,7 @@ void save(causal::StateWriter& out, const AlarmEvent& e) {
   out.put(e.channel);
   out.put(static_cast<std::int32_t>(e.severity));
   out.put(static_cast<std::int32_t>(e.state));
-  fields_after_state(detail::Put{out}, e);
+  fields_after_state(SaveFields{out}, e);
 }
 
 void restore(causal::StateReader& in, AlarmEvent& event) {
@@ -79,7 +79,7 @@ void restore(causal::StateReader& in, AlarmEvent& event) {
   }
   e.severity = static_cast<Severity>(severity);
   e.state = static_cast<AlarmState>(state);
-  fields_after_state(detail::Get{in}, e);
+  fields_after_state(RestoreFields{in}, e);
   event = std::move(e);
 }
 

@@ -9,7 +9,7 @@
 
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/estimation/state_archive.hpp"
-#include "checkpoint_fields.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "engine_internal.hpp"
 
 namespace causal::alarms {
@@ -18,7 +18,7 @@ namespace detail {
 
 namespace {
 
-// The field lists (checkpoint_fields.hpp): O is the structure, const when saving.
+// The field lists (SaveFields / RestoreFields, state_fields.hpp): O is the structure, const when saving.
 template <class Io, class O>
 void onset_fields(Io io, O& o) {
   io(o.set);
@@ -110,8 +110,8 @@ void confirmation_scalars(Io io, C& c) {
   io(c.step_onset_time_ns);
 }
 
-void save(causal::StateWriter& out, const Onset& o) { onset_fields(Put{out}, o); }
-void restore(causal::StateReader& in, Onset& o) { onset_fields(Get{in}, o); }
+void save(causal::StateWriter& out, const Onset& o) { onset_fields(SaveFields{out}, o); }
+void restore(causal::StateReader& in, Onset& o) { onset_fields(RestoreFields{in}, o); }
 
 std::size_t read_count(causal::StateReader& in, std::size_t expected, const char* what) {
   const auto n = in.get<std::uint64_t>();
@@ -126,41 +126,41 @@ std::size_t read_count(causal::StateReader& in, std::size_t expected, const char
 
 void save(causal::StateWriter& out, const SignalMonitor& s) {
   out.begin("signal_monitor", 2);
-  signal_fields(Put{out}, s);
+  signal_fields(SaveFields{out}, s);
 }
 
 void restore(causal::StateReader& in, SignalMonitor& s) {
   in.expect("signal_monitor", 2);
-  signal_fields(Get{in}, s);
+  signal_fields(RestoreFields{in}, s);
 }
 
 void save(causal::StateWriter& out, const FactorMonitor& f) {
   out.begin("factor_monitor", 1);
-  factor_fields(Put{out}, f);
+  factor_fields(SaveFields{out}, f);
 }
 
 void restore(causal::StateReader& in, FactorMonitor& f) {
   in.expect("factor_monitor", 1);
-  factor_fields(Get{in}, f);
+  factor_fields(RestoreFields{in}, f);
 }
 
 void save(causal::StateWriter& out, const AlarmSlot& slot) {
   out.begin("alarm_slot", 2);
-  slot_fields_before_severity(Put{out}, slot);
+  slot_fields_before_severity(SaveFields{out}, slot);
   out.put(static_cast<std::int32_t>(slot.severity));
-  slot_fields_after_severity(Put{out}, slot);
+  slot_fields_after_severity(SaveFields{out}, slot);
 }
 
 void restore(causal::StateReader& in, AlarmSlot& slot) {
   in.expect("alarm_slot", 2);
-  slot_fields_before_severity(Get{in}, slot);
+  slot_fields_before_severity(RestoreFields{in}, slot);
   const auto severity = in.get<std::int32_t>();
   if (slot.counter < 0 || severity < static_cast<int>(Severity::Advisory) ||
       severity > static_cast<int>(Severity::Critical)) {
     throw causal::StateError("checkpoint: alarm_slot '" + slot.id + "' holds an invalid counter or severity");
   }
   slot.severity = static_cast<Severity>(severity);
-  slot_fields_after_severity(Get{in}, slot);
+  slot_fields_after_severity(RestoreFields{in}, slot);
 }
 
 void save(causal::StateWriter& out, const ChannelState& cs) {
@@ -172,7 +172,7 @@ void save(causal::StateWriter& out, const ChannelState& cs) {
   for (const auto& slot : cs.slots) save(out, slot);
   out.put(cs.factor_stat);
   out.put(cs.factor_argmax);
-  channel_fields_after_argmax(Put{out}, cs);
+  channel_fields_after_argmax(SaveFields{out}, cs);
 }
 
 void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
@@ -188,7 +188,7 @@ void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
     throw causal::StateError("checkpoint: alarm_channel refers to factor " + std::to_string(cs.factor_argmax) +
                              " of " + std::to_string(factor_count));
   }
-  channel_fields_after_argmax(Get{in}, cs);
+  channel_fields_after_argmax(RestoreFields{in}, cs);
 }
 
 void save(causal::StateWriter& out, const Episode& e) {
@@ -210,7 +210,7 @@ void restore(causal::StateReader& in, Episode& e, int channels) {
 
 void save(causal::StateWriter& out, const Confirmation& c) {
   out.begin("alarm_confirmation", 1);
-  confirmation_scalars(Put{out}, c);
+  confirmation_scalars(SaveFields{out}, c);
   out.put(static_cast<std::uint64_t>(c.feature.size()));
   for (std::size_t i = 0; i < c.feature.size(); ++i) {
     out.put(c.feature[i]);
@@ -221,7 +221,7 @@ void save(causal::StateWriter& out, const Confirmation& c) {
 void restore(causal::StateReader& in, Confirmation& c, int channels) {
   in.expect("alarm_confirmation", 1);
   Confirmation r;
-  confirmation_scalars(Get{in}, r);
+  confirmation_scalars(RestoreFields{in}, r);
   const auto n = in.get<std::uint64_t>();
   if ((n != 0 && n != static_cast<std::uint64_t>(channels)) || r.step_channel < -1 || r.step_channel >= channels) {
     throw causal::StateError("checkpoint: alarm_confirmation does not fit " + std::to_string(channels) + " channels");

@@ -1,6 +1,7 @@
 #include "causal/pipeline/factor_stream.hpp"
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "causal/estimation/state_checks.hpp"
 
 #include <cmath>
@@ -25,49 +26,48 @@ std::uint32_t degenerate_entries(const Eigen::VectorXd& std_devs) {
 
 namespace {
 
-void put_noise(StateWriter& w, const NoiseParams& n) {
-  w.put(n.q);
-  w.put(n.r);
-  w.put(n.p0);
+// One field list each for save and restore (SaveFields / RestoreFields, state_fields.hpp).
+template <class Io, class N>
+void noise_fields(Io io, N& n) {
+  io(n.q);
+  io(n.r);
+  io(n.p0);
 }
+
+template <class Io, class R>
+void report_fields(Io io, R& r) {
+  io(r.kind);
+  io(r.outcome);  // as an int32 (static_assert below)
+  io(r.sample_index);
+  io(r.time_ns);
+  io(r.factors);
+  io(r.std_devs);
+  io(r.covariance);
+  io(r.innovation_count);
+  io(r.innovation_mean);
+  io(r.nis_mean);
+  io(r.last_innovation);
+  io(r.last_innovation_variance);
+  io(r.rejected);
+  io(r.q);
+  io(r.r);
+}
+
+static_assert(sizeof(int) == sizeof(std::int32_t), "checkpoints store FactorReport::outcome as 4 bytes");
+
+void put_noise(StateWriter& w, const NoiseParams& n) { noise_fields(SaveFields{w}, n); }
 
 NoiseParams get_noise(StateReader& r) {
   NoiseParams n;
-  n.q = r.get<double>();
-  n.r = r.get<double>();
-  n.p0 = r.get<double>();
+  noise_fields(RestoreFields{r}, n);
   return n;
 }
 
-void put_report(StateWriter& w, const FactorReport& r) {
-  w.put(r.kind);
-  w.put(static_cast<std::int32_t>(r.outcome));
-  w.put(r.sample_index);
-  w.put(r.time_ns);
-  w.put(r.factors);
-  w.put(r.std_devs);
-  w.put(r.covariance);
-  w.put(r.innovation_count);
-  for (double v : {r.innovation_mean, r.nis_mean, r.last_innovation, r.last_innovation_variance}) w.put(v);
-  w.put(r.rejected);
-  w.put(r.q);
-  w.put(r.r);
-}
+void put_report(StateWriter& w, const FactorReport& r) { report_fields(SaveFields{w}, r); }
 
 FactorReport get_report(StateReader& in) {
   FactorReport r;
-  r.kind = in.get<EstimateKind>();
-  r.outcome = in.get<std::int32_t>();
-  r.sample_index = in.get<std::uint64_t>();
-  r.time_ns = in.get<std::int64_t>();
-  in.read(r.factors);
-  in.read(r.std_devs);
-  in.read(r.covariance);
-  r.innovation_count = in.get<std::uint64_t>();
-  for (double* v : {&r.innovation_mean, &r.nis_mean, &r.last_innovation, &r.last_innovation_variance}) in.read(*v);
-  r.rejected = in.get<std::uint64_t>();
-  r.q = in.get<double>();
-  r.r = in.get<double>();
+  report_fields(RestoreFields{in}, r);
   return r;
 }
 
