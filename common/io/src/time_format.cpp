@@ -1,5 +1,6 @@
 #include "causal/io/time_format.hpp"
 
+#include <chrono>
 #include <cstdio>
 
 #include "text_scan.hpp"
@@ -86,6 +87,11 @@ bool expect(std::string_view s, std::size_t& pos, char c) {
 std::int64_t utc_to_ns(int year, int month, int day, int hour, int minute, int second) {
   const std::int64_t days = days_from_civil(year, static_cast<unsigned>(month), static_cast<unsigned>(day));
   return ((days * 24 + hour) * 60 + minute) * 60 * kNsPerSec + static_cast<std::int64_t>(second) * kNsPerSec;
+}
+
+std::int64_t utc_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
 }
 
 std::string format_utc(std::int64_t time_ns) {

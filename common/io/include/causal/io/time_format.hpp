@@ -26,6 +26,9 @@ std::string format_utc_exact(std::int64_t time_ns);
 // range-checked (day within the month, hh < 24, mm < 60, ss < 60). Leading/trailing blanks are ignored.
 [[nodiscard]] std::optional<std::int64_t> parse_utc(std::string_view text);
 
+// The system clock now, in ns since the Unix epoch (what every wall-clock stamp of the services uses).
+std::int64_t utc_now_ns();
+
 // Civil date/time -> ns since epoch; no range checking (callers validate). Exposed for the tests and
 // for tools that build time axes.
 std::int64_t utc_to_ns(int year, int month, int day, int hour, int minute, int second);
