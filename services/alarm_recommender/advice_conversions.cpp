@@ -4,6 +4,17 @@ namespace causal::recommender {
 
 namespace {
 std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+// The answer's diagnostics, the same fields on a Recommendation and on a WhatIfReply.
+template <class Message>
+void put_diagnostics(const AnswerDiagnostics& d, Message& out) {
+  out.answer_kind(d.kind);
+  out.horizon_snapshots(static_cast<uint16_t>(d.horizon_snapshots));
+  out.spectral_radius(d.spectral_radius);
+  out.draws(static_cast<uint32_t>(d.draws));
+  out.unstable_draws(static_cast<uint32_t>(d.unstable_draws));
+  out.unstable_draw_share(d.unstable_share);
+}
 }  // namespace
 
 void to_recommendation(const RecommendationContext& context, const AdviceItem& item, causal_twin::Recommendation& out) {
@@ -20,12 +31,7 @@ void to_recommendation(const RecommendationContext& context, const AdviceItem& i
   out.effect_high(item.upper);
   out.confidence(item.coverage);
   out.text(item.text);
-  out.answer_kind(item.diag.kind);
-  out.horizon_snapshots(static_cast<uint16_t>(item.diag.horizon_snapshots));
-  out.spectral_radius(item.diag.spectral_radius);
-  out.draws(static_cast<uint32_t>(item.diag.draws));
-  out.unstable_draws(static_cast<uint32_t>(item.diag.unstable_draws));
-  out.unstable_draw_share(item.diag.unstable_share);
+  put_diagnostics(item.diag, out);
   out.effect_median(item.effect);
   out.effect_percent(item.percent);
   out.effect_percent_low(item.percent_lower);
@@ -53,12 +59,7 @@ void to_whatif_reply(const causal_twin::WhatIfRequest& request, const WhatIfAnsw
   out.effect_low(to_vector(answer.lower));
   out.effect_high(to_vector(answer.upper));
   out.text(answer.text);
-  out.answer_kind(answer.diag.kind);
-  out.horizon_snapshots(static_cast<uint16_t>(answer.diag.horizon_snapshots));
-  out.spectral_radius(answer.diag.spectral_radius);
-  out.draws(static_cast<uint32_t>(answer.diag.draws));
-  out.unstable_draws(static_cast<uint32_t>(answer.diag.unstable_draws));
-  out.unstable_draw_share(answer.diag.unstable_share);
+  put_diagnostics(answer.diag, out);
   out.effect_median(to_vector(answer.effect));
   out.effect_percent(to_vector(answer.percent));
   out.effect_percent_low(to_vector(answer.percent_lower));

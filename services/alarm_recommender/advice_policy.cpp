@@ -1,5 +1,7 @@
 #include "advice_policy.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include "causal/analysis/effect_units.hpp"
 
 #include <cstdio>
@@ -55,7 +57,7 @@ std::string when_text(const AdviceItem& c, const AlarmSituation& s) {
   const double h = c.diag.horizon_snapshots * s.snapshot_hours;
   if (std::isfinite(h)) {
     t += " (" + hours_text(h) + ", by " +
-         alarms::format_utc_seconds(s.time_ns + static_cast<std::int64_t>(h * 3600.0 * 1e9)) + ")";
+         io::format_utc_seconds(s.time_ns + static_cast<std::int64_t>(h * 3600.0 * 1e9)) + ")";
   }
   return t;
 }

@@ -1,5 +1,7 @@
 #include "asset_status.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <vector>
@@ -7,15 +9,6 @@
 namespace causal::recommender {
 
 namespace {
-
-causal_twin::Severity to_idl(alarms::Severity s) {
-  switch (s) {
-    case alarms::Severity::Advisory: return causal_twin::ADVISORY;
-    case alarms::Severity::Warning: return causal_twin::WARNING;
-    case alarms::Severity::Critical: return causal_twin::CRITICAL;
-  }
-  return causal_twin::ADVISORY;
-}
 
 // Every field but the index and time.
 bool same_status(const causal_twin::AssetStatus& a, const causal_twin::AssetStatus& b) {
@@ -63,7 +56,7 @@ bool AssetStatusBoard::update(const std::string& group, const StatusInput& in, c
                            : needed);
   s.has_alarm(worst != nullptr);
   s.open_alarms(static_cast<std::uint16_t>(open.size()));
-  s.worst_severity(worst != nullptr ? to_idl(worst->severity) : causal_twin::ADVISORY);
+  s.worst_severity(worst != nullptr ? dds::to_idl(worst->severity) : causal_twin::ADVISORY);
   char text[512];
   if (worst != nullptr) {
     const auto& names = main->channel_names();

@@ -1,18 +1,9 @@
 #include "open_alarm_metrics.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
 #include "causal/metrics/metrics_registry.hpp"
 
 namespace causal::recommender {
-
-namespace {
-const char* severity_name(causal_twin::Severity s) {
-  switch (s) {
-    case causal_twin::CRITICAL: return "critical";
-    case causal_twin::WARNING: return "warning";
-    default: return "advisory";
-  }
-}
-}  // namespace
 
 void OpenAlarmMetrics::on_published(const causal_twin::Alarm& alarm) {
   if (alarm.state() == causal_twin::CLEARED) {
@@ -24,7 +15,7 @@ void OpenAlarmMetrics::on_published(const causal_twin::Alarm& alarm) {
     return;
   }
   Open now{alarm.asset_group(), alarm.category().empty() ? "degradation" : alarm.category(),
-           severity_name(alarm.severity())};
+           dds::to_string(alarm.severity(), "advisory")};
   const auto it = open_.find(alarm.alarm_id());
   if (it != open_.end() && (it->second.group != now.group || it->second.category != now.category)) {
     const Open was = it->second;

@@ -3,6 +3,8 @@
 #include "causal/config/yaml_fields.hpp"
 
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace causal::recommender {
 
@@ -43,6 +45,81 @@ void load_prognosis(const config::Section& g, RecommenderParams& r) {
   }
 }
 
+// One condition_level key of AlarmParams: a flag, a number > 0, or a whole number in [lo, hi].
+using P = alarms::AlarmParams;
+struct AlarmKey {
+  const char* name;
+  bool P::*flag;
+  double P::*positive;
+  int P::*whole;
+  long lo, hi;
+};
+AlarmKey flag(const char* name, bool P::*m) { return {name, m, nullptr, nullptr, 0, 0}; }
+AlarmKey positive(const char* name, double P::*m) { return {name, nullptr, m, nullptr, 0, 0}; }
+AlarmKey whole(const char* name, int P::*m, long lo, long hi) { return {name, nullptr, nullptr, m, lo, hi}; }
+
+// Every condition_level key but "enabled", each once: the list of known keys and the reading come from it
+// (in this order: the first bad key is the one reported).
+const std::vector<AlarmKey>& alarm_keys() {
+  static const std::vector<AlarmKey> keys{
+      whole("warmup_observations", &P::warmup_observations, 0, 1000000),
+      whole("baseline_observations", &P::baseline_observations, 8, 1000000),
+      positive("min_baseline_coverage", &P::min_baseline_coverage),
+      positive("baseline_confidence", &P::baseline_confidence),
+      positive("cusum_k", &P::cusum_k),
+      positive("target_arl0", &P::target_arl0),
+      positive("clip_sigma", &P::clip_sigma),
+      positive("cusum_cap_factor", &P::cusum_cap_factor),
+      positive("clear_fraction", &P::clear_fraction),
+      whole("raise_persistence", &P::raise_persistence, 1, 1000),
+      whole("clear_persistence", &P::clear_persistence, 1, 1000),
+      whole("level_window", &P::level_window, 1, 1000),
+      flag("feature_enabled", &P::feature_enabled),
+      flag("feature_log_transform", &P::feature_log_transform),
+      positive("warning_ratio", &P::warning_ratio),
+      positive("critical_ratio", &P::critical_ratio),
+      positive("advisory_ratio", &P::advisory_ratio),
+      whole("baseline_tracking_observations", &P::baseline_tracking_observations, 0, 100000000),
+      positive("max_absorbed_ratio", &P::max_absorbed_ratio),
+      flag("innovation_enabled", &P::innovation_enabled),
+      flag("nis_enabled", &P::nis_enabled),
+      whole("nis_window", &P::nis_window, 1, 100000),
+      positive("nis_false_alarm_prob", &P::nis_false_alarm_prob),
+      positive("warning_sigma", &P::warning_sigma),
+      positive("critical_sigma", &P::critical_sigma),
+      flag("factor_enabled", &P::factor_enabled),
+      positive("factor_false_alarm_prob", &P::factor_false_alarm_prob),
+      whole("factor_persistence", &P::factor_persistence, 1, 100000),
+      whole("onset_tolerance", &P::onset_tolerance, 0, 100000),
+      whole("explain_top_factors", &P::explain_top_factors, 0, 1000),
+      whole("confirmation_observations", &P::confirmation_observations, 3, 100000),
+      positive("gap_multiple", &P::gap_multiple),
+      positive("operating_step_ratio", &P::operating_step_ratio),
+      positive("settle_trend_sigma", &P::settle_trend_sigma),
+      whole("escalation_persistence", &P::escalation_persistence, 1, 100000),
+      positive("root_cause_margin_z", &P::root_cause_margin_z),
+      whole("root_cause_persistence", &P::root_cause_persistence, 1, 100000),
+  };
+  return keys;
+}
+
+void load_alarm_params(const config::Section& c, bool& enabled, alarms::AlarmParams& p) {
+  std::vector<std::string> known{"enabled"};
+  for (const AlarmKey& k : alarm_keys()) known.emplace_back(k.name);
+  c.only(known);
+  enabled = c.boolean("enabled");
+  for (const AlarmKey& k : alarm_keys()) {
+    if (k.flag != nullptr) p.*k.flag = c.boolean(k.name);
+    if (k.positive != nullptr) p.*k.positive = c.positive(k.name);
+    if (k.whole != nullptr) p.*k.whole = static_cast<int>(c.integer(k.name, k.lo, k.hi));
+  }
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& e) {
+    c.fail("enabled", std::string("inconsistent alarm parameters: ") + e.what());
+  }
+}
+
 }  // namespace
 
 RecommenderParams load_recommender_params(const std::string& path) {
@@ -51,58 +128,7 @@ RecommenderParams load_recommender_params(const std::string& path) {
   root.only({"condition_level", "sample_level", "recommendations", "health", "prognosis"});
   RecommenderParams r;
 
-  const Section c = root.child("condition_level");
-  c.only({"enabled", "warmup_observations", "baseline_observations", "min_baseline_coverage", "baseline_confidence",
-          "cusum_k", "target_arl0", "clip_sigma", "cusum_cap_factor", "clear_fraction", "raise_persistence",
-          "clear_persistence", "level_window", "feature_enabled", "feature_log_transform", "warning_ratio",
-          "critical_ratio", "advisory_ratio", "baseline_tracking_observations", "max_absorbed_ratio", "innovation_enabled", "nis_enabled", "nis_window", "nis_false_alarm_prob",
-          "warning_sigma", "critical_sigma", "factor_enabled", "factor_false_alarm_prob", "factor_persistence",
-          "onset_tolerance", "explain_top_factors", "confirmation_observations", "gap_multiple", "operating_step_ratio",
-          "settle_trend_sigma", "escalation_persistence", "root_cause_margin_z", "root_cause_persistence"});
-  r.condition_enabled = c.boolean("enabled");
-  alarms::AlarmParams& p = r.condition;
-  p.warmup_observations = static_cast<int>(c.integer("warmup_observations", 0, 1000000));
-  p.baseline_observations = static_cast<int>(c.integer("baseline_observations", 8, 1000000));
-  p.min_baseline_coverage = c.positive("min_baseline_coverage");
-  p.baseline_confidence = c.positive("baseline_confidence");
-  p.cusum_k = c.positive("cusum_k");
-  p.target_arl0 = c.positive("target_arl0");
-  p.clip_sigma = c.positive("clip_sigma");
-  p.cusum_cap_factor = c.positive("cusum_cap_factor");
-  p.clear_fraction = c.positive("clear_fraction");
-  p.raise_persistence = static_cast<int>(c.integer("raise_persistence", 1, 1000));
-  p.clear_persistence = static_cast<int>(c.integer("clear_persistence", 1, 1000));
-  p.level_window = static_cast<int>(c.integer("level_window", 1, 1000));
-  p.feature_enabled = c.boolean("feature_enabled");
-  p.feature_log_transform = c.boolean("feature_log_transform");
-  p.warning_ratio = c.positive("warning_ratio");
-  p.critical_ratio = c.positive("critical_ratio");
-  p.advisory_ratio = c.positive("advisory_ratio");
-  p.baseline_tracking_observations = static_cast<int>(c.integer("baseline_tracking_observations", 0, 100000000));
-  p.max_absorbed_ratio = c.positive("max_absorbed_ratio");
-  p.innovation_enabled = c.boolean("innovation_enabled");
-  p.nis_enabled = c.boolean("nis_enabled");
-  p.nis_window = static_cast<int>(c.integer("nis_window", 1, 100000));
-  p.nis_false_alarm_prob = c.positive("nis_false_alarm_prob");
-  p.warning_sigma = c.positive("warning_sigma");
-  p.critical_sigma = c.positive("critical_sigma");
-  p.factor_enabled = c.boolean("factor_enabled");
-  p.factor_false_alarm_prob = c.positive("factor_false_alarm_prob");
-  p.factor_persistence = static_cast<int>(c.integer("factor_persistence", 1, 100000));
-  p.onset_tolerance = static_cast<int>(c.integer("onset_tolerance", 0, 100000));
-  p.explain_top_factors = static_cast<int>(c.integer("explain_top_factors", 0, 1000));
-  p.confirmation_observations = static_cast<int>(c.integer("confirmation_observations", 3, 100000));
-  p.gap_multiple = c.positive("gap_multiple");
-  p.operating_step_ratio = c.positive("operating_step_ratio");
-  p.settle_trend_sigma = c.positive("settle_trend_sigma");
-  p.escalation_persistence = static_cast<int>(c.integer("escalation_persistence", 1, 100000));
-  p.root_cause_margin_z = c.positive("root_cause_margin_z");
-  p.root_cause_persistence = static_cast<int>(c.integer("root_cause_persistence", 1, 100000));
-  try {
-    p.validate();
-  } catch (const std::invalid_argument& e) {
-    c.fail("enabled", std::string("inconsistent alarm parameters: ") + e.what());
-  }
+  load_alarm_params(root.child("condition_level"), r.condition_enabled, r.condition);
 
   const Section s = root.child("sample_level");
   s.only({"enabled", "baseline_publications"});

@@ -26,14 +26,7 @@ void DataQualityAlarms::on_events(const std::string& asset_group, const std::vec
     const bool sample = e.level == pipeline::ScreenLevel::Sample;
     const std::string key = key_of(asset_group, e.channel, std::string(sample ? "sample/" : "") + kind);
     if (e.kind == Kind::Recovered) {
-      const auto it = open_.find(key);
-      if (it == open_.end()) continue;
-      it->second.msg.state(causal_twin::CLEARED);
-      it->second.msg.cleared_time_ns(time_ns);
-      it->second.msg.sample_index(snapshot_index);
-      it->second.msg.reason(e.reason);
-      out.push_back(it->second.msg);
-      open_.erase(it);
+      clear(key, snapshot_index, time_ns, e.reason, out);
       continue;
     }
     auto it = open_.find(key);
@@ -96,19 +89,30 @@ std::string DataQualityAlarms::unique_id(const std::string& id) {
   return ++n == 1 ? id : id + "." + std::to_string(n);
 }
 
+std::map<std::string, DataQualityAlarms::Open>::iterator DataQualityAlarms::clear(
+    std::map<std::string, Open>::iterator it, std::uint64_t snapshot_index, std::int64_t time_ns,
+    const std::string& reason, std::vector<causal_twin::Alarm>& out) {
+  it->second.msg.state(causal_twin::CLEARED);
+  it->second.msg.cleared_time_ns(time_ns);
+  it->second.msg.sample_index(snapshot_index);
+  it->second.msg.reason(reason);
+  out.push_back(it->second.msg);
+  return open_.erase(it);
+}
+
+void DataQualityAlarms::clear(const std::string& key, std::uint64_t snapshot_index, std::int64_t time_ns,
+                              const std::string& reason, std::vector<causal_twin::Alarm>& out) {
+  const auto it = open_.find(key);
+  if (it != open_.end()) clear(it, snapshot_index, time_ns, reason, out);
+}
+
 void DataQualityAlarms::on_operating_state(const std::string& asset_group, const pipeline::QualityEvent& e,
                                            std::uint64_t snapshot_index, std::int64_t time_ns,
                                            std::vector<causal_twin::Alarm>& out) {
   const std::string key = key_of(asset_group, -1, "machine_stopped");
   const auto it = open_.find(key);
   if (e.kind == pipeline::QualityEventKind::MachineRunning) {
-    if (it == open_.end()) return;
-    it->second.msg.state(causal_twin::CLEARED);
-    it->second.msg.cleared_time_ns(time_ns);
-    it->second.msg.sample_index(snapshot_index);
-    it->second.msg.reason(e.reason);
-    out.push_back(it->second.msg);
-    open_.erase(it);
+    clear(key, snapshot_index, time_ns, e.reason, out);
     return;
   }
   if (it != open_.end()) return;
@@ -136,12 +140,7 @@ void DataQualityAlarms::end_of_snapshot(const std::string& asset_group, std::uin
   for (auto it = open_.lower_bound(prefix); it != open_.end() && it->first.compare(0, prefix.size(), prefix) == 0;) {
     Open& o = it->second;
     if (o.bad_value && !o.seen_in_snapshot) {
-      o.msg.state(causal_twin::CLEARED);
-      o.msg.cleared_time_ns(time_ns);
-      o.msg.sample_index(snapshot_index);
-      o.msg.reason("no bad value in snapshot " + std::to_string(snapshot_index));
-      out.push_back(o.msg);
-      it = open_.erase(it);
+      it = clear(it, snapshot_index, time_ns, "no bad value in snapshot " + std::to_string(snapshot_index), out);
       continue;
     }
     o.seen_in_snapshot = false;

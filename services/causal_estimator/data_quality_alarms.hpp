@@ -52,6 +52,13 @@ class DataQualityAlarms {
     bool seen_in_snapshot = false;
   };
   std::map<std::string, Open> open_;  // by "<group>\x1f<channel>\x1f<alarm kind>"
+  // Publishes the open alarm as CLEARED (at this snapshot, with this reason) and forgets it; the next one.
+  std::map<std::string, Open>::iterator clear(std::map<std::string, Open>::iterator it, std::uint64_t snapshot_index,
+                                              std::int64_t time_ns, const std::string& reason,
+                                              std::vector<causal_twin::Alarm>& out);
+  // The same by key; nothing when no such alarm is open.
+  void clear(const std::string& key, std::uint64_t snapshot_index, std::int64_t time_ns, const std::string& reason,
+             std::vector<causal_twin::Alarm>& out);
   std::map<std::string, std::uint64_t> issued_;  // ids raised by this process (never raised twice)
   std::uint64_t raised_ = 0, stopped_ = 0;
 };

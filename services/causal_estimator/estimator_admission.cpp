@@ -12,13 +12,6 @@
 
 namespace causal::estimator {
 
-namespace {
-std::int64_t unix_now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-}  // namespace
-
 bool EstimatorNode::admitted(const std::string& asset_group, const WriterGuid* writer) {
   std::string who;
   if (writer != nullptr) {
@@ -52,7 +45,7 @@ void EstimatorNode::raise_input_alarm(const std::string& asset_group, const std:
                                       causal_twin::Severity severity, std::size_t serial, double score,
                                       double threshold, const std::string& reason) {
   causal_twin::Alarm alarm;
-  const std::int64_t now = unix_now_ns();
+  const std::int64_t now = io::utc_now_ns();
   // Wall-clock time and a per-kind serial: a refusal has no source index of its own.
   alarm.alarm_id(fmt::format("{}/input/{}/t{}.{}", asset_group, kind, now / 1000000000, serial));
   alarm.asset_group(asset_group);

@@ -300,8 +300,7 @@ void EstimatorNode::watch_output() {
   // (the outbound queue). Make it visible: a HEALTH alarm while a write has waited longer than stuck_after_s.
   const double blocked = std::chrono::duration<double>(outbound_.blocked_for()).count();
   if (!stuck_alarm_ && blocked > options_.stuck_after_s && !standing_by_) {
-    const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                            std::chrono::system_clock::now().time_since_epoch()).count();
+    const std::int64_t now_ns = io::utc_now_ns();
     causal_twin::Alarm a;
     a.alarm_id("causal-estimator/output/reader_not_keeping_up/t" + std::to_string(now_ns / 1000000000));
     a.kind("reader_not_keeping_up");
@@ -318,8 +317,7 @@ void EstimatorNode::watch_output() {
     stuck_alarm_ = a;
   } else if (stuck_alarm_ && blocked == 0.0) {
     stuck_alarm_->state(causal_twin::CLEARED);
-    stuck_alarm_->cleared_time_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                      std::chrono::system_clock::now().time_since_epoch()).count());
+    stuck_alarm_->cleared_time_ns(io::utc_now_ns());
     stuck_alarm_->reason("every reader acknowledges again");
   } else {
     return;

@@ -4,18 +4,13 @@
 // "not_entitled"}), logged, alarmed and makes the exit code 4.
 #include "estimator_node.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <sstream>
 
 namespace causal::estimator {
-
-namespace {
-std::int64_t unix_now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-}  // namespace
 
 bool EstimatorNode::entitled(const std::string& asset_group, const WriterGuid* writer, bool frame) {
   if (writer == nullptr) return true;  // released from the reorder hold: checked when it arrived
@@ -56,7 +51,7 @@ bool EstimatorNode::entitled(const std::string& asset_group, const WriterGuid* w
 void EstimatorNode::check_certificate_expiry() {
   const std::int64_t expiry = participant_.certificate_expiry_s();
   if (expiry == 0 || certificate_alarmed_) return;
-  const std::int64_t now = unix_now_ns();
+  const std::int64_t now = io::utc_now_ns();
   const double days_left = (static_cast<double>(expiry) - static_cast<double>(now) / 1e9) / 86400.0;
   if (days_left > kCertificateWarningDays) return;
   certificate_alarmed_ = true;

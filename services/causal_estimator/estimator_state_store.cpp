@@ -1,32 +1,14 @@
 #include "estimator_state_store.hpp"
 
-#include "causal/io/file_names.hpp"
 #include "causal/estimation/state_archive.hpp"
 
-#include <filesystem>
-#include <stdexcept>
-#include <system_error>
 
 namespace causal::estimator {
 
-EstimatorStateStore::EstimatorStateStore(std::string dir) : dir_(std::move(dir)) {
-  if (dir_.empty()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(dir_, ec);
-  if (ec || !std::filesystem::is_directory(dir_)) {
-    throw std::invalid_argument("--state-dir '" + dir_ + "' cannot be created: " + ec.message());
-  }
-}
-
-std::string EstimatorStateStore::path(const std::string& asset_group) const {
-  return (std::filesystem::path(dir_) / (io::safe_file_component(asset_group) + ".estimator.state")).string();
-}
-
 bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::AssetPipeline& pipeline,
                                   std::vector<std::string>& resend, std::int64_t* last_time_ns) const {
-  if (!enabled()) return false;
   const std::string file = path(asset_group);
-  const auto payload = load_state_file(file);
+  const auto payload = files_.load(asset_group);
   if (!payload) return false;
   try {
     StateReader r(*payload);
@@ -55,22 +37,13 @@ bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::Asse
 
 bool EstimatorStateStore::save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
                                const std::vector<std::string>& resend, std::int64_t last_time_ns) {
-  if (!enabled()) return true;
-  try {
-    StateWriter w;
+  return files_.save(asset_group, [&](StateWriter& w) {
     w.begin("estimator_asset", 3);
     w.put(asset_group);
     pipeline.save(w);
     w.put(resend);
     w.put(last_time_ns);
-    save_state_file(path(asset_group), w.bytes());
-    ++saves_;
-    return true;
-  } catch (const StateError& e) {
-    ++failures_;
-    last_error_ = e.what();
-    return false;
-  }
+  });
 }
 
 }  // namespace causal::estimator

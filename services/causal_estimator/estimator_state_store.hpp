@@ -11,6 +11,7 @@
 // fsync'ed: survives a process crash, not a power loss.
 #pragma once
 
+#include "causal/io/group_state_files.hpp"
 #include "causal/pipeline/asset_pipeline.hpp"
 
 #include <climits>
@@ -23,9 +24,9 @@ namespace causal::estimator {
 class EstimatorStateStore {
  public:
   // dir empty: no persistence. Otherwise the directory is created; throws std::invalid_argument when it cannot be.
-  explicit EstimatorStateStore(std::string dir);
-  bool enabled() const { return !dir_.empty(); }
-  std::string path(const std::string& asset_group) const;
+  explicit EstimatorStateStore(std::string dir) : files_(std::move(dir), ".estimator.state") {}
+  bool enabled() const { return files_.enabled(); }
+  std::string path(const std::string& asset_group) const { return files_.path(asset_group); }
 
   // Restores `pipeline` from the asset group's checkpoint. False when there is none (or no persistence).
   // Throws causal::StateError naming the file when one exists but cannot be used (damaged, other parameters,
@@ -40,14 +41,12 @@ class EstimatorStateStore {
   [[nodiscard]] bool save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
             const std::vector<std::string>& resend, std::int64_t last_time_ns = INT64_MIN);
 
-  std::uint64_t saves() const { return saves_; }
-  std::uint64_t failures() const { return failures_; }
-  const std::string& last_error() const { return last_error_; }
+  std::uint64_t saves() const { return files_.saves(); }
+  std::uint64_t failures() const { return files_.failures(); }
+  const std::string& last_error() const { return files_.last_error(); }
 
  private:
-  std::string dir_;
-  std::uint64_t saves_ = 0, failures_ = 0;
-  std::string last_error_;
+  io::GroupStateFiles files_;  // DIR/<asset group>.estimator.state
 };
 
 }  // namespace causal::estimator

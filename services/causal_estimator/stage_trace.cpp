@@ -1,5 +1,7 @@
 #include "stage_trace.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include <sys/resource.h>
 
 #include <chrono>
@@ -7,10 +9,7 @@
 
 namespace causal::estimator {
 
-std::int64_t StageTrace::now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
+std::int64_t StageTrace::now_ns() { return io::utc_now_ns(); }
 
 void StageTrace::keep(std::shared_ptr<Frame> frame) {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -2,6 +2,7 @@
 
 #include "causal/io/csv_format.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/io/time_format.hpp"
@@ -44,24 +45,6 @@ std::vector<std::string> condition_row(const causal_twin::ConditionVector& in) {
   return row;
 }
 
-const char* to_string(causal_twin::Severity severity) {
-  switch (severity) {
-    case causal_twin::ADVISORY: return "advisory";
-    case causal_twin::WARNING: return "warning";
-    case causal_twin::CRITICAL: return "critical";
-  }
-  return "?";
-}
-
-const char* to_string(causal_twin::AlarmState state) {
-  switch (state) {
-    case causal_twin::RAISED: return "raised";
-    case causal_twin::ESCALATED: return "escalated";
-    case causal_twin::CLEARED: return "cleared";
-  }
-  return "?";
-}
-
 const std::vector<std::string>& alarm_header() {
   static const std::vector<std::string> h{"alarm_id",      "state",        "severity",           "kind",
                                           "asset_group",   "channel",      "channel_name",       "sample_index",
@@ -85,8 +68,8 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& a, std::optional<st
     case causal_twin::ESCALATED: event_time = evidence_time_ns ? io::format_utc(*evidence_time_ns) : ""; break;
   }
   return {a.alarm_id(),
-          to_string(a.state()),
-          to_string(a.severity()),
+          dds::to_string(a.state(), "?"),
+          dds::to_string(a.severity(), "?"),
           a.kind(),
           a.asset_group(),
           format_integer(static_cast<std::uint64_t>(a.channel())),
@@ -209,7 +192,7 @@ bool RepeatFilter::accept(const std::string& id, std::string signature) {
 }
 
 std::string alarm_signature(const causal_twin::Alarm& a) {
-  return std::string(to_string(a.state())) + '\x1f' + to_string(a.severity()) + '\x1f' +
+  return std::string(dds::to_string(a.state(), "?")) + '\x1f' + dds::to_string(a.severity(), "?") + '\x1f' +
          std::to_string(a.sample_index());
 }
 

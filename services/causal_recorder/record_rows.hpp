@@ -28,9 +28,6 @@ inline constexpr const char* kPrognosisFile = "prognosis.csv";
 std::vector<std::string> condition_header(const causal_twin::ConditionVector& in);
 std::vector<std::string> condition_row(const causal_twin::ConditionVector& in);
 
-const char* to_string(causal_twin::Severity severity);  // advisory | warning | critical
-const char* to_string(causal_twin::AlarmState state);   // raised | escalated | cleared
-
 // alarm_id,state,severity,kind,asset_group,channel,channel_name,sample_index,time_utc,raised_utc,
 // cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason,category,root_cause_confidence,
 // next_level,hours_to_next_level,hours_to_next_level_low,hours_to_next_level_high (empty hours: unknown)

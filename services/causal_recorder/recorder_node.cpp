@@ -1,5 +1,6 @@
 #include "recorder_node.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
@@ -31,18 +32,8 @@ RecorderNode::RecorderNode(RecorderOptions options)
     : options_(std::move(options)),
       out_dir_(make_out_dir(options_.out_dir)),
       participant_(dds::to_dds_settings(options_.dds, "causal-recorder")),
-      conditions_in_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader),
-      factors_in_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
-      alarms_in_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
-      recommendations_in_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
-      status_in_(participant_, dds::topics::kAssetStatus, kAssetStatusHistoryReader),
-      prognoses_in_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisReader) {
-  loop_.attach(conditions_in_.get());
-  loop_.attach(factors_in_.get());
-  loop_.attach(alarms_in_.get());
-  loop_.attach(recommendations_in_.get());
-  loop_.attach(status_in_.get());
-  loop_.attach(prognoses_in_.get());
+      in_(participant_, kAssetStatusHistoryReader) {
+  in_.attach_to(loop_);
   // Alarms and recommendations always get a file: a header-only alarms.csv says "no alarms", which is
   // different from "not recorded".
   alarms_ = open(kAlarmsFile, alarm_header());
@@ -86,9 +77,9 @@ int RecorderNode::run() {
       },
       // Idle exit once every publisher has left (the recommender's last alarms come after the estimator's data).
       [this] {
-        return conditions_in_.matched_writers() + factors_in_.matched_writers() + alarms_in_.matched_writers() +
-               recommendations_in_.matched_writers() + status_in_.matched_writers() +
-               prognoses_in_.matched_writers();
+        return in_.conditions.matched_writers() + in_.factors.matched_writers() + in_.alarms.matched_writers() +
+               in_.recommendations.matched_writers() + in_.status.matched_writers() +
+               in_.prognoses.matched_writers();
       });
   if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
@@ -112,13 +103,13 @@ std::size_t RecorderNode::take_available() {
   std::vector<std::pair<Key, causal_twin::Recommendation>> recs;
   std::vector<std::pair<Key, causal_twin::AssetStatus>> statuses;
   std::vector<std::pair<Key, causal_twin::Prognosis>> prognoses;  // keyed too: back into publication order
-  const std::size_t n = conditions_in_.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
-                        factors_in_.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
-                        alarms_in_.take_all([&](const auto& a, const auto& info) { alarms.emplace_back(key_of(info), a); }) +
-                        recommendations_in_.take_all(
+  const std::size_t n = in_.conditions.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
+                        in_.factors.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
+                        in_.alarms.take_all([&](const auto& a, const auto& info) { alarms.emplace_back(key_of(info), a); }) +
+                        in_.recommendations.take_all(
                             [&](const auto& r, const auto& info) { recs.emplace_back(key_of(info), r); }) +
-                        status_in_.take_all([&](const auto& st, const auto& info) { statuses.emplace_back(key_of(info), st); }) +
-                        prognoses_in_.take_all(
+                        in_.status.take_all([&](const auto& st, const auto& info) { statuses.emplace_back(key_of(info), st); }) +
+                        in_.prognoses.take_all(
                             [&](const auto& p, const auto& info) { prognoses.emplace_back(key_of(info), p); });
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   std::stable_sort(alarms.begin(), alarms.end(), by_key);
@@ -213,7 +204,7 @@ void RecorderNode::on_alarm(const causal_twin::Alarm& in) {
   }
   alarms_->write_row(alarm_row(in, evidence_time));
   ++alarm_counts_.written;
-  spdlog::info("alarm {} {} {}: {}", in.alarm_id(), to_string(in.state()), to_string(in.severity()), in.reason());
+  spdlog::info("alarm {} {} {}: {}", in.alarm_id(), dds::to_string(in.state(), "?"), dds::to_string(in.severity(), "?"), in.reason());
 }
 
 void RecorderNode::on_recommendation(const causal_twin::Recommendation& in) {

@@ -14,6 +14,7 @@
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
+#include "causal/dds/twin_output_readers.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
 
@@ -72,12 +73,7 @@ class RecorderNode {
   RecorderOptions options_;
   std::filesystem::path out_dir_;
   dds::Participant participant_;
-  dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
-  dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_in_;
-  dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
-  dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
-  dds::TypedReader<causal_twin::AssetStatusPubSubType> status_in_;
-  dds::TypedReader<causal_twin::PrognosisPubSubType> prognoses_in_;
+  dds::TwinOutputReaders in_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
 
   std::map<std::string, ConditionTable> conditions_;  // by file name

@@ -3,6 +3,7 @@
 #include "causal/io/csv_format.hpp"
 #include "record_rows.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
 #include "causal/io/time_format.hpp"
 
 namespace causal::recorder {
@@ -25,7 +26,7 @@ std::vector<std::string> asset_status_row(const causal_twin::AssetStatus& s) {
           format_integer(static_cast<std::uint64_t>(s.sample_index())),
           s.time_ns() == 0 ? std::string() : io::format_utc(s.time_ns()),
           s.has_alarm() ? "true" : "false",
-          s.has_alarm() ? to_string(s.worst_severity()) : "",
+          s.has_alarm() ? dds::to_string(s.worst_severity(), "?") : "",
           format_integer(static_cast<std::uint64_t>(s.open_alarms())),
           format_integer(static_cast<std::uint64_t>(s.root_cause_channel())),
           s.root_cause_name(),

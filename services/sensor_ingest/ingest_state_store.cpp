@@ -1,32 +1,15 @@
 #include "ingest_state_store.hpp"
 
-#include "causal/io/file_names.hpp"
 #include "causal/estimation/state_archive.hpp"
 
-#include <filesystem>
 #include <stdexcept>
-#include <system_error>
 
 namespace causal::ingest {
 
-IngestStateStore::IngestStateStore(std::string dir) : dir_(std::move(dir)) {
-  if (dir_.empty()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(dir_, ec);
-  if (ec || !std::filesystem::is_directory(dir_)) {
-    throw std::invalid_argument("--state-dir '" + dir_ + "' cannot be created: " + ec.message());
-  }
-}
-
-std::string IngestStateStore::path(const std::string& asset_group) const {
-  return (std::filesystem::path(dir_) / (io::safe_file_component(asset_group) + ".ingest.state")).string();
-}
-
 std::optional<ResumePoint> IngestStateStore::load(const std::string& asset_group) const {
-  if (!enabled()) return std::nullopt;
   const std::string file = path(asset_group);
   try {
-    const auto payload = load_state_file(file);
+    const auto payload = files_.load(asset_group);
     if (!payload) return std::nullopt;
     StateReader r(*payload);
     r.expect("ingest_numbering", 1);
@@ -45,23 +28,14 @@ std::optional<ResumePoint> IngestStateStore::load(const std::string& asset_group
 }
 
 bool IngestStateStore::save(const std::string& asset_group, const ResumePoint& point) {
-  if (!enabled()) return true;
-  try {
-    StateWriter w;
+  return files_.save(asset_group, [&](StateWriter& w) {
     w.begin("ingest_numbering", 1);
     w.put(asset_group);
     w.put(point.channels);
     w.put(point.next_sequence);
     w.put(point.next_sample_index);
     w.put(point.snapshot_index);
-    save_state_file(path(asset_group), w.bytes());
-    ++saves_;
-    return true;
-  } catch (const StateError& e) {
-    ++failures_;
-    last_error_ = e.what();
-    return false;
-  }
+  });
 }
 
 }  // namespace causal::ingest

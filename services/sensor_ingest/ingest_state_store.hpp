@@ -9,6 +9,8 @@
 
 #include "block_sequencer.hpp"
 
+#include "causal/io/group_state_files.hpp"
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -18,22 +20,20 @@ namespace causal::ingest {
 class IngestStateStore {
  public:
   // dir empty: no persistence. Otherwise the directory is created; throws std::invalid_argument when it cannot be.
-  explicit IngestStateStore(std::string dir);
-  bool enabled() const { return !dir_.empty(); }
-  std::string path(const std::string& asset_group) const;
+  explicit IngestStateStore(std::string dir) : files_(std::move(dir), ".ingest.state") {}
+  bool enabled() const { return files_.enabled(); }
+  std::string path(const std::string& asset_group) const { return files_.path(asset_group); }
   // The group's saved numbering; nullopt when there is none. Throws std::runtime_error naming the file when one
   // exists but cannot be read (damaged, another group's): silently numbering from 0 again is what this prevents.
   std::optional<ResumePoint> load(const std::string& asset_group) const;
   // False (counted, reason in last_error()) when the file cannot be written.
   [[nodiscard]] bool save(const std::string& asset_group, const ResumePoint& point);
-  std::uint64_t saves() const { return saves_; }
-  std::uint64_t failures() const { return failures_; }
-  const std::string& last_error() const { return last_error_; }
+  std::uint64_t saves() const { return files_.saves(); }
+  std::uint64_t failures() const { return files_.failures(); }
+  const std::string& last_error() const { return files_.last_error(); }
 
  private:
-  std::string dir_;
-  std::uint64_t saves_ = 0, failures_ = 0;
-  std::string last_error_;
+  io::GroupStateFiles files_;  // DIR/<asset group>.ingest.state
 };
 
 }  // namespace causal::ingest

@@ -1,5 +1,7 @@
 #include "snapshot_source.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include "causal/io/channel_csv.hpp"
 #include "causal/io/ims_directory.hpp"
 
@@ -80,11 +82,7 @@ class ChannelCsvSource final : public SnapshotSource {
     samples_ = select_channels(table.values, channels);
     names_ = select_names(table.channel_names, channels, names);
     // Without a time column the recording is stamped with the start of the replay.
-    time_ns_ = table.time_ns.empty()
-                   ? std::chrono::duration_cast<std::chrono::nanoseconds>(
-                         std::chrono::system_clock::now().time_since_epoch())
-                         .count()
-                   : table.time_ns.front();
+    time_ns_ = table.time_ns.empty() ? io::utc_now_ns() : table.time_ns.front();
   }
   std::size_t size() const override { return 1; }
   Snapshot load(std::size_t) const override { return {name_, time_ns_, samples_}; }

@@ -3,6 +3,8 @@
 // Every number stored is finite (TwinState refuses the rest), so no NaN can reach the page.
 #include "twin_state.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -15,24 +17,6 @@ namespace {
 using nlohmann::json;
 
 double ms(std::int64_t ns) { return static_cast<double>(ns) / 1e6; }
-
-const char* severity_name(causal_twin::Severity s) {
-  switch (s) {
-    case causal_twin::ADVISORY: return "advisory";
-    case causal_twin::WARNING: return "warning";
-    case causal_twin::CRITICAL: return "critical";
-  }
-  return "unknown";
-}
-
-const char* state_name(causal_twin::AlarmState s) {
-  switch (s) {
-    case causal_twin::RAISED: return "raised";
-    case causal_twin::ESCALATED: return "escalated";
-    case causal_twin::CLEARED: return "cleared";
-  }
-  return "unknown";
-}
 
 // A double that may be non-finite in a message we pass through (scores, intervals): null instead of NaN.
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
@@ -83,8 +67,8 @@ json alarm_json(const AlarmView& v) {
   return {{"id", a.alarm_id()},
           {"channel", a.channel()},
           {"channel_name", a.channel_name()},
-          {"severity", severity_name(a.severity())},
-          {"state", state_name(a.state())},
+          {"severity", dds::to_string(a.severity(), "unknown")},
+          {"state", dds::to_string(a.state(), "unknown")},
           {"open", v.open()},
           {"kind", a.kind()},
           {"category", a.category()},
@@ -183,7 +167,7 @@ json status_json(const GroupState& g) {
           {"time_ms", ms(s.time_ns())},
           {"open_alarms", s.open_alarms()},
           {"has_alarm", s.has_alarm()},
-          {"worst_severity", s.has_alarm() ? json(severity_name(s.worst_severity())) : json(nullptr)},
+          {"worst_severity", s.has_alarm() ? json(dds::to_string(s.worst_severity(), "unknown")) : json(nullptr)},
           {"root_cause_channel", s.root_cause_channel()},
           {"root_cause_name", s.root_cause_name()},
           {"action", s.action()},
@@ -234,7 +218,7 @@ std::string overview_to_json(const std::map<std::string, GroupState>& groups,
                     {"state", g.status ? json(g.status->state()) : json(nullptr)},
                     {"status", status_json(g)},
                     {"last_time_ms", g.trend.empty() ? json(nullptr) : json(ms(g.trend.back().time_ns))},
-                    {"worst_severity", worst < 0 ? json(nullptr) : json(severity_name(static_cast<causal_twin::Severity>(worst)))}});
+                    {"worst_severity", worst < 0 ? json(nullptr) : json(dds::to_string(static_cast<causal_twin::Severity>(worst), "unknown"))}});
   }
   const json out = {{"version", version}, {"info", info}, {"groups", std::move(list)}};
   return out.dump(-1, ' ', false, json::error_handler_t::replace);

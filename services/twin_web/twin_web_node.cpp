@@ -10,20 +10,10 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
     : options_(std::move(options)),
       state_(options_.limits),
       participant_(dds::to_dds_settings(options_.dds, "twin-web")),
-      conditions_in_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader),
-      factors_in_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
-      alarms_in_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmReader),
-      recommendations_in_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
-      status_in_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusReader),
-      prognoses_in_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisReader),
+      in_(participant_, dds::profiles::kAssetStatusReader),
       replies_in_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader),
       requests_out_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter) {
-  loop_.attach(conditions_in_.get());
-  loop_.attach(factors_in_.get());
-  loop_.attach(alarms_in_.get());
-  loop_.attach(recommendations_in_.get());
-  loop_.attach(status_in_.get());
-  loop_.attach(prognoses_in_.get());
+  in_.attach_to(loop_);
   loop_.attach(replies_in_.get());
   state_.set_info("service", "twin-web");
   state_.set_info("domain", std::to_string(participant_.domain_id()));
@@ -51,8 +41,8 @@ int TwinWebNode::run() {
         return take_available();
       },
       [this] {
-        return conditions_in_.matched_writers() + factors_in_.matched_writers() + alarms_in_.matched_writers() +
-               recommendations_in_.matched_writers();
+        return in_.conditions.matched_writers() + in_.factors.matched_writers() + in_.alarms.matched_writers() +
+               in_.recommendations.matched_writers();
       });
   if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
@@ -70,21 +60,21 @@ int TwinWebNode::run() {
   spdlog::info("summary topic={} received={} stale={}", dds::topics::kPrognosis, c.prognoses, c.prognoses_stale);
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kWhatIfRequest, requests_sent_,
                requests_failed_, whatif_.asked(), whatif_.answered());
-  const auto refused = conditions_in_.rejections().total() + factors_in_.rejections().total() +
-                       alarms_in_.rejections().total() + recommendations_in_.rejections().total() +
-                       status_in_.rejections().total() + prognoses_in_.rejections().total();
+  const auto refused = in_.conditions.rejections().total() + in_.factors.rejections().total() +
+                       in_.alarms.rejections().total() + in_.recommendations.rejections().total() +
+                       in_.status.rejections().total() + in_.prognoses.rejections().total();
   if (refused > 0) spdlog::warn("DDS readers refused {} samples (resource limits)", refused);
   return 0;
 }
 
 std::size_t TwinWebNode::take_available() {
   std::size_t n = 0;
-  n += conditions_in_.take_all([this](const auto& c, const auto&) { state_.on_condition(c); }, loop_.stop_flag());
-  n += factors_in_.take_all([this](const auto& f, const auto&) { state_.on_factors(f); }, loop_.stop_flag());
-  n += alarms_in_.take_all([this](const auto& a, const auto&) { state_.on_alarm(a); }, loop_.stop_flag());
-  n += status_in_.take_all([this](const auto& st, const auto&) { state_.on_status(st); }, loop_.stop_flag());
-  n += prognoses_in_.take_all([this](const auto& p, const auto&) { state_.on_prognosis(p); }, loop_.stop_flag());
-  n += recommendations_in_.take_all([this](const auto& r, const auto&) { state_.on_recommendation(r); },
+  n += in_.conditions.take_all([this](const auto& c, const auto&) { state_.on_condition(c); }, loop_.stop_flag());
+  n += in_.factors.take_all([this](const auto& f, const auto&) { state_.on_factors(f); }, loop_.stop_flag());
+  n += in_.alarms.take_all([this](const auto& a, const auto&) { state_.on_alarm(a); }, loop_.stop_flag());
+  n += in_.status.take_all([this](const auto& st, const auto&) { state_.on_status(st); }, loop_.stop_flag());
+  n += in_.prognoses.take_all([this](const auto& p, const auto&) { state_.on_prognosis(p); }, loop_.stop_flag());
+  n += in_.recommendations.take_all([this](const auto& r, const auto&) { state_.on_recommendation(r); },
                                     loop_.stop_flag());
   n += replies_in_.take_all(
       [this](const auto& r, const auto&) {

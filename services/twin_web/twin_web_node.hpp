@@ -10,6 +10,7 @@
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
+#include "causal/dds/twin_output_readers.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
 
@@ -42,12 +43,7 @@ class TwinWebNode {
   WhatIfBridge whatif_;
   std::atomic<std::size_t> whatif_readers_{0};
   dds::Participant participant_;
-  dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_in_;
-  dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_in_;
-  dds::TypedReader<causal_twin::AlarmPubSubType> alarms_in_;
-  dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_in_;
-  dds::TypedReader<causal_twin::AssetStatusPubSubType> status_in_;
-  dds::TypedReader<causal_twin::PrognosisPubSubType> prognoses_in_;
+  dds::TwinOutputReaders in_;
   dds::TypedReader<causal_twin::WhatIfReplyPubSubType> replies_in_;
   dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> requests_out_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first

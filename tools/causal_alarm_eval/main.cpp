@@ -4,6 +4,8 @@
 // (including condition vectors the estimator refuses, e.g. a channel count its configuration cannot run).
 #include <CLI/CLI.hpp>
 
+#include "causal/io/time_format.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <exception>
@@ -109,7 +111,7 @@ void print_run(const ConditionSeries& series, const PipelineResult& res, const P
   if (!quiet) {
     for (const auto& e : res.events) {
       std::printf("event index=%llu time=\"%s\" %-9s %-8s id=%s channel=%s kind=%s category=%s score=%.3f threshold=%.3f root_cause=%s confidence=%.2f\n",
-                  static_cast<unsigned long long>(e.index), format_utc_seconds(time_of(e.index)).c_str(),
+                  static_cast<unsigned long long>(e.index), causal::io::format_utc_seconds(time_of(e.index)).c_str(),
                   to_string(e.state), to_string(e.severity), e.alarm_id.c_str(), channel_label(series, e.channel).c_str(),
                   e.kind.c_str(), e.category.c_str(), e.score, e.threshold, channel_label(series, e.root_cause_channel).c_str(),
                   e.root_cause_confidence);
@@ -124,7 +126,7 @@ void print_run(const ConditionSeries& series, const PipelineResult& res, const P
     }
     std::printf("summary channel=%s first_alarm_index=%llu time=\"%s\" kind=%s severity=%s root_cause=%s sustained=%s "
                 "cleared_index=%llu max_severity=%s@%llu first_feature_drift_index=%s\n",
-                s.name.c_str(), static_cast<unsigned long long>(s.first.index), format_utc_seconds(s.first.raised_time_ns).c_str(),
+                s.name.c_str(), static_cast<unsigned long long>(s.first.index), causal::io::format_utc_seconds(s.first.raised_time_ns).c_str(),
                 s.first.kind.c_str(), to_string(s.first.severity), channel_label(series, s.first.root_cause_channel).c_str(),
                 s.first_sustained ? "yes" : "no", static_cast<unsigned long long>(s.first_cleared_index),
                 to_string(s.max_severity), static_cast<unsigned long long>(s.max_severity_index),
@@ -141,7 +143,7 @@ void write_trace(const std::string& trace_csv, const ConditionSeries& series, co
   for (const auto& c : series.channel_names) out << "," << c << "_feature_z," << c << "_innovation_z";
   out << "\n";
   for (Eigen::Index t = 0; t < n; ++t) {
-    out << series.index[static_cast<std::size_t>(t)] << "," << format_utc_seconds(series.time_ns[static_cast<std::size_t>(t)]);
+    out << series.index[static_cast<std::size_t>(t)] << "," << causal::io::format_utc_seconds(series.time_ns[static_cast<std::size_t>(t)]);
     for (Eigen::Index c = 0; c < series.values.cols(); ++c) out << "," << res.feature_z(t, c) << "," << res.innovation_z(t, c);
     out << "\n";
   }

@@ -64,15 +64,6 @@ double row_time(const CsvTable& t, const std::vector<std::string>& row, int ns_c
 
 }  // namespace
 
-const char* to_string(Severity s) {
-  switch (s) {
-    case Severity::Advisory: return "advisory";
-    case Severity::Warning: return "warning";
-    case Severity::Critical: return "critical";
-  }
-  return "?";
-}
-
 const char* severity_colour(Severity s) {
   switch (s) {
     case Severity::Advisory: return "#D4A500";  // amber, still readable on white
@@ -80,13 +71,6 @@ const char* severity_colour(Severity s) {
     case Severity::Critical: return "#D00000";  // red
   }
   return "#808080";
-}
-
-std::optional<Severity> parse_severity(const std::string& text) {
-  if (text == "advisory") return Severity::Advisory;
-  if (text == "warning") return Severity::Warning;
-  if (text == "critical") return Severity::Critical;
-  return std::nullopt;
 }
 
 std::optional<FactorName> parse_factor_name(const std::string& name, int channel_count) {

@@ -3,6 +3,8 @@
 // since the Unix epoch (what gnuplot's time axis takes); missing cells are NaN.
 #pragma once
 
+#include "causal/alarms/alarm_event.hpp"
+
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -43,10 +45,11 @@ struct FactorSeries {
   std::vector<std::string> outcome_names;     // G, from the nis_ columns
 };
 
-enum class Severity { Advisory = 0, Warning = 1, Critical = 2 };
-const char* to_string(Severity s);
+// The alarm engine's severity and its one spelling (to_string, parse_severity); the colour is the report's.
+using alarms::Severity;
+using alarms::parse_severity;
+using alarms::to_string;
 const char* severity_colour(Severity s);  // "#RRGGBB"
-[[nodiscard]] std::optional<Severity> parse_severity(const std::string& text);
 
 struct AlarmRecord {
   std::string alarm_id, state, kind, asset_group, channel_name, root_cause_name, reason;

@@ -5,13 +5,14 @@
 #include <sstream>
 
 #include "engine_internal.hpp"
+#include "causal/io/time_format.hpp"
 
 namespace causal::alarms {
 
 namespace detail {
 
 std::string at(std::uint64_t index, std::int64_t time_ns) {
-  return "observation " + std::to_string(index) + " (" + format_utc_seconds(time_ns) + ")";
+  return "observation " + std::to_string(index) + " (" + io::format_utc_seconds(time_ns) + ")";
 }
 
 std::string signed_fixed(double v, int decimals) {
@@ -48,7 +49,7 @@ std::string AlarmEngine::Impl::reason(int c, int kind, AlarmState state, int roo
   if (state == AlarmState::Cleared) {
     os << name << ": " << detail::kind_name(kind) << " alarm cleared at " << at(obs.index, obs.time_ns)
        << ": statistic " << fixed(slot.score, 2) << " stayed below the clear level " << fixed(p.clear_fraction * slot.threshold, 2)
-       << " for " << p.clear_persistence << " consecutive observations (raised " << format_utc_seconds(slot.raised_time_ns)
+       << " for " << p.clear_persistence << " consecutive observations (raised " << io::format_utc_seconds(slot.raised_time_ns)
        << ").";
     return os.str();
   }
@@ -56,7 +57,7 @@ std::string AlarmEngine::Impl::reason(int c, int kind, AlarmState state, int roo
 
   os << detail::detector_table()[static_cast<std::size_t>(kind)].describe(*this, c, slot, obs);
 
-  if (state == AlarmState::Escalated) os << " First raised " << format_utc_seconds(slot.raised_time_ns) << ".";
+  if (state == AlarmState::Escalated) os << " First raised " << io::format_utc_seconds(slot.raised_time_ns) << ".";
   os << " Root cause: ";
   if (root < 0) {
     os << "unknown (no channel's own behaviour or level has departed from its baseline).";

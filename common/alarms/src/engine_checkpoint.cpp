@@ -9,6 +9,7 @@
 
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "engine_internal.hpp"
 
 namespace causal::alarms {
@@ -17,21 +18,100 @@ namespace detail {
 
 namespace {
 
-void save(causal::StateWriter& out, const Onset& o) {
-  out.put(o.set);
-  out.put(o.index);
-  out.put(o.time_ns);
-  out.put(o.level);
-  out.put(o.evidence);
+// The field lists (SaveFields / RestoreFields, state_fields.hpp): O is the structure, const when saving.
+template <class Io, class O>
+void onset_fields(Io io, O& o) {
+  io(o.set);
+  io(o.index);
+  io(o.time_ns);
+  io(o.level);
+  io(o.evidence);
 }
 
-void restore(causal::StateReader& in, Onset& o) {
-  in.read(o.set);
-  in.read(o.index);
-  in.read(o.time_ns);
-  in.read(o.level);
-  in.read(o.evidence);
+template <class Io, class S>
+void signal_fields(Io io, S& s) {
+  io(s.baseline);
+  io.section(s.stats);
+  io(s.monitored);
+  io(s.last_value);
+  io(s.last_z);
+  io(s.detect_z);
+  io(s.nis_z);
+  io(s.scale_inflation);
+  io(s.location_margin);
+  io.object(s.cusum);
+  io.object(s.level);
+  io(s.anchor_location);
+  io(s.refine_left);
+  io(s.reference_location);
 }
+
+template <class Io, class F>
+void factor_fields(Io io, F& f) {
+  io(f.baseline);
+  io.section(f.stats);
+  io(f.monitored);
+  io(f.last_value);
+  io(f.last_std);
+  io(f.last_z);
+}
+
+// An alarm slot's fields before and after its severity (written as an int32, checked on restore).
+template <class Io, class A>
+void slot_fields_before_severity(Io io, A& slot) {
+  io.object(slot.latch);
+  io(slot.counter);  // alarm id counter: ids are never reused across a restart
+  io(slot.id);
+}
+
+template <class Io, class A>
+void slot_fields_after_severity(Io io, A& slot) {
+  io(slot.raised_time_ns);
+  io(slot.onset_index);
+  io(slot.onset_time_ns);
+  io(slot.score);
+  io(slot.threshold);
+  io.section(slot.last_event);
+  io(slot.warning_run);
+  io(slot.critical_run);
+  io(slot.root);
+  io(slot.root_confidence);
+  io(slot.challenger);
+  io(slot.challenger_run);
+}
+
+// A channel's fields after its factor_argmax (checked on restore).
+template <class Io, class C>
+void channel_fields_after_argmax(Io io, C& cs) {
+  io(cs.factor_run_start_index);
+  io(cs.factor_run_start_time_ns);
+  io(cs.factor_in_run);
+  io(cs.rejected);
+  io(cs.own_sum);
+  io(cs.own_count);
+  io(cs.baseline_from_filter);
+  io(cs.baseline_from_nis);
+  io(cs.excursion_obs);
+  io(cs.excursion_sum_z);
+  io(cs.change_counter);
+  io(cs.size_run);
+}
+
+template <class Io, class C>
+void confirmation_scalars(Io io, C& c) {
+  io(c.active);
+  io(c.gap);
+  io(c.restart);
+  io(c.step_channel);
+  io(c.gap_s);
+  io(c.start_index);
+  io(c.start_time_ns);
+  io(c.step_onset_index);
+  io(c.step_onset_time_ns);
+}
+
+void save(causal::StateWriter& out, const Onset& o) { onset_fields(SaveFields{out}, o); }
+void restore(causal::StateReader& in, Onset& o) { onset_fields(RestoreFields{in}, o); }
 
 std::size_t read_count(causal::StateReader& in, std::size_t expected, const char* what) {
   const auto n = in.get<std::uint64_t>();
@@ -46,103 +126,41 @@ std::size_t read_count(causal::StateReader& in, std::size_t expected, const char
 
 void save(causal::StateWriter& out, const SignalMonitor& s) {
   out.begin("signal_monitor", 2);
-  out.put(s.baseline);
-  alarms::save(out, s.stats);
-  out.put(s.monitored);
-  out.put(s.last_value);
-  out.put(s.last_z);
-  out.put(s.detect_z);
-  out.put(s.nis_z);
-  out.put(s.scale_inflation);
-  out.put(s.location_margin);
-  s.cusum.save(out);
-  s.level.save(out);
-  out.put(s.anchor_location);
-  out.put(s.refine_left);
-  out.put(s.reference_location);
+  signal_fields(SaveFields{out}, s);
 }
 
 void restore(causal::StateReader& in, SignalMonitor& s) {
   in.expect("signal_monitor", 2);
-  in.read(s.baseline);
-  alarms::restore(in, s.stats);
-  in.read(s.monitored);
-  in.read(s.last_value);
-  in.read(s.last_z);
-  in.read(s.detect_z);
-  in.read(s.nis_z);
-  in.read(s.scale_inflation);
-  in.read(s.location_margin);
-  s.cusum.restore(in);
-  s.level.restore(in);
-  in.read(s.anchor_location);
-  in.read(s.refine_left);
-  in.read(s.reference_location);
+  signal_fields(RestoreFields{in}, s);
 }
 
 void save(causal::StateWriter& out, const FactorMonitor& f) {
   out.begin("factor_monitor", 1);
-  out.put(f.baseline);
-  alarms::save(out, f.stats);
-  out.put(f.monitored);
-  out.put(f.last_value);
-  out.put(f.last_std);
-  out.put(f.last_z);
+  factor_fields(SaveFields{out}, f);
 }
 
 void restore(causal::StateReader& in, FactorMonitor& f) {
   in.expect("factor_monitor", 1);
-  in.read(f.baseline);
-  alarms::restore(in, f.stats);
-  in.read(f.monitored);
-  in.read(f.last_value);
-  in.read(f.last_std);
-  in.read(f.last_z);
+  factor_fields(RestoreFields{in}, f);
 }
 
 void save(causal::StateWriter& out, const AlarmSlot& slot) {
   out.begin("alarm_slot", 2);
-  slot.latch.save(out);
-  out.put(slot.counter);  // alarm id counter: ids are never reused across a restart
-  out.put(slot.id);
+  slot_fields_before_severity(SaveFields{out}, slot);
   out.put(static_cast<std::int32_t>(slot.severity));
-  out.put(slot.raised_time_ns);
-  out.put(slot.onset_index);
-  out.put(slot.onset_time_ns);
-  out.put(slot.score);
-  out.put(slot.threshold);
-  alarms::save(out, slot.last_event);
-  out.put(slot.warning_run);
-  out.put(slot.critical_run);
-  out.put(slot.root);
-  out.put(slot.root_confidence);
-  out.put(slot.challenger);
-  out.put(slot.challenger_run);
+  slot_fields_after_severity(SaveFields{out}, slot);
 }
 
 void restore(causal::StateReader& in, AlarmSlot& slot) {
   in.expect("alarm_slot", 2);
-  slot.latch.restore(in);
-  in.read(slot.counter);
-  in.read(slot.id);
+  slot_fields_before_severity(RestoreFields{in}, slot);
   const auto severity = in.get<std::int32_t>();
   if (slot.counter < 0 || severity < static_cast<int>(Severity::Advisory) ||
       severity > static_cast<int>(Severity::Critical)) {
     throw causal::StateError("checkpoint: alarm_slot '" + slot.id + "' holds an invalid counter or severity");
   }
   slot.severity = static_cast<Severity>(severity);
-  in.read(slot.raised_time_ns);
-  in.read(slot.onset_index);
-  in.read(slot.onset_time_ns);
-  in.read(slot.score);
-  in.read(slot.threshold);
-  alarms::restore(in, slot.last_event);
-  in.read(slot.warning_run);
-  in.read(slot.critical_run);
-  in.read(slot.root);
-  in.read(slot.root_confidence);
-  in.read(slot.challenger);
-  in.read(slot.challenger_run);
+  slot_fields_after_severity(RestoreFields{in}, slot);
 }
 
 void save(causal::StateWriter& out, const ChannelState& cs) {
@@ -154,18 +172,7 @@ void save(causal::StateWriter& out, const ChannelState& cs) {
   for (const auto& slot : cs.slots) save(out, slot);
   out.put(cs.factor_stat);
   out.put(cs.factor_argmax);
-  out.put(cs.factor_run_start_index);
-  out.put(cs.factor_run_start_time_ns);
-  out.put(cs.factor_in_run);
-  out.put(cs.rejected);
-  out.put(cs.own_sum);
-  out.put(cs.own_count);
-  out.put(cs.baseline_from_filter);
-  out.put(cs.baseline_from_nis);
-  out.put(cs.excursion_obs);
-  out.put(cs.excursion_sum_z);
-  out.put(cs.change_counter);
-  out.put(cs.size_run);
+  channel_fields_after_argmax(SaveFields{out}, cs);
 }
 
 void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
@@ -181,18 +188,7 @@ void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
     throw causal::StateError("checkpoint: alarm_channel refers to factor " + std::to_string(cs.factor_argmax) +
                              " of " + std::to_string(factor_count));
   }
-  in.read(cs.factor_run_start_index);
-  in.read(cs.factor_run_start_time_ns);
-  in.read(cs.factor_in_run);
-  in.read(cs.rejected);
-  in.read(cs.own_sum);
-  in.read(cs.own_count);
-  in.read(cs.baseline_from_filter);
-  in.read(cs.baseline_from_nis);
-  in.read(cs.excursion_obs);
-  in.read(cs.excursion_sum_z);
-  in.read(cs.change_counter);
-  in.read(cs.size_run);
+  channel_fields_after_argmax(RestoreFields{in}, cs);
 }
 
 void save(causal::StateWriter& out, const Episode& e) {
@@ -214,15 +210,7 @@ void restore(causal::StateReader& in, Episode& e, int channels) {
 
 void save(causal::StateWriter& out, const Confirmation& c) {
   out.begin("alarm_confirmation", 1);
-  out.put(c.active);
-  out.put(c.gap);
-  out.put(c.restart);
-  out.put(c.step_channel);
-  out.put(c.gap_s);
-  out.put(c.start_index);
-  out.put(c.start_time_ns);
-  out.put(c.step_onset_index);
-  out.put(c.step_onset_time_ns);
+  confirmation_scalars(SaveFields{out}, c);
   out.put(static_cast<std::uint64_t>(c.feature.size()));
   for (std::size_t i = 0; i < c.feature.size(); ++i) {
     out.put(c.feature[i]);
@@ -233,15 +221,7 @@ void save(causal::StateWriter& out, const Confirmation& c) {
 void restore(causal::StateReader& in, Confirmation& c, int channels) {
   in.expect("alarm_confirmation", 1);
   Confirmation r;
-  in.read(r.active);
-  in.read(r.gap);
-  in.read(r.restart);
-  in.read(r.step_channel);
-  in.read(r.gap_s);
-  in.read(r.start_index);
-  in.read(r.start_time_ns);
-  in.read(r.step_onset_index);
-  in.read(r.step_onset_time_ns);
+  confirmation_scalars(RestoreFields{in}, r);
   const auto n = in.get<std::uint64_t>();
   if ((n != 0 && n != static_cast<std::uint64_t>(channels)) || r.step_channel < -1 || r.step_channel >= channels) {
     throw causal::StateError("checkpoint: alarm_confirmation does not fit " + std::to_string(channels) + " channels");

@@ -192,7 +192,8 @@ void restore(causal::StateReader& in, Confirmation& c, int channels);
 // ---- the detector table (detector_table.cpp) ------------------------------------------------------
 // Alarm kinds are data: one row per kind with what it watches and how its statistic, threshold, onset and
 // severity are read from the engine's state. The engine loops over the table; a new kind is one row plus
-// its functions here (and its KindIndex, which sizes the per-channel alarm slots).
+// one file in src/detectors/ that returns its DetectorKind (and its KindIndex, which sizes the per-channel
+// alarm slots).
 struct DetectorReading {
   bool enabled = false;          // configured on and its signal monitored
   double statistic = kNaN;       // NaN: no value this observation (the latch neither advances nor resets)
@@ -214,6 +215,13 @@ struct DetectorKind {
   std::string (*describe)(const AlarmEngine::Impl& m, int c, const AlarmSlot& slot, const Observation& obs);
 };
 const std::array<DetectorKind, kKindCount>& detector_table();
+// The rows, one file each (src/detectors/<kind>.cpp).
+DetectorKind feature_drift_detector();
+DetectorKind innovation_rise_detector();
+DetectorKind innovation_nis_detector();
+DetectorKind factor_shift_detector();
+// Severity of a level in baseline sigmas: warning_sigma and critical_sigma (advisory below, or not finite).
+Severity severity_by_sigma(const AlarmParams& p, double level);
 
 // Number formatting of the reasons (alarm_explain.cpp).
 std::string at(std::uint64_t index, std::int64_t time_ns);  // "observation N (YYYY-MM-DD hh:mm:ss UTC)"

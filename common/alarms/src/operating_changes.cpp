@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "engine_internal.hpp"
+#include "causal/io/time_format.hpp"
 
 namespace causal::alarms {
 
@@ -183,7 +184,7 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
   auto emit = [&](int c, const char* kind_name, const std::string& why) { emit_change(c, kind_name, why, obs, events); };
 
   const std::string when = "observation " + std::to_string(confirm.start_index) + " (" +
-                           format_utc_seconds(confirm.start_time_ns) + ")";
+                           io::format_utc_seconds(confirm.start_time_ns) + ")";
   // Channels whose level moved by a step at least operating_step_ratio in the window and settled;
   // machine-wide when they are at least two and at least half the channels.
   const std::vector<bool> moved = settled_steps();

@@ -104,6 +104,10 @@ std::string Section::one_of(const std::string& key, std::initializer_list<const 
 }
 
 void Section::only(std::initializer_list<const char*> known) const {
+  only(std::vector<std::string>(known.begin(), known.end()));
+}
+
+void Section::only(const std::vector<std::string>& known) const {
   const std::set<std::string> allowed(known.begin(), known.end());
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();

@@ -4,7 +4,6 @@
 
 namespace causal::dds {
 
-namespace {
 causal_twin::Severity to_idl(alarms::Severity s) {
   switch (s) {
     case alarms::Severity::Advisory: return causal_twin::ADVISORY;
@@ -13,6 +12,7 @@ causal_twin::Severity to_idl(alarms::Severity s) {
   }
   return causal_twin::ADVISORY;
 }
+
 causal_twin::AlarmState to_idl(alarms::AlarmState s) {
   switch (s) {
     case alarms::AlarmState::Raised: return causal_twin::RAISED;
@@ -21,6 +21,32 @@ causal_twin::AlarmState to_idl(alarms::AlarmState s) {
   }
   return causal_twin::RAISED;
 }
+
+std::optional<alarms::Severity> from_idl(causal_twin::Severity s) {
+  for (const auto core : {alarms::Severity::Advisory, alarms::Severity::Warning, alarms::Severity::Critical}) {
+    if (to_idl(core) == s) return core;
+  }
+  return std::nullopt;
+}
+
+std::optional<alarms::AlarmState> from_idl(causal_twin::AlarmState s) {
+  for (const auto core : {alarms::AlarmState::Raised, alarms::AlarmState::Escalated, alarms::AlarmState::Cleared}) {
+    if (to_idl(core) == s) return core;
+  }
+  return std::nullopt;
+}
+
+const char* to_string(causal_twin::Severity s, const char* unknown) {
+  const auto core = from_idl(s);
+  return core ? alarms::to_string(*core) : unknown;
+}
+
+const char* to_string(causal_twin::AlarmState s, const char* unknown) {
+  const auto core = from_idl(s);
+  return core ? alarms::to_string(*core) : unknown;
+}
+
+namespace {
 std::string name_of(const std::vector<std::string>& names, int channel) {
   return channel >= 0 && static_cast<std::size_t>(channel) < names.size() ? names[static_cast<std::size_t>(channel)]
                                                                           : std::string();

@@ -1,5 +1,7 @@
 #include "causal/dds/security.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include <openssl/err.h>
 #include <openssl/pem.h>
 #include <openssl/pkcs7.h>
@@ -163,14 +165,9 @@ std::string without_spaces_after_commas(std::string s) {
 
 // "2026-11-23T16:20:27" (UTC) as seconds since the epoch; -1 when unreadable.
 std::time_t utc_seconds(const std::string& text) {
-  std::tm tm{};
-  if (std::sscanf(text.c_str(), "%d-%d-%dT%d:%d:%d", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
-                  &tm.tm_sec) != 6) {
-    return -1;
-  }
-  tm.tm_year -= 1900;
-  tm.tm_mon -= 1;
-  return timegm(&tm);
+  int year = 0, month = 0, day = 0, hour = 0, minute = 0, second = 0;
+  if (std::sscanf(text.c_str(), "%d-%d-%dT%d:%d:%d", &year, &month, &day, &hour, &minute, &second) != 6) return -1;
+  return static_cast<std::time_t>(io::utc_to_ns(year, month, day, hour, minute, second) / 1'000'000'000);
 }
 
 // Checks the grant for the certificate's subject and returns its text.
@@ -243,7 +240,7 @@ std::int64_t certificate_expiry(const std::string& certificate) {
   if (!cert) fail(certificate, "not a PEM certificate" + openssl_error());
   std::tm tm{};
   if (ASN1_TIME_to_tm(X509_get0_notAfter(cert.get()), &tm) != 1) fail(certificate, "unreadable expiry date");
-  return static_cast<std::int64_t>(timegm(&tm));
+  return io::utc_to_ns(tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec) / 1'000'000'000;
 }
 
 std::string verified_grant(const SecurityFiles& f) {

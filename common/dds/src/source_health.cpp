@@ -30,17 +30,23 @@ std::size_t SourceHealth::active_alarms() const {
   return n;
 }
 
+HealthChange SourceHealth::change(HealthChange::Kind kind, const std::string& name, const Source& s,
+                                  Clock::time_point now) {
+  HealthChange c;
+  c.kind = kind;
+  c.source = name;
+  c.has_index = s.has_index;
+  c.last_index = s.last_index;
+  c.silent_s = s.has_data ? seconds(now - s.last_data) : 0.0;
+  return c;
+}
+
 void SourceHealth::raise(const std::string& name, Source& s, Clock::time_point now, const std::string& what,
                          std::vector<HealthChange>& out) {
   if (s.alarmed) return;  // one alarm per silence, whatever else is learned meanwhile
   s.alarmed = true;
   ++raised_;
-  HealthChange c;
-  c.kind = HealthChange::Kind::Raised;
-  c.source = name;
-  c.has_index = s.has_index;
-  c.last_index = s.last_index;
-  c.silent_s = s.has_data ? seconds(now - s.last_data) : 0.0;
+  HealthChange c = change(HealthChange::Kind::Raised, name, s, now);
   c.reason = "input of '" + name + "' is silent: " + what + "; last data " +
              (s.has_data ? fixed1(c.silent_s) + " s ago" : std::string("never")) +
              (s.has_index ? " (snapshot " + std::to_string(s.last_index) + ")" : "");
@@ -52,12 +58,7 @@ void SourceHealth::clear(const std::string& name, Source& s, Clock::time_point n
   if (!s.alarmed) return;
   s.alarmed = false;
   ++cleared_;
-  HealthChange c;
-  c.kind = HealthChange::Kind::Cleared;
-  c.source = name;
-  c.has_index = s.has_index;
-  c.last_index = s.last_index;
-  c.silent_s = s.has_data ? seconds(now - s.last_data) : 0.0;
+  HealthChange c = change(HealthChange::Kind::Cleared, name, s, now);
   c.reason = "input of '" + name + "' " + why + " after " + fixed1(c.silent_s) + " s of silence";
   out.push_back(std::move(c));
 }

@@ -1,5 +1,6 @@
 #include "causal/io/time_format.hpp"
 
+#include <chrono>
 #include <cstdio>
 
 #include "text_scan.hpp"
@@ -88,6 +89,11 @@ std::int64_t utc_to_ns(int year, int month, int day, int hour, int minute, int s
   return ((days * 24 + hour) * 60 + minute) * 60 * kNsPerSec + static_cast<std::int64_t>(second) * kNsPerSec;
 }
 
+std::int64_t utc_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
 std::string format_utc(std::int64_t time_ns) {
   const std::int64_t secs = floor_div(time_ns, kNsPerSec);
   const std::int64_t frac = time_ns - secs * kNsPerSec;  // [0, 1e9)
@@ -99,6 +105,8 @@ std::string format_utc(std::int64_t time_ns) {
   }
   return s;
 }
+
+std::string format_utc_seconds(std::int64_t time_ns) { return format_seconds(floor_div(time_ns, kNsPerSec)) + " UTC"; }
 
 std::string format_utc_exact(std::int64_t time_ns) {
   const std::int64_t secs = floor_div(time_ns, kNsPerSec);

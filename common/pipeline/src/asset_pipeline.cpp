@@ -64,6 +64,15 @@ AssetPipeline::Streams AssetPipeline::build_streams(int g) const {
   return s;
 }
 
+void AssetPipeline::install(Streams s, int g) {
+  sample_ = std::move(s.sample);
+  conditions_ = std::move(s.conditions);
+  condition_model_ = std::move(s.condition_model);
+  adjustments_ = std::move(s.adjustments);
+  frame_screen_ = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);
+  condition_screen_ = std::make_unique<InputScreen>(params_.condition_screen, g, ScreenLevel::Condition);
+}
+
 bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
   if (channels_ == 0) {
     if (g < 2) {
@@ -71,13 +80,7 @@ bool AssetPipeline::fix_channels(int g, FrameCheck& check) {
       return false;
     }
     try {
-      Streams s = build_streams(g);  // a bad graph refuses the data
-      sample_ = std::move(s.sample);
-      conditions_ = std::move(s.conditions);
-      condition_model_ = std::move(s.condition_model);
-      adjustments_ = std::move(s.adjustments);
-      frame_screen_ = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);
-      condition_screen_ = std::make_unique<InputScreen>(params_.condition_screen, g, ScreenLevel::Condition);
+      install(build_streams(g), g);  // a bad graph refuses the data
     } catch (const std::invalid_argument& e) {
       check = {false, std::string("the configured model does not fit this asset group: ") + e.what()};
       return false;
@@ -248,14 +251,9 @@ void AssetPipeline::restore(StateReader& r) {
     throw;
   }
   channels_ = g;
-  sample_ = std::move(s.sample);
-  conditions_ = std::move(s.conditions);
-  condition_model_ = std::move(s.condition_model);
-  adjustments_ = std::move(s.adjustments);
   // The input screens are not checkpointed: they re-learn their reference scale after a restart (a channel
   // in quarantine at the crash is quarantined again within its detection window).
-  frame_screen_ = std::make_unique<InputScreen>(params_.frame_screen, g, ScreenLevel::Sample);
-  condition_screen_ = std::make_unique<InputScreen>(params_.condition_screen, g, ScreenLevel::Condition);
+  install(std::move(s), g);
   last_ = last;
 }
 

@@ -1,6 +1,7 @@
 #include "causal/pipeline/factor_stream.hpp"
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "causal/estimation/state_checks.hpp"
 
 #include <cmath>
@@ -25,49 +26,48 @@ std::uint32_t degenerate_entries(const Eigen::VectorXd& std_devs) {
 
 namespace {
 
-void put_noise(StateWriter& w, const NoiseParams& n) {
-  w.put(n.q);
-  w.put(n.r);
-  w.put(n.p0);
+// One field list each for save and restore (SaveFields / RestoreFields, state_fields.hpp).
+template <class Io, class N>
+void noise_fields(Io io, N& n) {
+  io(n.q);
+  io(n.r);
+  io(n.p0);
 }
+
+template <class Io, class R>
+void report_fields(Io io, R& r) {
+  io(r.kind);
+  io(r.outcome);  // as an int32 (static_assert below)
+  io(r.sample_index);
+  io(r.time_ns);
+  io(r.factors);
+  io(r.std_devs);
+  io(r.covariance);
+  io(r.innovation_count);
+  io(r.innovation_mean);
+  io(r.nis_mean);
+  io(r.last_innovation);
+  io(r.last_innovation_variance);
+  io(r.rejected);
+  io(r.q);
+  io(r.r);
+}
+
+static_assert(sizeof(int) == sizeof(std::int32_t), "checkpoints store FactorReport::outcome as 4 bytes");
+
+void put_noise(StateWriter& w, const NoiseParams& n) { noise_fields(SaveFields{w}, n); }
 
 NoiseParams get_noise(StateReader& r) {
   NoiseParams n;
-  n.q = r.get<double>();
-  n.r = r.get<double>();
-  n.p0 = r.get<double>();
+  noise_fields(RestoreFields{r}, n);
   return n;
 }
 
-void put_report(StateWriter& w, const FactorReport& r) {
-  w.put(r.kind);
-  w.put(static_cast<std::int32_t>(r.outcome));
-  w.put(r.sample_index);
-  w.put(r.time_ns);
-  w.put(r.factors);
-  w.put(r.std_devs);
-  w.put(r.covariance);
-  w.put(r.innovation_count);
-  for (double v : {r.innovation_mean, r.nis_mean, r.last_innovation, r.last_innovation_variance}) w.put(v);
-  w.put(r.rejected);
-  w.put(r.q);
-  w.put(r.r);
-}
+void put_report(StateWriter& w, const FactorReport& r) { report_fields(SaveFields{w}, r); }
 
 FactorReport get_report(StateReader& in) {
   FactorReport r;
-  r.kind = in.get<EstimateKind>();
-  r.outcome = in.get<std::int32_t>();
-  r.sample_index = in.get<std::uint64_t>();
-  r.time_ns = in.get<std::int64_t>();
-  in.read(r.factors);
-  in.read(r.std_devs);
-  in.read(r.covariance);
-  r.innovation_count = in.get<std::uint64_t>();
-  for (double* v : {&r.innovation_mean, &r.nis_mean, &r.last_innovation, &r.last_innovation_variance}) in.read(*v);
-  r.rejected = in.get<std::uint64_t>();
-  r.q = in.get<double>();
-  r.r = in.get<double>();
+  report_fields(RestoreFields{in}, r);
   return r;
 }
 
@@ -97,7 +97,11 @@ std::size_t FactorStream::minimum_noise_calibration_samples(const ModelSpec& mod
 }
 
 FactorStream::FactorStream(FactorStreamParams params)
-    : params_(std::move(params)), layout_(params_.model), g_(layout_.channels()), stats_(layout_.channels()) {
+    : params_(std::move(params)),
+      layout_(params_.model),
+      g_(layout_.channels()),
+      stats_(layout_.channels()),
+      window_(layout_.channels()) {
   if (params_.publish_every == 0) throw std::invalid_argument("publish_every must be >= 1");
   if (params_.fixed_lag < 0) throw std::invalid_argument("fixed_lag must be >= 0");
   validate_noise_params(params_.noise.fixed, "noise");
@@ -129,28 +133,23 @@ void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint
   for (Eigen::Index row = 0; row < block.rows(); ++row) {
     const double* y = block.data() + row * block.outerStride();
     const bool disc = discontinuity && row == 0;
-    const std::int64_t t = first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(row) * period_ns));
+    const std::int64_t t = row_time_ns(first_time_ns, row, period_ns);
     const std::uint64_t source_index = first_index + static_cast<std::uint64_t>(row);
     ++buffered_index_;
     if (smoother_) {
       process(y, disc, t, source_index, out);
       continue;
     }
-    buffer_.insert(buffer_.end(), y, y + g_);
-    buffer_disc_.push_back(disc);
-    buffer_time_.push_back(t);
-    buffer_index_.push_back(source_index);
-    if (buffer_disc_.size() >= params_.noise.calibration_samples) calibrate(out);
+    window_.push(y, disc, t, source_index);
+    if (window_.size() >= params_.noise.calibration_samples) calibrate(out);
   }
 }
 
 void FactorStream::calibrate(std::vector<FactorReport>& out) {
-  const auto n = static_cast<Eigen::Index>(buffer_disc_.size());
-  const Eigen::MatrixXd samples =
-      Eigen::Map<const RowMajorMatrix>(buffer_.data(), n, static_cast<Eigen::Index>(g_));
+  const Eigen::MatrixXd samples = window_.samples();
   NoiseTuningOptions options;
   options.p0 = params_.noise.fixed.p0;
-  tuning_ = tune_noise_all(layout_, samples, buffer_disc_, options);
+  tuning_ = tune_noise_all(layout_, samples, window_.discontinuities(), options);
   noise_.clear();
   for (int k = 0; k < g_; ++k) {
     // A window that cannot be tuned (too few usable samples, a dead outcome, absurd values, no finite
@@ -166,14 +165,9 @@ void FactorStream::calibrate(std::vector<FactorReport>& out) {
   }
   smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
   // Replay the calibration window so no sample is lost.
-  for (Eigen::Index i = 0; i < n; ++i) {
-    process(buffer_.data() + i * g_, buffer_disc_[static_cast<std::size_t>(i)],
-            buffer_time_[static_cast<std::size_t>(i)], buffer_index_[static_cast<std::size_t>(i)], out);
-  }
-  buffer_.clear();
-  buffer_disc_.clear();
-  buffer_time_.clear();
-  buffer_index_.clear();
+  window_.replay_and_clear([&](const double* y, bool disc, std::int64_t t, std::uint64_t source_index) {
+    process(y, disc, t, source_index, out);
+  });
 }
 
 void FactorStream::process(const double* y, bool discontinuity, std::int64_t time_ns, std::uint64_t source_index,
@@ -254,7 +248,7 @@ void FactorStream::emit_smoothed(const SmoothedSample& s, std::vector<FactorRepo
 
 void FactorStream::finish(std::vector<FactorReport>& out) {
   if (!smoother_) {
-    if (buffer_disc_.empty()) return;
+    if (window_.empty()) return;
     calibrate(out);
   }
   for (const SmoothedSample& s : smoother_->flush()) {
@@ -283,10 +277,7 @@ void FactorStream::save(StateWriter& w) const {
     w.put(static_cast<std::int64_t>(t.updates));
   }
   stats_.save(w);
-  w.put(buffer_);
-  w.put(buffer_disc_);
-  w.put(buffer_time_);
-  w.put(buffer_index_);
+  window_.save(w);
   w.put(static_cast<std::uint64_t>(pending_.size()));
   for (const Pending& p : pending_) {
     w.put(p.index);
@@ -333,19 +324,9 @@ void FactorStream::restore(StateReader& r) {
   }
   InnovationStats stats(g_);
   stats.restore(r);
-  std::vector<double> buffer;
-  std::vector<bool> buffer_disc;
-  std::vector<std::int64_t> buffer_time;
-  std::vector<std::uint64_t> buffer_index;
-  r.read(buffer);
-  r.read(buffer_disc);
-  r.read(buffer_time);
-  r.read(buffer_index);
-  const std::size_t buffered = buffer_disc.size();
-  if (buffer.size() != buffered * static_cast<std::size_t>(g_) || buffer_time.size() != buffered ||
-      buffer_index.size() != buffered || (smoother && buffered > 0)) {
-    throw StateError("checkpoint: inconsistent calibration buffer of the factor stream");
-  }
+  const std::string inconsistent = "checkpoint: inconsistent calibration buffer of the factor stream";
+  CalibrationWindow window = window_.read(r, inconsistent);
+  if (smoother && !window.empty()) throw StateError(inconsistent);
   // Filter reports wait at most `fixed_lag` samples for their twin: at most fixed_lag + 1 are pending.
   const auto n_pending = r.get<std::uint64_t>();
   if (n_pending > static_cast<std::uint64_t>(params_.fixed_lag) + 1) throw StateError("checkpoint: too many pending reports");
@@ -366,10 +347,7 @@ void FactorStream::restore(StateReader& r) {
   tuning_ = std::move(tuning);
   smoother_ = std::move(smoother);
   stats_ = std::move(stats);
-  buffer_ = std::move(buffer);
-  buffer_disc_ = std::move(buffer_disc);
-  buffer_time_ = std::move(buffer_time);
-  buffer_index_ = std::move(buffer_index);
+  window_ = std::move(window);
   pending_ = std::move(pending);
   next_index_ = next_index;
   buffered_index_ = buffered_index;

@@ -13,7 +13,7 @@
 namespace causal::pipeline {
 
 StructuredFactorStream::StructuredFactorStream(FactorStreamParams params, StructureSetting setting)
-    : params_(std::move(params)), setting_(setting), g_(params_.model.channels) {
+    : params_(std::move(params)), setting_(setting), g_(params_.model.channels), window_(params_.model.channels) {
   FactorStream probe(params_);  // validates the FactorStream parameters now, not when the window is full
   const bool learning = setting_.centre || setting_.learn_order;
   if (!std::isfinite(setting_.prune_threshold) || setting_.prune_threshold < 0.0) {
@@ -59,14 +59,12 @@ void StructuredFactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block,
   Eigen::Index row = 0;
   for (; row < block.rows() && !stream_; ++row) {
     const double* y = block.data() + row * block.outerStride();
-    buffer_.insert(buffer_.end(), y, y + g_);
-    buffer_disc_.push_back(discontinuity && row == 0);
-    buffer_time_.push_back(first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(row) * period_ns)));
-    buffer_index_.push_back(first_index + static_cast<std::uint64_t>(row));
-    if (buffer_disc_.size() >= setting_.calibration_samples) learn(out);
+    window_.push(y, discontinuity && row == 0, row_time_ns(first_time_ns, row, period_ns),
+                 first_index + static_cast<std::uint64_t>(row));
+    if (window_.size() >= setting_.calibration_samples) learn(out);
   }
   if (row < block.rows()) {
-    const std::int64_t t = first_time_ns + static_cast<std::int64_t>(std::llround(static_cast<double>(row) * period_ns));
+    const std::int64_t t = row_time_ns(first_time_ns, row, period_ns);
     feed_centred(block.bottomRows(block.rows() - row), first_index + static_cast<std::uint64_t>(row), false, t,
                  period_ns, out);
   }
@@ -84,8 +82,9 @@ void StructuredFactorStream::feed_centred(const Eigen::Ref<const RowMajorMatrix>
 }
 
 void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
-  const auto n = static_cast<Eigen::Index>(buffer_disc_.size());
-  const Eigen::MatrixXd window = Eigen::Map<const RowMajorMatrix>(buffer_.data(), n, static_cast<Eigen::Index>(g_));
+  const auto n = static_cast<Eigen::Index>(window_.size());
+  const std::vector<bool>& discontinuities = window_.discontinuities();
+  const Eigen::MatrixXd window = window_.samples();
   learned_.samples = static_cast<std::size_t>(n);
   auto add_problem = [&](const std::string& p) { learned_.problem += (learned_.problem.empty() ? "" : "; ") + p; };
 
@@ -121,10 +120,10 @@ void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
   if (setting_.learn_order) {
     // One NaN row before each discontinuity: the VAR fit skips every sample whose lag window holds a
     // non-finite value, so no lag pair spans a gap (var_fit.hpp).
-    Eigen::MatrixXd samples(n + static_cast<Eigen::Index>(std::count(buffer_disc_.begin() + 1, buffer_disc_.end(), true)), g_);
+    Eigen::MatrixXd samples(n + static_cast<Eigen::Index>(std::count(discontinuities.begin() + 1, discontinuities.end(), true)), g_);
     Eigen::Index at = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
-      if (i > 0 && buffer_disc_[static_cast<std::size_t>(i)]) samples.row(at++).setConstant(std::numeric_limits<double>::quiet_NaN());
+      if (i > 0 && discontinuities[static_cast<std::size_t>(i)]) samples.row(at++).setConstant(std::numeric_limits<double>::quiet_NaN());
       samples.row(at++) = window.row(i);
     }
     if (learned_.centre.size() == g_) samples.rowwise() -= learned_.centre.transpose();
@@ -161,20 +160,14 @@ void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
   stream_ = std::make_unique<FactorStream>(params);
   learned_.ready = true;
   // Replay the window so no sample is lost (times and discontinuities as received).
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const auto s = static_cast<std::size_t>(i);
-    feed_centred(Eigen::Map<const RowMajorMatrix>(buffer_.data() + s * static_cast<std::size_t>(g_), 1, g_),
-                 buffer_index_[s], buffer_disc_[s], buffer_time_[s], 0.0, out);
-  }
-  buffer_.clear();
-  buffer_disc_.clear();
-  buffer_time_.clear();
-  buffer_index_.clear();
+  window_.replay_and_clear([&](const double* y, bool disc, std::int64_t t, std::uint64_t source_index) {
+    feed_centred(Eigen::Map<const RowMajorMatrix>(y, 1, g_), source_index, disc, t, 0.0, out);
+  });
 }
 
 void StructuredFactorStream::finish(std::vector<FactorReport>& out) {
   if (!stream_) {
-    if (buffer_disc_.empty()) return;
+    if (window_.empty()) return;
     learn(out);
   }
   stream_->finish(out);
@@ -204,10 +197,7 @@ void StructuredFactorStream::save(StateWriter& w) const {
     save_model_spec(w, stream_->layout().spec());  // the model the stream runs with (learned order applied)
     stream_->save(w);
   }
-  w.put(buffer_);
-  w.put(buffer_disc_);
-  w.put(buffer_time_);
-  w.put(buffer_index_);
+  window_.save(w);
 }
 
 void StructuredFactorStream::restore(StateReader& r) {
@@ -253,25 +243,12 @@ void StructuredFactorStream::restore(StateReader& r) {
     stream->restore(r);
   }
   if (learned.ready != (stream != nullptr)) throw StateError("checkpoint: structure state of the stream is inconsistent");
-  std::vector<double> buffer;
-  std::vector<bool> buffer_disc;
-  std::vector<std::int64_t> buffer_time;
-  std::vector<std::uint64_t> buffer_index;
-  r.read(buffer);
-  r.read(buffer_disc);
-  r.read(buffer_time);
-  r.read(buffer_index);
-  const std::size_t buffered = buffer_disc.size();
-  if (buffer.size() != buffered * static_cast<std::size_t>(g_) || buffer_time.size() != buffered ||
-      buffer_index.size() != buffered || (stream && buffered > 0)) {
-    throw StateError("checkpoint: inconsistent structure calibration window");
-  }
+  const std::string inconsistent = "checkpoint: inconsistent structure calibration window";
+  CalibrationWindow window = window_.read(r, inconsistent);
+  if (stream && !window.empty()) throw StateError(inconsistent);
   learned_ = std::move(learned);
   stream_ = std::move(stream);
-  buffer_ = std::move(buffer);
-  buffer_disc_ = std::move(buffer_disc);
-  buffer_time_ = std::move(buffer_time);
-  buffer_index_ = std::move(buffer_index);
+  window_ = std::move(window);
 }
 
 }  // namespace causal::pipeline

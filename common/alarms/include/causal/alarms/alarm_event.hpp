@@ -3,7 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace causal {
@@ -61,16 +63,16 @@ struct AlarmEvent {
   double root_cause_confidence = 0.0;
 };
 
+// The one spelling of the severities and states (alarms.csv, the live view, the metrics, causal-report):
+// "advisory" | "warning" | "critical", "raised" | "escalated" | "cleared"; parse_severity is the inverse.
 const char* to_string(Severity s);
 const char* to_string(AlarmState s);
+[[nodiscard]] std::optional<Severity> parse_severity(std::string_view text);
 
 // Checkpoint of one event, every field (the engine keeps each alarm's latest event; services keep the last
 // published one to republish after a restart). restore() throws causal::StateError on a truncated or
 // foreign section, or an unknown severity / state.
 void save(causal::StateWriter& out, const AlarmEvent& event);
 void restore(causal::StateReader& in, AlarmEvent& event);
-
-// "YYYY-MM-DD hh:mm:ss UTC" (std only; the alarm library does not depend on causal_io).
-std::string format_utc_seconds(std::int64_t time_ns);
 
 }  // namespace causal::alarms

@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace causal::config {
 
@@ -37,6 +38,7 @@ class Section {
 
   // Throws if the section has a key not in `known` (catches typos such as "publish_evry").
   void only(std::initializer_list<const char*> known) const;
+  void only(const std::vector<std::string>& known) const;  // a list built from a table of keys
 
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const;
   const YAML::Node& node() const { return node_; }

@@ -59,6 +59,8 @@ class SourceHealth {
     std::uint64_t last_index = 0;
     bool alarmed = false;
   };
+  // A change of source s (its name, index and silence now); the caller adds the reason.
+  static HealthChange change(HealthChange::Kind kind, const std::string& name, const Source& s, Clock::time_point now);
   void raise(const std::string& name, Source& s, Clock::time_point now, const std::string& what,
              std::vector<HealthChange>& out);
   void clear(const std::string& name, Source& s, Clock::time_point now, const std::string& why,

@@ -155,6 +155,8 @@ class AssetPipeline {
   // The streams for G = g channels from params_ (graphs resolved with channel_names_); throws
   // std::invalid_argument when the configured model does not fit.
   Streams build_streams(int g) const;
+  // Takes the streams and builds fresh input screens for g channels.
+  void install(Streams s, int g);
   bool fix_channels(int g, FrameCheck& check);
   void feed_condition_model(const ConditionSample& s, PipelineOutput& out);
 

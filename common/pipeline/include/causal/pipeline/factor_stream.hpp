@@ -20,6 +20,8 @@
 #include "causal/estimation/svar_kalman_filter.hpp"
 #include "causal/estimation/svar_layout.hpp"
 
+#include "causal/pipeline/calibration_window.hpp"
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -35,8 +37,6 @@ class StateReader;
 }  // namespace causal
 
 namespace causal::pipeline {
-
-using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 enum class EstimateKind { Filter, FixedLag };
 
@@ -136,11 +136,7 @@ class FactorStream {
   std::vector<std::string> warnings_;
   std::unique_ptr<FixedLagSmoother> smoother_;  // lag 0 when only the filter is wanted
   InnovationStats stats_;
-  // Calibration buffer (automatic noise only).
-  std::vector<double> buffer_;
-  std::vector<bool> buffer_disc_;
-  std::vector<std::int64_t> buffer_time_;
-  std::vector<std::uint64_t> buffer_index_;  // source indices
+  CalibrationWindow window_;  // automatic noise only
   std::deque<Pending> pending_;
   std::uint64_t next_index_ = 0;      // index of the next sample processed by the filter
   std::uint64_t buffered_index_ = 0;  // samples seen including the calibration buffer

@@ -91,11 +91,7 @@ class StructuredFactorStream {
   int g_;
   LearnedStructure learned_;
   std::unique_ptr<FactorStream> stream_;
-  // Calibration window.
-  std::vector<double> buffer_;
-  std::vector<bool> buffer_disc_;
-  std::vector<std::int64_t> buffer_time_;
-  std::vector<std::uint64_t> buffer_index_;  // source indices
+  CalibrationWindow window_;
   RowMajorMatrix scratch_;
 };
 

@@ -1,0 +1,46 @@
+// The readers of everything the twin publishes for operators (condition vectors, causal factors, alarms,
+// recommendations, asset status, prognoses), as causal-recorder and twin-web both read them: one reader per
+// topic with its reader profile from qos.xml. Declare it before the EventLoop that waits on it (the loop,
+// destroyed first, detaches the readers' conditions).
+#pragma once
+
+#include "causal/dds/event_loop.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/topics.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal_twinPubSubTypes.h"
+
+#include <string>
+
+namespace causal::dds {
+
+struct TwinOutputReaders {
+  // status_profile: the asset-status reader profile (causal-recorder keeps the whole history, twin-web the
+  // latest value per group).
+  TwinOutputReaders(Participant& participant, const std::string& status_profile)
+      : conditions(participant, topics::kConditionVector, profiles::kConditionVectorReader),
+        factors(participant, topics::kCausalFactors, profiles::kCausalFactorsReader),
+        alarms(participant, topics::kAlarm, profiles::kAlarmReader),
+        recommendations(participant, topics::kRecommendation, profiles::kRecommendationReader),
+        status(participant, topics::kAssetStatus, status_profile),
+        prognoses(participant, topics::kPrognosis, profiles::kPrognosisReader) {}
+
+  // Every reader wakes `loop`.
+  void attach_to(EventLoop& loop) {
+    loop.attach(conditions.get());
+    loop.attach(factors.get());
+    loop.attach(alarms.get());
+    loop.attach(recommendations.get());
+    loop.attach(status.get());
+    loop.attach(prognoses.get());
+  }
+
+  TypedReader<causal_twin::ConditionVectorPubSubType> conditions;
+  TypedReader<causal_twin::CausalFactorBatchPubSubType> factors;
+  TypedReader<causal_twin::AlarmPubSubType> alarms;
+  TypedReader<causal_twin::RecommendationPubSubType> recommendations;
+  TypedReader<causal_twin::AssetStatusPubSubType> status;
+  TypedReader<causal_twin::PrognosisPubSubType> prognoses;
+};
+
+}  // namespace causal::dds

@@ -1,0 +1,46 @@
+#include "causal/pipeline/calibration_window.hpp"
+
+#include "causal/estimation/state_archive.hpp"
+
+namespace causal::pipeline {
+
+void CalibrationWindow::push(const double* y, bool discontinuity, std::int64_t time_ns, std::uint64_t source_index) {
+  values_.insert(values_.end(), y, y + g_);
+  disc_.push_back(discontinuity);
+  time_.push_back(time_ns);
+  index_.push_back(source_index);
+}
+
+void CalibrationWindow::clear() {
+  values_.clear();
+  disc_.clear();
+  time_.clear();
+  index_.clear();
+}
+
+Eigen::Map<const RowMajorMatrix> CalibrationWindow::samples() const {
+  return Eigen::Map<const RowMajorMatrix>(values_.data(), static_cast<Eigen::Index>(size()),
+                                          static_cast<Eigen::Index>(g_));
+}
+
+void CalibrationWindow::save(StateWriter& w) const {
+  w.put(values_);
+  w.put(disc_);
+  w.put(time_);
+  w.put(index_);
+}
+
+CalibrationWindow CalibrationWindow::read(StateReader& r, const std::string& inconsistent) const {
+  CalibrationWindow w(g_);
+  r.read(w.values_);
+  r.read(w.disc_);
+  r.read(w.time_);
+  r.read(w.index_);
+  const std::size_t n = w.size();
+  if (w.values_.size() != n * static_cast<std::size_t>(g_) || w.time_.size() != n || w.index_.size() != n) {
+    throw StateError(inconsistent);
+  }
+  return w;
+}
+
+}  // namespace causal::pipeline
