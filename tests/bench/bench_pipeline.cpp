@@ -12,6 +12,7 @@
 #include "causal/pipeline/asset_pipeline.hpp"
 #include "causal/pipeline/factor_stream.hpp"
 #include "causal/estimation/state_archive.hpp"
+#include "../support/ims_condition_model.hpp"
 
 namespace {
 
@@ -56,15 +57,7 @@ causal::pipeline::AssetPipelineParams ims_params() {
   p.sample.noise.calibration_samples = 4096;
   p.sample.publish_every = 1024;
   p.sample.fixed_lag = 16;
-  p.condition.feature = causal::io::ConditionFeature::MeanAbs;
-  p.condition_model.model.lag_order = 1;
-  p.condition_model.model.include_self_lags = true;
-  p.condition_model.noise.fixed = causal::NoiseParams{1e-4, 1e-2, 1.0};
-  p.condition_model.publish_every = 1;
-  p.condition_model.fixed_lag = 6;
-  p.condition_structure.calibration_samples = 100;
-  p.condition_structure.centre = true;
-  p.condition_structure.learn_order = true;
+  causal::test::set_ims_condition_model(p);
   return p;
 }
 

@@ -9,6 +9,7 @@
 
 #include "checkpoint_test_util.hpp"
 #include "pipeline_test_util.hpp"
+#include "../support/ims_condition_model.hpp"
 
 #include <gtest/gtest.h>
 
@@ -40,18 +41,10 @@ AssetPipelineParams params(bool sample_level = true) {
   p.sample.noise.calibration_samples = 2048;  // the first 4 snapshots
   p.sample.publish_every = 128;
   p.sample.fixed_lag = 16;
-  p.condition.feature = causal::io::ConditionFeature::MeanAbs;
+  causal::test::set_ims_condition_model(p);
   p.condition.log_transform = true;
   p.condition.window_samples = 0;
   p.condition.min_samples = 256;
-  p.condition_model.model.lag_order = 1;
-  p.condition_model.model.include_self_lags = true;
-  p.condition_model.noise.fixed = causal::NoiseParams{1e-4, 1e-2, 1.0};
-  p.condition_model.publish_every = 1;
-  p.condition_model.fixed_lag = 6;
-  p.condition_structure.calibration_samples = 100;
-  p.condition_structure.centre = true;
-  p.condition_structure.learn_order = true;
   return p;
 }
 

@@ -29,18 +29,7 @@ TEST(SimulatedRuns, TwinBeatsTheilSenAndCoversOften) {
     const SimRun run = simulate_run_to_failure(spec);
     ASSERT_GT(run.crossing_ns(4.0), run.crossing_ns(2.0));
     ASSERT_LE(run.crossing_ns(6.0), run.stop_ns);
-    auto engine = std::make_unique<alarms::AlarmEngine>("sim", std::vector<std::string>{"wearing", "healthy"},
-                                                        std::vector<std::string>{}, alarms::AlarmParams{});
-    PrognosisScorer s(std::move(engine), prognosis::PrognosisParams{}, 0,
-                      {run.crossing_ns(2.0), run.crossing_ns(4.0), run.crossing_ns(6.0)});
-    for (std::size_t i = 0; i < run.time_ns.size(); ++i) {
-      alarms::Observation obs;
-      obs.index = i;
-      obs.time_ns = run.time_ns[i];
-      obs.discontinuity = run.discontinuity[i];
-      obs.features = run.features.row(static_cast<Eigen::Index>(i)).transpose();
-      s.observe(obs);
-    }
+    const PrognosisScorer s = score_simulated_run(run, prognosis::PrognosisParams{});
     ASSERT_GE(s.first_alarm_index(), static_cast<std::int64_t>(spec.healthy_rows)) << "seed " << seed;
     for (const auto& e : s.engine().active_alarms()) EXPECT_NE(e.channel, 1) << "healthy channel alarmed: " << e.alarm_id;
     for (int l = 0; l < kLevels; ++l) {

@@ -163,18 +163,7 @@ int run_sim(const Options& o) {
       spec.seed = static_cast<std::uint64_t>(seed);
       spec.gaussian = kind == 0;
       const SimRun run = simulate_run_to_failure(spec);
-      auto engine = std::make_unique<alarms::AlarmEngine>("sim", std::vector<std::string>{"wearing", "healthy"},
-                                                          std::vector<std::string>{}, alarms::AlarmParams{});
-      PrognosisScorer s(std::move(engine), o.params, 0,
-                        {run.crossing_ns(2.0), run.crossing_ns(4.0), run.crossing_ns(o.params.end_of_life_ratio)});
-      for (std::size_t i = 0; i < run.time_ns.size(); ++i) {
-        alarms::Observation obs;
-        obs.index = i;
-        obs.time_ns = run.time_ns[i];
-        obs.discontinuity = run.discontinuity[i];
-        obs.features = run.features.row(static_cast<Eigen::Index>(i)).transpose();
-        s.observe(obs);
-      }
+      const PrognosisScorer s = score_simulated_run(run, o.params);
       if (s.first_alarm_index() < 0) ++no_alarm;
       for (int l = 0; l < kLevels; ++l) {
         twin_all[kind].level[static_cast<std::size_t>(l)].merge(s.twin().level[static_cast<std::size_t>(l)]);

@@ -1,4 +1,5 @@
 #include "prognosis_scoring.hpp"
+#include "run_to_failure_sim.hpp"
 
 #include "causal/estimation/normal_quantile.hpp"
 
@@ -173,6 +174,22 @@ std::string score_table(const std::string& title, const MethodScores& twin, cons
     }
   }
   return out;
+}
+
+PrognosisScorer score_simulated_run(const SimRun& run, const prognosis::PrognosisParams& params) {
+  auto engine = std::make_unique<alarms::AlarmEngine>("sim", std::vector<std::string>{"wearing", "healthy"},
+                                                      std::vector<std::string>{}, alarms::AlarmParams{});
+  PrognosisScorer s(std::move(engine), params, 0,
+                    {run.crossing_ns(2.0), run.crossing_ns(4.0), run.crossing_ns(params.end_of_life_ratio)});
+  for (std::size_t i = 0; i < run.time_ns.size(); ++i) {
+    alarms::Observation obs;
+    obs.index = i;
+    obs.time_ns = run.time_ns[i];
+    obs.discontinuity = run.discontinuity[i];
+    obs.features = run.features.row(static_cast<Eigen::Index>(i)).transpose();
+    s.observe(obs);
+  }
+  return s;
 }
 
 }  // namespace causal::prognosis_eval

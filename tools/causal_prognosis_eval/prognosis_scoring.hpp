@@ -73,6 +73,12 @@ class PrognosisScorer {
   std::vector<std::pair<std::uint64_t, std::pair<std::int64_t, double>>> history_;  // index, time, log feature
 };
 
+struct SimRun;  // run_to_failure_sim.hpp
+
+// Channel 0 of a simulated run scored as alarm-recommender would see it (a fresh engine with the default alarm
+// parameters), against the run's crossings of 2x, 4x and params.end_of_life_ratio x its baseline.
+PrognosisScorer score_simulated_run(const SimRun& run, const prognosis::PrognosisParams& params);
+
 // "level  method  decisions  known%  coverage(known)  coverage(all)  median|err| h" table rows.
 std::string score_table(const std::string& title, const MethodScores& twin, const MethodScores& baseline);
 

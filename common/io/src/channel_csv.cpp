@@ -65,13 +65,9 @@ void append_double(std::string& out, double v) {
 }  // namespace
 
 ChannelTable read_channel_csv(const std::string& path) {
-  const std::string text = detail::read_text_file(path);
-  detail::LineCursor cursor(text);
-  std::string_view line;
-  std::vector<std::string_view> fields;
-  std::string scratch;
-
-  const std::size_t header_line = detail::read_csv_header(path, cursor, fields, scratch);
+  detail::CsvScan csv(path);
+  const std::vector<std::string_view>& fields = csv.fields;
+  const std::size_t header_line = csv.header_line;
 
   // Leading bookkeeping columns (see classify_first_column); the time comes from time_ns when there is one
   // (exact), else from the first time column.
@@ -111,7 +107,7 @@ ChannelTable read_channel_csv(const std::string& path) {
   std::vector<double> data;  // row-major
   std::size_t rows = 0;
   std::size_t ln = 0;
-  while ((ln = detail::next_csv_row(path, cursor, width, fields, scratch)) != 0) {
+  while ((ln = csv.next_row(width)) != 0) {
     if (first == FirstColumn::Time) {
       const std::optional<std::int64_t> t = parse_time_cell(fields[time_col]);
       if (!t) throw InputError(path, ln, "bad time " + detail::quote_token(fields[time_col]));

@@ -54,13 +54,9 @@ std::string per_feature_suffix(const FeatureTable& all_columns, const std::strin
 }
 
 FeatureTable read_feature_table(const std::string& path, const std::string& column_suffix) {
-  const std::string text = detail::read_text_file(path);
-  detail::LineCursor cursor(text);
-  std::string_view line;
-  std::vector<std::string_view> fields;
-  std::string scratch;
-
-  const std::size_t header_line = detail::read_csv_header(path, cursor, fields, scratch);
+  detail::CsvScan csv(path);
+  const std::vector<std::string_view>& fields = csv.fields;
+  const std::size_t header_line = csv.header_line;
   const std::vector<std::string> header(fields.begin(), fields.end());
   const std::size_t width = header.size();
 
@@ -113,7 +109,7 @@ FeatureTable read_feature_table(const std::string& path, const std::string& colu
   std::vector<double> data;  // row-major
   std::size_t rows = 0;
   std::size_t ln = 0;
-  while ((ln = detail::next_csv_row(path, cursor, width, fields, scratch)) != 0) {
+  while ((ln = csv.next_row(width)) != 0) {
     const std::optional<std::int64_t> t =
         time_in_ns ? detail::parse_int64(fields[time_col]) : parse_utc(fields[time_col]);
     if (!t) {

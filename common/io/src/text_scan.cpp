@@ -1,4 +1,5 @@
 #include "text_scan.hpp"
+#include "text_file.hpp"
 
 #include "causal/io/input_error.hpp"
 
@@ -78,6 +79,10 @@ std::string to_lower(std::string_view s) {
     if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
   }
   return out;
+}
+
+CsvScan::CsvScan(const std::string& file) : path(file), text(read_text_file(file)), cursor(text) {
+  header_line = read_csv_header(path, cursor, fields, scratch);
 }
 
 std::size_t read_csv_header(const std::string& path, LineCursor& cursor, std::vector<std::string_view>& fields,

@@ -117,6 +117,23 @@ std::size_t next_csv_row(const std::string& path, LineCursor& cursor, std::size_
 std::size_t read_csv_header(const std::string& path, LineCursor& cursor, std::vector<std::string_view>& fields,
                             std::string& scratch);
 
+// One CSV file being read row by row: its text, a cursor over it and the current row's fields (views into the
+// text or into scratch). The constructor reads the header row into `fields` (read_csv_header's errors).
+struct CsvScan {
+  explicit CsvScan(const std::string& file);
+  CsvScan(const CsvScan&) = delete;  // the cursor and the fields point into `text`
+  CsvScan& operator=(const CsvScan&) = delete;
+  // The next data row into `fields`: its line number, 0 at the end (next_csv_row's errors).
+  std::size_t next_row(std::size_t width) { return next_csv_row(path, cursor, width, fields, scratch); }
+
+  std::string path;
+  std::string text;
+  LineCursor cursor;
+  std::vector<std::string_view> fields;
+  std::string scratch;
+  std::size_t header_line = 0;
+};
+
 // Short printable excerpt of a bad token for error messages.
 std::string quote_token(std::string_view tok);
 

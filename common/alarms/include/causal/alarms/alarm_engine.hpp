@@ -45,10 +45,7 @@
 #include "causal/alarms/alarm_params.hpp"
 #include "causal/alarms/observation.hpp"
 
-namespace causal {
-class StateWriter;  // causal/estimation/state_archive.hpp (checkpoints)
-class StateReader;
-}  // namespace causal
+#include "causal/estimation/state_archive_fwd.hpp"
 
 namespace causal::alarms {
 

@@ -8,10 +8,7 @@
 #include <string_view>
 #include <vector>
 
-namespace causal {
-class StateWriter;  // causal/estimation/state_archive.hpp (checkpoints)
-class StateReader;
-}  // namespace causal
+#include "causal/estimation/state_archive_fwd.hpp"
 
 namespace causal::alarms {
 

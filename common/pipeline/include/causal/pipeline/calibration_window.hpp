@@ -11,10 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace causal {
-class StateWriter;
-class StateReader;
-}  // namespace causal
+#include "causal/estimation/state_archive_fwd.hpp"
 
 namespace causal::pipeline {
 

@@ -9,10 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace causal {
-class StateWriter;
-class StateReader;
-}  // namespace causal
+#include "causal/estimation/state_archive_fwd.hpp"
 
 namespace causal::pipeline {
 

@@ -29,10 +29,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 
-namespace causal {
-class StateWriter;
-class StateReader;
-}  // namespace causal
+#include "causal/estimation/state_archive_fwd.hpp"
 
 namespace causal::prognosis {
 
