@@ -16,6 +16,8 @@ OutboundQueue::OutboundQueue(std::size_t capacity) : capacity_(capacity) {
 OutboundQueue::~OutboundQueue() {
   abort_.store(true);
   closing_.store(true);
+  { std::lock_guard<std::mutex> lock(mutex_); }  // the drain thread is either waiting or sees closing_
+  work_.notify_all();
   changed_.notify_all();
   if (thread_.joinable()) thread_.join();
   depth_metric_.reset();
@@ -74,7 +76,7 @@ bool OutboundQueue::push(const std::string& stream, Class cls, WriteFn write, co
   items_.push_back(Item{stream, cls, std::move(write)});
   high_water_ = std::max(high_water_, items_.size());
   update_depth();
-  changed_.notify_all();
+  work_.notify_one();  // only the drain thread waits for items; nobody waiting on changed_ gains from one more
   return true;
 }
 
@@ -111,7 +113,7 @@ void OutboundQueue::run() {
     Item item;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      changed_.wait(lock, [this] { return !items_.empty() || closing_.load(); });
+      work_.wait(lock, [this] { return !items_.empty() || closing_.load(); });
       if (items_.empty()) return;  // closing and nothing left
       item = std::move(items_.front());
       items_.pop_front();
@@ -134,6 +136,7 @@ void OutboundQueue::run() {
 
 void OutboundQueue::abort() {
   abort_.store(true);
+  work_.notify_all();
   changed_.notify_all();
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [this] { return items_.empty() && in_flight_ == 0; });
