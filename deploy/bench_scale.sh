@@ -226,10 +226,24 @@ done
 
 E=$(awk -v n="$N1" -v k="$K_GROUPS" 'BEGIN { printf "%.3f", (k > 0 ? n / k : 0) }')
 met() { awk "BEGIN { exit !($1) }" && echo "met" || echo "MISSED"; }
+# by VALUE TARGET: how far a missed target is, as a factor ("by 1.7x").
+by() { awk -v v="$1" -v t="$2" 'BEGIN { if (v > 0 && t > 0) printf "by %.1fx", (v > t ? v / t : t / v) }'; }
 echo "summary: raw ${RAW_FPS} frames/s; pipeline ${FPS[1]:-0} (1 shard) ${FPS[2]:-0} (2) frames/s, best ratio_vs_raw=$RATIO" \
   "shard2_speedup=$SPEEDUP; inexact_probes=$INEXACT; $(uptime | sed 's/.*load average/load average/')"
 echo "targets: live_efficiency $E >= 0.5 $(met "$E >= 0.5"); cpu_per_frame_us $CPU_US <= 1.5 x $K_US $(met "$CPU_US <= 1.5 * $K_US");" \
   "shard_cpu_ratio $SHARD_CPU <= 1.1 $(met "$SHARD_CPU > 0 && $SHARD_CPU <= 1.1"); p99_ms $N1_P99 < 5 $(met "$N1 > 0 && $N1_P99 < 5")"
+# Missed targets: by how much, and why (the evidence: docs/scale-and-benchmarks.md, "Latency spikes" and
+# "Estimator CPU per frame").
+if ! awk "BEGIN { exit !($CPU_US <= 1.5 * $K_US) }"; then
+  echo "missed: cpu_per_frame_us $(by "$CPU_US" "$(awk -v k="$K_US" 'BEGIN { print 1.5 * k }')") over 1.5 x kernel:" \
+    "the Fast DDS receive thread copies each 32 KiB frame and decodes it for its key (~23 % of the estimator's CPU)," \
+    "two reliable writes per frame, start-up noise tuning and ~5 context switches per frame (docs/scale-and-benchmarks.md)"
+fi
+if ! awk "BEGIN { exit !($E >= 0.5) }"; then
+  echo "missed: live_efficiency $(by "$E" 0.5) under 0.5: the kernel figure counts one core of arithmetic only;" \
+    "live groups share 2 cores with the source and the counter, pay the per-frame CPU above, and every hand-off" \
+    "between the source, DDS and the estimator's threads waits for a core (p99 5 ms is a few time slices)"
+fi
 echo "groups_live=$N1 kernel_groups=$K_GROUPS live_efficiency=$E cpu_per_frame_us=$CPU_US kernel_per_frame_us=$K_US shard_cpu_ratio=$SHARD_CPU p99_ms=$N1_P99"
 # Exit 1 when a measurement itself failed (raw frames missing, a throughput run that lost or refused data);
 # targets missed are not failures: the figures say so.
