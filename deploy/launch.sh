@@ -177,8 +177,12 @@ fi
 # With questions to ask, the recommender stays up a little longer after its sources are gone.
 recommender_idle=5
 [ ${#asks[@]} -gt 0 ] && recommender_idle=12
+# The recommender waits for the recorder's readers too: its first status changes (one per learning snapshot) must
+# not go out before the historian is there.
+recommender_waits=()
+[ -x "${tool[causal-recorder]}" ] && recommender_waits=(--wait-for causal-recorder --wait-timeout 60)
 start alarm-recommender "${tool[alarm-recommender]}" "${common[@]}" --idle-exit "$recommender_idle" \
-  --max-runtime "$max_runtime"
+  --max-runtime "$max_runtime" "${recommender_waits[@]}"
 start causal-estimator "${tool[causal-estimator]}" "${common[@]}" --idle-exit 4 \
   --max-runtime "$max_runtime" "${estimator_waits[@]}" --wait-timeout 60
 estimator_pid=${pids[-1]}

@@ -37,6 +37,13 @@ int main(int argc, char** argv) {
                  "alarms and the last event of every alarm, re-published at restart; re-sent observations are "
                  "dropped. Empty = no persistence")
       ->capture_default_str();
+  app.add_option("--wait-for", o.wait_for,
+                 "before processing, wait until readers of these participants are matched on the alarm, "
+                 "recommendation, asset-status and prognosis topics: NAME or NAME:COUNT, e.g. --wait-for "
+                 "causal-recorder (input queues meanwhile; without it a historian that starts late gets only the "
+                 "last 64 changes per key)");
+  app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "alarm-recommender", o.dds, [&] {
     if (o.params_file.empty()) throw std::invalid_argument(params_choice.describe("alarms.yaml") + ": give --params FILE");

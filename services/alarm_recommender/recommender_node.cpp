@@ -49,6 +49,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
 
 int RecommenderNode::run() {
   spdlog::info("alarm-recommender on domain {}, waiting for causal factors", participant_.domain_id());
+  if (const int rc = wait_for_readers(); rc != 0) return rc;
   restore_checkpoints();
   std::vector<AssembledObservation> ready;
   const auto poll = [&] {
@@ -136,10 +137,10 @@ int RecommenderNode::run() {
                h.cleared(), h.active_alarms(), h.deadline_s());
   spdlog::info("summary topic=causal_twin/recommendation sent={}", recommendations_published_);
   status_writer_.wait_for_acknowledgments(std::chrono::seconds(2));
-  spdlog::info("summary topic=causal_twin/asset_status sent={}", statuses_published_);
+  spdlog::info("summary topic=causal_twin/asset_status sent={} failed={}", statuses_published_, status_write_failures_);
   spdlog::info("summary topic=causal_twin/prognosis sent={} failed={}", prognoses_published_, prognosis_write_failures_);
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
-  return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete()) > 0 ? 4 : 0;
+  return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + status_write_failures_) > 0 ? 4 : 0;
 }
 
 void RecommenderNode::publish_health() {

@@ -32,12 +32,19 @@ struct RecommenderOptions {
   double idle_exit_s = 0.0;
   double max_runtime_s = 0.0;
   std::string state_dir;  // checkpoints of the alarm engines (empty: none), see alarm_state_store.hpp
+  // Readers to wait for on every output topic before taking input ("NAME" or "NAME:COUNT"), e.g. the recorder:
+  // the writers keep only the last 64 changes per key for late joiners, and a learning group changes at every
+  // snapshot, so a historian that matches after that ring has turned over would miss the first ones.
+  std::vector<std::string> wait_for;
+  double wait_timeout_s = 30.0;
 };
 
 class RecommenderNode {
  public:
   RecommenderNode(RecommenderOptions options, RecommenderParams params);
   int run();
+  // --wait-for: 0 when every named reader matched (or none asked), 3 when one did not in time.
+  int wait_for_readers();
   void stop() { loop_.stop(); }
 
  private:
@@ -91,7 +98,7 @@ class RecommenderNode {
   dds::TypedWriter<causal_twin::WhatIfReplyPubSubType> whatif_replies_;
   dds::TypedWriter<causal_twin::AssetStatusPubSubType> status_writer_;
   AssetStatusBoard status_;
-  std::uint64_t statuses_published_ = 0;
+  std::uint64_t statuses_published_ = 0, status_write_failures_ = 0;
   std::map<std::string, bool> status_last_stopped_;  // the condition level's latest operating-state verdict
   dds::TypedWriter<causal_twin::PrognosisPubSubType> prognoses_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first

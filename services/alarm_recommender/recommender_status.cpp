@@ -60,7 +60,13 @@ void RecommenderNode::publish_status(const AssembledObservation& a, bool stopped
   // Learning advances at every observation: logged at debug, the other states when they change.
   spdlog::log(learning ? spdlog::level::debug : spdlog::level::info, "STATUS {} {}: {}", a.asset_group, msg.state(),
               msg.text());
-  if (status_writer_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++statuses_published_;
+  const dds::WriteResult r = status_writer_.write(msg, loop_.stop_flag());
+  if (r == dds::WriteResult::Ok) {
+    ++statuses_published_;
+  } else if (r != dds::WriteResult::Stopped && status_write_failures_++ % 100 == 0) {
+    // A reader that stays behind past the give-up time (not a stop): counted, logged and in the exit code.
+    spdlog::warn("asset status of '{}' not published ({} failures so far)", a.asset_group, status_write_failures_);
+  }
 }
 
 }  // namespace causal::recommender

@@ -301,6 +301,8 @@ int RecorderNode::finish() {
   add(kAlarmsFile, alarms_->rows_written());
   add(kRecommendationsFile, recommendations_->rows_written());
   spdlog::info("asset status: {}", describe(status_counts_));
+  spdlog::info("summary topic=causal_twin/asset_status file={} written={} duplicates={}", kAssetStatusFile,
+               statuses_->rows_written(), status_counts_.duplicates);
   add(kAssetStatusFile, statuses_->rows_written());
   add(kPrognosisFile, prognoses_->rows_written());
   spdlog::info("rows written: {}", summary);
