@@ -94,7 +94,8 @@ std::size_t RecorderNode::take_available() {
   // instance, not in publication order. Sorted back into publication order (writer, sequence number), the
   // recording is the same on every run.
   using Key = std::pair<std::string, std::uint64_t>;
-  auto key_of = [](const eprosima::fastdds::dds::SampleInfo& info) {
+  auto key_of = [this](const eprosima::fastdds::dds::SampleInfo& info) {
+    received(info);
     std::ostringstream w;
     w << info.sample_identity.writer_guid();
     return Key{w.str(), info.sample_identity.sequence_number().to64long()};
@@ -103,8 +104,14 @@ std::size_t RecorderNode::take_available() {
   std::vector<std::pair<Key, causal_twin::Recommendation>> recs;
   std::vector<std::pair<Key, causal_twin::AssetStatus>> statuses;
   std::vector<std::pair<Key, causal_twin::Prognosis>> prognoses;  // keyed too: back into publication order
-  const std::size_t n = in_.conditions.take_all([this](const auto& c, const auto&) { on_condition(c); }) +
-                        in_.factors.take_all([this](const auto& f, const auto&) { on_factors(f); }) +
+  const std::size_t n = in_.conditions.take_all([this](const auto& c, const auto& info) {
+                          received(info);
+                          on_condition(c);
+                        }) +
+                        in_.factors.take_all([this](const auto& f, const auto& info) {
+                          received(info);
+                          on_factors(f);
+                        }) +
                         in_.alarms.take_all([&](const auto& a, const auto& info) { alarms.emplace_back(key_of(info), a); }) +
                         in_.recommendations.take_all(
                             [&](const auto& r, const auto& info) { recs.emplace_back(key_of(info), r); }) +
@@ -311,8 +318,29 @@ int RecorderNode::finish() {
                  sample_level_skipped_);
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
+  const bool tail_lost = tail_lost_after_suspension();
   // Exit code 4 when the recording has holes or refused messages: the operator must know it is incomplete.
-  return (lost_total + refused_total) > 0 ? 4 : 0;
+  return (lost_total + refused_total) > 0 || tail_lost ? 4 : 0;
+}
+
+void RecorderNode::received(const eprosima::fastdds::dds::SampleInfo& info) {
+  last_received_unix_ns_ = std::max<std::int64_t>(last_received_unix_ns_, info.reception_timestamp.to_ns());
+}
+
+bool RecorderNode::tail_lost_after_suspension() const {
+  const dds::Suspension& s = loop_.suspension();
+  // Reception timestamps, not the time of the take: samples that had arrived before the stop and are taken just
+  // after it are not news from after it. The resume is stamped by the watchdog within a few ms of it, and the stop
+  // lasted at least kSuspendedAfter (3 s): 1 s of margin tells one side from the other.
+  constexpr std::int64_t kMarginNs = 1'000'000'000;
+  if (s.count == 0 || last_received_unix_ns_ >= s.last_resumed_at_unix_ns - kMarginNs) return false;
+  // Seen in the freeze test on shared memory: after a 30 s SIGSTOP the peers re-discovered the recorder but no
+  // sample reached it again, and the file simply ended (150 of 984 rows, exit 0).
+  spdlog::warn("recording incomplete: this recorder did not run for {:.1f} s and received nothing after it: whatever "
+               "was published from then on is missing and no later row shows the gap (over shared memory a reader "
+               "whose port stalled may not be reached again: restart the recorder, or use the UDP profile "
+               "localhost-udp.xml)", s.last_seconds);
+  return true;
 }
 
 }  // namespace causal::recorder

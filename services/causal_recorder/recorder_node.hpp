@@ -22,6 +22,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <chrono>
 #include <string>
 
 namespace causal::recorder {
@@ -87,6 +88,11 @@ class RecorderNode {
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;
   TopicCounts alarm_counts_, recommendation_counts_, status_counts_;
   std::uint64_t sample_level_skipped_ = 0, invalid_msgs_ = 0;
+  std::int64_t last_received_unix_ns_ = 0;  // the latest DDS reception timestamp of anything taken
+  // After a suspension (EventLoop::suspension) with nothing received since: the tail of the run is missing and no
+  // later index shows the gap, so it is said here and counted in the exit code.
+  bool tail_lost_after_suspension() const;
+  void received(const eprosima::fastdds::dds::SampleInfo& info);
 };
 
 }  // namespace causal::recorder

@@ -245,6 +245,22 @@ TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
               static_cast<unsigned long long>(recorded.rows), line.lost.size(), ranges_text(line.lost).c_str(),
               static_cast<unsigned long long>(recorded.rows + line.lost.size()), static_cast<unsigned long long>(rows),
               static_cast<unsigned long long>(line.received), static_cast<unsigned long long>(line.duplicates));
+  // Over shared memory Fast DDS 2.9 sometimes never reaches a reader again whose port stalled for 30 s (seen once
+  // in four runs under load: re-discovered, but no sample after SIGCONT). The recorder cannot name that tail
+  // (no later index shows the gap), so it must say it was suspended and received nothing after: exit 4 and the
+  // "recording incomplete" line, with the rows it has contiguous from the first snapshot.
+  if (rec_log.find("recording incomplete: this recorder did not run") != std::string::npos) {
+    std::printf("[ delivery ] causal-recorder was not reached again after the freeze and says so: %llu rows, the "
+                "rest named as an unrecorded tail\n", static_cast<unsigned long long>(recorded.rows));
+    EXPECT_EQ(*rec_code, 4);
+    EXPECT_GE(recorded.rows, kFreezeAfter / 2) << "the rows before the freeze are missing";
+    EXPECT_EQ(recorded.indices.size(), recorded.rows);
+    EXPECT_TRUE(recorded.rows == 0 || *recorded.indices.rbegin() + 1 == recorded.rows + line.lost.size()) << rec_log;
+    EXPECT_TRUE(recorded.repeated.empty()) << "rows recorded twice, the first " << recorded.repeated.front();
+    if (!HasFailure()) fs::remove_all(work);
+    causal::test::clean_stale_shared_memory();
+    return;
+  }
   EXPECT_EQ(recorded.rows + line.lost.size(), rows) << rec_log;
   EXPECT_TRUE(recorded.repeated.empty()) << "rows recorded twice, the first " << recorded.repeated.front();
   EXPECT_EQ(recorded.unparsable, 0u);
@@ -252,6 +268,54 @@ TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
   EXPECT_EQ(line.lost, absent) << "named lost: " << ranges_text(line.lost) << "; missing from the file: "
                                << ranges_text(absent);
 
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}
+
+// Frozen through the end of the run: the recorder is stopped once the stream flows and resumed only after every
+// publisher has finished and left. What was published meanwhile never reaches it and no later index shows the gap,
+// so before, it wrote the first rows and exited 0 (a silent loss). Now it knows it did not run for longer than
+// EventLoop::kSuspendedAfter and received nothing after: "recording incomplete", exit 4. Fixed DDS domain 89.
+TEST(RecorderFreeze, FrozenThroughTheEndSaysTheTailIsMissing) {
+  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
+  const fs::path work = work_dir("freeze_tail");
+  const std::string d = "89";
+  ConditionArrivals reader(std::stoi(d));
+  ServiceProcess recorder("causal-recorder",
+                          {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(), "--idle-exit", "4",
+                           "--max-runtime", "120"},
+                          (work / "recorder.log").string());
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "3", "--max-runtime", "120",
+                            "--wait-for", "causal-recorder", "--wait-for", kReaderName, "--wait-timeout", "60"},
+                           (work / "estimator.log").string());
+  // 983 x 600 s / 40000 = 14.7 s of paced replay.
+  ServiceProcess replay("sensor-replay", ims_feature_replay_argv(SENSOR_REPLAY_BIN, d, table, {"--speed", "40000"}),
+                        (work / "replay.log").string());
+  const auto flowing_by = Clock::now() + std::chrono::seconds(60);
+  while (reader.count() < kFreezeAfter && Clock::now() < flowing_by && replay.running()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_GE(reader.count(), kFreezeAfter) << "no steady flow within 60 s:\n" << replay.output() << estimator.output();
+  FrozenProcess frozen(recorder.pid());
+  ASSERT_TRUE(frozen.stopped()) << "SIGSTOP failed";
+  const auto replay_code = replay.wait(std::chrono::seconds(60));
+  const auto est_code = estimator.wait(std::chrono::seconds(60));
+  ASSERT_TRUE(replay_code.has_value()) << replay.output();
+  ASSERT_TRUE(est_code.has_value()) << estimator.output();
+  EXPECT_EQ(*est_code, 0) << estimator.output();
+  EXPECT_EQ(reader.count(), 984u) << "the live reader must get everything while the recorder is frozen";
+  frozen.resume();
+  const auto rec_code = recorder.wait(std::chrono::seconds(60));
+  ASSERT_TRUE(rec_code.has_value()) << recorder.output();
+  const std::string rec_log = recorder.output();
+  const RecordedFile recorded = read_recorded(work / "rec" / "conditions_ims2-shaft1_meanabs.csv");
+  std::printf("[ delivery ] recorder frozen until every publisher had left: %llu of 984 rows recorded, exit %d\n",
+              static_cast<unsigned long long>(recorded.rows), *rec_code);
+  EXPECT_LT(recorded.rows, 984u) << "the recorder was frozen before the end: it cannot have every row";
+  EXPECT_EQ(*rec_code, 4) << "an incomplete recording must not exit 0:\n" << rec_log;
+  EXPECT_NE(rec_log.find("did not run for"), std::string::npos) << rec_log;
+  EXPECT_NE(rec_log.find("recording incomplete: this recorder did not run"), std::string::npos) << rec_log;
   if (!HasFailure()) fs::remove_all(work);
   causal::test::clean_stale_shared_memory();
 }

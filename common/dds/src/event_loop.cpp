@@ -4,6 +4,8 @@
 
 #include "causal/dds/systemd_notify.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <thread>
 
@@ -41,23 +43,42 @@ RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()
                       const std::function<std::size_t()>& sources) {
   using Clock = std::chrono::steady_clock;
   const auto started = Clock::now();
-  // Watchdog: max-runtime must hold even when the loop thread is stuck in a blocking write.
+  // Watchdog thread: max-runtime must hold even when the loop thread is stuck in a blocking write; and it notices
+  // when the whole process did not run (its 200 ms sleep lasted kSuspendedAfter or more), whatever the loop thread
+  // was doing at the time (SIGSTOP in the middle of a poll as well as in a wait).
   std::mutex mutex;
   std::condition_variable done_cv;
   bool done = false;
   std::atomic<bool> expired{false};
-  std::thread watchdog;
-  if (limits.max_runtime_s > 0) {
-    const auto deadline = started + std::chrono::duration_cast<Clock::duration>(
-                                        std::chrono::duration<double>(limits.max_runtime_s));
-    watchdog = std::thread([&] {
-      std::unique_lock<std::mutex> lock(mutex);
-      if (!done_cv.wait_until(lock, deadline, [&] { return done; })) {
+  const bool has_deadline = limits.max_runtime_s > 0;
+  const auto deadline = started + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double>(has_deadline ? limits.max_runtime_s : 0.0));
+  std::thread watchdog([&] {
+    std::unique_lock<std::mutex> lock(mutex);
+    auto last_tick = Clock::now();
+    while (!done) {
+      auto wake = Clock::now() + std::chrono::milliseconds(200);
+      if (has_deadline) wake = std::min(wake, deadline);
+      done_cv.wait_until(lock, wake, [&] { return done; });
+      const auto now = Clock::now();
+      if (now - last_tick >= kSuspendedAfter) {
+        ++suspension_.count;
+        suspension_.last_seconds = std::chrono::duration<double>(now - last_tick).count();
+        suspension_.last_resumed_at = now;
+        suspension_.last_resumed_at_unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                  std::chrono::system_clock::now().time_since_epoch()).count();
+        spdlog::warn("this process did not run for {:.1f} s (stopped or not scheduled): its peers may have dropped "
+                     "it meanwhile (their lease of it expired), and what they published then is missing here",
+                     suspension_.last_seconds);
+      }
+      last_tick = now;
+      if (!done && has_deadline && now >= deadline) {
         expired.store(true);
         stop();
+        return;
       }
-    });
-  }
+    }
+  });
   // The service's entities exist and it takes data from now on (systemd Type=notify units start here).
   notify_systemd("READY=1\nSTATUS=running");
   auto last_data = started;
@@ -84,14 +105,12 @@ RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()
       break;
     }
   }
-  if (watchdog.joinable()) {
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      done = true;
-    }
-    done_cv.notify_all();
-    watchdog.join();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    done = true;
   }
+  done_cv.notify_all();
+  watchdog.join();  // suspension_ is read only after run() returns
   if (end != RunEnd::Idle && expired.load()) end = RunEnd::MaxRuntime;
   notify_systemd("STOPPING=1");  // draining and checkpointing follow; systemd waits up to TimeoutStopSec
   return end;

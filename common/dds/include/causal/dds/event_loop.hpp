@@ -11,6 +11,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <vector>
@@ -28,6 +29,15 @@ struct RunLimits {
 };
 
 enum class RunEnd { Stopped, Idle, MaxRuntime };
+
+// A wait that returned far later than asked: the process was stopped (SIGSTOP, a debugger) or not scheduled.
+// Its peers may have dropped it meanwhile (their lease of it expired), so what they published then is missing.
+struct Suspension {
+  std::uint64_t count = 0;   // 0: never
+  double last_seconds = 0.0;  // how long the last one lasted
+  std::chrono::steady_clock::time_point last_resumed_at{};
+  std::int64_t last_resumed_at_unix_ns = 0;  // the same instant on the system clock (DDS reception timestamps)
+};
 
 class EventLoop {
  public:
@@ -50,12 +60,16 @@ class EventLoop {
   RunEnd run(const RunLimits& limits, const std::function<std::size_t()>& poll,
              const std::function<std::size_t()>& sources);
   const std::atomic<bool>& stop_flag() const { return stopped_; }
+  // Waits in run() that returned kSuspendedAfter or more after they began (the timeout is 200 ms).
+  static constexpr std::chrono::seconds kSuspendedAfter{3};
+  const Suspension& suspension() const { return suspension_; }
 
  private:
   eprosima::fastdds::dds::WaitSet waitset_;
   eprosima::fastdds::dds::GuardCondition guard_;
   std::vector<eprosima::fastdds::dds::Condition*> attached_;
   std::atomic<bool> stopped_{false};
+  Suspension suspension_;
 };
 
 }  // namespace causal::dds
