@@ -110,6 +110,16 @@ class ConditionArrivals {
 
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
+// True once kFreezeAfter condition vectors reached the test reader (the stream flows), false after 60 s or when the
+// replay ended first.
+bool wait_for_flow(const ConditionArrivals& reader, ServiceProcess& replay) {
+  const auto flowing_by = Clock::now() + std::chrono::seconds(60);
+  while (reader.count() < kFreezeAfter && Clock::now() < flowing_by && replay.running()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return reader.count() >= kFreezeAfter;
+}
+
 }  // namespace
 
 TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
@@ -140,11 +150,7 @@ TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
                         (work / "replay.log").string());
 
   // Freeze the recorder mid-run, once the stream is flowing.
-  const auto flowing_by = Clock::now() + std::chrono::seconds(60);
-  while (reader.count() < kFreezeAfter && Clock::now() < flowing_by && replay.running()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  ASSERT_GE(reader.count(), kFreezeAfter) << "no steady flow within 60 s:\n" << replay.output() << estimator.output();
+  ASSERT_TRUE(wait_for_flow(reader, replay)) << "no steady flow within 60 s:\n" << replay.output() << estimator.output();
   FrozenProcess frozen(recorder.pid());
   const auto stopped_at = Clock::now();
   ASSERT_TRUE(frozen.stopped()) << "SIGSTOP failed";
@@ -292,11 +298,7 @@ TEST(RecorderFreeze, FrozenThroughTheEndSaysTheTailIsMissing) {
   // 983 x 600 s / 40000 = 14.7 s of paced replay.
   ServiceProcess replay("sensor-replay", ims_feature_replay_argv(SENSOR_REPLAY_BIN, d, table, {"--speed", "40000"}),
                         (work / "replay.log").string());
-  const auto flowing_by = Clock::now() + std::chrono::seconds(60);
-  while (reader.count() < kFreezeAfter && Clock::now() < flowing_by && replay.running()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  ASSERT_GE(reader.count(), kFreezeAfter) << "no steady flow within 60 s:\n" << replay.output() << estimator.output();
+  ASSERT_TRUE(wait_for_flow(reader, replay)) << "no steady flow within 60 s:\n" << replay.output() << estimator.output();
   FrozenProcess frozen(recorder.pid());
   ASSERT_TRUE(frozen.stopped()) << "SIGSTOP failed";
   const auto replay_code = replay.wait(std::chrono::seconds(60));
