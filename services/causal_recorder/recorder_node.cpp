@@ -329,6 +329,10 @@ void RecorderNode::received(const eprosima::fastdds::dds::SampleInfo& info) {
 
 bool RecorderNode::tail_lost_after_suspension() const {
   const dds::Suspension& s = loop_.suspension();
+  // Shorter than the lease this participant announces, the stop was not noticed by the peers: reliable delivery
+  // resumed where it was and nothing can be missing.
+  const auto& lease = participant_.get()->get_qos().wire_protocol().builtin.discovery_config.leaseDuration;
+  if (s.count > 0 && s.last_seconds < lease.seconds + lease.nanosec * 1e-9) return false;
   // Reception timestamps, not the time of the take: samples that had arrived before the stop and are taken just
   // after it are not news from after it. The resume is stamped by the watchdog within a few ms of it, and the stop
   // lasted at least kSuspendedAfter (3 s): 1 s of margin tells one side from the other.
