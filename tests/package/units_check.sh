@@ -111,7 +111,15 @@ done
 echo "units: ${unit_users[*]} causal-twin-sensor: each reads its own credential only; no key file and no other unit's state"
 
 recorded=/var/lib/causal-twin/recordings/conditions_ims2-shaft1_meanabs.csv
-for _ in $(seq 300); do [ -f "$recorded" ] && [ "$(($(wc -l < "$recorded") - 1))" = 6 ] && break; sleep 0.1; done
+statuses=/var/lib/causal-twin/recordings/asset_status.csv
+# Stop once the recorder has every condition vector (the estimator's output) and the recommender says it has learned
+# from all 6 snapshots ("learning", 6 of 140 in asset_status.csv: it has processed them and has something to
+# checkpoint): the recorder alone came first, and a SIGTERM then could reach a recommender that had not yet
+# received its first factors.
+rows_of() { [ -f "$1" ] && echo $(($(wc -l < "$1") - 1)) || echo 0; }
+learned_all() { [ -f "$statuses" ] && awk -F, '$2 == "learning" && $3 == 6 { found = 1 } END { exit !found }' "$statuses"; }
+for _ in $(seq 300); do [ "$(rows_of "$recorded")" = 6 ] && learned_all && break; sleep 0.1; done
+learned_all || fail "the recommender's status never said 6 of 140 observations learned: $(tail -n 2 "$statuses" 2>/dev/null)"
 for p in "${unit_pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
 for i in "${!unit_pids[@]}"; do
   rc=0; wait "${unit_pids[$i]}" || rc=$?
@@ -125,7 +133,7 @@ cp "$recorded" "$work/units_conditions.csv"
 echo "units: recorder wrote $(($(wc -l < "$recorded") - 1)) condition vectors to /var/lib/causal-twin/recordings (DDS-Security on, key per unit)"
 for d in estimator-main:estimator recommender:recommender recordings:recorder; do
   dir="/var/lib/causal-twin/${d%%:*}"; u="causal-twin-${d##*:}"
-  [ -n "$(ls -A "$dir" 2>/dev/null)" ] || fail "nothing in $dir"
+  [ -n "$(ls -A "$dir" 2>/dev/null)" ] || { tail -n 25 "$work/unit_causal-twin-${d##*:}"*.log; fail "nothing in $dir"; }
   [ -z "$(find "$dir" ! -user "$u")" ] || fail "$dir: files not owned by $u"
   [ "$(stat -c %a "$dir")" = 700 ] || fail "$dir is $(stat -c %a "$dir"), not 700"
 done
