@@ -57,6 +57,14 @@ if command -v lintian > /dev/null; then
   echo "lintian: $errors errors, $warnings warnings, $(grep -c '^[IP]: ' "$work/lintian.log" || true) info/pedantic"
   grep '^[EW]: ' "$work/lintian.log" || true
   [ "$errors" = 0 ] || fail "lintian reports $errors errors"
+  # Hardened binaries (CMakeLists.txt): --pedantic must name no hardening-* tag (no-bindnow, no-fortify-functions,
+  # no-relro, no-pie).
+  hardening_tags=hardening-no-bindnow,hardening-no-fortify-functions,hardening-no-relro,hardening-no-pie
+  lintian --pedantic --display-info --no-tag-display-limit --tags "$hardening_tags" \
+    "$deb" "$dev_deb" > "$work/lintian-hardening.log" 2>&1 || true
+  hardening=$(grep -c 'hardening-' "$work/lintian-hardening.log" || true)
+  echo "lintian --pedantic hardening tags: $hardening"
+  [ "$hardening" = 0 ] || { cat "$work/lintian-hardening.log"; fail "lintian --pedantic reports $hardening hardening tags"; }
 else
   skip "no lintian (deploy/install_deps.sh installs it)"
 fi
