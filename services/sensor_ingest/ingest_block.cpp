@@ -1,11 +1,12 @@
 #include "ingest_block.hpp"
 
+#include "ingest_block_checks.hpp"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace causal::ingest {
@@ -37,6 +38,10 @@ namespace {
 constexpr const char kBinaryMagic[] = "CTB1";
 constexpr std::size_t kBinaryFixedHeader = 36;
 constexpr const char kCsvMagic[] = "#block";
+
+}  // namespace
+
+namespace detail {
 
 ParseResult reject(RejectReason reason, std::string detail) {
   ParseResult r;
@@ -83,89 +88,12 @@ std::optional<ParseResult> check_count(std::size_t n, std::size_t g, const Block
   return std::nullopt;
 }
 
-// ---- JSON -------------------------------------------------------------------------------------------------
+}  // namespace detail
 
-bool json_int64(const nlohmann::json& j, std::int64_t& out) {
-  if (j.is_number_unsigned()) {
-    const auto v = j.get<std::uint64_t>();
-    if (v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return false;
-    out = static_cast<std::int64_t>(v);
-    return true;
-  }
-  if (j.is_number_integer()) {
-    out = j.get<std::int64_t>();
-    return true;
-  }
-  return false;
-}
-
-}  // namespace
-
-ParseResult parse_json_block(const std::string& message, const BlockLimits& limits) {
-  if (message.size() > limits.max_bytes)
-    return reject(RejectReason::Oversize, "message of " + std::to_string(message.size()) + " bytes");
-  const nlohmann::json j = nlohmann::json::parse(message, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) return reject(RejectReason::Malformed, "not valid JSON");
-  if (!j.is_object()) return reject(RejectReason::Malformed, "JSON payload is not an object");
-  IngestBlock b;
-  const auto field = [&j](const char* name) -> const nlohmann::json* {
-    const auto it = j.find(name);
-    return it == j.end() ? nullptr : &*it;
-  };
-  const auto* group = field("asset_group");
-  if (!group || !group->is_string()) return reject(RejectReason::Field, "asset_group missing or not a string");
-  b.asset_group = group->get<std::string>();
-  const auto* channels = field("channels");
-  if (!channels || !channels->is_array()) return reject(RejectReason::Field, "channels missing or not an array");
-  for (const auto& c : *channels) {
-    if (!c.is_string()) return reject(RejectReason::Field, "channel names must be strings");
-    b.channels.push_back(c.get<std::string>());
-  }
-  if (const auto* unit = field("unit")) {
-    if (!unit->is_string()) return reject(RejectReason::Field, "unit is not a string");
-    b.unit = unit->get<std::string>();
-  }
-  const auto* rate = field("sample_rate_hz");
-  if (!rate || !rate->is_number()) return reject(RejectReason::Field, "sample_rate_hz missing or not a number");
-  b.sample_rate_hz = rate->get<double>();
-  const auto* t0 = field("t0_ns");
-  if (!t0 || !json_int64(*t0, b.t0_ns)) return reject(RejectReason::Field, "t0_ns missing or not an integer");
-  const auto* seq = field("sequence");
-  if (!seq || !seq->is_number_integer() || (!seq->is_number_unsigned() && seq->get<std::int64_t>() < 0)) {
-    return reject(RejectReason::Field, "sequence missing or not an integer >= 0");
-  }
-  b.sequence = seq->get<std::uint64_t>();
-  if (const auto* eos = field("end_of_segment")) {
-    if (!eos->is_boolean()) return reject(RejectReason::Field, "end_of_segment is not a boolean");
-    b.end_of_segment = eos->get<bool>();
-  }
-  if (auto bad = check_header(b, limits)) return *bad;
-  const auto* rows = field("samples");
-  if (!rows || !rows->is_array()) return reject(RejectReason::Field, "samples missing or not an array of rows");
-  const std::size_t g = b.channels.size();
-  if (auto bad = check_count(rows->size(), g, limits)) return *bad;
-  b.samples_per_channel = rows->size();
-  b.samples.reserve(rows->size() * g);
-  std::size_t n = 0;
-  for (const auto& row : *rows) {
-    if (!row.is_array() || row.size() != g) {
-      return reject(RejectReason::Shape, "row " + std::to_string(n) + " has " +
-                                             (row.is_array() ? std::to_string(row.size()) : std::string("no")) +
-                                             " values, expected " + std::to_string(g));
-    }
-    for (const auto& v : row) {
-      if (v.is_null()) {
-        b.samples.push_back(std::numeric_limits<double>::quiet_NaN());
-      } else if (v.is_number()) {
-        b.samples.push_back(v.get<double>());
-      } else {
-        return reject(RejectReason::Malformed, "row " + std::to_string(n) + ": a value is not a number");
-      }
-    }
-    ++n;
-  }
-  return accept(std::move(b));
-}
+using detail::accept;
+using detail::check_count;
+using detail::check_header;
+using detail::reject;
 
 // ---- CSV --------------------------------------------------------------------------------------------------
 

@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "causal/io/name_limits.hpp"
+
 namespace causal::ingest {
 
 struct IngestBlock {
@@ -56,10 +58,10 @@ inline constexpr int kRejectReasonCount = 8;
 const char* reason_name(RejectReason reason);  // "malformed", "truncated", ...
 
 struct BlockLimits {
-  std::size_t max_channels = 64;      // the IDL's bound on channel_names
+  std::size_t max_channels = io::kMaxChannels;  // the IDL's bound on channel_names
   std::size_t max_values = 1u << 20;  // N x G per block (8 MiB of doubles)
   std::size_t max_bytes = 16u << 20;  // encoded message size
-  std::size_t max_name_bytes = 256;   // asset group, channel names, unit
+  std::size_t max_name_bytes = io::kMaxNameBytes;  // asset group, channel names, unit (the one name limit)
 };
 
 struct ParseResult {

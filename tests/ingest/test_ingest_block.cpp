@@ -1,6 +1,7 @@
 // sensor-ingest payloads: every encoding decoded against hand-written messages, every malformed case
 // rejected with its reason, and the stream splitter cutting a mixed byte stream into the same messages.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <cmath>
 #include <cstring>
@@ -117,6 +118,72 @@ TEST(IngestBlock, MalformedJsonIsRejected) {
   EXPECT_EQ(reason_of(replaced(kJson, "[2,3.5]", R"([2,"x"])")), RejectReason::Malformed);
   EXPECT_EQ(reason_of("hello world"), RejectReason::Malformed);
   EXPECT_EQ(reason_of(""), RejectReason::Malformed);
+}
+
+TEST(IngestBlock, DuplicateJsonKeysAreRejected) {
+  // The last value would win in most parsers, the first in some: such a message means what its reader picks.
+  const auto top = parse_block(replaced(kJson, R"("unit":"g")", R"("unit":"g","sequence":18)"));
+  EXPECT_FALSE(top.block);
+  EXPECT_EQ(top.reason, RejectReason::Malformed);
+  EXPECT_EQ(top.detail, "duplicate key in a JSON object");
+  EXPECT_EQ(reason_of(replaced(kJson, R"("unit":"g")", R"("unit":"g","note":{"a":1,"b":2,"a":3})")),
+            RejectReason::Malformed);
+  // Extra keys (unique) are ignored as before, whatever they hold.
+  const auto extra = parse_block(replaced(kJson, R"("unit":"g")", R"("unit":"g","note":{"a":[1,{"b":null}]})"));
+  expect_reference_block(extra);
+}
+
+TEST(IngestBlock, JsonNestingIsBoundedAt32Levels) {
+  // The top object is level 1: an extra member nested to level 32 is accepted, one to level 33 refused.
+  const auto nested = [](int levels) {
+    return replaced(kJson, R"("unit":"g")",
+                    R"("unit":"g","pad":)" + std::string(static_cast<std::size_t>(levels - 1), '[') +
+                        std::string(static_cast<std::size_t>(levels - 1), ']'));
+  };
+  expect_reference_block(parse_block(nested(32)));
+  const auto deep = parse_block(nested(33));
+  EXPECT_FALSE(deep.block);
+  EXPECT_EQ(deep.reason, RejectReason::Malformed);
+  EXPECT_EQ(deep.detail, "JSON nested deeper than 32 levels");
+}
+
+// Peak resident memory of this process (the kernel's high-water mark), in MiB.
+double peak_rss_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+TEST(IngestBlock, JsonMemoryIsBoundedByTheMessage) {
+  // Messages of 16 MiB (the default --max-message-bytes), each shaped to cost the most in a document tree:
+  // nested arrays (one allocation per level), a flat array of zeros, one row per value, many members. Each
+  // is decoded and refused for its own reason; the process's peak stays under 100 MiB (the message itself
+  // plus a copy is 32 MiB; a document tree of the first took more than 1 GiB).
+  const std::size_t bytes = (16u << 20) - 64;
+  const std::string open = R"({"asset_group":"g","pad":)";
+  std::string nested = open + std::string(bytes, '[');
+  EXPECT_EQ(parse_block(nested).detail, "JSON nested deeper than 32 levels");
+  nested.clear();
+  nested.shrink_to_fit();
+  std::string zeros = open + "[0";
+  while (zeros.size() < bytes) zeros += ",0";
+  zeros += "]}";
+  EXPECT_EQ(parse_block(zeros).detail, "channels missing or not an array");
+  zeros.clear();
+  zeros.shrink_to_fit();
+  std::string rows = R"({"asset_group":"g","channels":["a"],"samples":[[0])";
+  while (rows.size() < bytes) rows += ",[0]";
+  rows += "]}";
+  const auto many_rows = parse_block(rows);
+  EXPECT_EQ(many_rows.reason, RejectReason::Oversize);
+  EXPECT_EQ(many_rows.detail, "more than 1048576 rows");
+  rows.clear();
+  rows.shrink_to_fit();
+  std::string members = open + "{";
+  for (std::size_t k = 0; members.size() < bytes; ++k) members += "\"" + std::to_string(k) + "\":0,";
+  members += R"("end":0}})";
+  EXPECT_EQ(parse_block(members).detail, "channels missing or not an array");
+  EXPECT_LT(peak_rss_mib(), 100.0);
 }
 
 TEST(IngestBlock, MissingOrInvalidFieldsAreRejected) {
