@@ -2,12 +2,12 @@
 
 #include "ingest_block_checks.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <sstream>
 
 namespace causal::ingest {
 
@@ -133,6 +133,12 @@ std::string trim(const std::string& s) {
   return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
 }
 
+// Fields `split` would return, counted without making them: a line of 16 MiB of commas is 16 M strings
+// (about 512 MiB), so a list longer than its limit is refused before it is split.
+std::size_t field_count(const std::string& s, std::size_t from, char sep) {
+  return 1 + static_cast<std::size_t>(std::count(s.begin() + static_cast<std::ptrdiff_t>(from), s.end(), sep));
+}
+
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> parts;
   std::size_t begin = 0;
@@ -149,25 +155,48 @@ std::vector<std::string> split(const std::string& s, char sep) {
 ParseResult parse_csv_block(const std::string& message, const BlockLimits& limits) {
   if (message.size() > limits.max_bytes)
     return reject(RejectReason::Oversize, "message of " + std::to_string(message.size()) + " bytes");
-  std::istringstream in(message);
+  // Lines and words are cut out of the message one at a time (no stream holding a copy of it): a message
+  // costs itself plus its longest line and word.
+  std::size_t at = 0;
+  const auto next_line = [&message, &at](std::string& out) {
+    if (at >= message.size()) return false;
+    const std::size_t end = std::min(message.find('\n', at), message.size());
+    out.assign(message, at, end - at);
+    at = end + 1;
+    return true;
+  };
   std::string line;
-  std::getline(in, line);
-  std::istringstream words(trim(line));
+  next_line(line);
+  std::size_t word_at = 0;
+  const auto next_word = [&line, &word_at](std::string& out) {
+    word_at = line.find_first_not_of(" \t\r\v\f", word_at);
+    if (word_at == std::string::npos) return false;
+    const std::size_t end = std::min(line.find_first_of(" \t\r\v\f", word_at), line.size());
+    out.assign(line, word_at, end - word_at);
+    word_at = end;
+    return true;
+  };
   std::string word;
-  words >> word;
+  next_word(word);
   if (word != kCsvMagic) return reject(RejectReason::Malformed, "CSV block does not start with #block");
   IngestBlock b;
   bool have_rate = false, have_t0 = false, have_seq = false, have_n = false;
   std::uint64_t n = 0;
-  while (words >> word) {
+  while (next_word(word)) {
     const auto eq = word.find('=');
     if (eq == std::string::npos) return reject(RejectReason::Field, "header word '" + word + "' is not key=value");
-    const std::string key = word.substr(0, eq), value = word.substr(eq + 1);
+    const std::string key = word.substr(0, eq);
+    const std::string value = key == "channels" ? std::string() : word.substr(eq + 1);
     bool ok = true;
     if (key == "asset_group") {
       b.asset_group = value;
     } else if (key == "channels") {
-      b.channels = split(value, ',');
+      // Counted in place, before any copy: the list may be the whole message.
+      if (const std::size_t count = field_count(word, eq + 1, ','); count > limits.max_channels) {
+        return reject(RejectReason::Shape,
+                      std::to_string(count) + " channels, at most " + std::to_string(limits.max_channels));
+      }
+      b.channels = split(word.substr(eq + 1), ',');
     } else if (key == "unit") {
       b.unit = value;
     } else if (key == "sample_rate_hz") {
@@ -196,14 +225,14 @@ ParseResult parse_csv_block(const std::string& message, const BlockLimits& limit
   b.samples_per_channel = static_cast<std::size_t>(n);
   b.samples.reserve(b.samples_per_channel * g);
   std::size_t row = 0;
-  while (row < b.samples_per_channel && std::getline(in, line)) {
+  while (row < b.samples_per_channel && next_line(line)) {
     const std::string text = trim(line);
     if (text.empty()) continue;
-    const auto values = split(text, ',');
-    if (values.size() != g) {
-      return reject(RejectReason::Shape, "row " + std::to_string(row) + " has " + std::to_string(values.size()) +
+    if (const std::size_t count = field_count(text, 0, ','); count != g) {
+      return reject(RejectReason::Shape, "row " + std::to_string(row) + " has " + std::to_string(count) +
                                              " values, expected " + std::to_string(g));
     }
+    const auto values = split(text, ',');
     for (const auto& v : values) {
       double x = 0.0;
       if (!parse_double(v, x))
@@ -215,7 +244,7 @@ ParseResult parse_csv_block(const std::string& message, const BlockLimits& limit
   if (row < b.samples_per_channel) {
     return reject(RejectReason::Truncated, std::to_string(row) + " of " + std::to_string(n) + " rows");
   }
-  while (std::getline(in, line)) {
+  while (next_line(line)) {
     if (!trim(line).empty()) return reject(RejectReason::Shape, "more rows than samples=" + std::to_string(n));
   }
   return accept(std::move(b));

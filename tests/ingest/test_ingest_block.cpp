@@ -198,6 +198,37 @@ TEST(IngestBlock, MissingOrInvalidFieldsAreRejected) {
   EXPECT_EQ(reason_of(binary(2, 3, {0, 0, 0, 0, 0, 0}, 0, std::nan(""))), RejectReason::Field);
 }
 
+TEST(IngestBlock, CsvMemoryIsBoundedByTheMessage) {
+  // 16 MiB of commas as the channel list, then as one row: each field a string would be 16 M strings (about
+  // 512 MiB); both are refused by their count before anything is split.
+  const std::size_t bytes = (16u << 20) - 256;
+  std::string message;
+  message.reserve(bytes + 256);  // built in place: the test's own copies would count in its peak too
+  message.append("#block asset_group=g channels=").append(bytes, ',').append(
+      " sample_rate_hz=1 t0_ns=0 sequence=0 samples=1\n0\n");
+  const auto channels = parse_block(message);
+  EXPECT_EQ(channels.reason, RejectReason::Shape);
+  EXPECT_EQ(channels.detail, std::to_string(bytes + 1) + " channels, at most 64");
+  message.clear();
+  message.append(kCsv, 0, kCsv.find('\n') + 1).append(bytes, ',').append("\n2,3.5\n4,5\n");
+  const auto row = parse_block(message);
+  EXPECT_EQ(row.reason, RejectReason::Shape);
+  EXPECT_EQ(row.detail, "row 0 has " + std::to_string(bytes + 1) + " values, expected 2");
+  EXPECT_LT(peak_rss_mib(), 100.0);
+}
+
+TEST(IngestBlock, NamesMeetTheOneNameLimit) {
+  // 255 bytes (causal/io/name_limits.hpp) pass, as every reader downstream takes them; 256 are refused here.
+  const std::string longest(255, 'g');
+  const auto ok = parse_block(replaced(replaced(kJson, R"("pump-1")", "\"" + longest + "\""), R"("b2")",
+                                       "\"" + longest + "\""));
+  ASSERT_TRUE(ok.block) << ok.detail;
+  EXPECT_EQ(ok.block->asset_group, longest);
+  EXPECT_EQ(reason_of(replaced(kJson, R"("pump-1")", "\"" + longest + "g\"")), RejectReason::Field);
+  EXPECT_EQ(reason_of(replaced(kJson, R"("b2")", "\"" + longest + "g\"")), RejectReason::Field);
+  EXPECT_EQ(reason_of(replaced(kCsv, "channels=b1,b2", "channels=b1," + longest + "g")), RejectReason::Field);
+}
+
 TEST(IngestBlock, WrongChannelCountIsRejected) {
   EXPECT_EQ(reason_of(replaced(kJson, "[2,3.5]", "[2,3.5,7]")), RejectReason::Shape);
   EXPECT_EQ(reason_of(replaced(kJson, "[2,3.5]", "[2]")), RejectReason::Shape);
