@@ -3,6 +3,7 @@
 #include "estimator_node.hpp"
 
 #include "causal/dds/frame_conversions.hpp"
+#include "causal/dds/sample_limits.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/io/time_format.hpp"
 
@@ -438,9 +439,12 @@ int EstimatorNode::log_summary() const {
     spdlog::error("{} inputs refused: their writers may not write their asset group ({} writer/group pairs)",
                   not_entitled, not_entitled_pairs_.size());
   }
+  // Samples the DDS readers refused before decoding them into a service type (sample_limits.hpp: a name past the
+  // name limit, a malformed sample): counted here too, so they reach the summary and the exit code.
+  const std::uint64_t dds_refused = dds::refusals_total();
   spdlog::info("summary not_processed already_processed={} renumbered={} group_quota={} invalid={} not_entitled={} "
-               "groups={}",
-               skipped, renumbered, quota_.refused_inputs(), invalid_msgs_, not_entitled, assets_.size());
+               "dds_refused={} groups={}",
+               skipped, renumbered, quota_.refused_inputs(), invalid_msgs_, not_entitled, dds_refused, assets_.size());
   if (!options_.groups.all()) {
     // Machine-readable: the fault test checks that shards divide the groups exactly.
     spdlog::info("summary shard={} groups={} foreign={} filter='{}'", options_.shard_name, assets_.size(),
@@ -454,7 +458,7 @@ int EstimatorNode::log_summary() const {
   }
   spdlog::info("causal-estimator: received frames={} groups={} lost={} refused={} rejected_instances={} "
                "rejected_no_room={} published factors={} unpublished={}",
-               frames, assets_.size(), lost, refused + invalid_msgs_, rejected_no_instance_, rejected_no_room_, published,
+               frames, assets_.size(), lost, refused + invalid_msgs_ + dds_refused, rejected_no_instance_, rejected_no_room_, published,
                unpublished);
   spdlog::info("summary topic=causal_twin/vibration_frame received={} lost={} refused={} not_entitled={}",
                frames + refused + not_entitled_frames_, lost,
@@ -493,7 +497,7 @@ int EstimatorNode::log_summary() const {
                  standby_unpublished_, standby_.discarded());
   }
   return (lost + refused + conditions_refused + conditions_late + invalid_msgs_ + rejected_no_instance_ + unpublished +
-          dropped_windows + quota_.refused_inputs() + not_entitled) > 0
+          dropped_windows + quota_.refused_inputs() + not_entitled + dds_refused) > 0
              ? 4 : 0;
 }
 

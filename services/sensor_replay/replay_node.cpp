@@ -6,6 +6,7 @@
 #include "causal/dds/topics.hpp"
 #include "causal/io/feature_table.hpp"
 #include "causal/io/input_error.hpp"
+#include "causal/io/name_limits.hpp"
 #include "causal/io/time_format.hpp"
 #include "causal/io/time_gaps.hpp"
 
@@ -114,6 +115,18 @@ void ReplayNode::stop() {
   wake_.notify_all();
 }
 
+void ReplayNode::check_names(const std::vector<std::string>& channel_names) const {
+  // Channel names from the source file meet the one name limit (causal/io/name_limits.hpp) here, where they enter,
+  // not at every reader of the frames (which would refuse them all).
+  for (const auto& name : channel_names) {
+    if (const char* problem = io::name_problem(name)) {
+      throw io::InputError(options_.path, 0,
+                           "channel name '" + name.substr(0, 40) + (name.size() > 40 ? "..." : "") + "' is " + problem +
+                               " (names are 1 to " + std::to_string(io::kMaxNameBytes) + " bytes)");
+    }
+  }
+}
+
 int ReplayNode::run() {
   started_ = Clock::now();
   last_progress_ = started_;
@@ -124,6 +137,7 @@ int ReplayNode::run() {
     const auto source = options_.source == SourceKind::ImsDirectory
                             ? open_ims_directory(options_.path, options_.channels, options_.channel_names)
                             : open_channel_csv(options_.path, options_.channels, options_.channel_names);
+    check_names(source->channel_names());
     return run_raw(*source);
   } catch (const io::InputError& e) {
     spdlog::error("bad input: {}", e.what());
@@ -249,6 +263,7 @@ int ReplayNode::run_features() {
   header.asset_group = options_.asset_group;
   header.feature = options_.feature_name;
   header.channel_names = select_names(table.channel_names, options_.channels, options_.channel_names);
+  check_names(header.channel_names);
   const std::size_t rows = static_cast<std::size_t>(values.rows());
   const std::size_t first = std::min(options_.first_snapshot, rows);
   std::size_t last = rows;

@@ -16,6 +16,8 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <string>
+#include <vector>
 
 namespace causal::replay {
 
@@ -28,6 +30,8 @@ class ReplayNode {
  private:
   int run_raw(const SnapshotSource& source);
   int run_features();
+  // Throws io::InputError naming the first channel name outside the name limit.
+  void check_names(const std::vector<std::string>& channel_names) const;
   // Sleeps until plant time `plant_ns` is due at the configured speed. False if stopped meanwhile.
   bool pace(std::int64_t plant_ns);
   void report_progress(std::size_t done, std::size_t total, bool force);

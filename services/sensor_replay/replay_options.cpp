@@ -1,10 +1,13 @@
 #include "replay_options.hpp"
 
 #include "causal/dds/typed_endpoints.hpp"
+#include "causal/io/name_limits.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <utility>
+#include <vector>
 
 namespace causal::replay {
 
@@ -94,6 +97,18 @@ std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& ex
   } else {
     o.source = SourceKind::FeatureTable;
     o.path = feature_file;
+  }
+  // The one name limit (causal/io/name_limits.hpp), at the edge: a name no reader would take is a usage error.
+  std::vector<std::pair<const char*, const std::string*>> names{{"--asset-group", &o.asset_group}};
+  if (!feature_file.empty()) names.emplace_back("--feature-name", &o.feature_name);
+  for (const auto& n : o.channel_names) names.emplace_back("--channel-names", &n);
+  for (const auto& [option, name] : names) {
+    if (const char* problem = io::name_problem(*name)) {
+      std::cerr << "error: " << option << " '" << name->substr(0, 40) << (name->size() > 40 ? "..." : "") << "' is "
+                << problem << " (names are 1 to " << io::kMaxNameBytes << " bytes)\n";
+      exit_code = 2;
+      return std::nullopt;
+    }
   }
   if (!o.channel_names.empty() && !o.channels.empty() && o.channel_names.size() != o.channels.size()) {
     std::cerr << "error: --channel-names has " << o.channel_names.size() << " names for " << o.channels.size()

@@ -163,7 +163,10 @@ void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::Domain
     writers_.erase(guid);
     departed_writers_.push_back(guid);
     while (departed_writers_.size() > kKeptPartitions) {
-      if (writers_.count(departed_writers_.front()) == 0) writer_partitions_.erase(departed_writers_.front());
+      if (writers_.count(departed_writers_.front()) == 0) {
+        writer_partitions_.erase(departed_writers_.front());
+        changed_partitions_.erase(departed_writers_.front());
+      }
       departed_writers_.erase(departed_writers_.begin());
     }
   } else {
@@ -172,8 +175,20 @@ void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::Domain
     for (auto it = info.info.m_qos.m_partition.begin(); it != info.info.m_qos.m_partition.end(); ++it) {
       partitions.emplace_back(it->name());
     }
-    writer_partitions_[guid] = std::move(partitions);
+    // First discovery: these are the writer's partitions for life. Later ones (CHANGED_QOS_WRITER, or a
+    // rediscovery of the same GUID) that differ are kept apart, and the writer counts as changed from then on.
+    const auto first = writer_partitions_.find(guid);
+    if (first == writer_partitions_.end()) writer_partitions_.emplace(guid, std::move(partitions));
+    else if (first->second != partitions) changed_partitions_[guid] = std::move(partitions);
   }
+}
+
+std::optional<std::vector<std::string>> ParticipantDirectory::writer_partitions_changed(
+    const eprosima::fastrtps::rtps::GUID_t& writer) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = changed_partitions_.find(writer);
+  if (it == changed_partitions_.end()) return std::nullopt;
+  return it->second;
 }
 
 std::optional<std::vector<std::string>> ParticipantDirectory::writer_partitions(

@@ -37,6 +37,13 @@ class Checker {
     }
     return *this;
   }
+  // A list of names (channels): its length within its bound, then every name within the name limit.
+  template <typename Names>
+  Checker& names(const char* field, const Names& values, std::size_t bound) {
+    sequence(field, values.size(), bound);
+    for (const auto& v : values) id(field, v);
+    return *this;
+  }
   Checker& sequence(const char* field, std::size_t size, std::size_t bound) {
     if (result_ == Refusal::None && size > bound) {
       fail(Refusal::SequenceTooLong,
@@ -66,15 +73,17 @@ class Checker {
 
 Refusal check_limits(const causal_twin::VibrationFrame& s, std::string& why) {
   // source and unit are free text (a file path may be long): not limited here.
-  return Checker(why).id("asset_group", s.asset_group())
-      .sequence("channel_names", s.channel_names().size(), kMaxChannels).result();
+  return Checker(why)
+      .id("asset_group", s.asset_group())
+      .names("channel_names", s.channel_names(), kMaxChannels)
+      .result();
 }
 
 Refusal check_limits(const causal_twin::ConditionVector& s, std::string& why) {
   return Checker(why)
       .id("asset_group", s.asset_group())
       .id("feature", s.feature())
-      .sequence("channel_names", s.channel_names().size(), kMaxChannels)
+      .names("channel_names", s.channel_names(), kMaxChannels)
       .sequence("values", s.values().size(), kMaxChannels)
       .result();
 }
@@ -161,7 +170,7 @@ Refusal check_limits(const causal_twin::WhatIfReply& s, std::string& why) {
       .sequence("effect_percent", s.effect_percent().size(), kMaxChannels)
       .sequence("effect_percent_low", s.effect_percent_low().size(), kMaxChannels)
       .sequence("effect_percent_high", s.effect_percent_high().size(), kMaxChannels)
-      .sequence("channel_names", s.channel_names().size(), kMaxChannels)
+      .names("channel_names", s.channel_names(), kMaxChannels)
       .result();
 }
 

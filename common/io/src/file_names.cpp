@@ -25,6 +25,14 @@ std::string safe_file_component(const std::string& id) {
     std::snprintf(hex, sizeof hex, "-%08x", h);
     out += hex;
   }
+  if (out.size() > kMaxFileComponentBytes) {
+    std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64 of the original id
+    for (unsigned char c : id) h = (h ^ c) * 1099511628211ull;
+    char hex[18];
+    std::snprintf(hex, sizeof hex, "-%016llx", static_cast<unsigned long long>(h));
+    out.resize(kMaxFileComponentBytes - 17);
+    out += hex;
+  }
   return out;
 }
 

@@ -67,7 +67,14 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   // The partitions a remote writer announced (group_partitions.hpp), as discovery reported them before it was
   // matched (secured: checked by Fast DDS against its signed grant); nullopt for a writer never discovered.
   // Kept after the writer left: its last samples may still be queued in our readers.
+  // The partitions are those of the writer's FIRST discovery, for its whole life: Fast DDS 2.9 keeps a match
+  // when a writer changes its partitions (Publisher::set_qos) to ones its grant does not name (it only logs
+  // "partition not found in rule"), so a later announcement is never taken as the writer's grant.
   std::optional<std::vector<std::string>> writer_partitions(const eprosima::fastrtps::rtps::GUID_t& writer) const;
+  // The partitions a writer announced after its first discovery when they differ from the first ones (the writer
+  // is then refused from that moment on: writer_partitions alone would still allow its first groups); nullopt
+  // while it never changed them.
+  std::optional<std::vector<std::string>> writer_partitions_changed(const eprosima::fastrtps::rtps::GUID_t& writer) const;
   // Their GUIDs (a restarted participant's readers have new ones).
   std::vector<eprosima::fastrtps::rtps::GUID_t> reader_guids_named(const std::string& topic,
                                                                    const std::string& name) const;
@@ -92,6 +99,8 @@ class ParticipantDirectory : public eprosima::fastdds::dds::DomainParticipantLis
   std::map<eprosima::fastrtps::rtps::GUID_t, std::string> writers_;  // writer -> topic
   // writer -> its partitions; departed writers' entries are dropped oldest first beyond kKeptPartitions
   std::map<eprosima::fastrtps::rtps::GUID_t, std::vector<std::string>> writer_partitions_;
+  // writer -> the partitions it announced later, different from its first (kept with writer_partitions_)
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::vector<std::string>> changed_partitions_;
   std::vector<eprosima::fastrtps::rtps::GUID_t> departed_writers_;
   static constexpr std::size_t kKeptPartitions = 4096;
 };

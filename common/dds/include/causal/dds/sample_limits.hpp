@@ -11,17 +11,19 @@
 
 #include "causal_twin.h"
 
+#include "causal/io/name_limits.hpp"
+
 #include <cstddef>
 #include <string>
 
 namespace causal::dds {
 
-// The longest id (asset group, alarm id, request or recommendation id, feature, level) a sample may carry:
-// what the generated key code budgets for one string.
-inline constexpr std::size_t kMaxIdBytes = 255;
+// The longest id (asset group, channel name, alarm id, request or recommendation id, feature, level) a sample may
+// carry: what the generated key code budgets for one string (the one name limit, causal/io/name_limits.hpp).
+inline constexpr std::size_t kMaxIdBytes = io::kMaxNameBytes;
 // The bound the IDL declares for channel lists and per-channel sequences (sequence<..., 64>), which the
 // generated decoder does not enforce.
-inline constexpr std::size_t kMaxChannels = 64;
+inline constexpr std::size_t kMaxChannels = io::kMaxChannels;
 // The bound of one outcome's factor list (sequence<..., 1024>).
 inline constexpr std::size_t kMaxFactors = 1024;
 
