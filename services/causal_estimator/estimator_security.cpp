@@ -15,23 +15,31 @@ namespace causal::estimator {
 bool EstimatorNode::entitled(const std::string& asset_group, const WriterGuid* writer, bool frame) {
   if (writer == nullptr) return true;  // released from the reorder hold: checked when it arrived
   const auto partitions = participant_.directory().writer_partitions(*writer);
+  // A writer that announced other partitions after its first discovery is refused from then on, whatever they
+  // are: Fast DDS keeps the match of a writer that moves to partitions its grant does not name.
+  const auto changed = participant_.directory().writer_partitions_changed(*writer);
   // Discovery reports a writer (with its partitions) before Fast DDS matches it, so every sample's writer is
   // known; one that is not cannot be checked and is refused like a writer without the grant.
-  if (partitions && dds::partitions_allow_group(*partitions, asset_group)) return true;
+  if (!changed && partitions && dds::partitions_allow_group(*partitions, asset_group)) return true;
   (frame ? not_entitled_frames_ : not_entitled_conditions_) += 1;
   not_processed_entitlement_->inc();
   std::ostringstream text;
   text << *writer;
   const std::string who = text.str();
   const std::string participant = participant_.directory().name_of(writer->guidPrefix);
-  std::string granted;
-  if (partitions) {
-    for (const auto& p : *partitions) granted += (granted.empty() ? "" : ", ") + p;
-  }
+  const auto listed = [](const std::optional<std::vector<std::string>>& names) {
+    std::string joined;
+    if (names) {
+      for (const auto& p : *names) joined += (joined.empty() ? "" : ", ") + (p.empty() ? std::string("''") : p);
+    }
+    return joined;
+  };
   const std::string why =
-      partitions ? fmt::format("writer {} of participant '{}' may write only its partitions [{}]", who, participant,
-                               granted)
-                 : fmt::format("writer {} was never discovered (its grant is unknown)", who);
+      changed ? fmt::format("writer {} of participant '{}' changed its partitions after discovery, from [{}] to [{}] "
+                            "(refused from then on)", who, participant, listed(partitions), listed(changed))
+      : partitions ? fmt::format("writer {} of participant '{}' may write only its partitions [{}]", who, participant,
+                                 listed(partitions))
+                   : fmt::format("writer {} was never discovered (its grant is unknown)", who);
   const std::uint64_t total = not_entitled_frames_ + not_entitled_conditions_;
   const bool first_of_pair =
       not_entitled_pairs_.size() < 1024 && not_entitled_pairs_.insert(who + "|" + asset_group).second;
