@@ -8,18 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 
 using namespace causal;
 using namespace causal::prognosis_eval;
-
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? NAN : v[v.size() / 2];
-}
-
-}  // namespace
 
 TEST(SimulatedRuns, TwinIsAheadOfBothAnchors) {
   std::array<MethodScores, kMethods> all;
