@@ -108,6 +108,11 @@ TEST(EffectUnits, NoFigureBeyondTheDisplayCap) {
   EXPECT_EQ(effect_unknown_reason(-60.0, 2300.0, 0.9), "the 90 % interval spans a factor of 60 in level");
   EXPECT_EQ(effect_unknown_reason(-100.0, 10.0, 0.9), "the 90 % interval reaches -100 %");
   EXPECT_EQ(effect_unknown_reason(NAN, 10.0, 0.9), "the 90 % interval is not finite");
+  // causal-ask knows the bounds but not their coverage (the reply does not carry it): the same decision, worded
+  // without a level.
+  EXPECT_EQ(effect_unknown_reason(170.1, 1031.0, NAN), "the interval reaches beyond +1000 %");
+  EXPECT_EQ(effect_unknown_reason(-60.0, 2300.0, NAN), "the interval spans a factor of 60 in level");
+  EXPECT_EQ(effect_unknown_reason(-12.0, -3.9, NAN), "");
 }
 
 TEST(EffectUnits, HorizonInHoursAtTheGroupsCadence) {

@@ -58,22 +58,26 @@ double interval_level_factor(double percent_lower, double percent_upper) {
 }
 
 std::string effect_unknown_reason(double percent_lower, double percent_upper, double coverage) {
+  // "the 90 % interval", or "the interval" when the asker does not know the coverage (causal-ask: the reply
+  // carries the bounds, not their level).
+  char what[32] = "the interval";
+  if (std::isfinite(coverage)) std::snprintf(what, sizeof what, "the %g %% interval", 100.0 * coverage);
   char buf[120];
   if (!std::isfinite(percent_lower) || !std::isfinite(percent_upper)) {
-    std::snprintf(buf, sizeof buf, "the %g %% interval is not finite", 100.0 * coverage);
+    std::snprintf(buf, sizeof buf, "%s is not finite", what);
     return buf;
   }
   const double factor = interval_level_factor(percent_lower, percent_upper);
   if (!std::isfinite(factor)) {
-    std::snprintf(buf, sizeof buf, "the %g %% interval reaches -100 %%", 100.0 * coverage);
+    std::snprintf(buf, sizeof buf, "%s reaches -100 %%", what);
     return buf;
   }
   if (factor > kMaxKnownLevelFactor) {
-    std::snprintf(buf, sizeof buf, "the %g %% interval spans a factor of %.0f in level", 100.0 * coverage, factor);
+    std::snprintf(buf, sizeof buf, "%s spans a factor of %.0f in level", what, factor);
     return buf;
   }
   if (std::max(std::abs(percent_lower), std::abs(percent_upper)) > kPercentDisplayCap) {
-    std::snprintf(buf, sizeof buf, "the %g %% interval reaches beyond %+.0f %%", 100.0 * coverage,
+    std::snprintf(buf, sizeof buf, "%s reaches beyond %+.0f %%", what,
                   percent_upper > kPercentDisplayCap ? kPercentDisplayCap : -kPercentDisplayCap);
     return buf;
   }

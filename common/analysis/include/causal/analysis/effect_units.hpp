@@ -35,7 +35,8 @@ double interval_level_factor(double percent_lower, double percent_upper);
 // Returns "" when it may, else why not, e.g. "the 90 % interval spans a factor of 37 in level". Unknown when
 // the interval spans more than kMaxKnownLevelFactor in level, reaches -100 % (the level could vanish), is
 // not finite, or reaches beyond +-kPercentDisplayCap (a bound no figure can state: "> +1000 %" would hide
-// how far beyond it goes).
+// how far beyond it goes). A non-finite coverage (causal-ask: the reply carries the bounds, not their
+// level) words the reason "the interval ..." instead of "the 90 % interval ...".
 std::string effect_unknown_reason(double percent_lower, double percent_upper, double coverage);
 
 // Percent change of a level `current` (> 0) for a model-unit effect. Log-level: 100 expm1(d) (> -100);
