@@ -373,8 +373,9 @@ WhatIfAnswer Advisor::what_if(const std::string& asset_group, int channel, doubl
   ans.text = what + head;
   for (int k = 0; k < g; ++k) {
     if (k == channel) continue;
-    if (analysis::interval_level_factor(ans.percent_lower[k], ans.percent_upper[k]) > analysis::kMaxKnownLevelFactor) {
-      ans.text += " " + m.channel_names[static_cast<std::size_t>(k)] + " effect unknown (interval wider than a factor of 10);";
+    if (const std::string why = analysis::effect_unknown_reason(ans.percent_lower[k], ans.percent_upper[k], a.coverage);
+        !why.empty()) {
+      ans.text += " " + m.channel_names[static_cast<std::size_t>(k)] + " effect unknown (" + why + ");";
       continue;
     }
     ans.text += " " + m.channel_names[static_cast<std::size_t>(k)] + " " + analysis::percent_text(ans.percent[k]) + " [" +

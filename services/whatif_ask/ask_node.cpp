@@ -1,5 +1,6 @@
 #include "ask_node.hpp"
 
+#include "causal/analysis/effect_units.hpp"
 #include "causal/dds/topics.hpp"
 
 #include <spdlog/spdlog.h>
@@ -99,7 +100,6 @@ void AskNode::print(const causal_twin::WhatIfReply& reply) const {
   auto num = [](double v, bool pct) {
     char buf[32];
     if (!std::isfinite(v)) return std::string("n/a");
-    if (pct && v > 1000.0) return std::string("> +1000 %");
     std::snprintf(buf, sizeof buf, pct ? "%+.1f %%" : "%+.4g", v);
     return std::string(buf);
   };
@@ -118,14 +118,16 @@ void AskNode::print(const causal_twin::WhatIfReply& reply) const {
               "interval");
   for (std::size_t k = 0; k < reply.effect_median().size(); ++k) {
     const auto at = [&](const std::vector<double>& v) { return k < v.size() ? v[k] : std::nan(""); };
-    // The live twin's width rule (analysis::kMaxKnownLevelFactor): an interval spanning more than a factor
-    // of 10 in level is "effect unknown", not "+687 %".
-    const double lo = 1.0 + at(reply.effect_percent_low()) / 100.0, hi = 1.0 + at(reply.effect_percent_high()) / 100.0;
-    if (std::isfinite(lo) && std::isfinite(hi) && (lo <= 0.0 || hi / lo > 10.0)) {
-      std::printf("%-*s %12s %14s %11s .. %-11s %12s %s\n", width, label(k).c_str(),
+    // The live twin's one decision (analysis::effect_unknown_reason, as causal-whatif and the recommender's
+    // own lines): an interval spanning more than a factor of 10 in level, reaching -100 % or beyond
+    // +-1000 % is "effect unknown" with the reason, never a figure. The reply does not carry the coverage.
+    const std::string why = analysis::effect_unknown_reason(at(reply.effect_percent_low()),
+                                                            at(reply.effect_percent_high()), std::nan(""));
+    if (!why.empty()) {
+      std::printf("%-*s %12s %14s %11s .. %-11s %12s (%s)\n", width, label(k).c_str(),
                   num(at(reply.effect_immediate()), false).c_str(), num(at(reply.effect_median()), false).c_str(),
                   num(at(reply.effect_low()), false).c_str(), num(at(reply.effect_high()), false).c_str(),
-                  "unknown", "(interval wider than a factor of 10 in level)");
+                  "unknown", why.c_str());
       continue;
     }
     std::printf("%-*s %12s %14s %11s .. %-11s %12s %12s .. %-12s\n", width, label(k).c_str(),

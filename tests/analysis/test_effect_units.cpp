@@ -91,6 +91,30 @@ TEST(EffectUnits, IntervalWiderThanAFactorOfTenIsEffectUnknown) {
   EXPECT_TRUE(std::isinf(interval_level_factor(-100.0, 10.0)));
 }
 
+TEST(EffectUnits, NoFigureBeyondTheDisplayCap) {
+  // The IMS answer "+455.8 % [+170.1, > +1000]" spans a factor of 9.96 in level (inside the width rule) but its
+  // upper end cannot be stated as a figure: unknown, with the reason.
+  EXPECT_EQ(effect_unknown_reason(170.1, 1031.0, 0.9), "the 90 % interval reaches beyond +1000 %");
+  const BoundedAnswer high = answer_with(AnswerKind::horizon, std::log(5.558), std::log(2.701), std::log(11.31));
+  EXPECT_EQ(answer_line(high, 1, 0.2, kLog),
+            "after 12 snapshots: effect unknown (the 90 % interval reaches beyond +1000 %), model near a unit root "
+            "rho=0.993, 37/400 draws unstable");
+  // Raw log effects of 4.72 (+11,110 % of the level): unknown, not a figure.
+  EXPECT_NE(effect_unknown_reason(100.0 * std::expm1(4.6), 100.0 * std::expm1(4.72), 0.9), "");
+  // Inside every rule: stated.
+  EXPECT_EQ(effect_unknown_reason(-12.0, -3.9, 0.9), "");
+  EXPECT_EQ(effect_unknown_reason(150.0, 1000.0, 0.9), "");
+  EXPECT_EQ(effect_unknown_reason(-50.0, 375.0, 0.9), "");
+  EXPECT_EQ(effect_unknown_reason(-60.0, 2300.0, 0.9), "the 90 % interval spans a factor of 60 in level");
+  EXPECT_EQ(effect_unknown_reason(-100.0, 10.0, 0.9), "the 90 % interval reaches -100 %");
+  EXPECT_EQ(effect_unknown_reason(NAN, 10.0, 0.9), "the 90 % interval is not finite");
+  // causal-ask knows the bounds but not their coverage (the reply does not carry it): the same decision, worded
+  // without a level.
+  EXPECT_EQ(effect_unknown_reason(170.1, 1031.0, NAN), "the interval reaches beyond +1000 %");
+  EXPECT_EQ(effect_unknown_reason(-60.0, 2300.0, NAN), "the interval spans a factor of 60 in level");
+  EXPECT_EQ(effect_unknown_reason(-12.0, -3.9, NAN), "");
+}
+
 TEST(EffectUnits, HorizonInHoursAtTheGroupsCadence) {
   EffectUnits u;
   u.snapshot_hours = 1.0 / 6.0;  // 10-minute snapshots

@@ -183,6 +183,54 @@ TEST(WhatifCli, RecommendsInPlainLanguage) {
   EXPECT_NE(r.out.find("recommendations for bearing 4"), std::string::npos) << r.out;
 }
 
+// The answer lines (after "answer ("): the other channels, one line each.
+std::vector<std::string> answer_lines(const std::string& out) {
+  std::istringstream in(out);
+  std::string line;
+  std::vector<std::string> lines;
+  bool in_answer = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("answer (", 0) == 0) in_answer = true;
+    else if (in_answer && line.rfind("  ", 0) == 0) lines.push_back(line);
+  }
+  return lines;
+}
+
+// The live twin's decision (analysis::effect_unknown_reason) on every answer line: a shift of 20 times the
+// levels (~0.1) moves the downstream channels by thousands of percent, which no figure states; a CSV whose
+// levels are not positive has no percent to state, and the line says so instead of a number.
+TEST(WhatifCli, UnknownWithItsReasonAndNoFigureBeyondTheCap) {
+  const Scenario& s = scenario();
+  const std::string model = " --self-lags --lingam --calibration 1000 --intervene 3 --delta 2";
+  const CliRun r = run_cli("--csv " + s.csv + model);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto lines = answer_lines(r.out);
+  ASSERT_EQ(lines.size(), 3u) << r.out;
+  int unknown = 0;
+  for (const auto& l : lines) {
+    EXPECT_EQ(l.find("> +1000"), std::string::npos) << l;
+    if (l.find("effect unknown (the 90 % interval") != std::string::npos) ++unknown;
+  }
+  EXPECT_GE(unknown, 1) << r.out;  // at least one channel lies downstream of bearing 3 in the true order
+  const std::string shifted = s.dir + "/negative.csv";
+  {
+    std::ofstream f(shifted);
+    f << "n,a,b,c,d\n";
+    f.precision(17);
+    for (int i = 0; i < s.y.rows(); ++i) {
+      f << i;
+      for (int c = 0; c < 4; ++c) f << "," << s.y(i, c) - 1.0;
+      f << "\n";
+    }
+  }
+  const CliRun neg = run_cli("--csv " + shifted + model);
+  ASSERT_EQ(neg.exit_code, 0) << neg.out;
+  const auto neg_lines = answer_lines(neg.out);
+  ASSERT_EQ(neg_lines.size(), 3u) << neg.out;
+  for (const auto& l : neg_lines)
+    EXPECT_NE(l.find("effect unknown (the level at row 2999 is not positive"), std::string::npos) << l;
+}
+
 TEST(WhatifCli, ClearErrors) {
   const Scenario& s = scenario();
   CliRun r = run_cli("--csv " + s.csv + " --intervene 9 --delta 1");

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Prognosis evaluation (issue 22, docs/prognosis.md): time to 2x / 4x the baseline and to the end of life,
-# predicted by the twin's prognosis (causal_prognosis, the code alarm-recommender runs) vs a log-linear
-# Theil-Sen trend since the alarm's onset, at every snapshot from the first alarm on:
-#   1. IMS test 2, bearing 1 (meanabs; truth: 2x / 4x = first snapshot whose centred 5-snapshot median reaches
-#      the level, end of life = the stop, snapshot 981);
+# Prognosis evaluation (docs/prognosis.md): time to 2x / 4x the baseline and to the end of life (6x),
+# predicted by the twin's prognosis (causal_prognosis, the code alarm-recommender runs) beside two anchors
+# (log-linear Theil-Sen with bootstrap intervals; random walk with drift, inverse-Gaussian first passage), at
+# every snapshot from the first alarm on; the event: the first snapshot whose trailing 5-snapshot median
+# reaches the multiple of the baseline (the stop when never reached):
+#   1. IMS test 2, bearing 1 (meanabs; stop at snapshot 981);
 #   2. simulated run-to-failure channels with known crossing times (accelerating wear, recording gaps, level
 #      steps, Gaussian and uniform noise, spikes), SEEDS seeds per noise kind: seeds 1.. (the ones the
 #      parameters were chosen on) and 101.. (held out).

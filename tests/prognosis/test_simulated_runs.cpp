@@ -1,27 +1,22 @@
 // The prognosis as alarm-recommender runs it (alarm engine + channel trends) on simulated run-to-failure
 // channels with known crossing times (causal-prognosis-eval's simulator): the healthy channel gets no
-// prognosis, the wearing one does, and its median error is well below the Theil-Sen baseline's.
+// prognosis, the wearing one does, and it is ahead of both anchors (Theil-Sen with bootstrap intervals,
+// random walk with drift) in coverage and point accuracy.
 #include "prognosis_scoring.hpp"
+#include "prognosis_anchors.hpp"
 #include "run_to_failure_sim.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 using namespace causal;
 using namespace causal::prognosis_eval;
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? NAN : v[v.size() / 2];
-}
-
-}  // namespace
-
-TEST(SimulatedRuns, TwinBeatsTheilSenAndCoversOften) {
-  MethodScores twin, base;
+TEST(SimulatedRuns, TwinIsAheadOfBothAnchors) {
+  std::array<MethodScores, kMethods> all;
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     SimSpec spec;
     spec.seed = seed;
@@ -32,19 +27,62 @@ TEST(SimulatedRuns, TwinBeatsTheilSenAndCoversOften) {
     const PrognosisScorer s = score_simulated_run(run, prognosis::PrognosisParams{});
     ASSERT_GE(s.first_alarm_index(), static_cast<std::int64_t>(spec.healthy_rows)) << "seed " << seed;
     for (const auto& e : s.engine().active_alarms()) EXPECT_NE(e.channel, 1) << "healthy channel alarmed: " << e.alarm_id;
-    for (int l = 0; l < kLevels; ++l) {
-      twin.level[static_cast<std::size_t>(l)].merge(s.twin().level[static_cast<std::size_t>(l)]);
-      base.level[static_cast<std::size_t>(l)].merge(s.baseline().level[static_cast<std::size_t>(l)]);
-    }
+    for (int m = 0; m < kMethods; ++m) all[static_cast<std::size_t>(m)].merge(s.scores()[static_cast<std::size_t>(m)]);
   }
+  auto coverage = [](const LevelScore& s) { return static_cast<double>(s.covered) / std::max(1.0, static_cast<double>(s.known)); };
   for (int l = 0; l < kLevels; ++l) {
-    const auto& t = twin.level[static_cast<std::size_t>(l)];
-    const auto& b = base.level[static_cast<std::size_t>(l)];
+    const auto& t = all[0].level[static_cast<std::size_t>(l)];
     ASSERT_GT(t.decisions, 100u);
     ASSERT_GT(t.known, 10u) << "level " << l;
-    EXPECT_LT(median(t.abs_errors), 0.5 * median(b.abs_errors)) << "level " << l;
-    EXPECT_GT(static_cast<double>(t.covered) / static_cast<double>(t.known),
-              static_cast<double>(b.covered) / std::max<double>(1.0, static_cast<double>(b.known)))
-        << "level " << l;
+    for (int m = 1; m < kMethods; ++m) {
+      const auto& a = all[static_cast<std::size_t>(m)].level[static_cast<std::size_t>(l)];
+      ASSERT_EQ(a.decisions, t.decisions) << "the anchors are scored at the same decision points";
+      EXPECT_GT(coverage(t), coverage(a)) << method_name(m) << " level " << l;
+      EXPECT_GT(t.within_30, a.within_30) << method_name(m) << " level " << l;
+    }
   }
+}
+
+// The anchors on data whose answer is known in closed form.
+TEST(SimulatedRuns, AnchorsOnAStraightLine) {
+  std::vector<double> t, y;
+  for (int i = 0; i <= 60; ++i) {
+    t.push_back(i / 6.0);              // 10 h at 10-min spacing
+    y.push_back(0.05 * t.back());      // log level rising 0.05 per hour, no noise
+  }
+  // Theil-Sen: every bootstrap fit is the line itself, so the interval collapses on (log 2 - 0.5) / 0.05 h.
+  const Prediction ts = TheilSenBootstrap(t, y, 200, 7).time_to(std::log(2.0), 0.9);
+  ASSERT_TRUE(ts.known) << ts.why;
+  const double exact = (std::log(2.0) - 0.5) / 0.05;
+  EXPECT_NEAR(ts.hours, exact, 1e-9);
+  EXPECT_NEAR(ts.low, exact, 1e-9);
+  EXPECT_NEAR(ts.high, exact, 1e-9);
+  EXPECT_TRUE(TheilSenBootstrap(t, y, 200, 7).time_to(0.4, 0.9).reached);
+  // Falling data: no answer from either anchor.
+  std::vector<double> down(y.size());
+  for (std::size_t i = 0; i < y.size(); ++i) down[i] = -y[i] + 0.01 * (static_cast<double>(i % 3) - 1.0);
+  EXPECT_FALSE(TheilSenBootstrap(t, down, 200, 7).time_to(std::log(2.0), 0.9).known);
+  EXPECT_FALSE(DriftRandomWalk(t, down).time_to(std::log(2.0), 0.9).known);
+}
+
+TEST(SimulatedRuns, InverseGaussianFirstPassage) {
+  // Mean m, shape lambda: CDF(0) = 0, increasing, CDF(inf) = 1; the median of IG(1, 1) is 0.6758 (tables).
+  EXPECT_EQ(inverse_gaussian_cdf(0.0, 1.0, 1.0), 0.0);
+  EXPECT_NEAR(inverse_gaussian_cdf(0.675841, 1.0, 1.0), 0.5, 1e-5);
+  EXPECT_NEAR(inverse_gaussian_cdf(1e6, 1.0, 1.0), 1.0, 1e-9);
+  // A very sharp law (lambda / m = 1e4) still gives a finite CDF near its mean (no overflow of exp(2 lambda / m)).
+  const double c = inverse_gaussian_cdf(1.0, 1.0, 1e4);
+  EXPECT_TRUE(std::isfinite(c));
+  EXPECT_NEAR(c, 0.5, 0.01);
+  // The random walk's median on a noisy line with drift 0.05 / h: near gap / drift.
+  std::vector<double> t, y;
+  for (int i = 0; i <= 120; ++i) {
+    t.push_back(i / 6.0);
+    y.push_back(0.05 * t.back() + 0.002 * ((i * 7) % 5 - 2.0));
+  }
+  const Prediction rw = DriftRandomWalk(t, y).time_to(y.back() + 0.5, 0.9);
+  ASSERT_TRUE(rw.known);
+  EXPECT_NEAR(rw.hours, 0.5 / 0.05, 1.0);
+  EXPECT_LT(rw.low, rw.hours);
+  EXPECT_GT(rw.high, rw.hours);
 }

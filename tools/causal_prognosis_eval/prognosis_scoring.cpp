@@ -1,7 +1,6 @@
 #include "prognosis_scoring.hpp"
+#include "prognosis_anchors.hpp"
 #include "run_to_failure_sim.hpp"
-
-#include "causal/estimation/normal_quantile.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,12 +22,6 @@ double median_of(std::vector<double> v) {
   return 0.5 * (*mid + *std::max_element(v.begin(), mid));
 }
 
-double kth(std::vector<double>& v, std::size_t k) {
-  k = std::min(k, v.size() - 1);
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
 Prediction from(const prognosis::TimeToLevel& t) {
   Prediction p;
   p.known = t.known;
@@ -42,39 +35,37 @@ Prediction from(const prognosis::TimeToLevel& t) {
 
 }  // namespace
 
-Prediction theil_sen_time_to(const std::vector<double>& t, const std::vector<double>& y, double log_ratio,
-                             double coverage) {
-  Prediction p;
-  const std::size_t n = t.size();
-  if (n < 3) return p;
-  std::vector<double> slopes;
-  slopes.reserve(n * (n - 1) / 2);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = i + 1; j < n; ++j)
-      if (t[j] > t[i]) slopes.push_back((y[j] - y[i]) / (t[j] - t[i]));
-  if (slopes.size() < 3) return p;
-  const double slope = median_of(slopes);
-  std::vector<double> resid(n);
-  for (std::size_t i = 0; i < n; ++i) resid[i] = y[i] - slope * t[i];
-  const double now = median_of(resid) + slope * t.back();
-  if (now >= log_ratio) {
-    p.known = p.reached = true;
-    return p;
+std::array<std::int64_t, kLevels> median_crossings(const std::vector<std::int64_t>& time_ns,
+                                                   const std::vector<double>& values, double reference,
+                                                   std::int64_t from, const std::array<double, kLevels>& ratios,
+                                                   std::int64_t stop_index, std::array<std::int64_t, kLevels>* index_out) {
+  std::array<std::int64_t, kLevels> truth{0, 0, 0}, index{-1, -1, -1};
+  const auto n = static_cast<std::int64_t>(values.size());
+  const std::int64_t last = stop_index >= 0 ? std::min(stop_index, n - 1) : n - 1;
+  std::vector<double> w;
+  for (int l = 0; l < kLevels; ++l) {
+    const auto li = static_cast<std::size_t>(l);
+    for (std::int64_t i = std::max<std::int64_t>(from, kMedianWindow - 1); i <= last; ++i) {
+      w.clear();
+      for (std::int64_t j = i - kMedianWindow + 1; j <= i; ++j)
+        if (std::isfinite(values[static_cast<std::size_t>(j)])) w.push_back(values[static_cast<std::size_t>(j)]);
+      if (w.empty() || median_of(w) < ratios[li] * reference) continue;
+      truth[li] = time_ns[static_cast<std::size_t>(i)];
+      index[li] = i;
+      break;
+    }
+    if (index[li] < 0 && stop_index >= 0 && stop_index < n) {
+      truth[li] = time_ns[static_cast<std::size_t>(stop_index)];
+      index[li] = stop_index;
+    }
   }
-  // Sen (1968): ranks (N -+ C) / 2 of the sorted pairwise slopes, C = z sqrt(Var S), Var S = n(n-1)(2n+5)/18.
-  const double nn = static_cast<double>(n);
-  const double c = causal::normal_quantile(0.5 + 0.5 * coverage) * std::sqrt(nn * (nn - 1) * (2 * nn + 5) / 18.0);
-  const double big_n = static_cast<double>(slopes.size());
-  const auto lo_rank = static_cast<std::size_t>(std::max(0.0, std::floor((big_n - c) / 2.0) - 1.0));
-  const auto hi_rank = static_cast<std::size_t>(std::max(0.0, std::ceil((big_n + c) / 2.0) - 1.0));
-  const double slope_lo = kth(slopes, lo_rank), slope_hi = kth(slopes, hi_rank);
-  if (slope <= 0 || slope_lo <= 0) return p;  // not rising, or the interval includes "never"
-  const double gap = log_ratio - now;
-  p.known = true;
-  p.hours = gap / slope;
-  p.low = gap / slope_hi;
-  p.high = gap / slope_lo;
-  return p;
+  if (index_out) *index_out = index;
+  return truth;
+}
+
+const char* method_name(int method) {
+  static const char* const names[kMethods] = {"twin", "theil-sen", "rw-drift"};
+  return names[method];
 }
 
 void LevelScore::add(const Prediction& p, double actual) {
@@ -84,8 +75,11 @@ void LevelScore::add(const Prediction& p, double actual) {
   ++known;
   if (p.low <= actual && actual <= p.high) ++covered;
   if (actual < p.low) ++truth_earlier;
-  widths.push_back(p.high - p.low);
-  abs_errors.push_back(std::abs(p.hours - actual));
+  const double err = std::abs(p.hours - actual);
+  if (err <= 0.2 * actual) ++within_20;
+  if (err <= 0.3 * actual) ++within_30;
+  rel_widths.push_back((p.high - p.low) / actual);
+  abs_errors.push_back(err);
 }
 
 void LevelScore::merge(const LevelScore& o) {
@@ -94,8 +88,14 @@ void LevelScore::merge(const LevelScore& o) {
   covered += o.covered;
   reached_early += o.reached_early;
   truth_earlier += o.truth_earlier;
-  widths.insert(widths.end(), o.widths.begin(), o.widths.end());
+  within_20 += o.within_20;
+  within_30 += o.within_30;
+  rel_widths.insert(rel_widths.end(), o.rel_widths.begin(), o.rel_widths.end());
   abs_errors.insert(abs_errors.end(), o.abs_errors.begin(), o.abs_errors.end());
+}
+
+void MethodScores::merge(const MethodScores& o) {
+  for (int l = 0; l < kLevels; ++l) level[static_cast<std::size_t>(l)].merge(o.level[static_cast<std::size_t>(l)]);
 }
 
 PrognosisScorer::PrognosisScorer(std::unique_ptr<alarms::AlarmEngine> engine, prognosis::PrognosisParams params,
@@ -122,10 +122,10 @@ void PrognosisScorer::observe(const alarms::Observation& obs) {
     }
   }
   if (first_alarm_index_ < 0) return;
-  std::array<Prediction, kLevels> twin{}, ts{};
+  std::array<std::array<Prediction, kLevels>, kMethods> pred{};
   for (const auto& p : prognosis::open_alarm_prognoses(trends_, *engine_, obs.index))
-    if (p.channel == channel_) twin[static_cast<std::size_t>(p.level)] = from(p.time);
-  // Baseline data: log level over the current baseline since the first alarm's onset, hours from the onset.
+    if (p.channel == channel_) pred[0][static_cast<std::size_t>(p.level)] = from(p.time);
+  // Anchors' data: log level over the current baseline since the first alarm's onset, hours from the onset.
   std::vector<double> t, y;
   std::int64_t t0 = 0;
   for (const auto& [index, ty] : history_) {
@@ -134,53 +134,61 @@ void PrognosisScorer::observe(const alarms::Observation& obs) {
     t.push_back(static_cast<double>(ty.first - t0) / kNsPerHour);
     y.push_back(ty.second - base.log_location[channel_]);
   }
+  bool any = false;
+  for (int l = 0; l < kLevels; ++l) any = any || (truth_ns_[static_cast<std::size_t>(l)] != 0 && obs.time_ns < truth_ns_[static_cast<std::size_t>(l)]);
+  if (!any) return;
+  const TheilSenBootstrap theil_sen(t, y, 200, 0x5EED0000ULL + obs.index);
+  const DriftRandomWalk walk(t, y);
+  const double coverage = trends_.params().coverage;
   for (int l = 0; l < kLevels; ++l) {
     const auto i = static_cast<std::size_t>(l);
     if (truth_ns_[i] == 0 || obs.time_ns >= truth_ns_[i]) continue;
     const double actual = static_cast<double>(truth_ns_[i] - obs.time_ns) / kNsPerHour;
-    const double ratio = trends_.ratio(kAll[l], engine_->params().warning_ratio, engine_->params().critical_ratio);
-    ts[i] = theil_sen_time_to(t, y, std::log(ratio), trends_.params().coverage);
-    twin_.level[i].add(twin[i], actual);
-    baseline_.level[i].add(ts[i], actual);
-    char line[500];
-    std::snprintf(line, sizeof line, "%llu %s actual=%.2f twin=%s%.2f [%.2f, %.2f] theil_sen=%s%.2f [%.2f, %.2f] %s",
-                  static_cast<unsigned long long>(obs.index), prognosis::to_string(kAll[l]), actual,
-                  twin[i].known ? "" : "unknown ", twin[i].hours, twin[i].low, twin[i].high, ts[i].known ? "" : "unknown ",
-                  ts[i].hours, ts[i].low, ts[i].high, twin[i].why.c_str());
-    trace.emplace_back(line);
+    const double log_ratio =
+        std::log(trends_.ratio(kAll[l], engine_->params().warning_ratio, engine_->params().critical_ratio));
+    pred[1][i] = theil_sen.time_to(log_ratio, coverage);
+    pred[2][i] = walk.time_to(log_ratio, coverage);
+    std::string line = std::to_string(obs.index) + " " + prognosis::to_string(kAll[l]);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, " actual=%.2f", actual);
+    line += buf;
+    for (int m = 0; m < kMethods; ++m) {
+      const Prediction& p = pred[static_cast<std::size_t>(m)][i];
+      scores_[static_cast<std::size_t>(m)].level[i].add(p, actual);
+      std::snprintf(buf, sizeof buf, " %s=%s%.2f [%.2f, %.2f]", method_name(m), p.known ? "" : "unknown ", p.hours,
+                    p.low, p.high);
+      line += buf;
+    }
+    trace.push_back(line + " " + pred[0][i].why);
   }
 }
 
-std::string score_table(const std::string& title, const MethodScores& twin, const MethodScores& baseline) {
+std::string score_table(const std::string& title, const std::array<MethodScores, kMethods>& scores) {
   std::string out = title + "\n";
   char buf[300];
-  std::snprintf(buf, sizeof buf, "| %-11s | %-10s | %9s | %6s | %15s | %13s | %14s | %7s | %13s | %14s |\n", "level", "method",
-                "decisions", "known", "coverage(known)", "coverage(all)", "median|err| h", "reached", "truth earlier",
-                "median width h");
+  std::snprintf(buf, sizeof buf, "| %-11s | %-9s | %9s | %8s | %8s | %10s | %7s | %7s | %13s |\n", "level", "method",
+                "decisions", "answered", "coverage", "med rel w", "a-l 20%", "a-l 30%", "truth earlier");
   out += buf;
-  out += "|-------------|------------|-----------|--------|-----------------|---------------|----------------|---------|---------------|----------------|\n";
+  out += "|-------------|-----------|-----------|----------|----------|------------|---------|---------|---------------|\n";
   for (int l = 0; l < kLevels; ++l) {
-    for (int m = 0; m < 2; ++m) {
-      const LevelScore& s = (m == 0 ? twin : baseline).level[static_cast<std::size_t>(l)];
-      const double d = static_cast<double>(s.decisions);
-      std::snprintf(buf, sizeof buf, "| %-11s | %-10s | %9llu | %5.1f%% | %14.1f%% | %12.1f%% | %14.2f | %7llu | %12.1f%% | %14.2f |\n",
-                    prognosis::to_string(kAll[l]), m == 0 ? "twin" : "theil-sen",
-                    static_cast<unsigned long long>(s.decisions), s.decisions ? 100.0 * s.known / d : 0.0,
-                    s.known ? 100.0 * s.covered / static_cast<double>(s.known) : 0.0, s.decisions ? 100.0 * s.covered / d : 0.0,
-                    median_of(s.abs_errors), static_cast<unsigned long long>(s.reached_early),
-                    s.known ? 100.0 * static_cast<double>(s.truth_earlier) / static_cast<double>(s.known) : 0.0,
-                    median_of(s.widths));
+    for (int m = 0; m < kMethods; ++m) {
+      const LevelScore& s = scores[static_cast<std::size_t>(m)].level[static_cast<std::size_t>(l)];
+      const double d = static_cast<double>(s.decisions), k = static_cast<double>(s.known);
+      std::snprintf(buf, sizeof buf, "| %-11s | %-9s | %9llu | %8.2f | %8.2f | %10.2f | %7.2f | %7.2f | %13.2f |\n",
+                    prognosis::to_string(kAll[l]), method_name(m), static_cast<unsigned long long>(s.decisions),
+                    s.decisions ? k / d : 0.0, s.known ? static_cast<double>(s.covered) / k : 0.0,
+                    median_of(s.rel_widths), s.decisions ? static_cast<double>(s.within_20) / d : 0.0,
+                    s.decisions ? static_cast<double>(s.within_30) / d : 0.0,
+                    s.known ? static_cast<double>(s.truth_earlier) / k : 0.0);
       out += buf;
     }
   }
   return out;
 }
 
-PrognosisScorer score_simulated_run(const SimRun& run, const prognosis::PrognosisParams& params) {
-  auto engine = std::make_unique<alarms::AlarmEngine>("sim", std::vector<std::string>{"wearing", "healthy"},
-                                                      std::vector<std::string>{}, alarms::AlarmParams{});
-  PrognosisScorer s(std::move(engine), params, 0,
-                    {run.crossing_ns(2.0), run.crossing_ns(4.0), run.crossing_ns(params.end_of_life_ratio)});
+namespace {
+
+void feed(PrognosisScorer& s, const SimRun& run) {
   for (std::size_t i = 0; i < run.time_ns.size(); ++i) {
     alarms::Observation obs;
     obs.index = i;
@@ -189,6 +197,30 @@ PrognosisScorer score_simulated_run(const SimRun& run, const prognosis::Prognosi
     obs.features = run.features.row(static_cast<Eigen::Index>(i)).transpose();
     s.observe(obs);
   }
+}
+
+std::unique_ptr<alarms::AlarmEngine> sim_engine() {
+  return std::make_unique<alarms::AlarmEngine>("sim", std::vector<std::string>{"wearing", "healthy"},
+                                               std::vector<std::string>{}, alarms::AlarmParams{});
+}
+
+}  // namespace
+
+PrognosisScorer score_simulated_run(const SimRun& run, const prognosis::PrognosisParams& params) {
+  // First pass: where the alarm starts and the baseline it judges by; second: scored against its crossings.
+  PrognosisScorer first(sim_engine(), params, 0, {0, 0, 0});
+  feed(first, run);
+  std::array<std::int64_t, kLevels> truth{0, 0, 0};
+  if (first.first_alarm_index() >= 0) {
+    const alarms::AlarmParams alarm;
+    std::vector<double> level(run.time_ns.size());
+    for (std::size_t i = 0; i < level.size(); ++i) level[i] = run.features(static_cast<Eigen::Index>(i), 0);
+    truth = median_crossings(run.time_ns, level, std::exp(first.baseline_log()), first.first_alarm_index(),
+                             {alarm.warning_ratio, alarm.critical_ratio, params.end_of_life_ratio},
+                             static_cast<std::int64_t>(run.time_ns.size()) - 1);
+  }
+  PrognosisScorer s(sim_engine(), params, 0, truth);
+  feed(s, run);
   return s;
 }
 

@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
   app.add_option("--p0", a.model.p0, "prior factor variance")->default_val(1.0)->check(CLI::PositiveNumber)->group(g_model);
   app.add_flag("--log-levels", a.log_levels,
                "the CSV holds log levels (the twin's log_transform): answers in percent of the level, as the live "
-               "twin gives them (an interval wider than a factor of 10 in level is 'effect unknown')")->group(g_model);
+               "twin gives them (an interval wider than a factor of 10 in level or beyond +-1000 % is 'effect unknown')")->group(g_model);
   app.add_option("--at", a.model.at, "row whose filtered factors define the model (default: last row)")->group(g_model);
 
   auto* g_unc = "Uncertainty";

@@ -144,15 +144,16 @@ void print_bounded_answer(std::ostream& out, const FittedModel& m, const analysi
     out << "  " << m.names[static_cast<std::size_t>(k)] << " ";
     if (percent) {  // the live twin's line, with its "effect unknown" rule
       out << analysis::answer_line(a, k, level, units);
-    } else {
+    } else {  // no positive level to state a percent of: the same "unknown", with the reason
       const std::string when = a.kind == analysis::AnswerKind::steady_state
                                    ? std::string("at steady state")
                                    : "after " + std::to_string(a.horizon_snapshots) + " samples";
-      char tail[160];
-      std::snprintf(tail, sizeof tail, " (%g %%), model %s rho=%.3f, %d/%d draws unstable", 100.0 * a.coverage,
-                    analysis::stability_words(a), a.spectral_radius, a.unstable_draws, a.draws);
-      out << when << ": " << num(a.effect.median(k)) << " [" << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k))
-          << "]" << tail;
+      char tail[240];
+      std::snprintf(tail, sizeof tail,
+                    ": effect unknown (the level at row %d is not positive, so no percent of it can be stated; "
+                    "--log-levels if the CSV holds log levels), model %s rho=%.3f, %d/%d draws unstable",
+                    m.at, analysis::stability_words(a), a.spectral_radius, a.unstable_draws, a.draws);
+      out << when << tail;
     }
     out << " (" << num(a.effect.median(k)) << " [" << num(a.effect.lower(k)) << ", " << num(a.effect.upper(k))
         << "] in the CSV's units)\n";

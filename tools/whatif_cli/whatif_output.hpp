@@ -31,8 +31,10 @@ void write_counterfactual_csv(std::ostream& out, const std::vector<std::string>&
 // The bounded answer (steady state / after H snapshots / refused, bounded_answer.hpp): one line per channel
 // with horizon, interval, confidence and stability, in the CSV's units and percent of the last row's level.
 // log_levels: the CSV holds log levels (as the twin's log_transform): effects in percent of the level, with
-// the live twin's one line (effect_units.hpp: an interval wider than a factor of 10 in level is "effect
-// unknown"). Otherwise the CSV's own units, and percent of the level at --at when it is positive.
+// the live twin's one line (effect_units.hpp, effect_unknown_reason: an interval wider than a factor of 10 in
+// level, or reaching beyond +-1000 %, is "effect unknown" with the reason). Otherwise percent of the level at
+// --at when it is positive (the same line); when it is not, "effect unknown" with that reason. Every line ends
+// with the effect in the CSV's own units.
 void print_bounded_answer(std::ostream& out, const FittedModel& model, const analysis::InterventionQuery& query,
                           const analysis::BoundedAnswer& answer, bool log_levels = false);
 void print_recommendations(std::ostream& out, const FittedModel& model, int target,

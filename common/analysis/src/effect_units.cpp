@@ -57,6 +57,33 @@ double interval_level_factor(double percent_lower, double percent_upper) {
   return hi / lo;
 }
 
+std::string effect_unknown_reason(double percent_lower, double percent_upper, double coverage) {
+  // "the 90 % interval", or "the interval" when the asker does not know the coverage (causal-ask: the reply
+  // carries the bounds, not their level).
+  char what[32] = "the interval";
+  if (std::isfinite(coverage)) std::snprintf(what, sizeof what, "the %g %% interval", 100.0 * coverage);
+  char buf[120];
+  if (!std::isfinite(percent_lower) || !std::isfinite(percent_upper)) {
+    std::snprintf(buf, sizeof buf, "%s is not finite", what);
+    return buf;
+  }
+  const double factor = interval_level_factor(percent_lower, percent_upper);
+  if (!std::isfinite(factor)) {
+    std::snprintf(buf, sizeof buf, "%s reaches -100 %%", what);
+    return buf;
+  }
+  if (factor > kMaxKnownLevelFactor) {
+    std::snprintf(buf, sizeof buf, "%s spans a factor of %.0f in level", what, factor);
+    return buf;
+  }
+  if (std::max(std::abs(percent_lower), std::abs(percent_upper)) > kPercentDisplayCap) {
+    std::snprintf(buf, sizeof buf, "%s reaches beyond %+.0f %%", what,
+                  percent_upper > kPercentDisplayCap ? kPercentDisplayCap : -kPercentDisplayCap);
+    return buf;
+  }
+  return "";
+}
+
 std::string answer_line(const BoundedAnswer& answer, int channel, double current, const EffectUnits& units) {
   if (!answer.answered()) return "refused: " + answer.reason;
   const auto k = static_cast<Eigen::Index>(channel);
@@ -79,15 +106,8 @@ std::string answer_line(const BoundedAnswer& answer, int channel, double current
   line += ": ";
   std::snprintf(buf, sizeof buf, ", model %s rho=%.3f, %d/%d draws unstable", stability_words(answer),
                 answer.spectral_radius, answer.unstable_draws, answer.draws);
-  if (const double factor = interval_level_factor(lo, hi); factor > kMaxKnownLevelFactor) {
-    char unknown[120];
-    if (std::isfinite(factor)) {
-      std::snprintf(unknown, sizeof unknown, "effect unknown (the %g %% interval spans a factor of %.0f in level)",
-                    100.0 * answer.coverage, factor);
-    } else {
-      std::snprintf(unknown, sizeof unknown, "effect unknown (the %g %% interval reaches -100 %%)", 100.0 * answer.coverage);
-    }
-    return line + unknown + buf;
+  if (const std::string why = effect_unknown_reason(lo, hi, answer.coverage); !why.empty()) {
+    return line + "effect unknown (" + why + ")" + buf;
   }
   char cover[32];
   std::snprintf(cover, sizeof cover, " (%g %%)", 100.0 * answer.coverage);

@@ -30,6 +30,15 @@ struct EffectUnits {
 // at or below -100 % (the level could vanish) or either end is not finite.
 double interval_level_factor(double percent_lower, double percent_upper);
 
+// The one decision whether an effect interval (in percent of the level) may be stated as a number: every
+// what-if answer of the live twin (answer_line, Advisor::what_if) and of causal-whatif goes through it.
+// Returns "" when it may, else why not, e.g. "the 90 % interval spans a factor of 37 in level". Unknown when
+// the interval spans more than kMaxKnownLevelFactor in level, reaches -100 % (the level could vanish), is
+// not finite, or reaches beyond +-kPercentDisplayCap (a bound no figure can state: "> +1000 %" would hide
+// how far beyond it goes). A non-finite coverage (causal-ask: the reply carries the bounds, not their
+// level) words the reason "the interval ..." instead of "the 90 % interval ...".
+std::string effect_unknown_reason(double percent_lower, double percent_upper, double coverage);
+
 // Percent change of a level `current` (> 0) for a model-unit effect. Log-level: 100 expm1(d) (> -100);
 // raw: 100 d / current, NaN when current is not positive and finite. Never below -100.
 double percent_of_level(double model_effect, double current, const EffectUnits& units);
