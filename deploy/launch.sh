@@ -8,7 +8,7 @@
 # Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only,
 # DDS-Security off on loopback (open bus; the plant profile turns it on). Without --transport:
 # $FASTRTPS_DEFAULT_PROFILES_FILE when set; --transport deploy/dds/discovery_client.xml: a discovery server.
-# --features FILE takes any IMS-format table as it is (timestamp, one column per channel, any names, 2-16
+# --features FILE takes any IMS-format table as it is (timestamp, one column per channel, any names, 2-64
 # channels); --feature-suffix/--feature-name are optional (a table of <channel>_<feature> columns publishes
 # its meanabs columns unless told otherwise). --gap-factor K: a time interval > K x the median is a gap (3).
 # --security DIR runs every service secured with the PKI made by deploy/security/make-pki.sh DIR.

@@ -259,6 +259,15 @@ std::vector<AdviceItem> Advisor::evaluate(const std::string& asset_group, int ta
     why = buf;
     return {};
   }
+  // Each candidate costs `draws` Monte Carlo solves of the G-channel model: only the max_candidates with the
+  // largest excess over their baseline are evaluated (AdvisorParams::max_candidates).
+  if (candidates.size() > static_cast<std::size_t>(params_.max_candidates)) {
+    std::stable_sort(candidates.begin(), candidates.end(), [](const analysis::CandidateIntervention& a,
+                                                              const analysis::CandidateIntervention& b) {
+      return std::abs(a.delta) > std::abs(b.delta);
+    });
+    candidates.resize(static_cast<std::size_t>(params_.max_candidates));
+  }
   analysis::RecommendationOptions options;
   options.uncertainty = uncertainty();
   options.channel_names = m.channel_names;

@@ -39,6 +39,10 @@ struct AdvisorParams {
   double min_excess_percent = 0.0; // ... if j is at least this many percent above its baseline (less is normal spread)
   double coverage = 0.9;          // interval coverage
   int draws = 2000;               // Monte Carlo draws
+  // Candidate levers evaluated per alarm: those with the largest excess over their baseline. Each costs `draws`
+  // solves of the G-channel model; all 19 of a 20-channel group took ~10 s per alarm on a loaded 2-core machine
+  // and the recommender fell behind the estimator. 4 keeps every candidate of a 4- or 5-channel group.
+  int max_candidates = 4;
   bool model_log_features = true; // the estimator's condition_level.log_transform
   analysis::AnswerRule rule;      // steady state / horizon / refusal (alarms.yaml recommendations.answer_*)
   // The healthy reference model (Advisor::set_health): a model captured past learning with no degradation alarm

@@ -7,7 +7,14 @@
 namespace causal::recommender {
 
 namespace {
-constexpr std::size_t kMaxFeatures = 256;  // condition vectors kept per asset group and feature
+// Condition vectors kept per asset group and feature while their factors have not come. The estimator holds
+// its structure calibration window (100 snapshots as shipped, configurable) and replays it when the order is
+// learned, so the factors of the first vectors arrive a whole window after them: the vectors must outlive
+// that window, or the first observations (the alarm engine's baseline) come without features and the level
+// alarms lose their baseline. A vector leaves as soon as its observation is released (or one after it: the
+// estimator reports in index order), so this bound matters only for an estimator that sends no factors;
+// a vector evicted by it is counted (evicted_conditions()).
+constexpr std::size_t kMaxFeatures = 8192;
 }  // namespace
 
 void ObservationAssembler::add_factors(const dds::FactorMessage& m, std::vector<AssembledObservation>& out) {
@@ -66,6 +73,10 @@ void ObservationAssembler::release(const WaitingKey& key, std::deque<AssembledOb
     }
     const bool has_features = a.observation.features.size() > 0;
     if (!has_features && !all && waiting.size() <= max_pending_) break;
+    if (fit != features_.end()) {  // vectors up to this time can no longer be joined: observations come in index order
+      auto& by_time = fit->second;
+      by_time.erase(by_time.begin(), by_time.upper_bound(a.observation.time_ns));
+    }
     out.push_back(std::move(a));
     waiting.pop_front();
   }
@@ -77,7 +88,10 @@ void ObservationAssembler::add_condition(const std::string& asset_group, const s
   const WaitingKey key{asset_group, feature};
   auto& by_time = features_[key];
   by_time[time_ns] = Condition{values, discontinuity};
-  while (by_time.size() > kMaxFeatures) by_time.erase(by_time.begin());
+  while (by_time.size() > kMaxFeatures) {
+    by_time.erase(by_time.begin());
+    ++evicted_conditions_;
+  }
   if (const auto it = waiting_.find(key); it != waiting_.end()) release(key, it->second, out, false);
 }
 

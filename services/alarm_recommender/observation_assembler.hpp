@@ -57,6 +57,9 @@ class ObservationAssembler {
   // Releases everything still held (end of stream); factor sets still missing an outcome are dropped.
   void flush(std::vector<AssembledObservation>& out);
   std::uint64_t dropped_incomplete() const { return sets_.counters().dropped; }
+  // Condition vectors dropped before any observation could be joined with them (more than the bound kept
+  // waiting for their factors, observation_assembler.cpp): their observations reach the engine without features.
+  std::uint64_t evicted_conditions() const { return evicted_conditions_; }
   dds::FactorSetCounters factor_counters() const { return sets_.counters(); }
   const std::string& last_problem() const { return sets_.last_problem(); }  // why the last refusal
 
@@ -77,6 +80,7 @@ class ObservationAssembler {
   };
   std::map<WaitingKey, std::map<std::int64_t, Condition>> features_;
   std::vector<dds::FactorSet> sets_ready_;  // scratch
+  std::uint64_t evicted_conditions_ = 0;
 };
 
 }  // namespace causal::recommender

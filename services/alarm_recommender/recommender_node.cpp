@@ -116,6 +116,10 @@ int RecommenderNode::run() {
                  c.accepted, c.complete, c.duplicates, c.refused,
                  c.refused > 0 ? " (last: " + assembler_.last_problem() + ")" : std::string(), c.dropped);
   }
+  if (assembler_.evicted_conditions() > 0) {
+    spdlog::warn("{} condition vectors dropped before their causal factors came (more than the assembler keeps "
+                 "waiting): their observations were judged without features", assembler_.evicted_conditions());
+  }
   if (!alarms_.wait_for_acknowledgments(std::chrono::seconds(10))) {
     spdlog::warn("not every alarm was acknowledged within 10 s");
   }
@@ -140,7 +144,8 @@ int RecommenderNode::run() {
   spdlog::info("summary topic=causal_twin/asset_status sent={} failed={}", statuses_published_, status_write_failures_);
   spdlog::info("summary topic=causal_twin/prognosis sent={} failed={}", prognoses_published_, prognosis_write_failures_);
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
-  return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + status_write_failures_) > 0 ? 4 : 0;
+  return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
+          status_write_failures_) > 0 ? 4 : 0;
 }
 
 void RecommenderNode::publish_health() {

@@ -136,11 +136,13 @@ RecommenderParams load_recommender_params(const std::string& path) {
   r.sample_baseline_publications = static_cast<int>(s.integer("baseline_publications", 3, 1000000));
 
   const Section a = root.child("recommendations");
-  a.only({"enabled", "max_per_alarm", "excess_fraction", "min_excess_percent", "coverage", "draws", "model_log_features",
+  a.only({"enabled", "max_per_alarm", "max_candidates", "excess_fraction", "min_excess_percent", "coverage", "draws",
+          "model_log_features",
           "max_stable_radius", "max_unstable_share", "horizon_snapshots", "refuse_unstable_share",
           "min_order_confidence", "reference_confirm_observations"});
   r.advice.enabled = a.boolean("enabled");
   r.advice.max_per_alarm = static_cast<int>(a.integer("max_per_alarm", 1, 64));
+  r.advice.max_candidates = static_cast<int>(a.integer("max_candidates", 1, 64));
   r.advice.excess_fraction = a.positive("excess_fraction");
   if (r.advice.excess_fraction > 1.0) a.fail("excess_fraction", "must be in (0, 1]");
   r.advice.min_excess_percent = a.non_negative("min_excess_percent");

@@ -62,6 +62,7 @@ TEST(RecommenderParams, ShippedFileLoads) {
   const YAML::Node a = doc["recommendations"];
   EXPECT_EQ(r.advice.enabled, a["enabled"].as<bool>());
   EXPECT_EQ(r.advice.max_per_alarm, a["max_per_alarm"].as<int>());
+  EXPECT_EQ(r.advice.max_candidates, a["max_candidates"].as<int>());
   EXPECT_DOUBLE_EQ(r.advice.excess_fraction, a["excess_fraction"].as<double>());
   EXPECT_DOUBLE_EQ(r.advice.min_excess_percent, a["min_excess_percent"].as<double>());
   EXPECT_DOUBLE_EQ(r.advice.coverage, a["coverage"].as<double>());

@@ -234,6 +234,33 @@ Variant make_unchanged_variant(const BaseRun& base) {
   return v;
 }
 
+Variant make_replicated_variant(const BaseRun& base, int copies, std::uint64_t seed, double noise) {
+  check_base(base);
+  if (copies < 1) throw std::invalid_argument("ims variants: copies must be >= 1");
+  if (!(noise >= 0.0 && noise <= 0.1)) throw std::invalid_argument("ims variants: noise must be in [0, 0.1]");
+  Draws draw(seed ^ 0x5eed);
+  Variant v = copy_of(base, "replicated_" + std::to_string(copies));
+  const Eigen::Index n = base.values.rows(), g = base.values.cols(), r = copies;
+  v.values.resize(n, g * r);
+  v.channel_names.clear();
+  for (Eigen::Index j = 0; j < g; ++j)
+    for (Eigen::Index c = 0; c < r; ++c)
+      v.channel_names.push_back(base.channel_names[static_cast<std::size_t>(j)] + " C" + std::to_string(c + 1));
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < g; ++j)
+      for (Eigen::Index c = 0; c < r; ++c) {
+        // Stays positive: Box-Muller on 53-bit uniforms gives |z| <= sqrt(2 x 53 ln 2) = 8.57, so 1 + 0.1 z >= 0.14.
+        v.values(i, j * r + c) = base.values(i, j) * (1.0 + 0.1 * static_cast<double>(c)) * (1.0 + noise * draw.normal());
+      }
+  v.failing_channels.clear();
+  for (int c = 0; c < copies; ++c) v.failing_channels.push_back(base.failing_channel * copies + c);
+  char text[160];
+  std::snprintf(text, sizeof text, "%d copies per channel: copy c = base x (1 + 0.1 c) x (1 + %.3g N(0, 1)) per cell",
+                copies, noise);
+  v.description = text;
+  return v;
+}
+
 std::vector<Variant> make_all_variants(const BaseRun& base, std::uint64_t seed) {
   return {make_gaps_variant(base, seed), make_steps_variant(base, seed), make_eight_channel_variant(base, seed),
           make_stretched_variant(base, seed), make_unchanged_variant(base)};

@@ -66,6 +66,14 @@ Variant make_stretched_variant(const BaseRun& base, std::uint64_t seed, std::siz
 // (e) The base run itself.
 Variant make_unchanged_variant(const BaseRun& base);
 
+// (f) Wide asset group: every base channel copied `copies` times, channel-major ("Bearing 1 C1" ..
+// "Bearing 1 C<copies>", "Bearing 2 C1", ...). Copy c (0-based) of channel j at row i is
+// base(i, j) x (1 + 0.1 c) x (1 + noise N(0, 1)), one draw per cell (copy 0 included), so a group of G x copies
+// channels where several sensors see the same bearing at their own gain and noise. noise = 0.03 is the 3 %
+// of the wide-group runs in docs/results-ims.md. failing_channels = every copy of the base's failing
+// channel. Refuses copies < 1, noise < 0 or >= 0.2 (a cell could turn non-positive).
+Variant make_replicated_variant(const BaseRun& base, int copies, std::uint64_t seed, double noise = 0.03);
+
 // All five, in the order above.
 std::vector<Variant> make_all_variants(const BaseRun& base, std::uint64_t seed);
 

@@ -278,6 +278,27 @@ void make_events(Impl& m, const Observation& obs, const std::vector<double>& evi
   }
 }
 
+// While a step confirmation holds the detectors (one channel's abrupt step: operating change or fault?), a
+// channel whose feature_drift alarm is already active keeps its escalation running on its own level: the
+// confirmation never re-baselines it (only the step channel and channels without an active alarm are), and
+// its escalation reference is unchanged, so the hold could only delay the verdict. Why it matters: any one
+// channel's step holds the whole group for confirmation_observations, so the wider the group, the more often
+// a failing bearing's escalation is frozen (IMS test 2 with 5 sensors per bearing: held from snapshot 971 to
+// the end at warning). Gaps are different (levels after a restart are re-learned): they still hold everything.
+void escalate_during_step_confirmation(Impl& m, const Observation& obs, const std::vector<double>& feat,
+                                       std::vector<AlarmEvent>& events) {
+  std::vector<Pending> pending;
+  for (int c = 0; c < m.channels(); ++c) {
+    auto& cs = m.ch[static_cast<std::size_t>(c)];
+    auto& slot = cs.slots[static_cast<std::size_t>(detail::kFeature)];
+    if (c == m.confirm.step_channel || !slot.latch.active()) continue;
+    const double v = feat[static_cast<std::size_t>(c)];
+    cs.feature.level.push(cs.feature.monitored && std::isfinite(v) ? cs.feature.standardize(v) : kNaN);
+    if (m.escalate(c, detail::kFeature)) pending.push_back({c, detail::kFeature, AlarmState::Escalated, {}});
+  }
+  if (!pending.empty()) make_events(m, obs, m.departed_evidence(), pending, events);
+}
+
 }  // namespace
 
 std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
@@ -325,6 +346,7 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
     m.confirm.restart = restarted && !discontinuity;
   }
   if (m.confirm.active) {
+    if (!m.confirm.gap) escalate_during_step_confirmation(m, obs, feat, events);
     m.confirm_step(obs, feat, innov, events);
     return events;
   }

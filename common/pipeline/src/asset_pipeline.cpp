@@ -4,6 +4,7 @@
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_checks.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace causal::pipeline {
@@ -21,7 +22,7 @@ void scale_windows(const char* level, FactorStreamParams& p, StructureSetting& s
     const std::size_t need = StructuredFactorStream::minimum_calibration_samples(g, m);
     if (s.calibration_samples < need) {
       adjustments.push_back({std::string(level) + " structure", s.calibration_samples, need,
-                             "10 x G x (M + 1) = 10 x " + std::to_string(g) + " x " + std::to_string(m + 1)});
+                             "10 x min(G, 2) x (M + 1) = 10 x " + std::to_string(std::min(g, 2)) + " x " + std::to_string(m + 1)});
       s.calibration_samples = need;
     }
   }

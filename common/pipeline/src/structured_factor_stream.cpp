@@ -1,7 +1,6 @@
 #include "causal/pipeline/structured_factor_stream.hpp"
 
-#include "causal/analysis/order_trust.hpp"
-#include "causal/analysis/var_lingam.hpp"
+#include "block_order.hpp"
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_checks.hpp"
 
@@ -25,8 +24,9 @@ StructuredFactorStream::StructuredFactorStream(FactorStreamParams params, Struct
   if (setting_.learn_order && setting_.calibration_samples < minimum_calibration_samples()) {
     throw std::invalid_argument("calibration_samples must be >= " + std::to_string(minimum_calibration_samples()) +
                                 " to learn the causal order of " + std::to_string(g_) + " channels at lag order " +
-                                std::to_string(params_.model.lag_order) + " (10 x G x (M + 1))");
+                                std::to_string(params_.model.lag_order) + " (10 x min(G, 2) x (M + 1))");
   }
+  if (setting_.learn_order) learned_.blocks = order_blocks(g_, params_.model.lag_order, setting_.calibration_samples);
   if (!learning) {
     stream_ = std::make_unique<FactorStream>(params_);
     learned_.ready = true;
@@ -42,7 +42,11 @@ std::size_t StructuredFactorStream::minimum_calibration_samples() const {
 }
 
 std::size_t StructuredFactorStream::minimum_calibration_samples(int g, int lag_order) {
-  return 10 * static_cast<std::size_t>(g) * static_cast<std::size_t>(lag_order + 1);
+  return static_cast<std::size_t>(std::min(g, 2)) * samples_per_block_channel(lag_order);
+}
+
+std::size_t StructuredFactorStream::dense_calibration_samples(int g, int lag_order) {
+  return static_cast<std::size_t>(g) * samples_per_block_channel(lag_order);
 }
 
 void StructuredFactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index,
@@ -132,22 +136,18 @@ void StructuredFactorStream::learn(std::vector<FactorReport>& out) {
     options.intercept = true;  // harmless after centring; needed when the centre could not be formed
     options.prune_threshold = setting_.prune_threshold;
     try {
-      const analysis::VarLingamResult result = analysis::var_lingam(samples, options);
-      if (!result.b0.allFinite()) {  // data so ill-scaled that the fit lost all precision: not an order
-        throw std::invalid_argument("VAR-LiNGAM gave non-finite coefficients (ill-scaled calibration window)");
-      }
-      ModelSpec restricted = result.restrict(params.model);
+      // Per block when the window cannot identify a dense order over all G channels (block_order.hpp).
+      const BlockOrder result = learn_block_order(samples, learned_.blocks, options);
       FactorStreamParams candidate = params;
-      candidate.model = restricted;
+      candidate.model = restrict_to_blocks(params.model, result);
       FactorStream probe(candidate);  // a restriction can leave an outcome without factors: refuse it
       params = candidate;
       learned_.order = result.order;
       learned_.b0 = result.b0;
       // Reported only (what the recommender may claim): the model runs with the learned order either way.
-      const analysis::OrderTrust trust = analysis::assess_order(result);
-      learned_.order_confidence = trust.confidence;
-      learned_.order_source = trust.trusted ? "learned" : "untrusted";
-      learned_.order_summary = trust.summary;
+      learned_.order_confidence = result.confidence;
+      learned_.order_source = result.trusted ? "learned" : "untrusted";
+      learned_.order_summary = result.summary;
     } catch (const std::invalid_argument& e) {
       add_problem(std::string("causal order not learned, every configured instantaneous link is kept: ") + e.what());
     }
@@ -212,6 +212,7 @@ void StructuredFactorStream::restore(StateReader& r) {
 
   // Everything into locals first: on StateError this object stays as it was.
   LearnedStructure learned;
+  learned.blocks = learned_.blocks;  // a function of the configuration checked above
   learned.ready = r.get<bool>();
   learned.samples = static_cast<std::size_t>(r.get<std::uint64_t>());
   r.read(learned.centre);

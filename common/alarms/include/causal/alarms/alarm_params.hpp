@@ -171,7 +171,8 @@ struct AlarmParams {
   // ---------------------------------------------------------------- gaps and operating changes -------
   // A level that moves because the machine was stopped or its duty changed is not a fault. Two situations
   // put the asset group under CONFIRMATION for confirmation_observations: every detector is held (no
-  // update, no raise, no clear; active alarms stay active) while the values are collected, then the
+  // update, no raise, no clear; active alarms stay active, and during a step's confirmation an active
+  // feature_drift alarm of another channel keeps escalating on its own level) while the values are collected, then the
   // engine decides per channel and says so with an event of category "operating_change":
   //  * a discontinuity: Observation::discontinuity, the first observation after a stop (stopped_ratio
   //    gate), or a time gap larger than gap_multiple x the median interval of the baseline observations (IMS recorders stop for hours or days; levels after a restart

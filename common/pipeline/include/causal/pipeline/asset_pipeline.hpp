@@ -38,20 +38,23 @@ struct AssetPipelineParams {
   InputScreenParams condition_screen = InputScreenParams::for_conditions();
 };
 
-// Channel-count rule (issue 12): calibration windows are configured for the shipped 4-channel groups, and a
-// group with more channels needs more vectors to learn the same model. Every group of G >= 2 channels runs
-// with its configured windows raised, where needed, to what its model needs:
-//   structure window (centring / VAR-LiNGAM order):  max(configured, 10 x G x (M + 1))
-//   automatic noise window (q, r by likelihood):      max(configured, 10 x factors per outcome + 10)
-// (the minimums StructuredFactorStream and FactorStream enforce). E.g. 8 channels at lag 1: a 160-snapshot
-// structure window instead of 100; 16 channels: 320. A run that ends before its window is full learns on
-// what it has (finish()); when that is too little, the configured model runs and LearnedStructure::problem
-// says why. Nothing is refused for its channel count; each raised window is listed (calibration_adjustments).
+// Channel-count rule: calibration windows are configured for the shipped 4-channel groups. The structure
+// window is NOT raised with G: a window too short for one dense VAR-LiNGAM order over G channels
+// (10 x G x (M + 1)) learns the order per block of neighbouring channels (structured_factor_stream.hpp,
+// LearnedStructure::blocks), so "healthy" is learned on the same stretch of the run at any width and the
+// level baselines downstream do not wait longer for a wider group. Windows are raised only below what one
+// block or the noise model needs:
+//   structure window (VAR-LiNGAM order):          max(configured, 10 x min(G, 2) x (M + 1))
+//   automatic noise window (q, r by likelihood):  max(configured, 10 x factors per outcome + 10)
+// (the minimums StructuredFactorStream and FactorStream enforce). A run that ends before its window is full
+// learns on what it has (finish()); when that is too little, the configured model runs and
+// LearnedStructure::problem says why. Nothing is refused for its channel count; each raised window is listed
+// (calibration_adjustments).
 struct CalibrationAdjustment {
   std::string window;      // "condition-level structure", "sample-level noise", ...
   std::size_t configured = 0;
   std::size_t used = 0;
-  std::string rule;        // the minimum that applied, e.g. "10 x G x (M + 1) = 10 x 8 x 2"
+  std::string rule;        // the minimum that applied, e.g. "10 x min(G, 2) x (M + 1) = 10 x 2 x 2"
 };
 
 struct PipelineOutput {

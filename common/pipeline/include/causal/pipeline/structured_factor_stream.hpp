@@ -44,6 +44,11 @@ struct LearnedStructure {
   Eigen::MatrixXd b0;            // learned instantaneous structural coefficients B0(k, j); empty when not learned
   // The instantaneous links j -> k the model runs with, [k][j]; empty = every link (nothing restricted).
   std::vector<std::vector<bool>> instantaneous_allowed;
+  // The channel blocks the order is learned in (0-based, contiguous): one block of all G channels when the
+  // window holds 10 x G x (M + 1) samples, else blocks of at most window / (10 x (M + 1)) channels with no
+  // instantaneous link between blocks (src/block_order.hpp). Set at construction when learn_order; not
+  // checkpointed (a function of G, M and the window, which are).
+  std::vector<std::vector<int>> blocks;
   std::string problem;           // non-empty: (part of) the learning failed and the configured model runs
   // How far the instantaneous causal order the model runs with can be trusted (analysis/order_trust.hpp),
   // published on CausalFactorBatch: "configured" (the plant's graph), "learned" (VAR-LiNGAM, stable and
@@ -57,7 +62,7 @@ struct LearnedStructure {
 class StructuredFactorStream {
  public:
   // Throws std::invalid_argument for invalid params (as FactorStream does), centre/learn_order without a
-  // window, a window too short for VAR-LiNGAM (< 10 x G x (M + 1) samples) or a negative prune threshold.
+  // window, a window too short for VAR-LiNGAM on two channels (< 10 x 2 x (M + 1) samples) or a negative prune threshold.
   StructuredFactorStream(FactorStreamParams params, StructureSetting setting);
 
   // Same contract as FactorStream::feed (row i has the source index first_index + i).
@@ -69,8 +74,12 @@ class StructuredFactorStream {
   const FactorStream* stream() const { return stream_.get(); }  // null while calibrating
   const LearnedStructure& structure() const { return learned_; }
   std::size_t minimum_calibration_samples() const;
-  // VAR-LiNGAM's minimum window for g channels at lag order m: 10 x g x (m + 1) samples.
+  // The shortest window that learns an order for g channels at lag order m: one block of two channels,
+  // 10 x min(g, 2) x (m + 1) samples (block_order.hpp: a shorter window than the dense minimum learns
+  // the order per block of neighbouring channels).
   static std::size_t minimum_calibration_samples(int g, int lag_order);
+  // VAR-LiNGAM's window for one dense order over all g channels: 10 x g x (m + 1) samples.
+  static std::size_t dense_calibration_samples(int g, int lag_order);
 
   // Checkpoint (state_archive.hpp), section "structured_factor_stream". Saved: the configured model and
   // stream parameters and the structure setting (restore throws StateError when this object was built with

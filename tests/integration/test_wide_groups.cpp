@@ -1,0 +1,119 @@
+// Wide asset groups through the real services: IMS test 2 with every bearing copied 5 times (20 channels,
+// tests/support ims_variants make_replicated_variant: copy c = base x (1 + 0.1 c) x (1 + 3 % noise)) replayed
+// by sensor-replay --features, run by causal-estimator and judged by alarm-recommender with the shipped
+// parameters. The verdict must be the 4-channel one: nothing before snapshot 500, the first degradation alarm
+// on a bearing-1 sensor at or before 560 with a bearing-1 sensor as root cause, critical on a bearing-1 sensor
+// at the end, and every vector and factor set delivered (exact counts). Why it failed before: the structure
+// window grew to 10 x 20 x 2 = 400 snapshots and the recommender kept only the last 256 condition vectors
+// while it waited for their factors, so the engine's baseline observations had no features.
+// Fixed DDS domain 226 (alarms-suite range).
+#include "dds_observer.hpp"
+#include "ims_variants.hpp"
+#include "process_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <optional>
+#include <regex>
+
+namespace fs = std::filesystem;
+using causal::test::DdsObserver;
+using causal::test::ServiceProcess;
+
+namespace {
+
+std::uint64_t grab(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex(pattern))) return ~0ULL;
+  return std::stoull(m[1].str());
+}
+
+bool bearing1(const std::string& name) { return name.rfind("Bearing 1 C", 0) == 0; }
+
+}  // namespace
+
+TEST(WideGroups, TwentyChannelsGiveTheFourChannelVerdict) {
+  const auto base = causal::testing::read_base_run(std::string(CAUSAL_TWIN_DEPLOY_DIR) +
+                                                   "/data/ims2-features/merged_dataset_BearingTest_2.csv");
+  const auto v = causal::testing::make_replicated_variant(base, 5, 32);
+  ASSERT_EQ(v.values.cols(), 20);
+  const fs::path work = fs::temp_directory_path() / ("causal_it_wide_" + std::to_string(getpid()));
+  fs::create_directories(work);
+  const std::string csv = (work / "replicated_5.csv").string();
+  causal::testing::write_variant_csv(v, csv);
+  // The shipped alarm parameters with the recommendations off: the advice's Monte Carlo over a 20-channel model
+  // costs 3-6 s per alarm on a loaded 2-core machine (about 30 alarms here), which this test of the verdict
+  // does not need to wait for (docs/results-ims.md, "Wide asset groups").
+  std::ifstream shipped(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/config/alarms.yaml");
+  const std::string yaml((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
+  const std::regex advice_on(R"((\nrecommendations:[^\n]*\n  enabled: )true)");
+  ASSERT_TRUE(std::regex_search(yaml, advice_on));
+  const std::string params = (work / "alarms.yaml").string();
+  std::ofstream(params) << std::regex_replace(yaml, advice_on, "$1false");
+  const std::string d = "226";
+  DdsObserver observer(226);
+  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--params", params, "--idle-exit", "5",
+                                             "--max-runtime", "180"},
+                       (work / "alarm.log").string());
+  ServiceProcess estimator("causal-estimator",
+                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "180", "--wait-for",
+                            "alarm-recommender", "--wait-for", "test-observer"},
+                           (work / "estimator.log").string());
+  ServiceProcess replay("sensor-replay", {SENSOR_REPLAY_BIN, "--domain", d, "--features", csv, "--wait-for", "causal-estimator",
+                                          "--wait-timeout", "60"},
+                        (work / "replay.log").string());
+  const auto replay_code = replay.wait(std::chrono::seconds(150));
+  ASSERT_TRUE(replay_code.has_value()) << replay.output();
+  EXPECT_EQ(*replay_code, 0) << replay.output();
+  const auto estimator_code = estimator.wait(std::chrono::seconds(120));
+  ASSERT_TRUE(estimator_code.has_value()) << estimator.output();
+  EXPECT_EQ(*estimator_code, 0) << estimator.output();
+  const auto alarm_code = alarm.wait(std::chrono::seconds(120));
+  ASSERT_TRUE(alarm_code.has_value()) << alarm.output();
+  EXPECT_EQ(*alarm_code, 0) << alarm.output();
+
+  // Every vector recorded, exactly.
+  const std::string est = estimator.output(), rec = alarm.output();
+  EXPECT_EQ(grab(replay.output(), R"(summary topic=causal_twin/condition_input sent=(\d+))"), 984u);
+  EXPECT_EQ(grab(est, R"(summary topic=causal_twin/condition_input received=(\d+))"), 984u) << est;
+  EXPECT_EQ(grab(est, R"(summary topic=causal_twin/condition_input received=\d+ refused=(\d+))"), 0u) << est;
+  EXPECT_EQ(grab(rec, R"(summary topic=causal_twin/condition_vector received=(\d+))"), 984u) << rec;
+  EXPECT_EQ(grab(rec, R"(condition level: (\d+) observations)"), 984u) << rec;
+  EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u * 20u);
+  EXPECT_EQ(observer.factor_batches(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u);
+  // The structure window stays at the configured 100 snapshots, learned per block of 5 sensors.
+  EXPECT_EQ(est.find("calibration window"), std::string::npos) << est;
+  EXPECT_NE(est.find("channels 16-20: "), std::string::npos) << est;
+
+  // Nothing before 500; the first degradation alarm on bearing 1 by 560, root cause bearing 1; critical at the end.
+  std::optional<causal_twin::Alarm> first;
+  std::map<std::string, causal_twin::Alarm> last;  // by alarm id
+  for (const auto& a : observer.alarms()) {
+    if (a.category() != "degradation") continue;
+    EXPECT_GE(a.sample_index(), 500u) << "alarm in the healthy part: " << a.alarm_id() << ": " << a.reason();
+    last[a.alarm_id()] = a;
+    if (a.state() == causal_twin::RAISED && (!first || a.sample_index() < first->sample_index())) first = a;
+  }
+  ASSERT_TRUE(first.has_value()) << rec;
+  std::printf("twenty channels: first alarm %s at snapshot %llu on %s, root cause %s\n", first->alarm_id().c_str(),
+              static_cast<unsigned long long>(first->sample_index()), first->channel_name().c_str(),
+              first->root_cause_name().c_str());
+  EXPECT_LE(first->sample_index(), 560u);
+  EXPECT_TRUE(bearing1(first->channel_name())) << first->alarm_id();
+  EXPECT_TRUE(bearing1(first->root_cause_name())) << first->reason();
+  bool critical_on_bearing1 = false;
+  for (const auto& [id, a] : last) {
+    if (a.state() == causal_twin::CLEARED) continue;
+    std::printf("open at the end: %s %s severity %d root cause %s\n", id.c_str(), a.channel_name().c_str(),
+                static_cast<int>(a.severity()), a.root_cause_name().c_str());
+    critical_on_bearing1 = critical_on_bearing1 || (a.severity() == causal_twin::CRITICAL && bearing1(a.channel_name()));
+  }
+  EXPECT_TRUE(critical_on_bearing1) << rec;
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}
