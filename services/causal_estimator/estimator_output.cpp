@@ -389,8 +389,7 @@ int EstimatorNode::log_summary() const {
   for (const auto& [name, a] : assets_) {
     const auto* s = a.pipeline.sample_stream();
     spdlog::info("asset '{}': {} frames ({} lost, {} refused), {} snapshots lost after a restart, {} condition vectors "
-                 "in ({} lost), {} sample-level and {} condition-level factor messages out, {} non-finite samples "
-                 "rejected",
+                 "in ({} lost), {} sample-level and {} condition-level factor messages out, {} non-finite rejected",
                  name, a.frames, a.lost_frames, a.refused_frames, a.lost_snapshots, a.conditions_in + a.refused_conditions,
                  a.lost_conditions,
                  a.sample_msgs, a.condition_msgs,
@@ -413,10 +412,7 @@ int EstimatorNode::log_summary() const {
       spdlog::info("asset '{}': {} condition vectors arrived ahead of earlier ones and were fed in order", name,
                    a.reordered);
     }
-    if (a.late_conditions > 0) {
-      spdlog::error("asset '{}': {} condition vectors arrived out of order and were not fed (counted as lost when "
-                    "they were skipped over)", name, a.late_conditions);
-    }
+    if (a.late_conditions > 0) spdlog::error("asset '{}': {} condition vectors came after later ones (lost)", name, a.late_conditions);
   }
   if (store_.enabled()) {
     spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.failures());
