@@ -155,6 +155,12 @@ tail -q -n +1 -F "$logs"/causal-recorder.log "$logs"/alarm-recommender.log "$log
   > >(grep --line-buffered -E "$quiet_filter" | grep --line-buffered -vE "$alarm_lines") &
 tail_pid=$!  # tail's own pid: the filter ends when tail does
 
+# Checkpoints of this run (fresh each run): a service that restarts itself in place (a new revocation list,
+# revocation_watch.hpp) resumes from them and skips what it processed, instead of processing the replay again
+# (the recording would then hold every row twice). The recorder counts what it was sent again as duplicates.
+state_dir="$logs/state"
+rm -rf "$state_dir"
+mkdir -p "$state_dir/causal-estimator" "$state_dir/alarm-recommender"
 estimator_waits=(--wait-for alarm-recommender)
 # The recorder always runs: the verdict at the end is read from its files (in the log folder without --record).
 record_dir="${record:-$logs/record}"
@@ -182,9 +188,9 @@ recommender_idle=5
 recommender_waits=()
 [ -x "${tool[causal-recorder]}" ] && recommender_waits=(--wait-for causal-recorder --wait-timeout 60)
 start alarm-recommender "${tool[alarm-recommender]}" "${common[@]}" --idle-exit "$recommender_idle" \
-  --max-runtime "$max_runtime" "${recommender_waits[@]}"
+  --max-runtime "$max_runtime" "${recommender_waits[@]}" --state-dir "$state_dir/alarm-recommender"
 start causal-estimator "${tool[causal-estimator]}" "${common[@]}" --idle-exit 4 \
-  --max-runtime "$max_runtime" "${estimator_waits[@]}" --wait-timeout 60
+  --max-runtime "$max_runtime" "${estimator_waits[@]}" --wait-timeout 60 --state-dir "$state_dir/causal-estimator"
 estimator_pid=${pids[-1]}
 status=0
 metrics_for sensor-replay

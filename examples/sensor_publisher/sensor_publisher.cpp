@@ -1,6 +1,7 @@
 // A minimal sensor for the causal twin: publishes SNAPSHOTS recordings of 4 channels as VibrationFrames on
 // causal_twin/vibration_frame, the way causal-estimator expects them (docs/integrators.md, "Writing a sensor").
 //   example-sensor [--domain N] [--snapshots S] [--frames F] [--group NAME] [--qos FILE] [--transport FILE]
+// The domain defaults to $CAUSAL_TWIN_DOMAIN_ID (as for the services; /etc/causal-twin/twin.env), else 0.
 // Exit codes: 0 every frame written and acknowledged, 2 bad arguments or profiles, 3 no estimator matched,
 // 4 a write failed or was not acknowledged.
 #include "causal/dds/topics.hpp"   // topic and QoS profile names
@@ -15,6 +16,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <thread>
@@ -25,6 +27,15 @@ using eprosima::fastrtps::types::ReturnCode_t;
 
 int main(int argc, char** argv) {
   int domain = 0, snapshots = 3, frames_per_snapshot = 4;
+  if (const char* env = std::getenv("CAUSAL_TWIN_DOMAIN_ID"); env != nullptr && *env != '\0') {
+    char* end = nullptr;
+    const long d = std::strtol(env, &end, 10);
+    if (*end != '\0' || d < 0 || d > 232) {
+      std::fprintf(stderr, "CAUSAL_TWIN_DOMAIN_ID=%s: not a DDS domain id (0..232)\n", env);
+      return 2;
+    }
+    domain = static_cast<int>(d);
+  }
   std::string group = "example-pump", qos_file = DEFAULT_QOS_FILE, transport_file = DEFAULT_TRANSPORT_FILE;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];

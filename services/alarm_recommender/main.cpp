@@ -5,6 +5,7 @@
 #include "causal/config/config_search.hpp"
 
 #include <CLI/CLI.hpp>
+#include "causal/config/cli_conventions.hpp"
 #include <stdexcept>
 #include <spdlog/spdlog.h>
 
@@ -44,7 +45,7 @@ int main(int argc, char** argv) {
                  "last 64 changes per key)");
   app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
       ->check(CLI::PositiveNumber)->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  CAUSAL_CLI_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "alarm-recommender", o.dds, [&] {
     if (o.params_file.empty()) throw std::invalid_argument(params_choice.describe("alarms.yaml") + ": give --params FILE");
     auto params = causal::recommender::load_recommender_params(o.params_file);

@@ -125,7 +125,7 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
         resend_restored(asset_group, resend);
         a.awaiting_continuation = true;
         a.continuation_deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(
-                                                                          static_cast<long>(options_.resume_grace_s * 1000));
+                                                                          static_cast<long>(options_.resume_wait_s * 1000));
         const auto& last = a.pipeline.last_source_index();
         spdlog::info("asset group '{}' resumed from checkpoint {}: last snapshot {}, last sample {}", asset_group,
                      store_.path(asset_group), last.has_snapshot ? std::to_string(last.snapshot) : "none",
@@ -210,6 +210,7 @@ int EstimatorNode::run() {
                 },
                 state, loop_.stop_flag());
         release_expired_reorders(false);
+        release_expired_holds(false);
         report_rejections();
         publish_health();
         return n;
@@ -248,16 +249,32 @@ void EstimatorNode::on_frame(const causal_twin::VibrationFrame& frame, const Wri
   }
   {
     const auto& last = a.pipeline.last_source_index();
-    if (!continues(frame.asset_group(), a, !last.has_sample || frame.first_sample_index() == last.sample + 1)) return;
+    if (!continues(frame.asset_group(), a, !last.has_sample || frame.first_sample_index() == last.sample + 1, &frame,
+                   nullptr)) {
+      return;
+    }
   }
   // Sequence numbers run 0, 1, 2, ... per publisher; a jump means frames were lost on the way, a return to
   // 0 a restarted publisher (its first frame is flagged as a discontinuity anyway).
   bool gap = false;
+  const auto& last = a.pipeline.last_source_index();
   if (a.last_sequence && frame.sequence_number() != *a.last_sequence + 1 && frame.sequence_number() != 0) {
     gap = true;
-    a.lost_frames += frame.sequence_number() > *a.last_sequence ? frame.sequence_number() - *a.last_sequence - 1 : 0;
-    spdlog::warn("asset '{}': frames {}..{} missing; lags restart", frame.asset_group(), *a.last_sequence + 1,
-                 frame.sequence_number() - 1);
+    if (frame.sequence_number() > *a.last_sequence) {
+      report_input_lost(frame.asset_group(), a, frame.sequence_number() - *a.last_sequence - 1, "frames",
+                        last.has_snapshot ? last.snapshot : frame.snapshot_index(), frame.snapshot_index(),
+                        fmt::format("frames {}..{} missing; lags restart", *a.last_sequence + 1,
+                                    frame.sequence_number() - 1));
+    }
+  } else if (!a.last_sequence && last.has_sample && frame.first_sample_index() > last.sample + 1) {
+    // After a restart (no sequence number yet): samples between the checkpoint and this frame never came.
+    gap = true;
+    const std::uint64_t first = last.has_snapshot ? last.snapshot + 1 : frame.snapshot_index();
+    const std::uint64_t missing = frame.snapshot_index() > first ? frame.snapshot_index() - first : 1;
+    report_input_lost(frame.asset_group(), a, missing, "snapshots", first,
+                      frame.snapshot_index() > first ? frame.snapshot_index() - 1 : frame.snapshot_index(),
+                      fmt::format("samples {}..{} missing after the restart", last.sample + 1,
+                                  frame.first_sample_index() - 1));
   }
   a.last_sequence = frame.sequence_number();
   if (a.channel_names.empty()) {
@@ -344,13 +361,18 @@ void EstimatorNode::on_condition(const causal_twin::ConditionVector& in, const W
   {
     const auto& last = a.pipeline.last_source_index();
     if (last.has_snapshot && !a.awaiting_continuation && in.snapshot_index() > last.snapshot + 1) {
-      // Indices skipped over: the source may not have them, or they may still come (out of order).
+      // Indices skipped over: the source may not have them, or they may still come (out of order, too late to
+      // be fed): lost either way, counted now.
       for (std::uint64_t i = last.snapshot + 1; i < in.snapshot_index() && a.holes.size() < 65536; ++i) a.holes.insert(i);
+      report_input_lost(in.asset_group(), a, in.snapshot_index() - last.snapshot - 1, "condition inputs", last.snapshot + 1,
+                        in.snapshot_index() - 1, "condition inputs skipped over");
     }
   }
   {
     const auto& last = a.pipeline.last_source_index();
-    if (!continues(in.asset_group(), a, !last.has_snapshot || in.snapshot_index() == last.snapshot + 1)) return;
+    if (!continues(in.asset_group(), a, !last.has_snapshot || in.snapshot_index() == last.snapshot + 1, nullptr, &in)) {
+      return;
+    }
   }
   if (a.channel_names.empty()) {
     a.channel_names.assign(in.channel_names().begin(), in.channel_names().end());
@@ -425,25 +447,6 @@ void EstimatorNode::release_expired_reorders(bool all) {
   }
 }
 
-bool EstimatorNode::continues(const std::string& name, Asset& a, bool is_continuation) {
-  if (!a.awaiting_continuation) return true;
-  if (is_continuation) {
-    a.awaiting_continuation = false;
-    if (a.ahead_dropped > 0) {
-      spdlog::info("asset '{}': the source resent the continuation of the checkpoint ({} inputs ahead of it were "
-                   "held off and come again)", name, a.ahead_dropped);
-    }
-    return true;
-  }
-  if (std::chrono::steady_clock::now() < a.continuation_deadline) {
-    ++a.ahead_dropped;
-    return false;
-  }
-  a.awaiting_continuation = false;
-  spdlog::warn("asset '{}': the source did not resend the continuation of the checkpoint within {:.0f} s: going on "
-               "from what it sends now (the gap is counted as lost)", name, options_.resume_grace_s);
-  return true;
-}
 
 
 }  // namespace causal::estimator

@@ -45,7 +45,11 @@ struct EstimatorOptions {
   std::vector<std::string> wait_for;
   double wait_timeout_s = 30.0;
   std::size_t outbound_capacity = 65536;
-  double resume_grace_s = 10.0;
+  // After a restore from a checkpoint: how long input that does not continue the checkpoint is held (not fed,
+  // not dropped) for the source to resend the continuation (sensor-ingest's backlog, sensor-replay's rewind).
+  // The wait ends at once when the continuation arrives; when it does not, the held input is fed and the gap
+  // counted as lost (input_lost).
+  double resume_wait_s = 10.0;
   double stuck_after_s = 3.0;    // a write waiting this long on a reader raises a HEALTH alarm
   bool standby = false;          // hot standby: publish nothing while a primary estimator is alive (StandbyBuffer)
   double takeover_after_s = 6.0; // the primary's absence (> its 5 s lease) after which the standby takes over  // after a restore: how long to wait for the source to resend the continuation
@@ -96,12 +100,20 @@ class EstimatorNode {
     std::int64_t last_time_ns = INT64_MIN;
     std::uint64_t renumbered = 0;
     std::uint64_t refused_inputs = 0;   // input of a refused group
-    // After a restore from a checkpoint: input that does not continue where the checkpoint ends is held off
-    // (dropped, counted) until the continuation arrives or the grace period ends: a restarted estimator may
-    // receive a few snapshots of the live stream before its source has rewound to the checkpoint.
+    // After a restore from a checkpoint: input that does not continue where the checkpoint ends is held (up to
+    // kHoldMax inputs) until the continuation arrives (then the held input is dropped: the source resends it
+    // after the continuation) or resume_wait_s ends (then it is fed, and the gap counted as lost): a restarted
+    // estimator may receive a few inputs of the live stream before its source has resent its backlog.
     bool awaiting_continuation = false;
     std::chrono::steady_clock::time_point continuation_deadline;
     std::uint64_t ahead_dropped = 0;
+    std::vector<causal_twin::VibrationFrame> held_frames;
+    std::vector<causal_twin::ConditionVector> held_conditions;
+    // Input that never reached this estimator (source sequence numbers, snapshot indices), counted here:
+    // frames missing between two sequence numbers, snapshots missing after a restart or skipped over.
+    std::uint64_t lost_snapshots = 0, lost_conditions = 0;
+    std::size_t lost_alarms = 0;
+    metrics::Counter* lost_metric = nullptr;
     // Prometheus: time to process one input (filters, smoothers, output queued), per asset group.
     metrics::Histogram* frame_seconds = nullptr;
     metrics::Histogram* condition_seconds = nullptr;
@@ -151,8 +163,16 @@ class EstimatorNode {
   void checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend);
   // Standby: follows the primary's progress and takes over when it has been gone for takeover_after_s.
   void watch_primary();
-  // False when the input is ahead of a restored checkpoint and the continuation is still awaited.
-  bool continues(const std::string& name, Asset& a, bool is_continuation);
+  // False when the input is ahead of a restored checkpoint and the continuation is still awaited (it is held).
+  bool continues(const std::string& name, Asset& a, bool is_continuation, const causal_twin::VibrationFrame* frame,
+                 const causal_twin::ConditionVector* condition);
+  // Ends the wait for the continuation: the held input is fed in order (the gap before it counted as lost).
+  void release_held(const std::string& name, Asset& a);
+  void release_expired_holds(bool all);
+  // Counts input that never arrived (count, in `unit`: "frames" or "snapshots"), logs it and raises the group's
+  // HEALTH alarm input_lost naming the missing range of snapshot indices [first, last].
+  void report_input_lost(const std::string& name, Asset& a, std::uint64_t count, const char* unit,
+                         std::uint64_t first, std::uint64_t last, const std::string& detail);
   // Loud refusal: the first refused input of a group raises its input_refused DATA QUALITY alarm and logs an
   // error; later ones are counted only (the summary states them, the exit code is 4).
   void report_refusal(const std::string& name, std::uint64_t snapshot, std::int64_t time_ns, const std::string& problem);

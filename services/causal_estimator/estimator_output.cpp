@@ -348,6 +348,7 @@ void EstimatorNode::publish_health() {
 }
 
 int EstimatorNode::finish_all() {
+  release_expired_holds(true);     // the source has finished: no continuation will come now
   release_expired_reorders(true);  // the source has finished: what is held goes in, in order
   report_rejections();
   for (auto& [name, a] : assets_) {
@@ -388,9 +389,10 @@ int EstimatorNode::log_summary() const {
   std::uint64_t frames = 0, lost = 0, refused = 0, conditions_received = 0, conditions_refused = 0, conditions_late = 0;
   for (const auto& [name, a] : assets_) {
     const auto* s = a.pipeline.sample_stream();
-    spdlog::info("asset '{}': {} frames ({} lost, {} refused), {} condition vectors in, {} sample-level and {} "
-                 "condition-level factor messages out, {} non-finite samples rejected",
-                 name, a.frames, a.lost_frames, a.refused_frames, a.conditions_in + a.refused_conditions,
+    spdlog::info("asset '{}': {} frames ({} lost, {} refused), {} snapshots lost after a restart, {} condition vectors "
+                 "in ({} lost), {} sample-level and {} condition-level factor messages out, {} non-finite rejected",
+                 name, a.frames, a.lost_frames, a.refused_frames, a.lost_snapshots, a.conditions_in + a.refused_conditions,
+                 a.lost_conditions,
                  a.sample_msgs, a.condition_msgs,
                  s ? s->counters().rejected_non_finite : 0);
     if (a.skipped > 0) spdlog::info("asset '{}': {} inputs processed before a restart skipped", name, a.skipped);
@@ -402,18 +404,16 @@ int EstimatorNode::log_summary() const {
       spdlog::error("asset '{}': {} inputs refused: {}", name, a.refused_inputs, a.refused);
     }
     frames += a.frames;
-    lost += a.lost_frames;
+    lost += a.lost_frames + a.lost_snapshots;
     refused += a.refused_frames + a.refused_inputs + a.renumbered;
     conditions_received += a.conditions_in;
     conditions_refused += a.refused_conditions;
-    conditions_late += a.late_conditions;
+    conditions_late += a.lost_conditions;
     if (a.reordered > 0) {
       spdlog::info("asset '{}': {} condition vectors arrived ahead of earlier ones and were fed in order", name,
                    a.reordered);
     }
-    if (a.late_conditions > 0) {
-      spdlog::error("asset '{}': {} condition vectors arrived out of order and were not fed (lost)", name, a.late_conditions);
-    }
+    if (a.late_conditions > 0) spdlog::error("asset '{}': {} condition vectors came after later ones (lost)", name, a.late_conditions);
   }
   if (store_.enabled()) {
     spdlog::info("{} checkpoints written to '{}', {} failed", store_.saves(), options_.state_dir, store_.failures());

@@ -6,6 +6,7 @@
 #include "causal/config/config_search.hpp"
 
 #include <CLI/CLI.hpp>
+#include "causal/config/cli_conventions.hpp"
 #include <stdexcept>
 #include <spdlog/spdlog.h>
 
@@ -67,6 +68,12 @@ int main(int argc, char** argv) {
   app.add_option("--state-dir", o.state_dir,
                  "checkpoint every asset group's state here after each snapshot and resume from it after a restart "
                  "(input already processed is skipped); empty = no checkpoints");
+  app.add_option("--resume-wait", o.resume_wait_s,
+                 "after a restart from --state-dir: how long input that does not continue the checkpoint is held for "
+                 "the source to resend the continuation (sensor-ingest's --backlog, sensor-replay's rewind); the wait "
+                 "ends as soon as it arrives; when it does not, the held input is fed and the gap counted as lost "
+                 "(HEALTH alarm input_lost, exit 4)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--max-groups", o.quota.max_groups,
                  "asset groups this estimator serves at most; input of further groups is refused (counted, HEALTH "
                  "alarm asset_group_quota, exit 4)")
@@ -74,7 +81,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-groups-per-writer", o.quota.max_groups_per_writer,
                  "new asset groups one DDS writer (one source) may open; beyond, refused as with --max-groups")
       ->check(CLI::PositiveNumber)->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  CAUSAL_CLI_PARSE(app, argc, argv);
   if (shard_index >= shard_count) {
     std::cerr << "error: --shard-index must be < --shard-count\n";
     return 2;

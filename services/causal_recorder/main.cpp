@@ -3,6 +3,7 @@
 #include "recorder_node.hpp"
 
 #include <CLI/CLI.hpp>
+#include "causal/config/cli_conventions.hpp"
 #include <spdlog/spdlog.h>
 
 int main(int argc, char** argv) {
@@ -25,7 +26,7 @@ int main(int argc, char** argv) {
                  "factor rows per file waiting for missing outcomes before the oldest is written partially")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  CAUSAL_CLI_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "causal-recorder", o.dds,
                                   [&] { return std::make_unique<causal::recorder::RecorderNode>(std::move(o)); });
 }

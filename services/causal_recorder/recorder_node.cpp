@@ -8,6 +8,8 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
 #include <algorithm>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +18,24 @@
 namespace causal::recorder {
 
 namespace {
+
+// The snapshot indices (first column) already in a conditions file this recorder appends to: a restarted recorder
+// receives the writers' transient-local history again and must not write those rows twice. Flushed per batch,
+// so the file ends with whole rows, except a row cut by a kill, which is not counted (written again).
+void load_written_snapshots(const std::filesystem::path& path, dds::IndexLedger& written) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // no newline: a row cut short
+    const auto comma = line.find(',');
+    if (comma == 0 || comma == std::string::npos) continue;
+    try {
+      written.record(std::stoull(line.substr(0, comma)));
+    } catch (const std::exception&) {
+    }
+  }
+}
 
 std::filesystem::path make_out_dir(const std::string& dir) {
   if (dir.empty()) throw std::runtime_error("--out must name a folder");
@@ -140,6 +160,7 @@ void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
     }
     it = conditions_.emplace(name, ConditionTable{}).first;
     it->second.file = open(name, condition_header(in));
+    if (it->second.file->appended()) load_written_snapshots(it->second.file->path(), it->second.written);
   }
   ConditionTable& t = it->second;
   ++t.counts.received;
@@ -197,8 +218,18 @@ void RecorderNode::write_ready_rows(FactorTable& table) {
   if (!table.assembler.has_header()) return;
   const auto rows = table.assembler.take_rows();
   if (rows.empty()) return;
-  if (!table.file) table.file = open(table.file_name, table.assembler.header());
-  for (const auto& row : rows) table.file->write_row(row);
+  if (!table.file) {
+    table.file = open(table.file_name, table.assembler.header());
+    if (table.file->appended()) load_written_snapshots(table.file->path(), table.on_disk);
+  }
+  for (const auto& row : rows) {
+    if (table.on_disk.count() > 0 && !row.empty() && !row[0].empty() &&
+        table.on_disk.contains(std::strtoull(row[0].c_str(), nullptr, 10))) {
+      ++table.disk_duplicates;  // the writers' history again, after a restart of this recorder
+      continue;
+    }
+    table.file->write_row(row);
+  }
 }
 
 void RecorderNode::on_alarm(const causal_twin::Alarm& in) {
@@ -293,11 +324,11 @@ int RecorderNode::finish() {
     lost_total += missing;
     refused_total += c.refused;
     spdlog::info("summary topic=causal_twin/causal_factors file={} rows={} duplicates={} lost={} refused={}", t.file_name,
-                 t.file ? t.file->rows_written() : 0, c.duplicates, missing, c.refused);
+                 t.file ? t.file->rows_written() : 0, c.duplicates + t.disk_duplicates, missing, c.refused);
     spdlog::log(extra.empty() && c.refused == 0 ? spdlog::level::info : spdlog::level::warn,
                 "causal factors {}: received {} messages ({} outcome vectors), duplicates {}, refused {} outcome "
                 "vectors; {} rows written{}", t.file_name, t.messages, c.messages + c.duplicates + c.refused,
-                c.duplicates, c.refused,
+                c.duplicates + t.disk_duplicates, c.refused,
                 t.file ? t.file->rows_written() : 0, extra);
   }
   spdlog::info("alarms: {}", describe(alarm_counts_));

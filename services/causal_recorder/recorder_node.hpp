@@ -55,6 +55,8 @@ class RecorderNode {
     std::string file_name;
     std::unique_ptr<report::CsvFile> file;
     std::uint64_t messages = 0;  // CausalFactorBatch messages received (the assembler counts outcome vectors)
+    dds::IndexLedger on_disk;    // indices in the file before this run (appended to after a restart)
+    std::uint64_t disk_duplicates = 0;  // rows not written again: their index was on disk already
   };
 
   std::size_t take_available();  // one pass over every reader

@@ -43,7 +43,11 @@ IngestNode::IngestNode(IngestOptions options)
       frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameWriter),
       queue_(options_.queue_messages),
       sequencer_(options_.gap_factor),
-      numbering_(options_.state_dir) {
+      numbering_(options_.state_dir),
+      backlog_(options_.backlog_frames),
+      progress_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader) {
+  for (const auto& w : options_.wait_for) reader_names_.push_back(dds::parse_named_readers(w).name);
+  if (reader_names_.empty()) reader_names_.push_back("causal-estimator");
   auto& m = metrics::process_metrics();
   const metrics::Labels source{{"source", source_kind_name(options_.source.kind)}};
   received_metric_ =
@@ -106,11 +110,14 @@ int IngestNode::run() {
       return 3;
     }
   }
-  spdlog::info("ingesting from {} ({})", options_.source.text, source_kind_name(options_.source.kind));
+  spdlog::info("ingesting from {} ({}); backlog {} frames per asset group for a restarted estimator",
+               options_.source.text, source_kind_name(options_.source.kind), options_.backlog_frames);
+  resend_to_new_readers();  // the first look: the readers present now are not new
   source_->start();
   // Until the source ends (stdin) or a stop; after a stop the messages already queued are still published.
   while (true) {
     auto message = queue_.pop(std::chrono::milliseconds(200));
+    resend_to_new_readers();
     if (!message) {
       if (queue_.closed_and_empty()) break;
       continue;
@@ -213,6 +220,7 @@ void IngestNode::process(const std::string& message) {
   if (result == dds::WriteResult::Ok) {
     ++published_;
     published_metric_->inc();
+    backlog_.keep(frame_);
     return;
   }
   // The frame's sequence number stays used: the readers see the gap, as the IDL says for lost frames.
@@ -223,6 +231,65 @@ void IngestNode::process(const std::string& message) {
                 : result == dds::WriteResult::TimedOut
                     ? fmt::format("not accepted within {:.1f} s", options_.write_timeout_s)
                     : fmt::format("DDS write error, return code {}", frames_.last_error()));
+}
+
+void IngestNode::resend_to_new_readers() {
+  progress_.take_all([this](const causal_twin::ConditionVector& c, const auto&) {
+    auto [it, added] = estimator_published_.emplace(c.asset_group(), c.snapshot_index());
+    if (!added && c.snapshot_index() > it->second) it->second = c.snapshot_index();
+  });
+  const auto now = Clock::now();
+  const bool first_look = last_look_ == Clock::time_point{};
+  if (!first_look && now - last_look_ < std::chrono::milliseconds(100)) return;
+  last_look_ = now;
+  std::size_t named = 0, matched = 0;
+  for (const auto& name : reader_names_) {
+    for (const auto& guid : frames_.readers_named(name)) {
+      ++named;
+      if (known_readers_.insert(guid).second && !first_look) new_readers_.insert(guid);
+    }
+    matched += frames_.matched_readers_named(name);
+  }
+  // Resent once every reader discovered is matched: frames written before the match would not reach it.
+  if (new_readers_.empty() || matched < named || !backlog_.enabled()) return;
+  new_readers_.clear();
+  ++resends_;
+  for (const auto& group : backlog_.groups()) resend_group(group);
+}
+
+void IngestNode::resend_group(const std::string& group) {
+  const auto it = estimator_published_.find(group);
+  const std::optional<std::uint64_t> after =
+      it == estimator_published_.end() ? std::nullopt : std::optional(it->second);
+  const auto frames = backlog_.after(group, after);
+  const auto oldest = backlog_.oldest_snapshot(group);
+  if (after && oldest && *oldest > *after + 1) {
+    // Older than the backlog: the estimator sees the gap in the snapshot indices and counts it as lost.
+    beyond_backlog_ += *oldest - *after - 1;
+    spdlog::error("'{}': a new {} needs snapshots from {}, the backlog ({} frames) starts at snapshot {}: "
+                  "snapshots {}..{} cannot be resent (the estimator counts them as lost)",
+                  group, fmt::join(reader_names_, "/"), *after + 1, backlog_.capacity(), *oldest, *after + 1,
+                  *oldest - 1);
+  }
+  if (frames.empty()) return;
+  spdlog::warn("'{}': a new {} appeared (a restart?): resending {} kept frames from snapshot {} (the last one "
+               "published for it was {})",
+               group, fmt::join(reader_names_, "/"), frames.size(), frames.front()->snapshot_index(),
+               after ? std::to_string(*after) : std::string("none"));
+  for (const auto* f : frames) {
+    auto copy = *f;
+    const auto deadline = std::min(Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                      std::chrono::duration<double>(options_.write_timeout_s)),
+                                   deadline_);
+    const auto result = frames_.write_until(copy, stop_, deadline);
+    if (result == dds::WriteResult::Ok) {
+      ++resent_;
+      continue;
+    }
+    ++lost_;
+    lost_metric_->inc();
+    spdlog::error("'{}' frame {} not resent: the readers did not accept it", group, f->sequence_number());
+  }
 }
 
 bool IngestNode::resume_numbering(const std::string& group) {
@@ -253,12 +320,13 @@ void IngestNode::print_summary() const {
   }
   std::printf(
       "sensor-ingest: received=%llu published=%llu rejected=%llu lost=%llu non_finite=%llu discontinuities=%llu "
-      "resumed_groups=%llu state_failures=%llu%s\n",
+      "resumed_groups=%llu state_failures=%llu resent=%llu resends=%llu beyond_backlog=%llu%s\n",
       static_cast<unsigned long long>(received_), static_cast<unsigned long long>(published_),
       static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(lost_),
       static_cast<unsigned long long>(non_finite_), static_cast<unsigned long long>(discontinuities_),
       static_cast<unsigned long long>(resumed_groups_), static_cast<unsigned long long>(numbering_.failures()),
-      reasons.c_str());
+      static_cast<unsigned long long>(resent_), static_cast<unsigned long long>(resends_),
+      static_cast<unsigned long long>(beyond_backlog_), reasons.c_str());
   std::fflush(stdout);
 }
 

@@ -7,9 +7,14 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <memory>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "block_sequencer.hpp"
+#include "frame_backlog.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal/metrics/metrics_registry.hpp"
@@ -43,6 +48,10 @@ class IngestNode {
   void process(const std::string& message);
   void count_rejection(RejectReason reason, const std::string& detail, const std::string& group);
   void print_summary() const;
+  // Resends the backlog to an estimator that appeared since the last look (a restart): every kept frame after
+  // the last snapshot an estimator published for its group (read from causal_twin/condition_vector).
+  void resend_to_new_readers();
+  void resend_group(const std::string& group);
 
   IngestOptions options_;
   dds::Participant participant_;
@@ -56,6 +65,13 @@ class IngestNode {
   std::uint64_t resumed_groups_ = 0;
   RateLimitedLog numbering_log_;
   causal_twin::VibrationFrame frame_;
+  FrameBacklog backlog_;
+  dds::TypedReader<causal_twin::ConditionVectorPubSubType> progress_;  // the estimators' published snapshots
+  std::map<std::string, std::uint64_t> estimator_published_;  // last snapshot an estimator published, per group
+  std::set<eprosima::fastrtps::rtps::GUID_t> known_readers_, new_readers_;
+  std::vector<std::string> reader_names_;  // whose new readers get the backlog
+  Clock::time_point last_look_{};
+  std::uint64_t resent_ = 0, resends_ = 0, beyond_backlog_ = 0;
   std::atomic<bool> stop_{false};
   Clock::time_point deadline_ = Clock::time_point::max();
 

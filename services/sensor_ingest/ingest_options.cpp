@@ -182,6 +182,12 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
   app.add_option("--state-dir", o.state_dir,
                  "keep each asset group's frame numbering in DIR/<group>.ingest.state, so a restarted sensor-ingest "
                  "continues it (without it a restart numbers from 0 again and the estimator refuses that input)");
+  app.add_option("--backlog", o.backlog_frames,
+                 "frames kept per asset group (in memory) and resent to a causal-estimator that appears after a "
+                 "restart, from the snapshot after the last one it published; 0 = none (a restarted estimator then "
+                 "counts what it missed as lost)")
+      ->check(CLI::Range(0, 1 << 20))
+      ->capture_default_str();
   app.add_option("--max-runtime", o.max_runtime_s, "stop after this many seconds in any case (0 = no bound)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

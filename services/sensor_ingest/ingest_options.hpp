@@ -67,6 +67,7 @@ struct IngestOptions {
   double write_timeout_s = 10.0;
   double max_runtime_s = 0.0;
   std::string state_dir;  // per-group numbering kept across restarts (ingest_state_store.hpp); empty = none
+  std::size_t backlog_frames = 600;  // frames kept per asset group for a restarted estimator (frame_backlog.hpp)
 };
 
 // Parses argv. Returns nullopt after printing --help / an error; `exit_code` tells the caller what to return.

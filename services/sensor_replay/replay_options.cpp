@@ -86,6 +86,7 @@ std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& ex
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     exit_code = app.exit(e);
+    if (exit_code != 0) exit_code = 2;  // a usage error, as documented (never CLI11's own codes)
     return std::nullopt;
   }
   if (!ims_dir.empty()) {

@@ -2,6 +2,7 @@
 #include "twin_web_node.hpp"
 
 #include <CLI/CLI.hpp>
+#include "causal/config/cli_conventions.hpp"
 
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
@@ -48,7 +49,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  CAUSAL_CLI_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "twin-web", o.dds,
                                   [&] { return std::make_unique<causal::web::TwinWebNode>(std::move(o)); });
 }

@@ -2,6 +2,7 @@
 #include "ask_node.hpp"
 
 #include <CLI/CLI.hpp>
+#include "causal/config/cli_conventions.hpp"
 
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
@@ -21,7 +22,7 @@ int main(int argc, char** argv) {
                "a one-snapshot change (default: sustained, held from now on, the same default as causal-whatif)");
   app.add_option("--timeout", o.timeout_s, "seconds to wait for the recommender and its reply")
       ->check(CLI::PositiveNumber)->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  CAUSAL_CLI_PARSE(app, argc, argv);
   if (d->count() > 0) o.delta = delta;
   if (p->count() > 0) o.percent = percent;
   return causal::dds::run_service(signals, "causal-ask", o.dds,

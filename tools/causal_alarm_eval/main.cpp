@@ -227,7 +227,7 @@ int main(int argc, char** argv) {
   app.add_option("--publish-every", so.publish_every, "sample level: samples per factor publication")->capture_default_str();
   app.add_option("--lag-order", so.lag_order, "sample level: lag order M of the causal model")->capture_default_str();
   app.add_flag("--self-lags", so.include_self_lags, "sample level: include y_k[n-l] regressors for outcome k");
-  CLI11_PARSE(app, argc, argv);
+  CAUSAL_CLI_PARSE(app, argc, argv);
   if (sample_level) {
     if (ims_dir.empty()) {
       std::cerr << "causal-alarm-eval: --sample-level needs --ims-dir\n";

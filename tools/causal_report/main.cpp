@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   app.add_option("--asset-group,--asset", o.asset, "only this asset group (default: every asset in the folder)");
   causal::config::add_version_flag(app);
   app.add_option("--gnuplot", o.gnuplot, "gnuplot program (name on PATH or path)")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  CAUSAL_CLI_PARSE(app, argc, argv);
   if (!o.verdict_only && out->count() == 0) {
     std::cerr << "causal-report: --out is required (or --verdict-only)\n";
     return 2;

@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;  // a usage error (never CLI11's own codes)
   }
 
   const auto parsed = causal::plant::load_plant_description(plant_file);

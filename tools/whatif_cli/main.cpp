@@ -260,7 +260,7 @@ int main(int argc, char** argv) {
   intervene->excludes(cf)->excludes(rec);
   cf->excludes(rec);
 
-  CLI11_PARSE(app, argc, argv);
+  CAUSAL_CLI_PARSE(app, argc, argv);
 
   try {
     if (!a.graph.empty()) {

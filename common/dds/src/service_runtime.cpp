@@ -1,5 +1,7 @@
 #include "causal/dds/service_runtime.hpp"
 
+#include "causal/config/unit_environment.hpp"
+
 #include <fastdds/dds/log/Log.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -64,6 +66,12 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   config::add_version_flag(app);
+  // Under systemd: a misspelt variable in an env file stops the service (exit 2) instead of being ignored.
+  app.preparse_callback([](std::size_t) {
+    if (const std::string problem = config::this_unit_environment_problem(); !problem.empty()) {
+      throw CLI::ValidationError("environment", problem);
+    }
+  });
 }
 
 ProfileFiles choose_profile_files(const CommonOptions& options, const char* default_profiles_env) {
