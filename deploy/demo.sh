@@ -4,7 +4,8 @@
 #   1. the raw slice (3 healthy + 3 failing 20 kHz snapshots): sample-level factors, its alarms as one summary;
 #   2. the per-snapshot mean |x| of all 984 snapshots (7 days): condition-level factors, early alarms with
 #      their root cause, recommendations, and one what-if question to the live twin (causal-ask: a sustained
-#      -10 % on bearing 3); recorded to out/demo (CSV) with a PNG report in out/demo/report.
+#      -10 % on bearing 3); recorded to out/demo (CSV, and the history database out/demo/history.db:
+#      docs/historian.md) with a PNG report in out/demo/report.
 # While each part runs, the live view (twin-web) is at the address printed as "live view: http://...": the
 # first free port from 8080 (--web-port P to choose; --no-web to leave it out).
 #   deploy/demo.sh [--web-port P | --no-web] [launch.sh options...]     deploy/demo.sh --help
@@ -17,7 +18,7 @@ web=1
 launch_args=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --web-port) web_port="$2"; shift 2 ;;
     --no-web) web=0; shift ;;
     *) launch_args+=("$1"); shift ;;
@@ -47,4 +48,4 @@ echo "=== part 2: condition features of the whole 7-day run (condition level) ==
 rm -rf "$root/out/demo"
 "$root/deploy/launch.sh" --features "$root/deploy/data/ims2-features/derived_per_file_stats_all984.csv" \
   --feature-suffix _meanabs --feature-name meanabs --record "$root/out/demo" --ask 3:-10 "${web_args[@]}" "${launch_args[@]}"
-echo "=== done: CSV recording and PNG report in out/demo ==="
+echo "=== done: CSV recording, history database (out/demo/history.db) and PNG report in out/demo ==="

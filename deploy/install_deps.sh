@@ -31,6 +31,8 @@ PACKAGES=(
   libmosquitto-dev mosquitto mosquitto-clients  # sensor-ingest's MQTT source; the broker and mosquitto_pub for its tests
   passwd util-linux time           # cross-user fault test: useradd/userdel and runuser (a second Linux user); bench_transport.sh's CPU times
   python3-minimal                  # tests/security/ingest_hardening.sh: UDP datagrams from a chosen source address
+  libsqlite3-dev sqlite3           # the historian's default database (common/history) and the sqlite3 CLI its tests and docs query with
+  libpq-dev postgresql             # the historian's PostgreSQL backend (libpq); PostgreSQL 15 server + psql for its tests (started by the test)
 )
 
 missing=()

@@ -4,7 +4,7 @@
 #   deploy/launch.sh [--domain N] [--ims-dir DIR | --features FILE [--feature-suffix S --feature-name F]]
 #                    [--gap-factor K] [--speed X] [--transport XML] [--record DIR] [--max-runtime S]
 #                    [--asset-group ID] [--ask CHANNEL:PERCENT]... [--logs DIR] [--metrics-port P] [--security DIR]
-#                    [--web-port P]
+#                    [--web-port P] [--db URL]
 # Defaults: a private domain between 100 and 199, the embedded IMS slice, as fast as possible, loopback only,
 # DDS-Security off on loopback (open bus; the plant profile turns it on). Without --transport:
 # $FASTRTPS_DEFAULT_PROFILES_FILE when set; --transport deploy/dds/discovery_client.xml: a discovery server.
@@ -12,7 +12,9 @@
 # channels); --feature-suffix/--feature-name are optional (a table of <channel>_<feature> columns publishes
 # its meanabs columns unless told otherwise). --gap-factor K: a time interval > K x the median is a gap (3).
 # --security DIR runs every service secured with the PKI made by deploy/security/make-pki.sh DIR.
-# --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report.
+# --record DIR also runs causal-recorder (CSV per topic) and renders the PNG report into DIR/report; the recorder
+#   also writes the history database DIR/history.db (SQLite; docs/historian.md), which twin-web draws from.
+# --db URL writes the history to URL instead (sqlite:PATH or postgresql://..., as causal-recorder --db).
 # --ask 2:-10 asks the live twin (causal-ask) after the replay: a sustained -10 % on channel 2 of the asset group.
 # --logs DIR keeps every service's log there (default: a temporary folder, removed at exit).
 # --metrics-port P gives every service a Prometheus endpoint on 127.0.0.1 at consecutive ports from P (one
@@ -62,6 +64,7 @@ logs=""
 security=""
 metrics_port=""
 web_port=""
+db_url=""
 verbose=0
 alarm_summary=0
 while [ $# -gt 0 ]; do
@@ -82,9 +85,10 @@ while [ $# -gt 0 ]; do
     --security) security="$2"; shift 2 ;;
     --metrics-port) metrics_port="$2"; shift 2 ;;
     --web-port) web_port="$2"; shift 2 ;;
+    --db) db_url="$2"; shift 2 ;;
     --verbose) verbose=1; shift ;;
     --alarm-summary) alarm_summary=1; shift ;;
-    -h|--help) sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,31p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -164,14 +168,19 @@ mkdir -p "$state_dir/causal-estimator" "$state_dir/alarm-recommender"
 estimator_waits=(--wait-for alarm-recommender)
 # The recorder always runs: the verdict at the end is read from its files (in the log folder without --record).
 record_dir="${record:-$logs/record}"
+# The history database: --db, else DIR/history.db with --record (none without: a run without --record keeps nothing).
+[ -z "$db_url" ] && [ -n "$record" ] && db_url="sqlite:$record/history.db"
+db_args=()
+[ -n "$db_url" ] && db_args=(--db "$db_url")
 if [ -x "${tool[causal-recorder]}" ]; then
   start causal-recorder "${tool[causal-recorder]}" "${common[@]}" --out "$record_dir" --idle-exit 6 \
-    --max-runtime "$max_runtime"
+    --max-runtime "$max_runtime" "${db_args[@]}"
   estimator_waits+=(--wait-for causal-recorder)
 fi
 if [ -n "$web_port" ]; then
   # The live view: the estimator waits for it (every snapshot on the page); it stays up 30 s after the run.
-  start twin-web "${tool[twin-web]}" "${common[@]}" --port "$web_port" --idle-exit 30 --max-runtime "$max_runtime"
+  start twin-web "${tool[twin-web]}" "${common[@]}" --port "$web_port" --idle-exit 30 --max-runtime "$max_runtime" \
+    "${db_args[@]}"
   for _ in $(seq 50); do grep -q "serving http://" "$logs/twin-web.log" && break; sleep 0.1; done
   if ! grep -q "serving http://" "$logs/twin-web.log"; then
     echo "launch: twin-web did not start on port $web_port (see above)" >&2

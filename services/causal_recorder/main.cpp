@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   causal::recorder::RecorderOptions o;
   CLI::App app{"causal-recorder: records condition vectors, condition-level causal factors (filter and fixed-lag\n"
                "smoother), alarms and recommendations as CSV files, one file per asset group and stream,\n"
-               "flushed as it goes. causal-report turns the folder into plots."};
+               "flushed as it goes (and with --db to a database). causal-report turns the folder into plots."};
   causal::dds::add_common_options(app, o.dds);
   app.add_option("--out", o.out_dir, "output folder (created; existing files with the same header are appended to)")
       ->required();
@@ -25,6 +25,13 @@ int main(int argc, char** argv) {
   app.add_option("--max-pending", o.max_pending,
                  "factor rows per file waiting for missing outcomes before the oldest is written partially")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--db", o.db_url,
+                 "also write the history to a database: sqlite:PATH (a file, WAL) or postgresql://... (libpq URI);\n"
+                 "tables and queries: docs/historian.md");
+  app.add_option("--retention-days", o.retention_days,
+                 "delete database rows whose data time is older than this many days (0 = keep everything)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   CAUSAL_CLI_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "causal-recorder", o.dds,

@@ -54,6 +54,7 @@ RecorderNode::RecorderNode(RecorderOptions options)
       participant_(dds::to_dds_settings(options_.dds, "causal-recorder")),
       in_(participant_, kAssetStatusHistoryReader) {
   in_.attach_to(loop_);
+  if (!options_.db_url.empty()) history_ = std::make_unique<HistorySink>(options_.db_url, options_.retention_days);
   // Alarms and recommendations always get a file: a header-only alarms.csv says "no alarms", which is
   // different from "not recorded".
   alarms_ = open(kAlarmsFile, alarm_header());
@@ -161,6 +162,12 @@ void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
     it = conditions_.emplace(name, ConditionTable{}).first;
     it->second.file = open(name, condition_header(in));
     if (it->second.file->appended()) load_written_snapshots(it->second.file->path(), it->second.written);
+    if (history_) {
+      // A restarted recorder: the durable topics replay what the database may already hold (stored once).
+      if (const auto last = history_->last_snapshot(in.asset_group())) {
+        spdlog::info("history: asset group '{}' stored up to snapshot {}: resuming after it", in.asset_group(), *last);
+      }
+    }
   }
   ConditionTable& t = it->second;
   ++t.counts.received;
@@ -173,6 +180,8 @@ void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
     }
     return;
   }
+  // The database keys every row and takes each one (a row on disk may have missed a killed recorder's last batch).
+  if (history_) history_->add("condition_vectors", condition_history_row(in));
   if (t.written.contains(in.snapshot_index())) {  // re-sent after a restart, or replayed history
     ++t.counts.duplicates;
     return;
@@ -199,6 +208,9 @@ void RecorderNode::on_factors(const causal_twin::CausalFactorBatch& in) {
   if (it == factor_tables_.end()) {
     it = factor_tables_.emplace(key, FactorTable(options_.max_pending)).first;
     it->second.file_name = factors_file_name(file_asset(in.asset_group()), in.time_scale(), in.kind());
+    it->second.asset_group = in.asset_group();
+    it->second.time_scale = dds::to_string(in.time_scale());
+    it->second.kind = dds::to_string(in.kind());
   }
   ++it->second.messages;
   // The row assembler takes one outcome at a time (rows are written in index order whatever arrives): a
@@ -223,6 +235,12 @@ void RecorderNode::write_ready_rows(FactorTable& table) {
     if (table.file->appended()) load_written_snapshots(table.file->path(), table.on_disk);
   }
   for (const auto& row : rows) {
+    // The database keys every row, so it takes each one (a row already on disk may have missed the last batch
+    // of a killed recorder); the CSV skips what it already holds.
+    if (history_) {
+      history_->add("factors", factor_history_row(table.asset_group, table.time_scale, table.kind,
+                                                  table.assembler.header(), row));
+    }
     if (table.on_disk.count() > 0 && !row.empty() && !row[0].empty() &&
         table.on_disk.contains(std::strtoull(row[0].c_str(), nullptr, 10))) {
       ++table.disk_duplicates;  // the writers' history again, after a restart of this recorder
@@ -240,7 +258,9 @@ void RecorderNode::on_alarm(const causal_twin::Alarm& in) {
     ++alarm_counts_.duplicates;
     return;
   }
-  alarms_->write_row(alarm_row(in, evidence_time));
+  const auto row = alarm_row(in, evidence_time);
+  alarms_->write_row(row);
+  if (history_) history_->add("alarms", csv_history_row(row));
   ++alarm_counts_.written;
   spdlog::info("alarm {} {} {}: {}", in.alarm_id(), dds::to_string(in.state(), "?"), dds::to_string(in.severity(), "?"), in.reason());
 }
@@ -251,7 +271,9 @@ void RecorderNode::on_recommendation(const causal_twin::Recommendation& in) {
     ++recommendation_counts_.duplicates;
     return;
   }
-  recommendations_->write_row(recommendation_row(in));
+  const auto row = recommendation_row(in);
+  recommendations_->write_row(row);
+  if (history_) history_->add("recommendations", csv_history_row(row));
   ++recommendation_counts_.written;
 }
 
@@ -261,7 +283,9 @@ void RecorderNode::on_status(const causal_twin::AssetStatus& in) {
     ++status_counts_.duplicates;
     return;
   }
-  statuses_->write_row(asset_status_row(in));
+  const auto row = asset_status_row(in);
+  statuses_->write_row(row);
+  if (history_) history_->add("asset_status", csv_history_row(row));
   ++status_counts_.written;
 }
 
@@ -271,7 +295,9 @@ void RecorderNode::on_prognosis(const causal_twin::Prognosis& in) {
     ++prognosis_counts_.duplicates;
     return;
   }
-  prognoses_->write_row(prognosis_row(in));
+  const auto row = prognosis_row(in);
+  prognoses_->write_row(row);
+  if (history_) history_->add("prognoses", csv_history_row(row));
   ++prognosis_counts_.written;
 }
 
@@ -284,6 +310,7 @@ void RecorderNode::flush_all() {
   recommendations_->flush();
   statuses_->flush();
   prognoses_->flush();
+  if (history_) history_->commit();  // one transaction per batch, after the CSV files
 }
 
 int RecorderNode::finish() {
@@ -350,8 +377,10 @@ int RecorderNode::finish() {
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
   const bool tail_lost = tail_lost_after_suspension();
-  // Exit code 4 when the recording has holes or refused messages: the operator must know it is incomplete.
-  return (lost_total + refused_total) > 0 || tail_lost ? 4 : 0;
+  const bool history_complete = !history_ || history_->finish();
+  // Exit code 4 when the recording has holes or refused messages, or rows the database never took: the operator
+  // must know it is incomplete.
+  return (lost_total + refused_total) > 0 || tail_lost || !history_complete ? 4 : 0;
 }
 
 void RecorderNode::received(const eprosima::fastdds::dds::SampleInfo& info) {

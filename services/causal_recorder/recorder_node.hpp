@@ -6,6 +6,7 @@
 #pragma once
 
 #include "factor_row_assembler.hpp"
+#include "history_sink.hpp"
 #include "record_rows.hpp"
 #include "status_rows.hpp"
 
@@ -34,6 +35,8 @@ struct RecorderOptions {
   double idle_exit_s = 0.0;      // exit after this long without data, once data has arrived (0 = never)
   double max_runtime_s = 0.0;    // hard stop (0 = none)
   std::size_t max_pending = 1024;  // pending factor rows per file before the oldest is written partially
+  std::string db_url;              // --db: also write the historian's tables ("" = CSV only)
+  double retention_days = 0.0;     // --retention-days: delete database rows older than this (0 = keep all)
 };
 
 class RecorderNode {
@@ -53,6 +56,7 @@ class RecorderNode {
     explicit FactorTable(std::size_t max_pending) : assembler(max_pending) {}
     FactorRowAssembler assembler;
     std::string file_name;
+    std::string asset_group, time_scale, kind;  // the database row's key
     std::unique_ptr<report::CsvFile> file;
     std::uint64_t messages = 0;  // CausalFactorBatch messages received (the assembler counts outcome vectors)
     dds::IndexLedger on_disk;    // indices in the file before this run (appended to after a restart)
@@ -85,6 +89,7 @@ class RecorderNode {
   std::map<std::string, std::string> file_assets_;    // raw asset id -> file-name component
   std::set<std::string> used_file_assets_;
   std::unique_ptr<report::CsvFile> alarms_, recommendations_, statuses_, prognoses_;
+  std::unique_ptr<HistorySink> history_;  // --db
   PrognosisLedger prognosis_ledger_;
   TopicCounts prognosis_counts_;
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
                "running alarm-recommender. Endpoints: / and /?group=ID (the page, with its state in the response);\n"
                "/api/state?group=ID (JSON: that group and one line per group; without ?group= every group);\n"
                "/api/events?group=ID (the same as Server-Sent Events, on change);\n"
+               "/api/history?group=ID&from=UTC&to=UTC (with --db: that range from the database, as /api/state);\n"
                "POST /api/whatif {asset_group, channel, percent | delta, sustained} (same origin only, with the page's\n"
                "X-Twin-CSRF token)."};
   causal::dds::add_common_options(app, o.dds);
@@ -49,6 +50,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--db", o.db_url,
+                 "the historian's database (sqlite:PATH or postgresql://..., as causal-recorder --db): drawn at start,\n"
+                 "so the page is complete after a restart, and older ranges served on /api/history");
   CAUSAL_CLI_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "twin-web", o.dds,
                                   [&] { return std::make_unique<causal::web::TwinWebNode>(std::move(o)); });

@@ -1,6 +1,9 @@
 #include "twin_web_node.hpp"
 
+#include "history_loader.hpp"
+
 #include "causal/dds/topics.hpp"
+#include "causal/io/time_format.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -18,6 +21,29 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
   state_.set_info("service", "twin-web");
   state_.set_info("domain", std::to_string(participant_.domain_id()));
   web_ = std::make_unique<WebServer>(options_.web, state_, whatif_, [this] { return whatif_readers_.load(); });
+  load_history_at_start();
+}
+
+void TwinWebNode::load_history_at_start() {
+  if (options_.db_url.empty()) {
+    // Said on the page: what a restarted twin-web shows begins here (plus what the topics still replay).
+    state_.set_info("data_since", "no history database (--db): data from before twin-web started at " +
+                                      io::format_utc_seconds(io::utc_now_ns()) + " is not shown");
+    history_routes_ = std::make_unique<HistoryRoutes>(nullptr, 0);
+    return;
+  }
+  history_ = history::open_history(options_.db_url);  // throws HistoryError (a std::runtime_error)
+  const HistoryLoad load = load_history(*history_, state_, history::RangeQuery{});
+  spdlog::info("history {}: {} condition vectors, {} alarm events, {} recommendations, {} prognoses, {} status lines",
+               history_->describe(), load.condition_vectors, load.alarm_events, load.recommendations, load.prognoses,
+               load.statuses);
+  if (load.unreadable > 0) spdlog::warn("history: {} rows could not be read (not drawn)", load.unreadable);
+  state_.set_info("history", history_->describe());
+  state_.set_info("data_since", load.earliest_ns ? "history since " + io::format_utc_seconds(*load.earliest_ns)
+                                                 : "the history database is empty: data since twin-web started at " +
+                                                       io::format_utc_seconds(io::utc_now_ns()));
+  history_routes_ = std::make_unique<HistoryRoutes>(history_.get(), options_.limits.trend_points);
+  web_->set_history(history_routes_.get());
 }
 
 TwinWebNode::~TwinWebNode() {

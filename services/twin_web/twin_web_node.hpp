@@ -3,6 +3,7 @@
 // asks. The web server (its own threads) only sees the state's serialised copy and the bridge.
 #pragma once
 
+#include "history_routes.hpp"
 #include "twin_state.hpp"
 #include "web_server.hpp"
 #include "whatif_bridge.hpp"
@@ -25,6 +26,7 @@ struct TwinWebOptions {
   StateLimits limits;
   double idle_exit_s = 0.0;    // exit this long after every publisher left, once data came (0 = never)
   double max_runtime_s = 0.0;  // hard stop (0 = none)
+  std::string db_url;          // --db: the historian's database, drawn at start and served for older ranges
 };
 
 class TwinWebNode {
@@ -36,6 +38,7 @@ class TwinWebNode {
 
  private:
   std::size_t take_available();
+  void load_history_at_start();
   void send_due_questions();
 
   TwinWebOptions options_;
@@ -47,6 +50,8 @@ class TwinWebNode {
   dds::TypedReader<causal_twin::WhatIfReplyPubSubType> replies_in_;
   dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> requests_out_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
+  std::unique_ptr<history::HistoryStore> history_;
+  std::unique_ptr<HistoryRoutes> history_routes_;
   std::unique_ptr<WebServer> web_;
   std::uint64_t requests_sent_ = 0, requests_failed_ = 0, replies_received_ = 0;
 };

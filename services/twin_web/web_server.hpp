@@ -4,6 +4,7 @@
 // through WhatIfBridge: no DDS call happens on a web thread.
 #pragma once
 
+#include "history_routes.hpp"
 #include "twin_state.hpp"
 #include "web_guard.hpp"
 #include "whatif_bridge.hpp"
@@ -42,6 +43,8 @@ class WebServer {
   WebServer(const WebServer&) = delete;
   WebServer& operator=(const WebServer&) = delete;
 
+  // /api/history answers from these routes (twin-web --db); without, it answers 404. Before start().
+  void set_history(HistoryRoutes* history) { history_ = history; }
   void start();  // serves on its own thread
   void stop();   // closes the socket and every event stream; joins the thread
   int port() const { return port_; }
@@ -57,6 +60,7 @@ class WebServer {
   WhatIfBridge& whatif_;
   std::function<std::size_t()> whatif_readers_;
   std::unique_ptr<RequestGuard> guard_;
+  HistoryRoutes* history_ = nullptr;
   std::unique_ptr<httplib::Server> server_;
   std::string chartjs_;  // read once at start-up from the package path
   int port_ = 0;

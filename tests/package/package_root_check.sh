@@ -116,6 +116,13 @@ kept=$(ls -d /root/causal-twin-ca-keys.*/private 2>/dev/null || true)
 [ -n "$kept" ] && [ -f "$kept/identity_ca.key" ] && [ -f "$kept/permissions_ca.key" ] || fail "purge kept no CA keys in /root"
 [ "$(stat -c '%U %a' "$(dirname "$kept")")" = "root 700" ] || fail "$(dirname "$kept") is not root 0700"
 echo "purge: CA keys kept in $(dirname "$kept") (root 0700)"
+# The recordings and the history database are plant data: kept (root 0700), then removed here for the comparison.
+recs=$(ls -d /var/lib/causal-twin-recordings.* 2>/dev/null || true)
+[ -n "$recs" ] && [ -f "$recs/history.db" ] && [ -f "$recs/conditions_ims2-shaft1_meanabs.csv" ] || fail "purge kept no recordings and history database"
+[ "$(stat -c '%U %a' "$recs")" = "root 700" ] || fail "$recs is not root 0700"
+[ "$(sqlite3 "$recs/history.db" 'SELECT COUNT(*) FROM condition_vectors')" -gt 0 ] || fail "the kept history database holds no condition vector"
+echo "purge: recordings and history database kept in $recs (root 0700)"
+rm -rf "$recs"
 ! getent group causal-twin > /dev/null || fail "group causal-twin left after purge"
 # Every file the install touched is back as it was, except dpkg's own records and the account files' backups.
 changed=""

@@ -112,8 +112,11 @@
     points = window.renderTrendChart($('trend'), g, $('band-note'));
     $('trend').dataset.points = String(points);
     const t = g.trend.time_ms;
+    const info = (s.overview && s.overview.info) || {};
     $('trend-info').textContent = `${g.feature || ''} \u00b7 ${t.length} snapshots` +
       (t.length ? ` \u00b7 ${utc(t[0])} to ${utc(t[t.length - 1])}` : '');
+    // Where the drawn history begins: the database (--db) or only what came since twin-web started.
+    $('data-since').textContent = info.data_since || '';
     const root = rootChannel(g);
     const drawn = window.drawCausalGraph($('graph'), g.channels, g.graph, root);
     $('graph-info').textContent = g.graph.outcomes > 0 ? `${utc(g.graph.time_ms)} \u00b7 ${drawn} links` : '';

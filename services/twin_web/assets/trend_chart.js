@@ -94,11 +94,21 @@ window.renderTrendChart = (function () {
     const t = g.trend;
     const n = t.index.length;
     if (!window.Chart) { noteEl.textContent = 'Chart.js is not installed (Debian package libjs-chart.js).'; return n * g.channels.length; }
+    // A gap in the snapshot indices (the twin was down, data was lost) is drawn as a gap: a null point between
+    // the two sides, and spanGaps false, so no straight line pretends to know what happened there.
+    const points = (c) => {
+      const out = [];
+      t.time_ms.forEach((x, i) => {
+        if (i > 0 && t.index[i] - t.index[i - 1] > 1) out.push({ x: (t.time_ms[i - 1] + x) / 2, y: null });
+        out.push({ x, y: t.values[c][i] });
+      });
+      return out;
+    };
     const datasets = g.channels.map((name, c) => ({
       label: name,
-      data: t.time_ms.map((x, i) => ({ x, y: t.values[c][i] })),
+      data: points(c),
       borderColor: COLOURS[c % COLOURS.length], backgroundColor: COLOURS[c % COLOURS.length],
-      borderWidth: 1.4, pointRadius: 0, tension: 0,
+      borderWidth: 1.4, pointRadius: 0, tension: 0, spanGaps: false,
     }));
     const positive = t.values.every((v) => v.every((y) => y > 0));
     // A robust lower end (the 1st percentile): a stopped machine's last snapshot must not crush the axis.
