@@ -184,4 +184,43 @@ TEST(FalseAlarmBudget, PrintsTables) {
   }
 }
 
+// The same healthy months with more healthy movement than the alarm rules were tuned on: each bearing's own
+// slow wander of +-10 % (a sinusoid of 3-8 days, MonthOptions::slow_wander) and/or 6 single short excursions of
+// x1.15-1.25 for 2-4 snapshots (MonthOptions::short_excursions), against the robust-z baseline in the same
+// runs. Printed as a table (docs/alarm-rules.md, section 9); asserted: with short excursions the budget of
+// PrintsTables holds, and with the wander the product alarms no more channels than the baseline (a +-10 %
+// wander over days crosses the +8 % floor by construction: a known limit, measured in the table).
+TEST(FalseAlarmBudget, SlowWanderAndShortExcursions) {
+  std::printf("\n| channels | healthy months | wander | excursions | product: false alarms | product: per month per channel | "
+              "product: channels alarmed | baseline: channels alarmed | baseline: per month per channel (first alarms "
+              "only) |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (int sensors : {1, 2}) {
+    for (double wander : {0.0, std::log(1.10)}) {
+      MonthOptions o;
+      o.sensors_per_bearing = sensors;
+      o.slow_wander = wander;
+      o.short_excursions = 6;
+      int raises = 0, channels_alarmed = 0, baseline_alarmed = 0, g = 0;
+      double months = 0.0;
+      for (std::uint64_t seed : kSeeds) {
+        const Variant v = causal::testing::make_month_variant(o, seed);
+        const RunScore s = score(v);
+        g = static_cast<int>(v.channel_names.size());
+        months += static_cast<double>(v.values.rows()) / kRowsPerMonth;
+        raises += s.false_raises;
+        channels_alarmed += static_cast<int>(s.false_channels.size());
+        baseline_alarmed += s.baseline_false_channels;
+      }
+      std::printf("| %d | %.1f | %s | 6 per run | %d | %.3f | %d of %d | %d of %d | %.3f |\n", g, months,
+                  wander > 0.0 ? "+-10 %" : "none", raises, raises / (months * g), channels_alarmed, g * 3,
+                  baseline_alarmed, g * 3, baseline_alarmed / (months * g));
+      if (wander == 0.0) {
+        EXPECT_LE(raises / (months * g), 0.05) << g << " channels: short excursions within the budget";
+      } else {  // known limit (docs/alarm-rules.md, section 9): a +-10 % wander crosses the +8 % floor
+        EXPECT_LE(channels_alarmed, baseline_alarmed) << g << " channels";
+      }
+    }
+  }
+}
+
 }  // namespace causal::alarms

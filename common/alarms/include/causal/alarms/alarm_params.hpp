@@ -86,6 +86,11 @@ struct AlarmParams {
   // 547). It is an early, "watch the trend" tier well below ISO 20816 practice for action (ALERT = baseline
   // + 25 % of the zone B/C boundary, i.e. ~x1.5-x2 the baseline of a machine running in zone A/B, which is
   // where warning_ratio sits). Log-transformed features only (a ratio needs a scale feature); 1 = no floor.
+  // The channel's own healthy range counts too: the level must also stand above the highest median of
+  // level_window the channel showed over its warm-up and baseline by half the floor (sqrt(advisory_ratio)),
+  // so a baseline learned in a low stretch does not turn a return to the channel's earlier level into an
+  // alarm; a channel that was flat (IMS test 2, bearing 1: top +2.8 %) keeps the floor at advisory_ratio.
+  // The range moves with the reference (gap re-levelling, machine-wide operating changes).
   double advisory_ratio = 1.08;
   // Slow healthy drift: while a channel's feature CUSUM is at 0 (nothing building up), no alarm is active
   // and no confirmation runs, its baseline location follows the feature with an exponential forgetting of
@@ -102,7 +107,9 @@ struct AlarmParams {
   // beyond that is judged as degradation. 1.5 = +3.5 dB: covers the +20-40 % single-channel steps of healthy
   // recordings, halfway (in dB) to warning_ratio, so a bearing that keeps rising in settled steps is caught
   // long before it doubles. Escalation to warning / critical is always judged against the reference (never
-  // against a level a step rule adopted).
+  // against a level a step rule adopted). After a recording gap each channel's reference becomes its level
+  // before the gap times its own step, but at most the gap's common step (the median over the re-baselined
+  // channels): the machine's re-levelling is carried into the reference, one channel's wear is not.
   double max_absorbed_ratio = 1.5;
   // Operating-state gate (log-transformed features, after the baseline): when EVERY channel's feature is
   // below stopped_ratio x its baseline median, the machine is not running (or the acquisition failed):
@@ -207,10 +214,16 @@ struct AlarmParams {
   // location would make the one-sided detectors more sensitive than designed).
 
   // ---------------------------------------------------------------- escalation ---------------------
-  // Severity rises above Advisory only on persistence: the level must have stayed at or above the Warning
-  // (Critical) level for escalation_persistence consecutive observations, not touched it once. 12 = the
-  // NIS window / 2 h at IMS cadence: a single burst or a transient at an operating change cannot escalate.
-  int escalation_persistence = 12;
+  // One event for the alarm and the forecast (AlarmEngine::level_event): warning (warning_ratio), critical
+  // (critical_ratio) and end of life (the prognosis' end_of_life_ratio) are reached when the channel's level --
+  // the median of the last level_window values over its reference -- has been at or above the multiple for
+  // escalation_persistence consecutive observations. Every degradation alarm of a channel with a ratio scale
+  // takes its severity from that event, and the prognosis says "reached" from it. 1: the median of 5 is
+  // already a persistence (3 of 5 snapshots at the level, so one or two bursts cannot escalate), and a fast
+  // final failure escalates within 2 snapshots of its first value at the level (12 made a bearing that
+  // doubled in its last 4 snapshots end at advisory, and a forecast say "0 h" while the alarm waited).
+  // Without a ratio scale (no log features) the kind's own level in sigmas must hold as long.
+  int escalation_persistence = 1;
 
   // ---------------------------------------------------------------- root cause re-evaluation --------
   // The root cause of every active alarm is re-evaluated at every observation from the evidence
