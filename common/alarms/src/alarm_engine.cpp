@@ -129,10 +129,12 @@ void collect_baseline(Impl& m, const Observation& obs, const std::vector<double>
   const double cap = m.p.cusum_cap_factor * m.h;
   for (auto& cs : m.ch) {
     // The healthy range (warm-up and baseline): a level inside it is no degradation (AlarmParams::advisory_ratio).
-    if (m.p.feature_log_transform) cs.feature.healthy_top = detail::healthy_range_top(cs.feature.warmup, cs.feature.baseline, m.p.level_window);
+    const double top = detail::healthy_range_top(cs.feature.warmup, cs.feature.baseline, m.p.level_window);
     cs.feature.warmup.clear();
     cs.feature.warmup.shrink_to_fit();
     finalize_signal(cs.feature, m.p, m.p.clip_sigma, cap);
+    if (m.p.feature_log_transform) cs.feature.healthy_top = top - cs.feature.stats.location;
+    cs.feature.range_left = std::max(0, m.p.healthy_range_observations - m.p.warmup_observations - m.p.baseline_observations);
     finalize_signal(cs.innovation, m.p, m.p.clip_sigma, cap);
   }
   for (auto& f : m.fac) {

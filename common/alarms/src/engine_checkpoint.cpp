@@ -46,6 +46,7 @@ void signal_fields(Io io, S& s) {
   io(s.reference_location);
   io(s.warmup);
   io(s.healthy_top);
+  io(s.range_left);
 }
 
 template <class Io, class F>

@@ -46,9 +46,11 @@ struct SignalMonitor {
   double reference_location = kNaN;
   // The channel's healthy range (feature signals): log values of the warm-up (collected while warming up)
   // and the top of the range the median of level_window reached over the warm-up and the baseline, as a log
-  // level. A level inside it is not a degradation (AlarmParams::advisory_ratio); it moves with the reference.
+  // ratio over the baseline location. A level inside it is not a degradation (AlarmParams::advisory_ratio);
+  // it moves with the location (tracking, re-baselines).
   std::vector<double> warmup;
   double healthy_top = kNaN;
+  int range_left = 0;            // observations in which the range still learns (healthy_range_observations)
   double standardize(double v) const { return (v - stats.location) / stats.scale; }
   // Log ratio of the current level (median of the level window) over the current / the lower of the
   // current and reference locations (escalation). NaN without a level.

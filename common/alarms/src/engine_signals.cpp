@@ -33,13 +33,20 @@ void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Obser
 }
 
 void update_step_run(ChannelState& cs, const AlarmParams& p) {
-  const auto& f = cs.feature;
+  auto& f = cs.feature;
   if (!std::isfinite(f.last_z)) return;
   const double r = f.level_log_ratio();
+  // The healthy range keeps learning for its first days while the channel has no alarm (its wander over
+  // days), never beyond max_absorbed_ratio / sqrt(advisory_ratio) over the location.
+  if (f.range_left > 0) {
+    --f.range_left;
+    if (!cs.any_active() && std::isfinite(r) && std::isfinite(f.healthy_top))
+      f.healthy_top = std::max(f.healthy_top, std::min(r, std::log(p.max_absorbed_ratio) - 0.5 * std::log(p.advisory_ratio)));
+  }
   // The size floor: at least advisory_ratio over the baseline AND half the floor above the healthy range's top
   // (a level the channel already showed while healthy is no degradation, however it compares with a baseline
   // learned in a low stretch).
-  const bool above_range = !std::isfinite(f.healthy_top) || r + f.stats.location >= f.healthy_top + 0.5 * std::log(p.advisory_ratio);
+  const bool above_range = !std::isfinite(f.healthy_top) || r >= f.healthy_top + 0.5 * std::log(p.advisory_ratio);
   cs.size_run = std::isfinite(r) && r >= std::log(p.advisory_ratio) && above_range ? cs.size_run + 1 : 0;
   if (p.feature_log_transform && f.last_z * f.stats.scale >= std::log(p.operating_step_ratio)) {
     ++cs.excursion_obs;

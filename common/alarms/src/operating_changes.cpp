@@ -186,16 +186,12 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
   // (the new reference, log level); a single channel's step does not (NaN; AlarmParams::max_absorbed_ratio).
   auto rebaseline = [&](int c, double new_reference) {
     auto& cs = ch[static_cast<std::size_t>(c)];
-    const double old_location = cs.feature.stats.location;
     const double f = median(confirm.feature[static_cast<std::size_t>(c)]);
     if (cs.feature.monitored && std::isfinite(f)) cs.feature.stats.location = f;
     cs.feature.anchor_location = cs.feature.stats.location;
     cs.feature.refine_left = p.baseline_observations;
     if (std::isfinite(new_reference) || !std::isfinite(cs.feature.reference_location))
       cs.feature.reference_location = std::isfinite(new_reference) ? new_reference : cs.feature.stats.location;
-    // The healthy range moves with the machine's re-levelling (the step carried into the reference).
-    if (std::isfinite(new_reference) && std::isfinite(old_location) && std::isfinite(cs.feature.healthy_top))
-      cs.feature.healthy_top += new_reference - old_location;
     restart(cs.feature);
     cs.own_sum = 0.0;
     cs.own_count = 0;

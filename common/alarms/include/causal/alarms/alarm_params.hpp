@@ -90,7 +90,7 @@ struct AlarmParams {
   // level_window the channel showed over its warm-up and baseline by half the floor (sqrt(advisory_ratio)),
   // so a baseline learned in a low stretch does not turn a return to the channel's earlier level into an
   // alarm; a channel that was flat (IMS test 2, bearing 1: top +2.8 %) keeps the floor at advisory_ratio.
-  // The range moves with the reference (gap re-levelling, machine-wide operating changes).
+  // The range is kept as a ratio over the baseline location, so it moves with it (tracking, re-baselines).
   double advisory_ratio = 1.08;
   // Slow healthy drift: while a channel's feature CUSUM is at 0 (nothing building up), no alarm is active
   // and no confirmation runs, its baseline location follows the feature with an exponential forgetting of
@@ -101,6 +101,15 @@ struct AlarmParams {
   // by more than half the size floor: a fault slower than the tracking is still alarmed at
   // advisory_ratio^1.5 over its reference. 0 = no tracking.
   int baseline_tracking_observations = 1008;
+  // The healthy range of the size floor (advisory_ratio) is learned over this many observations from the start
+  // (warm-up and baseline included): after the baseline, while none of the channel's alarms is active, the
+  // range's top follows the highest median of level_window, up to max_absorbed_ratio / sqrt(advisory_ratio)
+  // over the location (so a fault during those days is still alarmed by x1.5). Like the baseline, those
+  // observations must then be healthy, and a slow fault that starts in them is alarmed late.
+  // 0 (shipped; any value <= warm-up + baseline): the range of the warm-up and baseline only. 432 (3 days at 10
+  // minutes) halves the false alarms on a +-10 % wander over days but delays faults that begin in those 3
+  // days (docs/alarm-rules.md, section 9).
+  int healthy_range_observations = 0;
   // A single channel that steps and settles while the rest of the machine does not move is not a confirmed
   // operating change (a load or speed change moves the machine as a whole): it is followed (kind
   // level_step, not an alarm) only while its level stays within max_absorbed_ratio x its reference; a step
