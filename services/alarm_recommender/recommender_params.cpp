@@ -80,6 +80,7 @@ const std::vector<AlarmKey>& alarm_keys() {
       positive("critical_ratio", &P::critical_ratio),
       positive("advisory_ratio", &P::advisory_ratio),
       whole("baseline_tracking_observations", &P::baseline_tracking_observations, 0, 100000000),
+      whole("healthy_range_observations", &P::healthy_range_observations, 0, 100000000),
       positive("max_absorbed_ratio", &P::max_absorbed_ratio),
       flag("innovation_enabled", &P::innovation_enabled),
       flag("nis_enabled", &P::nis_enabled),

@@ -173,6 +173,10 @@ Stream synthetic_stream(bool with_factors, std::uint64_t seed = 3) {
   // The 8-sigma (+16 %) second fault is a sustained step: kept a fault here (the operating-change rule and
   // its checkpoint have their own tests in test_alarm_operating_changes.cpp).
   s.params.operating_step_ratio = 1e3;
+  // Severities follow the channel's level (x1.49 at the top of the ramp): a warning level it crosses, so the
+  // stream holds an escalation to cut at.
+  s.params.warning_ratio = 1.3;
+  s.params.max_absorbed_ratio = 1.2;
   if (with_factors) {
     // Exercise the factor detector's state as well: x23 (channel 2's dependence on 3) leaves its baseline
     // by 30 of its standard deviations during the first fault.

@@ -136,11 +136,13 @@ TEST(AlarmOperatingChanges, SmallStepAlarmsAtOnce) {
   EXPECT_TRUE(of_category(ev, category::kOperatingChange).empty());
 }
 
-// Severity escalates on persistence: a level above the Warning ratio for fewer than
+// Severity escalates on persistence when escalation_persistence > 1 (the shipped 1 escalates at the median
+// of 5's crossing: AlarmLevelEvent in tests/prognosis): a level above the Warning ratio for fewer than
 // escalation_persistence observations stays advisory; held longer, it escalates exactly when the count
 // is reached.
 TEST(AlarmOperatingChanges, EscalationNeedsPersistence) {
   AlarmParams p;
+  p.escalation_persistence = 12;
   p.operating_step_ratio = 1e3;  // the rise below is a step: keep it a fault to watch its severity
   SyntheticConfig cfg;
   cfg.seed = 7;

@@ -17,11 +17,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "alarm_pipeline.hpp"
@@ -65,8 +67,10 @@ struct RunScore {
   int level_steps = 0, operating_changes = 0, discontinuities = 0;
 };
 
-RunScore score(const Variant& v) {
+// healthy_range < 0: the shipped parameters; else AlarmParams::healthy_range_observations set to it.
+RunScore score(const Variant& v, int healthy_range = -1) {
   auto options = causal::alarm_eval::shipped_options(v.name);
+  if (healthy_range >= 0) options.params.healthy_range_observations = healthy_range;
   const auto res = causal::alarm_eval::run_condition_pipeline(series_of(v), options);
   RunScore s;
   std::optional<std::uint64_t> first_any;
@@ -180,6 +184,45 @@ TEST(FalseAlarmBudget, PrintsTables) {
       EXPECT_TRUE(s.root_ok) << v.name;
       EXPECT_NE(s.end_severity, Severity::Advisory) << v.name << ": the failing bearing never reached warning";
       if (s.baseline_first) EXPECT_LE(*s.first, *s.baseline_first) << v.name << ": later than the robust-z baseline";
+    }
+  }
+}
+
+// The same healthy months with more healthy movement than the alarm rules were tuned on: each bearing's own
+// slow wander of +-10 % (a sinusoid of 3-8 days, MonthOptions::slow_wander) and/or 6 single short excursions of
+// x1.15-1.25 for 2-4 snapshots (MonthOptions::short_excursions), against the robust-z baseline in the same
+// runs. Printed as a table (docs/alarm-rules.md, section 9); asserted: with short excursions the budget of
+// PrintsTables holds, and with the wander the product alarms no more channels than the baseline (a +-10 %
+// wander over days crosses the +8 % floor by construction: a known limit, measured in the table).
+TEST(FalseAlarmBudget, SlowWanderAndShortExcursions) {
+  std::printf("\n| channels | healthy months | wander | excursions | healthy range learned over | product: false alarms | "
+              "product: per month per channel | product: channels alarmed | baseline: channels alarmed | baseline: per "
+              "month per channel (first alarms only) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  for (int sensors : {1, 2}) {
+    for (const auto& [wander, range] : {std::pair{0.0, -1}, std::pair{std::log(1.10), -1}, std::pair{std::log(1.10), 432}}) {
+      MonthOptions o;
+      o.sensors_per_bearing = sensors;
+      o.slow_wander = wander;
+      o.short_excursions = 6;
+      int raises = 0, channels_alarmed = 0, baseline_alarmed = 0, g = 0;
+      double months = 0.0;
+      for (std::uint64_t seed : kSeeds) {
+        const Variant v = causal::testing::make_month_variant(o, seed);
+        const RunScore s = score(v, range);
+        g = static_cast<int>(v.channel_names.size());
+        months += static_cast<double>(v.values.rows()) / kRowsPerMonth;
+        raises += s.false_raises;
+        channels_alarmed += static_cast<int>(s.false_channels.size());
+        baseline_alarmed += s.baseline_false_channels;
+      }
+      std::printf("| %d | %.1f | %s | 6 per run | %s | %d | %.3f | %d of %d | %d of %d | %.3f |\n", g, months,
+                  wander > 0.0 ? "+-10 %" : "none", range < 0 ? "warm-up + baseline (shipped)" : "3 days (432)", raises, raises / (months * g), channels_alarmed, g * 3,
+                  baseline_alarmed, g * 3, baseline_alarmed / (months * g));
+      if (wander == 0.0) {
+        EXPECT_LE(raises / (months * g), 0.05) << g << " channels: short excursions within the budget";
+      } else {  // known limit (docs/alarm-rules.md, section 9): a +-10 % wander crosses the +8 % floor
+        EXPECT_LE(channels_alarmed, baseline_alarmed) << g << " channels";
+      }
     }
   }
 }

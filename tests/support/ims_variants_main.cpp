@@ -1,8 +1,9 @@
 // ims-variants: writes the issue-12 robustness variants of IMS test 2 as IMS-format merged tables, one CSV per
-// variant, plus variants.txt (one line per variant: name, rows, channels, healthy rows, failing channels,
+// variant (and the two runs of ims_variants_unseen.hpp), plus variants.txt (one line per variant: name, rows, channels, healthy rows, failing channels,
 // what was injected). Deterministic: the same base table and seed give byte-identical files.
 //   ims-variants --base deploy/data/ims2-features/merged_dataset_BearingTest_2.csv --out DIR [--seed N]
 #include "ims_variants.hpp"
+#include "ims_variants_unseen.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -30,7 +31,10 @@ int main(int argc, char** argv) {
   try {
     const auto base = causal::testing::read_base_run(base_path);
     std::ofstream manifest(out_dir + "/variants.txt");
-    for (const auto& v : causal::testing::make_all_variants(base, seed)) {
+    auto variants = causal::testing::make_all_variants(base, seed);
+    variants.push_back(causal::testing::make_relevelled_failure_variant(base, seed));
+    variants.push_back(causal::testing::make_low_baseline_stretch_variant(base));
+    for (const auto& v : variants) {
       const std::string path = out_dir + "/" + v.name + ".csv";
       causal::testing::write_variant_csv(v, path);
       std::string failing;

@@ -60,7 +60,8 @@ Variant make_month_variant(const MonthOptions& o, std::uint64_t seed) {
   const int g = o.bearings * o.sensors_per_bearing;
   Draws d(seed * 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(g));
   Variant v;
-  v.name = std::string(o.fault ? "month_fault_" : "month_healthy_") + std::to_string(g) + "ch_s" + std::to_string(seed);
+  v.name = std::string(o.fault ? "month_fault_" : "month_healthy_") + (o.slow_wander > 0.0 ? "wander_" : "") +
+           std::to_string(g) + "ch_s" + std::to_string(seed);
   for (int b = 0; b < o.bearings; ++b)
     for (int s = 0; s < o.sensors_per_bearing; ++s)
       v.channel_names.push_back("Bearing " + std::to_string(b + 1) +
@@ -108,6 +109,27 @@ Variant make_month_variant(const MonthOptions& o, std::uint64_t seed) {
     spike_factor[r] = d.uniform(1.5, 3.0);
   }
 
+  // Slow wander and short excursions (MonthOptions): their own generator, so runs without them do not change.
+  Draws extra(seed * 0xbf58476d1ce4e5b9ULL + static_cast<std::uint64_t>(g) + 1);
+  std::vector<double> wander_period(base.size(), 1.0), wander_phase(base.size(), 0.0);
+  for (std::size_t b = 0; b < base.size(); ++b) {
+    wander_period[b] = extra.uniform(3.0, 8.0) * 144.0;
+    wander_phase[b] = extra.uniform(0.0, 2.0 * M_PI);
+  }
+  std::vector<int> excursion_channel(rows, -1);
+  std::vector<double> excursion_factor(rows, 1.0);
+  for (int k = 0; k < o.short_excursions; ++k) {
+    const std::size_t span = (spike_end - 200) / static_cast<std::size_t>(o.short_excursions);
+    const std::size_t r0 = extra.index(200 + static_cast<std::size_t>(k) * span, 200 + static_cast<std::size_t>(k + 1) * span - 4);
+    const int c = static_cast<int>(extra.index(0, static_cast<std::size_t>(g)));
+    const double f = extra.uniform(1.15, 1.25);
+    const std::size_t len = extra.index(2, 5);
+    for (std::size_t r = r0; r < r0 + len && r < spike_end; ++r) {
+      excursion_channel[r] = c;
+      excursion_factor[r] = f;
+    }
+  }
+
   Ar1 load{0.99, 0.01};
   std::vector<Ar1> wander(base.size(), Ar1{0.97, 0.007}), noise(static_cast<std::size_t>(g), Ar1{0.3, 0.012});
   std::int64_t t_ns = kT0;
@@ -127,12 +149,14 @@ Variant make_month_variant(const MonthOptions& o, std::uint64_t seed) {
                                                 static_cast<double>(o.fault_rows_to_x4))
                                : 0.0;
       const double level = base[bi] + drift[bi] * static_cast<double>(t) / static_cast<double>(rows) + amp[bi] * day +
-                           shared + own + fault;
+                           shared + own + fault +
+                           o.slow_wander * std::sin(2.0 * M_PI * static_cast<double>(t) / wander_period[bi] + wander_phase[bi]);
       for (int s = 0; s < o.sensors_per_bearing; ++s) {
         const int c = b * o.sensors_per_bearing + s;
         double x = level + noise[static_cast<std::size_t>(c)].next(d);
         for (const auto& [row, lf] : steps[static_cast<std::size_t>(c)]) x += t >= row ? lf : 0.0;
         if (spike_channel[t] == c) x += std::log(spike_factor[t]);
+        if (excursion_channel[t] == c) x += std::log(excursion_factor[t]);
         v.values(static_cast<Eigen::Index>(t), c) = std::exp(x);
       }
     }
@@ -140,9 +164,10 @@ Variant make_month_variant(const MonthOptions& o, std::uint64_t seed) {
   char text[256];
   std::snprintf(text, sizeof text,
                 "%zu rows x %d channels: drift, daily cycle, gaps at rows %zu/%zu/%zu (+15-20 %%), single-bearing steps at "
-                "%zu/%zu (+20-40 %%), 1 spike/day%s",
+                "%zu/%zu (+20-40 %%), 1 spike/day%s%s",
                 rows, g, gap_rows[0], gap_rows[1], gap_rows[2], step_rows[0], step_rows[1],
-                o.fault ? ", accelerating fault of bearing 1" : "");
+                o.fault ? ", accelerating fault of bearing 1" : "",
+                o.slow_wander > 0.0 || o.short_excursions > 0 ? ", slow wander and short excursions" : "");
   v.description = text;
   return v;
 }

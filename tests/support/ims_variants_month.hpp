@@ -32,6 +32,12 @@ struct MonthOptions {
   bool fault = false;               // accelerating fault of bearing 0 (then rows = fault_start + T + 24)
   std::size_t fault_start = 3600;
   std::size_t fault_rows_to_x4 = 720;  // T: 5 days from onset to 4x
+  // Healthy wander beyond the above (0 = none, the runs stay byte-identical; drawn from their own generator):
+  // slow_wander = amplitude A (log units) of each bearing's own slow wander A sin(2 pi t / P_b + phi_b), P_b in
+  // [3, 8] days: ln(1.10) = +-10 %; short_excursions = that many single excursions of x[1.15, 1.25] on one random
+  // channel for 2-4 snapshots, spread over the healthy rows (a few snapshots of an unusual load).
+  double slow_wander = 0.0;
+  int short_excursions = 0;
 };
 
 Variant make_month_variant(const MonthOptions& options, std::uint64_t seed);

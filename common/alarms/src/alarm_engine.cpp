@@ -128,7 +128,13 @@ void collect_baseline(Impl& m, const Observation& obs, const std::vector<double>
   if (!last) return;
   const double cap = m.p.cusum_cap_factor * m.h;
   for (auto& cs : m.ch) {
+    // The healthy range (warm-up and baseline): a level inside it is no degradation (AlarmParams::advisory_ratio).
+    const double top = detail::healthy_range_top(cs.feature.warmup, cs.feature.baseline, m.p.level_window);
+    cs.feature.warmup.clear();
+    cs.feature.warmup.shrink_to_fit();
     finalize_signal(cs.feature, m.p, m.p.clip_sigma, cap);
+    if (m.p.feature_log_transform) cs.feature.healthy_top = top - cs.feature.stats.location;
+    cs.feature.range_left = std::max(0, m.p.healthy_range_observations - m.p.warmup_observations - m.p.baseline_observations);
     finalize_signal(cs.innovation, m.p, m.p.clip_sigma, cap);
   }
   for (auto& f : m.fac) {
@@ -278,23 +284,29 @@ void make_events(Impl& m, const Observation& obs, const std::vector<double>& evi
   }
 }
 
-// While a step confirmation holds the detectors (one channel's abrupt step: operating change or fault?), a
-// channel whose feature_drift alarm is already active keeps its escalation running on its own level: the
-// confirmation never re-baselines it (only the step channel and channels without an active alarm are), and
-// its escalation reference is unchanged, so the hold could only delay the verdict. Why it matters: any one
-// channel's step holds the whole group for confirmation_observations, so the wider the group, the more often
-// a failing bearing's escalation is frozen (IMS test 2 with 5 sensors per bearing: held from snapshot 971 to
-// the end at warning). Gaps are different (levels after a restart are re-learned): they still hold everything.
-void escalate_during_step_confirmation(Impl& m, const Observation& obs, const std::vector<double>& feat,
-                                       std::vector<AlarmEvent>& events) {
+// The warm-up's log features: part of the channel's healthy range (SignalMonitor::healthy_top), not of its
+// baseline (the filter's transient concerns the innovations, not the levels).
+void collect_warmup(Impl& m, const Observation& obs) {
+  if (!m.p.feature_log_transform || obs.features.size() != static_cast<Eigen::Index>(m.channels())) return;
+  for (int c = 0; c < m.channels(); ++c) {
+    const double v = obs.features(c);
+    m.ch[static_cast<std::size_t>(c)].feature.warmup.push_back(std::isfinite(v) && v > 0.0 ? std::log(v) : kNaN);
+  }
+}
+
+// While the group is held for a confirmation window (a gap or a step), a channel with an open alarm keeps its
+// baseline and its level is still judged: a failure that goes on rising across a short recording gap
+// escalates at once (its detectors' latches stay held; only the level event and the severity move).
+void escalate_during_confirmation(Impl& m, const Observation& obs, const std::vector<double>& feat,
+                                  std::vector<AlarmEvent>& events) {
   std::vector<Pending> pending;
   for (int c = 0; c < m.channels(); ++c) {
     auto& cs = m.ch[static_cast<std::size_t>(c)];
-    auto& slot = cs.slots[static_cast<std::size_t>(detail::kFeature)];
-    if (c == m.confirm.step_channel || !slot.latch.active()) continue;
-    const double v = feat[static_cast<std::size_t>(c)];
-    cs.feature.level.push(cs.feature.monitored && std::isfinite(v) ? cs.feature.standardize(v) : kNaN);
-    if (m.escalate(c, detail::kFeature)) pending.push_back({c, detail::kFeature, AlarmState::Escalated, {}});
+    if (!cs.any_active() || !std::isfinite(feat[static_cast<std::size_t>(c)])) continue;
+    detail::update_signal(cs.feature, feat[static_cast<std::size_t>(c)], m.p, obs, false);
+    detail::update_level_event(m, c);
+    for (int k = 0; k < detail::kKindCount; ++k)
+      if (cs.slots[static_cast<std::size_t>(k)].latch.active() && m.escalate(c, k)) pending.push_back({c, k, AlarmState::Escalated, {}});
   }
   if (!pending.empty()) make_events(m, obs, m.departed_evidence(), pending, events);
 }
@@ -321,7 +333,10 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
   const double gap_s = m.has_last_time ? static_cast<double>(obs.time_ns - m.last_time_ns) * 1e-9 : 0.0;
   m.has_last_time = true;
   m.last_time_ns = obs.time_ns;
-  if (n < warm) return {};
+  if (n < warm) {
+    collect_warmup(m, obs);
+    return {};
+  }
 
   std::vector<double> feat(static_cast<std::size_t>(g), kNaN), innov(static_cast<std::size_t>(g), kNaN);
   transform_inputs(m, obs, feat, innov);
@@ -346,14 +361,16 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
     m.confirm.restart = restarted && !discontinuity;
   }
   if (m.confirm.active) {
-    if (!m.confirm.gap) escalate_during_step_confirmation(m, obs, feat, events);
+    escalate_during_confirmation(m, obs, feat, events);
     m.confirm_step(obs, feat, innov, events);
     return events;
   }
 
   update_factors(m, obs);
-  for (int c = 0; c < g; ++c)
+  for (int c = 0; c < g; ++c) {
     update_channel(m, c, obs, feat[static_cast<std::size_t>(c)], innov[static_cast<std::size_t>(c)]);
+    detail::update_level_event(m, c);
+  }
 
   // Abrupt steps: confirm before alarming (AlarmParams::operating_step_ratio).
   if (const int step = m.abrupt_step(); step >= 0) {
@@ -385,19 +402,6 @@ void AlarmEngine::Impl::begin_alarm(int c, int k, const Observation& obs) {
   slot.root = -1;
   slot.challenger = -1;
   slot.challenger_run = 0;
-}
-
-bool AlarmEngine::Impl::escalate(int c, int k) {
-  auto& slot = ch[static_cast<std::size_t>(c)].slots[static_cast<std::size_t>(k)];
-  const Severity level = severity_for(c, k);
-  slot.warning_run = static_cast<int>(level) >= static_cast<int>(Severity::Warning) ? slot.warning_run + 1 : 0;
-  slot.critical_run = level == Severity::Critical ? slot.critical_run + 1 : 0;
-  const Severity earned = slot.critical_run >= p.escalation_persistence  ? Severity::Critical
-                          : slot.warning_run >= p.escalation_persistence ? Severity::Warning
-                                                                         : Severity::Advisory;
-  if (static_cast<int>(earned) <= static_cast<int>(slot.severity)) return false;  // severities only escalate
-  slot.severity = earned;
-  return true;
 }
 
 AlarmEvent AlarmEngine::Impl::make_event(int c, int k, AlarmState state, const Observation& obs) {

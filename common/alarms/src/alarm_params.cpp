@@ -42,6 +42,7 @@ void for_each_param(P& p, F&& f) {
   f("critical_ratio", p.critical_ratio);
   f("advisory_ratio", p.advisory_ratio);
   f("baseline_tracking_observations", p.baseline_tracking_observations);
+  f("healthy_range_observations", p.healthy_range_observations);
   f("max_absorbed_ratio", p.max_absorbed_ratio);
   f("stopped_ratio", p.stopped_ratio);
   f("innovation_enabled", p.innovation_enabled);
@@ -65,7 +66,7 @@ void for_each_param(P& p, F&& f) {
   f("root_cause_margin_z", p.root_cause_margin_z);
   f("root_cause_persistence", p.root_cause_persistence);
 }
-constexpr std::uint32_t kParamCount = 40;
+constexpr std::uint32_t kParamCount = 41;
 // Tripwire (x86-64 layout): a field added to AlarmParams usually changes its size. List it in
 // for_each_param (or checkpoints would ignore it), bump kParamCount, then update this size.
 static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 248,
@@ -137,6 +138,7 @@ void AlarmParams::validate() const {
   require(warning_ratio > 1.0 && critical_ratio > warning_ratio, "need 1 < warning_ratio < critical_ratio");
   require(std::isfinite(advisory_ratio) && advisory_ratio >= 1.0 && advisory_ratio < warning_ratio,
           "need 1 <= advisory_ratio < warning_ratio");
+  require(healthy_range_observations >= 0, "healthy_range_observations must be >= 0");
   require(baseline_tracking_observations >= 0, "baseline_tracking_observations must be >= 0 (0 = no tracking)");
   require(std::isfinite(max_absorbed_ratio) && max_absorbed_ratio >= 1.0 && max_absorbed_ratio < warning_ratio,
           "need 1 <= max_absorbed_ratio < warning_ratio");

@@ -44,6 +44,9 @@ void signal_fields(Io io, S& s) {
   io(s.anchor_location);
   io(s.refine_left);
   io(s.reference_location);
+  io(s.warmup);
+  io(s.healthy_top);
+  io(s.range_left);
 }
 
 template <class Io, class F>
@@ -95,6 +98,8 @@ void channel_fields_after_argmax(Io io, C& cs) {
   io(cs.excursion_sum_z);
   io(cs.change_counter);
   io(cs.size_run);
+  io(cs.recent_ratio);
+  io(cs.level_peak);
 }
 
 template <class Io, class C>
@@ -125,12 +130,12 @@ std::size_t read_count(causal::StateReader& in, std::size_t expected, const char
 }  // namespace
 
 void save(causal::StateWriter& out, const SignalMonitor& s) {
-  out.begin("signal_monitor", 2);
+  out.begin("signal_monitor", 3);
   signal_fields(SaveFields{out}, s);
 }
 
 void restore(causal::StateReader& in, SignalMonitor& s) {
-  in.expect("signal_monitor", 2);
+  in.expect("signal_monitor", 3);
   signal_fields(RestoreFields{in}, s);
 }
 
@@ -164,7 +169,7 @@ void restore(causal::StateReader& in, AlarmSlot& slot) {
 }
 
 void save(causal::StateWriter& out, const ChannelState& cs) {
-  out.begin("alarm_channel", 3);
+  out.begin("alarm_channel", 4);
   save(out, cs.feature);
   save(out, cs.innovation);
   cs.nis.save(out);
@@ -176,7 +181,7 @@ void save(causal::StateWriter& out, const ChannelState& cs) {
 }
 
 void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
-  in.expect("alarm_channel", 3);
+  in.expect("alarm_channel", 4);
   restore(in, cs.feature);
   restore(in, cs.innovation);
   cs.nis.restore(in);

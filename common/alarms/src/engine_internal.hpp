@@ -44,14 +44,21 @@ struct SignalMonitor {
   // baseline location, moved only by a gap / restart re-baseline or a machine-wide operating change (not
   // by slow tracking or a single channel's step; see AlarmParams::max_absorbed_ratio).
   double reference_location = kNaN;
+  // The channel's healthy range (feature signals): log values of the warm-up (collected while warming up)
+  // and the top of the range the median of level_window reached over the warm-up and the baseline, as a log
+  // ratio over the baseline location. A level inside it is not a degradation (AlarmParams::advisory_ratio);
+  // it moves with the location (tracking, re-baselines).
+  std::vector<double> warmup;
+  double healthy_top = kNaN;
+  int range_left = 0;            // observations in which the range still learns (healthy_range_observations)
   double standardize(double v) const { return (v - stats.location) / stats.scale; }
   // Log ratio of the current level (median of the level window) over the current / the lower of the
   // current and reference locations (escalation). NaN without a level.
   double level_log_ratio() const { return level.median() * stats.scale; }
-  double escalation_log_ratio() const {
-    const double ref = std::isfinite(reference_location) ? std::min(reference_location, stats.location) : stats.location;
-    return level_log_ratio() + stats.location - ref;
+  double escalation_reference() const {
+    return std::isfinite(reference_location) ? std::min(reference_location, stats.location) : stats.location;
   }
+  double escalation_log_ratio() const { return level_log_ratio() + stats.location - escalation_reference(); }
 };
 
 // Feeds one transformed value to a signal after the baseline (engine_signals.cpp): plain and conservative z,
@@ -124,6 +131,10 @@ struct ChannelState {
   // Consecutive observations whose level (median of level_window) reached the size floor
   // (AlarmParams::advisory_ratio): the floor must hold for level_window observations before a raise.
   int size_run = 0;
+  // The level event (AlarmEngine::level_event): the last escalation_persistence log level ratios over the
+  // reference (oldest first) and the highest of their minimum since the channel's alarms opened (NaN: none).
+  std::vector<double> recent_ratio;
+  double level_peak = kNaN;
   bool any_active() const {
     for (const auto& s : slots)
       if (s.latch.active()) return true;
@@ -288,6 +299,10 @@ struct AlarmEngine::Impl {
   void begin_alarm(int c, int kind, const Observation& obs);
   // Counts the level's persistence (AlarmParams::escalation_persistence); true when the severity rose.
   bool escalate(int c, int kind);
+  // The channel has a ratio scale (log feature with a reference): its severities follow its level event.
+  bool ratio_scale(int c) const;
+  // An alarm of channel c is open and its confirmed level reached ratio x its reference (AlarmEngine::level_reached).
+  bool level_reached(int c, double ratio) const;
   // At the end of a step's confirmation window: the channels that settled at a step's size (none for a gap).
   std::vector<bool> settled_steps() const;
   // Raises channel c's feature_drift alarm for a step that was not confirmed as an operating change (still
@@ -314,4 +329,8 @@ namespace causal::alarms::detail {
 // advisory_ratio x its baseline for level_window observations, or when it has no ratio scale (then the
 // statistics decide alone).
 bool size_matters(const AlarmEngine::Impl& m, int c);
+// Feeds the channel's current level ratio to its level event (ChannelState::recent_ratio, level_peak).
+void update_level_event(AlarmEngine::Impl& m, int c);
+// The top of the healthy range from the warm-up and baseline log values (SignalMonitor::healthy_top).
+double healthy_range_top(const std::vector<double>& warmup, const std::vector<double>& baseline, int window);
 }  // namespace causal::alarms::detail

@@ -33,10 +33,21 @@ void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Obser
 }
 
 void update_step_run(ChannelState& cs, const AlarmParams& p) {
-  const auto& f = cs.feature;
+  auto& f = cs.feature;
   if (!std::isfinite(f.last_z)) return;
   const double r = f.level_log_ratio();
-  cs.size_run = std::isfinite(r) && r >= std::log(p.advisory_ratio) ? cs.size_run + 1 : 0;
+  // The healthy range keeps learning for its first days while the channel has no alarm (its wander over
+  // days), never beyond max_absorbed_ratio / sqrt(advisory_ratio) over the location.
+  if (f.range_left > 0) {
+    --f.range_left;
+    if (!cs.any_active() && std::isfinite(r) && std::isfinite(f.healthy_top))
+      f.healthy_top = std::max(f.healthy_top, std::min(r, std::log(p.max_absorbed_ratio) - 0.5 * std::log(p.advisory_ratio)));
+  }
+  // The size floor: at least advisory_ratio over the baseline AND half the floor above the healthy range's top
+  // (a level the channel already showed while healthy is no degradation, however it compares with a baseline
+  // learned in a low stretch).
+  const bool above_range = !std::isfinite(f.healthy_top) || r >= f.healthy_top + 0.5 * std::log(p.advisory_ratio);
+  cs.size_run = std::isfinite(r) && r >= std::log(p.advisory_ratio) && above_range ? cs.size_run + 1 : 0;
   if (p.feature_log_transform && f.last_z * f.stats.scale >= std::log(p.operating_step_ratio)) {
     ++cs.excursion_obs;
     cs.excursion_sum_z += f.last_z;
@@ -52,6 +63,38 @@ bool size_matters(const AlarmEngine::Impl& m, int c) {
   // A level that holds for level_window observations: a healthy excursion that touches the floor (a daily
   // high on top of a load swing) is not enough; a fault stays there.
   return !std::isfinite(f.level_log_ratio()) || m.ch[static_cast<std::size_t>(c)].size_run >= m.p.level_window;
+}
+
+void update_level_event(AlarmEngine::Impl& m, int c) {
+  auto& cs = m.ch[static_cast<std::size_t>(c)];
+  const double r = cs.feature.escalation_log_ratio();
+  if (std::isfinite(r)) {
+    cs.recent_ratio.push_back(r);
+    if (cs.recent_ratio.size() > static_cast<std::size_t>(m.p.escalation_persistence)) cs.recent_ratio.erase(cs.recent_ratio.begin());
+  }
+  // Held for escalation_persistence observations = the minimum of the last ones once there are that many.
+  const double held = cs.recent_ratio.size() == static_cast<std::size_t>(m.p.escalation_persistence)
+                          ? *std::min_element(cs.recent_ratio.begin(), cs.recent_ratio.end())
+                          : kNaN;
+  if (!cs.any_active() || !std::isfinite(cs.level_peak))
+    cs.level_peak = held;
+  else if (std::isfinite(held))
+    cs.level_peak = std::max(cs.level_peak, held);
+}
+
+double healthy_range_top(const std::vector<double>& warmup, const std::vector<double>& baseline, int window) {
+  std::vector<double> all;
+  for (const auto* v : {&warmup, &baseline})
+    for (double x : *v)
+      if (std::isfinite(x)) all.push_back(x);
+  double top = kNaN;
+  const auto w = static_cast<std::size_t>(std::max(window, 1));
+  for (std::size_t i = 0; i + w <= all.size(); ++i) {
+    const double med = median(std::vector<double>(all.begin() + static_cast<std::ptrdiff_t>(i),
+                                                   all.begin() + static_cast<std::ptrdiff_t>(i + w)));
+    if (!std::isfinite(top) || med > top) top = med;
+  }
+  return top;
 }
 
 }  // namespace causal::alarms::detail

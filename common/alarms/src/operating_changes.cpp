@@ -45,6 +45,32 @@ void restart(detail::SignalMonitor& s) {
   s.level.reset();
 }
 
+// A gap's common step: the median, over the channels re-baselined at it (settled, no open alarm), of their
+// level change across the gap (window median against the location before it). Each channel's reference
+// becomes its level before the gap plus its own step, but never more than the common one: the severities stay
+// judged against the healthy level re-levelled as the machine was, never against a level that already holds
+// one channel's wear (AlarmParams::max_absorbed_ratio). NaN when none.
+double gap_common_step(const AlarmEngine::Impl& m) {
+  std::vector<double> steps;
+  const int w = m.p.confirmation_observations;
+  for (int c = 0; c < m.channels(); ++c) {
+    const auto& cs = m.ch[static_cast<std::size_t>(c)];
+    const auto& fv = m.confirm.feature[static_cast<std::size_t>(c)];
+    const double rise = theil_sen_slope(fv) * (w - 1) / cs.feature.stats.scale;
+    const double step = median(fv) - cs.feature.stats.location;
+    if (!cs.any_active() && cs.feature.monitored && std::isfinite(rise) && rise < m.p.settle_trend_sigma && std::isfinite(step))
+      steps.push_back(step);
+  }
+  return steps.empty() ? detail::kNaN : median(steps);
+}
+
+// The reference of channel c after a gap: its level before the gap plus its own step, at most the common one.
+double gap_reference(const AlarmEngine::Impl& m, int c, double common_step) {
+  const auto& cs = m.ch[static_cast<std::size_t>(c)];
+  const double own = median(m.confirm.feature[static_cast<std::size_t>(c)]) - cs.feature.stats.location;
+  return std::isfinite(own) && std::isfinite(common_step) ? cs.feature.stats.location + std::min(own, common_step) : detail::kNaN;
+}
+
 }  // namespace
 
 bool AlarmEngine::Impl::is_discontinuity(const Observation& obs) const {
@@ -156,15 +182,16 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
   if (static_cast<int>(confirm.feature[0].size()) < p.confirmation_observations) return;
 
   const int w = p.confirmation_observations;
-  // new_reference: a gap / restart or a machine-wide operating change moves the escalation reference too;
-  // a single channel's step does not (AlarmParams::max_absorbed_ratio).
-  auto rebaseline = [&](int c, bool new_reference) {
+  // new_reference: a gap / restart or a machine-wide operating change moves the escalation reference too
+  // (the new reference, log level); a single channel's step does not (NaN; AlarmParams::max_absorbed_ratio).
+  auto rebaseline = [&](int c, double new_reference) {
     auto& cs = ch[static_cast<std::size_t>(c)];
     const double f = median(confirm.feature[static_cast<std::size_t>(c)]);
     if (cs.feature.monitored && std::isfinite(f)) cs.feature.stats.location = f;
     cs.feature.anchor_location = cs.feature.stats.location;
     cs.feature.refine_left = p.baseline_observations;
-    if (new_reference || !std::isfinite(cs.feature.reference_location)) cs.feature.reference_location = cs.feature.stats.location;
+    if (std::isfinite(new_reference) || !std::isfinite(cs.feature.reference_location))
+      cs.feature.reference_location = std::isfinite(new_reference) ? new_reference : cs.feature.stats.location;
     restart(cs.feature);
     cs.own_sum = 0.0;
     cs.own_count = 0;
@@ -182,6 +209,8 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
     cs.nis.reset();
   };
   auto emit = [&](int c, const char* kind_name, const std::string& why) { emit_change(c, kind_name, why, obs, events); };
+
+  const double common_step = confirm.gap ? gap_common_step(*this) : detail::kNaN;
 
   const std::string when = "observation " + std::to_string(confirm.start_index) + " (" +
                            io::format_utc_seconds(confirm.start_time_ns) + ")";
@@ -212,7 +241,7 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
            name + ": the recording resumed after " + gap + " at " + when + "; its level is " + fixed(pct, 1, true) +
                " % against the old baseline and " + trend + ": re-baselined on the " + std::to_string(w) +
                " observations after the gap (not a fault; alarms judge changes from the new level).");
-      rebaseline(c, true);
+      rebaseline(c, gap_reference(*this, c, common_step));
       relearn_innovation(c);
     } else if (moved[static_cast<std::size_t>(c)] || (c == confirm.step_channel && !settled)) {
       // The step's channel, and any other channel whose level moved by a step as large in the same window.
@@ -250,7 +279,7 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
                  fixed(100.0 * (p.max_absorbed_ratio - 1.0), 0, true) +
                  " %); warning and critical are still judged against the reference.");
       }
-      rebaseline(c, machine_wide);
+      rebaseline(c, machine_wide ? median(fv) : detail::kNaN);
     }
   }
   if (!confirm.gap && std::find_if(events.begin(), events.end(), [](const AlarmEvent& e) {

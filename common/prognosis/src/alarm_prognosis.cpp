@@ -3,12 +3,30 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <string>
 
 namespace causal::prognosis {
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// One event for the alarm and the forecast: a level is "reached" exactly when the alarm engine's level event
+// reached it (the median of the last level_window snapshots at ratio x the reference), which is also when the
+// alarm escalates to it. A filtered trend already at the level while that median is not is "unknown" (the
+// crossing is being confirmed), never "reached" and never a time in the past.
+void one_event(bool engine_reached, int level_window, TimeToLevel& time) {
+  if (engine_reached) {
+    time.known = time.reached = true;
+    time.hours = time.hours_low = time.hours_high = 0.0;
+    time.why.clear();
+  } else if (time.reached) {
+    time.known = time.reached = false;
+    time.hours = time.hours_low = time.hours_high = kNaN;
+    time.why = "at the level by the trend, not yet by the median of the last " + std::to_string(level_window) +
+               " snapshots (the alarm's level): crossing being confirmed";
+  }
+}
 
 ChannelPrognosis prognosis_for(const ChannelTrends& trends, const alarms::AlarmEngine& engine,
                                const EngineBaselines& b, const alarms::AlarmEvent& alarm, Level level,
@@ -20,12 +38,15 @@ ChannelPrognosis prognosis_for(const ChannelTrends& trends, const alarms::AlarmE
   p.level = level;
   p.ratio = trends.ratio(level, engine.params().warning_ratio, engine.params().critical_ratio);
   const DegradationTrend& t = trends.trend(alarm.channel);
-  const double base = b.log_location[alarm.channel];
+  // The levels are multiples of the reference the alarm's severities are judged against (AlarmEngine::level_event).
+  const alarms::LevelEvent event = engine.level_event(alarm.channel);
+  const double base = event.ratio_scale ? event.reference_log : b.log_location[alarm.channel];
   p.current_ratio = t.started() && std::isfinite(base) ? std::exp(t.state().x[0] - base) : kNaN;
   p.growth_per_hour = t.started() ? t.state().x[1] : kNaN;
   const std::uint64_t points = index >= alarm.onset_index ? index - alarm.onset_index + 1 : 0;
   if (std::isfinite(base)) {
     p.time = trends.time_to(alarm.channel, base, p.ratio, points);
+    if (event.ratio_scale) one_event(engine.level_reached(alarm.channel, p.ratio), engine.params().level_window, p.time);
   } else {
     p.time.hours = p.time.hours_low = p.time.hours_high = kNaN;
     p.time.why = "no baseline for this channel";

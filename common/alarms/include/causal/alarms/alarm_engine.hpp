@@ -69,6 +69,17 @@ struct ChannelDiagnostics {
   int root_cause = -1;           // current root-cause verdict for this channel (-1 when no episode)
 };
 
+// The level event of one channel (log-transformed features): warning, critical and end of life are multiples of
+// the channel's healthy reference level, judged by ONE statistic, the median of the last level_window values
+// held for escalation_persistence observations. The alarm's severity and the forecast's "reached" both read
+// level_reached(), so they cannot disagree.
+struct LevelEvent {
+  bool ratio_scale = false;      // log-transformed, monitored feature: the levels are defined
+  double reference_log = 0;      // log of the healthy reference level (NaN without one)
+  double level_ratio = 0;        // current level / reference (median of the last level_window); NaN if none
+  double peak_ratio = 0;         // highest confirmed level / reference since the channel's alarms opened; NaN if none
+};
+
 class AlarmEngine {
  public:
   // channel_names: G >= 1 names (G fixed for the engine's life). factor_names: F names (may be empty)
@@ -107,6 +118,11 @@ class AlarmEngine {
   std::uint64_t discontinuities() const;
   std::uint64_t operating_changes() const;
   ChannelDiagnostics channel_diagnostics(int channel) const;
+  // The channel's level event (see LevelEvent); level_reached(c, r): an alarm of channel c is open and its
+  // confirmed level reached r x the reference (the warning / critical / end-of-life crossing). Throw
+  // std::invalid_argument for a channel out of range.
+  LevelEvent level_event(int channel) const;
+  bool level_reached(int channel, double ratio) const;
   // Latest event of every active alarm (state Raised or Escalated), channel order.
   std::vector<AlarmEvent> active_alarms() const;
 

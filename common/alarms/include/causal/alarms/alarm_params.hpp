@@ -86,6 +86,11 @@ struct AlarmParams {
   // 547). It is an early, "watch the trend" tier well below ISO 20816 practice for action (ALERT = baseline
   // + 25 % of the zone B/C boundary, i.e. ~x1.5-x2 the baseline of a machine running in zone A/B, which is
   // where warning_ratio sits). Log-transformed features only (a ratio needs a scale feature); 1 = no floor.
+  // The channel's own healthy range counts too: the level must also stand above the highest median of
+  // level_window the channel showed over its warm-up and baseline by half the floor (sqrt(advisory_ratio)),
+  // so a baseline learned in a low stretch does not turn a return to the channel's earlier level into an
+  // alarm; a channel that was flat (IMS test 2, bearing 1: top +2.8 %) keeps the floor at advisory_ratio.
+  // The range is kept as a ratio over the baseline location, so it moves with it (tracking, re-baselines).
   double advisory_ratio = 1.08;
   // Slow healthy drift: while a channel's feature CUSUM is at 0 (nothing building up), no alarm is active
   // and no confirmation runs, its baseline location follows the feature with an exponential forgetting of
@@ -96,13 +101,24 @@ struct AlarmParams {
   // by more than half the size floor: a fault slower than the tracking is still alarmed at
   // advisory_ratio^1.5 over its reference. 0 = no tracking.
   int baseline_tracking_observations = 1008;
+  // The healthy range of the size floor (advisory_ratio) is learned over this many observations from the start
+  // (warm-up and baseline included): after the baseline, while none of the channel's alarms is active, the
+  // range's top follows the highest median of level_window, up to max_absorbed_ratio / sqrt(advisory_ratio)
+  // over the location (so a fault during those days is still alarmed by x1.5). Like the baseline, those
+  // observations must then be healthy, and a slow fault that starts in them is alarmed late.
+  // 0 (shipped; any value <= warm-up + baseline): the range of the warm-up and baseline only. 432 (3 days at 10
+  // minutes) halves the false alarms on a +-10 % wander over days but delays faults that begin in those 3
+  // days (docs/alarm-rules.md, section 9).
+  int healthy_range_observations = 0;
   // A single channel that steps and settles while the rest of the machine does not move is not a confirmed
   // operating change (a load or speed change moves the machine as a whole): it is followed (kind
   // level_step, not an alarm) only while its level stays within max_absorbed_ratio x its reference; a step
   // beyond that is judged as degradation. 1.5 = +3.5 dB: covers the +20-40 % single-channel steps of healthy
   // recordings, halfway (in dB) to warning_ratio, so a bearing that keeps rising in settled steps is caught
   // long before it doubles. Escalation to warning / critical is always judged against the reference (never
-  // against a level a step rule adopted).
+  // against a level a step rule adopted). After a recording gap each channel's reference becomes its level
+  // before the gap times its own step, but at most the gap's common step (the median over the re-baselined
+  // channels): the machine's re-levelling is carried into the reference, one channel's wear is not.
   double max_absorbed_ratio = 1.5;
   // Operating-state gate (log-transformed features, after the baseline): when EVERY channel's feature is
   // below stopped_ratio x its baseline median, the machine is not running (or the acquisition failed):
@@ -208,10 +224,16 @@ struct AlarmParams {
   // location would make the one-sided detectors more sensitive than designed).
 
   // ---------------------------------------------------------------- escalation ---------------------
-  // Severity rises above Advisory only on persistence: the level must have stayed at or above the Warning
-  // (Critical) level for escalation_persistence consecutive observations, not touched it once. 12 = the
-  // NIS window / 2 h at IMS cadence: a single burst or a transient at an operating change cannot escalate.
-  int escalation_persistence = 12;
+  // One event for the alarm and the forecast (AlarmEngine::level_event): warning (warning_ratio), critical
+  // (critical_ratio) and end of life (the prognosis' end_of_life_ratio) are reached when the channel's level --
+  // the median of the last level_window values over its reference -- has been at or above the multiple for
+  // escalation_persistence consecutive observations. Every degradation alarm of a channel with a ratio scale
+  // takes its severity from that event, and the prognosis says "reached" from it. 1: the median of 5 is
+  // already a persistence (3 of 5 snapshots at the level, so one or two bursts cannot escalate), and a fast
+  // final failure escalates within 2 snapshots of its first value at the level (12 made a bearing that
+  // doubled in its last 4 snapshots end at advisory, and a forecast say "0 h" while the alarm waited).
+  // Without a ratio scale (no log features) the kind's own level in sigmas must hold as long.
+  int escalation_persistence = 1;
 
   // ---------------------------------------------------------------- root cause re-evaluation --------
   // The root cause of every active alarm is re-evaluated at every observation from the evidence
