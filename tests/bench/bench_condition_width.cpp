@@ -66,6 +66,11 @@ int main(int argc, char** argv) {
   bool dense = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      std::printf("causal_bench_condition_width [--repeat N (3)] [--dense]: condition-level CPU per snapshot at 4, 8, 16 "
+                  "and 20 channels (IMS test 2 replicated); --dense raises the structure window to 10 x G x (M + 1)\n");
+      return 0;
+    }
     if (a == "--dense") {
       dense = true;
     } else if (a == "--repeat" && i + 1 < argc) {

@@ -366,3 +366,31 @@ TEST(Advisor, ALinkAbsentFromTheHealthyReferenceIsMarkedAppeared) {
 }
 
 }  // namespace causal::recommender
+
+namespace causal::recommender {
+namespace {
+
+// Only the max_candidates levers with the largest excess over their baseline are evaluated (each costs `draws`
+// solves of the whole model): b2 is 20 % (log) above its baseline, b1 10 %; the alarm is on b3.
+TEST(Advisor, OnlyTheLargestExcessesAreEvaluated) {
+  const SvarLayout l = make_layout();
+  AssembledObservation o = observation(l, true);
+  o.observation.features = Eigen::Vector3d(0.2, 0.1 * std::exp(0.2), 0.1);
+  for (const int max_candidates : {1, 2}) {
+    AdvisorParams p = params();
+    p.max_candidates = max_candidates;
+    Advisor adv(p);
+    adv.update(o);
+    std::string why;
+    const auto all = adv.evaluate("ims2", 2, baseline(), why);
+    ASSERT_EQ(all.size(), static_cast<std::size_t>(max_candidates)) << why;
+    std::vector<int> levers;
+    for (const auto& a : all) levers.push_back(a.intervene);
+    std::sort(levers.begin(), levers.end());
+    const std::vector<int> expected = max_candidates == 1 ? std::vector<int>{1} : std::vector<int>{0, 1};
+    EXPECT_EQ(levers, expected);
+  }
+}
+
+}  // namespace
+}  // namespace causal::recommender

@@ -230,8 +230,13 @@ TEST(StructuredFactorStream, NonFiniteSamplesDoNotPoisonTheCentre) {
 
 TEST(StructuredFactorStream, InvalidSettingsAreRejectedUpFront) {
   EXPECT_THROW(StructuredFactorStream(params(), learning(0, true, false)), std::invalid_argument);
-  EXPECT_THROW(StructuredFactorStream(params(), learning(79, false, true)), std::invalid_argument);  // < 10 G (M+1)
-  EXPECT_NO_THROW(StructuredFactorStream(params(), learning(80, false, true)));
+  // Below one block of two channels, 10 x 2 x (M + 1) = 40, the order cannot be learned at all.
+  EXPECT_THROW(StructuredFactorStream(params(), learning(39, false, true)), std::invalid_argument);
+  // 40..79 (< 10 G (M + 1) = 80 for the 4 channels): the order is learned per block (two blocks of 2).
+  const StructuredFactorStream blocked(params(), learning(79, false, true));
+  EXPECT_EQ(blocked.structure().blocks, (std::vector<std::vector<int>>{{0, 1}, {2, 3}}));
+  const StructuredFactorStream dense(params(), learning(80, false, true));
+  EXPECT_EQ(dense.structure().blocks, (std::vector<std::vector<int>>{{0, 1, 2, 3}}));
   StructureSetting negative = learning(100, false, true);
   negative.prune_threshold = -0.1;
   EXPECT_THROW(StructuredFactorStream(params(), negative), std::invalid_argument);
