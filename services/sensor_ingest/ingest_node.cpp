@@ -44,6 +44,7 @@ IngestNode::IngestNode(IngestOptions options)
       queue_(options_.queue_messages),
       sequencer_(options_.gap_factor),
       numbering_(options_.state_dir),
+      features_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputWriter),
       backlog_(options_.backlog_frames),
       progress_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader) {
   for (const auto& w : options_.wait_for) reader_names_.push_back(dds::parse_named_readers(w).name);
@@ -129,7 +130,8 @@ int IngestNode::run() {
       std::chrono::duration_cast<Clock::duration>(stop_.load() ? std::chrono::seconds(2) : std::chrono::seconds(30));
   if (deadline_ != Clock::time_point::max())
     ack_wait = std::min(ack_wait, std::max(Clock::duration::zero(), deadline_ - Clock::now()));
-  if (!frames_.wait_for_acknowledgments(std::chrono::duration_cast<std::chrono::milliseconds>(ack_wait))) {
+  if (!frames_.wait_for_acknowledgments(std::chrono::duration_cast<std::chrono::milliseconds>(ack_wait)) ||
+      !features_.wait_for_acknowledgments(std::chrono::duration_cast<std::chrono::milliseconds>(ack_wait))) {
     spdlog::warn("not every frame was acknowledged by the readers within {:.1f} s",
                  std::chrono::duration<double>(ack_wait).count());
   }
@@ -153,6 +155,10 @@ void IngestNode::count_rejection(RejectReason reason, const std::string& detail,
 void IngestNode::process(const std::string& message) {
   ++received_;
   received_metric_->inc();
+  if (is_feature_row(message)) {
+    process_features(message);
+    return;
+  }
   ParseResult parsed = parse_block(message, options_.limits);
   if (!parsed.block) {
     count_rejection(parsed.reason, parsed.detail, "");
@@ -292,6 +298,71 @@ void IngestNode::resend_group(const std::string& group) {
   }
 }
 
+void IngestNode::process_features(const std::string& message) {
+  const FeatureParseResult parsed = parse_feature_row(message, options_.limits);
+  if (!parsed.row) {
+    count_rejection(parsed.reason, parsed.detail, "");
+    return;
+  }
+  const FeatureRow& r = *parsed.row;
+  if (!features_ready_) {
+    // The readers waited for at the start were the frames' ones: before the first feature row, the same wait on
+    // the condition-input topic (an estimator has both readers; a row written before the match would be lost).
+    features_ready_ = true;
+    std::vector<dds::NamedReaders> named;
+    for (const auto& w : options_.wait_for) named.push_back(dds::parse_named_readers(w));
+    const auto limit = std::chrono::milliseconds(static_cast<long>(1000 * (options_.wait_timeout_s > 0 ? options_.wait_timeout_s : 30.0)));
+    if (!features_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), limit, stop_) ||
+        !dds::wait_for_named_readers(features_, named, limit, stop_).empty()) {
+      spdlog::warn("no reader of causal_twin/condition_input matched within {} ms: feature rows go out anyway",
+                   limit.count());
+    }
+  }
+  auto [it, first] = feature_streams_.try_emplace(r.asset_group);
+  FeatureStream& s = it->second;
+  if (!first && (r.channels != s.channels || r.feature != s.feature)) {
+    count_rejection(RejectReason::LayoutChange, "channels or feature differ from this group's earlier rows", r.asset_group);
+    return;
+  }
+  if (!first && r.sequence <= s.last_sequence) {
+    count_rejection(r.sequence == s.last_sequence ? RejectReason::Duplicate : RejectReason::OutOfOrder,
+                    fmt::format("sequence {} after {}", r.sequence, s.last_sequence), r.asset_group);
+    return;
+  }
+  if (!first && r.time_ns <= s.last_time_ns) {
+    count_rejection(RejectReason::OutOfOrder, "time does not advance", r.asset_group);
+    return;
+  }
+  if (r.non_finite > 0) {
+    non_finite_ += r.non_finite;
+    non_finite_metric_->inc(static_cast<double>(r.non_finite));
+  }
+  feature_msg_.asset_group(r.asset_group);
+  feature_msg_.feature(r.feature);
+  feature_msg_.snapshot_index(r.sequence);  // the source's snapshot counter: gaps are lost rows, counted downstream
+  feature_msg_.time_ns(r.time_ns);
+  feature_msg_.channel_names(r.channels);
+  feature_msg_.values(r.values);
+  feature_msg_.discontinuity(r.discontinuity || first);
+  const auto deadline = std::min(Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                    std::chrono::duration<double>(options_.write_timeout_s)),
+                                 deadline_);
+  const auto result = features_.write_until(feature_msg_, stop_, deadline);
+  s.channels = r.channels;
+  s.feature = r.feature;
+  s.last_sequence = r.sequence;
+  s.last_time_ns = r.time_ns;
+  if (result == dds::WriteResult::Ok) {
+    ++published_;
+    ++features_published_;
+    published_metric_->inc();
+    return;
+  }
+  ++lost_;
+  lost_metric_->inc();
+  spdlog::error("'{}' feature row {} lost: the readers did not accept it", r.asset_group, r.sequence);
+}
+
 bool IngestNode::resume_numbering(const std::string& group) {
   try {
     const auto point = numbering_.load(group);
@@ -320,13 +391,14 @@ void IngestNode::print_summary() const {
   }
   std::printf(
       "sensor-ingest: received=%llu published=%llu rejected=%llu lost=%llu non_finite=%llu discontinuities=%llu "
-      "resumed_groups=%llu state_failures=%llu resent=%llu resends=%llu beyond_backlog=%llu%s\n",
+      "resumed_groups=%llu state_failures=%llu resent=%llu resends=%llu beyond_backlog=%llu feature_rows=%llu%s\n",
       static_cast<unsigned long long>(received_), static_cast<unsigned long long>(published_),
       static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(lost_),
       static_cast<unsigned long long>(non_finite_), static_cast<unsigned long long>(discontinuities_),
       static_cast<unsigned long long>(resumed_groups_), static_cast<unsigned long long>(numbering_.failures()),
       static_cast<unsigned long long>(resent_), static_cast<unsigned long long>(resends_),
-      static_cast<unsigned long long>(beyond_backlog_), reasons.c_str());
+      static_cast<unsigned long long>(beyond_backlog_), static_cast<unsigned long long>(features_published_),
+      reasons.c_str());
   std::fflush(stdout);
 }
 

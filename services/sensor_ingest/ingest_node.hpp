@@ -1,6 +1,7 @@
 // sensor-ingest's DDS node: a source (MQTT, UDP, stdin) fills a bounded queue; run() takes each message,
 // parses it (ingest_block.hpp), orders it into the asset group's frame stream (block_sequencer.hpp) and
-// publishes it as a VibrationFrame. Bad messages are rejected and counted by reason, never fatal.
+// publishes it as a VibrationFrame; a ready-made feature row (feature_row.hpp) goes out as a ConditionVector on
+// causal_twin/condition_input. Bad messages are rejected and counted by reason, never fatal.
 // Exit codes: 0 done, 3 no readers in time, 4 a message was rejected or a frame lost.
 #pragma once
 
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "block_sequencer.hpp"
+#include "feature_row.hpp"
 #include "frame_backlog.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/typed_endpoints.hpp"
@@ -46,6 +48,8 @@ class IngestNode {
  private:
   using Clock = std::chrono::steady_clock;
   void process(const std::string& message);
+  // A ready-made feature row (feature_row.hpp) onto causal_twin/condition_input: same rejections and counts.
+  void process_features(const std::string& message);
   void count_rejection(RejectReason reason, const std::string& detail, const std::string& group);
   void print_summary() const;
   // Resends the backlog to an estimator that appeared since the last look (a restart): every kept frame after
@@ -65,6 +69,17 @@ class IngestNode {
   std::uint64_t resumed_groups_ = 0;
   RateLimitedLog numbering_log_;
   causal_twin::VibrationFrame frame_;
+  dds::TypedWriter<causal_twin::ConditionVectorPubSubType> features_;
+  causal_twin::ConditionVector feature_msg_;
+  struct FeatureStream {
+    std::uint64_t last_sequence = 0;
+    std::int64_t last_time_ns = 0;
+    std::vector<std::string> channels;
+    std::string feature;
+  };
+  std::map<std::string, FeatureStream> feature_streams_;
+  std::uint64_t features_published_ = 0;
+  bool features_ready_ = false;  // the condition-input readers were waited for (before the first feature row)
   FrameBacklog backlog_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> progress_;  // the estimators' published snapshots
   std::map<std::string, std::uint64_t> estimator_published_;  // last snapshot an estimator published, per group
