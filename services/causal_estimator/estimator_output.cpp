@@ -439,12 +439,10 @@ int EstimatorNode::log_summary() const {
     spdlog::error("{} inputs refused: their writers may not write their asset group ({} writer/group pairs)",
                   not_entitled, not_entitled_pairs_.size());
   }
-  // Samples the DDS readers refused before decoding them into a service type (sample_limits.hpp: a name past the
-  // name limit, a malformed sample): counted here too, so they reach the summary and the exit code.
-  const std::uint64_t dds_refused = dds::refusals_total();
+  const std::uint64_t dds_refused = dds::refusals_total();  // refused by the readers (sample_limits.hpp)
   spdlog::info("summary not_processed already_processed={} renumbered={} group_quota={} invalid={} not_entitled={} "
-               "dds_refused={} groups={}",
-               skipped, renumbered, quota_.refused_inputs(), invalid_msgs_, not_entitled, dds_refused, assets_.size());
+               "groups={} dds_refused={}",
+               skipped, renumbered, quota_.refused_inputs(), invalid_msgs_, not_entitled, assets_.size(), dds_refused);
   if (!options_.groups.all()) {
     // Machine-readable: the fault test checks that shards divide the groups exactly.
     spdlog::info("summary shard={} groups={} foreign={} filter='{}'", options_.shard_name, assets_.size(),

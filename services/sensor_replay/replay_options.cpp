@@ -31,10 +31,11 @@ std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& ex
                   "merged_dataset_BearingTest_2.csv; publishes condition vectors")
       ->check(CLI::ExistingFile);
   src->require_option(1);
-  app.add_option("--asset-group", o.asset_group, "asset-group id (the DDS key)")->capture_default_str();
+  app.add_option("--asset-group", o.asset_group, "asset-group id (the DDS key; 1 to 255 bytes)")->capture_default_str();
   app.add_option("--channels", o.channels, "1-based channels to publish, e.g. --channels 1 2 3 4 (default: all)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--channel-names", o.channel_names, "names for the published channels (default: from the source)");
+  app.add_option("--channel-names", o.channel_names,
+                 "names for the published channels, 1 to 255 bytes each (default: from the source)");
   app.add_option("--unit", o.unit, "engineering unit of raw samples")->capture_default_str();
   app.add_option("--sample-rate", o.sample_rate_hz, "sampling rate of raw sources, Hz")
       ->check(CLI::PositiveNumber)

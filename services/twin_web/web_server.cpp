@@ -83,6 +83,26 @@ std::unique_ptr<httplib::Server> make_server(const WebOptions& o) {
   return server;
 }
 
+// The largest request body taken (a what-if question is about 100 bytes).
+constexpr std::size_t kMaxBodyBytes = 64 * 1024;
+
+// Bodies are refused before they are read (the pre-routing handler runs before the library reads one): a
+// compressed body would be inflated by the library without a bound (a 408 kB gzip POST took 1.33 GB), and no
+// route needs one; a body past kMaxBodyBytes is refused by its announced length (the library's payload limit
+// stops a chunked one).
+Verdict check_body(const httplib::Request& req) {
+  const std::string encoding = req.get_header_value("Content-Encoding");
+  if (!encoding.empty() && encoding != "identity") {
+    return {415, "compressed_body", "Content-Encoding " + encoding.substr(0, 40)};
+  }
+  const std::string length = req.get_header_value("Content-Length");
+  const bool digits = length.find_first_not_of("0123456789") == std::string::npos;
+  if (!length.empty() && (!digits || length.size() > 9 || std::stoul(length) > kMaxBodyBytes)) {
+    return {413, "body_too_large", "Content-Length " + length.substr(0, 40)};
+  }
+  return {};
+}
+
 std::string host_name() {
   char host[128] = "host";
   gethostname(host, sizeof host - 1);
@@ -183,6 +203,7 @@ WebServer::WebServer(WebOptions options, TwinState& state, WhatIfBridge& whatif,
   // pages and the what-if questions (which wait for their reply) never starve each other.
   const std::size_t threads = static_cast<std::size_t>(options_.max_event_streams) + 8;
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  server_->set_payload_max_length(kMaxBodyBytes);
   guard_requests();
   routes();
   if (options_.port == 0) {
@@ -219,11 +240,12 @@ void WebServer::guard_requests() {
                    req.get_header_value("Sec-Fetch-Site"),
                    req.get_header_value("X-Twin-CSRF"),
                    req.get_header_value("Authorization")};
-    const Verdict v = guard_->check(f);
+    Verdict v = guard_->check(f);
+    if (v.status == 0) v = check_body(req);
     if (v.status == 0) return httplib::Server::HandlerResponse::Unhandled;
     auto& counter = metrics::process_metrics().counter(
         "web_requests_refused_total", "HTTP requests refused: Host not allowed, cross-origin, no CSRF token, "
-        "no credentials", {{"reason", v.reason}});
+        "no credentials, a compressed or too large body", {{"reason", v.reason}});
     counter.inc();
     const auto n = static_cast<std::uint64_t>(counter.value());
     if (n == 1 || n % 100 == 0) {

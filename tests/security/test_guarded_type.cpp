@@ -107,3 +107,21 @@ TEST(GuardedType, KeyHashEqualsTheGeneratedOneAndALongKeyNoLongerThrows) {
   EXPECT_TRUE(guarded.getKey(&b, &h2, false));
   EXPECT_NE(h1, h2);
 }
+
+TEST(GuardedType, ChannelNamesMeetTheOneNameLimit) {
+  // 255-byte channel names (causal/io/name_limits.hpp) are taken, 256-byte ones refused and counted once, in
+  // frames and condition vectors alike (64 kB names used to be processed, then refused by every reader of the
+  // factors as outcome_name id_too_long).
+  using namespace causal_twin;
+  for (const std::size_t bytes : {std::size_t{255}, std::size_t{256}}) {
+    const bool allowed = bytes <= causal::io::kMaxNameBytes;
+    auto f = frame("fuzz-g");
+    f.channel_names({"b1", "b2", std::string(bytes, 'c'), "b4"});
+    auto v = condition("fuzz-g");
+    v.channel_names({"b1", "b2", "b3", std::string(bytes, 'c')});
+    const auto before = causal::dds::refusals_total();
+    EXPECT_EQ(guarded_decode<VibrationFramePubSubType>(encode<VibrationFramePubSubType>(f)), allowed) << bytes;
+    EXPECT_EQ(guarded_decode<ConditionVectorPubSubType>(encode<ConditionVectorPubSubType>(v)), allowed) << bytes;
+    EXPECT_EQ(causal::dds::refusals_total(), before + (allowed ? 0u : 2u)) << bytes;
+  }
+}

@@ -5,6 +5,8 @@
 #  * a what-if POST with a foreign Origin, with Sec-Fetch-Site cross-site, without or with a wrong CSRF token
 #    is refused (403); the same-origin POST with the page's token passes (504: no alarm-recommender answers
 #    on this private domain, which shows the question went out), an over-long asset group is refused (400);
+#  * a compressed body (gzip) is refused unread (415), a body over 64 KiB too (413), twin-web's peak RSS stays
+#    under 100 MB;
 #  * the refusals are counted exactly (causal_twin_web_requests_refused_total per reason on /metrics);
 #  * with --tls-cert/--tls-key (a certificate openssl makes here) and --basic-auth-file, plain HTTP gets no
 #    page, HTTPS without or with wrong credentials gets 401, with the right ones 200.
@@ -64,11 +66,26 @@ long=$(printf 'g%.0s' $(seq 1 300))
 check "same-origin POST, asset group of 300 bytes" 400 \
   "$(status -X POST -H 'Content-Type: application/json' --data "{\"asset_group\":\"$long\",\"channel\":1,\"percent\":-10}" \
      -H "Origin: $base" -H "X-Twin-CSRF: $token" "$base/api/whatif")"
+# Bodies: a compressed one is refused before it is read (a 408 kB gzip POST used to inflate to 1.33 GB), as is
+# one announced longer than 64 KiB; the page's POSTs are neither.
+head -c 50000000 /dev/zero | tr '\0' ' ' | sed 's/^/{"asset_group":"g1","channel":1,"percent":-10,"pad":"/; s/$/"}/' \
+  | gzip -9 > "$work/bomb.gz"
+check "gzip POST (50 MB inflated) refused unread" 415 \
+  "$(status -X POST -H 'Content-Type: application/json' -H 'Content-Encoding: gzip' --data-binary "@$work/bomb.gz" \
+     -H "Origin: $base" -H "X-Twin-CSRF: $token" "$base/api/whatif")"
+head -c 70000 /dev/zero | tr '\0' ' ' > "$work/big"
+check "POST of 70,000 bytes" 413 \
+  "$(status -X POST -H 'Content-Type: application/json' --data-binary "@$work/big" \
+     -H "Origin: $base" -H "X-Twin-CSRF: $token" "$base/api/whatif")"
+rss_kb=$(awk '/VmHWM/ {print $2}' "/proc/${pids[0]}/status")
+check "twin-web peak RSS under 100 MB after the bodies" 1 "$([ "$rss_kb" -lt 102400 ] && echo 1 || echo "$rss_kb kB")"
 metrics=$(curl -s "http://127.0.0.1:$mport/metrics")
 count() { echo "$metrics" | sed -n "s/^causal_twin_web_requests_refused_total{reason=\"$1\"} \([0-9]*\).*/\1/p"; }
 check "refusals counted: host_not_allowed" 1 "$(count host_not_allowed)"
 check "refusals counted: cross_origin" 2 "$(count cross_origin)"
 check "refusals counted: csrf_token" 2 "$(count csrf_token)"
+check "refusals counted: compressed_body" 1 "$(count compressed_body)"
+check "refusals counted: body_too_large" 1 "$(count body_too_large)"
 
 # TLS and basic authentication.
 openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -days 1 -subj "/CN=localhost" \
