@@ -2,6 +2,8 @@
 // recommendations as CSV files. See --help.
 #include "recorder_node.hpp"
 
+#include "causal/history/history_store.hpp"
+
 #include <CLI/CLI.hpp>
 #include "causal/config/cli_conventions.hpp"
 #include <spdlog/spdlog.h>
@@ -28,7 +30,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--db", o.db_url,
                  "also write the history to a database: sqlite:PATH (a file, WAL) or postgresql://... (libpq URI);\n"
-                 "tables and queries: docs/historian.md");
+                 "tables and queries: docs/historian.md. Given twice, the last counts (RECORDER_ARGS overrides the unit's)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast)
+      ->check([](const std::string& url) { return causal::history::url_problem(url); });
   app.add_option("--retention-days", o.retention_days,
                  "delete database rows whose data time is older than this many days (0 = keep everything)")
       ->check(CLI::NonNegativeNumber)

@@ -1,6 +1,8 @@
 // twin-web: the live twin in the browser. See --help.
 #include "twin_web_node.hpp"
 
+#include "causal/history/history_store.hpp"
+
 #include <CLI/CLI.hpp>
 #include "causal/config/cli_conventions.hpp"
 
@@ -52,7 +54,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--db", o.db_url,
                  "the historian's database (sqlite:PATH or postgresql://..., as causal-recorder --db): drawn at start,\n"
-                 "so the page is complete after a restart, and older ranges served on /api/history");
+                 "so the page is complete after a restart, and older ranges served on /api/history")
+      ->check([](const std::string& url) { return causal::history::url_problem(url); });
   CAUSAL_CLI_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "twin-web", o.dds,
                                   [&] { return std::make_unique<causal::web::TwinWebNode>(std::move(o)); });

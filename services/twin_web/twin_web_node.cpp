@@ -33,7 +33,8 @@ void TwinWebNode::load_history_at_start() {
     return;
   }
   history_ = history::open_history(options_.db_url);  // throws HistoryError (a std::runtime_error)
-  const HistoryLoad load = load_history(*history_, state_, history::RangeQuery{});
+  loaded_ = load_history(*history_, state_, history::RangeQuery{});
+  const HistoryLoad& load = loaded_;
   spdlog::info("history {}: {} condition vectors, {} alarm events, {} recommendations, {} prognoses, {} status lines",
                history_->describe(), load.condition_vectors, load.alarm_events, load.recommendations, load.prognoses,
                load.statuses);
@@ -74,7 +75,18 @@ int TwinWebNode::run() {
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
   whatif_.stop();
   web_->stop();
-  const StateCounters c = state_.counters();
+  StateCounters c = state_.counters();
+  // The topic lines count DDS samples: what the history database gave at start is said apart.
+  if (history_) {
+    spdlog::info("summary history={} condition_vectors={} alarm_events={} recommendations={} prognoses={} statuses={} "
+                 "unreadable={}", history_->describe(), loaded_.condition_vectors, loaded_.alarm_events,
+                 loaded_.recommendations, loaded_.prognoses, loaded_.statuses, loaded_.unreadable);
+  }
+  c.condition_vectors -= loaded_.condition_vectors;
+  c.alarm_events -= loaded_.alarm_events;
+  c.recommendations -= loaded_.recommendations;
+  c.prognoses -= loaded_.prognoses;
+  c.statuses -= loaded_.statuses;
   spdlog::info("summary topic={} received={} duplicates={} refused={} forgotten={}", dds::topics::kConditionVector,
                c.condition_vectors, c.duplicates, c.rejected_vectors, c.trend_points_forgotten);
   spdlog::info("summary topic={} received={} skipped={} refused={}", dds::topics::kCausalFactors,

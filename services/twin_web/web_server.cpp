@@ -301,16 +301,7 @@ void WebServer::routes() {
     const auto body = state_.json();
     res.set_content(*body, "application/json");
   });
-  // ?group=ID&from=UTC&to=UTC: a range from the historian's database (history_routes.hpp).
-  s.Get("/api/history", [this](const httplib::Request& req, httplib::Response& res) {
-    HistoryRoutes none(nullptr, 0);
-    const HistoryReply reply = (history_ ? *history_ : none)
-                                   .range(req.get_param_value("group"), req.get_param_value("from"),
-                                          req.get_param_value("to"));
-    res.status = reply.status;
-    res.set_header("Cache-Control", "no-store");
-    res.set_content(reply.body, "application/json");
-  });
+  history_route();
   s.Get("/api/events", [this](const httplib::Request& req, httplib::Response& res) {
     if (event_streams_.fetch_add(1) >= options_.max_event_streams) {
       --event_streams_;
@@ -378,6 +369,19 @@ void WebServer::routes() {
     std::snprintf(msg, sizeof msg, "no reply within %.0f s%s", options_.whatif_timeout_s,
                   reader ? "" : ": no alarm-recommender reads what-if requests");
     send_json(res, 504, {{"answered", false}, {"error", msg}});
+  });
+}
+
+// ?group=ID&from=UTC&to=UTC: a range from the historian's database (history_routes.hpp: the logic).
+void WebServer::history_route() {
+  server_->Get("/api/history", [this](const httplib::Request& req, httplib::Response& res) {
+    HistoryRoutes none(nullptr, 0);
+    const HistoryReply reply = (history_ ? *history_ : none)
+                                   .range(req.get_param_value("group"), req.get_param_value("from"),
+                                          req.get_param_value("to"));
+    res.status = reply.status;
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(reply.body, "application/json");
   });
 }
 

@@ -53,6 +53,7 @@ class WebServer {
 
  private:
   void routes();
+  void history_route();  // GET /api/history (twin-web --db)
   void guard_requests();
 
   WebOptions options_;

@@ -68,8 +68,10 @@ class HistoryStoreTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
     if (GetParam() == "sqlite") {
-      dir_ = fs::temp_directory_path() / ("causal-history-" + std::to_string(getpid()) + "-" +
-                                          ::testing::UnitTest::GetInstance()->current_test_info()->name());
+      // One folder per test (the parameterised name "Test/sqlite" is no file name: '/' replaced).
+      std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+      for (char& c : name) c = c == '/' ? '-' : c;
+      dir_ = fs::temp_directory_path() / ("causal-history-" + std::to_string(getpid()) + "-" + name);
       fs::remove_all(dir_);
       url_ = "sqlite:" + (dir_ / "sub" / "history.db").string();  // the folder is created
     } else {

@@ -31,14 +31,16 @@ std::size_t HistoryStore::commit() {
   return stored;
 }
 
+std::string url_problem(const std::string& url) {
+  if (url.rfind("sqlite:", 0) == 0) return url.size() > 7 ? "" : "sqlite:PATH needs a file path";
+  if (url.rfind("postgresql://", 0) == 0 || url.rfind("postgres://", 0) == 0) return "";
+  return "'" + redact_url(url) + "' is no history URL: expected sqlite:PATH or postgresql://...";
+}
+
 std::unique_ptr<HistoryStore> open_history(const std::string& url) {
-  if (url.rfind("sqlite:", 0) == 0) {
-    const std::string path = url.substr(7);
-    if (path.empty()) throw HistoryError("history URL '" + url + "': sqlite:PATH needs a file path");
-    return open_sqlite(path);
-  }
-  if (url.rfind("postgresql://", 0) == 0 || url.rfind("postgres://", 0) == 0) return open_postgres(url);
-  throw HistoryError("history URL '" + url + "': expected sqlite:PATH or postgresql://...");
+  if (const std::string problem = url_problem(url); !problem.empty()) throw HistoryError("history URL: " + problem);
+  if (url.rfind("sqlite:", 0) == 0) return open_sqlite(url.substr(7));
+  return open_postgres(url);
 }
 
 std::string redact_url(const std::string& url) {

@@ -95,6 +95,9 @@ class HistoryStore {
 // Opens (and creates: tables, indices) the history named by url: "sqlite:PATH" (a file, created with its
 // folder) or "postgresql://..." / "postgres://..." (a libpq connection URI). Throws HistoryError.
 std::unique_ptr<HistoryStore> open_history(const std::string& url);
+// "" when url names a backend (sqlite:PATH with a path, postgresql:// or postgres://), else why not: for the
+// command lines, which refuse a bad --db as a usage error before anything starts.
+std::string url_problem(const std::string& url);
 
 // The SQL text of one cell as the CSV spells it: "true"/"false" for Boolean, numbers as written.
 // Integer and Real cells that do not parse are refused by add() (HistoryError naming the column).
