@@ -6,6 +6,7 @@
 #include <netdb.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -14,6 +15,7 @@
 #include <condition_variable>
 #include <cstring>
 #include <deque>
+#include <unordered_map>
 #include <mutex>
 #include <thread>
 
@@ -142,6 +144,46 @@ struct HttpServer::Impl {
   std::vector<std::thread> workers;
   bool stopping = false;
 
+  // The request deadline: per connection, its socket and since when a request is being received. A connection
+  // leaves the map (under clocks_m) before libmicrohttpd closes its socket, so a shutdown never hits a reused fd.
+  struct Clock {
+    int fd = -1;
+    std::chrono::steady_clock::time_point since;
+    bool receiving = true;
+  };
+  std::mutex clocks_m;
+  std::condition_variable clocks_cv;
+  std::unordered_map<MHD_Connection*, Clock> clocks;
+  std::thread reaper;
+
+  void clock(MHD_Connection* c, bool receiving) {
+    std::lock_guard<std::mutex> lock(clocks_m);
+    const auto it = clocks.find(c);
+    if (it == clocks.end()) return;
+    it->second.receiving = receiving;
+    it->second.since = std::chrono::steady_clock::now();
+  }
+
+  void reap() {
+    std::unique_lock<std::mutex> lock(clocks_m);
+    for (;;) {
+      clocks_cv.wait_for(lock, std::chrono::seconds(1));
+      {
+        std::lock_guard<std::mutex> stop_lock(m);
+        if (stopping) return;
+      }
+      const auto limit = std::chrono::steady_clock::now() - std::chrono::seconds(kRequestDeadlineS);
+      for (auto& [c, k] : clocks) {
+        if (!k.receiving || k.since > limit) continue;
+        k.receiving = false;
+        shutdown(k.fd, SHUT_RDWR);  // the polling thread sees the end and closes the connection
+        if (owner.on_refusal_) {
+          owner.on_refusal_("request_deadline", "no complete request within " + std::to_string(kRequestDeadlineS) + " s");
+        }
+      }
+    }
+  }
+
   Impl(HttpServer& o, ServerTls t) : owner(o), tls(std::move(t)) {}
 
   void work() {
@@ -159,6 +201,7 @@ struct HttpServer::Impl {
   }
 
   MHD_Result queue(MHD_Connection* connection, HttpResponse& res) {
+    clock(connection, false);
     MHD_Response* r = nullptr;
     if (res.stream) {
       auto stream = std::make_shared<Stream>();
@@ -224,6 +267,7 @@ MHD_Result HttpServer::Impl::start_request(MHD_Connection* connection, const cha
                                            void** con_cls) {
   // The header count is bounded here; their bytes already were, by the connection's memory pool.
   if (MHD_get_connection_values(connection, MHD_HEADER_KIND, nullptr, nullptr) > static_cast<int>(kMaxHeaders)) {
+    if (owner.on_refusal_) owner.on_refusal_("too_many_headers", "more than " + std::to_string(kMaxHeaders));
     return refuse(connection, 431, "too_many_headers: more than " + std::to_string(kMaxHeaders));
   }
   auto ex = std::make_shared<Exchange>();
@@ -261,7 +305,9 @@ MHD_Result HttpServer::Impl::on_request(MHD_Connection* connection, const char* 
     *upload_size = 0;
     return MHD_YES;
   }
+  clock(connection, false);  // the request is in
   if (ex->too_large) {
+    if (owner.on_refusal_) owner.on_refusal_("body_too_large", "chunked body over " + std::to_string(kMaxBodyBytes));
     return refuse(connection, 413, "body_too_large: more than " + std::to_string(kMaxBodyBytes) + " bytes");
   }
   if (!ex->dispatched) {  // the handler may wait: it runs on a worker while the connection is suspended
@@ -285,9 +331,21 @@ MHD_Result access_handler(void* cls, MHD_Connection* connection, const char* url
   return static_cast<HttpServer::Impl*>(cls)->on_request(connection, url, method, upload, upload_size, con_cls);
 }
 
-void request_completed(void*, MHD_Connection*, void** con_cls, MHD_RequestTerminationCode) {
+void request_completed(void* cls, MHD_Connection* connection, void** con_cls, MHD_RequestTerminationCode) {
   delete static_cast<std::shared_ptr<Exchange>*>(*con_cls);
   *con_cls = nullptr;
+  static_cast<HttpServer::Impl*>(cls)->clock(connection, true);  // the next request's deadline starts now
+}
+
+void connection_changed(void* cls, MHD_Connection* connection, void**, MHD_ConnectionNotificationCode code) {
+  auto& impl = *static_cast<HttpServer::Impl*>(cls);
+  std::lock_guard<std::mutex> lock(impl.clocks_m);
+  if (code == MHD_CONNECTION_NOTIFY_CLOSED) {
+    impl.clocks.erase(connection);
+    return;
+  }
+  const MHD_ConnectionInfo* info = MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CONNECTION_FD);
+  if (info) impl.clocks[connection] = {info->connect_fd, std::chrono::steady_clock::now(), true};
 }
 
 }  // namespace
@@ -323,10 +381,12 @@ int HttpServer::listen(const std::string& address, int port) {
       flags, 0, nullptr, nullptr, access_handler, impl_.get(), MHD_OPTION_SOCK_ADDR, &where,
       MHD_OPTION_CONNECTION_MEMORY_LIMIT, static_cast<size_t>(kConnectionMemoryBytes), MHD_OPTION_CONNECTION_LIMIT,
       kMaxConnections, MHD_OPTION_PER_IP_CONNECTION_LIMIT, kMaxConnectionsPerAddress, MHD_OPTION_CONNECTION_TIMEOUT,
-      kIdleTimeoutS, MHD_OPTION_NOTIFY_COMPLETED, request_completed, nullptr, MHD_OPTION_HTTPS_MEM_CERT,
+      kIdleTimeoutS, MHD_OPTION_NOTIFY_COMPLETED, request_completed, impl_.get(),
+      MHD_OPTION_NOTIFY_CONNECTION, connection_changed, impl_.get(), MHD_OPTION_HTTPS_MEM_CERT,
       tls ? impl_->tls.cert_pem.c_str() : nullptr, MHD_OPTION_HTTPS_MEM_KEY, tls ? impl_->tls.key_pem.c_str() : nullptr,
       MHD_OPTION_END);
   if (!impl_->daemon) return 0;
+  impl_->reaper = std::thread([this] { impl_->reap(); });
   const MHD_DaemonInfo* info = MHD_get_daemon_info(impl_->daemon, MHD_DAEMON_INFO_BIND_PORT);
   return info ? info->port : port;
 }
@@ -343,6 +403,8 @@ void HttpServer::stop() {
   for (auto& w : impl_->workers) {
     if (w.joinable()) w.join();
   }
+  impl_->clocks_cv.notify_all();
+  if (impl_->reaper.joinable()) impl_->reaper.join();
   if (impl_->daemon) {
     MHD_stop_daemon(impl_->daemon);
     impl_->daemon = nullptr;

@@ -29,6 +29,9 @@ constexpr std::size_t kConnectionMemoryBytes = 64 * 1024;
 constexpr unsigned kMaxConnections = 512;
 constexpr unsigned kMaxConnectionsPerAddress = 64;
 constexpr unsigned kIdleTimeoutS = 10;
+// A request (its headers and body) must arrive within this many seconds of the connection's start or of the
+// previous response: a client that trickles one byte a second is never idle, so only this closes it.
+constexpr unsigned kRequestDeadlineS = 15;
 
 struct HttpRequest {
   std::string method;       // GET, HEAD, POST, ...
@@ -81,6 +84,11 @@ class HttpServer {
   void Get(const std::string& path, HttpHandler handler);  // also answers HEAD
   void Post(const std::string& path, HttpHandler handler);
   void set_pre_routing_handler(PreRoutingHandler handler) { pre_routing_ = std::move(handler); }
+  // Told of every refusal the server makes itself (reason, detail): too_many_headers, body_too_large (a chunked
+  // body), request_deadline. Called on the polling thread or the deadline thread.
+  void set_refusal_observer(std::function<void(const std::string&, const std::string&)> observer) {
+    on_refusal_ = std::move(observer);
+  }
   void set_default_headers(std::vector<std::pair<std::string, std::string>> headers) {
     default_headers_ = std::move(headers);
   }
@@ -93,6 +101,7 @@ class HttpServer {
  private:
   std::unique_ptr<Impl> impl_;
   PreRoutingHandler pre_routing_;
+  std::function<void(const std::string&, const std::string&)> on_refusal_;
   std::vector<std::pair<std::string, std::string>> default_headers_;
   std::map<std::string, HttpHandler> get_routes_;
   std::map<std::string, HttpHandler> post_routes_;

@@ -220,7 +220,25 @@ void WebServer::stop() {
   if (server_) server_->stop();
 }
 
+namespace {
+
+void count_refusal(const std::string& reason, const std::string& detail, const std::string& request) {
+  auto& counter = metrics::process_metrics().counter(
+      "web_requests_refused_total", "HTTP requests refused: Host not allowed, cross-origin, no CSRF token, "
+      "no credentials, a compressed or too large body, too many headers, past the request deadline",
+      {{"reason", reason}});
+  counter.inc();
+  const auto n = static_cast<std::uint64_t>(counter.value());
+  if (n == 1 || n % 100 == 0) {
+    spdlog::warn("refused {}: {} ({}; {} refused for this reason so far)", request, reason, detail, n);
+  }
+}
+
+}  // namespace
+
 void WebServer::guard_requests() {
+  server_->set_refusal_observer(
+      [](const std::string& reason, const std::string& detail) { count_refusal(reason, detail, "a request"); });
   std::vector<std::pair<std::string, std::string>> headers;
   for (const auto& [k, v] : security_headers()) headers.emplace_back(k, v);
   server_->set_default_headers(headers);
@@ -234,15 +252,7 @@ void WebServer::guard_requests() {
     Verdict v = guard_->check(f);
     if (v.status == 0) v = check_body(req);
     if (v.status == 0) return false;
-    auto& counter = metrics::process_metrics().counter(
-        "web_requests_refused_total", "HTTP requests refused: Host not allowed, cross-origin, no CSRF token, "
-        "no credentials, a compressed or too large body", {{"reason", v.reason}});
-    counter.inc();
-    const auto n = static_cast<std::uint64_t>(counter.value());
-    if (n == 1 || n % 100 == 0) {
-      spdlog::warn("refused {} {} from {}: {} ({}; {} refused for this reason so far)", req.method, req.path,
-                   req.remote_addr, v.reason, v.detail, n);
-    }
+    count_refusal(v.reason, v.detail, req.method + " " + req.path + " from " + req.remote_addr);
     if (v.status == 401) res.set_header("WWW-Authenticate", "Basic realm=\"causal-twin\", charset=\"UTF-8\"");
     send_json(res, v.status, {{"answered", false}, {"error", v.reason + ": " + v.detail}});
     return true;
