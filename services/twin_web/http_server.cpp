@@ -282,12 +282,8 @@ MHD_Result HttpServer::Impl::start_request(MHD_Connection* connection, const cha
     if (stopping) return refuse(connection, 503, "twin-web is stopping");
   }
   if (owner.pre_routing_ && owner.pre_routing_(req, ex->response)) return queue(connection, ex->response);
-  const std::map<std::string, HttpHandler>* routes = nullptr;
-  if (req.method == "GET" || req.method == "HEAD") routes = &owner.get_routes_;
-  if (req.method == "POST") routes = &owner.post_routes_;
-  const auto route = routes ? routes->find(req.path) : owner.get_routes_.end();
-  if (!routes || route == routes->end()) return refuse(connection, 404, "not found");
-  ex->handler = &route->second;
+  ex->handler = owner.route(req);
+  if (!ex->handler) return refuse(connection, 404, "not found");
   *con_cls = new std::shared_ptr<Exchange>(ex);
   return MHD_YES;
 }
@@ -356,8 +352,36 @@ HttpServer::HttpServer(ServerTls tls, std::size_t workers) : impl_(std::make_uni
 
 HttpServer::~HttpServer() { stop(); }
 
-void HttpServer::Get(const std::string& path, HttpHandler handler) { get_routes_[path] = std::move(handler); }
-void HttpServer::Post(const std::string& path, HttpHandler handler) { post_routes_[path] = std::move(handler); }
+namespace {
+
+bool is_pattern(const std::string& path) { return path.find_first_of("()[]*+?\\|{}^$") != std::string::npos; }
+
+}  // namespace
+
+void HttpServer::Get(const std::string& path, HttpHandler handler) {
+  HttpHandler& slot = get_routes_[path] = std::move(handler);
+  if (is_pattern(path)) get_patterns_.emplace_back(std::regex(path), &slot);
+}
+
+void HttpServer::Post(const std::string& path, HttpHandler handler) {
+  HttpHandler& slot = post_routes_[path] = std::move(handler);
+  if (is_pattern(path)) post_patterns_.emplace_back(std::regex(path), &slot);
+}
+
+const HttpHandler* HttpServer::route(HttpRequest& req) const {
+  const bool get = req.method == "GET" || req.method == "HEAD";
+  if (!get && req.method != "POST") return nullptr;
+  const auto& exact = get ? get_routes_ : post_routes_;
+  if (const auto it = exact.find(req.path); it != exact.end() && !is_pattern(req.path)) return &it->second;
+  std::smatch m;
+  for (const auto& [pattern, handler] : get ? get_patterns_ : post_patterns_) {
+    if (std::regex_match(req.path, m, pattern)) {
+      for (const auto& part : m) req.matches.push_back(part.str());
+      return handler;
+    }
+  }
+  return nullptr;
+}
 
 int HttpServer::listen(const std::string& address, int port) {
   addrinfo hints{};

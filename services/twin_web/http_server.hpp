@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <regex>
 #include <memory>
 #include <string>
 #include <utility>
@@ -40,6 +41,7 @@ struct HttpRequest {
   std::string body;
   std::map<std::string, std::string> headers;  // names in lower case
   std::map<std::string, std::string> params;   // the query, decoded
+  std::vector<std::string> matches;            // a pattern route's captures ([0]: the whole path), as std::smatch
 
   std::string get_header_value(const std::string& name) const;  // "" when absent (name in any case)
   bool has_param(const std::string& name) const { return params.count(name) != 0; }
@@ -81,6 +83,8 @@ class HttpServer {
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
 
+  // path: exact, or an ECMAScript pattern matched against the whole path (e.g. R"(/api/alarms/([^/]+)/ack)"),
+  // its captures in HttpRequest::matches; exact paths are looked up first.
   void Get(const std::string& path, HttpHandler handler);  // also answers HEAD
   void Post(const std::string& path, HttpHandler handler);
   void set_pre_routing_handler(PreRoutingHandler handler) { pre_routing_ = std::move(handler); }
@@ -99,12 +103,16 @@ class HttpServer {
   struct Impl;
 
  private:
+  const HttpHandler* route(HttpRequest& req) const;  // fills req.matches for a pattern route; null: none
+
   std::unique_ptr<Impl> impl_;
   PreRoutingHandler pre_routing_;
   std::function<void(const std::string&, const std::string&)> on_refusal_;
   std::vector<std::pair<std::string, std::string>> default_headers_;
   std::map<std::string, HttpHandler> get_routes_;
   std::map<std::string, HttpHandler> post_routes_;
+  std::vector<std::pair<std::regex, const HttpHandler*>> get_patterns_;  // into the maps above
+  std::vector<std::pair<std::regex, const HttpHandler*>> post_patterns_;
   friend struct Impl;
 };
 
