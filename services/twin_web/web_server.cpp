@@ -5,7 +5,6 @@
 #include "causal/dds/sample_limits.hpp"
 #include "causal/metrics/metrics_registry.hpp"
 
-#include <httplib.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -46,7 +45,7 @@ void replace_marker(std::string& body, const char* marker, const std::string& va
   if (const auto at = body.find(marker); at != std::string::npos) body.replace(at, std::string(marker).size(), value);
 }
 
-void send_json(httplib::Response& res, int status, const json& body) {
+void send_json(HttpResponse& res, int status, const json& body) {
   res.status = status;
   res.set_header("Cache-Control", "no-store");
   res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
@@ -72,25 +71,26 @@ std::unique_ptr<RequestGuard> make_guard(const WebOptions& o) {
   return std::make_unique<RequestGuard>(std::move(g));
 }
 
-std::unique_ptr<httplib::Server> make_server(const WebOptions& o) {
+std::unique_ptr<HttpServer> make_server(const WebOptions& o) {
   if (o.tls_cert.empty() != o.tls_key.empty()) throw std::invalid_argument("give both --tls-cert and --tls-key, or neither");
-  if (o.tls_cert.empty()) return std::make_unique<httplib::Server>();
-  auto server = std::make_unique<httplib::SSLServer>(o.tls_cert.c_str(), o.tls_key.c_str());
-  if (!server->is_valid()) {
-    throw std::invalid_argument("--tls-cert " + o.tls_cert + " / --tls-key " + o.tls_key +
-                                ": not a PEM certificate and its private key");
+  ServerTls tls;
+  if (!o.tls_cert.empty()) {
+    tls.cert_pem = read_file(o.tls_cert);
+    tls.key_pem = read_file(o.tls_key);
+    if (tls.cert_pem.find("-----BEGIN") == std::string::npos || tls.key_pem.find("-----BEGIN") == std::string::npos) {
+      throw std::invalid_argument("--tls-cert " + o.tls_cert + " / --tls-key " + o.tls_key +
+                                  ": not a PEM certificate and its private key");
+    }
   }
-  return server;
+  // Server-Sent Events hold one worker per open page: more workers than that, so a few pages and the what-if
+  // questions (which wait for their reply) never starve each other.
+  return std::make_unique<HttpServer>(std::move(tls), static_cast<std::size_t>(o.max_event_streams) + 8);
 }
 
-// The largest request body taken (a what-if question is about 100 bytes).
-constexpr std::size_t kMaxBodyBytes = 64 * 1024;
-
-// Bodies are refused before they are read (the pre-routing handler runs before the library reads one): a
-// compressed body would be inflated by the library without a bound (a 408 kB gzip POST took 1.33 GB), and no
-// route needs one; a body past kMaxBodyBytes is refused by its announced length (the library's payload limit
-// stops a chunked one).
-Verdict check_body(const httplib::Request& req) {
+// Bodies are refused before they are read (the pre-routing handler runs once the headers are in): no route
+// needs a compressed body (one used to be inflated without a bound: a 408 kB gzip POST took 1.33 GB); a body
+// past kMaxBodyBytes is refused by its announced length (the server drops a chunked one past it: 413).
+Verdict check_body(const HttpRequest& req) {
   const std::string encoding = req.get_header_value("Content-Encoding");
   if (!encoding.empty() && encoding != "identity") {
     return {415, "compressed_body", "Content-Encoding " + encoding.substr(0, 40)};
@@ -199,41 +199,50 @@ WebServer::WebServer(WebOptions options, TwinState& state, WhatIfBridge& whatif,
     spdlog::warn("cannot read Chart.js at {} (Debian package libjs-chart.js): the page shows no trend chart",
                  options_.chartjs);
   }
-  // Server-Sent Events hold one pool thread per open page: more threads than httplib's default 8, so a few
-  // pages and the what-if questions (which wait for their reply) never starve each other.
-  const std::size_t threads = static_cast<std::size_t>(options_.max_event_streams) + 8;
-  server_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-  server_->set_payload_max_length(kMaxBodyBytes);
   guard_requests();
   routes();
-  if (options_.port == 0) {
-    port_ = server_->bind_to_any_port(options_.bind);
-  } else if (server_->bind_to_port(options_.bind, options_.port)) {
-    port_ = options_.port;
-  }
+  port_ = server_->listen(options_.bind, options_.port);
   if (port_ <= 0) {
     throw std::runtime_error("cannot listen on " + options_.bind + ":" + std::to_string(options_.port) +
-                             " (address in use, or not an address of this host)");
+                             (options_.tls_cert.empty() ? std::string(" (address in use, or not an address of this host)")
+                                                        : " (address in use, not an address of this host, or --tls-cert " +
+                                                              options_.tls_cert + " / --tls-key " + options_.tls_key +
+                                                              " not a PEM certificate and its private key)"));
   }
 }
 
 WebServer::~WebServer() { stop(); }
 
-void WebServer::start() {
-  thread_ = std::thread([this] { server_->listen_after_bind(); });
-}
+void WebServer::start() {}  // the server serves from listen() on (its own polling thread)
 
 void WebServer::stop() {
   stopping_.store(true);
   if (server_) server_->stop();
-  if (thread_.joinable()) thread_.join();
 }
 
+namespace {
+
+void count_refusal(const std::string& reason, const std::string& detail, const std::string& request) {
+  auto& counter = metrics::process_metrics().counter(
+      "web_requests_refused_total", "HTTP requests refused: Host not allowed, cross-origin, no CSRF token, "
+      "no credentials, a compressed or too large body, too many headers, past the request deadline",
+      {{"reason", reason}});
+  counter.inc();
+  const auto n = static_cast<std::uint64_t>(counter.value());
+  if (n == 1 || n % 100 == 0) {
+    spdlog::warn("refused {}: {} ({}; {} refused for this reason so far)", request, reason, detail, n);
+  }
+}
+
+}  // namespace
+
 void WebServer::guard_requests() {
-  httplib::Headers headers;
-  for (const auto& [k, v] : security_headers()) headers.emplace(k, v);
+  server_->set_refusal_observer(
+      [](const std::string& reason, const std::string& detail) { count_refusal(reason, detail, "a request"); });
+  std::vector<std::pair<std::string, std::string>> headers;
+  for (const auto& [k, v] : security_headers()) headers.emplace_back(k, v);
   server_->set_default_headers(headers);
-  server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+  server_->set_pre_routing_handler([this](const HttpRequest& req, HttpResponse& res) {
     RequestFacts f{req.method,
                    req.get_header_value("Host"),
                    req.get_header_value("Origin"),
@@ -242,19 +251,11 @@ void WebServer::guard_requests() {
                    req.get_header_value("Authorization")};
     Verdict v = guard_->check(f);
     if (v.status == 0) v = check_body(req);
-    if (v.status == 0) return httplib::Server::HandlerResponse::Unhandled;
-    auto& counter = metrics::process_metrics().counter(
-        "web_requests_refused_total", "HTTP requests refused: Host not allowed, cross-origin, no CSRF token, "
-        "no credentials, a compressed or too large body", {{"reason", v.reason}});
-    counter.inc();
-    const auto n = static_cast<std::uint64_t>(counter.value());
-    if (n == 1 || n % 100 == 0) {
-      spdlog::warn("refused {} {} from {}: {} ({}; {} refused for this reason so far)", req.method, req.path,
-                   req.remote_addr, v.reason, v.detail, n);
-    }
+    if (v.status == 0) return false;
+    count_refusal(v.reason, v.detail, req.method + " " + req.path + " from " + req.remote_addr);
     if (v.status == 401) res.set_header("WWW-Authenticate", "Basic realm=\"causal-twin\", charset=\"UTF-8\"");
     send_json(res, v.status, {{"answered", false}, {"error", v.reason + ": " + v.detail}});
-    return httplib::Server::HandlerResponse::Handled;
+    return true;
   });
 }
 
@@ -266,10 +267,10 @@ void WebServer::routes() {
     std::string body(asset.body.data(), asset.body.size());
     replace_marker(body, kCsrfMarker, guard_->csrf_token());
     const bool page = body.find(kInitialStateMarker) != std::string::npos;
-    auto serve = [this, asset, body, page](const httplib::Request& req, httplib::Response& res) {
+    auto serve = [this, asset, body, page](const HttpRequest& req, HttpResponse& res) {
       if (!page) {
         res.set_header("Cache-Control", "no-cache");
-        res.set_content(body, std::string(asset.content_type).c_str());
+        res.set_content(body, std::string(asset.content_type));
         return;
       }
       // ?group=ID, or the group the page would choose itself: the state it shows is in the response.
@@ -277,12 +278,12 @@ void WebServer::routes() {
       std::string filled = body;
       replace_marker(filled, kInitialStateMarker, script_safe(state_.page_json(group)));
       res.set_header("Cache-Control", "no-store");
-      res.set_content(filled, std::string(asset.content_type).c_str());
+      res.set_content(filled, std::string(asset.content_type));
     };
     s.Get(std::string(asset.path), serve);
     if (asset.path == "/index.html") s.Get("/", serve);
   }
-  s.Get("/vendor/chart.min.js", [this](const httplib::Request&, httplib::Response& res) {
+  s.Get("/vendor/chart.min.js", [this](const HttpRequest&, HttpResponse& res) {
     if (chartjs_.empty()) {
       res.status = 404;
       res.set_content("Chart.js not installed (" + options_.chartjs + ")", "text/plain");
@@ -292,7 +293,7 @@ void WebServer::routes() {
     res.set_content(chartjs_, "text/javascript; charset=utf-8");
   });
   // ?group=ID: what the page shows (every group's overview, that group in full); without: everything.
-  s.Get("/api/state", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/state", [this](const HttpRequest& req, HttpResponse& res) {
     res.set_header("Cache-Control", "no-store");
     if (req.has_param("group")) {
       res.set_content(state_.page_json(req.get_param_value("group")), "application/json");
@@ -302,7 +303,7 @@ void WebServer::routes() {
     res.set_content(*body, "application/json");
   });
   history_route();
-  s.Get("/api/events", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/events", [this](const HttpRequest& req, HttpResponse& res) {
     if (event_streams_.fetch_add(1) >= options_.max_event_streams) {
       --event_streams_;
       send_json(res, 503, {{"error", "too many open event streams: poll /api/state"}});
@@ -317,12 +318,12 @@ void WebServer::routes() {
     auto quiet = std::make_shared<int>(0);
     res.set_chunked_content_provider(
         "text/event-stream",
-        [this, group, seen, quiet](std::size_t, httplib::DataSink& sink) {
+        [this, group, seen, quiet](const StreamSink& sink) {
           if (stopping_.load()) return false;
           if (!state_.wait_for_change(group, *seen, std::chrono::milliseconds(500))) {
             if (++*quiet < 30) return true;
             *quiet = 0;
-            return sink.write(": keep-alive\n\n", 14);
+            return sink(": keep-alive\n\n");
           }
           *quiet = 0;
           *seen = state_.versions(group);
@@ -330,13 +331,13 @@ void WebServer::routes() {
           std::string event;
           event.reserve(body.size() + 32);
           event.append("event: state\ndata: ").append(body).append("\n\n");
-          if (!sink.write(event.data(), event.size())) return false;
+          if (!sink(event)) return false;
           std::this_thread::sleep_for(std::chrono::milliseconds(250));
           return !stopping_.load();
         },
-        [this](bool) { --event_streams_; });
+        [this] { --event_streams_; });
   });
-  s.Post("/api/whatif", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Post("/api/whatif", [this](const HttpRequest& req, HttpResponse& res) {
     const json body = json::parse(req.body, nullptr, false);
     if (body.is_discarded()) {
       send_json(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
@@ -374,7 +375,7 @@ void WebServer::routes() {
 
 // ?group=ID&from=UTC&to=UTC: a range from the historian's database (history_routes.hpp: the logic).
 void WebServer::history_route() {
-  server_->Get("/api/history", [this](const httplib::Request& req, httplib::Response& res) {
+  server_->Get("/api/history", [this](const HttpRequest& req, HttpResponse& res) {
     HistoryRoutes none(nullptr, 0);
     const HistoryReply reply = (history_ ? *history_ : none)
                                    .range(req.get_param_value("group"), req.get_param_value("from"),

@@ -1,10 +1,11 @@
-// twin-web's HTTP side (cpp-httplib, its own thread pool): the embedded page, Chart.js from Debian's
+// twin-web's HTTP side (http_server.hpp: libmicrohttpd, a worker pool): the embedded page, Chart.js from Debian's
 // libjs-chart.js, the state as JSON (/api/state), the same state pushed as Server-Sent Events (/api/events) and
 // what-if questions (POST /api/whatif). It only reads TwinState's serialised copy and talks to the DDS thread
 // through WhatIfBridge: no DDS call happens on a web thread.
 #pragma once
 
 #include "history_routes.hpp"
+#include "http_server.hpp"
 #include "twin_state.hpp"
 #include "web_guard.hpp"
 #include "whatif_bridge.hpp"
@@ -15,10 +16,6 @@
 #include <string>
 #include <thread>
 
-namespace httplib {
-class Server;
-}
-
 namespace causal::web {
 
 struct WebOptions {
@@ -26,7 +23,7 @@ struct WebOptions {
   int port = 8080;  // 0: any free port (logged)
   std::string chartjs = "/usr/share/javascript/chart.js/chart.min.js";
   double whatif_timeout_s = 10.0;
-  int max_event_streams = 8;  // open pages at once (each holds one pool thread); more get polling
+  int max_event_streams = 8;  // open pages at once (each holds one worker); more get polling
   // Hardening (web_guard.hpp): extra Host names, HTTPS (both files or neither), basic authentication.
   std::vector<std::string> allowed_hosts;
   std::string tls_cert;
@@ -62,13 +59,12 @@ class WebServer {
   std::function<std::size_t()> whatif_readers_;
   std::unique_ptr<RequestGuard> guard_;
   HistoryRoutes* history_ = nullptr;
-  std::unique_ptr<httplib::Server> server_;
+  std::unique_ptr<HttpServer> server_;
   std::string chartjs_;  // read once at start-up from the package path
   int port_ = 0;
   std::atomic<bool> stopping_{false};
   std::atomic<int> event_streams_{0};
   std::atomic<std::uint64_t> next_request_{0};
-  std::thread thread_;
 };
 
 }  // namespace causal::web
