@@ -33,7 +33,7 @@ Eigen::MatrixXd companion_from(const InstantaneousSolve& solve, const std::vecto
 bool radius_proved_below(const Eigen::MatrixXd& m, double bound) {
   if (m.size() == 0) return 0.0 < bound;
   if (!m.allFinite() || !(bound > 0.0)) return false;
-  constexpr int kSquarings = 6;  // up to m^64
+  constexpr int kSquarings = 10;  // up to m^1024: a draw near a unit root (rho 0.99) is still proved
   const double unit = 2.0 * static_cast<double>(m.rows()) * std::numeric_limits<double>::epsilon();
   Eigen::MatrixXd p = m;
   double limit = bound;          // bound^k

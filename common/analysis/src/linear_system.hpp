@@ -44,7 +44,7 @@ double spectral_radius(const Eigen::MatrixXd& m);
 Eigen::MatrixXd companion_from(const InstantaneousSolve& solve, const std::vector<Eigen::MatrixXd>& lags);
 
 // True only when rho(m) < bound is PROVED without an eigen-decomposition: rho(m) <= ||m^k||^(1/k) for every
-// induced norm (Gelfand), tried with the 1- and inf-norms for k = 1, 2, 4, .., 64 by repeated squaring, with
+// induced norm (Gelfand), tried with the 1- and inf-norms for k = 1, 2, 4, .., 1024 by repeated squaring, with
 // the rounding of the squarings bounded (||fl(P P) - P P|| <= 2 n eps ||P||^2) and added. False means "not
 // proved" (then compute spectral_radius()); a Monte Carlo draw of a settling model usually needs no
 // Hessenberg/Schur iteration at all, which was most of a what-if draw's cost at 20 channels.
