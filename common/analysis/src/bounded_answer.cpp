@@ -1,5 +1,6 @@
 #include "causal/analysis/bounded_answer.hpp"
 
+#include "intervention_draw.hpp"
 #include "posterior_draws.hpp"
 
 #include <algorithm>
@@ -52,13 +53,13 @@ double own_radius(const StructuralModel& model) { return check_dynamics(model).s
 DrawEffect evaluate(const StructuralModel& model, const InterventionQuery& query, int horizon) {
   InterventionQuery q = query;
   q.horizon = horizon + 1;  // path rows 0..H
-  const InterventionEffect e = predict_intervention(model, q);
+  const InterventionEffect e = detail::predict_intervention_draw(model, q);
   DrawEffect out;
   out.status = e.status;
   // A model that does not settle on its own describes trending data: a steady state of its intervened
   // system extrapolates to a regime the data never showed (and on simulated explosive systems it was
   // confidently wrong-signed), so the draw counts as unstable.
-  if (out.status == AnalysisStatus::ok && !(own_radius(model) < 1.0 - 1e-9)) out.status = AnalysisStatus::unstable;
+  if (out.status == AnalysisStatus::ok && !detail::settles(model)) out.status = AnalysisStatus::unstable;
   out.immediate = e.immediate;
   if (query.kind == InterventionKind::sustained) {
     out.at_horizon = e.path.row(horizon).transpose();

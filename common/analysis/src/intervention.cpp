@@ -1,9 +1,11 @@
 #include "causal/analysis/intervention.hpp"
 
+#include "intervention_draw.hpp"
 #include "linear_system.hpp"
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -27,13 +29,20 @@ Eigen::VectorXd lagged_drive(const StructuralModel& model, const Eigen::MatrixXd
   return rhs;
 }
 
-}  // namespace
-
-const char* to_string(InterventionKind kind) {
-  return kind == InterventionKind::impulse ? "impulse" : "sustained";
+// The dynamics of the system that runs after n0, from the (I - A0) factorisation predict() already has. Exact
+// (check_dynamics) unless `exact_radius` is false and the norms of companion powers prove it settles; the radius
+// is then that upper bound (< 1 - 1e-9), which is all a Monte Carlo draw needs.
+DynamicsCheck dynamics_after(const StructuralModel& after, const detail::InstantaneousSolve& solve, bool exact_radius) {
+  if (exact_radius || !solve.ok()) return check_dynamics(after);
+  const Eigen::MatrixXd c = detail::companion_from(solve, after.lags);
+  if (!detail::radius_proved_below(c, detail::kUnstableRadius)) return check_dynamics(after);
+  DynamicsCheck d;
+  d.rcond = solve.rcond();
+  d.spectral_radius = detail::kUnstableRadius;
+  return d;
 }
 
-InterventionEffect predict_intervention(const StructuralModel& model, const InterventionQuery& query) {
+InterventionEffect predict(const StructuralModel& model, const InterventionQuery& query, bool exact_radius) {
   validate_model(model);
   const int g = model.channels();
   const int j = query.channel;
@@ -72,14 +81,17 @@ InterventionEffect predict_intervention(const StructuralModel& model, const Inte
 
   // Steady state / cumulative need the system that runs after n0 to be stable.
   const StructuralModel& after = sustained ? cut : model;
-  const DynamicsCheck dynamics = check_dynamics(after);
+  // For a sustained shift the system after n0 is the cut one: its (I - A0c) is already factorised.
+  std::optional<detail::InstantaneousSolve> impulse_solve;
+  if (!sustained) impulse_solve.emplace(after.a0);
+  const detail::InstantaneousSolve& after_solve = sustained ? cut_solve : *impulse_solve;
+  const DynamicsCheck dynamics = dynamics_after(after, after_solve, exact_radius);
   effect.spectral_radius = dynamics.spectral_radius;
 
   // Path (W1) or the impulse recursion; rows stay NaN if the post-n0 system cannot be solved.
   if (query.horizon > 0) {
     effect.path.row(0) = effect.immediate.transpose();
     if (sustained || dynamics.status != AnalysisStatus::not_identifiable) {
-      const detail::InstantaneousSolve after_solve(after.a0);
       for (int t = 1; t < query.horizon; ++t) {
         Eigen::VectorXd rhs = lagged_drive(after, effect.path, t);
         if (sustained) rhs += forcing;
@@ -111,4 +123,29 @@ InterventionEffect predict_intervention(const StructuralModel& model, const Inte
   return effect;
 }
 
+}  // namespace
+
+const char* to_string(InterventionKind kind) {
+  return kind == InterventionKind::impulse ? "impulse" : "sustained";
+}
+
+InterventionEffect predict_intervention(const StructuralModel& model, const InterventionQuery& query) {
+  return predict(model, query, /*exact_radius=*/true);
+}
+
+namespace detail {
+
+InterventionEffect predict_intervention_draw(const StructuralModel& model, const InterventionQuery& query) {
+  return predict(model, query, /*exact_radius=*/false);
+}
+
+bool settles(const StructuralModel& model) {
+  if (!all_finite(model)) return false;
+  const InstantaneousSolve solve(model.a0);
+  if (!solve.ok()) return false;
+  const Eigen::MatrixXd c = companion_from(solve, model.lags);
+  return radius_proved_below(c, kUnstableRadius) || spectral_radius(c) < kUnstableRadius;
+}
+
+}  // namespace detail
 }  // namespace causal::analysis

@@ -1,6 +1,7 @@
 #include "linear_system.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -18,6 +19,37 @@ double spectral_radius(const Eigen::MatrixXd& m) {
   Eigen::EigenSolver<Eigen::MatrixXd> solver(m, /*computeEigenvectors=*/false);
   if (solver.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
   return solver.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+Eigen::MatrixXd companion_from(const InstantaneousSolve& solve, const std::vector<Eigen::MatrixXd>& lags) {
+  const Eigen::Index m = static_cast<Eigen::Index>(lags.size());
+  const Eigen::Index g = m > 0 ? lags.front().rows() : 0;
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(g * m, g * m);
+  for (Eigen::Index l = 0; l < m; ++l) c.block(0, l * g, g, g) = solve.solve(lags[static_cast<std::size_t>(l)]);
+  if (m > 1) c.block(g, 0, g * (m - 1), g * (m - 1)).setIdentity();
+  return c;
+}
+
+bool radius_proved_below(const Eigen::MatrixXd& m, double bound) {
+  if (m.size() == 0) return 0.0 < bound;
+  if (!m.allFinite() || !(bound > 0.0)) return false;
+  constexpr int kSquarings = 10;  // up to m^1024: a draw near a unit root (rho 0.99) is still proved
+  const double unit = 2.0 * static_cast<double>(m.rows()) * std::numeric_limits<double>::epsilon();
+  Eigen::MatrixXd p = m;
+  double limit = bound;          // bound^k
+  double err1 = 0.0, errinf = 0.0;  // bounds on ||P - m^k|| in the 1- and inf-norms (rounding of the squarings)
+  for (int s = 0;; ++s) {
+    const double n1 = p.cwiseAbs().colwise().sum().maxCoeff();
+    const double ninf = p.cwiseAbs().rowwise().sum().maxCoeff();
+    if (!std::isfinite(n1) || !std::isfinite(ninf)) return false;
+    // rho^k <= ||m^k|| <= ||P|| + ||P - m^k||
+    if (std::min(n1 + err1, ninf + errinf) < limit) return true;
+    if (s == kSquarings) return false;
+    err1 = unit * n1 * n1 + 2.0 * n1 * err1 + err1 * err1;
+    errinf = unit * ninf * ninf + 2.0 * ninf * errinf + errinf * errinf;
+    p = (p * p).eval();
+    limit *= limit;
+  }
 }
 
 }  // namespace causal::analysis::detail

@@ -143,14 +143,9 @@ StructuralModel graph_surgery(const StructuralModel& model, const std::vector<in
 
 Eigen::MatrixXd companion_matrix(const StructuralModel& model) {
   validate_model(model);
-  const int g = model.channels();
-  const int m = model.lag_order();
   detail::InstantaneousSolve solve(model.a0);
   if (!solve.ok()) throw std::invalid_argument("companion_matrix: (I - A0) is singular");
-  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(g * m, g * m);
-  for (int l = 0; l < m; ++l) c.block(0, l * g, g, g) = solve.solve(model.lags[static_cast<std::size_t>(l)]);
-  if (m > 1) c.block(g, 0, g * (m - 1), g * (m - 1)).setIdentity();
-  return c;
+  return detail::companion_from(solve, model.lags);
 }
 
 DynamicsCheck check_dynamics(const StructuralModel& model) {
