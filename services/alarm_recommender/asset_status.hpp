@@ -1,4 +1,4 @@
-// One operator line per asset group (causal_twin/asset_status, issue 24 finding 6), built from the group's alarm
+// One operator line per asset group (causal_twin/asset_status), built from the group's alarm
 // engines after every observation. States, in this order of precedence:
 //  * "alarm":    an open degradation alarm (either time scale): worst severity, its root cause, the latest advice;
 //  * "stopped":  the latest observation was below the engine's operating-state gate (every channel under

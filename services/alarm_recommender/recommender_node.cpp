@@ -176,7 +176,7 @@ void RecommenderNode::observe(AssembledObservation& a) {
     auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p, params_.prognosis);
     st.engine = std::move(opened.engine);  // from the checkpoint if any
     st.trends = std::move(opened.trends);
-    if (sample) st.engine->set_id_scope("sample");  // ids unique across time scales (issue 24, finding 3)
+    if (sample) st.engine->set_id_scope("sample");  // ids unique across time scales
     st.channel_names = a.channel_names;
     st.baseline_logged = st.engine->baseline_ready();
     it = engines_.emplace(key, std::move(st)).first;

@@ -1,4 +1,4 @@
-// Admission of new asset groups into one causal-estimator (issue 24, finding 8): every asset group costs a
+// Admission of new asset groups into one causal-estimator: every asset group costs a
 // pipeline (filters, smoothers, calibration buffers: about 80 kB for 4 channels) and a checkpoint file, and any
 // writer on the domain can name new groups. Without a bound, one faulty or hostile writer that numbers its group
 // ids (seen: 1,023 groups from one writer, RSS 50 -> 133 MB, 1,032 checkpoint files) exhausts the host.

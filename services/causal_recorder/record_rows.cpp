@@ -53,7 +53,7 @@ const std::vector<std::string>& alarm_header() {
                                           // appended: degradation, data_quality, health or operating_change;
                                           // the root-cause attribution's confidence in [0, 1]
                                           "category", "root_cause_confidence",
-                                          // appended (issue 22): the next level ahead of a degradation alarm and
+                                          // appended later: the next level ahead of a degradation alarm and
                                           // the predicted hours to it (median, 90 % interval; empty = unknown)
                                           "next_level", "hours_to_next_level", "hours_to_next_level_low",
                                           "hours_to_next_level_high"};
@@ -136,11 +136,11 @@ const std::vector<std::string>& recommendation_header() {
   static const std::vector<std::string> h{
       "recommendation_id", "alarm_id",    "asset_group",  "rank",       "target_channel", "intervene_channel", "delta",
       "effect_immediate",  "effect_steady_state", "effect_low", "effect_high", "confidence", "text",
-      // appended (issue 11): stability and units of the answer
+      // appended later: stability and units of the answer
       "answer_kind", "horizon_snapshots", "spectral_radius", "draws", "unstable_draws", "unstable_draw_share",
       "effect_median", "effect_percent", "effect_percent_low", "effect_percent_high", "effect_level_change", "reliable",
       "summary",
-      // appended (issue 22): the alarm event it answers (raise or escalation) and the decision
+      // appended later: the alarm event it answers (raise or escalation) and the decision
       "sample_index", "action", "action_kind", "act_on_channel", "act_on_name", "horizon_hours", "order_confidence",
       "order_source"};
   return h;

@@ -41,8 +41,8 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& alarm, std::optiona
 const std::vector<std::string>& recommendation_header();
 std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r);
 
-// asset_group,channel,channel_name,sample_index,time_utc,level,hours,hours_low,hours_high (the interface of
-// issue 22: channel 1-based, level warning | critical | end_of_life, empty hours = unknown), then known,
+// asset_group,channel,channel_name,sample_index,time_utc,level,hours,hours_low,hours_high (the prognosis
+// interface: channel 1-based, level warning | critical | end_of_life, empty hours = unknown), then known,
 // reached,level_ratio,current_ratio,growth_per_hour,coverage,eta_utc,eta_low_utc,eta_high_utc,alarm_id,text.
 const std::vector<std::string>& prognosis_header();
 std::vector<std::string> prognosis_row(const causal_twin::Prognosis& p);

@@ -26,7 +26,7 @@ for exe in "$@"; do help=$("$exe" --help 2>&1); grep -q -- "--domain" <<< "$help
 [ "${#services[@]}" -ge 6 ] || fail "only ${#services[@]} services found among the executables"
 for exe in "${services[@]}"; do
   expect 2 "--domain" "$exe" --domain abc
-  expect 2 "--domain" "$exe" --domain 999
+  expect 2 "--domain" "$exe" --domain 1000  # outside 0..232: refused before any participant exists
   expect 2 "CAUSAL_TWIN_DOMIAN_ID" env INVOCATION_ID=test CAUSAL_TWIN_DOMIAN_ID=5 "$exe" --help
   expect 2 "did you mean CAUSAL_TWIN_DOMAIN_ID\\?" env INVOCATION_ID=test CAUSAL_TWIN_DOMIAN_ID=5 "$exe" --help
   expect 2 "did you mean RECOMMENDER_ARGS\\?" env INVOCATION_ID=test RECOMENDER_ARGS=--verbose "$exe" --help

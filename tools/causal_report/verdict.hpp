@@ -27,7 +27,7 @@ namespace causal::report {
 
 struct RecommendationRecord {
   std::string recommendation_id, alarm_id, asset_group, text, summary, answer_kind;
-  std::string action, action_kind;  // issue 22 columns; empty in older recordings
+  std::string action, action_kind;  // the decision columns; empty in older recordings
   std::string sample_index;         // the alarm event it answers; empty in older recordings
   int rank = 0;
   bool reliable = true;  // older recordings have no such column: their advice is taken as given

@@ -16,7 +16,7 @@ constexpr int kSpareParticipantsPerHost = 4;
 
 // The profile of `host`: UDPv4 bound (interfaceWhiteList) to the host's plant address, no multicast (explicit
 // unicast metatraffic locator), built-in transports off, no shared memory (processes of other users on the
-// host must not stall the services: issue 24); discovery by unicast initial peers (every host of the plant, itself included, so services on
+// host must not stall the services); discovery by unicast initial peers (every host of the plant, itself included, so services on
 // one host find each other) or through the plant's discovery server; causal_twin.security_dir = the plant's
 // security setting. `source` names the plant file in the header comment.
 std::string participant_profile_xml(const PlantDescription& plant, const PlantHost& host, const std::string& source);

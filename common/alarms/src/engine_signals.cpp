@@ -19,8 +19,8 @@ void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Obser
   // Slow healthy drift (AlarmParams::baseline_tracking_observations): followed only while nothing builds
   // up, each step limited to +-k sigma, and never further than half the size floor from where it started.
   // After a re-baseline on the short confirmation window the location is refined faster, as the running mean
-  // of the next baseline_observations values (12 correlated values locate a slowly wandering level poorly:
-  // issue 22.5), within the same limits.
+  // of the next baseline_observations values (12 correlated values locate a slowly wandering level poorly),
+  // within the same limits.
   double tau = p.baseline_tracking_observations;
   if (s.refine_left > 0) {
     tau = std::min(tau, static_cast<double>(p.baseline_observations - s.refine_left + p.confirmation_observations));

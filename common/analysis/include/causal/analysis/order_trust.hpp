@@ -1,5 +1,5 @@
 // How far a learned VAR-LiNGAM causal order can be trusted, so lever claims are made only on an order the
-// data actually identify (issue 22). Two checks on the calibration window's VAR residuals u:
+// data actually identify. Two checks on the calibration window's VAR residuals u:
 //  * non-Gaussianity: LiNGAM identifies j -> k only when at most one of the two disturbances is Gaussian.
 //    Each structural disturbance e = (I - B0) u gets a Jarque-Bera test; a channel whose JB p-value is above
 //    gaussian_p (Gaussianity not rejected) is "Gaussian-like". A linked pair of two Gaussian-like channels

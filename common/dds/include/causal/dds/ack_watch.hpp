@@ -1,7 +1,7 @@
 // Reliable writers whose readers stop acknowledging, detected within seconds and named.
 //
 // Why: a reader that never acknowledges while its participant stays alive holds a reliable writer for ever
-// (KEEP_ALL: the history fills and write() blocks; KEEP_LAST: the reader silently falls behind). Issue 24: a
+// (KEEP_ALL: the history fills and write() blocks; KEEP_LAST: the reader silently falls behind). Seen: a
 // causal-ask run as root on the services' host could not send its acknowledgements over shared memory (Fast
 // DDS segments are per user), its participant announced itself over UDP and stayed matched, and the services'
 // traffic stalled; the only signal was a source_silent alarm 900 s later, blaming the sensor. The lease (5 s)

@@ -30,7 +30,7 @@ struct FrameHeader {
 void to_frame(const FrameHeader& header, const Eigen::Ref<const Eigen::MatrixXd>& block, Eigen::Index first_row,
               Eigen::Index rows, causal_twin::VibrationFrame& frame);
 
-// Input limits (issue 24, finding 8): values no sensor produces, refused with a clear message instead of reaching
+// Input limits: values no sensor produces, refused with a clear message instead of reaching
 // the filters (a rate of 1e-300 Hz makes the sample period infinite, a time of INT64_MIN overflows every
 // interval, an index of 2^64-16 wraps the next frame's index to 0 and looks like a restart).
 struct InputLimits {

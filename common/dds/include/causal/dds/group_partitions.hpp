@@ -1,4 +1,4 @@
-// Authorisation per asset group (issue 25, finding 3) through DDS partitions, the one per-endpoint attribute
+// Authorisation per asset group through DDS partitions, the one per-endpoint attribute
 // Fast DDS 2.9's access control checks against the signed permissions (Permissions::check_create_datawriter
 // locally, check_remote_datawriter for every remote writer: each partition a writer announces must be named by
 // its grant; 2.9 parses no data tags). A sensor identity limited to some asset groups is granted the partitions

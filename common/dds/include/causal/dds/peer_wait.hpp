@@ -1,6 +1,6 @@
 // Waiting for the peers a service needs (e.g. a source waits for causal-estimator's reader) for a bounded time
 // or, with timeout 0, for as long as it takes: a plant whose sensor host boots before the analytics host must
-// not give up (finding 4 of issue 24: the ingest unit exited 3 after 30 s and stayed dead). While it waits it
+// not give up (an ingest unit that exited 3 after 30 s stayed dead). While it waits it
 // says so every `log_every`, naming what it waits for, so a missing peer is never silent.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Revocation without downtime (issue 25, finding 6). Fast DDS 2.9 reads the identity CA's revocation list
+// Revocation without downtime. Fast DDS 2.9 reads the identity CA's revocation list
 // once, when a participant is created (PKIDH::validate_local_identity), and never checks a peer it has
 // authenticated again: a revoked sensor stays accepted by every running service. So every process watches the
 // revocation list its participants loaded (DIR/identity_ca.crl, which make-pki.sh creates empty) and, when its

@@ -103,7 +103,7 @@ std::string url_problem(const std::string& url);
 // Integer and Real cells that do not parse are refused by add() (HistoryError naming the column).
 bool valid_cell(ColumnType type, const std::string& text);
 
-// Statements shared by the backends (placeholders: "?" for SQLite, "$n" for PostgreSQL).
+// Statements shared by the backends (parameter markers: "?" for SQLite, "$n" for PostgreSQL).
 std::string create_table_sql(const Table& t, bool postgres);
 std::vector<std::string> create_index_sql(const Table& t);
 std::string insert_sql(const Table& t, bool postgres);

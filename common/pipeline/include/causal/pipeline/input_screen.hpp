@@ -15,7 +15,7 @@
 //        equal, e.g. a dead channel reading 0; scale_change otherwise);
 //    Any of these QUARANTINES the channel: its values become NaN (counted, quarantined_values) until it has shown
 //    recovery_samples consecutive values with no stuck run and no out-of-range block, then it recovers.
-// A stopped machine is an operating state, not a fault (issue 24, finding 7): a raw frame (>= stopped_min_rows rows)
+// A stopped machine is an operating state, not a fault: a raw frame (>= stopped_min_rows rows)
 // in which EVERY channel takes at most stopped_max_levels distinct values, all within stopped_max_ratio x the
 // channel's calibration scale (once known), is the ADC's quantisation floor (IMS test 2's last snapshot: values
 // -0.005, -0.002, 0, +0.002 on all four bearings). Such frames pass unchanged and unjudged (no stuck, scale or
