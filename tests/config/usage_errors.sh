@@ -27,10 +27,11 @@ for exe in "$@"; do help=$("$exe" --help 2>&1); grep -q -- "--domain" <<< "$help
 for exe in "${services[@]}"; do
   expect 2 "--domain" "$exe" --domain abc
   expect 2 "--domain" "$exe" --domain 1000  # outside 0..232: refused before any participant exists
-  expect 2 "CAUSAL_TWIN_DOMIAN_ID" env INVOCATION_ID=test CAUSAL_TWIN_DOMIAN_ID=5 "$exe" --help
-  expect 2 "did you mean CAUSAL_TWIN_DOMAIN_ID\\?" env INVOCATION_ID=test CAUSAL_TWIN_DOMIAN_ID=5 "$exe" --help
-  expect 2 "did you mean RECOMMENDER_ARGS\\?" env INVOCATION_ID=test RECOMENDER_ARGS=--verbose "$exe" --help
-  expect 0 "" env INVOCATION_ID=test CAUSAL_TWIN_DOMAIN_ID=5 RECOMMENDER_ARGS=--verbose JAVA_ARGS=-x "$exe" --help
+  # env -i: a unit's environment is what systemd and its env files give it, not the test harness's (CAUSAL_TWIN_REQUIRE_ALL).
+  expect 2 "CAUSAL_TWIN_DOMIAN_ID" env -i PATH="$PATH" INVOCATION_ID=test CAUSAL_TWIN_DOMIAN_ID=5 "$exe" --help
+  expect 2 "did you mean CAUSAL_TWIN_DOMAIN_ID\\?" env -i PATH="$PATH" INVOCATION_ID=test CAUSAL_TWIN_DOMIAN_ID=5 "$exe" --help
+  expect 2 "did you mean RECOMMENDER_ARGS\\?" env -i PATH="$PATH" INVOCATION_ID=test RECOMENDER_ARGS=--verbose "$exe" --help
+  expect 0 "" env -i PATH="$PATH" INVOCATION_ID=test CAUSAL_TWIN_DOMAIN_ID=5 RECOMMENDER_ARGS=--verbose JAVA_ARGS=-x "$exe" --help
   # Outside systemd the environment is the user's: not checked.
   expect 0 "" env -u INVOCATION_ID CAUSAL_TWIN_DOMIAN_ID=5 "$exe" --help
 done
@@ -39,7 +40,7 @@ vars=()
 while IFS= read -r v; do vars+=("$v=1"); done < <(sed -n 's/^#\{0,1\}\([A-Z][A-Z0-9_]*\)=.*/\1/p' "$deploy"/systemd/env/*.env | sort -u)
 [ "${#vars[@]}" -ge 7 ] || fail "only ${#vars[@]} variables found in the shipped env files"
 for v in "${vars[@]}"; do
-  case $v in CAUSAL_TWIN_*|*_ARGS=1) expect 0 "" env INVOCATION_ID=test "$v" "${services[0]}" --help ;; esac
+  case $v in CAUSAL_TWIN_*|*_ARGS=1) expect 0 "" env -i PATH="$PATH" INVOCATION_ID=test "$v" "${services[0]}" --help ;; esac
 done
 echo "$checked checks, $failures failed (${#services[@]} services, $# executables, ${#vars[@]} shipped variables)"
 [ "$failures" = 0 ]

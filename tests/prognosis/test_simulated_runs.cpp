@@ -1,7 +1,7 @@
 // The prognosis as alarm-recommender runs it (alarm engine + channel trends) on simulated run-to-failure
 // channels with known crossing times (causal-prognosis-eval's simulator): the healthy channel gets no
 // prognosis, the wearing one does, and it is ahead of both anchors (Theil-Sen with bootstrap intervals,
-// random walk with drift) in coverage and point accuracy.
+// random walk with drift) in point accuracy, and in coverage wherever an anchor's intervals are informative.
 #include "prognosis_scoring.hpp"
 #include "prognosis_anchors.hpp"
 #include "run_to_failure_sim.hpp"
@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 using namespace causal;
 using namespace causal::prognosis_eval;
@@ -30,14 +31,26 @@ TEST(SimulatedRuns, TwinIsAheadOfBothAnchors) {
     for (int m = 0; m < kMethods; ++m) all[static_cast<std::size_t>(m)].merge(s.scores()[static_cast<std::size_t>(m)]);
   }
   auto coverage = [](const LevelScore& s) { return static_cast<double>(s.covered) / std::max(1.0, static_cast<double>(s.known)); };
+  auto median_width = [](LevelScore s) {
+    if (s.rel_widths.empty()) return std::numeric_limits<double>::infinity();
+    auto mid = s.rel_widths.begin() + static_cast<std::ptrdiff_t>(s.rel_widths.size() / 2);
+    std::nth_element(s.rel_widths.begin(), mid, s.rel_widths.end());
+    return *mid;
+  };
+  // The target: 90 % intervals that hold the actual time in >= 80 % of the answers while their median width is
+  // at most 1.5 x the remaining time. An interval many times the remaining time covers by being uninformative
+  // (the random walk's are 9-14 x here), so an anchor is ahead on coverage only with intervals within that width.
+  constexpr double kMaxMedianWidth = 1.5;
   for (int l = 0; l < kLevels; ++l) {
     const auto& t = all[0].level[static_cast<std::size_t>(l)];
     ASSERT_GT(t.decisions, 100u);
     ASSERT_GT(t.known, 10u) << "level " << l;
+    EXPECT_GE(coverage(t), 0.8) << "level " << l;
+    EXPECT_LE(median_width(t), kMaxMedianWidth) << "level " << l;
     for (int m = 1; m < kMethods; ++m) {
       const auto& a = all[static_cast<std::size_t>(m)].level[static_cast<std::size_t>(l)];
       ASSERT_EQ(a.decisions, t.decisions) << "the anchors are scored at the same decision points";
-      EXPECT_GT(coverage(t), coverage(a)) << method_name(m) << " level " << l;
+      if (median_width(a) <= kMaxMedianWidth) EXPECT_GT(coverage(t), coverage(a)) << method_name(m) << " level " << l;
       EXPECT_GT(t.within_30, a.within_30) << method_name(m) << " level " << l;
     }
   }
