@@ -18,7 +18,8 @@
 # publishes the next snapshots while the ingest is down (--mqtt-keep-session: the broker queues them) and the
 # ingest is restarted after that.
 # Checked, exactly: conditions, both factor files and prognosis.csv byte-identical to the run without faults;
-# alarms.csv and recommendations.csv the same rows and per id the same events in order (the order across ids follows
+# alarms.csv and recommendations.csv the same rows (the estimator's load-dependent reader_not_keeping_up aside, which
+# must be cleared) and per id the same events in order (the order across ids follows
 # the arrival of the two time scales, which differs between undisturbed runs too); asset_status.csv's last line;
 # every snapshot counted: published (984) == taken by sensor-ingest (across its two runs) == frames received by
 # causal-estimator == condition vectors recorded, each snapshot index 0..983 once, duplicates after restarts
@@ -236,12 +237,19 @@ compare() {
   done
   # Alarms and recommendations: the same rows, and per id the same events in the same order; across ids the order
   # of arrival of the two time scales' events is not fixed (it is not between two runs without faults either).
+  # The estimator's own bus alarm (reader_not_keeping_up: a write waited > 3 s) is left out of the comparison: a
+  # killed reader holds the estimator's writes until its 5 s lease ends, so whether a write waits past 3 s depends
+  # on the load, not on the machine. It must never stay open: each such id is raised and cleared.
+  local bus='^causal-estimator/output/'
   for b in alarms.csv recommendations.csv; do
-    diff -q <(sort "$work/reference/rec/$b") <(sort "$work/faults/rec/$b") > /dev/null ||
-      fail "$b: rows differ from the run without faults: $(diff <(sort "$work/reference/rec/$b") <(sort "$work/faults/rec/$b") | head -4 | cut -c1-250)"
-    diff -q <(sort -s -t, -k1,1 "$work/reference/rec/$b") <(sort -s -t, -k1,1 "$work/faults/rec/$b") > /dev/null ||
+    diff -q <(grep -v "$bus" "$work/reference/rec/$b" | sort) <(grep -v "$bus" "$work/faults/rec/$b" | sort) > /dev/null ||
+      fail "$b: rows differ from the run without faults: $(diff <(grep -v "$bus" "$work/reference/rec/$b" | sort) <(grep -v "$bus" "$work/faults/rec/$b" | sort) | head -4 | cut -c1-250)"
+    diff -q <(grep -v "$bus" "$work/reference/rec/$b" | sort -s -t, -k1,1) <(grep -v "$bus" "$work/faults/rec/$b" | sort -s -t, -k1,1) > /dev/null ||
       fail "$b: the events of an id come in another order than without faults"
   done
+  local open_bus
+  open_bus=$(grep "$bus" "$work/faults/rec/alarms.csv" | awk -F, '{ last[$1] = $2 } END { for (id in last) if (last[id] != "cleared") print id }')
+  [ -z "$open_bus" ] || fail "the estimator's bus alarm was left open: $open_bus"
   ids_unique "$work/faults/rec/alarms.csv" || fail "an alarm id was used for two alarms"
   # asset_status.csv: one row per change of the operator's line, which follows the arrival order of the two time
   # scales' observations (open-alarm counts, learning n of N), so the rows differ between two runs without faults
