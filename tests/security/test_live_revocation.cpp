@@ -45,9 +45,10 @@ std::vector<std::string> replay_args(const fs::path& pki, const std::string& ide
           "--wait-timeout", "60", "--asset-group", group};
 }
 
-// "asset 'G': F frames (...), N condition vectors in" of one run's summary; nullopt when the group is absent.
+// "asset 'G': F frames (...), L snapshots lost after a restart, N condition vectors in" of one run's summary; nullopt
+// when the group is absent.
 std::optional<std::uint64_t> conditions_in(const std::string& run_log, const std::string& group) {
-  const std::regex line("asset '" + group + R"(': \d+ frames \([^)]*\), (\d+) condition vectors in)");
+  const std::regex line("asset '" + group + R"(': \d+ frames \([^)]*\), \d+ snapshots lost after a restart, (\d+) condition vectors in)");
   std::smatch m;
   if (!std::regex_search(run_log, m, line)) return std::nullopt;
   return std::stoull(m[1].str());
