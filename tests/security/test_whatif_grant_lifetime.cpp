@@ -4,7 +4,7 @@
 // through with a log line. The recommender refuses every request of that writer from then on, whatever the group:
 // counted exactly (summary not_entitled, exit 4), answered "refused", alarmed once per group (HEALTH
 // group_not_entitled naming the writer's participant). The attack itself is shared with the estimator's test
-// (partition_switch.hpp). Private loopback domain; about 10 s.
+// (partition_switch.hpp). Private loopback domain; about 15 s.
 #include "../fault/delivery_checks.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal_twinPubSubTypes.h"
