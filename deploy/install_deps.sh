@@ -15,8 +15,7 @@ PACKAGES=(
   zlib1g-dev                       # gzip-compressed embedded snapshots
   gnuplot-nox                      # causal-report's plots
   graphviz                         # causal-report's causal graph (dot places edge labels without overlap)
-  libcpp-httplib-dev               # /metrics endpoints (HTTP server) and the browser test's client
-  libmicrohttpd-dev                # twin-web's HTTP server: bounded connections (total, per address), header bytes, idle time
+  libmicrohttpd-dev                # the HTTP server of twin-web and the /metrics endpoints (common/http): bounded connections (total, per address), header bytes, idle time
   prometheus-cpp-dev               # metrics registry and text exposition (prometheus-cpp 1.0, "core")
   prometheus curl                  # metrics test: a real Prometheus scrapes the running pipeline; promtool lints
   iproute2                         # network-namespace tests (ip netns)

@@ -83,7 +83,7 @@ int RecommenderNode::run() {
     }, [this](const auto& info) { health_.on_state(info); }, loop_.stop_flag());
     handle(ready);
     publish_health();
-    n += whatif_requests_.take_all([this](const causal_twin::WhatIfRequest& r, const auto&) { answer(r); });
+    n += take_whatif_requests();
     return n;
   };
   // Idle exit only once every source has left the domain (see causal-estimator).
@@ -144,21 +144,14 @@ int RecommenderNode::run() {
   spdlog::info("summary topic=causal_twin/asset_status sent={} failed={}", statuses_published_, status_write_failures_);
   spdlog::info("summary topic=causal_twin/prognosis sent={} failed={}", prognoses_published_, prognosis_write_failures_);
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
+  log_whatif_summary();
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
-          status_write_failures_) > 0 ? 4 : 0;
+          status_write_failures_ + whatif_not_entitled_) > 0 ? 4 : 0;
 }
 
 void RecommenderNode::publish_health() {
   health_.check(participant_.directory());
-  for (auto& alarm : health_.take_alarms()) {
-    const bool cleared = alarm.state() == causal_twin::CLEARED;
-    spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
-                alarm.alarm_id(), alarm.reason());
-    if (alarms_.write(alarm, loop_.stop_flag()) == dds::WriteResult::Ok) {
-      ++alarms_published_;
-      open_alarms_.on_published(alarm);
-    }
-  }
+  for (auto& alarm : health_.take_alarms()) publish_health_alarm(alarm);
 }
 
 void RecommenderNode::handle(std::vector<AssembledObservation>& ready) {

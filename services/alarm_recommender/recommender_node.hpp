@@ -18,6 +18,7 @@
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
 #include "causal/dds/typed_endpoints.hpp"
+#include "causal/dds/writer_grant_check.hpp"
 #include "causal_twinPubSubTypes.h"
 
 #include <map>
@@ -75,6 +76,11 @@ class RecommenderNode {
   // Next level ahead and the time to it on a degradation alarm event (Alarm decision fields).
   void fill_next_level(const EngineState& st, const alarms::AlarmEvent& e, causal_twin::Alarm& msg) const;
   void answer(const causal_twin::WhatIfRequest& request);
+  // Takes the what-if requests: answered when their writer's grant names their group, else refused
+  // (recommender_whatif.cpp). Returns the number taken.
+  std::size_t take_whatif_requests();
+  void publish_health_alarm(causal_twin::Alarm& alarm);  // logged and written on causal_twin/alarm
+  void log_whatif_summary() const;
   void publish_health();  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
   // At start: every alarm engine and recommendation in --state-dir restored and their last messages published
   // again, before any data arrives (readers that join after a restart see the open alarms and their advice).
@@ -119,6 +125,9 @@ class RecommenderNode {
   OpenAlarmMetrics open_alarms_;  // causal_twin_alarms_open{asset_group, category, severity}
   PrognosisMetrics prognosis_metrics_;  // causal_twin_prognosis_time_to_level_seconds{...}
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;
+  dds::WriterGrantCheck whatif_grants_{participant_.directory(), "whatif", "what-if request",
+                                      "issue-identity.sh: an operator's grant names no partitions"};
+  std::uint64_t whatif_received_ = 0, whatif_not_entitled_ = 0;
 };
 
 }  // namespace causal::recommender

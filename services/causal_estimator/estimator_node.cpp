@@ -41,6 +41,7 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       health_(options_.health_deadline_s, "frames/condition inputs", "source",
               {dds::topics::kVibrationFrame, dds::topics::kConditionInput}),
       quota_(options_.quota),
+      grants_(participant_.directory(), "input", "input", "issue-identity.sh --groups"),
       trace_(options_.stage_trace),
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());

@@ -10,6 +10,7 @@
 #include "causal/dds/health_watch.hpp"
 #include "causal/dds/outbound_queue.hpp"
 #include "causal/dds/participant.hpp"
+#include "causal/dds/writer_grant_check.hpp"
 #include "causal/dds/service_runtime.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal/pipeline/asset_pipeline.hpp"
@@ -215,7 +216,7 @@ class EstimatorNode {
   GroupQuota quota_;
   std::set<std::string> quota_alarmed_writers_;  // one HEALTH alarm per writer over its quota
   std::uint64_t not_entitled_frames_ = 0, not_entitled_conditions_ = 0;  // refused by entitled()
-  std::set<std::string> not_entitled_pairs_;  // "writer|group": one HEALTH alarm each (at most 1024)
+  dds::WriterGrantCheck grants_;  // per-group grants of the input writers; one HEALTH alarm per writer and group
   metrics::Counter* not_processed_entitlement_ = nullptr;
   metrics::Counter* not_processed_renumbered_ = nullptr;  // estimator_inputs_not_processed_total{reason=..}
   metrics::Counter* not_processed_quota_ = nullptr;

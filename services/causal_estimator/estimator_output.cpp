@@ -437,7 +437,7 @@ int EstimatorNode::log_summary() const {
   const std::uint64_t not_entitled = not_entitled_frames_ + not_entitled_conditions_;
   if (not_entitled > 0) {
     spdlog::error("{} inputs refused: their writers may not write their asset group ({} writer/group pairs)",
-                  not_entitled, not_entitled_pairs_.size());
+                  not_entitled, grants_.refused_pairs());
   }
   const std::uint64_t dds_refused = dds::refusals_total();  // refused by the readers (sample_limits.hpp)
   spdlog::info("summary not_processed already_processed={} renumbered={} group_quota={} invalid={} not_entitled={} "

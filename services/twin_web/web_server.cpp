@@ -225,7 +225,8 @@ namespace {
 void count_refusal(const std::string& reason, const std::string& detail, const std::string& request) {
   auto& counter = metrics::process_metrics().counter(
       "web_requests_refused_total", "HTTP requests refused: Host not allowed, cross-origin, no CSRF token, "
-      "no credentials, a compressed or too large body, too many headers, past the request deadline",
+      "no credentials, a compressed or too large body, too many headers, past the request deadline, a bad query, "
+      "a failed handler",
       {{"reason", reason}});
   counter.inc();
   const auto n = static_cast<std::uint64_t>(counter.value());
@@ -380,6 +381,9 @@ void WebServer::history_route() {
     const HistoryReply reply = (history_ ? *history_ : none)
                                    .range(req.get_param_value("group"), req.get_param_value("from"),
                                           req.get_param_value("to"));
+    // A range it cannot read (no group, a time that is not UTC, from after to) is counted as the server's
+    // refusals are (bad_query).
+    if (reply.status == 400) count_refusal("bad_query", reply.body, "GET /api/history from " + req.remote_addr);
     res.status = reply.status;
     res.set_header("Cache-Control", "no-store");
     res.set_content(reply.body, "application/json");

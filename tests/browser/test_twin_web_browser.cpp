@@ -6,13 +6,13 @@
 // test's own DDS observer and the feature table say (984 snapshots per channel, the same open alarms).
 // Fixed DDS domain 90 (the web helper's range), loopback only.
 #include "dds_observer.hpp"
+#include "http_test_client.hpp"
 #include "process_runner.hpp"
 
 #include "causal/io/feature_table.hpp"
 #include "causal/io/time_format.hpp"
 
 #include <gtest/gtest.h>
-#include <httplib.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -269,8 +269,7 @@ TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
   EXPECT_GT(fs::file_size(out_dir / "twin_web_at_load.png"), 20000u) << "a screenshot that small is a blank page";
 
   // The end state, against independent truth: the feature table's rows and the observer's alarms.
-  httplib::Client client("127.0.0.1", port);
-  const auto res = client.Get("/api/state");
+  const auto res = causal::test::http_request(port, "GET", "/api/state");
   ASSERT_TRUE(res) << "GET /api/state failed";
   ASSERT_EQ(res->status, 200);
   const json state = json::parse(res->body, nullptr, false);

@@ -7,23 +7,14 @@
 // participant). Two ways: a switch to line-b, and adding the empty partition (which would let every group in).
 // Private loopback domains; about 10 s per case.
 #include "../fault/delivery_checks.hpp"
-#include "causal/dds/group_partitions.hpp"
-#include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
-#include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
-#include "loopback_settings.hpp"
-#include "pki_fixture.hpp"
+#include "partition_switch.hpp"
 #include "process_runner.hpp"
 
-#include <fastdds/dds/publisher/Publisher.hpp>
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <chrono>
-#include <fstream>
 #include <iostream>
-#include <thread>
 
 using causal::test::ServiceProcess;
 using namespace causal::test::delivery;
@@ -32,20 +23,7 @@ using namespace causal::test::security;
 namespace {
 
 constexpr std::uint64_t kBefore = 10, kAfter = 10;  // inputs written before / after the partition change
-const std::string kGranted = "line-a";
-
-fs::path make_plant_pki(const fs::path& work, int domain) {
-  const fs::path plant = work / "plant.yaml";
-  std::ofstream(plant) << "domain: " << domain << "\nsecurity: /etc/causal-twin/security\n"
-                       << "hosts:\n"
-                       << "  - {name: line-a-sensors, address: 10.20.0.11, roles: [sensor], groups: [" << kGranted
-                       << "]}\n"
-                       << "  - {name: analytics, address: 10.20.0.12, roles: [estimator, recommender]}\n";
-  const fs::path pki = work / "pki";
-  run("CAUSAL_PLANT_PROFILES='" + std::string(CAUSAL_PLANT_PROFILES_BIN) + "' " + script("make-pki.sh") + " '" +
-      pki.string() + "' --plant '" + plant.string() + "'");
-  return pki;
-}
+const std::string& kGranted = kGrantedGroup;
 
 causal_twin::ConditionVector input(const std::string& group, std::uint64_t snapshot) {
   causal_twin::ConditionVector v;
@@ -56,12 +34,6 @@ causal_twin::ConditionVector input(const std::string& group, std::uint64_t snaps
   v.channel_names({"b1", "b2", "b3", "b4"});
   v.values({0.1 + 0.001 * static_cast<double>(snapshot), 0.2, 0.3, 0.4});
   return v;
-}
-
-std::size_t occurrences(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
 }
 
 struct Switch {
@@ -81,43 +53,15 @@ TEST_P(GrantLifetime, AWriterThatChangesItsPartitionsIsRefusedFromThenOn) {
                            {CAUSAL_ESTIMATOR_BIN, "--domain", std::to_string(domain), "--security", pki.string(),
                             "--idle-exit", "3", "--max-runtime", "60"},
                            (work / "estimator.log").string());
-  const std::string writer_name = "grant-switcher";
-  std::uint64_t sent = 0;
-  {
-    causal::dds::DdsSettings s = causal::test::loopback_settings(domain, writer_name);
-    s.security_dir = pki.string();
-    s.security_identity = "sensor-line-a-sensors";
-    causal::dds::Participant p(s);
-    causal::dds::TypedWriter<causal_twin::ConditionVectorPubSubType> w(p, causal::dds::topics::kConditionInput,
-                                                                        causal::dds::profiles::kConditionInputWriter);
-    const std::atomic<bool> never{false};
-    ASSERT_TRUE(w.wait_for_readers(1, std::chrono::seconds(30), never)) << estimator.output();
-    std::uint64_t snapshot = 0;
-    for (std::uint64_t i = 0; i < kBefore; ++i, ++snapshot) {
-      auto v = input(kGranted, snapshot);
-      ASSERT_EQ(w.write(v, never), causal::dds::WriteResult::Ok);
-      ++sent;
-    }
-    // Inputs are judged when the estimator takes them: let it take these before the change is announced.
-    ASSERT_EQ(p.publisher()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0)),
-              eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK);
-    std::this_thread::sleep_for(std::chrono::seconds(1));
-    eprosima::fastdds::dds::PublisherQos qos = p.publisher()->get_qos();
-    qos.partition().clear();
-    for (const auto& name : sw.partitions) qos.partition().push_back(name.c_str());
-    ASSERT_EQ(p.publisher()->set_qos(qos), eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK);
-    // The change reaches the estimator by discovery (its own channel): give it time to arrive first, as an
-    // attacker would (inputs written in between are judged by the first partitions: only line-a).
-    std::this_thread::sleep_for(std::chrono::seconds(2));
-    EXPECT_EQ(w.matched_readers(), 1u) << "Fast DDS 2.9 keeps the match after the change";
-    for (std::uint64_t i = 0; i < kAfter; ++i, ++snapshot) {
-      for (const std::string& group : {sw.target, kGranted}) {
-        auto v = input(group, snapshot);
-        if (w.write(v, never) == causal::dds::WriteResult::Ok) ++sent;
-      }
-    }
-    std::this_thread::sleep_for(std::chrono::seconds(1));  // reliable delivery of the last ones
+  PartitionSwitch<causal_twin::ConditionVector> plan{"sensor-line-a-sensors", "grant-switcher", {}, sw.partitions, {}};
+  std::uint64_t snapshot = 0;
+  for (std::uint64_t i = 0; i < kBefore; ++i, ++snapshot) plan.before.push_back(input(kGranted, snapshot));
+  for (std::uint64_t i = 0; i < kAfter; ++i, ++snapshot) {
+    for (const std::string& group : {sw.target, kGranted}) plan.after.push_back(input(group, snapshot));
   }
+  const std::uint64_t sent = write_and_switch_partitions<causal_twin::ConditionVectorPubSubType>(
+      domain, pki, causal::dds::topics::kConditionInput, causal::dds::profiles::kConditionInputWriter, plan,
+      [&] { return estimator.output(); });
   const auto code = estimator.wait(std::chrono::seconds(60));
   ASSERT_TRUE(code.has_value()) << estimator.output();
   const std::string log = estimator.output();
@@ -130,7 +74,7 @@ TEST_P(GrantLifetime, AWriterThatChangesItsPartitionsIsRefusedFromThenOn) {
   EXPECT_EQ(summary_count(log, "causal_twin/condition_input", "received"), kBefore + 2 * kAfter) << log;
   EXPECT_EQ(summary_count(log, "causal_twin/condition_input", "not_entitled"), 2 * kAfter) << log;
   EXPECT_NE(log.find("changed its partitions after discovery"), std::string::npos) << log;
-  EXPECT_NE(log.find("of participant '" + writer_name + "'"), std::string::npos) << log;
+  EXPECT_NE(log.find("of participant '" + plan.participant_name + "'"), std::string::npos) << log;
   EXPECT_EQ(occurrences(log, "HEALTH RAISED " + sw.target + "/input/group_not_entitled/"), 1u) << log;
   EXPECT_EQ(occurrences(log, "HEALTH RAISED " + kGranted + "/input/group_not_entitled/"), 1u) << log;
   fs::remove_all(work);

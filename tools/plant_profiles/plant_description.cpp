@@ -1,5 +1,8 @@
 #include "plant_description.hpp"
 
+#include "causal/config/yaml_bounds.hpp"
+#include "causal/config/yaml_fields.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -232,6 +235,12 @@ PlantParseResult parse_plant_description(const std::string& yaml_text, const std
   Problems p{source, result.problems};
   YAML::Node root;
   try {
+    config::check_yaml_bounds(yaml_text, source);  // no anchors or aliases, bounded depth and size
+  } catch (const config::ConfigError& e) {
+    result.problems.push_back(e.what());
+    return result;
+  }
+  try {
     root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
     p.add("YAML", e.what());
@@ -295,15 +304,20 @@ PlantParseResult parse_plant_description(const std::string& yaml_text, const std
 }
 
 PlantParseResult load_plant_description(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
+  if (!std::ifstream(path)) {
     PlantParseResult result;
     result.problems.push_back(path + ": cannot read the file");
     return result;
   }
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_plant_description(text.str(), path);
+  std::string text;
+  try {
+    text = config::read_yaml_file(path);  // at most kMaxYamlBytes (yaml_bounds.hpp)
+  } catch (const config::ConfigError& e) {
+    PlantParseResult result;
+    result.problems.push_back(e.what());
+    return result;
+  }
+  return parse_plant_description(text, path);
 }
 
 }  // namespace causal::plant

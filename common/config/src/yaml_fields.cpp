@@ -1,17 +1,19 @@
 #include "causal/config/yaml_fields.hpp"
 
+#include "causal/config/yaml_bounds.hpp"
+
 #include <cmath>
 #include <set>
 
 namespace causal::config {
 
 Section Section::load_file(const std::string& path) {
+  const std::string text = read_yaml_file(path);
+  check_yaml_bounds(text, path);  // before yaml-cpp builds a tree of it (yaml_bounds.hpp)
   try {
-    YAML::Node root = YAML::LoadFile(path);
+    YAML::Node root = YAML::Load(text);
     if (!root.IsMap()) throw ConfigError(path + ": the top level must be a map of sections");
     return Section(root, path, "");
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(path + ": cannot open the parameter file");
   } catch (const YAML::ParserException& e) {
     throw ConfigError(path + ": invalid YAML: " + e.what());
   }

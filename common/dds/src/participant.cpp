@@ -20,6 +20,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
 #include <stdexcept>
 
 namespace causal::dds {
@@ -37,6 +40,25 @@ std::string process_description() {
          std::to_string(getpid()) + ", host " + host;
 }
 
+namespace {
+
+// Fast DDS reads a profile file whole into a tinyxml2 document (about 4 times its size) before it checks
+// anything; the shipped profiles are at most 22 kB. tinyxml2 9 stops nesting at 100 levels and expands no
+// entities of its own, so the size is the bound left to set.
+constexpr std::uintmax_t kMaxProfileFileBytes = 1024 * 1024;
+
+void check_profile_file_size(const std::string& file) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(file, ec);
+  if (!ec && size > kMaxProfileFileBytes) {
+    throw std::runtime_error("DDS XML profiles '" + file + "' are larger than " +
+                             std::to_string(kMaxProfileFileBytes / 1024) + " KiB (" + std::to_string(size) +
+                             " bytes): not a profile file, not loaded");
+  }
+}
+
+}  // namespace
+
 Participant::Participant(const DdsSettings& settings) : domain_id_(settings.domain_id) {
   // The generated type objects (fastddsgen -typeobject) must be in the TypeObjectFactory before a type is
   // registered, or its endpoints announce no TypeInformation; the generated code registers them only when a
@@ -48,6 +70,7 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
   }
   auto* factory = DomainParticipantFactory::get_instance();
   for (const auto& file : settings.profile_files) {
+    check_profile_file_size(file);
     if (factory->load_XML_profiles_file(file) != ReturnCode_t::RETCODE_OK) {
       throw std::runtime_error("cannot load DDS XML profiles from '" + file + "' (missing or invalid XML)");
     }
@@ -57,6 +80,7 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
     if (!settings.participant_profile_required) {
       // The default participant QoS follows the loaded files' is_default_profile only once Fast DDS has loaded
       // its own default files ($FASTRTPS_DEFAULT_PROFILES_FILE); make sure it has.
+      if (const char* env = std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE")) check_profile_file_size(env);
       factory->load_profiles();
       qos = factory->get_default_participant_qos();
     } else {

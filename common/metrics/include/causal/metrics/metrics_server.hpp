@@ -1,5 +1,6 @@
-// The /metrics endpoint of a service: an HTTP server (cpp-httplib, Debian libcpp-httplib-dev) on its own
-// thread, bound to 127.0.0.1 by default, serving process_metrics() in the Prometheus text format.
+// The /metrics endpoint of a service: the product's HTTP server (causal/http/http_server.hpp, libmicrohttpd) on
+// its own polling thread, bound to 127.0.0.1 by default, serving process_metrics() in the Prometheus text format.
+// Its limits are twin-web's: a slow, idle or greedy client cannot starve a scrape or grow the process.
 #pragma once
 
 #include "causal/metrics/metrics_registry.hpp"

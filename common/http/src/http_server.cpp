@@ -1,4 +1,4 @@
-#include "http_server.hpp"
+#include "causal/http/http_server.hpp"
 
 #include <microhttpd.h>
 
@@ -15,11 +15,12 @@
 #include <condition_variable>
 #include <cstring>
 #include <deque>
+#include <exception>
 #include <unordered_map>
 #include <mutex>
 #include <thread>
 
-namespace causal::web {
+namespace causal::http {
 
 namespace {
 
@@ -63,6 +64,48 @@ MHD_Result collect_param(void* cls, MHD_ValueKind, const char* key, const char* 
   auto& params = *static_cast<std::map<std::string, std::string>*>(cls);
   if (key) params.emplace(key, value ? value : "");
   return MHD_YES;
+}
+
+// Well-formed UTF-8 (RFC 3629: no overlong forms, no surrogates, nothing past U+10FFFF).
+bool valid_utf8(const std::string& text) {
+  const auto* p = reinterpret_cast<const unsigned char*>(text.data());
+  const auto* end = p + text.size();
+  while (p < end) {
+    const unsigned c = *p++;
+    if (c < 0x80) continue;
+    int more = 0;
+    unsigned low = 0x80, high = 0xBF;  // the range of the first continuation byte
+    if (c >= 0xC2 && c <= 0xDF) {
+      more = 1;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      more = 2;
+      if (c == 0xE0) low = 0xA0;
+      if (c == 0xED) high = 0x9F;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      more = 3;
+      if (c == 0xF0) low = 0x90;
+      if (c == 0xF4) high = 0x8F;
+    } else {
+      return false;
+    }
+    for (int i = 0; i < more; ++i, low = 0x80, high = 0xBF) {
+      if (p >= end || *p < low || *p > high) return false;
+      ++p;
+    }
+  }
+  return true;
+}
+
+// What is wrong with a request's query ("" when nothing): too many arguments, one too long, not UTF-8.
+std::string query_problem(const std::map<std::string, std::string>& params, std::size_t count) {
+  if (count > kMaxQueryParams) return "more than " + std::to_string(kMaxQueryParams) + " query arguments";
+  for (const auto& [key, value] : params) {
+    if (key.size() + value.size() > kMaxQueryArgumentBytes) {
+      return "a query argument longer than " + std::to_string(kMaxQueryArgumentBytes) + " bytes";
+    }
+    if (!valid_utf8(key) || !valid_utf8(value)) return "a query argument that is not UTF-8";
+  }
+  return {};
 }
 
 std::string client_address(MHD_Connection* connection) {
@@ -276,10 +319,15 @@ MHD_Result HttpServer::Impl::start_request(MHD_Connection* connection, const cha
   req.path = url;
   req.remote_addr = client_address(connection);
   MHD_get_connection_values(connection, MHD_HEADER_KIND, collect_header, &req.headers);
-  MHD_get_connection_values(connection, MHD_GET_ARGUMENT_KIND, collect_param, &req.params);
+  const int arguments = MHD_get_connection_values(connection, MHD_GET_ARGUMENT_KIND, collect_param, &req.params);
+  if (const std::string problem = query_problem(req.params, static_cast<std::size_t>(std::max(arguments, 0)));
+      !problem.empty()) {
+    if (owner.on_refusal_) owner.on_refusal_("bad_query", problem);
+    return refuse(connection, 400, "bad_query: " + problem);
+  }
   {
     std::lock_guard<std::mutex> lock(m);
-    if (stopping) return refuse(connection, 503, "twin-web is stopping");
+    if (stopping) return refuse(connection, 503, "the server is stopping");
   }
   if (owner.pre_routing_ && owner.pre_routing_(req, ex->response)) return queue(connection, ex->response);
   ex->handler = owner.route(req);
@@ -309,8 +357,15 @@ MHD_Result HttpServer::Impl::on_request(MHD_Connection* connection, const char* 
   if (!ex->dispatched) {  // the handler may wait: it runs on a worker while the connection is suspended
     ex->dispatched = true;
     MHD_suspend_connection(connection);
-    post([ex, connection] {
-      (*ex->handler)(ex->request, ex->response);
+    post([this, ex, connection] {
+      try {
+        (*ex->handler)(ex->request, ex->response);
+      } catch (const std::exception& e) {  // a handler's failure is this request's, never the process's
+        if (owner.on_refusal_) owner.on_refusal_("handler_error", e.what());
+        ex->response = HttpResponse{};
+        ex->response.status = 500;
+        ex->response.set_content("{\"answered\":false,\"error\":\"internal error\"}", "application/json");
+      }
       ex->ready.store(true);
       MHD_resume_connection(connection);
     });
@@ -435,4 +490,4 @@ void HttpServer::stop() {
   }
 }
 
-}  // namespace causal::web
+}  // namespace causal::http
