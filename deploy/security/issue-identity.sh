@@ -42,12 +42,12 @@ case "$role" in
                sub="$t/condition_vector" ;;   # progress and rewind after an estimator restart
   estimator)   pub="$t/causal_factors $t/condition_vector $t/alarm"   # alarms: data quality and health
                sub="$t/vibration_frame $t/condition_input $t/condition_vector" ;;  # condition_vector: hot standby
-  recommender) pub="$t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis"
-               sub="$t/causal_factors $t/condition_vector $t/whatif_request" ;;
+  recommender) pub="$t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis $t/alarm_action_result"
+               sub="$t/causal_factors $t/condition_vector $t/whatif_request $t/alarm_action" ;;
   recorder)    pub=""
-               sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/asset_status $t/prognosis" ;;
-  operator)    pub="$t/whatif_request"
-               sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis" ;;
+               sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/asset_status $t/prognosis $t/alarm_action_result" ;;
+  operator)    pub="$t/whatif_request $t/alarm_action"
+               sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis $t/alarm_action_result" ;;
   *) echo "issue-identity: unknown role '$role' (sensor estimator recommender recorder operator)" >&2; exit 2 ;;
 esac
 

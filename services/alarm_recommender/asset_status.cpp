@@ -16,7 +16,10 @@ bool same_status(const causal_twin::AssetStatus& a, const causal_twin::AssetStat
          a.learning_needed() == b.learning_needed() && a.has_alarm() == b.has_alarm() &&
          a.worst_severity() == b.worst_severity() && a.open_alarms() == b.open_alarms() &&
          a.root_cause_channel() == b.root_cause_channel() && a.root_cause_name() == b.root_cause_name() &&
-         a.action() == b.action() && a.prognosis_text() == b.prognosis_text() && a.text() == b.text();
+         a.action() == b.action() && a.prognosis_text() == b.prognosis_text() && a.text() == b.text() &&
+         a.unacknowledged_alarms() == b.unacknowledged_alarms() && a.shelved_alarms() == b.shelved_alarms() &&
+         a.alarms_per_10_min() == b.alarms_per_10_min() && a.alarm_flood() == b.alarm_flood() &&
+         a.standing_alarms() == b.standing_alarms() && a.chattering_alarms() == b.chattering_alarms();
 }
 
 std::string upper(std::string s) {
@@ -98,9 +101,24 @@ bool AssetStatusBoard::update(const std::string& group, const StatusInput& in, c
     std::snprintf(text, sizeof text, "healthy: baseline learned from %u observations, no open alarm", needed);
     s.text(text);
   }
+  if (in.management) in.management(s);
   const auto it = last_.find(group);
   if (it != last_.end() && same_status(it->second, s)) return false;
   last_[group] = s;
+  out = s;
+  ++published_;
+  return true;
+}
+
+bool AssetStatusBoard::refresh(const std::string& group,
+                               const std::function<void(causal_twin::AssetStatus&)>& management,
+                               causal_twin::AssetStatus& out) {
+  const auto it = last_.find(group);
+  if (it == last_.end()) return false;
+  causal_twin::AssetStatus s = it->second;
+  management(s);
+  if (same_status(it->second, s)) return false;
+  it->second = s;
   out = s;
   ++published_;
   return true;

@@ -27,6 +27,8 @@ struct StatusInput {
   // The prognosis line for the worst open degradation alarm (AssetStatus.prognosis_text): "" when none is given.
   // A function, so the board stays free of the prognosis trends (the node owns them).
   std::function<std::string(const alarms::AlarmEvent& worst)> prognosis;
+  // Fills the alarm management and health fields (unacknowledged, shelved, per 10 min, ...); unset: left 0.
+  std::function<void(causal_twin::AssetStatus&)> management;
 };
 
 class AssetStatusBoard {
@@ -36,6 +38,10 @@ class AssetStatusBoard {
   bool update(const std::string& group, const StatusInput& in, causal_twin::AssetStatus& out);
   // The advice given for an alarm (rank 1), shown while that alarm is the group's worst.
   void note_action(const std::string& alarm_id, const std::string& action) { actions_[alarm_id] = action; }
+  // The group's last status with its management fields filled anew (after an operator action or an expired
+  // shelving): true (and `out` filled) when they changed. False for a group with no status yet.
+  bool refresh(const std::string& group, const std::function<void(causal_twin::AssetStatus&)>& management,
+               causal_twin::AssetStatus& out);
   std::uint64_t published() const { return published_; }
 
  private:

@@ -37,6 +37,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
       status_writer_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusWriter),
       prognoses_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisWriter),
+      action_desk_(participant_),
       advisor_(params_.advice),
       store_(options_.state_dir),
       recommendation_store_(options_.state_dir),
@@ -45,6 +46,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
   loop_.attach(factors_.get());
   loop_.attach(conditions_.get());
   loop_.attach(whatif_requests_.get());
+  loop_.attach(action_desk_.reader().get());
 }
 
 int RecommenderNode::run() {
@@ -84,6 +86,7 @@ int RecommenderNode::run() {
     handle(ready);
     publish_health();
     n += take_whatif_requests();
+    n += poll_alarm_actions();
     return n;
   };
   // Idle exit only once every source has left the domain (see causal-estimator).
@@ -143,10 +146,11 @@ int RecommenderNode::run() {
   status_writer_.wait_for_acknowledgments(std::chrono::seconds(2));
   spdlog::info("summary topic=causal_twin/asset_status sent={} failed={}", statuses_published_, status_write_failures_);
   spdlog::info("summary topic=causal_twin/prognosis sent={} failed={}", prognoses_published_, prognosis_write_failures_);
+  action_desk_.log_summary();
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   log_whatif_summary();
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
-          status_write_failures_ + whatif_not_entitled_) > 0 ? 4 : 0;
+          status_write_failures_ + whatif_not_entitled_ + action_desk_.result_write_failures()) > 0 ? 4 : 0;
 }
 
 void RecommenderNode::publish_health() {
@@ -262,6 +266,7 @@ void RecommenderNode::republish(const std::string& asset_group, const std::vecto
     if (!alarm_message_store_.find(asset_group, e.alarm_id, kept) || !restore_decision(kept, alarm_msg_)) {
       if (e.category == alarms::category::kDegradation && e.state != alarms::AlarmState::Cleared) ++without_decision;
     }
+    action_desk_.on_publish(alarm_msg_);
     if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
       ++alarms_published_;
       open_alarms_.on_published(alarm_msg_);
@@ -321,6 +326,7 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const EngineS
   if (a.time_scale == causal_twin::CONDITION_LEVEL) fill_next_level(st, e, alarm_msg_);
   alarm_msg_.action(action);
   alarm_message_store_.record(alarm_msg_);  // kept before it is published, as the engine checkpoint
+  action_desk_.on_publish(alarm_msg_);
   if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
     ++alarms_published_;
     open_alarms_.on_published(alarm_msg_);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "advice_policy.hpp"
+#include "alarm_action_desk.hpp"
 #include "advisor.hpp"
 #include "alarm_state_store.hpp"
 #include "asset_status.hpp"
@@ -92,6 +93,9 @@ class RecommenderNode {
   void publish_status(const AssembledObservation& a, bool stopped_now);
   // AssetStatus.prognosis_text for the group's worst open degradation alarm ("unknown" when no time is given).
   std::string status_prognosis(const EngineState& st, const alarms::AlarmEvent& worst) const;
+  // Operators' alarm actions and expired shelvings (recommender_alarm_actions.cpp): applied, answered, and the
+  // changed groups' AssetStatus published again.
+  std::size_t poll_alarm_actions();
 
   RecommenderOptions options_;
   RecommenderParams params_;
@@ -107,6 +111,7 @@ class RecommenderNode {
   std::uint64_t statuses_published_ = 0, status_write_failures_ = 0;
   std::map<std::string, bool> status_last_stopped_;  // the condition level's latest operating-state verdict
   dds::TypedWriter<causal_twin::PrognosisPubSubType> prognoses_;
+  AlarmActionDesk action_desk_;  // acknowledge / shelve (ISA-18.2): its reader is attached to loop_
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
   Advisor advisor_;

@@ -54,6 +54,7 @@ void RecommenderNode::publish_status(const AssembledObservation& a, bool stopped
     const EngineState& st = condition->second;
     in.prognosis = [this, &st](const alarms::AlarmEvent& worst) { return status_prognosis(st, worst); };
   }
+  in.management = [this](causal_twin::AssetStatus& s) { action_desk_.fill(s); };
   causal_twin::AssetStatus msg;
   if (!status_.update(a.asset_group, in, msg)) return;
   const bool learning = msg.state() == "learning";

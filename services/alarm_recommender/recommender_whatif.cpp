@@ -43,6 +43,7 @@ void RecommenderNode::publish_health_alarm(causal_twin::Alarm& alarm) {
   const bool cleared = alarm.state() == causal_twin::CLEARED;
   spdlog::log(cleared ? spdlog::level::info : spdlog::level::warn, "HEALTH {} {}: {}", cleared ? "CLEARED" : "RAISED",
               alarm.alarm_id(), alarm.reason());
+  action_desk_.on_publish(alarm);
   if (alarms_.write(alarm, loop_.stop_flag()) == dds::WriteResult::Ok) {
     ++alarms_published_;
     open_alarms_.on_published(alarm);

@@ -61,6 +61,7 @@ RecorderNode::RecorderNode(RecorderOptions options)
   recommendations_ = open(kRecommendationsFile, recommendation_header());
   statuses_ = open(kAssetStatusFile, asset_status_header());
   prognoses_ = open(kPrognosisFile, prognosis_header());
+  actions_file_ = open(kAlarmActionsFile, alarm_action_header());
 }
 
 std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name,
@@ -138,7 +139,11 @@ std::size_t RecorderNode::take_available() {
                             [&](const auto& r, const auto& info) { recs.emplace_back(key_of(info), r); }) +
                         in_.status.take_all([&](const auto& st, const auto& info) { statuses.emplace_back(key_of(info), st); }) +
                         in_.prognoses.take_all(
-                            [&](const auto& p, const auto& info) { prognoses.emplace_back(key_of(info), p); });
+                            [&](const auto& p, const auto& info) { prognoses.emplace_back(key_of(info), p); }) +
+                        in_.action_results.take_all([this](const auto& r, const auto& info) {
+                          received(info);
+                          on_action_result(r);
+                        });
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   std::stable_sort(alarms.begin(), alarms.end(), by_key);
   std::stable_sort(recs.begin(), recs.end(), by_key);
@@ -301,6 +306,24 @@ void RecorderNode::on_prognosis(const causal_twin::Prognosis& in) {
   ++prognosis_counts_.written;
 }
 
+void RecorderNode::on_action_result(const causal_twin::AlarmActionResult& in) {
+  ++action_counts_.received;
+  if (!in.applied()) {
+    ++actions_not_applied_;
+    return;
+  }
+  if (!action_repeats_.accept(in.request_id(), in.request_id())) {
+    ++action_counts_.duplicates;
+    return;
+  }
+  const auto row = alarm_action_row(in);
+  actions_file_->write_row(row);
+  if (history_) history_->add("alarm_actions", csv_history_row(row));
+  ++action_counts_.written;
+  spdlog::info("alarm action {} {} on {} by '{}'", in.request_id(), action_name(in.action()), in.alarm_id(),
+               in.user_name());
+}
+
 void RecorderNode::flush_all() {
   for (auto& [name, t] : conditions_) t.file->flush();
   for (auto& [key, t] : factor_tables_) {
@@ -310,6 +333,7 @@ void RecorderNode::flush_all() {
   recommendations_->flush();
   statuses_->flush();
   prognoses_->flush();
+  actions_file_->flush();
   if (history_) history_->commit();  // one transaction per batch, after the CSV files
 }
 
@@ -370,6 +394,11 @@ int RecorderNode::finish() {
                statuses_->rows_written(), status_counts_.duplicates);
   add(kAssetStatusFile, statuses_->rows_written());
   add(kPrognosisFile, prognoses_->rows_written());
+  spdlog::info("alarm actions: {}; {} refused by alarm-recommender (not stored)", describe(action_counts_),
+               actions_not_applied_);
+  spdlog::info("summary topic=causal_twin/alarm_action_result file={} written={} duplicates={} not_applied={}",
+               kAlarmActionsFile, actions_file_->rows_written(), action_counts_.duplicates, actions_not_applied_);
+  add(kAlarmActionsFile, actions_file_->rows_written());
   spdlog::info("rows written: {}", summary);
   if (sample_level_skipped_ > 0) {
     spdlog::info("{} sample-level factor messages not recorded (use --sample-level to keep them)",

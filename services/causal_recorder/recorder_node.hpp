@@ -5,6 +5,7 @@
 // wrote, dropped as duplicate or refused, and the snapshot ranges it never got.
 #pragma once
 
+#include "action_rows.hpp"
 #include "factor_row_assembler.hpp"
 #include "history_sink.hpp"
 #include "record_rows.hpp"
@@ -70,6 +71,7 @@ class RecorderNode {
   void on_recommendation(const causal_twin::Recommendation& in);
   void on_status(const causal_twin::AssetStatus& in);
   void on_prognosis(const causal_twin::Prognosis& in);
+  void on_action_result(const causal_twin::AlarmActionResult& in);  // applied ones: alarm_actions.csv and table
   void write_ready_rows(FactorTable& table);
   // Sanitised asset id for file names, unique per raw id (a clash gets "-2", "-3", ...).
   const std::string& file_asset(const std::string& asset_group);
@@ -90,6 +92,10 @@ class RecorderNode {
   std::set<std::string> used_file_assets_;
   std::unique_ptr<report::CsvFile> alarms_, recommendations_, statuses_, prognoses_;
   std::unique_ptr<HistorySink> history_;  // --db
+  std::unique_ptr<report::CsvFile> actions_file_;  // alarm_actions.csv
+  TopicCounts action_counts_;
+  RepeatFilter action_repeats_;           // by request id: a result replayed to a late joiner is written once
+  std::uint64_t actions_not_applied_ = 0;  // refused by alarm-recommender: nothing changed, nothing stored
   PrognosisLedger prognosis_ledger_;
   TopicCounts prognosis_counts_;
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;

@@ -14,7 +14,9 @@ const std::vector<std::string>& asset_status_header() {
   static const std::vector<std::string> h{"asset_group",     "state",           "learning_seen",  "learning_needed",
                                           "sample_index",    "time_utc",        "has_alarm",      "worst_severity",
                                           "open_alarms",     "root_cause_channel", "root_cause_name", "action",
-                                          "prognosis_text",  "text"};
+                                          "prognosis_text",  "text",
+                                          "unacknowledged_alarms", "shelved_alarms", "alarms_per_10_min", "alarm_flood",
+                                          "standing_alarms", "chattering_alarms"};
   return h;
 }
 
@@ -32,7 +34,13 @@ std::vector<std::string> asset_status_row(const causal_twin::AssetStatus& s) {
           s.root_cause_name(),
           s.action(),
           s.prognosis_text(),
-          s.text()};
+          s.text(),
+          format_integer(static_cast<std::uint64_t>(s.unacknowledged_alarms())),
+          format_integer(static_cast<std::uint64_t>(s.shelved_alarms())),
+          format_integer(static_cast<std::uint64_t>(s.alarms_per_10_min())),
+          s.alarm_flood() ? "true" : "false",
+          format_integer(static_cast<std::uint64_t>(s.standing_alarms())),
+          format_integer(static_cast<std::uint64_t>(s.chattering_alarms()))};
 }
 
 std::string asset_status_signature(const causal_twin::AssetStatus& s) {

@@ -193,6 +193,12 @@ causal_twin::AssetStatus make_status(const Row& row) {
   s.action(c.text("action"));
   s.prognosis_text(c.text("prognosis_text"));
   s.text(c.text("text"));
+  s.unacknowledged_alarms(static_cast<std::uint16_t>(c.integer("unacknowledged_alarms")));
+  s.shelved_alarms(static_cast<std::uint16_t>(c.integer("shelved_alarms")));
+  s.alarms_per_10_min(static_cast<std::uint16_t>(c.integer("alarms_per_10_min")));
+  s.alarm_flood(c.boolean("alarm_flood"));
+  s.standing_alarms(static_cast<std::uint16_t>(c.integer("standing_alarms")));
+  s.chattering_alarms(static_cast<std::uint16_t>(c.integer("chattering_alarms")));
   return s;
 }
 

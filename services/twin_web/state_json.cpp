@@ -90,6 +90,12 @@ json alarm_json(const AlarmView& v) {
           {"hours_to_next_level", number(a.hours_to_next_level())},
           {"hours_to_next_level_low", number(a.hours_to_next_level_low())},
           {"hours_to_next_level_high", number(a.hours_to_next_level_high())},
+          {"acknowledged", v.acknowledged},
+          {"acknowledged_by", v.acknowledged_by},
+          {"shelved", v.shelved},
+          {"shelved_until_ms", v.shelved_until_ns != 0 ? json(ms(v.shelved_until_ns)) : json(nullptr)},
+          {"shelved_by", v.shelved_by},
+          {"shelve_reason", v.shelve_reason},
           {"arrival", v.arrival}};
 }
 
@@ -171,7 +177,13 @@ json status_json(const GroupState& g) {
           {"root_cause_channel", s.root_cause_channel()},
           {"root_cause_name", s.root_cause_name()},
           {"action", s.action()},
-          {"prognosis_text", s.prognosis_text()}};
+          {"prognosis_text", s.prognosis_text()},
+          {"unacknowledged_alarms", s.unacknowledged_alarms()},
+          {"shelved_alarms", s.shelved_alarms()},
+          {"alarms_per_10_min", s.alarms_per_10_min()},
+          {"alarm_flood", s.alarm_flood()},
+          {"standing_alarms", s.standing_alarms()},
+          {"chattering_alarms", s.chattering_alarms()}};
 }
 
 json group_json(const std::string& id, const GroupState& g) {

@@ -131,6 +131,10 @@ void TwinState::on_alarm(const causal_twin::Alarm& in) {
   }
   a.last = in;
   a.arrival = ++arrivals_;
+  if (a.acknowledged && !in.acknowledged()) a.acknowledged_by.clear();  // escalated: to be acknowledged anew
+  a.acknowledged = in.acknowledged();
+  if (!in.shelved()) a.shelved_until_ns = 0;
+  a.shelved = in.shelved();
   if (in.state() == causal_twin::CLEARED) {
     a.cleared_index = in.sample_index();
   } else {

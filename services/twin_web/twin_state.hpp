@@ -61,6 +61,12 @@ struct AlarmView {
   std::uint64_t raised_index = 0;             // snapshot index when it was raised
   std::optional<std::uint64_t> cleared_index; // snapshot index when it cleared
   std::uint64_t arrival = 0;                  // order of its latest event, for "oldest closed first"
+  // Alarm management (ISA-18.2): from the alarm's own events (their flags) and the operators' applied actions.
+  bool acknowledged = false;
+  std::string acknowledged_by;
+  bool shelved = false;
+  std::int64_t shelved_until_ns = 0;  // 0: unknown (only the event's flag was seen)
+  std::string shelved_by, shelve_reason;
   bool open() const { return last.state() != causal_twin::CLEARED; }
 };
 
@@ -95,7 +101,9 @@ struct StateCounters {
   std::uint64_t recommendations = 0;
   std::uint64_t statuses = 0;
   std::uint64_t prognoses = 0;
-  std::uint64_t prognoses_stale = 0;  // older than the one held for that channel and level (re-sent), not kept
+  std::uint64_t prognoses_stale = 0;
+  std::uint64_t alarm_actions = 0;          // applied action results received
+  std::uint64_t alarm_actions_refused = 0;  // refused ones (nothing changed)  // older than the one held for that channel and level (re-sent), not kept
 };
 
 // The causal graph of one group from its outcomes' latest factors (names parsed by the project's convention).
@@ -112,6 +120,9 @@ class TwinState {
   void on_recommendation(const causal_twin::Recommendation& in);
   void on_status(const causal_twin::AssetStatus& in);
   void on_prognosis(const causal_twin::Prognosis& in);
+  // An applied alarm action (twin_state_actions.cpp): acknowledged by whom, shelved until when; refused ones are
+  // counted only.
+  void on_action_result(const causal_twin::AlarmActionResult& in);
 
   // Any thread.
   std::uint64_t version() const;

@@ -15,12 +15,14 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
       participant_(dds::to_dds_settings(options_.dds, "twin-web")),
       in_(participant_, dds::profiles::kAssetStatusReader),
       replies_in_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader),
-      requests_out_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter) {
+      requests_out_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter),
+      actions_out_(participant_, dds::topics::kAlarmAction, dds::profiles::kAlarmActionWriter) {
   in_.attach_to(loop_);
   loop_.attach(replies_in_.get());
   state_.set_info("service", "twin-web");
   state_.set_info("domain", std::to_string(participant_.domain_id()));
   web_ = std::make_unique<WebServer>(options_.web, state_, whatif_, [this] { return whatif_readers_.load(); });
+  web_->set_alarm_actions(&actions_);
   load_history_at_start();
 }
 
@@ -49,6 +51,7 @@ void TwinWebNode::load_history_at_start() {
 
 TwinWebNode::~TwinWebNode() {
   whatif_.stop();
+  actions_.stop();
   if (web_) web_->stop();
 }
 
@@ -65,6 +68,7 @@ int TwinWebNode::run() {
       {options_.idle_exit_s, options_.max_runtime_s},
       [this] {
         send_due_questions();
+        send_due_actions();
         return take_available();
       },
       [this] {
@@ -74,6 +78,7 @@ int TwinWebNode::run() {
   if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
   whatif_.stop();
+  actions_.stop();
   web_->stop();
   StateCounters c = state_.counters();
   // The topic lines count DDS samples: what the history database gave at start is said apart.
@@ -98,6 +103,8 @@ int TwinWebNode::run() {
   spdlog::info("summary topic={} received={} stale={}", dds::topics::kPrognosis, c.prognoses, c.prognoses_stale);
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kWhatIfRequest, requests_sent_,
                requests_failed_, whatif_.asked(), whatif_.answered());
+  spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kAlarmAction, actions_sent_,
+               actions_failed_, actions_.asked(), actions_.answered());
   const auto refused = in_.conditions.rejections().total() + in_.factors.rejections().total() +
                        in_.alarms.rejections().total() + in_.recommendations.rejections().total() +
                        in_.status.rejections().total() + in_.prognoses.rejections().total();
@@ -114,6 +121,12 @@ std::size_t TwinWebNode::take_available() {
   n += in_.prognoses.take_all([this](const auto& p, const auto&) { state_.on_prognosis(p); }, loop_.stop_flag());
   n += in_.recommendations.take_all([this](const auto& r, const auto&) { state_.on_recommendation(r); },
                                     loop_.stop_flag());
+  n += in_.action_results.take_all(
+      [this](const auto& r, const auto&) {
+        state_.on_action_result(r);
+        actions_.on_result(r);
+      },
+      loop_.stop_flag());
   n += replies_in_.take_all(
       [this](const auto& r, const auto&) {
         ++replies_received_;
@@ -132,6 +145,17 @@ void TwinWebNode::send_due_questions() {
       ++requests_sent_;
     } else {
       ++requests_failed_;
+    }
+  }
+}
+
+void TwinWebNode::send_due_actions() {
+  if (actions_out_.matched_readers() == 0) return;  // no alarm-recommender yet: the page's timeout decides
+  for (auto& action : actions_.due(AlarmActionBridge::Clock::now())) {
+    if (actions_out_.write(action, loop_.stop_flag(), std::chrono::milliseconds(200)) == dds::WriteResult::Ok) {
+      ++actions_sent_;
+    } else {
+      ++actions_failed_;
     }
   }
 }

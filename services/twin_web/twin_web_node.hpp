@@ -41,6 +41,7 @@ class TwinWebNode {
   std::size_t take_available();
   void load_history_at_start();
   void send_due_questions();
+  void send_due_actions();
 
   TwinWebOptions options_;
   TwinState state_;
@@ -50,6 +51,9 @@ class TwinWebNode {
   dds::TwinOutputReaders in_;
   dds::TypedReader<causal_twin::WhatIfReplyPubSubType> replies_in_;
   dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> requests_out_;
+  AlarmActionBridge actions_;  // the page's acknowledge / shelve, out on causal_twin/alarm_action
+  dds::TypedWriter<causal_twin::AlarmActionPubSubType> actions_out_;
+  std::uint64_t actions_sent_ = 0, actions_failed_ = 0;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   std::unique_ptr<history::HistoryStore> history_;
   std::unique_ptr<HistoryRoutes> history_routes_;

@@ -46,6 +46,7 @@ class RequestGuard {
   Verdict check(const RequestFacts& request) const;
   const std::string& csrf_token() const { return csrf_token_; }
   bool authenticating() const { return !expected_authorization_.empty(); }
+  const std::string& user() const { return options_.basic_user; }  // the authenticated user ("" none)
 
   // The host part of a Host header value (brackets kept for IPv6, port dropped), lower case.
   static std::string host_name_of(const std::string& host_header);

@@ -304,6 +304,7 @@ void WebServer::routes() {
     res.set_content(*body, "application/json");
   });
   history_route();
+  alarm_action_route();
   s.Get("/api/events", [this](const HttpRequest& req, HttpResponse& res) {
     if (event_streams_.fetch_add(1) >= options_.max_event_streams) {
       --event_streams_;

@@ -4,6 +4,7 @@
 // through WhatIfBridge: no DDS call happens on a web thread.
 #pragma once
 
+#include "alarm_action_bridge.hpp"
 #include "history_routes.hpp"
 #include "http_server.hpp"
 #include "twin_state.hpp"
@@ -42,6 +43,8 @@ class WebServer {
 
   // /api/history answers from these routes (twin-web --db); without, it answers 404. Before start().
   void set_history(HistoryRoutes* history) { history_ = history; }
+  // POST /api/alarm_action sends through this bridge (alarm_action_route.cpp); without, it answers 503. Before start().
+  void set_alarm_actions(AlarmActionBridge* actions) { actions_ = actions; }
   void start();  // serves on its own thread
   void stop();   // closes the socket and every event stream; joins the thread
   int port() const { return port_; }
@@ -52,6 +55,7 @@ class WebServer {
   void routes();
   void history_route();  // GET /api/history (twin-web --db)
   void guard_requests();
+  void alarm_action_route();  // POST /api/alarm_action
 
   WebOptions options_;
   TwinState& state_;
@@ -59,6 +63,7 @@ class WebServer {
   std::function<std::size_t()> whatif_readers_;
   std::unique_ptr<RequestGuard> guard_;
   HistoryRoutes* history_ = nullptr;
+  AlarmActionBridge* actions_ = nullptr;
   std::unique_ptr<HttpServer> server_;
   std::string chartjs_;  // read once at start-up from the package path
   int port_ = 0;

@@ -157,6 +157,28 @@ Refusal check_limits(const causal_twin::WhatIfRequest& s, std::string& why) {
   return Checker(why).id("request_id", s.request_id()).id("asset_group", s.asset_group()).result();
 }
 
+Refusal check_limits(const causal_twin::AlarmAction& s, std::string& why) {
+  return Checker(why)
+      .id("request_id", s.request_id())
+      .id("asset_group", s.asset_group())
+      .id("alarm_id", s.alarm_id())
+      .id("user_name", s.user_name())
+      .id("reason", s.reason())
+      .enumeration("action", static_cast<std::uint32_t>(s.action()), 3)
+      .result();
+}
+
+Refusal check_limits(const causal_twin::AlarmActionResult& s, std::string& why) {
+  return Checker(why)
+      .id("request_id", s.request_id())
+      .id("asset_group", s.asset_group())
+      .id("alarm_id", s.alarm_id())
+      .id("user_name", s.user_name())
+      .id("reason", s.reason())
+      .enumeration("action", static_cast<std::uint32_t>(s.action()), 3)
+      .result();
+}
+
 Refusal check_limits(const causal_twin::WhatIfReply& s, std::string& why) {
   return Checker(why)
       .id("request_id", s.request_id())

@@ -56,8 +56,12 @@ std::vector<Table> make_tables() {
   t.push_back({"asset_status",
                {T("asset_group"), T("state"), I("learning_seen"), I("learning_needed"), I("sample_index"),
                 T("time_utc"), B("has_alarm"), T("worst_severity"), I("open_alarms"), I("root_cause_channel"),
-                T("root_cause_name"), T("action"), T("prognosis_text"), T("text")},
-               {"asset_group", "sample_index", "state", "open_alarms", "text"},
+                T("root_cause_name"), T("action"), T("prognosis_text"), T("text"), I("unacknowledged_alarms"),
+                I("shelved_alarms"), I("alarms_per_10_min"), B("alarm_flood"), I("standing_alarms"),
+                I("chattering_alarms")},
+               // The management counts are in the key: an acknowledgement republishes the line with them changed.
+               {"asset_group", "sample_index", "state", "open_alarms", "text", "unacknowledged_alarms",
+                "shelved_alarms", "alarms_per_10_min", "standing_alarms", "chattering_alarms"},
                "time_utc"});
   t.push_back({"alarm_actions",
                {T("action_id"), T("asset_group"), T("alarm_id"), T("action"), T("user_name"), T("reason"),

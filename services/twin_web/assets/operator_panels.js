@@ -81,6 +81,7 @@ window.operatorPanels = (function () {
     reason.appendChild(node('div', { class: 'reason-text' }, a.reason));
     if (a.action) reason.appendChild(node('div', { class: 'action' }, `Action: ${a.action}`));
     reason.appendChild(node('div', { class: 'muted' }, `${a.kind} \u00b7 ${a.id}`));
+    if (window.alarmActions) reason.appendChild(window.alarmActions.block(a, g));
     tr.appendChild(reason);
     return tr;
   }
@@ -105,6 +106,7 @@ window.operatorPanels = (function () {
       tr.appendChild(node('td', { colspan: 7, class: 'muted' }, 'No open alarm.'));
       body.appendChild(tr);
     }
+    if (window.alarmActions) window.alarmActions.renderHealth(g);
     const badge = document.getElementById('alarm-count');
     badge.textContent = String(open.length);
     badge.classList.toggle('hot', open.length > 0);

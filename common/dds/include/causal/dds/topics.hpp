@@ -13,6 +13,8 @@ inline constexpr const char* kWhatIfRequest = "causal_twin/whatif_request";
 inline constexpr const char* kWhatIfReply = "causal_twin/whatif_reply";
 inline constexpr const char* kPrognosis = "causal_twin/prognosis";        // alarm-recommender: time to threshold
 inline constexpr const char* kAssetStatus = "causal_twin/asset_status";   // alarm-recommender: one line per group
+inline constexpr const char* kAlarmAction = "causal_twin/alarm_action";   // operator: acknowledge / shelve an alarm
+inline constexpr const char* kAlarmActionResult = "causal_twin/alarm_action_result";  // alarm-recommender's answer
 
 }  // namespace causal::dds::topics
 
@@ -38,5 +40,9 @@ inline constexpr const char* kWhatIfWriter = "whatif_writer";
 inline constexpr const char* kWhatIfReader = "whatif_reader";
 inline constexpr const char* kPrognosisWriter = "prognosis_writer";
 inline constexpr const char* kPrognosisReader = "prognosis_reader";
+inline constexpr const char* kAlarmActionWriter = "alarm_action_writer";
+inline constexpr const char* kAlarmActionReader = "alarm_action_reader";
+inline constexpr const char* kAlarmActionResultWriter = "alarm_action_result_writer";
+inline constexpr const char* kAlarmActionResultReader = "alarm_action_result_reader";
 
 }  // namespace causal::dds::profiles

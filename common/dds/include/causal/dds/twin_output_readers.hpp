@@ -1,5 +1,5 @@
 // The readers of everything the twin publishes for operators (condition vectors, causal factors, alarms,
-// recommendations, asset status, prognoses), as causal-recorder and twin-web both read them: one reader per
+// recommendations, asset status, prognoses, alarm action results), as causal-recorder and twin-web both read them: one reader per
 // topic with its reader profile from qos.xml. Declare it before the EventLoop that waits on it (the loop,
 // destroyed first, detaches the readers' conditions).
 #pragma once
@@ -23,7 +23,8 @@ struct TwinOutputReaders {
         alarms(participant, topics::kAlarm, profiles::kAlarmReader),
         recommendations(participant, topics::kRecommendation, profiles::kRecommendationReader),
         status(participant, topics::kAssetStatus, status_profile),
-        prognoses(participant, topics::kPrognosis, profiles::kPrognosisReader) {}
+        prognoses(participant, topics::kPrognosis, profiles::kPrognosisReader),
+        action_results(participant, topics::kAlarmActionResult, profiles::kAlarmActionResultReader) {}
 
   // Every reader wakes `loop`.
   void attach_to(EventLoop& loop) {
@@ -33,6 +34,7 @@ struct TwinOutputReaders {
     loop.attach(recommendations.get());
     loop.attach(status.get());
     loop.attach(prognoses.get());
+    loop.attach(action_results.get());
   }
 
   TypedReader<causal_twin::ConditionVectorPubSubType> conditions;
@@ -41,6 +43,7 @@ struct TwinOutputReaders {
   TypedReader<causal_twin::RecommendationPubSubType> recommendations;
   TypedReader<causal_twin::AssetStatusPubSubType> status;
   TypedReader<causal_twin::PrognosisPubSubType> prognoses;
+  TypedReader<causal_twin::AlarmActionResultPubSubType> action_results;  // operators' alarm actions, as applied
 };
 
 }  // namespace causal::dds
