@@ -7,6 +7,7 @@
 #include "prognosis_conversions.hpp"
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/metrics/metrics_registry.hpp"
 
 #include <cmath>
 
@@ -136,7 +137,8 @@ int RecommenderNode::run() {
   // lost samples are not.
   const std::uint64_t dds_lost = factors_.rejections().instances_limit + factors_.lost_samples() +
                                  conditions_.rejections().instances_limit + conditions_.lost_samples();
-  spdlog::info("summary topic=causal_twin/causal_factors received={} rejected={}", factors_received_, invalid_msgs_);
+  spdlog::info("summary topic=causal_twin/causal_factors received={} rejected={} lost={}", factors_received_,
+               invalid_msgs_, observations_lost_);
   spdlog::info("summary topic=causal_twin/condition_vector received={}", conditions_received_);
   spdlog::info("summary topic=causal_twin/alarm sent={}", alarms_published_);
   const auto& h = health_.health();
@@ -216,7 +218,16 @@ void RecommenderNode::observe(AssembledObservation& a) {
   }
   const auto not_running_before = st.engine->not_running_observations();
   const auto gaps_before = st.engine->discontinuities();
+  const auto lost_before = st.engine->lost_observations();
   const auto events = st.engine->observe(a.observation);
+  if (const auto lost = st.engine->lost_observations() - lost_before; lost > 0) {
+    observations_lost_ += lost;
+    metrics::process_metrics()
+        .counter("recommender_observations_lost_total",
+                 "Observations the alarm engines saw skipped by a consecutively numbered source (input lost)",
+                 {{"asset_group", a.asset_group}, {"time_scale", sample ? "sample" : "condition"}})
+        .inc(static_cast<double>(lost));
+  }
   const bool stopped_now = st.engine->not_running_observations() > not_running_before;
   if (!sample) advisor_.set_health(a.asset_group, !st.engine->baseline_ready(), has_open_degradation(*st.engine));
   if (!sample) {  // the trends follow every snapshot, alarm or not, so a prognosis has history at the raise
@@ -334,6 +345,10 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const EngineS
   const auto level = e.severity == alarms::Severity::Critical  ? spdlog::level::err
                      : e.severity == alarms::Severity::Warning ? spdlog::level::warn
                                                                : spdlog::level::info;
+  if (e.category == alarms::category::kHealth) {  // input the engine never received (input_continuity.hpp)
+    if (e.state == alarms::AlarmState::Raised) spdlog::warn("HEALTH RAISED {}: {}", e.alarm_id, e.reason);
+    return;
+  }
   if (e.category != alarms::category::kDegradation) {  // an operating change: re-baselined, not a fault
     if (e.state == alarms::AlarmState::Raised)
       spdlog::info("OPERATING CHANGE {} {}: {}", e.alarm_id, alarm_msg_.channel_name(), e.reason);

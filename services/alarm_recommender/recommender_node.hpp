@@ -126,6 +126,10 @@ class RecommenderNode {
   causal_twin::Prognosis prognosis_msg_;
   std::uint64_t prognoses_published_ = 0, prognosis_write_failures_ = 0;
   std::uint64_t invalid_msgs_ = 0, alarms_published_ = 0, recommendations_published_ = 0;
+  // Observations an engine of this process saw skipped (index jumps of a consecutive source: input lost upstream
+  // or while this process was down; the engine's HEALTH event input_lost names them). Metric
+  // recommender_observations_lost_total{asset_group, time_scale}; lost= in the summary.
+  std::uint64_t observations_lost_ = 0;
   std::uint64_t events_advised_ = 0, events_act_on_asset_ = 0, events_upstream_lever_ = 0;
   OpenAlarmMetrics open_alarms_;  // causal_twin_alarms_open{asset_group, category, severity}
   PrognosisMetrics prognosis_metrics_;  // causal_twin_prognosis_time_to_level_seconds{...}

@@ -30,15 +30,7 @@ Admission BlockSequencer::admit(const IngestBlock& block) {
                  " before, " + std::to_string(block.channels.size()) + " now)";
       return a;
     }
-    if (g.resumed) {
-      // The previous run's last block is not known here (its time and source sequence): a new segment.
-      g.resumed = false;
-      plan.discontinuity = true;
-      plan.why = "first block after sensor-ingest restarted: numbering resumed at frame " +
-                 std::to_string(g.next_sequence) + ", sample " + std::to_string(g.next_sample_index);
-      ++g.snapshot_index;
-      return finish(g, block, plan, a);
-    }
+    if (g.resumed) return resumed_block(g, block, plan, a);
     // Where the previous block ended, in the source's time.
     const double period_ns = 1e9 / g.last_rate_hz;
     const double expected_t0 = static_cast<double>(g.last_t0_ns) + static_cast<double>(g.last_samples) * period_ns;
@@ -78,12 +70,40 @@ Admission BlockSequencer::admit(const IngestBlock& block) {
   return finish(it->second, block, plan, a);
 }
 
+Admission BlockSequencer::resumed_block(Group& g, const IngestBlock& block, FramePlan& plan, Admission& a) {
+  // The previous run's last block time is not known here: a new segment.
+  if (g.has_source && block.sequence == g.last_source_sequence) {
+    a.reason = RejectReason::Duplicate;
+    a.detail = "source sequence " + std::to_string(block.sequence) + " again (the last block before the restart)";
+    return a;
+  }
+  g.resumed = false;
+  plan.discontinuity = true;
+  if (g.has_source && block.sequence > g.last_source_sequence + 1) {
+    // Blocks lost across the restart: their numbers stay unused, so every reader sees the gap.
+    plan.missed = block.sequence - g.last_source_sequence - 1;
+    g.next_sequence += plan.missed;
+    if (block.end_of_segment) {
+      g.snapshot_index += plan.missed;
+      g.next_sample_index += plan.missed * block.samples_per_channel;
+    }
+  }
+  plan.why = "first block after sensor-ingest restarted: numbering resumed at frame " + std::to_string(g.next_sequence) +
+             ", sample " + std::to_string(g.next_sample_index) +
+             (plan.missed > 0 ? " (source blocks " + std::to_string(g.last_source_sequence + 1) + ".." +
+                                    std::to_string(block.sequence - 1) + " never reached sensor-ingest: lost)"
+                              : std::string());
+  ++g.snapshot_index;
+  return finish(g, block, plan, a);
+}
+
 Admission BlockSequencer::finish(Group& g, const IngestBlock& block, FramePlan& plan, Admission& a) {
   plan.sequence = g.next_sequence++;
   plan.first_sample_index = g.next_sample_index;
   plan.snapshot_index = g.snapshot_index;
   g.next_sample_index += block.samples_per_channel;
   g.last_source_sequence = block.sequence;
+  g.has_source = true;
   g.last_t0_ns = block.t0_ns;
   g.last_samples = block.samples_per_channel;
   g.last_rate_hz = block.sample_rate_hz;
@@ -98,6 +118,8 @@ void BlockSequencer::resume(const std::string& group, const ResumePoint& point) 
   g.next_sequence = point.next_sequence;
   g.next_sample_index = point.next_sample_index;
   g.snapshot_index = point.snapshot_index;
+  g.has_source = point.has_source_sequence;
+  g.last_source_sequence = point.last_source_sequence;
   g.resumed = true;
   groups_[group] = std::move(g);
 }
@@ -106,7 +128,8 @@ std::optional<ResumePoint> BlockSequencer::resume_point(const std::string& group
   const auto it = groups_.find(group);
   if (it == groups_.end()) return std::nullopt;
   const Group& g = it->second;
-  return ResumePoint{g.channels, g.next_sequence, g.next_sample_index, g.snapshot_index};
+  return ResumePoint{g.channels, g.next_sequence, g.next_sample_index, g.snapshot_index, g.has_source,
+                     g.last_source_sequence};
 }
 
 }  // namespace causal::ingest

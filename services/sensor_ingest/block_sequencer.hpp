@@ -13,6 +13,12 @@
 // from 0 again (the estimator would take its frames for ones it already processed). resume() gives a group the
 // numbering a previous run left (ingest_state_store.hpp); its first block then continues it: sequence and sample
 // index go on, the snapshot index advances and the frame is a discontinuity ("sensor-ingest restarted").
+// Blocks lost across the restart: when the source's sequence goes on past the last block the previous run took
+// (ResumePoint::last_source_sequence), the blocks between never reached sensor-ingest (inside the killed process,
+// or sent while it was down by a source that does not queue: stdin, UDP). They are not a pause of the source: the
+// frame sequence skips one number per missing block, so the estimator counts them as lost frames (HEALTH
+// input_lost), and with per-block segments (end_of_segment) the snapshot index and the sample index skip them too,
+// so the recorder's gap and the alarm engine's input_lost name the same snapshots (FramePlan::missed).
 // Rejected (not published, counted): channels other than the group's first block had (layout_change), a
 // source sequence number seen already (duplicate: MQTT QoS 1 may deliver twice), and a block that starts
 // before the previous one ended (out_of_order: time going backwards or overlapping).
@@ -35,6 +41,7 @@ struct FramePlan {
   std::uint64_t snapshot_index = 0;      // segment counter: +1 at every discontinuity after the first
   bool discontinuity = false;
   std::string why;  // why a discontinuity ("" when none), for the log
+  std::uint64_t missed = 0;  // source blocks that never reached sensor-ingest across its restart (counted lost)
 };
 
 struct Admission {
@@ -49,6 +56,8 @@ struct ResumePoint {
   std::uint64_t next_sequence = 0;
   std::uint64_t next_sample_index = 0;
   std::uint64_t snapshot_index = 0;  // of the last frame published
+  bool has_source_sequence = false;  // the source's sequence of the last block taken (state written since v2)
+  std::uint64_t last_source_sequence = 0;
 };
 
 class BlockSequencer {
@@ -72,11 +81,15 @@ class BlockSequencer {
     double last_rate_hz = 0.0;
     bool segment_closed = false;  // the last block had end_of_segment
     bool resumed = false;         // numbering restored from a previous run, no block of this run yet
+    bool has_source = false;      // last_source_sequence is known (a block taken, or restored)
     std::uint64_t next_sequence = 0;
     std::uint64_t next_sample_index = 0;
     std::uint64_t snapshot_index = 0;
   };
   Admission finish(Group& g, const IngestBlock& block, FramePlan& plan, Admission& a);
+  // The first block after a restart (resume()): a new segment; blocks the source sent meanwhile and this process
+  // never took are skipped in the numbering (FramePlan::missed).
+  Admission resumed_block(Group& g, const IngestBlock& block, FramePlan& plan, Admission& a);
   double gap_factor_;
   std::map<std::string, Group> groups_;
 };

@@ -57,6 +57,8 @@ IngestNode::IngestNode(IngestOptions options)
   lost_metric_ = &m.counter("ingest_frames_lost_total", "Frames the DDS readers did not accept in time", source);
   non_finite_metric_ = &m.counter("ingest_non_finite_values_total",
                                   "NaN/Inf sample values forwarded (the estimator screens them)", source);
+  missed_metric_ = &m.counter("ingest_blocks_missed_total",
+                              "Source blocks that never reached sensor-ingest across its restart (lost)", source);
   discontinuity_metric_ =
       &m.counter("ingest_discontinuities_total",
                  "Frames flagged as a discontinuity (first block, source gap, restart, new segment)", source);
@@ -138,7 +140,7 @@ int IngestNode::run() {
   spdlog::info("{} messages in, {} frames published in {:.2f} s{}", received_, published_,
                std::chrono::duration<double>(Clock::now() - started).count(), stop_.load() ? " (stopped)" : "");
   print_summary();
-  return total(rejected_) + lost_ > 0 ? 4 : 0;
+  return total(rejected_) + lost_ + missed_ > 0 ? 4 : 0;
 }
 
 void IngestNode::count_rejection(RejectReason reason, const std::string& detail, const std::string& group) {
@@ -194,6 +196,13 @@ void IngestNode::process(const std::string& message) {
       spdlog::warn("'{}' block {}: {} non-finite value(s) forwarded (the estimator rejects and counts them){}",
                    b.asset_group, b.sequence, b.non_finite, suppressed_text(suppressed));
     }
+  }
+  if (plan.missed > 0) {
+    missed_ += plan.missed;
+    missed_metric_->inc(static_cast<double>(plan.missed));
+    spdlog::error("'{}': {} source blocks before block {} never reached sensor-ingest (sent while it was down, or "
+                  "inside the process that was killed): lost; frames {}..{} are skipped, so the estimator counts them",
+                  b.asset_group, plan.missed, b.sequence, plan.sequence - plan.missed, plan.sequence - 1);
   }
   if (plan.discontinuity) {
     ++discontinuities_;
@@ -391,14 +400,15 @@ void IngestNode::print_summary() const {
   }
   std::printf(
       "sensor-ingest: received=%llu published=%llu rejected=%llu lost=%llu non_finite=%llu discontinuities=%llu "
-      "resumed_groups=%llu state_failures=%llu resent=%llu resends=%llu beyond_backlog=%llu feature_rows=%llu%s\n",
+      "resumed_groups=%llu state_failures=%llu resent=%llu resends=%llu beyond_backlog=%llu feature_rows=%llu%s "
+      "missed=%llu\n",
       static_cast<unsigned long long>(received_), static_cast<unsigned long long>(published_),
       static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(lost_),
       static_cast<unsigned long long>(non_finite_), static_cast<unsigned long long>(discontinuities_),
       static_cast<unsigned long long>(resumed_groups_), static_cast<unsigned long long>(numbering_.failures()),
       static_cast<unsigned long long>(resent_), static_cast<unsigned long long>(resends_),
       static_cast<unsigned long long>(beyond_backlog_), static_cast<unsigned long long>(features_published_),
-      reasons.c_str());
+      reasons.c_str(), static_cast<unsigned long long>(missed_));
   std::fflush(stdout);
 }
 

@@ -91,6 +91,7 @@ class IngestNode {
   Clock::time_point deadline_ = Clock::time_point::max();
 
   std::uint64_t received_ = 0, published_ = 0, lost_ = 0, non_finite_ = 0, discontinuities_ = 0;
+  std::uint64_t missed_ = 0;  // source blocks lost across a restart (FramePlan::missed)
   std::array<std::uint64_t, kRejectReasonCount> rejected_{};
   std::array<RateLimitedLog, kRejectReasonCount> reject_log_{};
   RateLimitedLog discontinuity_log_, non_finite_log_;
@@ -99,6 +100,7 @@ class IngestNode {
   metrics::Counter* lost_metric_;
   metrics::Counter* non_finite_metric_;
   metrics::Counter* discontinuity_metric_;
+  metrics::Counter* missed_metric_;
   std::array<metrics::Counter*, kRejectReasonCount> rejected_metric_{};
 };
 

@@ -145,8 +145,9 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
       "MQTT (--mqtt-qos, default 1) connects and reconnects by itself (every second) and subscribes again on\n"
       "every connect; UDP takes one block per datagram (up to 64 KiB). At exit it prints\n"
       "  sensor-ingest: received=<messages> published=<frames> rejected=<messages> lost=<frames> <reason>=<n> ...\n"
+      "  ... missed=<source blocks that never reached it across its restart (--state-dir)>\n"
       "Exit codes: 0 done or stopped, 1 DDS or internal error, 2 bad arguments, 3 no reader matched in time,\n"
-      "4 a message was rejected or a frame lost. stdin ends at end of input; MQTT and UDP at SIGINT/SIGTERM or\n"
+      "4 a message was rejected, a frame lost or a source block missed. stdin ends at end of input; MQTT and UDP at SIGINT/SIGTERM or\n"
       "--max-runtime."};
   dds::add_common_options(app, o.dds);
   app.add_option("--source", source, "mqtt://HOST:PORT/TOPIC, udp://HOST:PORT (bind address) or - (stdin)")->required();
@@ -187,7 +188,8 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
       ->capture_default_str();
   app.add_option("--state-dir", o.state_dir,
                  "keep each asset group's frame numbering in DIR/<group>.ingest.state, so a restarted sensor-ingest "
-                 "continues it (without it a restart numbers from 0 again and the estimator refuses that input)");
+                 "continues it (without it a restart numbers from 0 again and the estimator refuses that input); "
+                 "source blocks sent while it was down and never taken skip their frame numbers (missed=, exit 4)");
   app.add_option("--backlog", o.backlog_frames,
                  "frames kept per asset group (in memory) and resent to a causal-estimator that appears after a "
                  "restart, from the snapshot after the last one it published; 0 = none (a restarted estimator then "

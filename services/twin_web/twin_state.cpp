@@ -71,6 +71,14 @@ void TwinState::on_condition(const causal_twin::ConditionVector& in) {
     ++counters_.duplicates;
     return;
   }
+  if (pos == g.trend.end() && !g.trend.empty() && p.index > g.trend.back().index + 1) {
+    const std::uint64_t gap = p.index - g.trend.back().index - 1;  // newer than the newest: the indices between
+    g.missing += gap;
+    counters_.snapshots_missing += gap;
+  } else if (pos != g.trend.end() && pos != g.trend.begin() && g.missing > 0) {
+    --g.missing;  // a late one between two points fills a hole
+    --counters_.snapshots_missing;
+  }
   g.trend.insert(pos, std::move(p));
   while (g.trend.size() > limits_.trend_points) {
     g.trend.pop_front();

@@ -80,6 +80,9 @@ struct GroupState {
   std::string feature;
   std::vector<std::string> channels;
   std::deque<TrendPoint> trend;                 // sorted by index
+  // Snapshot indices skipped by a newer point and not come since (input lost upstream; a late one fills its hole):
+  // the gaps the view has, counted.
+  std::uint64_t missing = 0;
   std::map<int, OutcomeFactors> factors;        // condition-level filter, by 1-based outcome
   std::map<std::string, AlarmView> alarms;      // by alarm id
   std::map<std::string, RecommendationView> recommendations;  // by recommendation id
@@ -94,6 +97,7 @@ struct StateCounters {
   std::uint64_t duplicates = 0;          // a snapshot index the trend already has (re-sent after a restart)
   std::uint64_t rejected_vectors = 0;    // non-finite value, or a channel count that differs from the group's
   std::uint64_t trend_points_forgotten = 0;  // beyond StateLimits::trend_points
+  std::uint64_t snapshots_missing = 0;   // sum of GroupState::missing: gaps in the trends (lost upstream)
   std::uint64_t factor_messages = 0;     // condition-level filter messages (batches) used for the graph
   std::uint64_t factor_messages_skipped = 0;   // other estimators and time scales (not drawn)
   std::uint64_t factor_messages_rejected = 0;  // inconsistent batches (outcome range, names/values/std lengths)

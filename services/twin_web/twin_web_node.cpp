@@ -92,8 +92,9 @@ int TwinWebNode::run() {
   c.recommendations -= loaded_.recommendations;
   c.prognoses -= loaded_.prognoses;
   c.statuses -= loaded_.statuses;
-  spdlog::info("summary topic={} received={} duplicates={} refused={} forgotten={}", dds::topics::kConditionVector,
-               c.condition_vectors, c.duplicates, c.rejected_vectors, c.trend_points_forgotten);
+  spdlog::info("summary topic={} received={} duplicates={} refused={} forgotten={} lost={}",
+               dds::topics::kConditionVector, c.condition_vectors, c.duplicates, c.rejected_vectors,
+               c.trend_points_forgotten, c.snapshots_missing);
   spdlog::info("summary topic={} received={} skipped={} refused={}", dds::topics::kCausalFactors,
                c.factor_messages + c.factor_messages_skipped + c.factor_messages_rejected, c.factor_messages_skipped,
                c.factor_messages_rejected);
@@ -115,6 +116,8 @@ int TwinWebNode::run() {
 std::size_t TwinWebNode::take_available() {
   std::size_t n = 0;
   n += in_.conditions.take_all([this](const auto& c, const auto&) { state_.on_condition(c); }, loop_.stop_flag());
+  // Gaps in the trends (snapshot indices skipped, input lost upstream): twin_web_snapshots_missing.
+  missing_metric_->set(static_cast<double>(state_.counters().snapshots_missing));
   n += in_.factors.take_all([this](const auto& f, const auto&) { state_.on_factors(f); }, loop_.stop_flag());
   n += in_.alarms.take_all([this](const auto& a, const auto&) { state_.on_alarm(a); }, loop_.stop_flag());
   n += in_.status.take_all([this](const auto& st, const auto&) { state_.on_status(st); }, loop_.stop_flag());

@@ -14,6 +14,7 @@
 #include "causal/dds/service_runtime.hpp"
 #include "causal/dds/twin_output_readers.hpp"
 #include "causal/dds/typed_endpoints.hpp"
+#include "causal/metrics/metrics_registry.hpp"
 #include "causal_twinPubSubTypes.h"
 
 #include <atomic>
@@ -45,6 +46,8 @@ class TwinWebNode {
 
   TwinWebOptions options_;
   TwinState state_;
+  metrics::Gauge* missing_metric_ = &metrics::process_metrics().gauge(
+      "web_snapshots_missing", "Snapshot indices missing in the live view's trends (skipped: input lost upstream)");
   WhatIfBridge whatif_;
   std::atomic<std::size_t> whatif_readers_{0};
   dds::Participant participant_;

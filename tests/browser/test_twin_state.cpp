@@ -101,6 +101,22 @@ TEST(TwinState, TrendKeepsIndexOrderAndCountsDuplicatesAndRefusals) {
   EXPECT_DOUBLE_EQ(j["groups"][0]["trend"]["time_ms"][1].get<double>(), 600000.0);  // 10 min in ms
 }
 
+// Snapshot indices a newer point skipped are gaps in the view, counted (input lost upstream): 2 3 4 8 9 leaves
+// 5..7 missing; 6 arriving late fills one; 1 (older than the trend) fills none.
+TEST(TwinState, SkippedSnapshotIndicesAreCountedAsMissing) {
+  TwinState s;
+  for (std::uint64_t i : {2u, 3u, 4u, 8u, 9u}) s.on_condition(vec(i, {1, 2, 3}));
+  EXPECT_EQ(s.group("g")->missing, 3u);
+  s.on_condition(vec(6, {1, 2, 3}));
+  s.on_condition(vec(1, {1, 2, 3}));
+  s.on_condition(vec(6, {1, 2, 3}));  // again: a duplicate, nothing filled
+  EXPECT_EQ(s.group("g")->missing, 2u);
+  EXPECT_EQ(s.counters().snapshots_missing, 2u);
+  const json j = parse(s);
+  EXPECT_EQ(j["groups"][0]["missing"], 2);
+  EXPECT_EQ(j["counters"]["snapshots_missing"], 2);
+}
+
 TEST(TwinState, HistoryIsBoundedOldestFirst) {
   StateLimits limits;
   limits.trend_points = 4;

@@ -6,29 +6,23 @@
 # domain. The victim (causal-estimator, alarm-recommender or causal-recorder) dies after snapshot 120 while the
 # blocks keep coming. Checked, exactly: the recording has all 300 condition vectors, each snapshot index 0..299
 # once; every service exits 0; sensor-ingest and the estimator report lost=0. With "beyond" the victim is the
-# estimator and sensor-ingest keeps only 5 frames (--backlog 5): the frames older than that are lost and must be
-# counted by the estimator (lost=N, HEALTH input_lost naming the range, exit 4), and the recorder's gap equals it
-# (its lost=, exit 4).
+# estimator, killed after snapshot 170 (the recommender's baseline is learned by 140), and sensor-ingest keeps only
+# 5 frames (--backlog 5): the frames older than that are lost and must be counted by the estimator (lost=N, HEALTH
+# input_lost naming the range, exit 4), the recorder's gap equals it (its lost=, exit 4), and the recommender's
+# alarm engine reports the same range as input lost (HEALTH input_lost), never as a recording gap or an operating
+# change (no "OPERATING CHANGE", no discontinuity event in the recording).
 #   live_restart_stdin.sh <build/services dir> <deploy dir> <estimator|recommender|recorder|beyond> <domain>
 set -uo pipefail
 bin="$1"; deploy="$2"; victim="$3"; domain="$4"
-work="$(mktemp -d)"
+. "$(dirname "$0")/../support/live_pipeline.sh"
+work="$(mktemp -d)"; logs="$work"; keep="${LIVE_RESTART_KEEP:-0}"
 declare -A cmd pid
-cleanup() {
-  local live
-  live=$(jobs -pr)
-  [ -n "$live" ] && kill -TERM $live 2>/dev/null && sleep 1
-  live=$(jobs -pr)
-  [ -n "$live" ] && kill -KILL $live 2>/dev/null
-  wait 2>/dev/null
-  if [ "${LIVE_RESTART_KEEP:-0}" = 1 ]; then echo "kept $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
+trap live_cleanup EXIT
 fail() { echo "FAIL: $1"; for s in ingest estimator recommender recorder; do echo "--- $s"; grep -h 'summary\|error\|lost\|resen\|RAISED\|continuation' "$work/$s.log" 2>/dev/null | tail -8; done; exit 1; }
 total=300; kill_after=120
+[ "$victim" = beyond ] && kill_after=170
 group=live-restart
-awk -F, -v group="$group" -v rows=256 -v seed=33 -f "$(dirname "$0")/plant_day_blocks.awk" \
-  "$deploy/data/ims2-features/derived_per_file_stats_all984.csv" | head -n "$total" > "$work/blocks.jsonl"
+live_blocks "$deploy" "$group" 33 "$work/blocks.jsonl" "$total"
 [ "$(wc -l < "$work/blocks.jsonl")" = "$total" ] || fail "the generator wrote $(wc -l < "$work/blocks.jsonl") blocks"
 backlog=600; [ "$victim" = beyond ] && backlog=5
 c="--domain $domain --qos '$deploy/dds/qos.xml' --transport '$deploy/dds/localhost.xml' --max-runtime 120"
@@ -37,14 +31,7 @@ cmd[recorder]="'$bin/causal_recorder/causal-recorder' $c --out '$work/rec'"
 cmd[recommender]="'$bin/alarm_recommender/alarm-recommender' $c --state-dir '$work/state/recommender'"
 cmd[estimator]="'$bin/causal_estimator/causal-estimator' $c --state-dir '$work/state/estimator' --wait-for alarm-recommender --wait-for causal-recorder --wait-timeout 60"
 cmd[ingest]="'$bin/sensor_ingest/sensor-ingest' $c --source - --state-dir '$work/state/ingest' --backlog $backlog --wait-for causal-estimator --wait-timeout 60 < '$work/feed'"
-start() { eval "exec ${cmd[$1]}" >> "$work/$1.log" 2>&1 & pid[$1]=$!; }
-wait_log() {  # $1 = file, $2 = pattern, $3 = seconds, $4 = occurrences (default 1)
-  local i
-  for i in $(seq 1 $(( $3 * 10 ))); do [ "$(grep -c -- "$2" "$1" 2>/dev/null)" -ge "${4:-1}" ] && return 0; sleep 0.1; done
-  return 1
-}
 conditions="$work/rec/conditions_${group}_meanabs.csv"
-rows_of() { [ -f "$1" ] && echo $(( $(wc -l < "$1") - 1 )) || echo 0; }
 
 mkfifo "$work/feed"
 start recorder; start recommender; start estimator; start ingest
@@ -94,6 +81,19 @@ if [ "$victim" = beyond ]; then
   grep -q "summary topic=causal_twin/condition_vector file=conditions_${group}_meanabs.csv written=[0-9]* duplicates=[0-9]* lost=$lost " \
     "$work/recorder.log" || fail "the recorder's lost= is not the estimator's $lost"
   echo "beyond the backlog: estimator lost=$lost, recorded $rows: together $total"
+  # The alarm engine: the same range, as input the twin lost; nothing about it as a change of the machine.
+  range=$(grep 'HEALTH RAISED live-restart/input/input_lost' "$work/estimator.log" | tail -1 | sed -n 's/.*(snapshots \([0-9]*\.\.[0-9]*\);.*/\1/p')
+  [ -n "$range" ] || fail "the estimator's input_lost names no range"
+  grep -q "HEALTH RAISED live-restart/observations/input_lost/1: $lost observations never reached the alarm engine (observations $range," \
+    "$work/recommender.log" || fail "the recommender did not report snapshots $range as input lost: $(grep -h 'HEALTH\|OPERATING' "$work/recommender.log" | head -3)"
+  [ "$(grep -c 'HEALTH RAISED live-restart/observations/input_lost' "$work/recommender.log")" = 1 ] || fail "more than one input_lost in the recommender"
+  grep -q "summary topic=causal_twin/causal_factors received=[0-9]* rejected=0 lost=$lost\$" "$work/recommender.log" ||
+    fail "the recommender's lost= is not $lost: $(grep 'summary topic=causal_twin/causal_factors' "$work/recommender.log")"
+  ! grep -q 'OPERATING CHANGE' "$work/recommender.log" || fail "operating change reported: $(grep 'OPERATING CHANGE' "$work/recommender.log" | head -1 | cut -c1-300)"
+  [ "$(grep -c '^[^,]*,[^,]*,[^,]*,\(discontinuity\|operating_change\|level_step\),' "$work/rec/alarms.csv")" = 0 ] || fail "operating-change events in the recording"
+  [ "$(grep -c '^live-restart/observations/input_lost/1,\(raised\|cleared\),warning,input_lost,' "$work/rec/alarms.csv")" = 2 ] ||
+    fail "the recording has not the input_lost event raised and cleared"
+  echo "alarm engine: snapshots $range reported as input lost (HEALTH input_lost), no operating change"
 else
   [ "$rows" = "$total" ] && [ "$distinct" = "$total" ] || fail "recorded $rows rows ($distinct distinct) of $total"
   [ "$(tail -n +2 "$conditions" | cut -d, -f1 | sort -n | head -1)" = 0 ] || fail "snapshot 0 missing"

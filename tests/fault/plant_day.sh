@@ -29,42 +29,30 @@
 # (faults); the runs follow each other. RESOURCE_LOCK causal_user_ctwin_other (tests/fault/CMakeLists.txt).
 set -uo pipefail
 bin="$1"; deploy="$2"; seed="${PLANT_DAY_SEED:-24}"
+. "$(dirname "$0")/../support/live_pipeline.sh"
 other=ctwin-other
-work="$(mktemp -d)"
+work="$(mktemp -d)"; keep="${PLANT_DAY_KEEP:-0}"
 chmod 755 "$work"
 made_user=0
-
-cleanup() {  # only this shell's jobs still running: a pid that has exited may belong to another process by now
-  local live
-  live=$(jobs -pr)
-  [ -n "$live" ] && kill -TERM $live 2>/dev/null && sleep 1
-  live=$(jobs -pr)
-  [ -n "$live" ] && kill -KILL $live 2>/dev/null
-  wait 2>/dev/null
-  for f in "$work"/*/other/other.pid; do [ -f "$f" ] && kill -TERM "$(cat "$f")" 2>/dev/null; done
-  [ "$made_user" = 1 ] && userdel "$other" 2>/dev/null
-  if [ "${PLANT_DAY_KEEP:-0}" = 1 ]; then echo "kept $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
+# Besides this shell's jobs (live_cleanup): the other user's recorder, and the user this test made.
+on_exit='for f in "$work"/*/other/other.pid; do [ -f "$f" ] && kill -TERM "$(cat "$f")" 2>/dev/null; done
+  [ "$made_user" = 1 ] && userdel "$other" 2>/dev/null'
+trap live_cleanup EXIT
 fail() { echo "FAIL: $1"; exit 1; }
 [ "$(id -u)" = 0 ] || { echo "SKIP: needs root to create a second user"; exit 77; }
-[ -x /usr/sbin/mosquitto ] && command -v mosquitto_pub > /dev/null ||
-  fail "no mosquitto broker or mosquitto_pub (deploy/install_deps.sh installs mosquitto and mosquitto-clients)"
 if ! id "$other" > /dev/null 2>&1; then
   useradd --system --no-create-home --shell /usr/sbin/nologin "$other" || fail "useradd $other"
   made_user=1
 fi
 profile="$deploy/dds/localhost-udp.xml"
-table="$deploy/data/ims2-features/derived_per_file_stats_all984.csv"
 group=plant-day
-awk -F, -v group="$group" -v rows=256 -v seed="$seed" -f "$(dirname "$0")/plant_day_blocks.awk" "$table" > "$work/blocks.jsonl"
+live_blocks "$deploy" "$group" "$seed" "$work/blocks.jsonl"
 total=$(wc -l < "$work/blocks.jsonl")
 [ "$total" = 984 ] || fail "the generator wrote $total blocks (want 984)"
 
-# The broker: loopback only, no persistence, no limit on queued messages (the default 1000 would drop).
-port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-printf 'listener %s 127.0.0.1\nallow_anonymous true\npersistence false\nmax_queued_messages 0\n' "$port" > "$work/mosquitto.conf"
-/usr/sbin/mosquitto -c "$work/mosquitto.conf" > "$work/mosquitto.log" 2>&1 &
+live_broker "$work" ||
+  fail "no mosquitto broker or mosquitto_pub (deploy/install_deps.sh installs mosquitto and mosquitto-clients)"
+port=$broker_port
 
 # Kill points: three distinct snapshots in 200..899 drawn from the seed, and which victim dies at which.
 read -r -a points <<< "$(awk -v s="$seed" 'BEGIN { srand(s); n = 0
@@ -78,21 +66,6 @@ read -r -a victims <<< "$(awk -v s="$seed" 'BEGIN { srand(s * 7 + 1); v[0] = "in
 echo "seed $seed: kill ${victims[0]} after snapshot ${points[0]}, ${victims[1]} after ${points[1]}, ${victims[2]} after ${points[2]}; the other user's recorder joins after snapshot $(( (points[0] + points[1]) / 2 ))"
 
 declare -A cmd pid
-start() {  # $1 = service name; (re)starts it with its command, log appended
-  eval "exec ${cmd[$1]}" >> "$out/$1.log" 2>&1 &
-  pid[$1]=$!
-}
-rows_of() { [ -f "$1" ] && echo $(( $(wc -l < "$1") - 1 )) || echo 0; }
-wait_rows() {  # $1 = file, $2 = rows, $3 = seconds
-  local i
-  for i in $(seq 1 $(( $3 * 10 ))); do [ "$(rows_of "$1")" -ge "$2" ] && return 0; sleep 0.1; done
-  return 1
-}
-wait_log() {  # $1 = file, $2 = pattern, $3 = seconds, $4 = occurrences (default 1)
-  local i
-  for i in $(seq 1 $(( $3 * 10 ))); do [ "$(grep -c -- "$2" "$1" 2>/dev/null)" -ge "${4:-1}" ] && return 0; sleep 0.1; done
-  return 1
-}
 publish() {  # $1..$2 = first and last snapshot (0-based, inclusive): QoS 1, returns when the broker has every one
   sed -n "$(( $1 + 1 )),$(( $2 + 1 ))p" "$work/blocks.jsonl" |
     mosquitto_pub -h 127.0.0.1 -p "$port" -t "plant/$run_name/$group" -q 1 -l -i "daq-$run_name" ||
@@ -131,7 +104,7 @@ kill_and_restart() {  # $1 = victim at snapshot $2
 }
 
 run_day() {  # $1 = name, $2 = domain, $3 = 1 with faults
-  run_name=$1; out="$work/$1"; published=0; domain=$2; ingest_down=0
+  run_name=$1; out="$work/$1"; logs="$out"; published=0; domain=$2; ingest_down=0
   mkdir -p "$out/state/ingest" "$out/state/estimator" "$out/state/recommender"
   local c="--domain $2 --qos '$deploy/dds/qos.xml' --transport '$profile' --max-runtime 110"
   cmd[recorder]="'$bin/causal_recorder/causal-recorder' $c --out '$out/rec' --idle-exit 30"

@@ -146,3 +146,55 @@ TEST(BlockSequencer, ResumedGroupContinuesNumberingWithANewSegment) {
   wide.channels = {"a", "b", "c"};
   EXPECT_EQ(restarted.admit(wide).reason, RejectReason::LayoutChange);
 }
+
+// Blocks lost across a restart (sensor-ingest killed while the source went on, the source not queueing: stdin,
+// UDP): the resume point keeps the source's last sequence, so the first block after the restart tells how many never
+// came. Their frame numbers stay unused (the estimator counts lost frames) and, with one segment per block, their
+// snapshot and sample indices too (the recorder's gap and the alarm engine name the same snapshots).
+TEST(BlockSequencer, BlocksMissedAcrossARestartAreSkippedInTheNumbering) {
+  BlockSequencer first;
+  for (std::uint64_t i = 0; i < 4; ++i) {
+    auto b = block(100 + i, static_cast<std::int64_t>(i) * 10 * kMs);
+    b.end_of_segment = true;
+    ASSERT_TRUE(first.admit(b).plan);
+  }
+  const auto point = first.resume_point("g1");
+  ASSERT_TRUE(point);
+  EXPECT_TRUE(point->has_source_sequence);
+  EXPECT_EQ(point->last_source_sequence, 103u);
+  EXPECT_EQ(point->snapshot_index, 3u);
+
+  BlockSequencer restarted;
+  restarted.resume("g1", *point);
+  auto again = block(103, 30 * kMs);  // the last block before the restart, once more
+  again.end_of_segment = true;
+  EXPECT_EQ(restarted.admit(again).reason, RejectReason::Duplicate);
+  auto next = block(107, 70 * kMs);  // 104..106 never came
+  next.end_of_segment = true;
+  const auto a = restarted.admit(next);
+  ASSERT_TRUE(a.plan) << a.detail;
+  EXPECT_EQ(a.plan->missed, 3u);
+  EXPECT_EQ(a.plan->sequence, 7u);             // frames 4..6 unused
+  EXPECT_EQ(a.plan->snapshot_index, 7u);       // snapshots 4..6 skipped: 3 + 3 + the new segment
+  EXPECT_EQ(a.plan->first_sample_index, 70u);  // 40 + 3 blocks of 10
+  EXPECT_TRUE(a.plan->discontinuity);
+  EXPECT_NE(a.plan->why.find("source blocks 104..106 never reached sensor-ingest"), std::string::npos) << a.plan->why;
+
+  // The source restarted too (its sequence back at 0): nothing is known lost.
+  BlockSequencer both;
+  both.resume("g1", *point);
+  const auto z = both.admit(block(0, 3600 * 1000 * kMs));
+  ASSERT_TRUE(z.plan);
+  EXPECT_EQ(z.plan->missed, 0u);
+  EXPECT_EQ(z.plan->sequence, 4u);
+  // The next block after the source's own continuation: nothing missed.
+  BlockSequencer cont;
+  cont.resume("g1", *point);
+  auto c = block(104, 40 * kMs);
+  c.end_of_segment = true;
+  const auto ca = cont.admit(c);
+  ASSERT_TRUE(ca.plan);
+  EXPECT_EQ(ca.plan->missed, 0u);
+  EXPECT_EQ(ca.plan->sequence, 4u);
+  EXPECT_EQ(ca.plan->snapshot_index, 4u);
+}

@@ -52,11 +52,13 @@ std::string shipped_config_with_deadline(const fs::path& dir, const std::string&
 
 bool is_input_lost(const causal_twin::Alarm& a) { return a.alarm_id().find("/input/input_lost/") != std::string::npos; }
 
-// The liveliness alarms (a silent source or estimator); the estimator's input_lost alarms are counted apart.
+// The liveliness alarms (a silent source or estimator); input_lost is counted apart: the estimator's, and the alarm
+// engine's (".../observations/input_lost/n": a restarted estimator without its state resumes its output later, and
+// the recommender's engine names the observations it never received).
 std::vector<causal_twin::Alarm> health_alarms(const DdsObserver& o) {
   std::vector<causal_twin::Alarm> out;
   for (const auto& a : o.alarms()) {
-    if (a.category() == "health" && !is_input_lost(a)) out.push_back(a);
+    if (a.category() == "health" && a.kind() != "input_lost") out.push_back(a);
   }
   return out;
 }

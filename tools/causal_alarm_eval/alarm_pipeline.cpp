@@ -71,14 +71,17 @@ ConditionSeries series_from_ims_directory(const std::string& dir, const std::str
     if (verbose_progress && (i % 50 == 0 || i + 1 == n)) std::fprintf(stderr, "  read %zu / %zu snapshots\n", i + 1, n);
   }
   // Run index from time: period = smallest interval; discontinuity where a gap exceeds gap_multiple x the median.
+  // A pause of the recording advances the index by one only: skipped indices are input that never arrived
+  // (missing files; the alarm engine reports them as lost), a pause is a discontinuity of consecutive indices.
   std::vector<std::int64_t> dt;
   for (std::size_t i = 1; i < n; ++i) dt.push_back(s.time_ns[i] - s.time_ns[i - 1]);
   const std::int64_t period = dt.empty() ? 1 : *std::min_element(dt.begin(), dt.end());
   std::vector<double> dtd(dt.begin(), dt.end());
   const double med = dt.empty() ? 0.0 : causal::alarms::median(dtd);
   for (std::size_t i = 0; i < n; ++i) {
-    s.index[i] = static_cast<std::uint64_t>(std::llround(static_cast<double>(s.time_ns[i] - s.time_ns[0]) / static_cast<double>(period)));
     s.discontinuity[i] = i == 0 || static_cast<double>(dt[i - 1]) > gap_multiple * med;
+    const auto steps = i == 0 ? 0 : std::llround(static_cast<double>(dt[i - 1]) / static_cast<double>(period));
+    s.index[i] = i == 0 ? 0 : s.index[i - 1] + (s.discontinuity[i] ? 1 : static_cast<std::uint64_t>(std::max(1LL, steps)));
   }
   return s;
 }
@@ -115,8 +118,8 @@ PipelineResult run_condition_pipeline(const ConditionSeries& series, const Pipel
   ChainOutput out;
   auto absorb = [&]() {
     for (auto& e : out.events) {
-      if (e.category != category::kDegradation) {  // operating changes are reported, not faults
-        if (e.state == AlarmState::Raised) ++res.operating_changes;
+      if (e.category != category::kDegradation) {  // operating changes and lost input are reported, not faults
+        if (e.state == AlarmState::Raised) ++(e.category == category::kHealth ? res.input_losses : res.operating_changes);
         res.events.push_back(std::move(e));
         continue;
       }

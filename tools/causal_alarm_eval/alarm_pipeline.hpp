@@ -35,7 +35,8 @@ ConditionSeries series_from_feature_table(const std::string& path, const std::st
 // Raw IMS snapshot directory: computes the feature of every snapshot with causal_io. The snapshot index is
 // the run index derived from the time stamps, round((t - t_first) / period) with period = the smallest
 // interval between consecutive files, so a subset keeps the indices of the full run. A gap larger than
-// gap_multiple x the median interval is a discontinuity (lags restart there, the engine re-baselines).
+// gap_multiple x the median interval is a discontinuity (lags restart there, the engine re-baselines) and
+// advances the index by one: a pause is not missing snapshots.
 ConditionSeries series_from_ims_directory(const std::string& dir, const std::string& feature,
                                           bool verbose_progress = false,
                                           double gap_multiple = causal::alarms::AlarmParams{}.gap_multiple);
@@ -85,6 +86,7 @@ struct PipelineResult {
   std::string refusal;                       // why (the first refusal), empty when none
   std::uint64_t not_running = 0;             // observations skipped by the engine's operating-state gate
   std::uint64_t operating_changes = 0;       // events of category operating_change (raised)
+  std::uint64_t input_losses = 0;            // health events input_lost (index ranges the series skipped)
   double cusum_threshold = 0.0;
   double nis_threshold = 0.0;
   // Per observation and channel (N x G) for plots / diagnostics: standardised feature z, standardised

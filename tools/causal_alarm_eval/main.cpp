@@ -86,9 +86,9 @@ void print_run(const ConditionSeries& series, const PipelineResult& res, const P
               static_cast<long long>(n), static_cast<long long>(series.values.cols()),
               source.c_str());
   std::printf("chain: estimator %s (condition level) -> observation rule -> AlarmEngine; %llu observations judged, "
-              "%llu vectors refused, %llu operating changes\n", estimator_config.c_str(),
+              "%llu vectors refused, %llu operating changes, %llu ranges of input lost\n", estimator_config.c_str(),
               static_cast<unsigned long long>(res.observations), static_cast<unsigned long long>(res.refused),
-              static_cast<unsigned long long>(res.operating_changes));
+              static_cast<unsigned long long>(res.operating_changes), static_cast<unsigned long long>(res.input_losses));
   std::printf("baseline: observations [%d, %d), CUSUM k=%.2f h=%.3f (ARL0 %.3g), NIS window %d threshold %.3f, not running %llu\n",
               opt.params.warmup_observations, opt.params.warmup_observations + opt.params.baseline_observations,
               opt.params.cusum_k, res.cusum_threshold, opt.params.target_arl0, opt.params.nis_window, res.nis_threshold,

@@ -328,36 +328,39 @@ std::vector<AlarmEvent> AlarmEngine::observe(const Observation& obs) {
   const std::uint64_t n = m.seen++;
   const auto warm = static_cast<std::uint64_t>(m.p.warmup_observations);
   const auto base_end = warm + static_cast<std::uint64_t>(m.p.baseline_observations);
+  // Input lost before the engine (skipped indices of a consecutive source): reported, and no gap.
+  std::vector<AlarmEvent> events;
+  const detail::LostRange lost = m.continuity.step(obs.index, obs.time_ns);
+  if (lost.count > 0) m.report_lost(lost, obs, events);
   // Time awareness: judged against the previous observation's time, whatever happens to this one.
-  const bool discontinuity = m.ready && m.is_discontinuity(obs);
+  const bool discontinuity = m.ready && m.is_discontinuity(obs, lost.count);
   const double gap_s = m.has_last_time ? static_cast<double>(obs.time_ns - m.last_time_ns) * 1e-9 : 0.0;
   m.has_last_time = true;
   m.last_time_ns = obs.time_ns;
   if (n < warm) {
     collect_warmup(m, obs);
-    return {};
+    return events;
   }
 
   std::vector<double> feat(static_cast<std::size_t>(g), kNaN), innov(static_cast<std::size_t>(g), kNaN);
   transform_inputs(m, obs, feat, innov);
   if (!m.ready) {
     collect_baseline(m, obs, feat, innov, n + 1 == base_end);
-    return {};
+    return events;
   }
   if (machine_stopped(m, obs, feat)) {
     ++m.not_running;
     m.stopped = true;
-    return {};
+    return events;
   }
   // Running again after a stop: the machine restarted, levels may differ (a discontinuity, as a gap).
   const bool restarted = m.stopped;
   m.stopped = false;
 
   // Gaps: hold the detectors and re-baseline after the confirmation window.
-  std::vector<AlarmEvent> events;
   if (discontinuity || restarted) {
     ++m.discontinuities;
-    m.start_confirmation(obs, true, -1, obs.discontinuity || !discontinuity ? 0.0 : gap_s);
+    m.start_confirmation(obs, true, -1, (obs.discontinuity && lost.count == 0) || !discontinuity ? 0.0 : gap_s);
     m.confirm.restart = restarted && !discontinuity;
   }
   if (m.confirm.active) {
@@ -446,6 +449,8 @@ std::uint64_t AlarmEngine::rejected_observations() const { return impl_->rejecte
 std::uint64_t AlarmEngine::not_running_observations() const { return impl_->not_running; }
 std::uint64_t AlarmEngine::discontinuities() const { return impl_->discontinuities; }
 std::uint64_t AlarmEngine::operating_changes() const { return impl_->operating_changes; }
+std::uint64_t AlarmEngine::lost_observations() const { return impl_->continuity.lost; }
+std::uint64_t AlarmEngine::input_losses() const { return impl_->continuity.losses; }
 
 ChannelDiagnostics AlarmEngine::channel_diagnostics(int channel) const {
   const Impl& m = *impl_;

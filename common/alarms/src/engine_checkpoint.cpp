@@ -243,7 +243,7 @@ void restore(causal::StateReader& in, Confirmation& c, int channels) {
 }  // namespace detail
 
 void AlarmEngine::Impl::save_state(causal::StateWriter& out) const {
-  out.begin("alarm_engine_state", 2);
+  out.begin("alarm_engine_state", 3);
   out.put(seen);
   out.put(rejected);
   out.put(not_running);
@@ -261,10 +261,11 @@ void AlarmEngine::Impl::save_state(causal::StateWriter& out) const {
   out.put(discontinuities);
   out.put(operating_changes);
   out.put(stopped);
+  detail::save(out, continuity);
 }
 
 void AlarmEngine::Impl::restore_state(causal::StateReader& in) {
-  in.expect("alarm_engine_state", 2);
+  in.expect("alarm_engine_state", 3);
   in.read(seen);
   in.read(rejected);
   in.read(not_running);
@@ -282,6 +283,7 @@ void AlarmEngine::Impl::restore_state(causal::StateReader& in) {
   in.read(discontinuities);
   in.read(operating_changes);
   in.read(stopped);
+  detail::restore(in, continuity);
 }
 
 void AlarmEngine::save(causal::StateWriter& out) const {

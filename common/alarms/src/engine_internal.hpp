@@ -13,6 +13,7 @@
 #include "causal/alarms/detectors.hpp"
 #include "causal/alarms/factor_names.hpp"
 #include "causal/alarms/statistics.hpp"
+#include "input_continuity.hpp"
 
 namespace causal::alarms::detail {
 
@@ -274,6 +275,7 @@ struct AlarmEngine::Impl {
   bool stopped = false;          // the last observation was skipped by the operating-state gate
   std::uint64_t discontinuities = 0;
   std::uint64_t operating_changes = 0;
+  detail::IndexContinuity continuity;  // input lost before the engine (input_continuity.hpp)
 
   int channels() const { return static_cast<int>(names.size()); }
   // Root cause for an event of channel c whose own alarm began at `event_onset`.
@@ -289,7 +291,11 @@ struct AlarmEngine::Impl {
   // verdict changed (empty otherwise).
   std::string reevaluate_root(int c, detail::AlarmSlot& slot, const std::vector<double>& evidence);
   // Gaps and operating changes (operating_changes.cpp).
-  bool is_discontinuity(const Observation& obs) const;
+  // `lost`: observations the source skipped right before this one (input lost, not a pause): their time is
+  // no gap, and a discontinuity flag on the first observation after them is the loss's.
+  bool is_discontinuity(const Observation& obs, std::uint64_t lost) const;
+  // Appends the HEALTH event input_lost (raised and cleared at once) naming the range (input_continuity.cpp).
+  void report_lost(const detail::LostRange& r, const Observation& obs, std::vector<AlarmEvent>& events);
   void start_confirmation(const Observation& obs, bool gap, int step_channel, double gap_s);
   // The channel whose feature CUSUM just crossed in an abrupt, large step (AlarmParams::operating_step_ratio),
   // -1 when none.

@@ -73,10 +73,13 @@ double gap_reference(const AlarmEngine::Impl& m, int c, double common_step) {
 
 }  // namespace
 
-bool AlarmEngine::Impl::is_discontinuity(const Observation& obs) const {
-  if (obs.discontinuity) return true;
+bool AlarmEngine::Impl::is_discontinuity(const Observation& obs, std::uint64_t lost) const {
+  // After lost observations the source (or the estimator, which flags the first vector after a loss so no lag
+  // spans it) marks a discontinuity of the twin's input, not of the machine; their time is no recording gap.
+  if (obs.discontinuity && lost == 0) return true;
   if (!has_last_time || median_interval_ns <= 0.0) return false;
-  return static_cast<double>(obs.time_ns - last_time_ns) > p.gap_multiple * median_interval_ns;
+  return static_cast<double>(obs.time_ns - last_time_ns) >
+         p.gap_multiple * median_interval_ns * static_cast<double>(lost + 1);
 }
 
 int AlarmEngine::Impl::abrupt_step() const {

@@ -19,7 +19,9 @@
 //  2b. gaps and operating changes (AlarmParams, "gaps and operating changes"): a discontinuity (flag, time
 //     gap, restart after a stop) or an abrupt large step holds the detectors for a confirmation window;
 //     then levels that settled are re-baselined and reported as events of category "operating_change"
-//     (raised and cleared at once), a step that keeps rising raises its feature_drift alarm.
+//     (raised and cleared at once), a step that keeps rising raises its feature_drift alarm. Indices a
+//     consecutively numbered source skipped are input the twin lost, not a gap: one "health" event
+//     "input_lost" naming the range (raised and cleared at once), the detectors go on.
 //  3. root cause (per episode = period during which at least one alarm is active): the channel whose
 //     own behaviour changed first -- an innovation_rise onset, else a feature departure, among channels
 //     whose change began no later than the alarmed channel's; simultaneous onsets (within
@@ -117,6 +119,10 @@ class AlarmEngine {
   // Discontinuities seen (flagged, time gaps, restarts after a stop) and operating-change events raised.
   std::uint64_t discontinuities() const;
   std::uint64_t operating_changes() const;
+  // Observations a consecutively numbered source skipped (lost before the engine, not a recording gap: one
+  // HEALTH event "input_lost" per missing range, src/input_continuity.hpp), and the number of such ranges.
+  std::uint64_t lost_observations() const;
+  std::uint64_t input_losses() const;
   ChannelDiagnostics channel_diagnostics(int channel) const;
   // The channel's level event (see LevelEvent); level_reached(c, r): an alarm of channel c is open and its
   // confirmed level reached r x the reference (the warning / critical / end-of-life crossing). Throw

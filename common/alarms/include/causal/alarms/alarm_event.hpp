@@ -25,13 +25,17 @@ inline constexpr const char* kFactorShift = "factor_shift";        // causal fac
 inline constexpr const char* kOperatingChange = "operating_change";  // an abrupt step that settled
 inline constexpr const char* kDiscontinuity = "discontinuity";      // re-baselined after a gap / restart
 inline constexpr const char* kLevelStep = "level_step";  // one channel stepped and settled: followed, not confirmed
+// Health events (category kHealth): the twin, not the machine.
+inline constexpr const char* kInputLost = "input_lost";  // observations skipped by a consecutive source: lost on the way
 }  // namespace kind
 
-// What an event is about (Alarm.category in the IDL): the machine degrading, or a change of operating
-// state the engine re-baselined on (reported so a reader can tell them apart; never counted as a fault).
+// What an event is about (Alarm.category in the IDL): the machine degrading, a change of operating state the
+// engine re-baselined on (reported so a reader can tell them apart; never counted as a fault), or the twin's
+// own health (input it never received).
 namespace category {
 inline constexpr const char* kDegradation = "degradation";
 inline constexpr const char* kOperatingChange = "operating_change";
+inline constexpr const char* kHealth = "health";  // the twin lost input (no channel: channel -1)
 }  // namespace category
 
 struct AlarmEvent {
