@@ -250,7 +250,7 @@ if ! awk "BEGIN { exit !($CPU_US <= 1.5 * $K_US) }"; then
     "estimator's CPU; data sharing would avoid it but needs bounded, unkeyed types: an IDL change), two reliable" \
     "writes per frame (filter and fixed-lag batches; one message would need an IDL change), start-up counted in" \
     "the figure (participant, noise tuning: ~10 %, now on a worker thread), the input screen and condition features" \
-    "(~12 %) and ~3-5 context switches per frame (docs/scale-and-benchmarks.md, \"Round 2\")"
+    "(~12 %) and ~3-5 context switches per frame (docs/scale-and-benchmarks.md, \"round 2\")"
 fi
 if ! awk "BEGIN { exit !($E >= 0.5) }"; then
   echo "missed: live_efficiency $(by "$E" 0.5) under 0.5: the kernel figure counts one core of arithmetic only;" \
