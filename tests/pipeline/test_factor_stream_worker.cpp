@@ -1,7 +1,8 @@
 // FactorStream with its automatic noise tuned on a TuningWorker (off the feeding thread): the reports must be,
 // bit for bit, those of the stream that tunes on the feeding thread, whenever the worker's result arrives
-// (held until the end, released in the middle of the input), and a checkpoint taken while the worker tunes
-// must continue, after a restore into a fresh stream with or without a worker, to the same reports.
+// (held until the end, released in the middle of the input, waited for when the buffer reaches its bound), and a
+// checkpoint taken while the worker tunes must continue, after a restore into a fresh stream with or without a
+// worker, to the same reports.
 #include "causal/pipeline/factor_stream.hpp"
 
 #include "checkpoint_test_util.hpp"
@@ -9,7 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <memory>
+#include <thread>
 
 namespace causal::pipeline {
 namespace {
@@ -101,6 +104,37 @@ TEST(FactorStreamWorker, ReleasedMidwayGivesTheSameReportsAtALaterFeed) {
   feed_rows(s, y, 800, kRows, got);
   s.finish(got);
   expect_identical(got, want, "released midway");
+}
+
+TEST(FactorStreamWorker, ABufferAtItsBoundWaitsForTheTuningWithTheSameReports) {
+  const RowMajorMatrix y = data();
+  // calibration 100: the stream buffers at most 8 x 100 = 800 samples while the worker tunes.
+  auto params = [](std::shared_ptr<TuningWorker> w) {
+    FactorStreamParams p = tuned_params(std::move(w));
+    p.noise.calibration_samples = 100;
+    return p;
+  };
+  FactorStream sync(params(nullptr));
+  std::vector<FactorReport> expected;
+  feed_rows(sync, y, 0, kRows, expected);
+  sync.finish(expected);
+
+  auto worker = std::make_shared<TuningWorker>();
+  worker->hold(true);
+  FactorStream s(params(worker));
+  std::vector<FactorReport> got;
+  feed_rows(s, y, 0, 799, got);
+  ASSERT_TRUE(s.tuning_in_background()) << "799 buffered samples: still below the bound";
+  std::thread release([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    worker->hold(false);
+  });
+  feed_rows(s, y, 799, kRows, got);  // the 800th sample waits for the worker
+  release.join();
+  EXPECT_FALSE(s.tuning_in_background());
+  EXPECT_TRUE(s.calibrated());
+  s.finish(got);
+  expect_identical(got, expected, "bounded buffer");
 }
 
 TEST(FactorStreamWorker, CheckpointWhileTuningContinuesToTheSameReports) {

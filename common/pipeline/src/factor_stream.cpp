@@ -144,7 +144,11 @@ void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint
       continue;
     }
     window_.push(y, disc, t, source_index);
-    if (tuning_job_.valid() || window_.size() < params_.noise.calibration_samples) continue;
+    if (tuning_job_.valid()) {
+      if (window_.size() >= NoiseSetting::kWorkerBufferFactor * params_.noise.calibration_samples) calibrate(out);
+      continue;
+    }
+    if (window_.size() < params_.noise.calibration_samples) continue;
     if (params_.noise.worker) {
       start_tuning();
     } else {

@@ -47,7 +47,10 @@ struct NoiseSetting {
   // else on this worker, while the stream keeps buffering what it is fed (polled at each feed; finish() waits).
   // The reports are the same either way (tuned on the same first calibration_samples samples, then every
   // buffered sample replayed in order); with a worker they come out at a later feed. Not saved in checkpoints.
+  // The buffer is bounded: a stream holding kWorkerBufferFactor x calibration_samples samples waits for its
+  // tuning (memory per group stays bounded however long the worker's queue is, e.g. many groups joining at once).
   std::shared_ptr<TuningWorker> worker;
+  static constexpr std::size_t kWorkerBufferFactor = 8;
 };
 
 struct FactorStreamParams {
