@@ -9,7 +9,7 @@
 #      sensor-sim as fast as possible, the SAME frames (count, groups, size) -> causal-estimator(s) ->
 #      causal_bench_factor_counter (frames covered by factor messages, exactly) -> frames/s, and each
 #      estimator's user+system CPU over its run (its "summary cpu" line) -> cpu_per_frame_us (1 shard) and
-#      shard_cpu_ratio (summed CPU of the 2 shards / 1 shard, same frames);
+#      shard_cpu_ratio (summed CPU of the 2 shards / 1 shard, same frames); the source's CPU -> "source cpu:" line;
 #  (c) groups live on ONE estimator process: sensor-sim at the IMS rate (20,480 Hz x 4 channels, 1024-sample
 #      frames, groups staggered over the frame period): the largest N with every frame's factors delivered
 #      exactly (nothing lost or dropped) and steady-state p99 frame-to-factor latency < 5 ms (each group's first
@@ -44,7 +44,7 @@ while [ $# -gt 0 ]; do
     --transport) TRANSPORT_ARG="$2"; shift ;;
     --shards) SHARDS_ARG="$2"; shift ;;
     --live-shards) LIVE_SHARDS_ARG="$2"; shift ;;
-    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,28p' "$0"; exit 0 ;;
     *) echo "bench_scale.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -153,9 +153,11 @@ run_pipeline() {
   done
   local pacing=()
   [ "$paced" = 1 ] && pacing=(--rate "$RATE" --stagger)
-  "$SIM" --domain "$domain" "${DDS[@]}" --groups "$groups" --channels "$CHANNELS" --frame-samples "$FRAME" \
-    --sample-rate "$RATE" --frames-per-group "$frames" --wall-clock-stamps "${pacing[@]}" \
-    --wait-subscribers "$shards" --max-runtime "$limit" --log-level warn > "$dir/sim.out" 2>&1 &
+  # The source's own CPU (user + system of sensor-sim: bash's `times` in a subshell that only waits for it).
+  ( "$SIM" --domain "$domain" "${DDS[@]}" --groups "$groups" --channels "$CHANNELS" --frame-samples "$FRAME" \
+      --sample-rate "$RATE" --frames-per-group "$frames" --wall-clock-stamps "${pacing[@]}" \
+      --wait-subscribers "$shards" --max-runtime "$limit" --log-level warn > "$dir/sim.out" 2>&1
+    rc=$?; times > "$dir/sim.times"; exit $rc ) &
   local sim=$!
   PIDS+=($sim)
   wait "$sim"; local sim_rc=$?
@@ -170,18 +172,22 @@ run_pipeline() {
             if (kv[1] == "user_s" || kv[1] == "sys_s") s += kv[2] } } END { printf "%.3f", s }')
   RUN_EST_FRAMES=$(cat "$dir"/est*.log | awk '/summary cpu / { for (i = 1; i <= NF; ++i) { split($i, kv, "=");
             if (kv[1] == "frames") n += kv[2] } } END { print n + 0 }')
+  # `times` prints the shell's, then its children's user and system time ("0m1.234s 0m0.321s").
+  RUN_SIM_CPU=$(sed -n 2p "$dir/sim.times" 2>/dev/null | awk '{ s = 0; for (i = 1; i <= 2; ++i) { split($i, t, "m");
+            sub("s", "", t[2]); s += t[1] * 60 + t[2] } printf "%.3f", s }')
   RUN_OK=0
   [ "$sim_rc" = 0 ] && [ "$est_rc" = 0 ] && [ "$counter_rc" = 0 ] && [ "${lost:-1}" = 0 ] && RUN_OK=1
-  RUN_STATUS="sim exit $sim_rc lost=${lost:-?}, estimators exit $est_rc, counter exit $counter_rc, estimator cpu ${RUN_CPU} s for $RUN_EST_FRAMES frames"
+  RUN_STATUS="sim exit $sim_rc lost=${lost:-?}, estimators exit $est_rc, counter exit $counter_rc, estimator cpu ${RUN_CPU} s for $RUN_EST_FRAMES frames, sensor-sim cpu ${RUN_SIM_CPU:-?} s"
 }
 
 # (b) the pipeline end to end, same frames as (a) ------------------------------------------------------------
-declare -A FPS CPU
+declare -A FPS CPU SIM_CPU
 BEST_FPS=0; BEST_SHARDS=1
 for s in "${SHARDS[@]}"; do
   run_pipeline 231 "$s" "$TP_GROUPS" "$TP_FRAMES" 0
   FPS[$s]=$(field frames_per_s "$RUN_LINE")
   CPU[$s]=$RUN_CPU
+  SIM_CPU[$s]=${RUN_SIM_CPU:-0}
   [ "$RUN_EST_FRAMES" = $((TP_GROUPS * TP_FRAMES)) ] || { echo "  (the estimators processed $RUN_EST_FRAMES frames, not $((TP_GROUPS * TP_FRAMES)))"; FAILED=1; }
   [ "$RUN_OK" = 1 ] || { FPS[$s]=0; FAILED=1; echo "  (run failed: see the logs kept in $WORK)"; KEEP=1; }
   ratio=$(awk -v p="${FPS[$s]}" -v r="$RAW_FPS" 'BEGIN { printf "%.3f", (r > 0 ? p / r : 0) }')
@@ -192,8 +198,12 @@ RATIO=$(awk -v p="$BEST_FPS" -v r="$RAW_FPS" 'BEGIN { printf "%.3f", (r > 0 ? p 
 SPEEDUP=$(awk -v a="${FPS[2]:-0}" -v b="${FPS[1]:-0}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
 CPU_US=$(awk -v c="${CPU[1]:-0}" -v n=$((TP_GROUPS * TP_FRAMES)) 'BEGIN { printf "%.1f", c * 1e6 / n }')
 SHARD_CPU=$(awk -v a="${CPU[2]:-0}" -v b="${CPU[1]:-0}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
+SIM_US=$(awk -v c="${SIM_CPU[1]:-0}" -v n=$((TP_GROUPS * TP_FRAMES)) 'BEGIN { printf "%.1f", c * 1e6 / n }')
 echo "estimator cpu: ${CPU_US} us per frame with 1 shard (user+system over the run, start-up included; kernel ${K_US} us);" \
   "2 shards ${CPU[2]:-?} s vs 1 shard ${CPU[1]:-?} s for the same $((TP_GROUPS * TP_FRAMES)) frames"
+# The source beside it, same run: what live capacity spends on the harness rather than the estimator.
+echo "source cpu: sensor-sim ${SIM_US} us per frame with 1 shard (user+system over the run, start-up included;" \
+  "$(awk -v s="$SIM_US" -v c="$CPU_US" 'BEGIN { printf "%.2f", (c > 0 ? s / c : 0) }') x the estimator's)"
 
 # (c) groups live at the IMS rate ------------------------------------------------------------------------------
 FRAMES_LIVE=$((DURATION * RATE / FRAME))
@@ -236,13 +246,17 @@ echo "targets: live_efficiency $E >= 0.5 $(met "$E >= 0.5"); cpu_per_frame_us $C
 # "Estimator CPU per frame").
 if ! awk "BEGIN { exit !($CPU_US <= 1.5 * $K_US) }"; then
   echo "missed: cpu_per_frame_us $(by "$CPU_US" "$(awk -v k="$K_US" 'BEGIN { print 1.5 * k }')") over 1.5 x kernel:" \
-    "the Fast DDS receive thread copies each 32 KiB frame and decodes it for its key (~23 % of the estimator's CPU)," \
-    "two reliable writes per frame, start-up noise tuning and ~5 context switches per frame (docs/scale-and-benchmarks.md)"
+    "the Fast DDS receive thread copies each 32 KiB frame from shared memory into the reader's pool (~20 % of the" \
+    "estimator's CPU; data sharing would avoid it but needs bounded, unkeyed types: an IDL change), two reliable" \
+    "writes per frame (filter and fixed-lag batches; one message would need an IDL change), start-up counted in" \
+    "the figure (participant, noise tuning: ~10 %, now on a worker thread), the input screen and condition features" \
+    "(~12 %) and ~3-5 context switches per frame (docs/scale-and-benchmarks.md, \"round 2\")"
 fi
 if ! awk "BEGIN { exit !($E >= 0.5) }"; then
   echo "missed: live_efficiency $(by "$E" 0.5) under 0.5: the kernel figure counts one core of arithmetic only;" \
-    "live groups share 2 cores with the source and the counter, pay the per-frame CPU above, and every hand-off" \
-    "between the source, DDS and the estimator's threads waits for a core (p99 5 ms is a few time slices)"
+    "live groups share 2 cores with the source (sensor-sim ${SIM_US} us per frame, line \"source cpu\") and the" \
+    "counter, pay the per-frame CPU above, and every hand-off between the source, DDS and the estimator's threads" \
+    "waits for a core (p99 5 ms is a few time slices; the load average above counts other users of the machine)"
 fi
 echo "groups_live=$N1 kernel_groups=$K_GROUPS live_efficiency=$E cpu_per_frame_us=$CPU_US kernel_per_frame_us=$K_US shard_cpu_ratio=$SHARD_CPU p99_ms=$N1_P99"
 # Exit 1 when a measurement itself failed (raw frames missing, a throughput run that lost or refused data);

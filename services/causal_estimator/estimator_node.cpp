@@ -46,6 +46,9 @@ EstimatorNode::EstimatorNode(EstimatorOptions options, pipeline::AssetPipelinePa
       outbound_(options_.outbound_capacity) {
   loop_.attach(frames_.get());
   loop_.attach(conditions_in_.get());
+  // Sample-level noise tuning (~18 ms per group at 4096 samples) runs on one worker thread: a group that is
+  // still tuning buffers its frames and no other group's frames wait behind it. Same reports, later.
+  if (params_.sample.noise.automatic) params_.sample.noise.worker = std::make_shared<pipeline::TuningWorker>();
   const char* help = "Inputs (frames, condition inputs) the estimator received but did not process, by reason";
   auto& m = metrics::process_metrics();
   not_processed_already_ = &m.counter("estimator_inputs_not_processed_total", help, {{"reason", "already_processed"}});

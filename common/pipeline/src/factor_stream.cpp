@@ -4,6 +4,8 @@
 #include "causal/estimation/state_fields.hpp"
 #include "causal/estimation/state_checks.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -130,6 +132,7 @@ void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint
     throw std::invalid_argument("block has " + std::to_string(block.cols()) + " channels, the model has " +
                                 std::to_string(g_));
   }
+  poll_tuning(out);
   for (Eigen::Index row = 0; row < block.rows(); ++row) {
     const double* y = block.data() + row * block.outerStride();
     const bool disc = discontinuity && row == 0;
@@ -141,15 +144,61 @@ void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint
       continue;
     }
     window_.push(y, disc, t, source_index);
-    if (window_.size() >= params_.noise.calibration_samples) calibrate(out);
+    if (tuning_job_.valid()) {
+      if (window_.size() >= NoiseSetting::kWorkerBufferFactor * params_.noise.calibration_samples) calibrate(out);
+      continue;
+    }
+    if (window_.size() < params_.noise.calibration_samples) continue;
+    if (params_.noise.worker) {
+      start_tuning();
+    } else {
+      calibrate(out);
+    }
   }
 }
 
-void FactorStream::calibrate(std::vector<FactorReport>& out) {
-  const Eigen::MatrixXd samples = window_.samples();
+namespace {
+
+// The tuning's input: the window's first `rows` samples (the calibration window proper; while a worker tunes,
+// the window also buffers what came after it).
+std::vector<NoiseTuningResult> tune_window(const SvarLayout& layout, const Eigen::MatrixXd& samples,
+                                           const std::vector<bool>& disc, double p0) {
   NoiseTuningOptions options;
-  options.p0 = params_.noise.fixed.p0;
-  tuning_ = tune_noise_all(layout_, samples, window_.discontinuities(), options);
+  options.p0 = p0;
+  return tune_noise_all(layout, samples, disc, options);
+}
+
+}  // namespace
+
+void FactorStream::start_tuning() {
+  const auto rows = static_cast<Eigen::Index>(params_.noise.calibration_samples);
+  Eigen::MatrixXd samples = window_.samples().topRows(rows);
+  std::vector<bool> disc(window_.discontinuities().begin(), window_.discontinuities().begin() + rows);
+  tuning_job_ = params_.noise.worker->submit(
+      [layout = layout_, samples = std::move(samples), disc = std::move(disc), p0 = params_.noise.fixed.p0] {
+        return tune_window(layout, samples, disc, p0);
+      });
+}
+
+void FactorStream::poll_tuning(std::vector<FactorReport>& out) {
+  if (!tuning_job_.valid()) return;
+  if (tuning_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  install_tuning(tuning_job_.get(), out);
+}
+
+void FactorStream::calibrate(std::vector<FactorReport>& out) {
+  if (tuning_job_.valid()) {
+    install_tuning(tuning_job_.get(), out);
+    return;
+  }
+  // At most calibration_samples: a stream restored from a checkpoint taken while its worker tuned holds more.
+  const auto rows = static_cast<Eigen::Index>(std::min(window_.size(), params_.noise.calibration_samples));
+  const std::vector<bool> disc(window_.discontinuities().begin(), window_.discontinuities().begin() + rows);
+  install_tuning(tune_window(layout_, window_.samples().topRows(rows), disc, params_.noise.fixed.p0), out);
+}
+
+void FactorStream::install_tuning(std::vector<NoiseTuningResult> tuning, std::vector<FactorReport>& out) {
+  tuning_ = std::move(tuning);
   noise_.clear();
   for (int k = 0; k < g_; ++k) {
     // A window that cannot be tuned (too few usable samples, a dead outcome, absurd values, no finite
@@ -343,6 +392,7 @@ void FactorStream::restore(StateReader& r) {
   const auto since_report = r.get<std::uint64_t>();
   if (since_report >= params_.publish_every) throw StateError("checkpoint: factor stream report counter out of range");
 
+  tuning_job_ = {};  // a tuning still running for the replaced state is not used (it finishes on the worker)
   noise_ = std::move(noise);
   tuning_ = std::move(tuning);
   smoother_ = std::move(smoother);

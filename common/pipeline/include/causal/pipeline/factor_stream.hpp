@@ -21,11 +21,13 @@
 #include "causal/estimation/svar_layout.hpp"
 
 #include "causal/pipeline/calibration_window.hpp"
+#include "causal/pipeline/tuning_worker.hpp"
 
 #include <Eigen/Core>
 
 #include <cstdint>
 #include <deque>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -41,6 +43,14 @@ struct NoiseSetting {
   bool automatic = false;            // tune q and r per outcome on a calibration window
   NoiseParams fixed;                 // used as is when !automatic; fixed.p0 is also the tuning's p0
   std::size_t calibration_samples = 2048;
+  // Where the automatic tuning runs: null = on the feeding thread, at the sample that fills the window;
+  // else on this worker, while the stream keeps buffering what it is fed (polled at each feed; finish() waits).
+  // The reports are the same either way (tuned on the same first calibration_samples samples, then every
+  // buffered sample replayed in order); with a worker they come out at a later feed. Not saved in checkpoints.
+  // The buffer is bounded: a stream holding kWorkerBufferFactor x calibration_samples samples waits for its
+  // tuning (memory per group stays bounded however long the worker's queue is, e.g. many groups joining at once).
+  std::shared_ptr<TuningWorker> worker;
+  static constexpr std::size_t kWorkerBufferFactor = 8;
 };
 
 struct FactorStreamParams {
@@ -92,6 +102,7 @@ class FactorStream {
 
   const SvarLayout& layout() const { return layout_; }
   bool calibrated() const { return smoother_ != nullptr; }
+  bool tuning_in_background() const { return tuning_job_.valid(); }  // submitted to the worker, not yet taken
   const std::vector<NoiseParams>& noise() const { return noise_; }
   const std::vector<NoiseTuningResult>& tuning() const { return tuning_; }
   // Data problems the stream worked around (e.g. automatic noise failed for an outcome and the configured
@@ -116,7 +127,10 @@ class FactorStream {
     std::int64_t time_ns;
     std::vector<FactorReport> filter_reports;  // carry the source index
   };
-  void calibrate(std::vector<FactorReport>& out);
+  void calibrate(std::vector<FactorReport>& out);  // tunes on this thread (or waits for the worker), replays
+  void start_tuning();                             // submits the tuning of the window's first samples
+  void poll_tuning(std::vector<FactorReport>& out);  // the worker's result, when ready: install and replay
+  void install_tuning(std::vector<NoiseTuningResult> tuning, std::vector<FactorReport>& out);
   void process(const double* y, bool discontinuity, std::int64_t time_ns, std::uint64_t source_index,
                std::vector<FactorReport>& out);
   void emit_filter(std::uint64_t index, std::uint64_t source_index, std::int64_t time_ns,
@@ -133,7 +147,8 @@ class FactorStream {
   std::vector<std::string> warnings_;
   std::unique_ptr<FixedLagSmoother> smoother_;  // lag 0 when only the filter is wanted
   InnovationStats stats_;
-  CalibrationWindow window_;  // automatic noise only
+  CalibrationWindow window_;  // automatic noise only; grows past calibration_samples while the worker tunes
+  std::future<std::vector<NoiseTuningResult>> tuning_job_;  // the worker's tuning (valid while submitted)
   std::deque<Pending> pending_;
   std::uint64_t next_index_ = 0;      // index of the next sample processed by the filter
   std::uint64_t buffered_index_ = 0;  // samples seen including the calibration buffer
