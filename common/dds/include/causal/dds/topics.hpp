@@ -13,6 +13,8 @@ inline constexpr const char* kWhatIfRequest = "causal_twin/whatif_request";
 inline constexpr const char* kWhatIfReply = "causal_twin/whatif_reply";
 inline constexpr const char* kPrognosis = "causal_twin/prognosis";        // alarm-recommender: time to threshold
 inline constexpr const char* kAssetStatus = "causal_twin/asset_status";   // alarm-recommender: one line per group
+inline constexpr const char* kIntervention = "causal_twin/intervention";  // approvals only (causal-approve, twin-web)
+inline constexpr const char* kInterventionOutcome = "causal_twin/intervention_outcome";  // alarm-recommender
 
 }  // namespace causal::dds::topics
 
@@ -38,5 +40,9 @@ inline constexpr const char* kWhatIfWriter = "whatif_writer";
 inline constexpr const char* kWhatIfReader = "whatif_reader";
 inline constexpr const char* kPrognosisWriter = "prognosis_writer";
 inline constexpr const char* kPrognosisReader = "prognosis_reader";
+inline constexpr const char* kInterventionWriter = "intervention_writer";  // transient-local, bounded ring
+inline constexpr const char* kInterventionReader = "intervention_reader";
+inline constexpr const char* kInterventionOutcomeWriter = "intervention_outcome_writer";
+inline constexpr const char* kInterventionOutcomeReader = "intervention_outcome_reader";
 
 }  // namespace causal::dds::profiles
