@@ -61,6 +61,7 @@ RecorderNode::RecorderNode(RecorderOptions options)
   recommendations_ = open(kRecommendationsFile, recommendation_header());
   statuses_ = open(kAssetStatusFile, asset_status_header());
   prognoses_ = open(kPrognosisFile, prognosis_header());
+  interventions_ = std::make_unique<InterventionTables>(participant_, out_dir_, loop_);
 }
 
 std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name,
@@ -100,7 +101,7 @@ int RecorderNode::run() {
       [this] {
         return in_.conditions.matched_writers() + in_.factors.matched_writers() + in_.alarms.matched_writers() +
                in_.recommendations.matched_writers() + in_.status.matched_writers() +
-               in_.prognoses.matched_writers();
+               in_.prognoses.matched_writers() + interventions_->matched_writers();
       });
   if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
@@ -148,7 +149,7 @@ std::size_t RecorderNode::take_available() {
   for (const auto& [k, st] : statuses) on_status(st);
   std::stable_sort(prognoses.begin(), prognoses.end(), by_key);
   for (const auto& [k, p] : prognoses) on_prognosis(p);
-  return n;
+  return n + interventions_->take();
 }
 
 void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
@@ -307,6 +308,7 @@ void RecorderNode::flush_all() {
     if (t.file) t.file->flush();
   }
   alarms_->flush();
+  interventions_->flush();
   recommendations_->flush();
   statuses_->flush();
   prognoses_->flush();

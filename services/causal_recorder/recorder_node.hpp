@@ -7,6 +7,7 @@
 
 #include "factor_row_assembler.hpp"
 #include "history_sink.hpp"
+#include "intervention_rows.hpp"
 #include "record_rows.hpp"
 #include "status_rows.hpp"
 
@@ -90,6 +91,7 @@ class RecorderNode {
   std::set<std::string> used_file_assets_;
   std::unique_ptr<report::CsvFile> alarms_, recommendations_, statuses_, prognoses_;
   std::unique_ptr<HistorySink> history_;  // --db
+  std::unique_ptr<InterventionTables> interventions_;  // interventions.csv, intervention_outcomes.csv
   PrognosisLedger prognosis_ledger_;
   TopicCounts prognosis_counts_;
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;
