@@ -6,6 +6,7 @@
 #include "advisor.hpp"
 #include "alarm_state_store.hpp"
 #include "asset_status.hpp"
+#include "intervention_desk.hpp"
 #include "observation_assembler.hpp"
 #include "open_alarm_metrics.hpp"
 #include "prognosis_metrics.hpp"
@@ -101,6 +102,7 @@ class RecommenderNode {
   std::uint64_t statuses_published_ = 0, status_write_failures_ = 0;
   std::map<std::string, bool> status_last_stopped_;  // the condition level's latest operating-state verdict
   dds::TypedWriter<causal_twin::PrognosisPubSubType> prognoses_;
+  InterventionDesk interventions_;  // approved interventions in, their checked outcomes out (intervention_desk.hpp)
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
   Advisor advisor_;
