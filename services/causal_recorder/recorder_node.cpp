@@ -363,6 +363,8 @@ int RecorderNode::finish() {
   spdlog::info("alarms: {}", describe(alarm_counts_));
   spdlog::info("recommendations: {}", describe(recommendation_counts_));
   spdlog::info("prognoses: {}", describe(prognosis_counts_));
+  spdlog::info("interventions: {}; intervention outcomes: {}", describe(interventions_->intervention_counts()),
+               describe(interventions_->outcome_counts()));
   spdlog::info("summary topic=causal_twin/prognosis file={} written={} duplicates={}", kPrognosisFile,
                prognoses_->rows_written(), prognosis_counts_.duplicates);
   add(kAlarmsFile, alarms_->rows_written());
