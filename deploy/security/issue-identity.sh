@@ -47,7 +47,7 @@ case "$role" in
   recorder)    pub=""
                sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/asset_status $t/prognosis $t/intervention $t/intervention_outcome" ;;
   operator)    pub="$t/whatif_request $t/intervention"   # an approval is an operator's act
-               sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis $t/intervention $t/intervention_outcome" ;;
+               sub="$t/condition_input $t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis $t/intervention $t/intervention_outcome" ;;
   *) echo "issue-identity: unknown role '$role' (sensor estimator recommender recorder operator)" >&2; exit 2 ;;
 esac
 

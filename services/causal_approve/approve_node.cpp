@@ -52,6 +52,7 @@ ApproveNode::ApproveNode(ApproveOptions options)
       participant_(dds::to_dds_settings(options_.dds, "causal-approve")),
       recommendations_(participant_, dds::topics::kRecommendation, dds::profiles::kRecommendationReader),
       conditions_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader),
+      inputs_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputReader),
       interventions_(participant_, dds::topics::kIntervention, dds::profiles::kInterventionWriter) {
   if (options_.asset_group.empty()) throw std::invalid_argument("--group must not be empty");
   if (options_.recommendation_id.empty()) throw std::invalid_argument("--recommendation must not be empty");
@@ -59,6 +60,7 @@ ApproveNode::ApproveNode(ApproveOptions options)
   if (options_.duration && *options_.duration == 0) throw std::invalid_argument("--duration must be at least 1");
   loop_.attach(recommendations_.get());
   loop_.attach(conditions_.get());
+  loop_.attach(inputs_.get());
 }
 
 std::optional<causal_twin::Recommendation> ApproveNode::find_recommendation(Clock::time_point deadline) {
@@ -68,18 +70,21 @@ std::optional<causal_twin::Recommendation> ApproveNode::find_recommendation(Cloc
     recommendations_.take_all([&](const causal_twin::Recommendation& r, const auto&) {
       if (r.recommendation_id() == options_.recommendation_id) found = r;  // the latest value of that id
     });
-    conditions_.take_all([&](const causal_twin::ConditionVector& c, const auto&) {
+    const auto latest = [&](const causal_twin::ConditionVector& c, bool input) {
       if (c.asset_group() != options_.asset_group) return;
+      input_seen_ = input_seen_ || input;
       if (latest_index_ && c.snapshot_index() <= *latest_index_) return;
       if (latest_index_ && c.snapshot_index() == *latest_index_ + 1) cadence_ns_ = c.time_ns() - latest_time_ns_;
       latest_index_ = c.snapshot_index();
       latest_time_ns_ = c.time_ns();
-    });
-    if (found && (latest_index_ || options_.start_index)) return found;
-    // The advice is found but the group's condition vectors may never come (a recommender fed elsewhere): wait
-    // 2 s for them, then start after the recommendation's own index.
+    };
+    conditions_.take_all([&](const causal_twin::ConditionVector& c, const auto&) { latest(c, false); });
+    inputs_.take_all([&](const causal_twin::ConditionVector& c, const auto&) { latest(c, true); });
+    if (found && (input_seen_ || options_.start_index)) return found;
+    // The source may publish frames, or nothing more (a recommender fed elsewhere): after 3 s the estimator's latest
+    // condition vector (or the recommendation's own index) is the best known.
     if (found && !found_at) found_at = Clock::now();
-    if (found_at && Clock::now() - *found_at > std::chrono::seconds(2)) return found;
+    if (found_at && Clock::now() - *found_at > std::chrono::seconds(3)) return found;
     (void)loop_.wait(std::chrono::milliseconds(100));
   }
   return found;

@@ -24,7 +24,7 @@ struct ApproveOptions {
   std::string recommendation_id;
   std::string user;
   std::optional<std::uint64_t> start_index;  // default: the group's latest snapshot + lead
-  std::uint64_t lead = 3;                    // snapshots between the latest one seen and the start
+  std::uint64_t lead = 3;                    // snapshots between the source's latest one seen and the start
   std::optional<std::uint64_t> duration;     // default: the recommendation's horizon, at least 12
   std::vector<std::string> wait_for;         // participants whose intervention readers must be matched
   double timeout_s = 15.0;
@@ -50,7 +50,8 @@ class ApproveNode {
   void stop() { loop_.stop(); }
 
  private:
-  // Reads the transient-local advice and condition vectors until the recommendation is found (bounded).
+  // Reads the transient-local advice and condition vectors until the recommendation is found and the source's
+  // current index is known (from its condition inputs, at most 3 s after the advice), bounded by the deadline.
   std::optional<causal_twin::Recommendation> find_recommendation(std::chrono::steady_clock::time_point deadline);
   bool readers_ready(std::chrono::steady_clock::time_point deadline);
 
@@ -58,9 +59,13 @@ class ApproveNode {
   dds::Participant participant_;
   dds::TypedReader<causal_twin::RecommendationPubSubType> recommendations_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_;
+  // The source's own condition inputs (volatile: only what is published from now on): the plant's current
+  // snapshot index, ahead of the estimator's output when the estimator is behind.
+  dds::TypedReader<causal_twin::ConditionVectorPubSubType> inputs_;
   dds::TypedWriter<causal_twin::InterventionPubSubType> interventions_;
   dds::EventLoop loop_;
   std::optional<std::uint64_t> latest_index_;
+  bool input_seen_ = false;
   std::int64_t latest_time_ns_ = 0, cadence_ns_ = 0;
 };
 

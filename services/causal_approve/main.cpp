@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("--user", o.user, "who approves it (recorded with the intervention)")->required();
   auto* s = app.add_option("--start-index", start,
-                           "first snapshot index the change applies to (default: the group's latest snapshot + --lead)");
+                           "first snapshot index the change applies to (default: the group's latest snapshot, from the "
+                           "source's condition inputs or else the estimator's condition vectors, + --lead)");
   app.add_option("--lead", o.lead, "snapshots between the latest one seen and the default start")
       ->check(CLI::Range(1, 100000))->capture_default_str();
   auto* d = app.add_option("--duration", duration,
