@@ -23,6 +23,7 @@ set(causal_twin_man_names
   "causal-recorder|record the twin's DDS topics to CSV files"
   "causal-ask|ask the live twin a what-if question over DDS"
   "causal-alarm-action|acknowledge, shelve or unshelve an alarm of the live twin over DDS"
+  "causal-approve|approve a recommended lever: publish it as an intervention"
   "causal-report|write a report (markdown, plots, causal graph) from recorded CSV files"
   "causal-offline|run the estimator on recorded files without DDS"
   "causal-whatif|answer what-if questions from recorded causal factors"

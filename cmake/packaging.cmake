@@ -14,7 +14,7 @@ include(GNUInstallDirs)
 set(CMAKE_INSTALL_DEFAULT_COMPONENT_NAME runtime)
 
 # Tools (a folder left out with CAUSAL_TWIN_SKIP has no target).
-foreach(tool sensor-replay sensor-sim sensor-ingest causal-estimator alarm-recommender causal-recorder causal-ask causal-alarm-action
+foreach(tool sensor-replay sensor-sim sensor-ingest causal-estimator alarm-recommender causal-recorder causal-ask causal-alarm-action causal-approve
     causal-report causal-offline causal-whatif causal-alarm-eval twin-web causal-plant-profiles)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

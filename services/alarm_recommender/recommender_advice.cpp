@@ -68,6 +68,7 @@ void RecommenderNode::recommend(const AssembledObservation& a, const alarms::Ala
     ctx.action = item.action;
     ctx.horizon_hours = item.diag.kind == "horizon" ? item.diag.horizon_snapshots * snapshot_hours : NAN;
     to_recommendation(ctx, item, msg);
+    withdraw_if_untrusted(interventions_, msg);  // a lever whose intervention outcomes missed is not claimed
     recommendation_store_.record(msg);  // kept before it is published, as the alarm events
     if (recommendations_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
     spdlog::info("RECOMMENDATION {} at {} #{} [{}, act on {}]: {}", e.alarm_id, e.index, item.rank, d.kind,

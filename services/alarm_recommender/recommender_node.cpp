@@ -39,6 +39,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       status_writer_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusWriter),
       prognoses_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisWriter),
       action_desk_(participant_),
+      interventions_(participant_, params_.advice.model_log_features),
       advisor_(params_.advice),
       store_(options_.state_dir),
       recommendation_store_(options_.state_dir),
@@ -48,6 +49,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
   loop_.attach(conditions_.get());
   loop_.attach(whatif_requests_.get());
   loop_.attach(action_desk_.reader().get());
+  interventions_.attach(loop_);
 }
 
 int RecommenderNode::run() {
@@ -57,7 +59,8 @@ int RecommenderNode::run() {
   std::vector<AssembledObservation> ready;
   const auto poll = [&] {
     ready.clear();
-    std::size_t n = conditions_.take_all([&](const causal_twin::ConditionVector& c, const auto&) {
+    std::size_t n = interventions_.take();  // before the data: an approval is frozen at its start's eve
+    n += conditions_.take_all([&](const causal_twin::ConditionVector& c, const auto&) {
       if (!dds::validate_condition_vector(c).empty()) {
         ++invalid_msgs_;
         return;
@@ -98,6 +101,7 @@ int RecommenderNode::run() {
   ready.clear();
   assembler_.flush(ready);
   handle(ready);
+  interventions_.finish();
   store_.flush();
   for (const auto& [key, st] : engines_) {
     const auto active = st.engine->active_alarms();
@@ -207,6 +211,7 @@ void RecommenderNode::observe(AssembledObservation& a) {
     return;
   }
   advisor_.update(a);
+  if (!sample) interventions_.observed(a, advisor_);
   if (!sample && advisor_.has_model(a.asset_group)) {
     const int full = advisor_.full_covariance(a.asset_group) ? 1 : 0;
     if (full != st.full_covariance) {

@@ -7,6 +7,7 @@
 #include "advisor.hpp"
 #include "alarm_state_store.hpp"
 #include "asset_status.hpp"
+#include "intervention_desk.hpp"
 #include "observation_assembler.hpp"
 #include "open_alarm_metrics.hpp"
 #include "prognosis_metrics.hpp"
@@ -112,6 +113,7 @@ class RecommenderNode {
   std::map<std::string, bool> status_last_stopped_;  // the condition level's latest operating-state verdict
   dds::TypedWriter<causal_twin::PrognosisPubSubType> prognoses_;
   AlarmActionDesk action_desk_;  // acknowledge / shelve (ISA-18.2): its reader is attached to loop_
+  InterventionDesk interventions_;  // approved interventions in, their checked outcomes out (intervention_desk.hpp)
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
   Advisor advisor_;

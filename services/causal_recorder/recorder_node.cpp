@@ -62,6 +62,7 @@ RecorderNode::RecorderNode(RecorderOptions options)
   statuses_ = open(kAssetStatusFile, asset_status_header());
   prognoses_ = open(kPrognosisFile, prognosis_header());
   actions_file_ = open(kAlarmActionsFile, alarm_action_header());
+  interventions_ = std::make_unique<InterventionTables>(participant_, out_dir_, loop_);
 }
 
 std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name,
@@ -101,7 +102,7 @@ int RecorderNode::run() {
       [this] {
         return in_.conditions.matched_writers() + in_.factors.matched_writers() + in_.alarms.matched_writers() +
                in_.recommendations.matched_writers() + in_.status.matched_writers() +
-               in_.prognoses.matched_writers();
+               in_.prognoses.matched_writers() + interventions_->matched_writers();
       });
   if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
@@ -153,7 +154,7 @@ std::size_t RecorderNode::take_available() {
   for (const auto& [k, st] : statuses) on_status(st);
   std::stable_sort(prognoses.begin(), prognoses.end(), by_key);
   for (const auto& [k, p] : prognoses) on_prognosis(p);
-  return n;
+  return n + interventions_->take();
 }
 
 void RecorderNode::on_condition(const causal_twin::ConditionVector& in) {
@@ -330,6 +331,7 @@ void RecorderNode::flush_all() {
     if (t.file) t.file->flush();
   }
   alarms_->flush();
+  interventions_->flush();
   recommendations_->flush();
   statuses_->flush();
   prognoses_->flush();
@@ -385,6 +387,8 @@ int RecorderNode::finish() {
   spdlog::info("alarms: {}", describe(alarm_counts_));
   spdlog::info("recommendations: {}", describe(recommendation_counts_));
   spdlog::info("prognoses: {}", describe(prognosis_counts_));
+  spdlog::info("interventions: {}; intervention outcomes: {}", describe(interventions_->intervention_counts()),
+               describe(interventions_->outcome_counts()));
   spdlog::info("summary topic=causal_twin/prognosis file={} written={} duplicates={}", kPrognosisFile,
                prognoses_->rows_written(), prognosis_counts_.duplicates);
   add(kAlarmsFile, alarms_->rows_written());

@@ -8,6 +8,7 @@
 #include "action_rows.hpp"
 #include "factor_row_assembler.hpp"
 #include "history_sink.hpp"
+#include "intervention_rows.hpp"
 #include "record_rows.hpp"
 #include "status_rows.hpp"
 
@@ -96,6 +97,7 @@ class RecorderNode {
   TopicCounts action_counts_;
   RepeatFilter action_repeats_;           // by request id: a result replayed to a late joiner is written once
   std::uint64_t actions_not_applied_ = 0;  // refused by alarm-recommender: nothing changed, nothing stored
+  std::unique_ptr<InterventionTables> interventions_;  // interventions.csv, intervention_outcomes.csv
   PrognosisLedger prognosis_ledger_;
   TopicCounts prognosis_counts_;
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;

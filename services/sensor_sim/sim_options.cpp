@@ -17,7 +17,13 @@ std::optional<SimOptions> parse_sim_options(int argc, char** argv, int& exit_cod
       "At exit it prints one line\n"
       "  sensor-sim: sent frames=<total> groups=<N> per_group=<frames every group got> lost=<failed writes>\n"
       "Exit codes: 0 done or stopped, 1 DDS or internal error, 2 bad arguments, 3 no reader matched in time,\n"
-      "4 frames lost (a write failed or was not accepted within --write-timeout)."};
+      "4 frames lost (a write failed or was not accepted within --write-timeout).\n"
+      "With --plant it simulates condition-level plants instead (one condition vector per group and snapshot on\n"
+      "causal_twin/condition_input) and obeys approved interventions from causal_twin/intervention: each is applied\n"
+      "from its start snapshot index to its group's true structural model (the do-operation the twin's what-if\n"
+      "assumes). It then prints\n"
+      "  sensor-sim: sent snapshots=<n> groups=<N> lost=<n> interventions applied=<n> refused=<n> other_groups=<n>\n"
+      "and exits 5 when an intervention was refused (its start snapshot already published, bad channel or size)."};
   dds::add_common_options(app, o.dds);
   app.add_option("--groups", o.groups, "number of simulated asset groups")->check(CLI::Range(1, 100000))
       ->capture_default_str();
@@ -59,6 +65,20 @@ std::optional<SimOptions> parse_sim_options(int argc, char** argv, int& exit_cod
   app.add_option("--write-timeout", o.write_timeout_s,
                  "a frame the readers do not accept within this many seconds is counted lost (exit 4)")
       ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--plant", o.plants,
+                 "condition-level plant mode: plant kinds, cycled over the groups: lever (channel 2 drives channel 1, "
+                 "whose level rises through it), no-lever (channels 1 and 2 rise on their own), near-unit-root (the "
+                 "lever plant with a slow, barely stable lever); e.g. --plant lever,no-lever")
+      ->delimiter(',')->check(CLI::IsMember({"lever", "no-lever", "near-unit-root"}));
+  app.add_option("--snapshots", o.snapshots, "with --plant: snapshots per group")->check(CLI::Range(1, 10000000))
+      ->capture_default_str();
+  app.add_option("--snapshot-rate", o.snapshot_rate,
+                 "with --plant: snapshots per second per group, wall clock (0 = as fast as the readers take them)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--plant-feature", o.plant_feature, "with --plant: the feature name stamped in the condition vectors")
+      ->capture_default_str();
+  app.add_option("--snapshot-seconds", o.snapshot_seconds, "with --plant: data time between snapshots, s")
+      ->check(CLI::Range(1, 86400))->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace causal::sim {
 
@@ -32,6 +33,13 @@ struct SimOptions {
   int wait_subscribers = 1;                // wait for this many matched readers before publishing
   double wait_timeout_s = 30.0;
   double write_timeout_s = 10.0;           // a frame not accepted within this (readers stuck) is counted lost
+  // Condition-level plant mode (--plant; plant_node.hpp): plant kinds cycled over the groups, condition vectors
+  // instead of frames, approved interventions obeyed.
+  std::vector<std::string> plants;         // empty: the sample-level SVAR frames above
+  std::uint64_t snapshots = 400;           // snapshots per group
+  double snapshot_rate = 0.0;              // snapshots per second per group (wall clock); 0 = as fast as possible
+  std::string plant_feature = "meanabs";   // feature name stamped in the condition vectors
+  std::int64_t snapshot_seconds = 600;     // data time between snapshots
 };
 
 // Parses argv. Returns nullopt after printing --help / an error; `exit_code` tells the caller what to return.

@@ -196,6 +196,24 @@ Refusal check_limits(const causal_twin::WhatIfReply& s, std::string& why) {
       .result();
 }
 
+Refusal check_limits(const causal_twin::Intervention& s, std::string& why) {
+  return Checker(why)
+      .id("request_id", s.request_id())
+      .id("asset_group", s.asset_group())
+      .id("recommendation_id", s.recommendation_id())
+      .id("approved_by", s.approved_by())
+      .result();
+}
+
+Refusal check_limits(const causal_twin::InterventionOutcome& s, std::string& why) {
+  return Checker(why)
+      .id("request_id", s.request_id())
+      .id("asset_group", s.asset_group())
+      .id("recommendation_id", s.recommendation_id())
+      .id("status", s.status())
+      .result();
+}
+
 namespace {
 std::atomic<std::uint64_t> g_refusals{0};
 }

@@ -214,8 +214,9 @@ std::string default_security_identity(const std::string& participant_name) {
   if (participant_name == "causal-estimator") return "estimator";
   if (participant_name == "alarm-recommender") return "recommender";
   if (participant_name == "causal-recorder") return "recorder";
-  if (participant_name == "causal-ask" || participant_name == "twin-web" || participant_name == "causal-alarm-action") {
-    return "operator";  // read + what-if + alarm actions
+  if (participant_name == "causal-ask" || participant_name == "twin-web" || participant_name == "causal-alarm-action" ||
+      participant_name == "causal-approve") {
+    return "operator";  // read + what-if + alarm actions + approvals
   }
   return {};
 }

@@ -46,6 +46,8 @@ Refusal check_limits(const causal_twin::WhatIfReply& s, std::string& why);
 // them longer than its own limit and counts it).
 Refusal check_limits(const causal_twin::AlarmAction& s, std::string& why);
 Refusal check_limits(const causal_twin::AlarmActionResult& s, std::string& why);
+Refusal check_limits(const causal_twin::Intervention& s, std::string& why);
+Refusal check_limits(const causal_twin::InterventionOutcome& s, std::string& why);
 
 // Counts a refusal (dds_samples_refused_total{type, reason}) and logs it: the first of each (type, reason)
 // and then every 1000th, so a flood cannot flood the log too. Thread-safe.

@@ -15,6 +15,8 @@ inline constexpr const char* kPrognosis = "causal_twin/prognosis";        // ala
 inline constexpr const char* kAssetStatus = "causal_twin/asset_status";   // alarm-recommender: one line per group
 inline constexpr const char* kAlarmAction = "causal_twin/alarm_action";   // operator: acknowledge / shelve an alarm
 inline constexpr const char* kAlarmActionResult = "causal_twin/alarm_action_result";  // alarm-recommender's answer
+inline constexpr const char* kIntervention = "causal_twin/intervention";  // approvals only (causal-approve, twin-web)
+inline constexpr const char* kInterventionOutcome = "causal_twin/intervention_outcome";  // alarm-recommender
 
 }  // namespace causal::dds::topics
 
@@ -44,5 +46,9 @@ inline constexpr const char* kAlarmActionWriter = "alarm_action_writer";
 inline constexpr const char* kAlarmActionReader = "alarm_action_reader";
 inline constexpr const char* kAlarmActionResultWriter = "alarm_action_result_writer";
 inline constexpr const char* kAlarmActionResultReader = "alarm_action_result_reader";
+inline constexpr const char* kInterventionWriter = "intervention_writer";  // transient-local, bounded ring
+inline constexpr const char* kInterventionReader = "intervention_reader";
+inline constexpr const char* kInterventionOutcomeWriter = "intervention_outcome_writer";
+inline constexpr const char* kInterventionOutcomeReader = "intervention_outcome_reader";
 
 }  // namespace causal::dds::profiles

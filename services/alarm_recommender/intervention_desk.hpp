@@ -1,0 +1,56 @@
+// alarm-recommender's side of the closed prescriptive loop: approved interventions in (causal_twin/intervention),
+// their checked outcomes out (causal_twin/intervention_outcome). The check itself is common/intervention
+// (outcome_check.hpp, no DDS); this adapter feeds it every condition-level observation, answers the frozen
+// what-if from the advisor's model as of the snapshot before the start, and publishes what finished. Lever trust
+// learned from the outcomes withdraws a lever's claim (lever_claimed) when its outcomes miss.
+#pragma once
+
+#include "advisor.hpp"
+#include "observation_assembler.hpp"
+
+#include "causal/dds/event_loop.hpp"
+#include "causal/dds/participant.hpp"
+#include "causal/dds/typed_endpoints.hpp"
+#include "causal/intervention/outcome_check.hpp"
+#include "causal_twinPubSubTypes.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace causal::recommender {
+
+class InterventionDesk {
+ public:
+  InterventionDesk(dds::Participant& participant, bool log_features);
+  // The loop that wakes on approvals and whose stop flag bounds the outcome writes (call once, before run).
+  void attach(dds::EventLoop& loop);
+  // Approvals that arrived (each request id once); returns the number of messages taken.
+  std::size_t take();
+  // After the advisor has taken condition-level observation `a`: freezes what is due, checks what finished.
+  void observed(const AssembledObservation& a, const Advisor& advisor);
+  // At exit: every intervention still open is published as "no_data" (never dropped silently).
+  void finish();
+  // Whether lever `lever` on `target` (0-based) of `group` may still be claimed, and the reason when not.
+  bool lever_claimed(const std::string& group, int lever, int target, std::string& why) const;
+
+ private:
+  intervention::Prediction predict(const intervention::InterventionPlan& plan, const Advisor& advisor) const;
+  void publish(const intervention::Outcome& o);
+
+  dds::Participant& participant_;
+  dds::TypedReader<causal_twin::InterventionPubSubType> in_;
+  dds::TypedWriter<causal_twin::InterventionOutcomePubSubType> out_;
+  const std::atomic<bool>* stop_ = nullptr;
+  std::atomic<bool> never_stopped_{false};
+  bool log_features_;
+  intervention::OutcomeCheck check_;
+  std::map<std::string, std::vector<std::string>> channel_names_;  // per group, for the texts
+  std::uint64_t approvals_ = 0, invalid_ = 0, published_ = 0, write_failures_ = 0;
+};
+
+// A lever recommendation (action_kind "upstream_lever") whose lever lost its claim through missed outcomes is
+// published as not reliable, with the reason appended to its text: causal-approve refuses to approve it.
+void withdraw_if_untrusted(const InterventionDesk& desk, causal_twin::Recommendation& msg);
+
+}  // namespace causal::recommender

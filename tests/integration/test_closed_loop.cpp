@@ -1,0 +1,137 @@
+// The closed prescriptive loop through the real services over a private loopback domain: sensor-sim --plant
+// (two lever plants), causal-estimator (learned order), alarm-recommender, causal-recorder. Both groups alarm on
+// channel 1 and get a lever recommendation (act on channel 2); only sim-0000's is approved (causal-approve).
+//  * The approval reaches sensor-sim and changes sim-0000's data exactly as the do-operation says (channel 2's
+//    level times 1 + p / 100 in the window, against the same plant without it, computed here from level_plant).
+//  * sim-0001's recommendation is never applied: its recorded data are the plant without any intervention.
+//  * interventions.csv holds the one approval, intervention_outcomes.csv its checked outcome.
+#include "condition_level_params.hpp"
+#include "dds_observer.hpp"
+#include "level_plant.hpp"
+#include "process_expect.hpp"
+#include "process_runner.hpp"
+
+#include "causal/io/csv_format.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <thread>
+
+namespace fs = std::filesystem;
+using namespace causal::test;
+
+namespace {
+
+constexpr int kSnapshots = 420;
+
+std::optional<causal_twin::Recommendation> lever_advice(const DdsObserver& observer, const std::string& group) {
+  for (const auto& r : observer.recommendations()) {
+    if (r.asset_group() == group && r.rank() == 1 && r.action_kind() == "upstream_lever" && r.reliable()) return r;
+  }
+  return std::nullopt;
+}
+
+// The recorded condition vectors of `group` (snapshot -> levels of ch1..ch3).
+std::map<std::uint64_t, Eigen::Vector3d> recorded_levels(const fs::path& dir, const std::string& group) {
+  const auto t = causal::report::read_csv(dir / ("conditions_" + group + "_meanabs.csv"));
+  std::map<std::uint64_t, Eigen::Vector3d> out;
+  const int c1 = t.column("ch1");
+  for (const auto& row : t.rows) {
+    Eigen::Vector3d v;
+    for (int k = 0; k < 3; ++k) v[k] = std::stod(row[static_cast<std::size_t>(c1 + k)]);
+    out[std::stoull(row[0])] = v;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
+  const fs::path work = fs::temp_directory_path() / ("causal_it_loop_" + std::to_string(getpid()));
+  fs::create_directories(work);
+  const std::string d = std::to_string(private_domain_id(38));
+  DdsObserver observer(std::stoi(d));
+  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "8", "--max-runtime", "120"},
+                       (work / "alarm.log").string());
+  ServiceProcess recorder("causal-recorder", {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(),
+                                             "--idle-exit", "10", "--max-runtime", "120"},
+                          (work / "recorder.log").string());
+  ServiceProcess estimator(
+      "causal-estimator",
+      {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params",
+       write_condition_level_params(work / "estimator.yaml", "",
+                                    "{calibration_samples: 200, centre: true, causal_order: lingam, prune_threshold: 0.0}"),
+       "--idle-exit", "3", "--max-runtime", "120", "--wait-for", "alarm-recommender", "--wait-for", "causal-recorder",
+       "--wait-for", "test-observer"},
+      (work / "estimator.log").string());
+  // 25 snapshots/s: the alarm (about snapshot 270) leaves 6 s of data for the approval and its window.
+  ServiceProcess sim("sensor-sim", {SENSOR_SIM_BIN, "--domain", d, "--plant", "lever", "--groups", "2", "--seed", "38",
+                                    "--snapshots", std::to_string(kSnapshots), "--snapshot-rate", "25",
+                                    "--wait-timeout", "60"},
+                     (work / "sim.log").string());
+  std::optional<causal_twin::Recommendation> advice;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!advice && std::chrono::steady_clock::now() < until && sim.running()) {
+    advice = lever_advice(observer, "sim-0000");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(advice.has_value()) << "no lever advice for sim-0000; alarm log:\n" << alarm.output();
+  EXPECT_EQ(advice->intervene_channel(), 2) << advice->text();
+  ServiceProcess approve("causal-approve", {CAUSAL_APPROVE_BIN, "--domain", d, "--group", "sim-0000", "--recommendation",
+                                            advice->recommendation_id(), "--user", "it-operator", "--lead", "25",
+                                            "--duration", "24", "--wait-for", "sensor-sim", "--wait-for",
+                                            "alarm-recommender", "--wait-for", "causal-recorder", "--timeout", "20"},
+                         (work / "approve.log").string());
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(approve, std::chrono::seconds(40)));
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(sim, std::chrono::seconds(60)));
+  const auto sim_counts = counts_in_last_line(sim.output(), "sensor-sim: sent");
+  EXPECT_EQ(sim_counts.at("applied"), 1u) << sim.output();
+  EXPECT_EQ(sim_counts.at("refused"), 0u) << sim.output();
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(estimator, std::chrono::seconds(60)));
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(alarm, std::chrono::seconds(60)));
+  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(recorder, std::chrono::seconds(60)));
+  EXPECT_TRUE(lever_advice(observer, "sim-0001").has_value()) << "the unapproved group had lever advice too";
+
+  // The approval as recorded, and what it did to the data.
+  const auto ivs = causal::report::read_csv(work / "rec" / "interventions.csv");
+  ASSERT_EQ(ivs.rows.size(), 1u);
+  const auto& row = ivs.rows[0];
+  EXPECT_EQ(row[static_cast<std::size_t>(ivs.column("approved_by"))], "it-operator");
+  EXPECT_EQ(row[static_cast<std::size_t>(ivs.column("recommendation_id"))], advice->recommendation_id());
+  const std::uint64_t start = std::stoull(row[static_cast<std::size_t>(ivs.column("start_snapshot_index"))]);
+  const double percent = std::stod(row[static_cast<std::size_t>(ivs.column("change_percent"))]);
+  ASSERT_LT(start + 24, static_cast<std::uint64_t>(kSnapshots)) << "the window must lie inside the run";
+  EXPECT_LT(percent, 0.0);
+  for (int g = 0; g < 2; ++g) {
+    const std::string group = g == 0 ? "sim-0000" : "sim-0001";
+    causal::sim::LevelPlant plant(causal::sim::PlantKind::lever, 38, static_cast<std::uint64_t>(g));
+    if (g == 0) ASSERT_EQ(plant.add({1, percent, start, 24}), "");
+    const auto levels = recorded_levels(work / "rec", group);
+    ASSERT_EQ(levels.size(), static_cast<std::size_t>(kSnapshots)) << group;
+    causal::sim::LevelPlant natural(causal::sim::PlantKind::lever, 38, static_cast<std::uint64_t>(g));
+    int changed = 0;
+    for (std::uint64_t n = 0; n < static_cast<std::uint64_t>(kSnapshots); ++n) {
+      const Eigen::VectorXd expected = plant.next(), without = natural.next();
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(levels.at(n)[k], expected[k], 1e-9 * expected[k]) << group << " " << n;
+      const bool in_window = g == 0 && n >= start && n < start + 24;
+      if (in_window) EXPECT_NEAR(expected[1] / without[1], 1.0 + percent / 100.0, 1e-9);
+      changed += (expected - without).norm() > 0.0 && (g == 1 || n < start + 24);
+    }
+    // Never applied without an approval: sim-0001's data are the plant's own; sim-0000's changed from the start on
+    // (and only then).
+    EXPECT_EQ(changed, g == 0 ? 24 : 0) << group;
+  }
+  const auto outcomes = causal::report::read_csv(work / "rec" / "intervention_outcomes.csv");
+  ASSERT_EQ(outcomes.rows.size(), 1u) << alarm.output();
+  const auto& o = outcomes.rows[0];
+  std::printf("outcome: %s\n", o[static_cast<std::size_t>(outcomes.column("text"))].c_str());
+  EXPECT_EQ(o[static_cast<std::size_t>(outcomes.column("status"))], "checked");
+  EXPECT_EQ(o[static_cast<std::size_t>(outcomes.column("improved"))], "true");
+  if (!HasFailure()) fs::remove_all(work);
+  clean_stale_shared_memory();
+}
