@@ -207,7 +207,7 @@ void RecommenderNode::observe(AssembledObservation& a) {
                   sample ? "sample" : "condition", a.observation.index);
     return;
   }
-  advisor_.update(a);
+  if (!sample) advisor_.update(a);  // the advisor models the condition level only
   if (!sample && advisor_.has_model(a.asset_group)) {
     const int full = advisor_.full_covariance(a.asset_group) ? 1 : 0;
     if (full != st.full_covariance) {

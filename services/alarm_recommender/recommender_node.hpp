@@ -2,15 +2,13 @@
 // recommendations) out. One AlarmEngine per asset group and time scale.
 #pragma once
 
-#include "advice_policy.hpp"
-#include "advisor.hpp"
+#include "advice_names.hpp"
 #include "alarm_state_store.hpp"
 #include "asset_status.hpp"
 #include "observation_assembler.hpp"
 #include "open_alarm_metrics.hpp"
 #include "prognosis_metrics.hpp"
 #include "recommendation_store.hpp"
-#include "recommender_params.hpp"
 
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/dds/event_loop.hpp"
