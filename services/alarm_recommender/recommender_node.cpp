@@ -1,5 +1,6 @@
 #include "recommender_node.hpp"
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
@@ -145,7 +146,7 @@ int RecommenderNode::run() {
   spdlog::info("summary topic=causal_twin/prognosis sent={} failed={}", prognoses_published_, prognosis_write_failures_);
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
-          status_write_failures_) > 0 ? 4 : 0;
+          status_write_failures_) > 0 ? config::kExitLostOrRefused : config::kExitOk;
 }
 
 void RecommenderNode::publish_health() {

@@ -35,7 +35,7 @@ int run_sample_level_mode(const std::string& dir, const SampleLevelOptions& so, 
     r = run_sample_level(dir, so);
   } catch (const std::exception& e) {
     std::cerr << "causal-alarm-eval: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   std::printf("causal-alarm-eval --sample-level: %zu snapshots, publish every %d samples, baseline = publications of the "
               "first %d snapshots\n", r.snapshot_names.size(), so.publish_every, so.healthy_snapshots);
@@ -76,7 +76,7 @@ int run_sample_level_mode(const std::string& dir, const SampleLevelOptions& so, 
   }
   if (check_channel <= 0) return 0;
   std::printf("CHECK %s\n", ok ? "PASSED" : "FAILED");
-  return ok ? 0 : 1;
+  return ok ? causal::config::kExitOk : causal::config::kExitFailed;
 }
 
 // What the run found: the chain and its baseline, every event (unless quiet) and a summary line per channel.
@@ -170,7 +170,7 @@ int check_detection(const ConditionSeries& series, const PipelineResult& res, in
     const int c = check_channel - 1;
     if (c < 0 || c >= static_cast<int>(res.summary.size())) {
       std::printf("CHECK FAILED: --check-channel %d out of range\n", check_channel);
-      return 1;
+      return causal::config::kExitFailed;
     }
     const auto& s = res.summary[static_cast<std::size_t>(c)];
     if (!s.alarmed || s.first.index > static_cast<std::uint64_t>(check_by) || !s.first_sustained || s.first.root_cause_channel != c) {
@@ -183,7 +183,7 @@ int check_detection(const ConditionSeries& series, const PipelineResult& res, in
     }
   }
   std::printf("CHECK %s\n", ok ? "PASSED" : "FAILED");
-  return ok ? 0 : 1;
+  return ok ? causal::config::kExitOk : causal::config::kExitFailed;
 }
 
 }  // namespace
@@ -243,7 +243,7 @@ int main(int argc, char** argv) {
   if (sample_level) {
     if (ims_dir.empty()) {
       std::cerr << "causal-alarm-eval: --sample-level needs --ims-dir\n";
-      return 2;
+      return causal::config::kExitUsage;
     }
     so.asset_group = group;
     return run_sample_level_mode(ims_dir, so, quiet, print_reasons, check_by >= 0 || check_channel > 0 ? check_channel : 0);
@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
     res = run_condition_pipeline(series, opt);
   } catch (const std::exception& e) {
     std::cerr << "causal-alarm-eval: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
 
   if (res.refused > 0) {  // loudly, as the estimator would (it exits 4): nothing judged on those vectors
@@ -276,6 +276,6 @@ int main(int argc, char** argv) {
   }
   print_run(series, res, opt, estimator_config, table.empty() ? ims_dir : table, quiet, print_reasons);
   if (!trace_csv.empty()) write_trace(trace_csv, series, res);
-  if (res.refused > 0) return 2;
+  if (res.refused > 0) return causal::config::kExitUsage;
   return check_detection(series, res, check_channel, check_by, check_quiet_before);
 }

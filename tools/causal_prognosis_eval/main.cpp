@@ -11,6 +11,7 @@
 //                   (Gaussian and uniform) from --first-seed.
 // Prints one table per source: per level and method, decision points, share answered, coverage of the 90 %
 // intervals (answered ones), median width over the actual remaining time, alpha-lambda at +-20 % / +-30 %.
+#include "causal/config/exit_codes.hpp"
 #include "prognosis_scoring.hpp"
 #include "run_to_failure_sim.hpp"
 
@@ -52,7 +53,7 @@ struct Options {
   std::cerr << "causal-prognosis-eval: " << why << "\n"
             << "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | "
                "--sim [--seeds 20]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F] [--first-seed 1] [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N] [--huber-k K] [--end-of-life-ratio R] [--trace]\n";
-  std::exit(2);
+  std::exit(causal::config::kExitUsage);
 }
 
 void print_help() {
@@ -160,7 +161,7 @@ int run_ims(const Options& o) {
   const PrognosisScorer first = scorer_with({0, 0, 0});
   if (first.first_alarm_index() < 0) {
     std::cout << "no degradation alarm on " << series.channel_names[static_cast<std::size_t>(ch)] << ": nothing to score\n";
-    return 1;
+    return causal::config::kExitFailed;
   }
   if (o.stop_index >= series.time_ns.size()) usage("--stop-index beyond the table");
   const double base = std::exp(first.baseline_log());
@@ -219,6 +220,6 @@ int main(int argc, char** argv) {
     return o.sim ? run_sim(o) : run_ims(o);
   } catch (const std::exception& e) {
     std::cerr << "causal-prognosis-eval: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
 }
