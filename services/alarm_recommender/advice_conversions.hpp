@@ -1,7 +1,7 @@
 // IDL conversions for the advisor's results (the one place where they meet the generated types).
 #pragma once
 
-#include "advisor.hpp"
+#include "advice_names.hpp"
 #include "causal_twin.h"
 
 #include <cmath>

@@ -5,7 +5,7 @@
 // learned from the outcomes withdraws a lever's claim (lever_claimed) when its outcomes miss.
 #pragma once
 
-#include "advisor.hpp"
+#include "advice_names.hpp"
 #include "observation_assembler.hpp"
 
 #include "causal/dds/event_loop.hpp"

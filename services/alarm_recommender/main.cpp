@@ -1,6 +1,5 @@
 // alarm-recommender: causal factors in; alarms, root cause and recommendations out. See --help.
 #include "recommender_node.hpp"
-#include "recommender_params.hpp"
 
 #include "causal/config/config_search.hpp"
 
@@ -48,9 +47,9 @@ int main(int argc, char** argv) {
   CAUSAL_CLI_PARSE(app, argc, argv);
   return causal::dds::run_service(signals, "alarm-recommender", o.dds, [&] {
     if (o.params_file.empty()) throw std::invalid_argument(params_choice.describe("alarms.yaml") + ": give --params FILE");
-    auto params = causal::recommender::load_recommender_params(o.params_file);
+    auto params = causal::advice::load_recommender_params(o.params_file);
     if (actions_file.empty()) throw std::invalid_argument(actions_choice.describe("actions.yaml") + ": give --actions FILE");
-    params.actions = causal::recommender::load_action_catalogue(actions_file);
+    params.actions = causal::advice::load_action_catalogue(actions_file);
     return std::make_unique<causal::recommender::RecommenderNode>(std::move(o), std::move(params));
   });
 }

@@ -5,6 +5,7 @@
 // condition level. observation.index is the messages' sample_index (the snapshot index at condition level).
 #pragma once
 
+#include "causal/advice/advisor.hpp"
 #include "causal/alarms/observation.hpp"
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/factor_set_assembler.hpp"
@@ -18,16 +19,10 @@
 
 namespace causal::recommender {
 
-struct AssembledObservation {
-  std::string asset_group;
+// The advisor's plain observation (asset group, channel and factor names, lag order, the engine's observation,
+// the per-outcome covariance blocks P_k from the messages) and the time scale it came from.
+struct AssembledObservation : advice::ModelObservation {
   causal_twin::TimeScale time_scale = causal_twin::CONDITION_LEVEL;
-  std::vector<std::string> channel_names;  // G, outcome order
-  std::vector<std::string> factor_names;   // F, outcome-major
-  int lag_order = 1;
-  alarms::Observation observation;
-  // Per outcome k (0-based), the full factor covariance P_k from the messages. Empty unless EVERY outcome
-  // carried a valid block (factors.size() square), so a consumer either has all of them or none.
-  std::vector<Eigen::MatrixXd> covariance_blocks;
 };
 
 class ObservationAssembler {

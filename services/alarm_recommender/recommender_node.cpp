@@ -1,5 +1,6 @@
 #include "recommender_node.hpp"
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
@@ -156,7 +157,9 @@ int RecommenderNode::run() {
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   log_whatif_summary();
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
-          status_write_failures_ + whatif_not_entitled_ + action_desk_.result_write_failures()) > 0 ? 4 : 0;
+          status_write_failures_ + whatif_not_entitled_ + action_desk_.result_write_failures()) > 0
+             ? config::kExitLostOrRefused
+             : config::kExitOk;
 }
 
 void RecommenderNode::publish_health() {
@@ -210,8 +213,10 @@ void RecommenderNode::observe(AssembledObservation& a) {
                   sample ? "sample" : "condition", a.observation.index);
     return;
   }
-  advisor_.update(a);
-  if (!sample) interventions_.observed(a, advisor_);
+  if (!sample) {  // the advisor models the condition level only
+    advisor_.update(a);
+    interventions_.observed(a, advisor_);
+  }
   if (!sample && advisor_.has_model(a.asset_group)) {
     const int full = advisor_.full_covariance(a.asset_group) ? 1 : 0;
     if (full != st.full_covariance) {

@@ -2,9 +2,8 @@
 // recommendations) out. One AlarmEngine per asset group and time scale.
 #pragma once
 
-#include "advice_policy.hpp"
+#include "advice_names.hpp"
 #include "alarm_action_desk.hpp"
-#include "advisor.hpp"
 #include "alarm_state_store.hpp"
 #include "asset_status.hpp"
 #include "intervention_desk.hpp"
@@ -12,7 +11,6 @@
 #include "open_alarm_metrics.hpp"
 #include "prognosis_metrics.hpp"
 #include "recommendation_store.hpp"
-#include "recommender_params.hpp"
 
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/dds/event_loop.hpp"

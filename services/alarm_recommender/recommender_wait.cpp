@@ -4,6 +4,7 @@
 // that matched after that ring turned over recorded a shorter history (CI: 396 of 428 status rows, exit 0).
 #include "recommender_node.hpp"
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/topics.hpp"
 
 #include <spdlog/spdlog.h>
@@ -15,7 +16,7 @@
 namespace causal::recommender {
 
 int RecommenderNode::wait_for_readers() {
-  if (options_.wait_for.empty()) return 0;
+  if (options_.wait_for.empty()) return config::kExitOk;
   // Input that arrives meanwhile waits in the reliable readers (the estimator blocks on them): nothing is lost.
   std::vector<dds::NamedReaders> wanted;
   for (const auto& spec : options_.wait_for) wanted.push_back(dds::parse_named_readers(spec));
@@ -34,15 +35,15 @@ int RecommenderNode::wait_for_readers() {
   for (const auto& out : outputs) {
     const std::string missing = out.wait();
     if (missing.empty()) continue;
-    if (loop_.stopped()) return 0;
+    if (loop_.stopped()) return config::kExitOk;
     spdlog::error("no '{}' reader of {} matched within {:.0f} s: is it running on domain {} with the same transport "
                   "profile?", missing, out.topic, options_.wait_timeout_s, participant_.domain_id());
-    return 3;
+    return config::kExitNoPeer;
   }
   std::string names;
   for (const auto& spec : options_.wait_for) names += (names.empty() ? "" : ", ") + spec;
   spdlog::info("readers matched on every output topic: {}", names);
-  return 0;
+  return config::kExitOk;
 }
 
 }  // namespace causal::recommender

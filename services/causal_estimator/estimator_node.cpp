@@ -2,6 +2,7 @@
 // order, continuation after a restart) fed into the pipelines. The output side is estimator_output.cpp.
 #include "estimator_node.hpp"
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/io/time_format.hpp"
@@ -162,11 +163,11 @@ int EstimatorNode::run() {
     std::string missing = dds::wait_for_named_readers(factors_, wanted, timeout, loop_.stop_flag());
     if (missing.empty()) missing = dds::wait_for_named_readers(sample_factors_, wanted, timeout, loop_.stop_flag());
     if (!missing.empty()) {
-      if (loop_.stopped()) return 0;
+      if (loop_.stopped()) return config::kExitOk;
       spdlog::error("no '{}' reader of causal factors matched within {:.0f} s: is it running on domain {} with the "
                     "same transport profile?",
                     missing, options_.wait_timeout_s, participant_.domain_id());
-      return 3;
+      return config::kExitNoPeer;
     }
   }
   dds::RunLimits limits;

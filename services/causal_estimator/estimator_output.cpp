@@ -2,6 +2,7 @@
 // HEALTH alarms, checkpoints, the output watchdog and the exit summary. The input side is estimator_node.cpp.
 #include "estimator_node.hpp"
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/sample_limits.hpp"
 #include "causal/dds/topics.hpp"
@@ -496,7 +497,7 @@ int EstimatorNode::log_summary() const {
   }
   return (lost + refused + conditions_refused + conditions_late + invalid_msgs_ + rejected_no_instance_ + unpublished +
           dropped_windows + quota_.refused_inputs() + not_entitled + dds_refused) > 0
-             ? 4 : 0;
+             ? config::kExitLostOrRefused : config::kExitOk;
 }
 
 }  // namespace causal::estimator

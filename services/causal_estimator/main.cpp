@@ -1,5 +1,6 @@
 // causal-estimator: vibration frames in, causal factor vectors out. See --help.
 #include "estimator_node.hpp"
+#include "causal/config/exit_codes.hpp"
 #include "causal/pipeline/estimator_params.hpp"
 #include "shard_assignment.hpp"
 
@@ -84,15 +85,15 @@ int main(int argc, char** argv) {
   CAUSAL_CLI_PARSE(app, argc, argv);
   if (shard_index >= shard_count) {
     std::cerr << "error: --shard-index must be < --shard-count\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   if (shards_file.empty() != shard_name.empty()) {
     std::cerr << "error: --shards FILE and --shard NAME go together\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   if (!shards_file.empty() && shard_count > 1) {
     std::cerr << "error: --shards/--shard and --shard-index/--shard-count are two ways to shard: choose one\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   if (shard_count > 1) {
     o.groups = causal::dds::AssetGroupSelection::hash_slice(shard_index, shard_count);

@@ -1,5 +1,6 @@
 #include "recorder_node.hpp"
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
@@ -413,7 +414,7 @@ int RecorderNode::finish() {
   const bool history_complete = !history_ || history_->finish();
   // Exit code 4 when the recording has holes or refused messages, or rows the database never took: the operator
   // must know it is incomplete.
-  return (lost_total + refused_total) > 0 || tail_lost || !history_complete ? 4 : 0;
+  return (lost_total + refused_total) > 0 || tail_lost || !history_complete ? config::kExitLostOrRefused : config::kExitOk;
 }
 
 void RecorderNode::received(const eprosima::fastdds::dds::SampleInfo& info) {

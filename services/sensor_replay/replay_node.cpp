@@ -1,5 +1,6 @@
 #include "replay_node.hpp"
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/peer_wait.hpp"
 
 #include "causal/dds/frame_conversions.hpp"
@@ -131,7 +132,7 @@ int ReplayNode::run() {
   started_ = Clock::now();
   last_progress_ = started_;
   const bool ready = frames_ ? readers_present(*frames_, true) : readers_present(*conditions_, true);
-  if (!ready) return stop_.load() ? 0 : 3;
+  if (!ready) return stop_.load() ? config::kExitOk : config::kExitNoPeer;
   try {
     if (options_.source == SourceKind::FeatureTable) return run_features();
     const auto source = options_.source == SourceKind::ImsDirectory
@@ -141,10 +142,10 @@ int ReplayNode::run() {
     return run_raw(*source);
   } catch (const io::InputError& e) {
     spdlog::error("bad input: {}", e.what());
-    return 1;
+    return config::kExitFailed;
   } catch (const std::invalid_argument& e) {
     spdlog::error("{}", e.what());
-    return 1;
+    return config::kExitFailed;
   }
 }
 
@@ -192,7 +193,7 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
 
   std::vector<std::uint64_t> snapshot_start(last, 0);  // first sample index of every snapshot sent
   for (std::size_t i = first; i < last && !stop_.load(); ++i) {
-    if (!readers_present(*frames_, false)) return stop_.load() ? 0 : 3;
+    if (!readers_present(*frames_, false)) return stop_.load() ? config::kExitOk : config::kExitNoPeer;
     if (const auto resume = rewind_point(*frames_, first, i)) {
       i = *resume;
       header.first_sample_index = snapshot_start[i];
@@ -216,7 +217,7 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
                       result == dds::WriteResult::TimedOut
                           ? "readers stopped acknowledging (timed out)"
                           : fmt::format("DDS write error, return code {}", frames_->last_error()));
-        return 1;
+        return config::kExitFailed;
       }
       ++header.sequence;
       header.first_sample_index += static_cast<std::uint64_t>(rows);
@@ -236,7 +237,7 @@ int ReplayNode::run_raw(const SnapshotSource& source) {
                seconds_since(started_), stop_.load() ? " (stopped early)" : "");
   spdlog::info("summary topic=causal_twin/vibration_frame sent={} snapshots={} rewinds={}", frames_sent, snapshots_sent,
                rewinds_);
-  return 0;
+  return config::kExitOk;
 }
 
 int ReplayNode::run_features() {
@@ -273,7 +274,7 @@ int ReplayNode::run_features() {
   causal_twin::ConditionVector out;
   std::size_t sent = 0;
   for (std::size_t i = first; i < last && !stop_.load(); ++i) {
-    if (!readers_present(*conditions_, false)) return stop_.load() ? 0 : 3;
+    if (!readers_present(*conditions_, false)) return stop_.load() ? config::kExitOk : config::kExitNoPeer;
     if (const auto resume = rewind_point(*conditions_, first, i)) i = *resume;
     header.snapshot_index = i;
     header.time_ns = table.time_ns[i];
@@ -284,7 +285,7 @@ int ReplayNode::run_features() {
     if (result == dds::WriteResult::Stopped) break;
     if (result != dds::WriteResult::Ok) {
       spdlog::error("could not publish condition vector {}: readers stopped acknowledging", i);
-      return 1;
+      return config::kExitFailed;
     }
     ++sent;
     report_progress(sent, last - first, false);
@@ -297,7 +298,7 @@ int ReplayNode::run_features() {
                stop_.load() ? " (stopped early)" : "");
   spdlog::info("summary topic=causal_twin/condition_input sent={} rewinds={} time_gaps={}", sent, rewinds_,
                gaps.rows.size());
-  return 0;
+  return config::kExitOk;
 }
 
 }  // namespace causal::replay

@@ -2,6 +2,7 @@
 // from causal_twin/whatif_reply (answered by alarm-recommender from the live condition-level model).
 #pragma once
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
@@ -24,9 +25,9 @@ struct AskOptions {
 };
 
 // Exit codes of run().
-inline constexpr int kAnswered = 0;
-inline constexpr int kNoAnswer = 3;  // no alarm-recommender on the domain, or no reply in time
-inline constexpr int kRefused = 4;   // the recommender answered that the question cannot be answered
+inline constexpr int kAnswered = config::kExitOk;
+inline constexpr int kNoAnswer = config::kExitNoPeer;       // no alarm-recommender on the domain, or no reply in time
+inline constexpr int kRefused = config::kExitLostOrRefused;  // the recommender answered that it cannot be answered
 
 class AskNode {
  public:

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "alarm_pipeline.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/svar_layout.hpp"
@@ -248,11 +248,11 @@ TEST(AlarmEngineCheckpoint, SampleLevelStreamSurvivesCuts) {
 TEST(AlarmEngineCheckpoint, Ims2ConditionStreamSurvivesCuts) {
   std::string path = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 feature table not found at " << path;
-  auto opt = causal::alarm_eval::shipped_options("ims2");
+  auto opt = causal::alarms::shipped_options("ims2");
   Stream s;
   opt.on_observation = [&](const Observation& o) { s.obs.push_back(o); };
-  const auto series = causal::alarm_eval::series_from_feature_table(path, "meanabs");
-  const auto pipeline = causal::alarm_eval::run_condition_pipeline(series, opt);
+  const auto series = causal::alarms::series_from_feature_table(path, "meanabs");
+  const auto pipeline = causal::alarms::run_condition_pipeline(series, opt);
   s.group = opt.asset_group;
   s.channels = series.channel_names;
   s.params = opt.params;

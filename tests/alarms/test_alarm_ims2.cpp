@@ -12,11 +12,10 @@
 #include <filesystem>
 #include <string>
 
-#include "alarm_pipeline.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 #include "sample_level_demo.hpp"
 
 using namespace causal::alarms;
-using namespace causal::alarm_eval;
 
 namespace {
 

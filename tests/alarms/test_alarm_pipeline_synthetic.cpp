@@ -4,11 +4,10 @@
 // root (2: its level is not explained by the others) from the follower (3: explained by 2).
 #include <gtest/gtest.h>
 
-#include "alarm_pipeline.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 #include "synthetic_group.hpp"
 
 using namespace causal::alarms;
-using namespace causal::alarm_eval;
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <string>
 
-#include "alarm_pipeline.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 #include "ims_variants_unseen.hpp"
 
 namespace causal::alarms {
@@ -26,8 +26,8 @@ const causal::testing::BaseRun& base() {
   return b;
 }
 
-causal::alarm_eval::ConditionSeries series_of(const Variant& v) {
-  causal::alarm_eval::ConditionSeries s;
+causal::alarms::ConditionSeries series_of(const Variant& v) {
+  causal::alarms::ConditionSeries s;
   s.channel_names = v.channel_names;
   s.time_ns = v.time_ns;
   s.values = v.values;
@@ -58,7 +58,7 @@ void print_events(const Variant& v, const std::vector<AlarmEvent>& events) {
 TEST(AlarmUnseenRuns, RelevelledFailureEscalatesOnTheFailingBearing) {
   const Variant v = causal::testing::make_relevelled_failure_variant(base(), 32);
   const causal::testing::RelevelledFailureRows at;
-  const auto res = causal::alarm_eval::run_condition_pipeline(series_of(v), causal::alarm_eval::shipped_options(v.name));
+  const auto res = causal::alarms::run_condition_pipeline(series_of(v), causal::alarms::shipped_options(v.name));
   print_events(v, res.events);
   bool plateau_alarmed = false;
   Severity end = Severity::Advisory;
@@ -84,7 +84,7 @@ TEST(AlarmUnseenRuns, RelevelledFailureEscalatesOnTheFailingBearing) {
 
 TEST(AlarmUnseenRuns, LowBaselineStretchStaysQuiet) {
   const Variant v = causal::testing::make_low_baseline_stretch_variant(base());
-  const auto res = causal::alarm_eval::run_condition_pipeline(series_of(v), causal::alarm_eval::shipped_options(v.name));
+  const auto res = causal::alarms::run_condition_pipeline(series_of(v), causal::alarms::shipped_options(v.name));
   print_events(v, res.events);
   std::uint64_t first = ~std::uint64_t{0};
   int first_channel = -1, root = -1;

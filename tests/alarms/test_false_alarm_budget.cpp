@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "alarm_pipeline.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 
 namespace causal::alarms {
 namespace {
@@ -36,8 +36,8 @@ using causal::testing::Variant;
 
 constexpr double kRowsPerMonth = 30.0 * 144.0;  // 10-minute snapshots
 
-causal::alarm_eval::ConditionSeries series_of(const Variant& v) {
-  causal::alarm_eval::ConditionSeries s;
+causal::alarms::ConditionSeries series_of(const Variant& v) {
+  causal::alarms::ConditionSeries s;
   s.channel_names = v.channel_names;
   s.time_ns = v.time_ns;
   s.values = v.values;
@@ -69,9 +69,9 @@ struct RunScore {
 
 // healthy_range < 0: the shipped parameters; else AlarmParams::healthy_range_observations set to it.
 RunScore score(const Variant& v, int healthy_range = -1) {
-  auto options = causal::alarm_eval::shipped_options(v.name);
+  auto options = causal::alarms::shipped_options(v.name);
   if (healthy_range >= 0) options.params.healthy_range_observations = healthy_range;
-  const auto res = causal::alarm_eval::run_condition_pipeline(series_of(v), options);
+  const auto res = causal::alarms::run_condition_pipeline(series_of(v), options);
   RunScore s;
   std::optional<std::uint64_t> first_any;
   for (const AlarmEvent& e : res.events) {

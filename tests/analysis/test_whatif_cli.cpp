@@ -234,17 +234,17 @@ TEST(WhatifCli, UnknownWithItsReasonAndNoFigureBeyondTheCap) {
 TEST(WhatifCli, ClearErrors) {
   const Scenario& s = scenario();
   CliRun r = run_cli("--csv " + s.csv + " --intervene 9 --delta 1");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // bad input: 2, as every tool
   EXPECT_NE(r.out.find("unknown channel '9'"), std::string::npos) << r.out;
   r = run_cli("--csv " + s.csv + " --graph \"1->2, 2->1\" --intervene 1 --delta 1");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // bad input: 2, as every tool
   EXPECT_NE(r.out.find("cycle: bearing 1 -> bearing 2 -> bearing 1"), std::string::npos) << r.out;
   r = run_cli("--csv " + s.dir + "/missing.csv");
-  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.exit_code, 2);
   r = run_cli("--csv " + s.csv + " --intervene 1");  // --delta missing
-  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.exit_code, 2);
   r = run_cli("--csv " + s.csv + " --counterfactual --channel 1 --hold 0 --from 0 --to 10");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // bad input: 2, as every tool
   EXPECT_NE(r.out.find("--from/--to"), std::string::npos) << r.out;
   r = run_cli("--help");
   EXPECT_EQ(r.exit_code, 0);

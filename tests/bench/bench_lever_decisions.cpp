@@ -10,8 +10,8 @@
 // lever x2; no-lever case claims none. Truth in interval: the true effect of bringing x2 back to its
 // baseline on x1 (0 in the no-lever plant) inside the advisor's 90 % interval.
 //   build/tests/bench/causal_bench_lever_decisions [SEED_BASE]   (default 500; e.g. 9000 for held-out seeds)
-#include "advice_policy.hpp"
-#include "advisor.hpp"
+#include "causal/advice/advice_policy.hpp"
+#include "causal/advice/advisor.hpp"
 
 #include "causal/pipeline/structured_factor_stream.hpp"
 
@@ -23,7 +23,7 @@
 namespace {
 
 using namespace causal;
-using namespace causal::recommender;
+using namespace causal::advice;
 constexpr int kN = 330, kChange = 250, kAt = 320, kG = 3;
 
 // x1_onset: snapshot from which x1 rises on its own in the no-lever plant.
@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
         Advisor advisor(ap);
         // Every filter observation, as the live recommender sees them.
         for (int n = 0; n <= kAt; ++n) {
-          AssembledObservation a;
+          ModelObservation a;
           a.asset_group = "sim";
           a.channel_names = {"x1", "x2", "x3"};
           a.factor_names = layout.factor_names();

@@ -1,6 +1,6 @@
 // The action catalogue loader (services/alarm_recommender/action_catalogue.cpp): the shipped file loads and
 // matches the built-in defaults; mistakes are ConfigErrors naming the file and the key.
-#include "action_catalogue.hpp"
+#include "causal/advice/recommender_params.hpp"
 
 #include "config_test_util.hpp"
 
@@ -8,7 +8,7 @@
 
 #include <string>
 
-namespace causal::recommender {
+namespace causal::advice {
 namespace {
 
 using causal::alarms::Severity;
@@ -65,4 +65,4 @@ TEST(ActionCatalogue, MistakesNameTheFileAndKey) {
 
 }  // namespace
 
-}  // namespace causal::recommender
+}  // namespace causal::advice

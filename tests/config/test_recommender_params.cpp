@@ -1,6 +1,6 @@
 // alarm-recommender's parameter loader (services/alarm_recommender/recommender_params.cpp): the shipped file
 // loads, and mistakes in a copy are ConfigErrors naming the file and the key.
-#include "recommender_params.hpp"
+#include "causal/advice/recommender_params.hpp"
 
 #include "config_test_util.hpp"
 
@@ -10,7 +10,7 @@
 
 namespace {
 
-using causal::recommender::load_recommender_params;
+using causal::advice::load_recommender_params;
 using causal::test::config_error;
 using causal::test::mutated_copy;
 

@@ -1,5 +1,6 @@
 // Robustness variants of IMS test 2: see ims_variants.hpp.
 #include "ims_variants.hpp"
+#include "variant_draws.hpp"
 
 #include "causal/io/feature_table.hpp"
 #include "causal/io/time_format.hpp"
@@ -16,26 +17,6 @@ namespace {
 
 constexpr std::int64_t kHour = 3600LL * 1000000000LL;
 constexpr std::int64_t kDay = 24 * kHour;
-
-// Our own uniform and normal draws on top of mt19937_64 (whose output the standard fixes): the standard
-// library's distributions may differ between implementations, and a variant must be the same everywhere.
-class Draws {
- public:
-  explicit Draws(std::uint64_t seed) : rng_(seed) {}
-  double uniform() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }  // [0, 1)
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  std::size_t index(std::size_t lo, std::size_t hi) {  // [lo, hi)
-    return lo + static_cast<std::size_t>(uniform() * static_cast<double>(hi - lo));
-  }
-  double normal() {  // Box-Muller
-    const double u1 = 1.0 - uniform();  // (0, 1]
-    const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
-
- private:
-  std::mt19937_64 rng_;
-};
 
 // The median interval between consecutive base rows (test 2: exactly 10 minutes).
 std::int64_t median_interval(const std::vector<std::int64_t>& t) {

@@ -1,5 +1,6 @@
 // Month-long simulated recordings: see ims_variants_month.hpp.
 #include "ims_variants_month.hpp"
+#include "variant_draws.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,23 +15,6 @@ namespace {
 constexpr std::int64_t kMinute = 60LL * 1000000000LL;
 constexpr std::int64_t kHour = 60 * kMinute;
 constexpr std::int64_t kT0 = 1076581959LL * 1000000000LL;  // 2004-02-12 10:32:39 UTC (IMS test 2's start)
-
-// Own uniform / normal draws on mt19937_64 (fixed by the standard): the same run on every platform.
-class Draws {
- public:
-  explicit Draws(std::uint64_t seed) : rng_(seed) {}
-  double uniform() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  std::size_t index(std::size_t lo, std::size_t hi) { return lo + static_cast<std::size_t>(uniform() * static_cast<double>(hi - lo)); }
-  double normal() {
-    const double u1 = 1.0 - uniform();
-    const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
-
- private:
-  std::mt19937_64 rng_;
-};
 
 // AR(1) with stationary standard deviation sd.
 struct Ar1 {

@@ -1,5 +1,6 @@
 // Two runs the alarm rules were not tuned on: see ims_variants_unseen.hpp.
 #include "ims_variants_unseen.hpp"
+#include "variant_draws.hpp"
 
 #include <cmath>
 #include <random>
@@ -10,22 +11,6 @@ namespace {
 
 constexpr std::int64_t kHour = 3600LL * 1000000000LL;
 constexpr std::int64_t kDay = 24 * kHour;
-
-// Own normal draws on mt19937_64 (fixed by the standard): the same variant on every platform.
-class Draws {
- public:
-  explicit Draws(std::uint64_t seed) : rng_(seed) {}
-  double uniform() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  double normal() {
-    const double u1 = 1.0 - uniform();
-    const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
-
- private:
-  std::mt19937_64 rng_;
-};
 
 }  // namespace
 

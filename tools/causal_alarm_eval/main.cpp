@@ -13,13 +13,14 @@
 #include <iostream>
 #include <string>
 
-#include "alarm_pipeline.hpp"
+#include "causal/advice/recommender_params.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 #include "causal/config/cli_conventions.hpp"
+#include "causal/config/config_search.hpp"
 #include "causal/alarms/statistics.hpp"
 #include "sample_level_demo.hpp"
 
 using namespace causal::alarms;
-using namespace causal::alarm_eval;
 
 namespace {
 
@@ -34,7 +35,7 @@ int run_sample_level_mode(const std::string& dir, const SampleLevelOptions& so, 
     r = run_sample_level(dir, so);
   } catch (const std::exception& e) {
     std::cerr << "causal-alarm-eval: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   std::printf("causal-alarm-eval --sample-level: %zu snapshots, publish every %d samples, baseline = publications of the "
               "first %d snapshots\n", r.snapshot_names.size(), so.publish_every, so.healthy_snapshots);
@@ -75,7 +76,7 @@ int run_sample_level_mode(const std::string& dir, const SampleLevelOptions& so, 
   }
   if (check_channel <= 0) return 0;
   std::printf("CHECK %s\n", ok ? "PASSED" : "FAILED");
-  return ok ? 0 : 1;
+  return ok ? causal::config::kExitOk : causal::config::kExitFailed;
 }
 
 // What the run found: the chain and its baseline, every event (unless quiet) and a summary line per channel.
@@ -169,7 +170,7 @@ int check_detection(const ConditionSeries& series, const PipelineResult& res, in
     const int c = check_channel - 1;
     if (c < 0 || c >= static_cast<int>(res.summary.size())) {
       std::printf("CHECK FAILED: --check-channel %d out of range\n", check_channel);
-      return 1;
+      return causal::config::kExitFailed;
     }
     const auto& s = res.summary[static_cast<std::size_t>(c)];
     if (!s.alarmed || s.first.index > static_cast<std::uint64_t>(check_by) || !s.first_sustained || s.first.root_cause_channel != c) {
@@ -182,7 +183,7 @@ int check_detection(const ConditionSeries& series, const PipelineResult& res, in
     }
   }
   std::printf("CHECK %s\n", ok ? "PASSED" : "FAILED");
-  return ok ? 0 : 1;
+  return ok ? causal::config::kExitOk : causal::config::kExitFailed;
 }
 
 }  // namespace
@@ -204,16 +205,27 @@ int main(int argc, char** argv) {
                  "condition feature: rms, meanabs, kurtosis, peak ('' = merged_dataset columns)")
       ->capture_default_str();
   app.add_option("--asset-group", group, "asset-group id used in alarm ids");
-  app.add_option("--warmup", opt.params.warmup_observations, "observations ignored at the start")->capture_default_str();
-  app.add_option("--baseline", opt.params.baseline_observations, "healthy baseline length in observations")->capture_default_str();
+  // The alarm parameters are alarms.yaml's condition_level section, read by alarm-recommender's own loader; the
+  // options below override single values of it.
+  const causal::config::ConfigChoice alarms_choice =
+      causal::config::find_config_file("alarms.yaml", "", causal::config::ConfigKind::Parameters);
+  std::string alarms_config = alarms_choice.path;
+  app.add_option("--alarms-config", alarms_config,
+                 "alarm-recommender's parameter file (its condition_level section is the alarm engine's parameters); "
+                 "default: " + alarms_choice.describe("alarms.yaml"))
+      ->check(CLI::ExistingFile);
+  AlarmParams cli;  // the overrides, applied over the file's values when given
+  auto* warmup = app.add_option("--warmup", cli.warmup_observations, "observations ignored at the start (default: alarms file)");
+  auto* baseline = app.add_option("--baseline", cli.baseline_observations, "healthy baseline length in observations (default: alarms file)");
   std::string estimator_config = shipped_estimator_config();
   app.add_option("--estimator-config", estimator_config,
                  "causal-estimator's parameter file: the condition-level model the services run")->capture_default_str();
-  app.add_option("--target-arl0", opt.params.target_arl0, "in-control ARL of the CUSUM detectors")->capture_default_str();
-  app.add_option("--advisory-ratio", opt.params.advisory_ratio,
-                 "size floor of every degradation alarm: level / baseline (1 = none)")->capture_default_str();
-  app.add_option("--level-window", opt.params.level_window,
-                 "observations whose median is a channel's level (and for which the size floor must hold)")->capture_default_str();
+  auto* arl0 = app.add_option("--target-arl0", cli.target_arl0, "in-control ARL of the CUSUM detectors (default: alarms file)");
+  auto* advisory = app.add_option("--advisory-ratio", cli.advisory_ratio,
+                                  "size floor of every degradation alarm: level / baseline (1 = none; default: alarms file)");
+  auto* window = app.add_option("--level-window", cli.level_window,
+                                "observations whose median is a channel's level (and for which the size floor must "
+                                "hold; default: alarms file)");
   app.add_flag("--quiet", quiet, "print only the summary (not every event)");
   app.add_flag("--reasons", print_reasons, "print each event's plain-language reason");
   app.add_option("--trace-csv", trace_csv, "write per-observation standardised feature / innovation z to this CSV");
@@ -231,7 +243,7 @@ int main(int argc, char** argv) {
   if (sample_level) {
     if (ims_dir.empty()) {
       std::cerr << "causal-alarm-eval: --sample-level needs --ims-dir\n";
-      return 2;
+      return causal::config::kExitUsage;
     }
     so.asset_group = group;
     return run_sample_level_mode(ims_dir, so, quiet, print_reasons, check_by >= 0 || check_channel > 0 ? check_channel : 0);
@@ -241,13 +253,21 @@ int main(int argc, char** argv) {
   ConditionSeries series;
   PipelineResult res;
   try {
+    if (alarms_config.empty()) throw std::invalid_argument(alarms_choice.describe("alarms.yaml") + ": give --alarms-config FILE");
+    opt.params = causal::advice::load_recommender_params(alarms_config).condition;
+    if (*warmup) opt.params.warmup_observations = cli.warmup_observations;
+    if (*baseline) opt.params.baseline_observations = cli.baseline_observations;
+    if (*arl0) opt.params.target_arl0 = cli.target_arl0;
+    if (*advisory) opt.params.advisory_ratio = cli.advisory_ratio;
+    if (*window) opt.params.level_window = cli.level_window;
+    opt.params.validate();
     opt.estimator = load_estimator_config(estimator_config);
     series = table.empty() ? series_from_ims_directory(ims_dir, feature, !quiet, opt.params.gap_multiple)
                            : series_from_feature_table(table, feature, opt.params.gap_multiple);
     res = run_condition_pipeline(series, opt);
   } catch (const std::exception& e) {
     std::cerr << "causal-alarm-eval: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
 
   if (res.refused > 0) {  // loudly, as the estimator would (it exits 4): nothing judged on those vectors
@@ -256,6 +276,6 @@ int main(int argc, char** argv) {
   }
   print_run(series, res, opt, estimator_config, table.empty() ? ims_dir : table, quiet, print_reasons);
   if (!trace_csv.empty()) write_trace(trace_csv, series, res);
-  if (res.refused > 0) return 2;
+  if (res.refused > 0) return causal::config::kExitUsage;
   return check_detection(series, res, check_channel, check_by, check_quiet_before);
 }

@@ -9,7 +9,7 @@
 #include "causal/estimation/svar_kalman_filter.hpp"
 #include "causal/estimation/svar_layout.hpp"
 
-namespace causal::alarm_eval {
+namespace causal::alarms {
 
 SampleLevelResult run_sample_level(const std::string& ims_dir, const SampleLevelOptions& options) {
   using namespace causal::alarms;
@@ -94,4 +94,4 @@ SampleLevelResult run_sample_level(const std::string& ims_dir, const SampleLevel
   return res;
 }
 
-}  // namespace causal::alarm_eval
+}  // namespace causal::alarms

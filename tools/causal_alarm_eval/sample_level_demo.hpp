@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "alarm_pipeline.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 
-namespace causal::alarm_eval {
+namespace causal::alarms {
 
 struct SampleLevelOptions {
   std::string asset_group = "group";
@@ -34,4 +34,4 @@ struct SampleLevelResult {
 
 SampleLevelResult run_sample_level(const std::string& ims_dir, const SampleLevelOptions& options);
 
-}  // namespace causal::alarm_eval
+}  // namespace causal::alarms

@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);
-    return 2;
+    return causal::config::kExitUsage;
   }
 
   opt.standardise = !raw_units;
@@ -104,19 +104,19 @@ int main(int argc, char** argv) {
     }
   } catch (const causal::io::InputError& e) {
     std::cerr << "causal-offline: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   } catch (const causal::offline::BadInput& e) {
     std::cerr << "causal-offline: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   } catch (const causal::offline::EstimationFailed& e) {
     std::cerr << "causal-offline: " << e.what() << "\n";
-    return 1;
+    return causal::config::kExitFailed;
   } catch (const std::invalid_argument& e) {  // e.g. a model spec the data cannot support
     std::cerr << "causal-offline: " << input << ": " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   } catch (const std::exception& e) {
     std::cerr << "causal-offline: " << e.what() << "\n";
-    return 1;
+    return causal::config::kExitFailed;
   }
   return 0;
 }

@@ -11,10 +11,13 @@
 //                   (Gaussian and uniform) from --first-seed.
 // Prints one table per source: per level and method, decision points, share answered, coverage of the 90 %
 // intervals (answered ones), median width over the actual remaining time, alpha-lambda at +-20 % / +-30 %.
+#include "causal/config/exit_codes.hpp"
 #include "prognosis_scoring.hpp"
 #include "run_to_failure_sim.hpp"
 
-#include "alarm_pipeline.hpp"
+#include "causal/advice/recommender_params.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
+#include "causal/config/config_search.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -28,6 +31,10 @@ using namespace causal::prognosis_eval;
 
 namespace {
 
+causal::config::ConfigChoice alarms_choice() {
+  return causal::config::find_config_file("alarms.yaml", "", causal::config::ConfigKind::Parameters);
+}
+
 struct Options {
   std::string ims;
   std::string feature_name;
@@ -37,14 +44,16 @@ struct Options {
   int seeds = 20;
   int first_seed = 1;  // seeds first_seed .. first_seed + seeds - 1 (other seeds: a held-out judge)
   bool trace = false;
-  prognosis::PrognosisParams params;
+  std::string alarms_config;     // alarm-recommender's alarms.yaml, read by its own loader
+  alarms::AlarmParams alarm;     // its condition_level section: the engine whose alarms start the prognosis
+  prognosis::PrognosisParams params;  // its prognosis section, with the options below applied over it
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "causal-prognosis-eval: " << why << "\n"
             << "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | "
-               "--sim [--seeds 20]) [--acceleration-diffusion Q] [--forecast-diffusion F] [--first-seed 1] [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N] [--huber-k K] [--end-of-life-ratio R] [--trace]\n";
-  std::exit(2);
+               "--sim [--seeds 20]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F] [--first-seed 1] [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N] [--huber-k K] [--end-of-life-ratio R] [--trace]\n";
+  std::exit(causal::config::kExitUsage);
 }
 
 void print_help() {
@@ -56,10 +65,12 @@ void print_help() {
                "the actual remaining time, alpha-lambda (share of decision points whose median is within +-20 % /\n"
                "+-30 % of the actual remaining time; unknown = not within).\n"
                "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | --sim\n"
-               "       [--seeds 20] [--first-seed 1]) [--acceleration-diffusion Q] [--forecast-diffusion F]\n"
+               "       [--seeds 20] [--first-seed 1]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F]\n"
                "       [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N]\n"
                "       [--huber-k K] [--end-of-life-ratio R] [--trace]\n"
-               "  (every tuning option overrides the shipped prognosis parameters; see docs/prognosis.md)\n"
+               "  (every tuning option overrides the prognosis parameters of the alarms file; see docs/prognosis.md)\n"
+               "  --alarms-config FILE  alarm-recommender's parameter file (condition_level and prognosis sections);\n"
+               "                     default: " << alarms_choice().describe("alarms.yaml") << "\n"
                "  --ims FILE         IMS-format feature table, run through the services' alarm chain\n"
                "  --sim              simulated run-to-failure channels with known crossing times\n"
                "  --seeds N          seeds per noise kind (Gaussian, uniform) with --sim\n"
@@ -67,8 +78,29 @@ void print_help() {
                "Exit: 0 tables printed, 2 bad options or input.\n";
 }
 
-Options parse(int argc, char** argv) {
+// The file the service reads: --alarms-config, else the documented search (config_search.hpp).
+Options load_alarms_file(int argc, char** argv) {
   Options o;
+  o.alarms_config = alarms_choice().path;
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::string(argv[i]) == "--alarms-config") o.alarms_config = argv[i + 1];
+  }
+  if (o.alarms_config.empty()) usage(alarms_choice().describe("alarms.yaml") + ": give --alarms-config FILE");
+  const advice::RecommenderParams file = advice::load_recommender_params(o.alarms_config);
+  o.alarm = file.condition;
+  o.params = file.prognosis;
+  return o;
+}
+
+Options parse(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      print_help();
+      std::exit(0);
+    }
+  }
+  Options o = load_alarms_file(argc, argv);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {
@@ -83,7 +115,8 @@ Options parse(int argc, char** argv) {
       if (i + 1 >= argc) usage(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--ims") o.ims = value();
+    if (a == "--alarms-config") value();  // read first (load_alarms_file)
+    else if (a == "--ims") o.ims = value();
     else if (a == "--feature-name") o.feature_name = value();
     else if (a == "--channel") o.channel = std::stoi(value());
     else if (a == "--stop-index") o.stop_index = std::stoull(value());
@@ -111,13 +144,14 @@ void print_trace(const PrognosisScorer& s) {
 }
 
 int run_ims(const Options& o) {
-  const auto series = alarm_eval::series_from_feature_table(o.ims, o.feature_name);
+  const auto series = alarms::series_from_feature_table(o.ims, o.feature_name);
   const int ch = o.channel - 1;
   if (ch < 0 || ch >= static_cast<int>(series.channel_names.size())) usage("--channel outside the table");
-  auto options = alarm_eval::shipped_options("ims2");
+  auto options = alarms::shipped_options("ims2");
+  options.params = o.alarm;
   std::vector<alarms::Observation> observations;
   options.on_observation = [&](const alarms::Observation& obs) { observations.push_back(obs); };
-  const auto result = alarm_eval::run_condition_pipeline(series, options);
+  const auto result = alarms::run_condition_pipeline(series, options);
   auto scorer_with = [&](std::array<std::int64_t, kLevels> truth) {
     auto engine = std::make_unique<alarms::AlarmEngine>("ims2", series.channel_names, result.factor_names, options.params);
     PrognosisScorer s(std::move(engine), o.params, ch, truth);
@@ -127,7 +161,7 @@ int run_ims(const Options& o) {
   const PrognosisScorer first = scorer_with({0, 0, 0});
   if (first.first_alarm_index() < 0) {
     std::cout << "no degradation alarm on " << series.channel_names[static_cast<std::size_t>(ch)] << ": nothing to score\n";
-    return 1;
+    return causal::config::kExitFailed;
   }
   if (o.stop_index >= series.time_ns.size()) usage("--stop-index beyond the table");
   const double base = std::exp(first.baseline_log());
@@ -186,6 +220,6 @@ int main(int argc, char** argv) {
     return o.sim ? run_sim(o) : run_ims(o);
   } catch (const std::exception& e) {
     std::cerr << "causal-prognosis-eval: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
 }

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   CAUSAL_CLI_PARSE(app, argc, argv);
   if (!o.verdict_only && out->count() == 0) {
     std::cerr << "causal-report: --out is required (or --verdict-only)\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   return causal::report::build_report(o, std::cout, std::cerr);
 }

@@ -1,5 +1,7 @@
 #include "report_builder.hpp"
 
+#include "causal/config/exit_codes.hpp"
+
 #include "causal/io/csv_format.hpp"
 #include "causal_graph_plot.hpp"
 #include "gnuplot_plots.hpp"
@@ -239,19 +241,19 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
   std::error_code ec;
   if (!fs::is_directory(run, ec)) {
     err << "causal-report: run folder '" << options.run_dir << "' does not exist or is not a folder\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   RunFiles files;
   try {
     files = discover_run(run);
   } catch (const std::exception& e) {
     err << "causal-report: " << e.what() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   if (files.csv_count == 0) {
     err << "causal-report: no recorder CSV files (conditions_*.csv, factors_*.csv, alarms.csv) in '"
         << options.run_dir << "'\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   std::vector<const AssetFiles*> selected;
   for (const auto& a : files.assets) {
@@ -262,7 +264,7 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
     for (const auto& a : files.assets) known += (known.empty() ? "" : ", ") + a.asset;
     err << "causal-report: asset '" << options.asset << "' is not in '" << options.run_dir << "'"
         << (known.empty() ? std::string(" (no asset data at all)") : " (assets: " + known + ")") << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   if (options.verdict_only) {
     std::vector<AssetVerdict> verdicts;
@@ -274,7 +276,7 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
       }
     } catch (const std::exception& e) {
       err << "causal-report: " << e.what() << "\n";
-      return 2;
+      return causal::config::kExitUsage;
     }
     out << verdict_table(verdicts);
     return 0;
@@ -284,13 +286,13 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
     err << "causal-report: gnuplot not found ('" << options.gnuplot
         << "' is not an executable on PATH): install gnuplot (Debian: apt-get install gnuplot-nox) or pass "
            "--gnuplot PATH\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   const fs::path out_dir(options.out_dir);
   fs::create_directories(out_dir / "gnuplot", ec);
   if (ec) {
     err << "causal-report: cannot create output folder '" << options.out_dir << "': " << ec.message() << "\n";
-    return 2;
+    return causal::config::kExitUsage;
   }
   Renderer r{*gnuplot, find_executable("dot"), out_dir, PlotStyle{}, out, err};
   if (!r.dot) err << "causal-report: Graphviz 'dot' not found: the causal graph is skipped (apt-get install graphviz)\n";
@@ -312,7 +314,7 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
     }
   }
   if (!verdicts.empty()) out << "\n=== verdict ===\n" << verdict_table(verdicts);
-  return r.failed ? 1 : 0;
+  return r.failed ? causal::config::kExitFailed : causal::config::kExitOk;
 }
 
 }  // namespace causal::report

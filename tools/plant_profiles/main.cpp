@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
-    return code == 0 ? 0 : 2;  // a usage error (never CLI11's own codes)
+    return code == 0 ? causal::config::kExitOk : causal::config::kExitUsage;  // a usage error (never CLI11's own codes)
   }
 
   const auto parsed = causal::plant::load_plant_description(plant_file);

@@ -19,8 +19,10 @@
 
 namespace {
 
-constexpr int kExitInput = 1;     // unusable file or options
-constexpr int kExitNoAnswer = 3;  // model cannot answer: unstable / not identifiable / non-finite
+// The product's exit codes (exit_codes.hpp): bad input 2, as every tool; a question the model cannot answer is a
+// refusal, 4, as causal-ask's.
+constexpr int kExitInput = causal::config::kExitUsage;             // unusable file or options
+constexpr int kExitNoAnswer = causal::config::kExitLostOrRefused;  // model cannot answer: unstable / not identifiable / non-finite
 
 const char* const kHelpFooter = R"(
 What it does
@@ -58,9 +60,8 @@ Modes (one at a time; without one, only the model summary is printed)
   refused past a unit root with > 90 % unstable draws, else the effect after 12 samples; median and
   interval of the same Monte Carlo draws.
 
-Exit status: 0 answered; 1 unusable input or options; 3 the model cannot answer (refused: past a unit root,
-singular instantaneous equations, non-finite values) - the reason is printed; CLI parse errors use CLI11's
-codes.
+Exit status: 0 answered; 2 unusable input or options (named); 4 the model cannot answer (refused: past a unit
+root, singular instantaneous equations, non-finite values) - the reason is printed.
 )";
 
 struct Args {

@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "causal/config/exit_codes.hpp"
 #include <string>
 
 namespace causal::config {
@@ -22,7 +23,7 @@ inline void add_version_flag(CLI::App& app) { app.set_version_flag("--version", 
 // systemd unit's RestartPreventExitStatus=2 must stop a service started with a typo.
 inline int usage_exit_code(const CLI::App& app, const CLI::Error& e) {
   const int code = app.exit(e);
-  return code == 0 ? 0 : 2;
+  return code == 0 ? kExitOk : kExitUsage;
 }
 
 }  // namespace causal::config

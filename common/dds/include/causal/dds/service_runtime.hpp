@@ -3,6 +3,7 @@
 // calls the service's stop function from a normal thread context (no work inside a signal handler).
 #pragma once
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/revocation_watch.hpp"
 #include "causal/dds/systemd_notify.hpp"
@@ -132,7 +133,7 @@ int run_service(ShutdownSignal& signals, const std::string& name, const CommonOp
     // causal-estimator signalled together while 256 groups were in flight, each waiting on the other for
     // minutes), so it gets a bound: past it the process leaves with run()'s code. SIGTERM is always honoured.
     // A restart that cannot finish its teardown leaves with 1 instead, so a supervisor restarts it.
-    std::thread([code = restart ? 1 : code] {
+    std::thread([code = restart ? config::kExitFailed : code] {
       std::this_thread::sleep_for(kTeardownBound);
       spdlog::warn("DDS teardown did not finish within {} s: leaving now (exit code {})", kTeardownBound.count(), code);
       spdlog::default_logger()->flush();
@@ -152,15 +153,15 @@ int run_service(ShutdownSignal& signals, const std::string& name, const CommonOp
     if (exec_now) {
       spdlog::warn("restarting with the new revocation list (this run's exit code was {})", code);
       exec_self();
-      return 1;  // exec failed (logged): a supervisor restarts the unit (Restart=on-failure)
+      return config::kExitFailed;  // exec failed (logged): a supervisor restarts the unit (Restart=on-failure)
     }
     return code;
   } catch (const std::invalid_argument& e) {
     spdlog::critical("{}", e.what());
-    return 2;
+    return config::kExitUsage;
   } catch (const std::exception& e) {
     spdlog::critical("{}", e.what());
-    return 1;
+    return config::kExitFailed;
   }
 }
 

@@ -1,4 +1,4 @@
-#include "advice_policy.hpp"
+#include "causal/advice/advice_policy.hpp"
 
 #include "causal/io/time_format.hpp"
 
@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-namespace causal::recommender {
+namespace causal::advice {
 
 using analysis::interval_level_factor;
 
@@ -199,4 +199,4 @@ Decision decide(const AlarmSituation& s, const std::vector<AdviceItem>& candidat
   return act_on_asset(s, s.target, catalogue, nullptr, own + why + ".");
 }
 
-}  // namespace causal::recommender
+}  // namespace causal::advice

@@ -1,4 +1,4 @@
-#include "recommender_params.hpp"
+#include "causal/advice/recommender_params.hpp"
 
 #include "causal/config/yaml_fields.hpp"
 
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace causal::recommender {
+namespace causal::advice {
 
 namespace {
 
@@ -171,4 +171,4 @@ RecommenderParams load_recommender_params(const std::string& path) {
   return r;
 }
 
-}  // namespace causal::recommender
+}  // namespace causal::advice

@@ -16,8 +16,8 @@
 //    whose interval excludes "no change"): act on the alarmed channel and say why no lever is claimed.
 #pragma once
 
-#include "action_catalogue.hpp"
-#include "advisor.hpp"
+#include "causal/advice/action_catalogue.hpp"
+#include "causal/advice/advisor.hpp"
 
 #include "causal/alarms/alarm_event.hpp"
 #include "causal/analysis/effect_units.hpp"
@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-namespace causal::recommender {
+namespace causal::advice {
 
 struct PolicyParams {
   double min_order_confidence = 0.8;   // learned order: bootstrap stability needed for a lever claim
@@ -69,4 +69,4 @@ Decision decide(const AlarmSituation& s, const std::vector<AdviceItem>& candidat
 // "2.0 h" / "3.5 days"; "?" when not finite.
 std::string hours_text(double hours);
 
-}  // namespace causal::recommender
+}  // namespace causal::advice

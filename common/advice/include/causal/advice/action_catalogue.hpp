@@ -1,6 +1,7 @@
 // The action catalogue (deploy/config/actions.yaml): what to do on an asset whose degradation alarm has no
-// reliable upstream lever, by asset type and alarm severity. One plain struct and one loader that rejects
-// unknown keys, unknown asset types and empty action lists with the file and key in the message.
+// reliable upstream lever, by asset type and alarm severity. One plain struct; its loader
+// (recommender_params.hpp: load_action_catalogue) rejects unknown keys, unknown asset types and empty action lists
+// with the file and key in the message.
 #pragma once
 
 #include "causal/alarms/alarm_event.hpp"
@@ -9,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace causal::recommender {
+namespace causal::advice {
 
 struct SeverityActions {
   std::vector<std::string> advisory, warning, critical;  // most urgent first; never empty once loaded
@@ -31,7 +32,4 @@ struct ActionCatalogue {
   static ActionCatalogue rolling_bearing_defaults();
 };
 
-// Throws causal::config::ConfigError naming the file and key.
-ActionCatalogue load_action_catalogue(const std::string& path);
-
-}  // namespace causal::recommender
+}  // namespace causal::advice

@@ -1,4 +1,4 @@
-#include "advisor.hpp"
+#include "causal/advice/advisor.hpp"
 
 #include "causal/analysis/bounded_answer.hpp"
 #include "causal/analysis/effect_units.hpp"
@@ -11,7 +11,7 @@
 #include <set>
 #include <stdexcept>
 
-namespace causal::recommender {
+namespace causal::advice {
 
 std::optional<SvarLayout> layout_from_names(int channels, int lag_order, const std::vector<std::string>& names) {
   // Masks (a configured causal graph) remove factors: rebuild them from which canonical names are present.
@@ -43,8 +43,7 @@ std::optional<SvarLayout> layout_from_names(int channels, int lag_order, const s
   return std::nullopt;
 }
 
-void Advisor::update(const AssembledObservation& a) {
-  if (a.time_scale != causal_twin::CONDITION_LEVEL) return;
+void Advisor::update(const ModelObservation& a) {
   AssetModel& m = models_[a.asset_group];
   if (!m.layout) {
     auto layout = layout_from_names(static_cast<int>(a.channel_names.size()), a.lag_order, a.factor_names);
@@ -393,4 +392,4 @@ WhatIfAnswer Advisor::what_if(const std::string& asset_group, int channel, doubl
   return ans;
 }
 
-}  // namespace causal::recommender
+}  // namespace causal::advice

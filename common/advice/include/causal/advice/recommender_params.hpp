@@ -1,16 +1,18 @@
-// alarm-recommender's parameters: one plain struct and one loader that rejects missing or invalid keys.
+// alarms.yaml (alarm-recommender's parameters, also read by causal-alarm-eval and causal-prognosis-eval): one plain
+// struct and one loader that rejects missing or invalid keys. The loaders are target causal_advice_params (YAML
+// through causal_config), so causal_advice itself stays Eigen + std.
 #pragma once
 
-#include "action_catalogue.hpp"
-#include "advice_policy.hpp"
-#include "advisor.hpp"
+#include "causal/advice/action_catalogue.hpp"
+#include "causal/advice/advice_policy.hpp"
+#include "causal/advice/advisor.hpp"
 
 #include "causal/alarms/alarm_params.hpp"
 #include "causal/prognosis/time_to_level.hpp"
 
 #include <string>
 
-namespace causal::recommender {
+namespace causal::advice {
 
 struct RecommenderParams {
   bool condition_enabled = true;
@@ -32,4 +34,7 @@ struct RecommenderParams {
 // Throws causal::config::ConfigError naming the file and key (also for values AlarmParams::validate refuses).
 RecommenderParams load_recommender_params(const std::string& path);
 
-}  // namespace causal::recommender
+// actions.yaml. Throws causal::config::ConfigError naming the file and key.
+ActionCatalogue load_action_catalogue(const std::string& path);
+
+}  // namespace causal::advice

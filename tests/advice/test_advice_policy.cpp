@@ -1,7 +1,7 @@
 // The decision published with every degradation alarm event (services/alarm_recommender/advice_policy.hpp):
 // act on the failing asset, never offer a failing asset as a lever to help a healthier one, claim a lever
 // only with a reliable, known-width effect on a trusted causal order.
-#include "advice_policy.hpp"
+#include "causal/advice/advice_policy.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 namespace {
 
-using namespace causal::recommender;
+using namespace causal::advice;
 using causal::alarms::AlarmEvent;
 using causal::alarms::Severity;
 

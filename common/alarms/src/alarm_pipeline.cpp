@@ -1,4 +1,4 @@
-#include "alarm_pipeline.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "causal/io/feature_table.hpp"
 #include "causal/io/ims_directory.hpp"
 
-namespace causal::alarm_eval {
+namespace causal::alarms {
 
 namespace {
 
@@ -195,4 +195,4 @@ PipelineResult run_condition_pipeline(const ConditionSeries& series, const Pipel
   return res;
 }
 
-}  // namespace causal::alarm_eval
+}  // namespace causal::alarms

@@ -14,8 +14,7 @@
 // ignores those correlations (approximate intervals).
 #pragma once
 
-#include "observation_assembler.hpp"
-
+#include "causal/alarms/observation.hpp"
 #include "causal/analysis/bounded_answer.hpp"
 #include "causal/analysis/effect_units.hpp"
 #include "causal/analysis/recommendation.hpp"
@@ -30,7 +29,20 @@
 #include <string>
 #include <vector>
 
-namespace causal::recommender {
+namespace causal::advice {
+
+// One condition-level filter observation of an asset group's model, as the advisor needs it (plain data: the
+// service fills it from the estimator's CausalFactorBatch stream, a tool or test from its own run).
+struct ModelObservation {
+  std::string asset_group;
+  std::vector<std::string> channel_names;  // G, outcome order
+  std::vector<std::string> factor_names;   // F, outcome-major
+  int lag_order = 1;
+  alarms::Observation observation;
+  // Per outcome k (0-based), the full factor covariance P_k. Empty unless EVERY outcome carried a valid block
+  // (factors.size() square), so a consumer either has all of them or none.
+  std::vector<Eigen::MatrixXd> covariance_blocks;
+};
 
 struct AdvisorParams {
   bool enabled = true;
@@ -100,8 +112,8 @@ class Advisor {
  public:
   explicit Advisor(AdvisorParams params) : params_(params) {}
 
-  // Condition-level filter observations update the asset group's model; others are ignored.
-  void update(const AssembledObservation& a);
+  // A condition-level filter observation updates the asset group's model (the caller passes no other kind).
+  void update(const ModelObservation& a);
   // The group's alarm state now: still learning its baseline, and whether a degradation alarm is open. While
   // it is neither, the advisor captures the current model as a candidate reference; a candidate becomes the
   // group's healthy reference after reference_confirm_observations more observations in that state (a fault
@@ -166,4 +178,4 @@ class Advisor {
 // when no standard layout has exactly these names (then no advice is given).
 std::optional<SvarLayout> layout_from_names(int channels, int lag_order, const std::vector<std::string>& names);
 
-}  // namespace causal::recommender
+}  // namespace causal::advice

@@ -1,4 +1,4 @@
-// causal::recommender::Advisor (services/alarm_recommender/advisor.cpp): what-if and recommendation intervals
+// causal::advice::Advisor (common/advice/src/advisor.cpp): what-if and recommendation intervals
 // from the FULL per-outcome factor covariance P_k when every outcome carries one, diagonal blocks from the
 // standard deviations otherwise.
 //
@@ -8,7 +8,7 @@
 // central interval is a closed form: point -/+ z sd with sd = |delta| sqrt(Var x21 + Var xL21 + 2 Cov).
 // Channel 3's effect is non-linear (products of factors): checked against a Monte Carlo written here (own
 // sampler, own dense (W3) solve).
-#include "advisor.hpp"
+#include "causal/advice/advisor.hpp"
 
 #include "causal/analysis/bounded_answer.hpp"
 #include "causal/analysis/recommendation.hpp"
@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-namespace causal::recommender {
+namespace causal::advice {
 namespace {
 
 constexpr double kSigma = 0.05;  // sd of every factor
@@ -83,10 +83,9 @@ std::vector<Eigen::MatrixXd> diagonal_blocks(const SvarLayout& l) {
   return out;
 }
 
-AssembledObservation observation(const SvarLayout& l, bool with_blocks) {
-  AssembledObservation a;
+ModelObservation observation(const SvarLayout& l, bool with_blocks) {
+  ModelObservation a;
   a.asset_group = "ims2";
-  a.time_scale = causal_twin::CONDITION_LEVEL;
   a.channel_names = {"b1", "b2", "b3"};
   a.factor_names = l.factor_names();
   a.lag_order = 1;
@@ -292,9 +291,9 @@ TEST(Advisor, FallsBackToDiagonalWhenBlocksAreMissingOrUnusable) {
   ASSERT_TRUE(want.ok);
 
   // Blocks of the wrong size for the layout, or with a NaN: diagonal fallback, same answer as without blocks.
-  AssembledObservation wrong = observation(l, true);
+  ModelObservation wrong = observation(l, true);
   wrong.covariance_blocks[0] = Eigen::MatrixXd::Identity(3, 3);
-  AssembledObservation nan = observation(l, true);
+  ModelObservation nan = observation(l, true);
   nan.covariance_blocks[2](0, 0) = std::nan("");
   for (const auto* obs : {&wrong, &nan}) {
     Advisor adv(params());
@@ -322,8 +321,8 @@ TEST(Advisor, FallsBackToDiagonalWhenBlocksAreMissingOrUnusable) {
 namespace {
 
 // The b1 -> b2 link (x21, xL21) set to zero: the model of a plant where b1 does not drive b2.
-AssembledObservation observation_without_link(const SvarLayout& l) {
-  AssembledObservation a = observation(l, true);
+ModelObservation observation_without_link(const SvarLayout& l) {
+  ModelObservation a = observation(l, true);
   const auto& names = l.factor_names();
   for (const char* f : {"x21", "xL21"}) {
     a.observation.factors[std::find(names.begin(), names.end(), f) - names.begin()] = 0.0;
@@ -365,16 +364,16 @@ TEST(Advisor, ALinkAbsentFromTheHealthyReferenceIsMarkedAppeared) {
   }
 }
 
-}  // namespace causal::recommender
+}  // namespace causal::advice
 
-namespace causal::recommender {
+namespace causal::advice {
 namespace {
 
 // Only the max_candidates levers with the largest excess over their baseline are evaluated (each costs `draws`
 // solves of the whole model): b2 is 20 % (log) above its baseline, b1 10 %; the alarm is on b3.
 TEST(Advisor, OnlyTheLargestExcessesAreEvaluated) {
   const SvarLayout l = make_layout();
-  AssembledObservation o = observation(l, true);
+  ModelObservation o = observation(l, true);
   o.observation.features = Eigen::Vector3d(0.2, 0.1 * std::exp(0.2), 0.1);
   for (const int max_candidates : {1, 2}) {
     AdvisorParams p = params();
@@ -393,4 +392,4 @@ TEST(Advisor, OnlyTheLargestExcessesAreEvaluated) {
 }
 
 }  // namespace
-}  // namespace causal::recommender
+}  // namespace causal::advice

@@ -14,7 +14,7 @@
 #include "causal/estimation/noise_params.hpp"
 #include "causal/pipeline/asset_pipeline.hpp"
 
-namespace causal::alarm_eval {
+namespace causal::alarms {
 
 // One condition feature per channel and snapshot.
 struct ConditionSeries {
@@ -99,4 +99,4 @@ struct PipelineResult {
 // AlarmEngine) over a whole series, one condition vector per row, as sensor-replay would publish it.
 PipelineResult run_condition_pipeline(const ConditionSeries& series, const PipelineOptions& options);
 
-}  // namespace causal::alarm_eval
+}  // namespace causal::alarms
