@@ -2,6 +2,7 @@
 // causal_twin/alarm_action_result (applied or refused by alarm-recommender).
 #pragma once
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
@@ -25,9 +26,9 @@ struct ActionOptions {
 };
 
 // Exit codes of run() (2 is a usage error, before run()).
-inline constexpr int kApplied = 0;
-inline constexpr int kNoResult = 3;  // no alarm-recommender on the domain, or no result in time
-inline constexpr int kRefused = 4;   // the recommender refused the action (unknown alarm id, not applicable, ...)
+inline constexpr int kApplied = config::kExitOk;
+inline constexpr int kNoResult = config::kExitNoPeer;  // no alarm-recommender on the domain, or no result in time
+inline constexpr int kRefused = config::kExitLostOrRefused;   // the recommender refused the action (unknown alarm id, not applicable, ...)
 
 class ActionNode {
  public:

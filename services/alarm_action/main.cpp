@@ -29,11 +29,11 @@ int main(int argc, char** argv) {
   CAUSAL_CLI_PARSE(app, argc, argv);
   if (ack->count() + shelve->count() + unshelve->count() != 1) {
     std::fprintf(stderr, "causal-alarm-action: give exactly one of --ack, --shelve MINUTES and --unshelve\n");
-    return 2;
+    return causal::config::kExitUsage;
   }
   if (shelve->count() > 0 && o.reason.empty()) {
     std::fprintf(stderr, "causal-alarm-action: --shelve needs --reason TEXT\n");
-    return 2;
+    return causal::config::kExitUsage;
   }
   return causal::dds::run_service(signals, "causal-alarm-action", o.dds,
                                   [&] { return std::make_unique<causal::alarm_action::ActionNode>(std::move(o)); });

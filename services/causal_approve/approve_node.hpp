@@ -5,6 +5,7 @@
 // recommendation becomes an intervention.
 #pragma once
 
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
@@ -31,9 +32,9 @@ struct ApproveOptions {
 };
 
 // Exit codes of run().
-inline constexpr int kPublished = 0;
-inline constexpr int kNotDelivered = 3;   // recommendation not found, no reader, or not acknowledged in time
-inline constexpr int kNotApprovable = 4;  // the recommendation is not a lever that can be applied
+inline constexpr int kPublished = config::kExitOk;
+inline constexpr int kNotDelivered = config::kExitNoPeer;   // recommendation not found, no reader, or not acknowledged in time
+inline constexpr int kNotApprovable = config::kExitLostOrRefused;  // the recommendation is not a lever that can be applied
 
 // The intervention an approval of `rec` makes (pure: tests call it). Empty `why` when approvable.
 struct Approval {

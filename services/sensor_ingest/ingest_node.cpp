@@ -12,6 +12,7 @@
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/stop_timer.hpp"
 #include "causal/dds/topics.hpp"
+#include "causal/config/exit_codes.hpp"
 
 namespace causal::ingest {
 
@@ -110,7 +111,7 @@ int IngestNode::run() {
           "no reader matched within {:.0f} s: is causal-estimator running on domain {} with the same "
           "transport profile?",
           options_.wait_timeout_s, participant_.domain_id());
-      return 3;
+      return config::kExitNoPeer;
     }
   }
   spdlog::info("ingesting from {} ({}); backlog {} frames per asset group for a restarted estimator",
@@ -140,7 +141,7 @@ int IngestNode::run() {
   spdlog::info("{} messages in, {} frames published in {:.2f} s{}", received_, published_,
                std::chrono::duration<double>(Clock::now() - started).count(), stop_.load() ? " (stopped)" : "");
   print_summary();
-  return total(rejected_) + lost_ + missed_ > 0 ? 4 : 0;
+  return total(rejected_) + lost_ + missed_ > 0 ? config::kExitLostOrRefused : config::kExitOk;
 }
 
 void IngestNode::count_rejection(RejectReason reason, const std::string& detail, const std::string& group) {

@@ -1,6 +1,7 @@
 #include "plant_node.hpp"
 
 #include "causal/dds/frame_conversions.hpp"
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/topics.hpp"
 
 #include <spdlog/spdlog.h>
@@ -105,9 +106,9 @@ int PlantNode::run() {
     const auto wait = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
     if (!conditions_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), wait, stop_)) {
       print_summary();
-      if (stop_.load()) return 0;
+      if (stop_.load()) return config::kExitOk;
       spdlog::error("no reader of condition inputs matched within {:.0f} s", options_.wait_timeout_s);
-      return 3;
+      return config::kExitNoPeer;
     }
   }
   spdlog::info("publishing {} simulated plant(s), {} snapshots each{}", groups_.size(), options_.snapshots,
@@ -127,8 +128,8 @@ int PlantNode::run() {
     spdlog::warn("not every condition vector was acknowledged by the readers");
   }
   print_summary();
-  if (lost_ > 0) return 4;
-  return refused_ > 0 ? 5 : 0;
+  // A refused approval (late or overlapping) is a refusal like a lost snapshot: the summary says which.
+  return lost_ + refused_ > 0 ? config::kExitLostOrRefused : config::kExitOk;
 }
 
 void PlantNode::print_summary() const {

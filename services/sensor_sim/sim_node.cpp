@@ -1,6 +1,7 @@
 #include "sim_node.hpp"
 
 #include "causal/dds/stop_timer.hpp"
+#include "causal/config/exit_codes.hpp"
 #include "causal/dds/topics.hpp"
 
 #include <spdlog/spdlog.h>
@@ -73,7 +74,7 @@ int SimNode::run() {
                     "transport profile?",
                     options_.wait_timeout_s, participant_.domain_id());
       print_summary();
-      return 3;
+      return config::kExitNoPeer;
     }
   }
   spdlog::info("publishing {} asset group(s) {}..{}, {} channels, {} samples per frame, {}, {}",
@@ -109,7 +110,7 @@ int SimNode::run() {
   spdlog::info("{} frames published in {:.2f} s{}", sent_, std::chrono::duration<double>(Clock::now() - started_).count(),
                stop_.load() ? " (stopped early)" : "");
   print_summary();
-  return lost_ > 0 ? 4 : 0;
+  return lost_ > 0 ? config::kExitLostOrRefused : config::kExitOk;
 }
 
 bool SimNode::publish_round(std::uint64_t round, Eigen::MatrixXd& block) {

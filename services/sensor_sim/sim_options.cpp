@@ -23,7 +23,8 @@ std::optional<SimOptions> parse_sim_options(int argc, char** argv, int& exit_cod
       "from its start snapshot index to its group's true structural model (the do-operation the twin's what-if\n"
       "assumes). It then prints\n"
       "  sensor-sim: sent snapshots=<n> groups=<N> lost=<n> interventions applied=<n> refused=<n> other_groups=<n>\n"
-      "and exits 5 when an intervention was refused (its start snapshot already published, bad channel or size)."};
+      "and exits 4 when an intervention was refused (its start snapshot already published, bad channel or size)\n"
+      "or a snapshot was lost."};
   dds::add_common_options(app, o.dds);
   app.add_option("--groups", o.groups, "number of simulated asset groups")->check(CLI::Range(1, 100000))
       ->capture_default_str();
