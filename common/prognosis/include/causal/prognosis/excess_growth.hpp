@@ -13,13 +13,17 @@
 //
 // Data: hourly medians of w (a spike is one snapshot of six; the median is also the alarm's statistic), kept
 // where the median excess is at least min_excess_sd healthy measurement sds (below that ln w is noise).
-// Estimates (Whitmore 1995, maximum likelihood for a Wiener process observed at irregular times):
-//   mu = (z_n - z_1) / (t_n - t_1),  sigma^2 = sum (dz_k - mu dt_k)^2 / dt_k / (n - 1),
-// with mu uncertain: mu ~ N(mu_hat, sigma^2 / (t_n - t_1)). The first passage of ln w from z_n to
-// D = ln(log_ratio) is inverse Gaussian for a known drift, P(T <= t | mu) =
-//   Phi((mu t - g) / (sigma sqrt t)) + exp(2 mu g / sigma^2) Phi((-mu t - g) / (sigma sqrt t)),  g = D - z_n > 0
-// (Chhikara and Folks 1989, eq. 2.1; valid for any sign of mu, defective for mu < 0); the drift's uncertainty is
-// integrated out by Gauss-Hermite quadrature (deterministic: no Monte Carlo).
+// Two shapes, each a Wiener process of ln w on its own clock v: v = t (exponential excess, w = c exp(mu t)) and
+// v = ln tau, tau the hours since the onset (power-law excess, w = a tau^k: the early, nearly linear growth of
+// w = c (exp(lambda tau) - 1)). Estimates per shape (Whitmore 1995, a Wiener process observed at irregular times):
+//   mu = (z_n - z_1) / (v_n - v_1),  sigma^2 = sum (dz_k - mu dv_k)^2 / (dv_k - B_k / 3) / (n - 1)
+// (B_k / 3: the blocks' own averaging of the path), mu ~ N(mu_hat, sigma^2 / (v_n - v_1)). The shapes are weighted
+// by their maximised likelihoods (Bayesian model averaging with equal priors; both have two parameters). The
+// first passage of ln w from z_n to D = ln(log_ratio) on a shape's clock is inverse Gaussian for a known drift,
+//   P(V <= v | mu) = Phi((mu v - g) / (sigma sqrt v)) + exp(2 mu g / sigma^2) Phi((-mu v - g) / (sigma sqrt v)),
+// g = D - z_n > 0 (Chhikara and Folks 1989, eq. 2.1; defective for mu < 0); the drift's uncertainty is integrated
+// out on a grid (deterministic: no Monte Carlo). "Unknown" unless the likelier shape's drift is significantly
+// positive (the local trend's min_trend_z test) and the interval spans at most max_width_factor.
 #pragma once
 
 #include "causal/prognosis/time_to_level.hpp"
