@@ -52,7 +52,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "causal-prognosis-eval: " << why << "\n"
             << "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | "
-               "--sim [--seeds 20]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F] [--first-seed 1] [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N] [--huber-k K] [--end-of-life-ratio R] [--trace]\n";
+               "--sim [--seeds 20]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F] [--first-seed 1] [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N] [--huber-k K] [--end-of-life-ratio R] [--trend-fit-limit L] [--no-power-law] [--no-fill] [--trace]\n";
   std::exit(causal::config::kExitUsage);
 }
 
@@ -60,20 +60,25 @@ void print_help() {
   std::cout << "causal-prognosis-eval: how well the time-to-level prognosis predicts when a degrading channel reaches 2x,\n"
                "4x its baseline and its end of life (trailing 5-snapshot median at the multiple of the baseline;\n"
                "the stop when never reached), beside a log-linear Theil-Sen trend with bootstrap intervals and a\n"
-               "random walk with drift (inverse-Gaussian first passage), at every snapshot from the first alarm on.\n"
+               "random walk with drift (inverse-Gaussian first passage), at every snapshot from the first alarm on; the\n"
+               "row long-run is the twin's long-run model alone (Wiener process on the log of the log excess).\n"
                "Columns: share answered, coverage of the 90 % intervals (answered ones), median interval width over\n"
                "the actual remaining time, alpha-lambda (share of decision points whose median is within +-20 % /\n"
                "+-30 % of the actual remaining time; unknown = not within).\n"
                "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | --sim\n"
                "       [--seeds 20] [--first-seed 1]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F]\n"
                "       [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N]\n"
-               "       [--huber-k K] [--end-of-life-ratio R] [--trace]\n"
+               "       [--huber-k K] [--end-of-life-ratio R] [--trend-fit-limit L] [--no-power-law] [--no-fill] [--trace]\n"
                "  (every tuning option overrides the prognosis parameters of the alarms file; see docs/prognosis.md)\n"
                "  --alarms-config FILE  alarm-recommender's parameter file (condition_level and prognosis sections);\n"
                "                     default: " << alarms_choice().describe("alarms.yaml") << "\n"
                "  --ims FILE         IMS-format feature table, run through the services' alarm chain\n"
                "  --sim              simulated run-to-failure channels with known crossing times\n"
                "  --seeds N          seeds per noise kind (Gaussian, uniform) with --sim\n"
+               "  --trend-fit-limit L  the local trend answers while its forecast inflation is <= L (default 2.51),\n"
+               "                     else the long-run model (0: long-run first)\n"
+               "  --no-power-law     the long-run model with the exponential-excess shape only\n"
+               "  --no-fill          the long-run model does not answer where a fitting local trend says unknown\n"
                "  --help, --version  this text; the project version\n"
                "Exit: 0 tables printed, 2 bad options or input.\n";
 }
@@ -130,6 +135,9 @@ Options parse(int argc, char** argv) {
     else if (a == "--calibration-memory") o.params.trend.calibration_memory = std::stod(value());
     else if (a == "--huber-k") o.params.trend.huber_k = std::stod(value());
     else if (a == "--first-seed") o.first_seed = std::stoi(value());
+    else if (a == "--no-power-law") o.params.excess.power_law = false;
+    else if (a == "--no-fill") o.params.long_run_fills_unknown = false;
+    else if (a == "--trend-fit-limit") o.params.trend_fit_limit = std::stod(value());
     else if (a == "--min-trend-z") o.params.min_trend_z = std::stod(value());
     else if (a == "--end-of-life-ratio") o.params.end_of_life_ratio = std::stod(value());
     else usage("unknown option " + a);

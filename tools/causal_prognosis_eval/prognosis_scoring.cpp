@@ -1,6 +1,7 @@
 #include "prognosis_scoring.hpp"
 #include "prognosis_anchors.hpp"
 #include "run_to_failure_sim.hpp"
+#include "causal/prognosis/excess_growth.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -64,7 +65,7 @@ std::array<std::int64_t, kLevels> median_crossings(const std::vector<std::int64_
 }
 
 const char* method_name(int method) {
-  static const char* const names[kMethods] = {"twin", "theil-sen", "rw-drift"};
+  static const char* const names[kMethods] = {"twin", "theil-sen", "rw-drift", "long-run"};
   return names[method];
 }
 
@@ -148,6 +149,7 @@ void PrognosisScorer::observe(const alarms::Observation& obs) {
         std::log(trends_.ratio(kAll[l], engine_->params().warning_ratio, engine_->params().critical_ratio));
     pred[1][i] = theil_sen.time_to(log_ratio, coverage);
     pred[2][i] = walk.time_to(log_ratio, coverage);
+    pred[3][i] = from(prognosis::excess_growth_time_to(t, y, base.log_scale[channel_], log_ratio, trends_.params()));
     std::string line = std::to_string(obs.index) + " " + prognosis::to_string(kAll[l]);
     char buf[200];
     std::snprintf(buf, sizeof buf, " actual=%.2f", actual);

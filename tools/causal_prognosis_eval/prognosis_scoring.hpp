@@ -50,7 +50,8 @@ struct LevelScore {
   void merge(const LevelScore& o);
 };
 
-inline constexpr int kMethods = 3;  // twin, Theil-Sen with bootstrap, random walk with drift
+// twin, Theil-Sen with bootstrap, random walk with drift, and the twin's long-run model alone (excess_growth.hpp)
+inline constexpr int kMethods = 4;
 const char* method_name(int method);
 
 struct MethodScores {

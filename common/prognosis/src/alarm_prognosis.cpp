@@ -45,7 +45,7 @@ ChannelPrognosis prognosis_for(const ChannelTrends& trends, const alarms::AlarmE
   p.growth_per_hour = t.started() ? t.state().x[1] : kNaN;
   const std::uint64_t points = index >= alarm.onset_index ? index - alarm.onset_index + 1 : 0;
   if (std::isfinite(base)) {
-    p.time = trends.time_to(alarm.channel, base, p.ratio, points);
+    p.time = trends.time_to(alarm.channel, base, p.ratio, points, alarm.onset_time_ns, b.log_scale[alarm.channel]);
     if (event.ratio_scale) one_event(engine.level_reached(alarm.channel, p.ratio), engine.params().level_window, p.time);
   } else {
     p.time.hours = p.time.hours_low = p.time.hours_high = kNaN;

@@ -86,6 +86,9 @@ const char* to_string(Level level) {
 
 void PrognosisParams::validate() const {
   trend.validate();
+  excess.validate();
+  require(history_limit >= 16, "history_limit", "must be >= 16");
+  require(trend_fit_limit >= 0, "trend_fit_limit", "must be >= 0");
   require(std::isfinite(end_of_life_ratio) && end_of_life_ratio > 1, "end_of_life_ratio", "must be finite and > 1");
   require(coverage > 0 && coverage < 1, "coverage", "must be in (0, 1)");
   require(std::isfinite(min_trend_z) && min_trend_z >= 0, "min_trend_z", "must be finite and >= 0");

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <deque>
 #include <vector>
 
 namespace causal::prognosis {
@@ -30,7 +31,17 @@ class ChannelTrends {
   // Ratio of a level: warning_ratio / critical_ratio are the alarm engine's, end of life is ours.
   double ratio(Level level, double warning_ratio, double critical_ratio) const;
   // Time until channel's level reaches ratio x exp(baseline_log); unknown when the trend has not started.
-  TimeToLevel time_to(int channel, double baseline_log, double ratio, std::uint64_t points_since_onset) const;
+  // onset_time_ns: the degradation alarm's onset; noise_std: the channel's healthy log sd. The forecast is the
+  // excess-growth model's (excess_growth.hpp) on the history since the onset where it answers, else the
+  // trend's (time_to_level.hpp) when PrognosisParams::excess_fallback_to_trend, else unknown with its reason.
+  TimeToLevel time_to(int channel, double baseline_log, double ratio, std::uint64_t points_since_onset,
+                      std::int64_t onset_time_ns, double noise_std) const;
+  // The log levels the trend accepted, the last PrognosisParams::history_limit of them.
+  struct Point {
+    std::int64_t time_ns;
+    double log_level;
+  };
+  const std::deque<Point>& history(int channel) const { return history_.at(static_cast<std::size_t>(channel)); }
   std::uint64_t refused() const { return refused_; }
 
   void save(causal::StateWriter& out) const;
@@ -40,6 +51,7 @@ class ChannelTrends {
  private:
   PrognosisParams params_;
   std::vector<DegradationTrend> trends_;
+  std::vector<std::deque<Point>> history_;
   std::uint64_t refused_ = 0;
 };
 

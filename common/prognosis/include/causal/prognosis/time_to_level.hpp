@@ -33,8 +33,31 @@ namespace causal::prognosis {
 enum class Level { warning = 0, critical = 1, end_of_life = 2 };
 const char* to_string(Level level);  // "warning", "critical", "end_of_life"
 
+// The excess-growth model (excess_growth.hpp): hourly medians of the log excess since the onset. Fixed before
+// any evaluation (one hour: the alarm engine's snapshots are 10 min apart, six per median; four hours: the
+// least for a drift and a diffusion from three increments; three healthy sds: ln w of a median excess below it is
+// mostly noise); not fitted on any run.
+struct ExcessGrowthParams {
+  double block_hours = 1.0;     // the medians' block length
+  int min_blocks = 4;           // blocks with a usable excess needed before an answer
+  double min_excess_sd = 3.0;   // a block is usable when its median excess is >= this x the healthy sd
+  bool power_law = true;        // also the power-law shape (ln w linear in ln tau), likelihood-weighted
+  void validate() const;        // throws std::invalid_argument naming the bad field
+};
+
 struct PrognosisParams {
   TrendParams trend;
+  ExcessGrowthParams excess;
+  // Which model answers (ChannelTrends::time_to): the local trend while its own recent level forecasts fit
+  // (TrendState::inflation, the running mean square of its standardised errors over calibration_memory checks,
+  // at most trend_fit_limit), else the excess-growth model; each answers where the other cannot. 2.51: the 99 %
+  // point of chi^2 with 8 degrees of freedom over 8 (the inflation's memory), a goodness-of-fit test of the
+  // local trend at 1 %; not fitted on any run. 0: the excess-growth model first; infinity: the local trend only.
+  double trend_fit_limit = 2.51;
+  bool long_run_fills_unknown = true;  // the long-run model also answers where a fitting local trend says unknown
+  // Observations per channel kept for the excess-growth model and in the checkpoint (2016: 14 days of
+  // 10-minute snapshots, 32 kB per channel; a wear history from the onset longer than that is cut to its end).
+  std::uint64_t history_limit = 2016;
   // End of life as a multiple of the baseline level. 6x = +15.6 dB: one and a half 6-dB steps beyond the
   // critical level (4x, +12 dB) of the alert ladder the alarm engine uses (2x warning, 4x critical). A bearing
   // at 6x its healthy vibration has spalled far beyond an early fault; the IMS run-to-failure tests were
