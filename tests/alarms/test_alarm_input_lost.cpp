@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "alarm_pipeline.hpp"
+#include "causal/alarms/alarm_pipeline.hpp"
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/estimation/state_archive.hpp"
 #include "synthetic_group.hpp"
@@ -184,7 +184,6 @@ TEST(AlarmInputLost, Ims2RunWithTheRangeAKilledEstimatorLost) {
                                ? dir
                                : std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 feature table not found at " << path;
-  using namespace causal::alarm_eval;
   const ConditionSeries full = series_from_feature_table(path, "meanabs");
   ConditionSeries cut = full;
   cut.time_ns.clear();
