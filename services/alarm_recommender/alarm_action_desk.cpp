@@ -1,9 +1,11 @@
 #include "alarm_action_desk.hpp"
 
 #include "causal/dds/topics.hpp"
+#include "causal/estimation/state_archive.hpp"
 #include "causal/metrics/metrics_registry.hpp"
 
 #include <chrono>
+#include <filesystem>
 
 #include <spdlog/spdlog.h>
 
@@ -51,20 +53,56 @@ causal_twin::AlarmActionResult echo(const causal_twin::AlarmAction& a) {
 
 }  // namespace
 
-AlarmActionDesk::AlarmActionDesk(dds::Participant& participant)
+AlarmActionDesk::AlarmActionDesk(dds::Participant& participant, const std::string& state_dir)
     : actions_(participant, dds::topics::kAlarmAction, dds::profiles::kAlarmActionReader),
-      results_(participant, dds::topics::kAlarmActionResult, dds::profiles::kAlarmActionResultWriter) {}
+      results_(participant, dds::topics::kAlarmActionResult, dds::profiles::kAlarmActionResultWriter),
+      grants_(participant.directory(), "alarm_action", "alarm action",
+              "issue-identity.sh: an operator's grant names no partitions") {
+  if (state_dir.empty()) return;
+  state_file_ = (std::filesystem::path(state_dir) / "alarm_management.state").string();
+  restore();
+}
 
-void AlarmActionDesk::on_publish(causal_twin::Alarm& msg) {
-  const am::EventFlags f = manager_.on_event(am::AlarmEventView{msg.alarm_id(), msg.asset_group(),
-                                                                event_state(msg.state()), msg.raised_time_ns(),
-                                                                msg.cleared_time_ns()});
+void AlarmActionDesk::restore() {
+  try {
+    auto bytes = causal::load_state_file(state_file_);
+    if (!bytes) return;  // no checkpoint yet
+    StateReader in(std::move(*bytes));
+    manager_.restore(in);
+    if (!in.at_end()) throw causal::StateError("unexpected data after the alarm management section");
+  } catch (const causal::StateError& e) {
+    throw causal::StateError("checkpoint '" + state_file_ + "' cannot be used: " + e.what() +
+                             ". Move it away to start over (acknowledgements and shelvings are then forgotten)");
+  }
+  spdlog::info("alarm management resumed from checkpoint '{}'", state_file_);
+}
+
+void AlarmActionDesk::save() {
+  if (state_file_.empty()) return;
+  StateWriter out;
+  manager_.save(out);
+  try {
+    causal::save_state_file(state_file_, out.bytes());
+    ++saves_;
+  } catch (const causal::StateError& e) {
+    if (save_failures_++ % 100 == 0) {  // the first failure and then every 100th: a full disk must not flood the log
+      spdlog::error("alarm management checkpoint not written ({} failures so far): {}", save_failures_, e.what());
+    }
+  }
+}
+
+void AlarmActionDesk::on_publish(causal_twin::Alarm& msg, bool republished) {
+  const am::AlarmEventView view{msg.alarm_id(), msg.asset_group(), event_state(msg.state()), msg.raised_time_ns(),
+                                msg.cleared_time_ns()};
+  const am::EventFlags f = republished ? manager_.on_republished(view) : manager_.on_event(view);
+  save();  // before the message is published (as the engine checkpoint)
   msg.acknowledged(f.acknowledged);
   msg.shelved(f.shelved);
 }
 
-void AlarmActionDesk::count(const am::ActionOutcome& o) {
-  const char* result = o.repeated ? "repeated" : o.applied ? "applied" : am::to_string(o.refusal);
+void AlarmActionDesk::count(const am::ActionOutcome& o, bool entitled) {
+  const char* result = !entitled ? "not_entitled" : o.repeated ? "repeated" : o.applied ? "applied"
+                                                                                     : am::to_string(o.refusal);
   metrics::process_metrics()
       .counter("alarm_actions_total", "Operator alarm actions (acknowledge, shelve, unshelve) by result",
                {{"result", result}})
@@ -72,12 +110,21 @@ void AlarmActionDesk::count(const am::ActionOutcome& o) {
 }
 
 std::size_t AlarmActionDesk::poll(std::set<std::string>& changed, const std::atomic<bool>& stop) {
-  std::size_t n = actions_.take_all([&](const causal_twin::AlarmAction& a, const auto&) {
+  std::size_t n = actions_.take_all([&](const causal_twin::AlarmAction& a, const auto& info) {
     ++received_;
     const std::int64_t now = wall_clock_ns();
     causal_twin::AlarmActionResult r = echo(a);
     am::ActionOutcome o;
-    if (!known_kind(a.action())) {  // a newer sender's action this build does not know
+    const bool entitled = grants_.entitled(a.asset_group(), info.sample_identity.writer_guid());
+    if (!entitled) {
+      o.refusal = am::Refusal::BadRequest;
+      o.error = "refused: the sender may not act on asset group '" + a.asset_group() +
+                "' (its grant does not name it, or its partitions changed after discovery)";
+      ++not_entitled_;
+      const auto f = manager_.flags(a.alarm_id());
+      o.acknowledged = f.acknowledged;
+      o.shelved = f.shelved;
+    } else if (!known_kind(a.action())) {  // a newer sender's action this build does not know
       o.refusal = am::Refusal::BadRequest;
       o.error = "unknown action";
       ++unknown_kind_;
@@ -85,7 +132,7 @@ std::size_t AlarmActionDesk::poll(std::set<std::string>& changed, const std::ato
       o = manager_.apply(am::ActionRequest{a.request_id(), a.asset_group(), a.alarm_id(), from_idl(a.action()),
                                            a.user_name(), a.reason(), a.time_ns(), a.until_ns()}, now);
     }
-    count(o);
+    count(o, entitled);
     spdlog::log(o.applied ? spdlog::level::info : spdlog::level::warn, "ALARM ACTION {} {} on {} by '{}': {}{}",
                 a.request_id(), o.applied ? "applied" : "refused", a.alarm_id(), a.user_name(),
                 o.applied ? "ok" : o.error, o.repeated ? " (repeated request: its first result)" : "");
@@ -95,10 +142,13 @@ std::size_t AlarmActionDesk::poll(std::set<std::string>& changed, const std::ato
     r.shelved(o.shelved);
     r.applied_time_ns(now);
     if (o.applied && !o.repeated) changed.insert(a.asset_group());
+    if (!o.repeated) save();  // its outcome is remembered even when refused (a re-delivery gets the same answer)
     publish(r, stop);
   });
   const std::int64_t now = wall_clock_ns();
-  for (const auto& e : manager_.expire(now)) {
+  const auto expired = manager_.expire(now);
+  if (!expired.empty()) save();
+  for (const auto& e : expired) {
     causal_twin::AlarmActionResult r;
     r.request_id("expired/" + e.alarm_id + "/" + std::to_string(e.until_ns));
     r.asset_group(e.asset_group);
@@ -150,12 +200,19 @@ void AlarmActionDesk::fill(causal_twin::AssetStatus& s) {
 
 void AlarmActionDesk::log_summary() const {
   const auto& c = manager_.counters();
-  std::uint64_t refused = unknown_kind_;
+  std::uint64_t refused = unknown_kind_ + not_entitled_;
   for (const auto& [why, k] : c.refused) refused += k;
-  spdlog::info("summary topic=causal_twin/alarm_action received={} applied={} refused={} repeated={} expired={}",
-               received_, c.applied, refused, c.repeated, c.expired);
+  if (not_entitled_ > 0) {
+    spdlog::error("{} alarm actions refused: their writers may not act on their asset group ({} writer/group pairs)",
+                  not_entitled_, grants_.refused_pairs());
+  }
+  spdlog::info("summary topic=causal_twin/alarm_action received={} applied={} refused={} repeated={} expired={} "
+               "not_entitled={}", received_, c.applied, refused, c.repeated, c.expired, not_entitled_);
   spdlog::info("summary topic=causal_twin/alarm_action_result sent={} failed={}", results_published_,
                result_failures_);
+  if (!state_file_.empty()) {
+    spdlog::info("alarm management checkpoints written to '{}': {}, {} failed", state_file_, saves_, save_failures_);
+  }
 }
 
 }  // namespace causal::recommender

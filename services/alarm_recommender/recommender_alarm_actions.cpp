@@ -11,6 +11,7 @@ namespace causal::recommender {
 std::size_t RecommenderNode::poll_alarm_actions() {
   std::set<std::string> changed;
   const std::size_t n = action_desk_.poll(changed, loop_.stop_flag());
+  for (auto& alarm : action_desk_.take_health_alarms()) publish_health_alarm(alarm);  // refused writers
   for (const auto& group : changed) {
     causal_twin::AssetStatus msg;
     if (!status_.refresh(group, [this](causal_twin::AssetStatus& s) { action_desk_.fill(s); }, msg)) continue;

@@ -39,7 +39,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       whatif_replies_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfWriter),
       status_writer_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusWriter),
       prognoses_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisWriter),
-      action_desk_(participant_),
+      action_desk_(participant_, options_.state_dir),
       interventions_(participant_, params_.advice.model_log_features),
       advisor_(params_.advice),
       store_(options_.state_dir),
@@ -157,7 +157,8 @@ int RecommenderNode::run() {
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   log_whatif_summary();
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
-          status_write_failures_ + whatif_not_entitled_ + action_desk_.result_write_failures()) > 0
+          status_write_failures_ + whatif_not_entitled_ + action_desk_.result_write_failures() +
+          action_desk_.checkpoint_failures() + action_desk_.not_entitled()) > 0
              ? config::kExitLostOrRefused
              : config::kExitOk;
 }
@@ -287,7 +288,7 @@ void RecommenderNode::republish(const std::string& asset_group, const std::vecto
     if (!alarm_message_store_.find(asset_group, e.alarm_id, kept) || !restore_decision(kept, alarm_msg_)) {
       if (e.category == alarms::category::kDegradation && e.state != alarms::AlarmState::Cleared) ++without_decision;
     }
-    action_desk_.on_publish(alarm_msg_);
+    action_desk_.on_publish(alarm_msg_, true);
     if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
       ++alarms_published_;
       open_alarms_.on_published(alarm_msg_);

@@ -1,11 +1,15 @@
 // ISA-18.2 alarm management through the real processes (loopback): a simulated run raises alarms; during the run
-// causal-alarm-action acknowledges one alarm and shelves another for 3 s. Checked: the command's exit codes (applied,
-// refused, usage), AssetStatus's unacknowledged and shelved counts as alarm-recommender publishes them, the shelving
-// expiring by itself (its result on causal_twin/alarm_action_result, the count back to 0), and causal-recorder's
-// alarm_actions.csv and SQLite table holding exactly the three applied actions (acknowledge, shelve, the expiry).
+// causal-alarm-action acknowledges one alarm and shelves another for 6 s; then alarm-recommender is killed (kill -9)
+// and restarted on its --state-dir. Checked: the command's exit codes (applied, refused, usage), AssetStatus's
+// unacknowledged and shelved counts as alarm-recommender publishes them, the restarted recommender still holding the
+// acknowledgement (its republished alarm is flagged, a second acknowledge is refused) and the shelving (republished
+// flagged, expiring by itself at the end it was given: its result on causal_twin/alarm_action_result), and
+// causal-recorder's alarm_actions.csv and SQLite table holding exactly the three applied actions (acknowledge,
+// shelve, the expiry).
 #include "loopback_settings.hpp"
 #include "process_expect.hpp"
 #include "process_runner.hpp"
+#include "simulated_shaft_table.hpp"
 
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
@@ -37,35 +41,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-constexpr int kSnapshots = 400;
 constexpr const char* kGroup = "sim-shaft";
-
-// Log-levels of a structural VAR(1) (as in test_recommendation_upstream.cpp): from snapshot 250 bearing 2's own
-// level rises and bearing 1 follows it, so alarms are raised on both.
-std::string write_simulated_table(const fs::path& dir) {
-  std::mt19937_64 rng(20261128);
-  std::uniform_real_distribution<double> u(-0.035, 0.035);
-  const double base[4] = {std::log(0.08), std::log(0.10), std::log(0.06), std::log(0.05)};
-  double z[4] = {0, 0, 0, 0}, prev[4] = {0, 0, 0, 0};
-  const fs::path p = dir / "simulated_features.csv";
-  std::ofstream out(p);
-  out << ",bearing1,bearing2,bearing3,bearing4\n";
-  for (int n = 0; n < kSnapshots; ++n) {
-    const double own_change = n < 250 ? 0.0 : 0.5 * std::min(1.0, (n - 250 + 1) / 20.0);
-    z[1] = 0.5 * prev[1] + u(rng) + own_change * 0.5;
-    z[0] = 0.8 * z[1] + 0.2 * prev[1] + 0.3 * prev[0] + u(rng);
-    z[2] = 0.4 * prev[2] + u(rng);
-    z[3] = 0.4 * prev[3] + u(rng);
-    std::copy(z, z + 4, prev);
-    const long minutes = 10L * n;
-    char ts[32];
-    std::snprintf(ts, sizeof ts, "2026-01-%02ld %02ld:%02ld:00", 1 + minutes / 1440, (minutes / 60) % 24, minutes % 60);
-    out << ts;
-    for (int k = 0; k < 4; ++k) out << "," << std::exp(base[k] + z[k]);
-    out << "\n";
-  }
-  return p.string();
-}
 
 // The test's own participant: the latest AssetStatus, every alarm event and every action result.
 class Watch {
@@ -126,17 +102,19 @@ TEST(AlarmManagement, AcknowledgeAndShelveDuringARunShowInStatusAndHistory) {
   const fs::path work = fs::temp_directory_path() / ("causal_it_alarm_mgmt_" + std::to_string(getpid()));
   fs::remove_all(work);
   fs::create_directories(work);
-  const std::string table = write_simulated_table(work);
+  const std::string table = write_simulated_shaft_table(work);
   const int domain = private_domain_id(17);
   const std::string d = std::to_string(domain);
   Watch watch(domain);
   ServiceProcess recorder("causal-recorder", {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(),
-                                              "--db", "sqlite:" + (work / "history.db").string(), "--idle-exit", "3",
+                                              "--db", "sqlite:" + (work / "history.db").string(), "--idle-exit", "30",
                                               "--max-runtime", "300"},
                           (work / "recorder.log").string());
-  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--max-runtime", "300",
-                                             "--wait-for", "causal-recorder"},
-                       (work / "alarm.log").string());
+  const std::vector<std::string> alarm_args{ALARM_RECOMMENDER_BIN, "--domain", d, "--max-runtime", "300",
+                                           "--state-dir", (work / "state").string()};
+  auto alarm_argv = alarm_args;
+  alarm_argv.insert(alarm_argv.end(), {"--wait-for", "causal-recorder"});
+  auto alarm = std::make_unique<ServiceProcess>("alarm-recommender", alarm_argv, (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator", {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "3",
                                                 "--max-runtime", "300", "--wait-for", "alarm-recommender"},
                            (work / "estimator.log").string());
@@ -156,9 +134,9 @@ TEST(AlarmManagement, AcknowledgeAndShelveDuringARunShowInStatusAndHistory) {
       quiet_since = std::chrono::steady_clock::now();
     }
     return last_index > 300 && std::chrono::steady_clock::now() - quiet_since > 2s;
-  }, 60s)) << alarm.output();
+  }, 60s)) << alarm->output();
   const auto open = watch.open_alarms();
-  ASSERT_GE(open.size(), 2u) << "the run must leave two open alarms to act on:\n" << alarm.output();
+  ASSERT_GE(open.size(), 2u) << "the run must leave two open alarms to act on:\n" << alarm->output();
   ASSERT_EQ(watch.status.unacknowledged_alarms(), open.size()) << watch.status.text();
   ASSERT_EQ(watch.status.shelved_alarms(), 0u);
   const std::string acked = open[0];
@@ -186,7 +164,7 @@ TEST(AlarmManagement, AcknowledgeAndShelveDuringARunShowInStatusAndHistory) {
 
   // Acknowledge: applied (0); again: refused (4); an unknown id: refused (4).
   auto [ack, ack_out] = action("ack", {"--group", kGroup, "--alarm", acked, "--ack", "--user", "ann"});
-  ASSERT_EQ(ack, 0) << ack_out << alarm.output();
+  ASSERT_EQ(ack, 0) << ack_out << alarm->output();
   EXPECT_NE(ack_out.find("applied: acknowledge " + acked + " by ann"), std::string::npos) << ack_out;
   EXPECT_TRUE(watch.until([&] { return watch.status.unacknowledged_alarms() == open.size() - 1; }, 10s))
       << watch.status.unacknowledged_alarms();
@@ -198,30 +176,58 @@ TEST(AlarmManagement, AcknowledgeAndShelveDuringARunShowInStatusAndHistory) {
   EXPECT_EQ(unknown, 4) << unknown_out;
   EXPECT_NE(unknown_out.find("unknown alarm id"), std::string::npos) << unknown_out;
 
-  // Shelve for 3 s (0.05 min): applied, counted in AssetStatus, then lifted by itself.
-  auto [shelve, shelve_out] = action("shelve", {"--group", kGroup, "--alarm", shelved, "--shelve", "0.05",
+  // Shelve for 6 s (0.1 min): applied, counted in AssetStatus.
+  auto [shelve, shelve_out] = action("shelve", {"--group", kGroup, "--alarm", shelved, "--shelve", "0.1",
                                                 "--reason", "sensor cable under repair", "--user", "ann"});
-  ASSERT_EQ(shelve, 0) << shelve_out << alarm.output();
-  EXPECT_TRUE(watch.until([&] { return watch.status.shelved_alarms() == 1; }, 10s)) << alarm.output();
+  ASSERT_EQ(shelve, 0) << shelve_out << alarm->output();
+  EXPECT_TRUE(watch.until([&] { return watch.status.shelved_alarms() == 1; }, 10s)) << alarm->output();
+  ASSERT_TRUE(watch.until([&] { return watch.results.size() == 4; }, 10s));
+  // Results come per request id (an instance each), not necessarily in the order they were written.
+  const auto result_of = [&](const std::function<bool(const causal_twin::AlarmActionResult&)>& which) {
+    const auto it = std::find_if(watch.results.begin(), watch.results.end(), which);
+    return it == watch.results.end() ? causal_twin::AlarmActionResult() : *it;
+  };
+  const std::int64_t shelved_until =
+      result_of([](const auto& r) { return r.action() == causal_twin::SHELVE; }).until_ns();
+  ASSERT_GT(shelved_until, 0);
+
+  // kill -9 and a restart on the same state directory, within the shelving: both survive it.
+  const std::string first_log = alarm->output();
+  EXPECT_EQ(alarm->kill_hard(), 128 + 9);
+  watch.last_event.clear();
+  alarm = std::make_unique<ServiceProcess>("alarm-recommender", alarm_args, (work / "alarm2.log").string());
+  ASSERT_TRUE(watch.until([&] { return watch.last_event.count(acked) && watch.last_event.count(shelved); }, 20s))
+      << alarm->output();
+  EXPECT_TRUE(watch.last_event[acked].acknowledged()) << "republished after the restart:\n" << alarm->output();
+  EXPECT_FALSE(watch.last_event[acked].shelved());
+  EXPECT_TRUE(watch.last_event[shelved].shelved()) << alarm->output();
+  EXPECT_FALSE(watch.last_event[shelved].acknowledged());
+  auto [after, after_out] = action("ack_after_restart", {"--group", kGroup, "--alarm", acked, "--ack", "--user", "bob"});
+  EXPECT_EQ(after, 4) << after_out << alarm->output();
+  EXPECT_NE(after_out.find("is acknowledged"), std::string::npos) << after_out;
   const auto expired = [&] {
     return std::any_of(watch.results.begin(), watch.results.end(),
                        [](const auto& r) { return r.request_id().rfind("expired/", 0) == 0; });
   };
-  ASSERT_TRUE(watch.until(expired, 20s)) << alarm.output();
-  EXPECT_TRUE(watch.until([&] { return watch.status.shelved_alarms() == 0; }, 10s)) << alarm.output();
-  EXPECT_EQ(watch.status.unacknowledged_alarms(), open.size() - 1);
-  // Results: ack applied, ack refused, unknown refused, shelve applied, expiry applied: five, in that order.
-  ASSERT_EQ(watch.results.size(), 5u);
+  ASSERT_TRUE(watch.until(expired, 20s)) << alarm->output();
+  const auto expiry = result_of([](const auto& r) { return r.request_id().rfind("expired/", 0) == 0; });
+  EXPECT_EQ(expiry.time_ns(), shelved_until) << "the shelving ends when it was to end";
+  EXPECT_GE(expiry.applied_time_ns(), shelved_until);
+  EXPECT_EQ(expiry.alarm_id(), shelved);
+  // Results: ack applied, ack refused, unknown refused, shelve applied; after the restart ack refused, expiry
+  // applied: six.
+  ASSERT_EQ(watch.results.size(), 6u);
   EXPECT_EQ(std::count_if(watch.results.begin(), watch.results.end(), [](const auto& r) { return r.applied(); }), 3);
 
-  EXPECT_EQ(alarm.terminate(), 0) << alarm.output();
-  const auto summary = alarm.output();
-  EXPECT_NE(summary.find("summary topic=causal_twin/alarm_action received=4 applied=2 refused=2 repeated=0 expired=1"),
+  EXPECT_EQ(alarm->terminate(), 0) << alarm->output();
+  const auto summary = alarm->output();
+  EXPECT_NE(summary.find("summary topic=causal_twin/alarm_action received=1 applied=0 refused=1 repeated=0 expired=1 "
+                         "not_entitled=0"),
             std::string::npos)
       << summary;
-  const auto rc = recorder.wait(60s);
-  ASSERT_TRUE(rc.has_value()) << recorder.output();
-  EXPECT_EQ(*rc, 0) << recorder.output();
+  EXPECT_NE(summary.find("alarm management resumed from checkpoint"), std::string::npos) << summary;
+  EXPECT_NE(first_log.find("ALARM ACTION"), std::string::npos) << first_log;
+  EXPECT_EQ(recorder.terminate(), 0) << recorder.output();
 
   // The recorder: exactly the three applied actions, in the CSV and in SQLite.
   const auto lines = csv_lines(work / "rec" / "alarm_actions.csv");

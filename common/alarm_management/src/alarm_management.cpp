@@ -104,6 +104,12 @@ EventFlags AlarmManager::on_event(const AlarmEventView& e) {
   return flags(e.alarm_id);
 }
 
+EventFlags AlarmManager::on_republished(const AlarmEventView& e) {
+  const auto it = alarms_.find(e.alarm_id);
+  if (it != alarms_.end() && it->second.open == (e.state != EventState::Cleared)) return flags(e.alarm_id);
+  return on_event(e);
+}
+
 EventFlags AlarmManager::flags(const std::string& alarm_id) const {
   EventFlags f;
   if (const auto it = alarms_.find(alarm_id); it != alarms_.end()) f.acknowledged = it->second.acknowledged;

@@ -26,6 +26,11 @@
 #include <utility>
 #include <vector>
 
+namespace causal {
+class StateWriter;  // causal/estimation/state_archive.hpp (causal_core: std + Eigen)
+class StateReader;
+}  // namespace causal
+
 namespace causal::alarm_management {
 
 enum class ActionKind { Acknowledge, Shelve, Unshelve };
@@ -123,6 +128,11 @@ class AlarmManager {
   EventFlags on_event(const AlarmEventView& event);
   // The flags of an alarm as held now (for republishing), without changing anything.
   EventFlags flags(const std::string& alarm_id) const;
+  // An event published again after a restart (the engine checkpoint's last event per alarm id): an alarm this
+  // manager already holds in the same open/cleared state keeps its acknowledgement and its raise history (on_event
+  // would take a republished raise or escalation for a new one and clear the acknowledgement); any other is
+  // on_event.
+  EventFlags on_republished(const AlarmEventView& event);
 
   // An operator's action at wall-clock time now_ns. Refused (nothing changes) on a malformed request, an unknown
   // alarm id or an alarm of another group, an action that does not apply (acknowledge an acknowledged alarm,
@@ -136,6 +146,15 @@ class AlarmManager {
   GroupHealth health(const std::string& asset_group, std::int64_t t_ns) const;
 
   const ActionCounters& counters() const { return counters_; }
+
+  // Checkpoint (crash and restart safety): the alarms held (acknowledged or not, open or cleared), the shelvings
+  // with their wall-clock end (an expiry after a restart happens at the same time as without it), the raise
+  // histories of the health figures and the remembered request outcomes (a request re-delivered after a restart
+  // is answered with its first outcome, not applied twice). One tagged section "alarm_management" (version 1).
+  // The counters are not saved: they count this process's work (its summary line). restore() replaces the state
+  // and throws causal::StateError on a section of another tag or version or a truncated one.
+  void save(StateWriter& out) const;
+  void restore(StateReader& in);
   const ManagementLimits& limits() const { return limits_; }
 
  private:
@@ -154,6 +173,9 @@ class AlarmManager {
   ActionOutcome act(const ActionRequest& request, AlarmRecord& alarm, std::int64_t now_ns);
   void remember(const std::string& request_id, const ActionOutcome& outcome);
   void forget_old_cleared();
+  // The checkpoint's field list (alarm_management_state.cpp): M is AlarmManager, const when saving.
+  template <class Io, class M>
+  static void fields(Io io, M& m);
 
   ManagementLimits limits_;
   std::map<std::string, AlarmRecord> alarms_;            // by alarm id
