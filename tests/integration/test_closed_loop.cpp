@@ -4,13 +4,15 @@
 //  * The approval reaches sensor-sim and changes sim-0000's data exactly as the do-operation says (channel 2's
 //    level times 1 + p / 100 in the window, against the same plant without it, computed here from level_plant).
 //  * sim-0001's recommendation is never applied: its recorded data are the plant without any intervention.
-//  * interventions.csv holds the one approval, intervention_outcomes.csv its checked outcome.
+//  * interventions.csv holds the one approval, intervention_outcomes.csv its checked outcome; the recorder's
+//    SQLite history (--db) holds the same rows in its tables interventions and intervention_outcomes.
 #include "condition_level_params.hpp"
 #include "dds_observer.hpp"
 #include "level_plant.hpp"
 #include "process_expect.hpp"
 #include "process_runner.hpp"
 
+#include "causal/history/history_store.hpp"
 #include "causal/io/csv_format.hpp"
 
 #include <gtest/gtest.h>
@@ -36,6 +38,27 @@ std::optional<causal_twin::Recommendation> lever_advice(const DdsObserver& obser
   return std::nullopt;
 }
 
+// The history table holds the CSV file's rows exactly: same columns, every cell the same (numbers as the same
+// double: SQLite prints them with 17 digits, the CSV with the shortest that reads back).
+void expect_history_equals_csv(causal::history::HistoryStore& db, const std::string& table_name,
+                               const causal::report::CsvTable& csv) {
+  const auto& t = causal::history::table(table_name);
+  ASSERT_EQ(t.column_names(), csv.header) << table_name;
+  const auto rows = db.select(t, {});
+  ASSERT_EQ(rows.size(), csv.rows.size()) << table_name;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    for (std::size_t c = 0; c < t.columns.size(); ++c) {
+      const std::string& want = csv.rows[r][c];
+      ASSERT_TRUE(rows[r][c].has_value()) << table_name << "." << t.columns[c].name << " is NULL, CSV has " << want;
+      if (t.columns[c].type == causal::history::ColumnType::Real) {
+        EXPECT_EQ(std::stod(*rows[r][c]), std::stod(want)) << table_name << "." << t.columns[c].name;
+      } else {
+        EXPECT_EQ(*rows[r][c], want) << table_name << "." << t.columns[c].name;
+      }
+    }
+  }
+}
+
 // The recorded condition vectors of `group` (snapshot -> levels of ch1..ch3).
 std::map<std::uint64_t, Eigen::Vector3d> recorded_levels(const fs::path& dir, const std::string& group) {
   const auto t = causal::report::read_csv(dir / ("conditions_" + group + "_meanabs.csv"));
@@ -59,7 +82,7 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "8", "--max-runtime", "120"},
                        (work / "alarm.log").string());
   ServiceProcess recorder("causal-recorder", {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(),
-                                             "--idle-exit", "10", "--max-runtime", "120"},
+                                             "--db", "sqlite:" + (work / "history.db").string(), "--idle-exit", "10", "--max-runtime", "120"},
                           (work / "recorder.log").string());
   ServiceProcess estimator(
       "causal-estimator",
@@ -132,6 +155,11 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   std::printf("outcome: %s\n", o[static_cast<std::size_t>(outcomes.column("text"))].c_str());
   EXPECT_EQ(o[static_cast<std::size_t>(outcomes.column("status"))], "checked");
   EXPECT_EQ(o[static_cast<std::size_t>(outcomes.column("improved"))], "true");
+  // The historian: the same approval and outcome, once each (keyed by asset group and request id).
+  auto db = causal::history::open_history("sqlite:" + (work / "history.db").string());
+  expect_history_equals_csv(*db, "interventions", ivs);
+  expect_history_equals_csv(*db, "intervention_outcomes", outcomes);
+  db.reset();
   if (!HasFailure()) fs::remove_all(work);
   clean_stale_shared_memory();
 }
