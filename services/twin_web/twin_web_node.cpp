@@ -16,9 +16,14 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
       in_(participant_, dds::profiles::kAssetStatusReader),
       replies_in_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader),
       requests_out_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter),
-      actions_out_(participant_, dds::topics::kAlarmAction, dds::profiles::kAlarmActionWriter) {
+      actions_out_(participant_, dds::topics::kAlarmAction, dds::profiles::kAlarmActionWriter),
+      interventions_in_(participant_, dds::topics::kIntervention, dds::profiles::kInterventionReader),
+      intervention_outcomes_in_(participant_, dds::topics::kInterventionOutcome,
+                                dds::profiles::kInterventionOutcomeReader) {
   in_.attach_to(loop_);
   loop_.attach(replies_in_.get());
+  loop_.attach(interventions_in_.get());
+  loop_.attach(intervention_outcomes_in_.get());
   state_.set_info("service", "twin-web");
   state_.set_info("domain", std::to_string(participant_.domain_id()));
   web_ = std::make_unique<WebServer>(options_.web, state_, whatif_, [this] { return whatif_readers_.load(); });
@@ -102,6 +107,9 @@ int TwinWebNode::run() {
   spdlog::info("summary topic={} received={}", dds::topics::kRecommendation, c.recommendations);
   spdlog::info("summary topic={} received={}", dds::topics::kAssetStatus, c.statuses);
   spdlog::info("summary topic={} received={} stale={}", dds::topics::kPrognosis, c.prognoses, c.prognoses_stale);
+  spdlog::info("summary topic={} received={} forgotten={}", dds::topics::kIntervention, c.interventions,
+               c.interventions_forgotten);
+  spdlog::info("summary topic={} received={}", dds::topics::kInterventionOutcome, c.intervention_outcomes);
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kWhatIfRequest, requests_sent_,
                requests_failed_, whatif_.asked(), whatif_.answered());
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kAlarmAction, actions_sent_,
@@ -130,6 +138,10 @@ std::size_t TwinWebNode::take_available() {
         actions_.on_result(r);
       },
       loop_.stop_flag());
+  n += interventions_in_.take_all([this](const auto& i, const auto&) { state_.on_intervention(i); },
+                                   loop_.stop_flag());
+  n += intervention_outcomes_in_.take_all([this](const auto& o, const auto&) { state_.on_intervention_outcome(o); },
+                                          loop_.stop_flag());
   n += replies_in_.take_all(
       [this](const auto& r, const auto&) {
         ++replies_received_;

@@ -56,6 +56,9 @@ class TwinWebNode {
   dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> requests_out_;
   AlarmActionBridge actions_;  // the page's acknowledge / shelve, out on causal_twin/alarm_action
   dds::TypedWriter<causal_twin::AlarmActionPubSubType> actions_out_;
+  // The closed loop, read-only: approvals (causal-approve) and the twin's checks of them (alarm-recommender).
+  dds::TypedReader<causal_twin::InterventionPubSubType> interventions_in_;
+  dds::TypedReader<causal_twin::InterventionOutcomePubSubType> intervention_outcomes_in_;
   std::uint64_t actions_sent_ = 0, actions_failed_ = 0;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   std::unique_ptr<history::HistoryStore> history_;
