@@ -5,9 +5,11 @@
 //    level times 1 + p / 100 in the window, against the same plant without it, computed here from level_plant).
 //  * sim-0001's recommendation is never applied: its recorded data are the plant without any intervention.
 //  * interventions.csv holds the one approval, intervention_outcomes.csv its checked outcome; the recorder's
-//    SQLite history (--db) holds the same rows in its tables interventions and intervention_outcomes.
+//    SQLite history (--db) holds the same rows in its tables interventions and intervention_outcomes; twin-web's
+//    /api/state shows the approval with its outcome and lever trust under sim-0000 and nothing under sim-0001.
 #include "condition_level_params.hpp"
 #include "dds_observer.hpp"
+#include "http_test_client.hpp"
 #include "level_plant.hpp"
 #include "process_expect.hpp"
 #include "process_runner.hpp"
@@ -16,11 +18,13 @@
 #include "causal/io/csv_format.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <regex>
 #include <string>
 #include <thread>
 
@@ -59,6 +63,43 @@ void expect_history_equals_csv(causal::history::HistoryStore& db, const std::str
   }
 }
 
+// twin-web's /api/state for one group (its log says the port it chose).
+nlohmann::json live_group(ServiceProcess& web, const std::string& group) {
+  const std::regex serving(R"(serving http://[0-9.]+:([0-9]+)/)");
+  std::smatch m;
+  const std::string log = web.output();
+  if (!std::regex_search(log, m, serving)) return nullptr;
+  const auto reply = http_request(std::stoi(m[1].str()), "GET", "/api/state?group=" + group);
+  if (!reply || reply->status != 200) return nullptr;
+  return nlohmann::json::parse(reply->body)["group"];
+}
+
+// The live view shows the recorded approval and outcome: the same request id, approver, window and outcome fields.
+void expect_live_view_shows(ServiceProcess& web, const causal::report::CsvTable& ivs,
+                            const causal::report::CsvTable& outcomes) {
+  const auto cell = [](const causal::report::CsvTable& t, const char* name) {
+    return t.rows.at(0).at(static_cast<std::size_t>(t.column(name)));
+  };
+  const nlohmann::json g = live_group(web, "sim-0000");
+  ASSERT_TRUE(g.is_object()) << web.output();
+  ASSERT_EQ(g["interventions"].size(), 1u) << g["interventions"].dump();
+  const auto& iv = g["interventions"][0];
+  EXPECT_EQ(iv["request_id"], cell(ivs, "request_id"));
+  EXPECT_EQ(iv["approved_by"], "it-operator");
+  EXPECT_EQ(iv["channel"], std::stoi(cell(ivs, "channel")));
+  EXPECT_EQ(iv["change_percent"].get<double>(), std::stod(cell(ivs, "change_percent")));
+  EXPECT_EQ(iv["start_index"], std::stoull(cell(ivs, "start_snapshot_index")));
+  ASSERT_TRUE(iv["outcome"].is_object()) << iv.dump();
+  EXPECT_EQ(iv["outcome"]["status"], "checked");
+  EXPECT_EQ(iv["outcome"]["improved"], cell(outcomes, "improved") == "true");
+  EXPECT_EQ(iv["outcome"]["inside"], cell(outcomes, "inside") == "true");
+  EXPECT_EQ(iv["outcome"]["lever_trust"].get<double>(), std::stod(cell(outcomes, "lever_trust")));
+  EXPECT_EQ(iv["outcome"]["observed_percent"].get<double>(), std::stod(cell(outcomes, "observed_percent")));
+  const nlohmann::json other = live_group(web, "sim-0001");
+  ASSERT_TRUE(other.is_object()) << web.output();
+  EXPECT_EQ(other["interventions"], nlohmann::json::array()) << "never approved, never shown";
+}
+
 // The recorded condition vectors of `group` (snapshot -> levels of ch1..ch3).
 std::map<std::uint64_t, Eigen::Vector3d> recorded_levels(const fs::path& dir, const std::string& group) {
   const auto t = causal::report::read_csv(dir / ("conditions_" + group + "_meanabs.csv"));
@@ -82,8 +123,11 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "8", "--max-runtime", "120"},
                        (work / "alarm.log").string());
   ServiceProcess recorder("causal-recorder", {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(),
-                                             "--db", "sqlite:" + (work / "history.db").string(), "--idle-exit", "10", "--max-runtime", "120"},
+                                             "--db", "sqlite:" + (work / "history.db").string(), "--idle-exit", "10",
+                                             "--max-runtime", "120"},
                           (work / "recorder.log").string());
+  ServiceProcess web("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "150"},
+                     (work / "web.log").string());
   ServiceProcess estimator(
       "causal-estimator",
       {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params",
@@ -160,6 +204,8 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   expect_history_equals_csv(*db, "interventions", ivs);
   expect_history_equals_csv(*db, "intervention_outcomes", outcomes);
   db.reset();
+  expect_live_view_shows(web, ivs, outcomes);
+  EXPECT_EQ(web.terminate(), 0) << web.output();
   if (!HasFailure()) fs::remove_all(work);
   clean_stale_shared_memory();
 }
