@@ -45,6 +45,12 @@ void TwinWebNode::load_history_at_start() {
   spdlog::info("history {}: {} condition vectors, {} alarm events, {} recommendations, {} prognoses, {} status lines",
                history_->describe(), load.condition_vectors, load.alarm_events, load.recommendations, load.prognoses,
                load.statuses);
+  loaded_interventions_ = load_interventions(*history_, state_);
+  spdlog::info("history: {} approved interventions, {} intervention outcomes", loaded_interventions_.approvals,
+               loaded_interventions_.outcomes);
+  if (loaded_interventions_.unreadable > 0) {
+    spdlog::warn("history: {} intervention rows could not be read (not shown)", loaded_interventions_.unreadable);
+  }
   if (load.unreadable > 0) spdlog::warn("history: {} rows could not be read (not drawn)", load.unreadable);
   state_.set_info("history", history_->describe());
   state_.set_info("data_since", load.earliest_ns ? "history since " + io::format_utc_seconds(*load.earliest_ns)
@@ -97,6 +103,8 @@ int TwinWebNode::run() {
   c.recommendations -= loaded_.recommendations;
   c.prognoses -= loaded_.prognoses;
   c.statuses -= loaded_.statuses;
+  c.interventions -= loaded_interventions_.approvals;
+  c.intervention_outcomes -= loaded_interventions_.outcomes;
   spdlog::info("summary topic={} received={} duplicates={} refused={} forgotten={} lost={}",
                dds::topics::kConditionVector, c.condition_vectors, c.duplicates, c.rejected_vectors,
                c.trend_points_forgotten, c.snapshots_missing);

@@ -3,6 +3,7 @@
 // asks. The web server (its own threads) only sees the state's serialised copy and the bridge.
 #pragma once
 
+#include "history_interventions.hpp"
 #include "history_loader.hpp"
 #include "history_routes.hpp"
 #include "twin_state.hpp"
@@ -64,6 +65,7 @@ class TwinWebNode {
   std::unique_ptr<history::HistoryStore> history_;
   std::unique_ptr<HistoryRoutes> history_routes_;
   HistoryLoad loaded_;  // what came from the database at start (not counted as received from DDS)
+  InterventionLoad loaded_interventions_;
   std::unique_ptr<WebServer> web_;
   std::uint64_t requests_sent_ = 0, requests_failed_ = 0, replies_received_ = 0;
 };

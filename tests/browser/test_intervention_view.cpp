@@ -1,13 +1,17 @@
 // twin-web's view of the closed loop without DDS: an approved intervention (causal_twin/intervention) and the
 // twin's check of it (causal_twin/intervention_outcome) joined by request id in the group's JSON (what /api/state
 // and the page's events carry), in either order of arrival, once per request id, bounded, with non-finite
-// numbers as null and the channel names of the group.
+// numbers as null and the channel names of the group; and what a restarted twin-web reads back from the
+// historian's tables (--db).
+#include "history_interventions.hpp"
 #include "twin_state.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <unistd.h>
 
 using causal::web::StateLimits;
 using causal::web::TwinState;
@@ -177,4 +181,31 @@ TEST(InterventionView, NonFiniteNumbersAreNull) {
   EXPECT_EQ(got["observed_percent"], nullptr);
   EXPECT_EQ(got["lever_trust"], nullptr);
   EXPECT_EQ(got["predicted_percent"], -12.5);
+}
+
+// The historian's rows (as causal-recorder writes them: the CSV cells) read back by a restarted twin-web give the
+// same entry as the live messages did; a row that does not convert is counted, not shown.
+TEST(InterventionView, ARestartedTwinWebShowsTheStoredApprovalsAndOutcomes) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("causal-iv-history-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  {
+    auto store = causal::history::open_history("sqlite:" + (dir / "history.db").string());
+    store->add("interventions", {"r1", "g", "3", "-25.5", "250", "1700000000000000000", "2023-11-14 22:13:20", "24",
+                                 "g/rec-7", "2", "ann", "1700000600000000000", "2023-11-14 22:23:20"});
+    store->add("intervention_outcomes", {"r1", "g", "g/rec-7", "3", "2", "250", "273", "checked", "-12.5", "-20", "-5",
+                                         "0.9", "-10.25", "true", "true", "0.75", "true",
+                                         "observed -10.2 % inside the predicted -20.0 % to -5.0 %"});
+    store->add("intervention_outcomes", {"r2", "g", "g/rec-8", "3", "2", "300", "", "checked", "1", "1", "1", "0.9",
+                                         "1", "true", "true", "0.5", "true", "end snapshot missing: unreadable"});
+    ASSERT_EQ(store->commit(), 3u);
+    TwinState s;
+    s.on_condition(vec());
+    const auto load = causal::web::load_interventions(*store, s);
+    EXPECT_EQ(load.approvals, 1u);
+    EXPECT_EQ(load.outcomes, 1u);
+    EXPECT_EQ(load.unreadable, 1u);
+    EXPECT_EQ(interventions_of(s), json::array({expected("r1", 2, kOutcome)}));
+  }
+  fs::remove_all(dir);
 }

@@ -6,7 +6,8 @@
 //  * sim-0001's recommendation is never applied: its recorded data are the plant without any intervention.
 //  * interventions.csv holds the one approval, intervention_outcomes.csv its checked outcome; the recorder's
 //    SQLite history (--db) holds the same rows in its tables interventions and intervention_outcomes; twin-web's
-//    /api/state shows the approval with its outcome and lever trust under sim-0000 and nothing under sim-0001.
+//    /api/state shows the approval with its outcome and lever trust under sim-0000 and nothing under sim-0001,
+//    live and again when started later on the history alone (--db).
 #include "condition_level_params.hpp"
 #include "dds_observer.hpp"
 #include "http_test_client.hpp"
@@ -206,6 +207,13 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   db.reset();
   expect_live_view_shows(web, ivs, outcomes);
   EXPECT_EQ(web.terminate(), 0) << web.output();
+  // A twin-web started afterwards on the history alone (causal-approve's approval is no longer on any topic).
+  ServiceProcess restarted("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "60", "--db",
+                                        "sqlite:" + (work / "history.db").string()},
+                           (work / "web2.log").string());
+  ASSERT_TRUE(restarted.wait_for_output("serving http", std::chrono::seconds(30))) << restarted.output();
+  expect_live_view_shows(restarted, ivs, outcomes);
+  EXPECT_EQ(restarted.terminate(), 0) << restarted.output();
   if (!HasFailure()) fs::remove_all(work);
   clean_stale_shared_memory();
 }
