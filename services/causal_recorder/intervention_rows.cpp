@@ -64,11 +64,12 @@ std::vector<std::string> intervention_outcome_row(const causal_twin::Interventio
 }
 
 InterventionTables::InterventionTables(dds::Participant& participant, const std::filesystem::path& out_dir,
-                                       dds::EventLoop& loop)
+                                       dds::EventLoop& loop, HistorySink* history)
     : interventions_(participant, dds::topics::kIntervention, dds::profiles::kInterventionReader),
       outcomes_(participant, dds::topics::kInterventionOutcome, dds::profiles::kInterventionOutcomeReader),
       intervention_file_(std::make_unique<report::CsvFile>(out_dir / kInterventionsFile, intervention_header())),
-      outcome_file_(std::make_unique<report::CsvFile>(out_dir / kInterventionOutcomesFile, intervention_outcome_header())) {
+      outcome_file_(std::make_unique<report::CsvFile>(out_dir / kInterventionOutcomesFile, intervention_outcome_header())),
+      history_(history) {
   loop.attach(interventions_.get());
   loop.attach(outcomes_.get());
 }
@@ -97,6 +98,7 @@ std::size_t InterventionTables::take() {
       continue;
     }
     intervention_file_->write_row(row);
+    if (history_) history_->add("interventions", csv_history_row(row));
     ++intervention_counts_.written;
     spdlog::info("intervention {} approved by {}: {} channel {} {:+.1f} % from snapshot {} for {}", in.request_id(),
                  in.approved_by(), in.asset_group(), in.channel(), in.change_percent(), in.start_snapshot_index(),
@@ -110,6 +112,7 @@ std::size_t InterventionTables::take() {
       continue;
     }
     outcome_file_->write_row(row);
+    if (history_) history_->add("intervention_outcomes", csv_history_row(row));
     ++outcome_counts_.written;
     spdlog::info("intervention outcome {}: {}", in.request_id(), in.text());
   }

@@ -1,9 +1,11 @@
 // causal-recorder's part of the closed prescriptive loop: every approved intervention (causal_twin/intervention)
 // to interventions.csv and every checked outcome (causal_twin/intervention_outcome) to intervention_outcomes.csv,
 // each exactly once per request id (a transient-local replay of the same message is a duplicate). Rows are in
-// publication order (writer, sequence number), so repeated runs give the same files.
+// publication order (writer, sequence number), so repeated runs give the same files. With --db the same rows go to
+// the historian's tables interventions and intervention_outcomes (keyed by asset group and request id).
 #pragma once
 
+#include "history_sink.hpp"
 #include "record_rows.hpp"
 
 #include "causal/dds/event_loop.hpp"
@@ -30,10 +32,11 @@ std::vector<std::string> intervention_outcome_row(const causal_twin::Interventio
 
 class InterventionTables {
  public:
-  // Opens (or appends to) both files in `out_dir`; the readers wake `loop`.
-  InterventionTables(dds::Participant& participant, const std::filesystem::path& out_dir, dds::EventLoop& loop);
-  // Takes what arrived and writes it; returns the number of messages taken (CSV only: the historian's database
-  // has no intervention tables yet).
+  // Opens (or appends to) both files in `out_dir`; the readers wake `loop`. `history` (may be null: no --db)
+  // receives the same rows; its owner commits them.
+  InterventionTables(dds::Participant& participant, const std::filesystem::path& out_dir, dds::EventLoop& loop,
+                     HistorySink* history);
+  // Takes what arrived and writes it (files and history); returns the number of messages taken.
   std::size_t take();
   void flush();
   std::size_t matched_writers() const { return interventions_.matched_writers() + outcomes_.matched_writers(); }
@@ -41,10 +44,10 @@ class InterventionTables {
   const TopicCounts& outcome_counts() const { return outcome_counts_; }
 
  private:
-
   dds::TypedReader<causal_twin::InterventionPubSubType> interventions_;
   dds::TypedReader<causal_twin::InterventionOutcomePubSubType> outcomes_;
   std::unique_ptr<report::CsvFile> intervention_file_, outcome_file_;
+  HistorySink* history_ = nullptr;
   RepeatFilter intervention_repeats_, outcome_repeats_;
   TopicCounts intervention_counts_, outcome_counts_;
 };

@@ -63,7 +63,7 @@ RecorderNode::RecorderNode(RecorderOptions options)
   statuses_ = open(kAssetStatusFile, asset_status_header());
   prognoses_ = open(kPrognosisFile, prognosis_header());
   actions_file_ = open(kAlarmActionsFile, alarm_action_header());
-  interventions_ = std::make_unique<InterventionTables>(participant_, out_dir_, loop_);
+  interventions_ = std::make_unique<InterventionTables>(participant_, out_dir_, loop_, history_.get());
 }
 
 std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name,

@@ -10,10 +10,12 @@ int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
   causal::web::TwinWebOptions o;
   CLI::App app{"twin-web: the live twin in the browser. Subscribes to the condition vectors, causal factors, alarms,\n"
-               "recommendations, asset status and prognoses on a DDS domain and serves one status line per asset\n"
-               "group and, per group, the condition trends over UTC time with alarm bands, the current causal graph\n"
-               "(condition-level filter, links at |z| >= 2, the root cause ringed), the open alarms with time scale,\n"
-               "root cause and full reason, the prognosis, the recommendations and a what-if form that asks the\n"
+               "recommendations, asset status, prognoses, approved interventions and their outcomes on a DDS domain\n"
+               "and serves one status line per asset group and, per group, the condition trends over UTC time with\n"
+               "alarm bands, the current causal graph (condition-level filter, links at |z| >= 2, the root cause\n"
+               "ringed), the open alarms with time scale, root cause and full reason, the prognosis, the\n"
+               "recommendations, the approved interventions with the twin's check of each (read-only: approvals\n"
+               "come from causal-approve) and a what-if form that asks the\n"
                "running alarm-recommender. Endpoints: / and /?group=ID (the page, with its state in the response);\n"
                "/api/state?group=ID (JSON: that group and one line per group; without ?group= every group);\n"
                "/api/events?group=ID (the same as Server-Sent Events, on change);\n"

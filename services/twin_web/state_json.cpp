@@ -1,6 +1,7 @@
 // The JSON of /api/state and of the Server-Sent Events: what the page draws, in plain fields. Times are
 // milliseconds since the Unix epoch (JavaScript's unit); channels are 1-based as everywhere in the product.
 // Every number stored is finite (TwinState refuses the rest), so no NaN can reach the page.
+#include "intervention_json.hpp"
 #include "twin_state.hpp"
 
 #include "causal/dds/alarm_conversions.hpp"
@@ -202,6 +203,7 @@ json group_json(const std::string& id, const GroupState& g) {
           {"alarms", std::move(alarms)},
           {"recommendations", std::move(recs)},
           {"prognoses", prognoses_json(g)},
+          {"interventions", interventions_json(g)},
           {"status", status_json(g)}};
 }
 
@@ -254,7 +256,10 @@ std::string state_to_json(const std::map<std::string, GroupState>& groups, const
                      {"recommendations", c.recommendations},
                      {"statuses", c.statuses},
                      {"prognoses", c.prognoses},
-                     {"prognoses_stale", c.prognoses_stale}};
+                     {"prognoses_stale", c.prognoses_stale},
+                     {"interventions", c.interventions},
+                     {"intervention_outcomes", c.intervention_outcomes},
+                     {"interventions_forgotten", c.interventions_forgotten}};
   json list = json::array();
   for (const auto& [id, g] : groups) list.push_back(group_json(id, g));
   out["groups"] = std::move(list);

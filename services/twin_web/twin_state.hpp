@@ -27,6 +27,7 @@ struct StateLimits {
   std::size_t trend_points = 2000;     // per asset group; the oldest point is forgotten first
   std::size_t closed_alarms = 200;     // per asset group; open alarms are always kept
   std::size_t recommendations = 200;   // per asset group; the oldest is forgotten first
+  std::size_t interventions = 100;     // per asset group (approvals with their outcomes); the oldest is forgotten first
 };
 
 struct TrendPoint {
@@ -75,6 +76,14 @@ struct RecommendationView {
   std::uint64_t arrival = 0;
 };
 
+// The closed loop (twin_state_interventions.cpp): an approved intervention (causal_twin/intervention) and, after its
+// window, the twin's check of it (causal_twin/intervention_outcome), joined by request id. Either may come first.
+struct InterventionView {
+  std::optional<causal_twin::Intervention> approval;
+  std::optional<causal_twin::InterventionOutcome> outcome;
+  std::uint64_t arrival = 0;  // order of its latest message, for "oldest forgotten first" and the page's order
+};
+
 struct GroupState {
   std::uint64_t version = 0;  // bumped by every change of this group
   std::string feature;
@@ -90,6 +99,7 @@ struct GroupState {
   std::optional<causal_twin::AssetStatus> status;
   // The latest time-to-level forecast (causal_twin/prognosis) by 1-based channel and level name.
   std::map<std::pair<int, std::string>, causal_twin::Prognosis> prognoses;
+  std::map<std::string, InterventionView> interventions;  // by request id
 };
 
 struct StateCounters {
@@ -108,6 +118,9 @@ struct StateCounters {
   std::uint64_t prognoses_stale = 0;
   std::uint64_t alarm_actions = 0;          // applied action results received
   std::uint64_t alarm_actions_refused = 0;  // refused ones (nothing changed)  // older than the one held for that channel and level (re-sent), not kept
+  std::uint64_t interventions = 0;           // approvals received
+  std::uint64_t intervention_outcomes = 0;   // outcomes received
+  std::uint64_t interventions_forgotten = 0; // beyond StateLimits::interventions (approval and outcome together)
 };
 
 // The causal graph of one group from its outcomes' latest factors (names parsed by the project's convention).
@@ -127,6 +140,9 @@ class TwinState {
   // An applied alarm action (twin_state_actions.cpp): acknowledged by whom, shelved until when; refused ones are
   // counted only.
   void on_action_result(const causal_twin::AlarmActionResult& in);
+  // The closed loop (twin_state_interventions.cpp): an approval and the twin's check of it, kept per request id.
+  void on_intervention(const causal_twin::Intervention& in);
+  void on_intervention_outcome(const causal_twin::InterventionOutcome& in);
 
   // Any thread.
   std::uint64_t version() const;
@@ -163,6 +179,7 @@ class TwinState {
   void changed_locked(GroupState* group = nullptr, bool overview = false);
   Versions versions_locked(const std::string& asset_group) const;
   std::uint64_t index_of_time_locked(const GroupState& g, std::int64_t time_ns, std::uint64_t fallback) const;
+  InterventionView& intervention_locked(GroupState& g, const std::string& request_id);
 
   StateLimits limits_;
   mutable std::mutex mutex_;

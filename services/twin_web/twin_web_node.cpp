@@ -16,9 +16,14 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
       in_(participant_, dds::profiles::kAssetStatusReader),
       replies_in_(participant_, dds::topics::kWhatIfReply, dds::profiles::kWhatIfReader),
       requests_out_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfWriter),
-      actions_out_(participant_, dds::topics::kAlarmAction, dds::profiles::kAlarmActionWriter) {
+      actions_out_(participant_, dds::topics::kAlarmAction, dds::profiles::kAlarmActionWriter),
+      interventions_in_(participant_, dds::topics::kIntervention, dds::profiles::kInterventionReader),
+      intervention_outcomes_in_(participant_, dds::topics::kInterventionOutcome,
+                                dds::profiles::kInterventionOutcomeReader) {
   in_.attach_to(loop_);
   loop_.attach(replies_in_.get());
+  loop_.attach(interventions_in_.get());
+  loop_.attach(intervention_outcomes_in_.get());
   state_.set_info("service", "twin-web");
   state_.set_info("domain", std::to_string(participant_.domain_id()));
   web_ = std::make_unique<WebServer>(options_.web, state_, whatif_, [this] { return whatif_readers_.load(); });
@@ -40,6 +45,12 @@ void TwinWebNode::load_history_at_start() {
   spdlog::info("history {}: {} condition vectors, {} alarm events, {} recommendations, {} prognoses, {} status lines",
                history_->describe(), load.condition_vectors, load.alarm_events, load.recommendations, load.prognoses,
                load.statuses);
+  loaded_interventions_ = load_interventions(*history_, state_);
+  spdlog::info("history: {} approved interventions, {} intervention outcomes", loaded_interventions_.approvals,
+               loaded_interventions_.outcomes);
+  if (loaded_interventions_.unreadable > 0) {
+    spdlog::warn("history: {} intervention rows could not be read (not shown)", loaded_interventions_.unreadable);
+  }
   if (load.unreadable > 0) spdlog::warn("history: {} rows could not be read (not drawn)", load.unreadable);
   state_.set_info("history", history_->describe());
   state_.set_info("data_since", load.earliest_ns ? "history since " + io::format_utc_seconds(*load.earliest_ns)
@@ -92,6 +103,8 @@ int TwinWebNode::run() {
   c.recommendations -= loaded_.recommendations;
   c.prognoses -= loaded_.prognoses;
   c.statuses -= loaded_.statuses;
+  c.interventions -= loaded_interventions_.approvals;
+  c.intervention_outcomes -= loaded_interventions_.outcomes;
   spdlog::info("summary topic={} received={} duplicates={} refused={} forgotten={} lost={}",
                dds::topics::kConditionVector, c.condition_vectors, c.duplicates, c.rejected_vectors,
                c.trend_points_forgotten, c.snapshots_missing);
@@ -102,6 +115,9 @@ int TwinWebNode::run() {
   spdlog::info("summary topic={} received={}", dds::topics::kRecommendation, c.recommendations);
   spdlog::info("summary topic={} received={}", dds::topics::kAssetStatus, c.statuses);
   spdlog::info("summary topic={} received={} stale={}", dds::topics::kPrognosis, c.prognoses, c.prognoses_stale);
+  spdlog::info("summary topic={} received={} forgotten={}", dds::topics::kIntervention, c.interventions,
+               c.interventions_forgotten);
+  spdlog::info("summary topic={} received={}", dds::topics::kInterventionOutcome, c.intervention_outcomes);
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kWhatIfRequest, requests_sent_,
                requests_failed_, whatif_.asked(), whatif_.answered());
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kAlarmAction, actions_sent_,
@@ -130,6 +146,10 @@ std::size_t TwinWebNode::take_available() {
         actions_.on_result(r);
       },
       loop_.stop_flag());
+  n += interventions_in_.take_all([this](const auto& i, const auto&) { state_.on_intervention(i); },
+                                   loop_.stop_flag());
+  n += intervention_outcomes_in_.take_all([this](const auto& o, const auto&) { state_.on_intervention_outcome(o); },
+                                          loop_.stop_flag());
   n += replies_in_.take_all(
       [this](const auto& r, const auto&) {
         ++replies_received_;

@@ -3,6 +3,7 @@
 // asks. The web server (its own threads) only sees the state's serialised copy and the bridge.
 #pragma once
 
+#include "history_interventions.hpp"
 #include "history_loader.hpp"
 #include "history_routes.hpp"
 #include "twin_state.hpp"
@@ -56,11 +57,15 @@ class TwinWebNode {
   dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> requests_out_;
   AlarmActionBridge actions_;  // the page's acknowledge / shelve, out on causal_twin/alarm_action
   dds::TypedWriter<causal_twin::AlarmActionPubSubType> actions_out_;
+  // The closed loop, read-only: approvals (causal-approve) and the twin's checks of them (alarm-recommender).
+  dds::TypedReader<causal_twin::InterventionPubSubType> interventions_in_;
+  dds::TypedReader<causal_twin::InterventionOutcomePubSubType> intervention_outcomes_in_;
   std::uint64_t actions_sent_ = 0, actions_failed_ = 0;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   std::unique_ptr<history::HistoryStore> history_;
   std::unique_ptr<HistoryRoutes> history_routes_;
   HistoryLoad loaded_;  // what came from the database at start (not counted as received from DDS)
+  InterventionLoad loaded_interventions_;
   std::unique_ptr<WebServer> web_;
   std::uint64_t requests_sent_ = 0, requests_failed_ = 0, replies_received_ = 0;
 };

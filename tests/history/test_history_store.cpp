@@ -125,6 +125,35 @@ TEST_P(HistoryStoreTest, ARowStoredTwiceIsStoredOnceAndComesBackTyped) {
   EXPECT_EQ(store_->earliest(t), std::optional<std::int64_t>(1000));
 }
 
+// The closed loop's tables: keyed by (asset_group, request_id) like their topics, so a replayed approval or outcome
+// is stored once; cells come back typed; retention (a time far in the future) does not delete them.
+TEST_P(HistoryStoreTest, InterventionsAndOutcomesAreStoredOncePerRequestId) {
+  const auto& iv = table("interventions");
+  const auto& out = table("intervention_outcomes");
+  const Row approval{"g/r1@250/ann", "loop-g", "3", "-25.5", "250", "1700000000000000000", "2023-11-14 22:13:20",
+                     "24", "g/r1", "2", "ann", "1700000600000000000", "2023-11-14 22:23:20"};
+  const Row outcome{"g/r1@250/ann", "loop-g", "g/r1", "3", "2", "250", "273", "checked", "-12.5", "-20", "-5", "0.9",
+                    "-10.25", "true", "false", "0.75", "true", "observed -10.2 %"};
+  store_->add("interventions", approval);
+  store_->add("intervention_outcomes", outcome);
+  EXPECT_EQ(store_->commit(), 2u);
+  store_->add("interventions", approval);  // re-delivered after a restart
+  store_->add("intervention_outcomes", outcome);
+  EXPECT_EQ(store_->commit(), 0u);
+  store_->apply_retention(1.0, 9'000'000'000'000'000'000LL);
+  const auto ivs = store_->select(iv, RangeQuery{"loop-g", {}, {}, 0});
+  const auto outs = store_->select(out, RangeQuery{"loop-g", {}, {}, 0});
+  ASSERT_EQ(ivs.size(), 1u);
+  ASSERT_EQ(outs.size(), 1u);
+  EXPECT_EQ(ivs[0][iv.column("approved_by")], std::optional<std::string>("ann"));
+  EXPECT_EQ(ivs[0][iv.column("start_time_ns")], std::optional<std::string>("1700000000000000000"));
+  EXPECT_EQ(std::stod(*ivs[0][iv.column("change_percent")]), -25.5);
+  EXPECT_EQ(outs[0][out.column("inside")], std::optional<std::string>("true"));
+  EXPECT_EQ(outs[0][out.column("improved")], std::optional<std::string>("false"));
+  EXPECT_EQ(outs[0][out.column("end_snapshot_index")], std::optional<std::string>("273"));
+  EXPECT_EQ(std::stod(*outs[0][out.column("lever_trust")]), 0.75);
+}
+
 TEST_P(HistoryStoreTest, RangesAndRetentionFollowTheDataTime) {
   const auto& t = table("condition_vectors");
   for (int i = 0; i < 10; ++i) store_->add("condition_vectors", condition("g", i, 1000LL * (i + 1), "[1,2]"));

@@ -4,21 +4,28 @@
 //  * The approval reaches sensor-sim and changes sim-0000's data exactly as the do-operation says (channel 2's
 //    level times 1 + p / 100 in the window, against the same plant without it, computed here from level_plant).
 //  * sim-0001's recommendation is never applied: its recorded data are the plant without any intervention.
-//  * interventions.csv holds the one approval, intervention_outcomes.csv its checked outcome.
+//  * interventions.csv holds the one approval, intervention_outcomes.csv its checked outcome; the recorder's
+//    SQLite history (--db) holds the same rows in its tables interventions and intervention_outcomes; twin-web's
+//    /api/state shows the approval with its outcome and lever trust under sim-0000 and nothing under sim-0001,
+//    live and again when started later on the history alone (--db).
 #include "condition_level_params.hpp"
 #include "dds_observer.hpp"
+#include "http_test_client.hpp"
 #include "level_plant.hpp"
 #include "process_expect.hpp"
 #include "process_runner.hpp"
 
+#include "causal/history/history_store.hpp"
 #include "causal/io/csv_format.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <regex>
 #include <string>
 #include <thread>
 
@@ -34,6 +41,64 @@ std::optional<causal_twin::Recommendation> lever_advice(const DdsObserver& obser
     if (r.asset_group() == group && r.rank() == 1 && r.action_kind() == "upstream_lever" && r.reliable()) return r;
   }
   return std::nullopt;
+}
+
+// The history table holds the CSV file's rows exactly: same columns, every cell the same (numbers as the same
+// double: SQLite prints them with 17 digits, the CSV with the shortest that reads back).
+void expect_history_equals_csv(causal::history::HistoryStore& db, const std::string& table_name,
+                               const causal::report::CsvTable& csv) {
+  const auto& t = causal::history::table(table_name);
+  ASSERT_EQ(t.column_names(), csv.header) << table_name;
+  const auto rows = db.select(t, {});
+  ASSERT_EQ(rows.size(), csv.rows.size()) << table_name;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    for (std::size_t c = 0; c < t.columns.size(); ++c) {
+      const std::string& want = csv.rows[r][c];
+      ASSERT_TRUE(rows[r][c].has_value()) << table_name << "." << t.columns[c].name << " is NULL, CSV has " << want;
+      if (t.columns[c].type == causal::history::ColumnType::Real) {
+        EXPECT_EQ(std::stod(*rows[r][c]), std::stod(want)) << table_name << "." << t.columns[c].name;
+      } else {
+        EXPECT_EQ(*rows[r][c], want) << table_name << "." << t.columns[c].name;
+      }
+    }
+  }
+}
+
+// twin-web's /api/state for one group (its log says the port it chose).
+nlohmann::json live_group(ServiceProcess& web, const std::string& group) {
+  const std::regex serving(R"(serving http://[0-9.]+:([0-9]+)/)");
+  std::smatch m;
+  const std::string log = web.output();
+  if (!std::regex_search(log, m, serving)) return nullptr;
+  const auto reply = http_request(std::stoi(m[1].str()), "GET", "/api/state?group=" + group);
+  if (!reply || reply->status != 200) return nullptr;
+  return nlohmann::json::parse(reply->body)["group"];
+}
+
+// The live view shows the recorded approval and outcome: the same request id, approver, window and outcome fields.
+void expect_live_view_shows(ServiceProcess& web, const causal::report::CsvTable& ivs,
+                            const causal::report::CsvTable& outcomes) {
+  const auto cell = [](const causal::report::CsvTable& t, const char* name) {
+    return t.rows.at(0).at(static_cast<std::size_t>(t.column(name)));
+  };
+  const nlohmann::json g = live_group(web, "sim-0000");
+  ASSERT_TRUE(g.is_object()) << web.output();
+  ASSERT_EQ(g["interventions"].size(), 1u) << g["interventions"].dump();
+  const auto& iv = g["interventions"][0];
+  EXPECT_EQ(iv["request_id"], cell(ivs, "request_id"));
+  EXPECT_EQ(iv["approved_by"], "it-operator");
+  EXPECT_EQ(iv["channel"], std::stoi(cell(ivs, "channel")));
+  EXPECT_EQ(iv["change_percent"].get<double>(), std::stod(cell(ivs, "change_percent")));
+  EXPECT_EQ(iv["start_index"], std::stoull(cell(ivs, "start_snapshot_index")));
+  ASSERT_TRUE(iv["outcome"].is_object()) << iv.dump();
+  EXPECT_EQ(iv["outcome"]["status"], "checked");
+  EXPECT_EQ(iv["outcome"]["improved"], cell(outcomes, "improved") == "true");
+  EXPECT_EQ(iv["outcome"]["inside"], cell(outcomes, "inside") == "true");
+  EXPECT_EQ(iv["outcome"]["lever_trust"].get<double>(), std::stod(cell(outcomes, "lever_trust")));
+  EXPECT_EQ(iv["outcome"]["observed_percent"].get<double>(), std::stod(cell(outcomes, "observed_percent")));
+  const nlohmann::json other = live_group(web, "sim-0001");
+  ASSERT_TRUE(other.is_object()) << web.output();
+  EXPECT_EQ(other["interventions"], nlohmann::json::array()) << "never approved, never shown";
 }
 
 // The recorded condition vectors of `group` (snapshot -> levels of ch1..ch3).
@@ -59,8 +124,11 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "8", "--max-runtime", "120"},
                        (work / "alarm.log").string());
   ServiceProcess recorder("causal-recorder", {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(),
-                                             "--idle-exit", "10", "--max-runtime", "120"},
+                                             "--db", "sqlite:" + (work / "history.db").string(), "--idle-exit", "10",
+                                             "--max-runtime", "120"},
                           (work / "recorder.log").string());
+  ServiceProcess web("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "150"},
+                     (work / "web.log").string());
   ServiceProcess estimator(
       "causal-estimator",
       {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params",
@@ -132,6 +200,20 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   std::printf("outcome: %s\n", o[static_cast<std::size_t>(outcomes.column("text"))].c_str());
   EXPECT_EQ(o[static_cast<std::size_t>(outcomes.column("status"))], "checked");
   EXPECT_EQ(o[static_cast<std::size_t>(outcomes.column("improved"))], "true");
+  // The historian: the same approval and outcome, once each (keyed by asset group and request id).
+  auto db = causal::history::open_history("sqlite:" + (work / "history.db").string());
+  expect_history_equals_csv(*db, "interventions", ivs);
+  expect_history_equals_csv(*db, "intervention_outcomes", outcomes);
+  db.reset();
+  expect_live_view_shows(web, ivs, outcomes);
+  EXPECT_EQ(web.terminate(), 0) << web.output();
+  // A twin-web started afterwards on the history alone (causal-approve's approval is no longer on any topic).
+  ServiceProcess restarted("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "60", "--db",
+                                        "sqlite:" + (work / "history.db").string()},
+                           (work / "web2.log").string());
+  ASSERT_TRUE(restarted.wait_for_output("serving http", std::chrono::seconds(30))) << restarted.output();
+  expect_live_view_shows(restarted, ivs, outcomes);
+  EXPECT_EQ(restarted.terminate(), 0) << restarted.output();
   if (!HasFailure()) fs::remove_all(work);
   clean_stale_shared_memory();
 }

@@ -68,6 +68,21 @@ std::vector<Table> make_tables() {
                 T("time_utc"), T("until_utc"), I("time_ns"), I("until_ns")},
                {"asset_group", "action_id"},
                "time_utc"});
+  // The closed loop: the columns of interventions.csv and intervention_outcomes.csv, one row per request id.
+  // Their time column is the start snapshot (like recommendations: never deleted by --retention-days).
+  t.push_back({"interventions",
+               {T("request_id"), T("asset_group"), I("channel"), R("change_percent"), I("start_snapshot_index"),
+                I("start_time_ns"), T("start_utc"), I("duration_snapshots"), T("recommendation_id"),
+                I("target_channel"), T("approved_by"), I("approved_time_ns"), T("approved_utc")},
+               {"asset_group", "request_id"},
+               "start_snapshot_index"});
+  t.push_back({"intervention_outcomes",
+               {T("request_id"), T("asset_group"), T("recommendation_id"), I("channel"), I("target_channel"),
+                I("start_snapshot_index"), I("end_snapshot_index"), T("status"), R("predicted_percent"),
+                R("predicted_percent_low"), R("predicted_percent_high"), R("confidence"), R("observed_percent"),
+                B("inside"), B("improved"), R("lever_trust"), B("lever_claimed"), T("text")},
+               {"asset_group", "request_id"},
+               "start_snapshot_index"});
   return t;
 }
 

@@ -123,6 +123,7 @@
     panels.renderAlarms(g);
     panels.renderPrognoses(g);
     renderRecommendations(g);
+    window.interventionPanel.render(g);
     renderWhatIfChannels(g);
   }
 

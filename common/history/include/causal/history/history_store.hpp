@@ -1,6 +1,7 @@
 // The twin's history in a database: the tables of docs/historian.md (condition vectors, condition-level factors,
-// alarm events, recommendations, prognoses, asset status, alarm actions), one interface and two backends:
-// SQLite (an embedded file, WAL journal; the default) and PostgreSQL (libpq; one history for many hosts).
+// alarm events, recommendations, prognoses, asset status, alarm actions, interventions and their outcomes), one
+// interface and two backends: SQLite (an embedded file, WAL journal; the default) and PostgreSQL (libpq; one
+// history for many hosts).
 // causal-recorder writes it, twin-web and the tests read it. Cells travel as the CSV spells them (nullopt =
 // NULL); each backend stores them typed by the table's column types. Every table has a unique key, so a
 // replayed or re-delivered row is stored once (INSERT ... ON CONFLICT DO NOTHING), and rows are written in
@@ -41,7 +42,7 @@ struct Table {
   std::vector<std::string> column_names() const;
 };
 
-// The seven tables, in the order of docs/historian.md.
+// The nine tables, in the order of docs/historian.md.
 const std::vector<Table>& tables();
 // A table by name; throws HistoryError for an unknown name.
 const Table& table(const std::string& name);
