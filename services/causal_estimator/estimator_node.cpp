@@ -127,7 +127,7 @@ EstimatorNode::Asset& EstimatorNode::asset(const std::string& asset_group) {
       if (store_.restore(asset_group, a.pipeline, resend, &a.last_time_ns)) {
         // The names come with the checkpoint: output (finish() at exit included) needs them before any new input.
         a.channel_names = a.pipeline.channel_names();
-        resend_restored(asset_group, resend);
+        resend_restored(asset_group, a, resend);
         a.awaiting_continuation = true;
         a.continuation_deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(
                                                                           static_cast<long>(options_.resume_wait_s * 1000));

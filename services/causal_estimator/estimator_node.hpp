@@ -20,6 +20,7 @@
 #include "group_quota.hpp"
 #include "stage_trace.hpp"
 #include "standby_buffer.hpp"
+#include "unacked_output.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -91,6 +92,7 @@ class EstimatorNode {
     std::uint64_t late_conditions = 0;  // ... that did: too late to feed, counted as lost
     std::uint64_t sample_msgs = 0, condition_msgs = 0;  // factor batches (one per kind and index)
     std::string feature;  // feature name of the condition-level model
+    UnackedOutput unacked;  // condition-level output not yet acknowledged: the checkpoint's resend list
     bool tuning_logged = false;
     bool sample_structure_logged = false, condition_structure_logged = false;
     std::string refused;                // why this asset group's input is refused (unusable checkpoint, a fault)
@@ -158,7 +160,12 @@ class EstimatorNode {
   bool releasing_ = false;  // on_condition called from drain_reorder: never held again
   // Queues the output in out_; at the end of a snapshot, checkpoints first (state + the condition-level output).
   void publish(const std::string& name, Asset& a, bool end_of_snapshot);
-  void resend_restored(const std::string& name, const std::vector<std::string>& resend);
+  void resend_restored(const std::string& name, Asset& a, const std::vector<std::string>& resend);
+  // The write's result; a written message's flag is set (UnackedOutput: written, awaiting acknowledgement).
+  static dds::WriteResult mark(dds::WriteResult result, const UnackedOutput::Flag& flag);
+  // Forgets the listed output every reader acknowledged (asked without waiting), before a checkpoint; then, with
+  // begin_snapshot, starts the list of the snapshot being published.
+  void settle_unacked(Asset& a, bool begin_snapshot = false);
   void publish_quality(const std::string& name, Asset& a, std::uint64_t snapshot, std::int64_t time_ns,
                        bool end_of_snapshot);
   void checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend);

@@ -7,10 +7,10 @@
 #include "causal/dds/sample_limits.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/io/time_format.hpp"
+#include "wire_bytes.hpp"
 
 #include <spdlog/spdlog.h>
 
-#include <cstring>
 #include <stdexcept>
 
 namespace causal::estimator {
@@ -62,29 +62,6 @@ void EstimatorNode::log_structure(const std::string& name, const Asset& a, const
   if (!learned->problem.empty()) spdlog::warn("{} {}: {}", name, level, learned->problem);
 }
 
-namespace {
-
-// A message in its wire form (CDR, as Fast DDS-Gen's type support writes it), for the checkpoint's resend list.
-template <typename PubSubType>
-std::string to_bytes(const typename PubSubType::type& msg) {
-  PubSubType type;
-  auto* m = const_cast<typename PubSubType::type*>(&msg);
-  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(m)());
-  if (!type.serialize(m, &payload)) throw std::runtime_error("cannot serialize a message for the checkpoint");
-  return std::string(reinterpret_cast<const char*>(payload.data), payload.length);
-}
-
-template <typename PubSubType>
-bool from_bytes(const std::string& bytes, typename PubSubType::type& msg) {
-  PubSubType type;
-  eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes.size()));
-  std::memcpy(payload.data, bytes.data(), bytes.size());
-  payload.length = static_cast<std::uint32_t>(bytes.size());
-  return type.deserialize(&payload, &msg);
-}
-
-}  // namespace
-
 void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snapshot) {
   const std::atomic<bool>& stop = loop_.stop_flag();
   using Class = dds::OutboundQueue::Class;
@@ -96,15 +73,22 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
   };
   std::vector<Item> items;
   std::vector<std::uint64_t> indices;  // the snapshot (or sample) index of every item
-  std::vector<std::string> resend;  // the snapshot's condition-level output, kept in its checkpoint
-  const bool keep = end_of_snapshot && store_.enabled();
+  // The condition-level output kept in the checkpoint: every message not yet acknowledged (UnackedOutput); on a
+  // standby (nothing leaves it) the snapshot's own, in `resend`.
+  std::vector<std::string> resend;
+  const bool keep = end_of_snapshot && store_.enabled(), track = keep && !standing_by_;
+  if (track) settle_unacked(a, true);
+  auto listed = [&](std::string bytes) {
+    return track ? a.unacked.add(std::move(bytes)) : (resend.push_back(std::move(bytes)), UnackedOutput::Flag());
+  };
   for (const auto& c : out_.conditions) {
     dds::ConditionHeader h{name, a.feature, c.snapshot_index, c.time_ns, a.channel_names, c.discontinuity};
     auto msg = std::make_shared<causal_twin::ConditionVector>();
     dds::to_condition_vector(h, c.values, *msg);
-    if (keep) resend.push_back("C" + to_bytes<causal_twin::ConditionVectorPubSubType>(*msg));
+    UnackedOutput::Flag flag = keep ? listed("C" + to_bytes<causal_twin::ConditionVectorPubSubType>(*msg)) : nullptr;
     items.push_back({"condition_vector", Class::Essential,
-                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, nullptr});
+                     [this, msg, flag](const std::atomic<bool>& s) { return mark(conditions_out_.write(*msg, s), flag); },
+                     nullptr});
     indices.push_back(c.snapshot_index);
   }
   auto send = [&](const std::vector<pipeline::FactorReport>& reports, const pipeline::FactorStream* stream,
@@ -126,12 +110,13 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
     // acknowledgements than one message per outcome (README "Lean data path").
     for (auto& batch : dds::to_causal_factor_batches(ctx, reports)) {
       auto msg = std::make_shared<causal_twin::CausalFactorBatch>(std::move(batch));
-      if (keep && condition) resend.push_back("B" + to_bytes<causal_twin::CausalFactorBatchPubSubType>(*msg));
+      UnackedOutput::Flag flag =
+          keep && condition ? listed("B" + to_bytes<causal_twin::CausalFactorBatchPubSubType>(*msg)) : nullptr;
       // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
       items.push_back({condition ? "causal_factors/condition" : "causal_factors/sample",
                        condition ? Class::Essential : Class::Droppable,
-                       [this, msg, condition](const std::atomic<bool>& s) {
-                         return (condition ? factors_ : sample_factors_).write(*msg, s);
+                       [this, msg, condition, flag](const std::atomic<bool>& s) {
+                         return mark((condition ? factors_ : sample_factors_).write(*msg, s), flag);
                        },
                        nullptr});
       if (!condition) {
@@ -165,7 +150,7 @@ void EstimatorNode::publish(const std::string& name, Asset& a, bool end_of_snaps
   send(out_.condition_reports, a.pipeline.condition_stream(), causal_twin::CONDITION_LEVEL, a.condition_msgs);
   // The checkpoint comes before the output leaves: what a reader received is always covered by it, and the
   // output that may not have left when the process died is in it, to send again.
-  if (end_of_snapshot) checkpoint(name, a, resend);
+  if (end_of_snapshot) checkpoint(name, a, track ? a.unacked.list() : resend);
   if (standing_by_) {
     // Kept for a takeover: the condition-level output (essential), by the snapshot it refers to.
     std::vector<StandbyBuffer::Item> kept;
@@ -264,32 +249,6 @@ void EstimatorNode::log_adjustments(const std::string& name, Asset& a) {
   }
 }
 
-void EstimatorNode::resend_restored(const std::string& name, const std::vector<std::string>& resend) {
-  std::size_t sent = 0;
-  for (const auto& bytes : resend) {
-    if (bytes.empty()) continue;
-    const std::string body = bytes.substr(1);
-    if (bytes[0] == 'C') {
-      auto msg = std::make_shared<causal_twin::ConditionVector>();
-      if (!from_bytes<causal_twin::ConditionVectorPubSubType>(body, *msg)) continue;
-      outbound_.push("condition_vector", dds::OutboundQueue::Class::Essential,
-                     [this, msg](const std::atomic<bool>& s) { return conditions_out_.write(*msg, s); }, loop_.stop_flag());
-    } else if (bytes[0] == 'B') {  // 'F' (one message per outcome) was the form before batches: not restored
-      auto msg = std::make_shared<causal_twin::CausalFactorBatch>();
-      if (!from_bytes<causal_twin::CausalFactorBatchPubSubType>(body, *msg)) continue;
-      outbound_.push("causal_factors/condition", dds::OutboundQueue::Class::Essential,
-                     [this, msg](const std::atomic<bool>& s) { return factors_.write(*msg, s); }, loop_.stop_flag());
-    } else {
-      continue;
-    }
-    ++sent;
-  }
-  if (sent > 0) {
-    spdlog::info("asset '{}': the last checkpointed snapshot's {} output messages sent again (readers that have them "
-                 "drop them by index)", name, sent);
-  }
-}
-
 void EstimatorNode::checkpoint(const std::string& name, Asset& a, const std::vector<std::string>& resend) {
   if (!store_.save(name, a.pipeline, resend, a.last_time_ns)) {
     spdlog::error("asset '{}': checkpoint not written ({}); a crash now would lose this asset group's state", name,
@@ -355,7 +314,8 @@ int EstimatorNode::finish_all() {
   for (auto& [name, a] : assets_) {
     if (!a.refused.empty()) continue;
     // Saved before finish(): a restart continues the streams as they were, not flushed.
-    checkpoint(name, a, {});
+    settle_unacked(a);
+    checkpoint(name, a, a.unacked.list());
     out_.clear();
     try {
       a.pipeline.finish(out_);

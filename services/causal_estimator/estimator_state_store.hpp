@@ -1,11 +1,11 @@
 // Crash and restart safety of causal-estimator (--state-dir DIR): one checkpoint per asset group,
 // DIR/<asset group>.estimator.state, holding the whole AssetPipeline (filters, smoothers, calibration, learned
-// structure and centre, condition windows, the last source indices fed) and the condition-level output of the
-// last snapshot (serialized DDS messages). Written after every completed snapshot (a frame with end_of_segment,
-// or a ready-made condition vector) and at exit, BEFORE that snapshot's output is queued for DDS. At restart the
-// pipeline is restored, the last snapshot's output is sent again (it may not have left the process; consumers
-// drop what they already have by index), and input already processed (source index not after the last one
-// fed) is skipped, so a source that resends is not processed twice.
+// structure and centre, condition windows, the last source indices fed) and the condition-level output the
+// readers have not acknowledged yet (serialized DDS messages, unacked_output.hpp). Written after every completed
+// snapshot (a frame with end_of_segment, or a ready-made condition vector) and at exit, BEFORE that snapshot's
+// output is queued for DDS. At restart the pipeline is restored, the listed output is sent again (it may not have
+// reached every reader; consumers drop what they already have by index), and input already processed (source
+// index not after the last one fed) is skipped, so a source that resends is not processed twice.
 //
 // Files are written atomically (temporary file + rename): a kill -9 while saving leaves the previous one. Not
 // fsync'ed: survives a process crash, not a power loss.

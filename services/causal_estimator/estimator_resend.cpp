@@ -1,0 +1,62 @@
+// causal-estimator: the checkpoint's resend list. Every condition-level message stays in it until the readers
+// acknowledged it (unacked_output.hpp); a restarted estimator sends the list again (consumers drop by index).
+#include "estimator_node.hpp"
+#include "wire_bytes.hpp"
+
+#include <spdlog/spdlog.h>
+
+namespace causal::estimator {
+
+void EstimatorNode::resend_restored(const std::string& name, Asset& a, const std::vector<std::string>& resend) {
+  // Listed again until acknowledged: a second kill before the readers have them must not lose them.
+  a.unacked.begin_snapshot();
+  std::size_t sent = 0;
+  for (const auto& bytes : resend) {
+    if (bytes.empty()) continue;
+    const std::string body = bytes.substr(1);
+    if (bytes[0] == 'C') {
+      auto msg = std::make_shared<causal_twin::ConditionVector>();
+      if (!from_bytes<causal_twin::ConditionVectorPubSubType>(body, *msg)) continue;
+      auto flag = a.unacked.add(bytes);
+      outbound_.push("condition_vector", dds::OutboundQueue::Class::Essential,
+                     [this, msg, flag](const std::atomic<bool>& s) { return mark(conditions_out_.write(*msg, s), flag); },
+                     loop_.stop_flag());
+    } else if (bytes[0] == 'B') {  // 'F' (one message per outcome) was the form before batches: not restored
+      auto msg = std::make_shared<causal_twin::CausalFactorBatch>();
+      if (!from_bytes<causal_twin::CausalFactorBatchPubSubType>(body, *msg)) continue;
+      auto flag = a.unacked.add(bytes);
+      outbound_.push("causal_factors/condition", dds::OutboundQueue::Class::Essential,
+                     [this, msg, flag](const std::atomic<bool>& s) { return mark(factors_.write(*msg, s), flag); },
+                     loop_.stop_flag());
+    } else {
+      continue;
+    }
+    ++sent;
+  }
+  if (sent > 0) {
+    spdlog::info("asset '{}': {} condition-level output messages the readers had not acknowledged when the checkpoint "
+                 "was written sent again (readers that have them drop them by index)", name, sent);
+  }
+}
+
+dds::WriteResult EstimatorNode::mark(dds::WriteResult result, const UnackedOutput::Flag& flag) {
+  if (result == dds::WriteResult::Ok && flag) flag->store(true);
+  return result;
+}
+
+void EstimatorNode::settle_unacked(Asset& a, bool begin_snapshot) {
+  const std::uint64_t dropped = a.unacked.dropped();
+  a.unacked.settle([this] {
+    return conditions_out_.wait_for_acknowledgments(std::chrono::milliseconds(0)) &&
+           factors_.wait_for_acknowledgments(std::chrono::milliseconds(0));
+  });
+  if (begin_snapshot) a.unacked.begin_snapshot();  // the oldest snapshot leaves here when the list is full
+  if (a.unacked.dropped() > dropped) {
+    // Said once at warning level, then at debug: while a reader is stuck this would repeat at every snapshot.
+    spdlog::log(dropped == 0 ? spdlog::level::warn : spdlog::level::debug, "the readers have not acknowledged the output of the last {} snapshots: {} older messages are no "
+                 "longer kept in the checkpoint (still queued; a crash now would lose them, the readers count them)",
+                 UnackedOutput::kMaxSnapshots, a.unacked.dropped());
+  }
+}
+
+}  // namespace causal::estimator
