@@ -84,6 +84,9 @@ class RecorderNode {
   std::filesystem::path out_dir_;
   dds::Participant participant_;
   dds::TwinOutputReaders in_;
+  // interventions.csv, intervention_outcomes.csv: made in the constructor's body (it needs loop_), declared before
+  // loop_ so that its readers outlive the loop, which detaches their conditions when destroyed.
+  std::unique_ptr<InterventionTables> interventions_;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
 
   std::map<std::string, ConditionTable> conditions_;  // by file name
@@ -97,7 +100,6 @@ class RecorderNode {
   TopicCounts action_counts_;
   RepeatFilter action_repeats_;           // by request id: a result replayed to a late joiner is written once
   std::uint64_t actions_not_applied_ = 0;  // refused by alarm-recommender: nothing changed, nothing stored
-  std::unique_ptr<InterventionTables> interventions_;  // interventions.csv, intervention_outcomes.csv
   PrognosisLedger prognosis_ledger_;
   TopicCounts prognosis_counts_;
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;
