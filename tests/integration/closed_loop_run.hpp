@@ -71,7 +71,9 @@ struct ClosedLoopRun {
 
 // Waits for sim-0000's lever advice, approves it with causal-approve and waits until every service but twin-web
 // has exited zero (the recorder has then written interventions.csv and intervention_outcomes.csv). Fatal
-// failures stop the caller (ASSERT_NO_FATAL_FAILURE).
+// failures stop the caller (ASSERT_NO_FATAL_FAILURE). causal-approve waits for every reader of the approval,
+// twin-web's too: it publishes once and leaves, so a reader not matched by then never hears of it (seen: twin-web
+// "intervention received=0" while causal-approve reported readers=3 acknowledged=yes).
 inline void approve_and_finish(ClosedLoopRun& run) {
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (!run.advice && std::chrono::steady_clock::now() < until && run.sim.running()) {
@@ -84,7 +86,7 @@ inline void approve_and_finish(ClosedLoopRun& run) {
                          {CAUSAL_APPROVE_BIN, "--domain", run.d, "--group", "sim-0000", "--recommendation",
                           run.advice->recommendation_id(), "--user", "it-operator", "--lead", "25", "--duration", "24",
                           "--wait-for", "sensor-sim", "--wait-for", "alarm-recommender", "--wait-for",
-                          "causal-recorder", "--timeout", "20"},
+                          "causal-recorder", "--wait-for", "twin-web", "--timeout", "20"},
                          (run.work / "approve.log").string());
   ASSERT_NO_FATAL_FAILURE(expect_exit_zero(approve, std::chrono::seconds(40)));
   ASSERT_NO_FATAL_FAILURE(expect_exit_zero(run.sim, std::chrono::seconds(60)));
