@@ -8,12 +8,9 @@
 //    SQLite history (--db) holds the same rows in its tables interventions and intervention_outcomes; twin-web's
 //    /api/state shows the approval with its outcome and lever trust under sim-0000 and nothing under sim-0001,
 //    live and again when started later on the history alone (--db).
-#include "condition_level_params.hpp"
-#include "dds_observer.hpp"
+#include "closed_loop_run.hpp"
 #include "http_test_client.hpp"
 #include "level_plant.hpp"
-#include "process_expect.hpp"
-#include "process_runner.hpp"
 
 #include "causal/history/history_store.hpp"
 #include "causal/io/csv_format.hpp"
@@ -34,14 +31,7 @@ using namespace causal::test;
 
 namespace {
 
-constexpr int kSnapshots = 420;
-
-std::optional<causal_twin::Recommendation> lever_advice(const DdsObserver& observer, const std::string& group) {
-  for (const auto& r : observer.recommendations()) {
-    if (r.asset_group() == group && r.rank() == 1 && r.action_kind() == "upstream_lever" && r.reliable()) return r;
-  }
-  return std::nullopt;
-}
+constexpr int kSnapshots = kClosedLoopSnapshots;
 
 // The history table holds the CSV file's rows exactly: same columns, every cell the same (numbers as the same
 // double: SQLite prints them with 17 digits, the CSV with the shortest that reads back).
@@ -119,51 +109,13 @@ std::map<std::uint64_t, Eigen::Vector3d> recorded_levels(const fs::path& dir, co
 TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   const fs::path work = fs::temp_directory_path() / ("causal_it_loop_" + std::to_string(getpid()));
   fs::create_directories(work);
-  const std::string d = std::to_string(private_domain_id(38));
-  DdsObserver observer(std::stoi(d));
-  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "8", "--max-runtime", "120"},
-                       (work / "alarm.log").string());
-  ServiceProcess recorder("causal-recorder", {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(),
-                                             "--db", "sqlite:" + (work / "history.db").string(), "--idle-exit", "10",
-                                             "--max-runtime", "120"},
-                          (work / "recorder.log").string());
-  ServiceProcess web("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "150"},
-                     (work / "web.log").string());
-  ServiceProcess estimator(
-      "causal-estimator",
-      {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params",
-       write_condition_level_params(work / "estimator.yaml", "",
-                                    "{calibration_samples: 200, centre: true, causal_order: lingam, prune_threshold: 0.0}"),
-       "--idle-exit", "3", "--max-runtime", "120", "--wait-for", "alarm-recommender", "--wait-for", "causal-recorder",
-       "--wait-for", "test-observer"},
-      (work / "estimator.log").string());
-  // 25 snapshots/s: the alarm (about snapshot 270) leaves 6 s of data for the approval and its window.
-  ServiceProcess sim("sensor-sim", {SENSOR_SIM_BIN, "--domain", d, "--plant", "lever", "--groups", "2", "--seed", "38",
-                                    "--snapshots", std::to_string(kSnapshots), "--snapshot-rate", "25",
-                                    "--wait-timeout", "60"},
-                     (work / "sim.log").string());
-  std::optional<causal_twin::Recommendation> advice;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (!advice && std::chrono::steady_clock::now() < until && sim.running()) {
-    advice = lever_advice(observer, "sim-0000");
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  ASSERT_TRUE(advice.has_value()) << "no lever advice for sim-0000; alarm log:\n" << alarm.output();
-  EXPECT_EQ(advice->intervene_channel(), 2) << advice->text();
-  ServiceProcess approve("causal-approve", {CAUSAL_APPROVE_BIN, "--domain", d, "--group", "sim-0000", "--recommendation",
-                                            advice->recommendation_id(), "--user", "it-operator", "--lead", "25",
-                                            "--duration", "24", "--wait-for", "sensor-sim", "--wait-for",
-                                            "alarm-recommender", "--wait-for", "causal-recorder", "--timeout", "20"},
-                         (work / "approve.log").string());
-  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(approve, std::chrono::seconds(40)));
-  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(sim, std::chrono::seconds(60)));
-  const auto sim_counts = counts_in_last_line(sim.output(), "sensor-sim: sent");
-  EXPECT_EQ(sim_counts.at("applied"), 1u) << sim.output();
-  EXPECT_EQ(sim_counts.at("refused"), 0u) << sim.output();
-  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(estimator, std::chrono::seconds(60)));
-  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(alarm, std::chrono::seconds(60)));
-  ASSERT_NO_FATAL_FAILURE(expect_exit_zero(recorder, std::chrono::seconds(60)));
-  EXPECT_TRUE(lever_advice(observer, "sim-0001").has_value()) << "the unapproved group had lever advice too";
+  ClosedLoopRun run(work, private_domain_id(38));
+  ASSERT_NO_FATAL_FAILURE(approve_and_finish(run));
+  const auto& advice = run.advice;
+  const std::string& d = run.d;
+  auto& web = run.web;
+  auto& alarm = run.alarm;
+  EXPECT_TRUE(lever_advice(run.observer, "sim-0001").has_value()) << "the unapproved group had lever advice too";
 
   // The approval as recorded, and what it did to the data.
   const auto ivs = causal::report::read_csv(work / "rec" / "interventions.csv");

@@ -1,0 +1,152 @@
+// The closed loop in the live view, in a real headless Chromium (Debian's chromium, driven by playwright-core):
+// the closed-loop run of tests/integration/closed_loop_run.hpp (sensor-sim's lever plants, causal-estimator,
+// alarm-recommender, causal-recorder, twin-web; sim-0000's lever advice approved with causal-approve), then
+// drive_interventions.mjs opens the page. Checked: sim-0000's Interventions card has exactly one row, for the
+// recorded request id, status checked, and its approver, lever percent, window, predicted interval, observed change,
+// inside/improved and lever trust are the recorder's interventions.csv and intervention_outcomes.csv rows as the page
+// formats them; sim-0001's card has none; no console error. Screenshots in build/tests/browser/output. Private
+// loopback domain; about 45 s (the run is paced at 25 snapshots/s).
+#include "closed_loop_run.hpp"
+#include "http_test_client.hpp"
+
+#include "causal/io/csv_format.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+#include <string>
+
+namespace fs = std::filesystem;
+using causal::test::ServiceProcess;
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+namespace {
+
+int served_port(ServiceProcess& web) {
+  const std::regex served(R"(serving http://127\.0\.0\.1:(\d+)/)");
+  std::smatch m;
+  const std::string out = web.output();
+  return std::regex_search(out, m, served) ? std::stoi(m[1]) : 0;
+}
+
+// playwright-core in the build folder (as the other browser tests install it: `npm ci` from the committed lock
+// file, which needs the network once); the driver script copied beside it.
+bool ensure_node_modules(const fs::path& dir, const fs::path& log) {
+  fs::create_directories(dir);
+  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "drive_interventions.mjs", dir / "drive_interventions.mjs",
+                fs::copy_options::overwrite_existing);
+  if (fs::exists(dir / "node_modules" / "playwright-core" / "package.json")) return true;
+  for (const char* f : {"package.json", "package-lock.json"}) {
+    fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / f, dir / f, fs::copy_options::overwrite_existing);
+  }
+  ServiceProcess npm("npm", {NPM_BIN, "ci", "--no-audit", "--no-fund", "--prefix", dir.string()}, log.string());
+  const auto code = npm.wait(240s);
+  return code && *code == 0 && fs::exists(dir / "node_modules" / "playwright-core" / "package.json");
+}
+
+json driver_result(const std::string& output) {
+  const auto at = output.rfind("RESULT ");
+  if (at == std::string::npos) return json();
+  const auto end = output.find('\n', at);
+  return json::parse(output.substr(at + 7, end == std::string::npos ? std::string::npos : end - at - 7), nullptr, false);
+}
+
+// The page's formats (intervention_panel.js): a signed percent with one decimal, trust with two.
+std::string signed_percent(const std::string& cell) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%+.1f %%", std::stod(cell));
+  return buf;
+}
+
+std::string fixed(const std::string& cell, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, std::stod(cell));
+  return buf;
+}
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// The card's one row against the recorder's rows (interventions.csv `iv`, intervention_outcomes.csv `o`).
+void expect_row_shows(const json& row, const causal::report::CsvTable& ivs, const causal::report::CsvTable& outs) {
+  const auto iv = [&](const char* name) { return ivs.rows.at(0).at(static_cast<std::size_t>(ivs.column(name))); };
+  const auto o = [&](const char* name) { return outs.rows.at(0).at(static_cast<std::size_t>(outs.column(name))); };
+  EXPECT_EQ(row.value("request_id", ""), iv("request_id"));
+  EXPECT_EQ(row.value("request_id", ""), o("request_id"));
+  EXPECT_EQ(row.value("approved_title", ""), iv("request_id"));
+  EXPECT_EQ(row.value("status", ""), "checked");
+  EXPECT_EQ(row.value("status", ""), o("status"));
+  EXPECT_EQ(row.value("approved", "").rfind(iv("approved_by") + ", ", 0), 0u) << row["approved"];
+  EXPECT_EQ(iv("approved_by"), "it-operator");
+  EXPECT_TRUE(ends_with(row.value("lever", ""), " " + signed_percent(iv("change_percent")))) << row["lever"];
+  EXPECT_EQ(row.value("window", "").rfind("snapshots " + o("start_snapshot_index") + "\u2013" +
+                                              o("end_snapshot_index"), 0), 0u) << row["window"];
+  EXPECT_EQ(o("start_snapshot_index"), iv("start_snapshot_index"));
+  const std::string confidence = std::to_string(std::lround(100.0 * std::stod(o("confidence"))));
+  EXPECT_EQ(row.value("predicted", ""), signed_percent(o("predicted_percent")) + " (" + confidence + " % " +
+                                            signed_percent(o("predicted_percent_low")) + " to " +
+                                            signed_percent(o("predicted_percent_high")) + ")");
+  EXPECT_EQ(row.value("observed", ""), signed_percent(o("observed_percent")));
+  EXPECT_EQ(row.value("result", ""), std::string(o("inside") == "true" ? "inside" : "outside") +
+                                         " the interval \u00b7 " + (o("improved") == "true" ? "improved" : "not improved"));
+  EXPECT_EQ(row.value("trust", ""), fixed(o("lever_trust"), 2) + " (" +
+                                        (o("lever_claimed") == "true" ? "lever claimed" : "lever withdrawn") + ")");
+}
+
+}  // namespace
+
+TEST(InterventionBrowser, TheApprovedInterventionItsOutcomeAndLeverTrustShowOnThePage) {
+  ASSERT_TRUE(fs::exists(CHROMIUM_BIN)) << CHROMIUM_BIN << " missing: run deploy/install_deps.sh (Debian chromium)";
+  const fs::path node_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "node";
+  const fs::path out_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "output";
+  const fs::path work = out_dir / "interventions";
+  fs::remove_all(work);
+  fs::create_directories(work);
+  ASSERT_TRUE(ensure_node_modules(node_dir, out_dir / "npm.log")) << "npm ci failed, see " << (out_dir / "npm.log");
+  for (const char* name : {"twin_web_interventions.png", "twin_web_interventions_card.png"}) fs::remove(out_dir / name);
+
+  causal::test::ClosedLoopRun run(work, causal::test::private_domain_id(39));
+  ASSERT_NO_FATAL_FAILURE(causal::test::approve_and_finish(run));
+  const auto ivs = causal::report::read_csv(work / "rec" / "interventions.csv");
+  const auto outcomes = causal::report::read_csv(work / "rec" / "intervention_outcomes.csv");
+  ASSERT_EQ(ivs.rows.size(), 1u) << run.recorder.output();
+  ASSERT_EQ(outcomes.rows.size(), 1u) << run.alarm.output();
+  const int port = served_port(run.web);
+  ASSERT_GT(port, 0) << run.web.output();
+
+  const std::string url = "http://127.0.0.1:" + std::to_string(port) + "/";
+  ServiceProcess driver("drive_interventions", {NODE_BIN, (node_dir / "drive_interventions.mjs").string(), "--url",
+                                                url, "--out", out_dir.string(), "--chromium", CHROMIUM_BIN, "--group",
+                                                "sim-0000", "--other", "sim-0001"},
+                        (work / "drive_interventions.log").string());
+  const auto driver_code = driver.wait(90s);
+  ASSERT_TRUE(driver_code.has_value()) << driver.output();
+  const json r = driver_result(driver.output());
+  ASSERT_TRUE(r.is_object()) << driver.output();
+  EXPECT_EQ(*driver_code, 0) << driver.output();
+  EXPECT_EQ(r["console_errors"].size(), 0u) << r["console_errors"].dump(1);
+  EXPECT_EQ(r["page_errors"].size(), 0u) << r["page_errors"].dump(1);
+  EXPECT_EQ(r["failed_requests"].size(), 0u) << r["failed_requests"].dump(1);
+  const json rows = r.value("/group/rows"_json_pointer, json::array());
+  ASSERT_EQ(rows.size(), 1u) << r.dump(1);
+  std::printf("browser: %s\n", rows[0].dump().c_str());
+  EXPECT_EQ(r.value("/group/count"_json_pointer, std::string()), "1");
+  expect_row_shows(rows[0], ivs, outcomes);
+  EXPECT_EQ(r.value("/other/rows"_json_pointer, json::array()).size(), 0u) << r["other"].dump();
+  EXPECT_EQ(r.value("/other/count"_json_pointer, std::string()), "0");
+  EXPECT_EQ(r.value("/other/body_text"_json_pointer, std::string()), "No intervention approved for this group.");
+  EXPECT_LE(r.value("page_overflow_x", 1), 0) << "the page scrolls sideways";
+  for (const char* png : {"twin_web_interventions.png", "twin_web_interventions_card.png"}) {
+    ASSERT_TRUE(fs::exists(out_dir / png)) << png;
+    EXPECT_GT(fs::file_size(out_dir / png), 10000u) << png << ": a screenshot that small is a blank page";
+  }
+  EXPECT_EQ(run.web.terminate(), 0) << run.web.output();
+  if (!HasFailure()) fs::remove_all(work);
+  causal::test::clean_stale_shared_memory();
+}
