@@ -9,6 +9,7 @@
 // Private loopback domain; about 30 s.
 #include "http_test_client.hpp"
 #include "loopback_settings.hpp"
+#include "browser_driver.hpp"
 #include "process_runner.hpp"
 #include "simulated_shaft_table.hpp"
 
@@ -44,28 +45,6 @@ int served_port(ServiceProcess& web, std::chrono::seconds timeout) {
     std::this_thread::sleep_for(50ms);
   }
   return 0;
-}
-
-// playwright-core in the build folder (as the live-view test installs it: `npm ci` from the committed lock file,
-// which needs the network once); the driver script copied beside it.
-bool ensure_node_modules(const fs::path& dir, const fs::path& log) {
-  fs::create_directories(dir);
-  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "drive_alarm_action.mjs", dir / "drive_alarm_action.mjs",
-                fs::copy_options::overwrite_existing);
-  if (fs::exists(dir / "node_modules" / "playwright-core" / "package.json")) return true;
-  for (const char* f : {"package.json", "package-lock.json"}) {
-    fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / f, dir / f, fs::copy_options::overwrite_existing);
-  }
-  ServiceProcess npm("npm", {NPM_BIN, "ci", "--no-audit", "--no-fund", "--prefix", dir.string()}, log.string());
-  const auto code = npm.wait(240s);
-  return code && *code == 0 && fs::exists(dir / "node_modules" / "playwright-core" / "package.json");
-}
-
-json driver_result(const std::string& output) {
-  const auto at = output.rfind("RESULT ");
-  if (at == std::string::npos) return json();
-  const auto end = output.find('\n', at);
-  return json::parse(output.substr(at + 7, end == std::string::npos ? std::string::npos : end - at - 7), nullptr, false);
 }
 
 std::vector<std::string> lines_of(const fs::path& p) {
@@ -109,7 +88,8 @@ TEST(AlarmActionBrowser, OperatorClicksAcknowledgeAndEveryViewShowsIt) {
   const fs::path work = out_dir / "alarm_action";
   fs::remove_all(work);
   fs::create_directories(work);
-  ASSERT_TRUE(ensure_node_modules(node_dir, out_dir / "npm.log")) << "npm ci failed, see " << (out_dir / "npm.log");
+  ASSERT_TRUE(causal::test::ensure_node_modules(node_dir, "drive_alarm_action.mjs", out_dir / "npm.log"))
+      << "npm ci failed, see " << (out_dir / "npm.log");
   for (const char* name : {"twin_web_alarm_action.png", "twin_web_alarm_action_card.png"}) fs::remove(out_dir / name);
   const std::string table = causal::test::write_simulated_shaft_table(work);
   const int domain = causal::test::private_domain_id(19);
@@ -165,7 +145,7 @@ TEST(AlarmActionBrowser, OperatorClicksAcknowledgeAndEveryViewShowsIt) {
                         (work / "drive_alarm_action.log").string());
   const auto driver_code = driver.wait(90s);
   ASSERT_TRUE(driver_code.has_value()) << driver.output();
-  const json r = driver_result(driver.output());
+  const json r = causal::test::driver_result(driver.output());
   ASSERT_TRUE(r.is_object()) << driver.output();
   EXPECT_EQ(*driver_code, 0) << driver.output();
   std::printf("browser: acknowledged %s: answer '%s'; handling '%s' -> '%s'; %s -> %s\n",

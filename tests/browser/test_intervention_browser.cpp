@@ -6,6 +6,7 @@
 // inside/improved and lever trust are the recorder's interventions.csv and intervention_outcomes.csv rows as the page
 // formats them; sim-0001's card has none; no console error. Screenshots in build/tests/browser/output. Private
 // loopback domain; about 45 s (the run is paced at 25 snapshots/s).
+#include "browser_driver.hpp"
 #include "closed_loop_run.hpp"
 #include "http_test_client.hpp"
 
@@ -32,28 +33,6 @@ int served_port(ServiceProcess& web) {
   std::smatch m;
   const std::string out = web.output();
   return std::regex_search(out, m, served) ? std::stoi(m[1]) : 0;
-}
-
-// playwright-core in the build folder (as the other browser tests install it: `npm ci` from the committed lock
-// file, which needs the network once); the driver script copied beside it.
-bool ensure_node_modules(const fs::path& dir, const fs::path& log) {
-  fs::create_directories(dir);
-  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "drive_interventions.mjs", dir / "drive_interventions.mjs",
-                fs::copy_options::overwrite_existing);
-  if (fs::exists(dir / "node_modules" / "playwright-core" / "package.json")) return true;
-  for (const char* f : {"package.json", "package-lock.json"}) {
-    fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / f, dir / f, fs::copy_options::overwrite_existing);
-  }
-  ServiceProcess npm("npm", {NPM_BIN, "ci", "--no-audit", "--no-fund", "--prefix", dir.string()}, log.string());
-  const auto code = npm.wait(240s);
-  return code && *code == 0 && fs::exists(dir / "node_modules" / "playwright-core" / "package.json");
-}
-
-json driver_result(const std::string& output) {
-  const auto at = output.rfind("RESULT ");
-  if (at == std::string::npos) return json();
-  const auto end = output.find('\n', at);
-  return json::parse(output.substr(at + 7, end == std::string::npos ? std::string::npos : end - at - 7), nullptr, false);
 }
 
 // The page's formats (intervention_panel.js): a signed percent with one decimal, trust with two.
@@ -108,7 +87,8 @@ TEST(InterventionBrowser, TheApprovedInterventionItsOutcomeAndLeverTrustShowOnTh
   const fs::path work = out_dir / "interventions";
   fs::remove_all(work);
   fs::create_directories(work);
-  ASSERT_TRUE(ensure_node_modules(node_dir, out_dir / "npm.log")) << "npm ci failed, see " << (out_dir / "npm.log");
+  ASSERT_TRUE(causal::test::ensure_node_modules(node_dir, "drive_interventions.mjs", out_dir / "npm.log"))
+      << "npm ci failed, see " << (out_dir / "npm.log");
   for (const char* name : {"twin_web_interventions.png", "twin_web_interventions_card.png"}) fs::remove(out_dir / name);
 
   causal::test::ClosedLoopRun run(work, causal::test::private_domain_id(39));
@@ -127,7 +107,7 @@ TEST(InterventionBrowser, TheApprovedInterventionItsOutcomeAndLeverTrustShowOnTh
                         (work / "drive_interventions.log").string());
   const auto driver_code = driver.wait(90s);
   ASSERT_TRUE(driver_code.has_value()) << driver.output();
-  const json r = driver_result(driver.output());
+  const json r = causal::test::driver_result(driver.output());
   ASSERT_TRUE(r.is_object()) << driver.output();
   EXPECT_EQ(*driver_code, 0) << driver.output();
   EXPECT_EQ(r["console_errors"].size(), 0u) << r["console_errors"].dump(1);

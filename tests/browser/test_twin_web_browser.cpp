@@ -7,6 +7,7 @@
 // Fixed DDS domain 90 (the web helper's range), loopback only.
 #include "dds_observer.hpp"
 #include "http_test_client.hpp"
+#include "browser_driver.hpp"
 #include "process_runner.hpp"
 
 #include "causal/io/feature_table.hpp"
@@ -43,29 +44,6 @@ int served_port(ServiceProcess& web, std::chrono::seconds timeout) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   return 0;
-}
-
-// playwright-core in the build folder: `npm ci` from the committed lock file when it is not there yet. The
-// driver script is copied beside it (node resolves packages from the script's folder upwards).
-bool ensure_node_modules(const fs::path& dir, const fs::path& log) {
-  fs::create_directories(dir);
-  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "drive_twin_web.mjs", dir / "drive_twin_web.mjs",
-                fs::copy_options::overwrite_existing);
-  if (fs::exists(dir / "node_modules" / "playwright-core" / "package.json")) return true;
-  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "package.json", dir / "package.json",
-                fs::copy_options::overwrite_existing);
-  fs::copy_file(fs::path(BROWSER_TEST_SOURCE_DIR) / "package-lock.json", dir / "package-lock.json",
-                fs::copy_options::overwrite_existing);
-  ServiceProcess npm("npm", {NPM_BIN, "ci", "--no-audit", "--no-fund", "--prefix", dir.string()}, log.string());
-  const auto code = npm.wait(std::chrono::seconds(240));
-  return code && *code == 0 && fs::exists(dir / "node_modules" / "playwright-core" / "package.json");
-}
-
-json driver_result(const std::string& output) {
-  const auto at = output.rfind("RESULT ");
-  if (at == std::string::npos) return json();
-  const auto end = output.find('\n', at);
-  return json::parse(output.substr(at + 7, end == std::string::npos ? std::string::npos : end - at - 7), nullptr, false);
 }
 
 std::string utc_minutes(std::int64_t ns) { return causal::io::format_utc(ns).substr(0, 16); }
@@ -182,7 +160,8 @@ TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
   const fs::path node_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "node";
   const fs::path out_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "output";
   fs::create_directories(out_dir);
-  ASSERT_TRUE(ensure_node_modules(node_dir, out_dir / "npm.log")) << "npm ci failed, see " << (out_dir / "npm.log");
+  ASSERT_TRUE(causal::test::ensure_node_modules(node_dir, "drive_twin_web.mjs", out_dir / "npm.log"))
+      << "npm ci failed, see " << (out_dir / "npm.log");
 
   const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
   const auto features = causal::io::read_feature_table(table, "_meanabs");
@@ -238,7 +217,7 @@ TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
 
   const auto driver_code = driver.wait(std::chrono::seconds(90));
   ASSERT_TRUE(driver_code.has_value()) << driver.output();
-  const json r = driver_result(driver.output());
+  const json r = causal::test::driver_result(driver.output());
   ASSERT_TRUE(r.is_object()) << driver.output();
   EXPECT_EQ(*driver_code, 0) << driver.output();
   std::printf("browser: points %d -> %d (snapshot %d -> %d), what-if %s in %d attempt(s), first alarm %s at "
