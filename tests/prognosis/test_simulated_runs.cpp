@@ -1,9 +1,11 @@
 // The prognosis as alarm-recommender runs it (alarm engine + channel trends) on simulated run-to-failure
 // channels with known crossing times (causal-prognosis-eval's simulator): the healthy channel gets no
 // prognosis, the wearing one does, and it is ahead of both anchors (Theil-Sen with bootstrap intervals,
-// random walk with drift) in point accuracy, and in coverage wherever an anchor's intervals are informative.
+// random walk with drift; and the conformal row) in point accuracy, and in coverage wherever an anchor's intervals
+// are informative.
 #include "prognosis_scoring.hpp"
 #include "prognosis_anchors.hpp"
+#include "prognosis_conformal.hpp"
 #include "run_to_failure_sim.hpp"
 
 #include <gtest/gtest.h>
@@ -98,4 +100,28 @@ TEST(SimulatedRuns, InverseGaussianFirstPassage) {
   EXPECT_NEAR(rw.hours, 0.5 / 0.05, 1.0);
   EXPECT_LT(rw.low, rw.hours);
   EXPECT_GT(rw.high, rw.hours);
+}
+
+// Conformal intervals on the channel's own level forecasts: on a straight line every past forecast at the mean
+// rate was exact, so the interval collapses on the exact crossing; a horizon longer than the record, or a level
+// that is not rising, is unknown.
+TEST(SimulatedRuns, ConformalOnAStraightLine) {
+  std::vector<double> t, y;
+  for (int i = 0; i <= 240; ++i) {
+    t.push_back(i / 6.0);          // 40 h at 10-min spacing
+    y.push_back(0.05 * t.back());  // 0.05 per hour, no noise
+  }
+  const ConformalLevel line(t, y);
+  const Prediction p = line.time_to(y.back() + 0.5, 0.9);
+  ASSERT_TRUE(p.known) << p.why;
+  EXPECT_NEAR(p.hours, 10.0, 1e-6);
+  EXPECT_NEAR(p.low, 10.0, 1e-6);
+  EXPECT_NEAR(p.high, 10.0, 1e-6);
+  const Prediction far = line.time_to(y.back() + 2.0, 0.9);  // 40 h ahead: no past errors that far
+  EXPECT_FALSE(far.known);
+  EXPECT_NE(far.why.find("horizons on record"), std::string::npos) << far.why;
+  EXPECT_TRUE(line.time_to(y.back() - 0.1, 0.9).reached);
+  std::vector<double> down(y.size());
+  for (std::size_t i = 0; i < y.size(); ++i) down[i] = -y[i];
+  EXPECT_FALSE(ConformalLevel(t, down).time_to(0.5, 0.9).known);
 }

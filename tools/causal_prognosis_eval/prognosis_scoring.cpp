@@ -1,5 +1,6 @@
 #include "prognosis_scoring.hpp"
 #include "prognosis_anchors.hpp"
+#include "prognosis_conformal.hpp"
 #include "run_to_failure_sim.hpp"
 #include "causal/prognosis/excess_growth.hpp"
 
@@ -65,7 +66,7 @@ std::array<std::int64_t, kLevels> median_crossings(const std::vector<std::int64_
 }
 
 const char* method_name(int method) {
-  static const char* const names[kMethods] = {"twin", "theil-sen", "rw-drift", "long-run"};
+  static const char* const names[kMethods] = {"twin", "theil-sen", "rw-drift", "long-run", "conformal"};
   return names[method];
 }
 
@@ -140,6 +141,7 @@ void PrognosisScorer::observe(const alarms::Observation& obs) {
   if (!any) return;
   const TheilSenBootstrap theil_sen(t, y, 200, 0x5EED0000ULL + obs.index);
   const DriftRandomWalk walk(t, y);
+  const ConformalLevel conformal(t, y);
   const double coverage = trends_.params().coverage;
   for (int l = 0; l < kLevels; ++l) {
     const auto i = static_cast<std::size_t>(l);
@@ -150,6 +152,7 @@ void PrognosisScorer::observe(const alarms::Observation& obs) {
     pred[1][i] = theil_sen.time_to(log_ratio, coverage);
     pred[2][i] = walk.time_to(log_ratio, coverage);
     pred[3][i] = from(prognosis::excess_growth_time_to(t, y, base.log_scale[channel_], log_ratio, trends_.params()));
+    pred[4][i] = conformal.time_to(log_ratio, coverage);
     std::string line = std::to_string(obs.index) + " " + prognosis::to_string(kAll[l]);
     char buf[200];
     std::snprintf(buf, sizeof buf, " actual=%.2f", actual);

@@ -50,8 +50,9 @@ struct LevelScore {
   void merge(const LevelScore& o);
 };
 
-// twin, Theil-Sen with bootstrap, random walk with drift, and the twin's long-run model alone (excess_growth.hpp)
-inline constexpr int kMethods = 4;
+// twin, Theil-Sen with bootstrap, random walk with drift, the twin's long-run model alone (excess_growth.hpp),
+// and conformal intervals on the channel's own level forecasts (prognosis_conformal.hpp)
+inline constexpr int kMethods = 5;
 const char* method_name(int method);
 
 struct MethodScores {
