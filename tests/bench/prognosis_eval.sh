@@ -8,7 +8,8 @@
 #   2. simulated run-to-failure channels with known crossing times (accelerating wear, recording gaps, level
 #      steps, Gaussian and uniform noise, spikes), SEEDS seeds per noise kind: seeds 1.. (the ones the
 #      parameters were chosen on) and 101.. (held out).
-# Usage: tests/bench/prognosis_eval.sh [BUILD_DIR] [SEEDS]   (defaults: build, 20). Prints the tables.
+# Usage: tests/bench/prognosis_eval.sh [BUILD_DIR] [SEEDS]   (defaults: build, 20). Prints the tables (also the
+# long-run and conformal rows; what a choice among them could reach: tests/bench/prognosis_trace_bounds.py).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="${1:-$root/build}"
