@@ -7,18 +7,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <ctime>
-#include <filesystem>
-#include <fstream>
-#include <iomanip>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/prognosis/alarm_prognosis.hpp"
+#include "ims_variants.hpp"
+#include "ims_variants_unseen.hpp"
 
 namespace causal::prognosis {
 namespace {
@@ -58,59 +56,57 @@ Severity open_severity(const AlarmEngine& engine, int channel) {
   return s;
 }
 
-// IMS test 2 (deploy/data/ims2-features): time of each row (UTC) and the 4 bearings' levels.
-bool read_ims2(std::vector<std::int64_t>& time_ns, std::vector<std::vector<double>>& level) {
-  std::ifstream in(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/merged_dataset_BearingTest_2.csv");
-  std::string line;
-  if (!std::getline(in, line)) return false;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string cell;
-    std::getline(row, cell, ',');
-    std::tm tm{};
-    std::istringstream(cell) >> std::get_time(&tm, "%Y-%m-%d %H:%M:%S");
-    time_ns.push_back(static_cast<std::int64_t>(timegm(&tm)) * 1'000'000'000LL);
-    level.emplace_back();
-    while (std::getline(row, cell, ',')) level.back().push_back(std::stod(cell));
-  }
-  return !level.empty();
-}
-
-}  // namespace
-
-// The same on the recorded IMS run to failure, every channel, as the services feed it (gaps flagged as the
-// evaluation tool flags them): a forecast never says "reached" while the alarm has not escalated to that level,
-// and the alarm never escalates where the forecast says not reached. Bearing 1 reaches warning and critical.
-TEST(AlarmLevelEvent, ImsTest2ForecastAndAlarmAgreeOnEveryRow) {
-  std::vector<std::int64_t> time_ns;
-  std::vector<std::vector<double>> level;
-  ASSERT_TRUE(read_ims2(time_ns, level));
-  const AlarmParams params;
-  AlarmEngine engine("ims2", {"b1", "b2", "b3", "b4"}, {}, params);
-  ChannelTrends trends(4, PrognosisParams{});
-  int checked = 0, reached[2] = {0, 0};
-  for (std::size_t t = 0; t < level.size(); ++t) {
+// Runs engine and trends over a table as the services feed them (a time gap the engine sees is a discontinuity
+// for the trends, as in the evaluation tool) and checks at every row, for every channel's open prognoses, that the
+// forecast says "reached" exactly when the engine's level event did and the alarm's severity is at that level.
+// Returns the rows at which channel 0's forecast said warning / critical reached.
+std::array<int, 2> check_one_event(const testing::Variant& v) {
+  const auto g = static_cast<int>(v.values.cols());
+  std::vector<std::string> names(v.channel_names.begin(), v.channel_names.end());
+  AlarmEngine engine(v.name, names, {}, AlarmParams{});
+  ChannelTrends trends(g, PrognosisParams{});
+  std::array<int, 2> reached{0, 0};
+  int checked = 0;
+  for (Eigen::Index t = 0; t < v.values.rows(); ++t) {
     Observation obs;
-    obs.index = t;
-    obs.time_ns = time_ns[t];
-    obs.features = Eigen::Map<const Eigen::VectorXd>(level[t].data(), 4);
+    obs.index = static_cast<std::uint64_t>(t);
+    obs.time_ns = v.time_ns[static_cast<std::size_t>(t)];
+    obs.features = v.values.row(t).transpose();
     const auto gaps_before = engine.discontinuities();
     engine.observe(obs);
     observe_for_prognosis(trends, engine, obs, engine.discontinuities() > gaps_before);
     for (const auto& p : open_alarm_prognoses(trends, engine, obs.index)) {
       ++checked;
-      ASSERT_EQ(p.time.reached, engine.level_reached(p.channel, p.ratio)) << "row " << t << " channel " << p.channel;
+      EXPECT_EQ(p.time.reached, engine.level_reached(p.channel, p.ratio))
+          << v.name << " row " << t << " channel " << p.channel;
       const int l = static_cast<int>(p.level);
       if (l == 2) continue;
       const Severity sev = open_severity(engine, p.channel);
-      const bool alarm_at_level = static_cast<int>(sev) >= static_cast<int>(l == 0 ? Severity::Warning : Severity::Critical);
-      EXPECT_EQ(p.time.reached, alarm_at_level) << "row " << t << " channel " << p.channel << " level " << l;
-      if (p.channel == 0 && p.time.reached) ++reached[l];
+      const bool alarm_at_level =
+          static_cast<int>(sev) >= static_cast<int>(l == 0 ? Severity::Warning : Severity::Critical);
+      EXPECT_EQ(p.time.reached, alarm_at_level) << v.name << " row " << t << " channel " << p.channel << " level " << l;
+      if (p.channel == 0 && p.time.reached) ++reached[static_cast<std::size_t>(l)];
     }
   }
-  EXPECT_GT(checked, 1000);
+  EXPECT_GT(checked, 100) << v.name;
+  return reached;
+}
+
+}  // namespace
+
+// The same on the recorded IMS run to failure and three unseen variants of it (tests/support/ims_variants.hpp),
+// every channel and row: a forecast never says "reached" while the alarm has not escalated to that level, and
+// the alarm never escalates where the forecast says not reached. IMS bearing 1 reaches warning and critical.
+TEST(AlarmLevelEvent, ImsTest2ForecastAndAlarmAgreeOnEveryRow) {
+  const auto base = testing::read_base_run(std::string(CAUSAL_TWIN_DEPLOY_DIR) +
+                                           "/data/ims2-features/merged_dataset_BearingTest_2.csv");
+  const auto reached = check_one_event(testing::make_unchanged_variant(base));
   EXPECT_GT(reached[0], 0) << "bearing 1 never reached warning";
   EXPECT_GT(reached[1], 0) << "bearing 1 never reached critical";
+  // Unseen shapes of the same run: recording gaps with re-levels, two sensors per bearing, a re-levelled failure.
+  check_one_event(testing::make_gaps_variant(base, 1));
+  check_one_event(testing::make_eight_channel_variant(base, 1));
+  check_one_event(testing::make_relevelled_failure_variant(base, 1));
 }
 
 TEST(AlarmLevelEvent, ForecastReachedExactlyWhenTheAlarmEscalated) {
