@@ -10,13 +10,13 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double quantile(std::vector<double> v, double p) {
-  std::sort(v.begin(), v.end());
-  // the conformal rank: ceil((n + 1) p)-th smallest, clamped (a finite-sample valid upper quantile)
-  const double n = static_cast<double>(v.size());
+// The conformal rank of p in sorted errors: the ceil((n + 1) p)-th smallest, clamped (a finite-sample valid
+// upper quantile).
+double quantile(const std::vector<double>& sorted, double p) {
+  const double n = static_cast<double>(sorted.size());
   auto k = static_cast<std::ptrdiff_t>(std::ceil((n + 1.0) * p)) - 1;
-  k = std::clamp<std::ptrdiff_t>(k, 0, static_cast<std::ptrdiff_t>(v.size()) - 1);
-  return v[static_cast<std::size_t>(k)];
+  k = std::clamp<std::ptrdiff_t>(k, 0, static_cast<std::ptrdiff_t>(sorted.size()) - 1);
+  return sorted[static_cast<std::size_t>(k)];
 }
 
 }  // namespace
@@ -73,11 +73,13 @@ Prediction ConformalLevel::time_to(double log_ratio, double coverage) const {
   const double a = 0.5 * (1.0 - coverage);
   double prev_lo = m, prev_mid = m, prev_hi = m;
   bool have_low = false, have_mid = false;
+  std::vector<double> err;
   for (std::size_t h = 1; h < n; ++h) {
-    std::vector<double> err;
+    err.clear();
     for (std::size_t k = 1; k + h < n; ++k)
       err.push_back(median_[k + h] - (median_[k] + rate_[k] * (time_[k + h] - time_[k])));
     if (err.size() < static_cast<std::size_t>(min_errors_)) break;
+    std::sort(err.begin(), err.end());
     const double base = m + v * static_cast<double>(h);
     const double lo = base + quantile(err, a), mid = base + quantile(err, 0.5), hi = base + quantile(err, 1.0 - a);
     auto cross = [&](double before, double after) {  // linear in the hour between the bands
