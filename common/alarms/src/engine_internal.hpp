@@ -52,6 +52,14 @@ struct SignalMonitor {
   std::vector<double> warmup;
   double healthy_top = kNaN;
   int range_left = 0;            // observations in which the range still learns (healthy_range_observations)
+  // The range the channel's level came back from while healthy (its wander over days), as log ratios over the
+  // location (like healthy_top): wander_top = the highest excursion it returned from, excursion_peak = the highest
+  // level of the excursion under way (update_step_run). A degradation does not return, so it is never learned.
+  double wander_top = kNaN;
+  double excursion_peak = kNaN;
+  int excursion_above = 0;       // its observations at or above the size floor (advisory_ratio)
+  double excursion_last = kNaN;  // the level's log ratio at the previous observation
+  int excursion_jumped = 0;      // 1: the level rose by the size floor in one observation (a step, not learned)
   double standardize(double v) const { return (v - stats.location) / stats.scale; }
   // Log ratio of the current level (median of the level window) over the current / the lower of the
   // current and reference locations (escalation). NaN without a level.
