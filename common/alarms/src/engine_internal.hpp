@@ -295,6 +295,8 @@ struct AlarmEngine::Impl {
   // NaN for the others. Confidence that `root` is the root cause (see AlarmParams::root_cause_margin_z).
   std::vector<double> departed_evidence() const;
   double attribution_confidence(int root, const std::vector<double>& evidence) const;
+  // The runner-up of attribution_confidence: the rival with the largest evidence (-1: none).
+  int attribution_rival(int root, const std::vector<double>& evidence) const;
   // Re-evaluates the root cause of channel c's active alarm in `slot`; returns a reason text when the
   // verdict changed (empty otherwise).
   std::string reevaluate_root(int c, detail::AlarmSlot& slot, const std::vector<double>& evidence);
