@@ -57,9 +57,11 @@ int RecommenderNode::run() {
   spdlog::info("alarm-recommender on domain {}, waiting for causal factors", participant_.domain_id());
   if (const int rc = wait_for_readers(); rc != 0) return rc;
   restore_checkpoints();
-  std::vector<AssembledObservation> ready;
-  const auto poll = [&] {
-    ready.clear();
+  // ready: being judged; later: taken meanwhile (judged by the next poll, so what-if requests and alarm
+  // actions are still answered between batches).
+  std::vector<AssembledObservation> ready, later;
+  // Everything the readers hold is taken into the assembler, whose observations become `into` (appended).
+  const auto take = [&](std::vector<AssembledObservation>& into) {
     std::size_t n = interventions_.take();  // before the data: an approval is frozen at its start's eve
     n += conditions_.take_all([&](const causal_twin::ConditionVector& c, const auto&) {
       if (!dds::validate_condition_vector(c).empty()) {
@@ -67,7 +69,7 @@ int RecommenderNode::run() {
         return;
       }
       ++conditions_received_;
-      assembler_.add_condition(c.asset_group(), c.feature(), c.time_ns(), dds::values_of(c), c.discontinuity(), ready);
+      assembler_.add_condition(c.asset_group(), c.feature(), c.time_ns(), dds::values_of(c), c.discontinuity(), into);
     });
     n += factors_.take_all_and_states([&](const causal_twin::CausalFactorBatch& f, const auto& info) {
       // Condition-level factors carry the snapshot index (the health alarm's id names the last one).
@@ -86,9 +88,15 @@ int RecommenderNode::run() {
         order_trust_[f.asset_group()] = OrderTrust{f.order_confidence(), f.order_source()};
       }
       // One outcome at a time: the assembler also takes partial batches and keeps its per-index checks.
-      for (const auto& m : dds::from_causal_factor_batch(f)) assembler_.add_factors(m, ready);
+      for (const auto& m : dds::from_causal_factor_batch(f)) assembler_.add_factors(m, into);
     }, [this](const auto& info) { health_.on_state(info); }, loop_.stop_flag());
-    handle(ready);
+    return n;
+  };
+  const auto poll = [&] {
+    std::size_t n = take(later);
+    ready.swap(later);
+    later.clear();
+    handle(ready, [&] { n += take(later); });
     publish_health();
     n += take_whatif_requests();
     n += poll_alarm_actions();
@@ -99,9 +107,8 @@ int RecommenderNode::run() {
                              [this] { return factors_.matched_writers() + conditions_.matched_writers(); });
   if (end == dds::RunEnd::Idle) spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
-  ready.clear();
-  assembler_.flush(ready);
-  handle(ready);
+  assembler_.flush(later);
+  handle(later, [] {});
   interventions_.finish();
   store_.flush();
   for (const auto& [key, st] : engines_) {
@@ -168,8 +175,14 @@ void RecommenderNode::publish_health() {
   for (auto& alarm : health_.take_alarms()) publish_health_alarm(alarm);
 }
 
-void RecommenderNode::handle(std::vector<AssembledObservation>& ready) {
-  for (auto& a : ready) observe(a);
+void RecommenderNode::handle(std::vector<AssembledObservation>& ready, const std::function<void()>& take_more) {
+  // The readers are emptied after every observation, so a slow one (an alarm's what-if draws at a wide group)
+  // never leaves the writers blocked on full reader histories (64 samples per group): the estimator's output
+  // then waits at most its bounded drain at exit, and what it sent is kept here (the assembler) until judged.
+  for (auto& a : ready) {
+    observe(a);
+    take_more();
+  }
 }
 
 void RecommenderNode::observe(AssembledObservation& a) {

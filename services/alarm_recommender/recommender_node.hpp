@@ -21,6 +21,7 @@
 #include "causal/dds/writer_grant_check.hpp"
 #include "causal_twinPubSubTypes.h"
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -58,7 +59,8 @@ class RecommenderNode {
     std::uint64_t raised = 0;
     bool unverified = false;  // restored at start from its checkpoint: the stream's names are not compared yet
   };
-  void handle(std::vector<AssembledObservation>& ready);
+  // Judges `ready` in order; after each observation take_more() takes what the readers got meanwhile.
+  void handle(std::vector<AssembledObservation>& ready, const std::function<void()>& take_more);
   void observe(AssembledObservation& a);
   // action: the decision's action for a degradation event (Alarm.action), "" otherwise; condition-level
   // degradation events also carry the time to the next level (fill_next_level).

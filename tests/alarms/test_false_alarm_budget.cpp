@@ -216,12 +216,15 @@ TEST(FalseAlarmBudget, SlowWanderAndShortExcursions) {
         baseline_alarmed += s.baseline_false_channels;
       }
       std::printf("| %d | %.1f | %s | 6 per run | %s | %d | %.3f | %d of %d | %d of %d | %.3f |\n", g, months,
-                  wander > 0.0 ? "+-10 %" : "none", range < 0 ? "warm-up + baseline (shipped)" : "3 days (432)", raises, raises / (months * g), channels_alarmed, g * 3,
+                  wander > 0.0 ? "+-10 %" : "none", range < 0 ? "warm-up + baseline + returned wander (shipped)" : "the same + 3 days (432)", raises, raises / (months * g), channels_alarmed, g * 3,
                   baseline_alarmed, g * 3, baseline_alarmed / (months * g));
       if (wander == 0.0) {
         EXPECT_LE(raises / (months * g), 0.05) << g << " channels: short excursions within the budget";
-      } else {  // known limit (docs/alarm-rules.md, section 9): a +-10 % wander crosses the +8 % floor
+      } else {  // known limit (docs/alarm-rules.md, section 9): a +-10 % wander's first crests cross the +8 % floor
         EXPECT_LE(channels_alarmed, baseline_alarmed) << g << " channels";
+        // The wander a channel came back from is learned (SignalMonitor::wander_top): measured 2.667 (4 channels)
+        // and 1.708 (8) per channel-month, from 3.667 and 2.958 without it; the bound pins the gain.
+        if (range < 0) EXPECT_LT(raises / (months * g), 3.0) << g << " channels";
       }
     }
   }

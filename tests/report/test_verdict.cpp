@@ -125,3 +125,23 @@ TEST(Verdict, PrognosisOfTheRootCausesNextLevelFromItsLatestSnapshot) {
   critical[0].severity = Severity::Critical;
   EXPECT_EQ(verdict_of("g", critical, {}, prognoses).prognosis, "");
 }
+
+// A low root-cause confidence is explained under the verdict line with the rival the alarm's reason names
+// (common/alarms/src/alarm_explain.cpp); a confident one adds nothing.
+TEST(Verdict, LowRootCauseConfidenceShowsItsRival) {
+  AlarmRecord low = row("g/2/feature_drift/1", "escalated", Severity::Critical, 9, "degradation", "B1 C2", "B1 C2", 970);
+  low.root_cause_confidence = 0.0;
+  low.reason = "Escalated to critical. Root cause: B1 C2 itself. Attribution confidence 0.00: B1 C5, whose trouble "
+               "began no later, shows more own-change evidence now (z = 5.1 against -0.1): the root may be either. "
+               "Factors that moved: x2_1.";
+  const AssetVerdict v = verdict_of("g", {low}, {});
+  EXPECT_EQ(v.root_cause, "B1 C2 (confidence 0.00)");
+  EXPECT_EQ(v.root_cause_note, "Attribution confidence 0.00: B1 C5, whose trouble began no later, shows more "
+                               "own-change evidence now (z = 5.1 against -0.1)");
+  EXPECT_NE(verdict_table({v}).find("  root cause: Attribution confidence 0.00: B1 C5"), std::string::npos);
+  AlarmRecord sure = low;
+  sure.root_cause_confidence = 1.0;
+  sure.reason = "Escalated to critical. Root cause: B1 C2 itself.";
+  EXPECT_EQ(verdict_of("g", {sure}, {}).root_cause_note, "");
+  EXPECT_EQ(verdict_table({verdict_of("g", {sure}, {})}).find("root cause:"), std::string::npos);
+}

@@ -146,6 +146,11 @@ AssetVerdict verdict_of(const std::string& asset, const std::vector<AlarmRecord>
       char buf[32];
       std::snprintf(buf, sizeof buf, " (confidence %.2f)", *worst->root_cause_confidence);
       v.root_cause += buf;
+      // A low confidence names its rival in the alarm's reason (alarm_explain.cpp): shown under the line.
+      if (const auto at = worst->reason.find("Attribution confidence "); at != std::string::npos) {
+        const auto end = worst->reason.find(": the root may be either.", at);
+        v.root_cause_note = worst->reason.substr(at, end == std::string::npos ? std::string::npos : end - at);
+      }
     }
     if (!worst->root_cause_name.empty()) {
       v.prognosis = next_level_prognosis(prognoses, worst->root_cause_name, worst->severity);
@@ -204,6 +209,7 @@ std::string verdict_table(const std::vector<AssetVerdict>& verdicts) {
   for (const auto& v : verdicts) {
     out << pad(v.asset, w_asset) << "  " << pad(v.status, w_status) << "  " << pad(v.first_alarm, w_first) << "  "
         << v.root_cause << "\n";
+    if (!v.root_cause_note.empty()) out << "  root cause: " << v.root_cause_note << ": the root may be either\n";
     out << "  advice: " << v.top_recommendation << "\n";
     if (!v.prognosis.empty()) out << "  prognosis: " << v.prognosis << "\n";
     if (!v.events.empty()) out << "  also: " << v.events << " (not faults of the machine)\n";

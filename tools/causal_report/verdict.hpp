@@ -50,6 +50,7 @@ struct AssetVerdict {
   std::string status;              // CRITICAL, WARNING, ADVISORY, recovered, healthy
   std::string first_alarm;         // "2004-02-16 03:22:39 bearing1 feature_drift (index 533)" or "-"
   std::string root_cause;          // "bearing1 (confidence 0.93)" or "-"
+  std::string root_cause_note;     // why a low confidence is low (the alarm reason's "Attribution confidence ..."), or ""
   std::string top_recommendation;  // one line, or "-": the latest action (at its alarm event's index) when the
                                    // recording has actions, else the best rank-1 text
   std::string events;              // "2 operating changes, 1 data quality" or ""

@@ -80,6 +80,16 @@ std::string AlarmEngine::Impl::reason(int c, int kind, AlarmState state, int roo
          << ") and no channel's own behaviour changed before it";
     if (root != c) os << "; " << name << " follows it through the causal links";
     os << ".";
+    // A low confidence says who else could be the root (alarm_attribution.cpp): a channel whose trouble began
+    // no later, with more own-change evidence now (e.g. another sensor of the same bearing).
+    const auto evidence = departed_evidence();
+    const int rival = slot.root_confidence < 0.5 ? attribution_rival(root, evidence) : -1;
+    if (rival >= 0)
+      os << " Attribution confidence " << fixed(slot.root_confidence, 2) << ": "
+         << names[static_cast<std::size_t>(rival)] << ", whose trouble began no later, shows more own-change "
+         << "evidence now (z = " << fixed(evidence[static_cast<std::size_t>(rival)], 1) << " against "
+         << fixed(std::isfinite(evidence[static_cast<std::size_t>(root)]) ? evidence[static_cast<std::size_t>(root)] : 0.0, 1)
+         << "): the root may be either.";
   }
 
   const auto factors = explain_factors(c, root);

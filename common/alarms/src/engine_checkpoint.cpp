@@ -47,6 +47,11 @@ void signal_fields(Io io, S& s) {
   io(s.warmup);
   io(s.healthy_top);
   io(s.range_left);
+  io(s.wander_top);
+  io(s.excursion_peak);
+  io(s.excursion_above);
+  io(s.excursion_last);
+  io(s.excursion_jumped);
 }
 
 template <class Io, class F>
@@ -130,12 +135,12 @@ std::size_t read_count(causal::StateReader& in, std::size_t expected, const char
 }  // namespace
 
 void save(causal::StateWriter& out, const SignalMonitor& s) {
-  out.begin("signal_monitor", 3);
+  out.begin("signal_monitor", 4);
   signal_fields(SaveFields{out}, s);
 }
 
 void restore(causal::StateReader& in, SignalMonitor& s) {
-  in.expect("signal_monitor", 3);
+  in.expect("signal_monitor", 4);
   signal_fields(RestoreFields{in}, s);
 }
 

@@ -52,6 +52,14 @@ struct SignalMonitor {
   std::vector<double> warmup;
   double healthy_top = kNaN;
   int range_left = 0;            // observations in which the range still learns (healthy_range_observations)
+  // The range the channel's level came back from while healthy (its wander over days), as log ratios over the
+  // location (like healthy_top): wander_top = the highest excursion it returned from, excursion_peak = the highest
+  // level of the excursion under way (update_step_run). A degradation does not return, so it is never learned.
+  double wander_top = kNaN;
+  double excursion_peak = kNaN;
+  int excursion_above = 0;       // its observations at or above the size floor (advisory_ratio)
+  double excursion_last = kNaN;  // the level's log ratio at the previous observation
+  int excursion_jumped = 0;      // 1: the level rose by the size floor in one observation (a step, not learned)
   double standardize(double v) const { return (v - stats.location) / stats.scale; }
   // Log ratio of the current level (median of the level window) over the current / the lower of the
   // current and reference locations (escalation). NaN without a level.
@@ -287,6 +295,8 @@ struct AlarmEngine::Impl {
   // NaN for the others. Confidence that `root` is the root cause (see AlarmParams::root_cause_margin_z).
   std::vector<double> departed_evidence() const;
   double attribution_confidence(int root, const std::vector<double>& evidence) const;
+  // The runner-up of attribution_confidence: the rival with the largest evidence (-1: none).
+  int attribution_rival(int root, const std::vector<double>& evidence) const;
   // Re-evaluates the root cause of channel c's active alarm in `slot`; returns a reason text when the
   // verdict changed (empty otherwise).
   std::string reevaluate_root(int c, detail::AlarmSlot& slot, const std::vector<double>& evidence);

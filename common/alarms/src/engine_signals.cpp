@@ -32,6 +32,43 @@ void update_signal(SignalMonitor& s, double v, const AlarmParams& p, const Obser
   s.stats.location = std::clamp(s.stats.location + step, s.anchor_location - room, s.anchor_location + room);
 }
 
+// The wander range (SignalMonitor::wander_top): an excursion of the level over the location is learned when
+// the level has come back to at most half of it (a wander returns; a degradation is monotone and persistent and
+// never does) while the channel has no alarm beyond advisory, and when it rose gradually: a level that jumped by
+// the size floor from one observation to the next is a step (an intermittent fault, a change of load), not a
+// wander over days, and a recurrence of it must still alarm. Returns the level's log ratio over the location
+// (NaN without a level).
+double learn_wander(ChannelState& cs, const AlarmParams& p) {
+  auto& f = cs.feature;
+  const double rr = p.feature_log_transform ? f.level_log_ratio() : kNaN;
+  if (!std::isfinite(rr)) {
+    f.excursion_peak = kNaN;  // a new level window (re-baseline): a new excursion
+    f.excursion_above = 0;
+    f.excursion_last = kNaN;
+    f.excursion_jumped = 0;
+    return rr;
+  }
+  if (std::isfinite(f.excursion_last) && rr - f.excursion_last >= std::log(p.advisory_ratio)) f.excursion_jumped = 1;
+  f.excursion_last = rr;
+  f.excursion_peak = std::isfinite(f.excursion_peak) ? std::max(f.excursion_peak, rr) : rr;
+  if (rr >= std::log(p.advisory_ratio)) ++f.excursion_above;
+  const bool escalated = std::any_of(cs.slots.begin(), cs.slots.end(),
+                                     [](const AlarmSlot& a) { return a.latch.active() && a.severity != Severity::Advisory; });
+  if (!escalated && rr <= 0.5 * f.excursion_peak && f.excursion_above >= p.baseline_observations && !f.excursion_jumped) {
+    // Capped like the healthy range (max_absorbed_ratio / sqrt(advisory_ratio)). A rise that the widened floor
+    // lets reach a step's size is not absorbed as a level step (confirm_step leaves it to the detectors).
+    const double cap = std::log(p.max_absorbed_ratio) - 0.5 * std::log(p.advisory_ratio);
+    const double top = std::min(f.excursion_peak, cap);
+    f.wander_top = std::isfinite(f.wander_top) ? std::max(f.wander_top, top) : top;
+  }
+  if (!escalated && rr <= 0.5 * f.excursion_peak) {  // back: a new excursion
+    f.excursion_peak = rr;
+    f.excursion_above = 0;
+    f.excursion_jumped = 0;
+  }
+  return rr;
+}
+
 void update_step_run(ChannelState& cs, const AlarmParams& p) {
   auto& f = cs.feature;
   if (!std::isfinite(f.last_z)) return;
@@ -43,10 +80,13 @@ void update_step_run(ChannelState& cs, const AlarmParams& p) {
     if (!cs.any_active() && std::isfinite(r) && std::isfinite(f.healthy_top))
       f.healthy_top = std::max(f.healthy_top, std::min(r, std::log(p.max_absorbed_ratio) - 0.5 * std::log(p.advisory_ratio)));
   }
+  const double half_floor = 0.5 * std::log(p.advisory_ratio);
+  const double rr = learn_wander(cs, p);
   // The size floor: at least advisory_ratio over the baseline AND half the floor above the healthy range's top
   // (a level the channel already showed while healthy is no degradation, however it compares with a baseline
-  // learned in a low stretch).
-  const bool above_range = !std::isfinite(f.healthy_top) || r >= f.healthy_top + 0.5 * std::log(p.advisory_ratio);
+  // learned in a low stretch) AND half the floor above the top of the wander it came back from.
+  const bool above_range = (!std::isfinite(f.healthy_top) || r >= f.healthy_top + half_floor) &&
+                           (!std::isfinite(f.wander_top) || !std::isfinite(rr) || rr >= f.wander_top + half_floor);
   cs.size_run = std::isfinite(r) && r >= std::log(p.advisory_ratio) && above_range ? cs.size_run + 1 : 0;
   if (p.feature_log_transform && f.last_z * f.stats.scale >= std::log(p.operating_step_ratio)) {
     ++cs.excursion_obs;

@@ -255,6 +255,9 @@ void AlarmEngine::Impl::confirm_step(const Observation& obs, const std::vector<d
       const double over_reference = new_loc - cs.feature.reference_location;
       const bool absorbable = machine_wide || over_reference <= std::log(p.max_absorbed_ratio);
       if ((!settled || !absorbable) && c != confirm.step_channel) continue;
+      // A range widened by a returned wander (wander_top) lifts the floor past a step's size: a slow rise would
+      // be absorbed here before it may alarm. Left to its detectors unless the machine moved (alarm-rules.md 9).
+      if (settled && !machine_wide && std::isfinite(cs.feature.wander_top)) continue;
       if (!settled || !absorbable) {  // the alarm the step would have raised, raised now with its onset
         raise_unconfirmed_step(
             c, obs,

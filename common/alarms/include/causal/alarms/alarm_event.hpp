@@ -58,9 +58,9 @@ struct AlarmEvent {
   double score = 0.0;              // detector statistic (CUSUM S, window-mean NIS, max |z| of factors)
   double threshold = 0.0;          // the raise threshold it is compared with
   std::string reason;              // plain-language explanation with numbers and UTC times
-  // Confidence of the root-cause attribution in [0, 1] (AlarmParams::root_cause_margin_z): the
-  // probability that the named root's own-change evidence truly exceeds the runner-up's; 1 when no
-  // other channel has departed, 0 when the root is unknown.
+  // Confidence of the root-cause attribution in [0, 1]: the probability that the named root's own-change
+  // evidence truly exceeds the runner-up's among the channels whose trouble began no later than the root's
+  // (within onset_tolerance); 1 when no such channel has departed, 0 when the root is unknown.
   double root_cause_confidence = 0.0;
 };
 
