@@ -299,7 +299,7 @@ echo "targets: live_efficiency $E >= 0.5 $(met "$E >= 0.5"); cpu_per_frame_us $C
 if ! awk "BEGIN { exit !($CPU_US <= 1.5 * $K_US) }"; then
   echo "missed: cpu_per_frame_us $(by "$CPU_US" "$(awk -v k="$K_US" 'BEGIN { print 1.5 * k }')") over 1.5 x kernel:" \
     "the frame's way in (shared-memory copy, decode for the key, conversion) costs the reader only ~15-35 us per" \
-    "frame in isolation (tests/bench/causal_bench_frame_layouts), so no frame layout closes the gap (32-bit samples" \
+    "frame in isolation (tests/bench/bench_frame_layouts.cpp), so no frame layout closes the gap (32-bit samples" \
     "or data sharing save <= ~10 us of it; data sharing also needs unkeyed types, no DDS-Security, and lost frames" \
     "there); what remains is the estimator's own work beside the kernel: two reliable writes per frame (filter and" \
     "fixed-lag batches: one message needs an IDL change), start-up in the figure (participant, noise tuning), the" \

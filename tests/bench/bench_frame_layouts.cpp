@@ -278,19 +278,23 @@ bool run_named(const Options& o, const std::string& layout, int round) {
   return run_layout<b::SharedVibrationFrameF32PubSubType>(o, layout, round, shared);
 }
 
-[[noreturn]] void usage(const char* argv0) {
-  std::fprintf(stderr, "usage: %s [--layouts double,float32,bounded,bounded-float32,shared,shared-float32] "
+[[noreturn]] void usage(const char* argv0, int code = 2) {
+  std::fprintf(code == 0 ? stdout : stderr, "usage: %s [--layouts double,float32,bounded,bounded-float32,shared,shared-float32] "
                        "[--rounds R] [--groups K] "
                        "[--frames-per-group F] [--channels G] [--frame-samples N] [--domain D] [--qos FILE] "
                        "[--transport FILE]\n", argv0);
-  std::exit(2);
+  std::exit(code);
 }
 
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (i + 1 >= argc) usage(argv[0]);
+    if (a == "-h" || a == "--help") usage(argv[0], 0);
+    if (i + 1 >= argc) {
+      std::fprintf(stderr, "%s needs a value\n", a.c_str());
+      usage(argv[0]);
+    }
     const std::string v = argv[++i];
     if (a == "--layouts") {
       o.layouts.clear();
@@ -310,7 +314,10 @@ Options parse(int argc, char** argv) {
     else if (a == "--domain") o.domain = std::atoi(v.c_str());
     else if (a == "--qos") o.qos = v;
     else if (a == "--transport") o.transport = v;
-    else usage(argv[0]);
+    else {
+      std::fprintf(stderr, "unknown option %s\n", a.c_str());
+      usage(argv[0]);
+    }
   }
   if (o.rounds < 1 || o.groups < 1 || o.groups > 16 || o.frames_per_group < 1 || o.channels < 1 ||
       o.channels > 64 || o.frame_samples < 1 || o.channels * o.frame_samples > 8192 || o.layouts.empty()) {
