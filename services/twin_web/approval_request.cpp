@@ -120,7 +120,21 @@ PlannedApproval plan_approval(const ApprovalAsk& ask, const std::optional<GroupS
     p.why = a.why;
     return p;
   }
-  p.intervention = a.intervention;
+  // The plant refuses a change that overlaps another on the same channel (it would not be the do-operation the twin
+  // predicted): refused here first, naming the earlier approval.
+  const auto& iv = a.intervention;
+  for (const auto& [id, view] : group->interventions) {
+    if (!view.approval || view.approval->channel() != iv.channel()) continue;
+    const std::uint64_t s0 = view.approval->start_snapshot_index(), n0 = view.approval->duration_snapshots();
+    if (iv.start_snapshot_index() < s0 + n0 && s0 < iv.start_snapshot_index() + iv.duration_snapshots()) {
+      p.status = 409;
+      p.already = id;
+      p.why = "the change would overlap approval " + id + " on the same channel (snapshots " + std::to_string(s0) +
+              ".." + std::to_string(s0 + n0 - 1) + ")";
+      return p;
+    }
+  }
+  p.intervention = iv;
   return p;
 }
 

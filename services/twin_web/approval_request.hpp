@@ -50,7 +50,8 @@ class SourceClock {
 // The intervention for approving `ask` in `group` (the state twin-web holds of it): found among the group's
 // recommendations, not yet approved, and starting `lead` snapshots after the plant's latest snapshot (the source's
 // clock, else the estimator's latest condition vector, else the recommendation's own index). `status` is the
-// HTTP answer when it is not approvable (404 unknown, 409 not a lever or already approved), with `why`.
+// HTTP answer when it is not approvable (404 unknown, 409 not a lever, already approved or overlapping an approved
+// change of the same channel), with `why`.
 struct PlannedApproval {
   int status = 200;
   std::string why;

@@ -46,6 +46,7 @@ void WebServer::approve_route() {
       send(res, 400, {{"answered", false}, {"error", problem}});
       return;
     }
+    if (!ask.act.duration && options_.approval_duration > 0) ask.act.duration = options_.approval_duration;
     const PlannedApproval plan = plan_approval(ask, state_.group(ask.act.asset_group),
                                                clock_->latest(ask.act.asset_group), options_.approval_lead,
                                                wall_clock_ns());

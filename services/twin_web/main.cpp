@@ -53,6 +53,11 @@ int main(int argc, char** argv) {
                  "causal-approve --lead)")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
+  app.add_option("--approval-duration", o.web.approval_duration,
+                 "the approve button: snapshots an approved change is held for (as causal-approve --duration; 0: the\n"
+                 "recommendation's horizon, at least 12)")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
   app.add_option("--whatif-timeout", o.web.whatif_timeout_s, "seconds a what-if question waits for its reply")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

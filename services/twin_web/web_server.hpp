@@ -33,6 +33,9 @@ struct WebOptions {
   std::string basic_auth_file;  // one line USER:PASSWORD, mode 0600; "" = no authentication
   // The approve button: an approval starts this many snapshots after the plant's latest one (causal-approve --lead).
   std::uint64_t approval_lead = 3;
+  // ... and holds the change for this many snapshots (causal-approve --duration); 0: the recommendation's horizon,
+  // at least 12. A duration in the request wins.
+  std::uint64_t approval_duration = 0;
 };
 
 class WebServer {
