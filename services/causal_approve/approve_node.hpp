@@ -5,9 +5,8 @@
 // recommendation becomes an intervention.
 #pragma once
 
-#include "approval.hpp"
-
 #include "causal/config/exit_codes.hpp"
+#include "causal/dds/approval.hpp"
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"

@@ -112,8 +112,8 @@ PlannedApproval plan_approval(const ApprovalAsk& ask, const std::optional<GroupS
   const causal_twin::Recommendation& rec = group->recommendations.at(ask.recommendation_id).last;
   const SourceClock::Reading latest = latest_snapshot(*group, rec, clock);
   const std::uint64_t start = latest.index + lead;
-  approve::Approval a = approve::make_approval(
-      rec, ask.act, start, approve::start_time_of(start, latest.index, latest.time_ns, latest.cadence_ns),
+  dds::Approval a = dds::make_approval(
+      rec, ask.act, start, dds::start_time_of(start, latest.index, latest.time_ns, latest.cadence_ns),
       now_ns);
   if (!a.why.empty()) {
     p.status = 409;

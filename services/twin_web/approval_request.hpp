@@ -1,15 +1,15 @@
 // The page's approve button (POST /api/approve) checked and turned into the intervention causal-approve would
-// publish for the same act (services/causal_approve/approval.hpp: same fields, same request id), and the answer as
+// publish for the same act (common/dds/include/causal/dds/approval.hpp: same fields, same request id), and the answer as
 // JSON. HTTP-free and DDS-free, so it is unit-tested on its own (tests/browser).
 //   body: {"asset_group", "recommendation_id", "duration_snapshots" (optional, 1..1000000: the change is held so
 //          long; default the recommendation's horizon, at least 12), "user" (when twin-web does not authenticate)}
 // With basic authentication the approver is the authenticated user (a body cannot approve in another's name).
 #pragma once
 
-#include "approval.hpp"
 #include "request_bridge.hpp"
 #include "twin_state.hpp"
 
+#include "causal/dds/approval.hpp"
 #include "causal_twin.h"
 
 #include <nlohmann/json.hpp>
@@ -23,7 +23,7 @@
 namespace causal::web {
 
 struct ApprovalAsk {
-  approve::ApprovalAct act;
+  dds::ApprovalAct act;
   std::string recommendation_id;
 };
 

@@ -1,9 +1,9 @@
-#include "approval.hpp"
+#include "causal/dds/approval.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace causal::approve {
+namespace causal::dds {
 
 Approval make_approval(const causal_twin::Recommendation& rec, const ApprovalAct& act, std::uint64_t start,
                        std::int64_t start_time_ns, std::int64_t now_ns) {
@@ -45,4 +45,4 @@ std::int64_t start_time_of(std::uint64_t start, std::optional<std::uint64_t> lat
   return latest_time_ns + static_cast<std::int64_t>(start - *latest_index) * cadence_ns;
 }
 
-}  // namespace causal::approve
+}  // namespace causal::dds

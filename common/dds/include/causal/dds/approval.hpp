@@ -1,5 +1,5 @@
 // What an approval of one recommendation is, shared by causal-approve and twin-web's approve button so both
-// publish the same Intervention for the same act (same fields, same request id): pure (IDL types only, no DDS).
+// publish the same Intervention for the same act (same fields, same request id): IDL types only, no DDS entities.
 #pragma once
 
 #include "causal_twin.h"
@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-namespace causal::approve {
+namespace causal::dds {
 
 // Who approves what: the group the operator means, the operator, and an optional hold (snapshots).
 struct ApprovalAct {
@@ -30,4 +30,4 @@ Approval make_approval(const causal_twin::Recommendation& rec, const ApprovalAct
 std::int64_t start_time_of(std::uint64_t start, std::optional<std::uint64_t> latest_index, std::int64_t latest_time_ns,
                            std::int64_t cadence_ns);
 
-}  // namespace causal::approve
+}  // namespace causal::dds
