@@ -15,38 +15,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 }  // namespace
 
-Approval make_approval(const causal_twin::Recommendation& rec, const ApproveOptions& o, std::uint64_t start,
-                       std::int64_t start_time_ns, std::int64_t now_ns) {
-  Approval a;
-  if (rec.asset_group() != o.asset_group) {
-    a.why = "recommendation " + rec.recommendation_id() + " is for asset group '" + rec.asset_group() + "', not '" +
-            o.asset_group + "'";
-  } else if (rec.action_kind() != "upstream_lever" || !rec.reliable()) {
-    a.why = "recommendation " + rec.recommendation_id() + " claims no reliable lever (action kind '" +
-            rec.action_kind() + "'): there is no level change to apply; act on the asset as its action says";
-  } else if (!std::isfinite(rec.delta()) || rec.intervene_channel() == 0) {
-    a.why = "recommendation " + rec.recommendation_id() + " has no finite intervention";
-  }
-  if (!a.why.empty()) return a;
-  auto& iv = a.intervention;
-  iv.asset_group(rec.asset_group());
-  iv.channel(rec.intervene_channel());
-  // The recommendation's delta is in the model's units, the log level (log_transform): a level change of
-  // 100 (e^delta - 1) percent.
-  iv.change_percent(100.0 * std::expm1(rec.delta()));
-  iv.start_snapshot_index(start);
-  iv.start_time_ns(start_time_ns);
-  iv.duration_snapshots(static_cast<std::uint32_t>(
-      o.duration.value_or(std::max<std::uint64_t>(12, rec.horizon_snapshots()))));
-  iv.recommendation_id(rec.recommendation_id());
-  iv.target_channel(rec.target_channel());
-  iv.approved_by(o.user);
-  iv.approved_time_ns(now_ns);
-  // Chosen here, the same for the same approval: who, which advice, from which snapshot.
-  iv.request_id(o.asset_group + "/" + rec.recommendation_id() + "@" + std::to_string(start) + "/" + o.user);
-  return a;
-}
-
 ApproveNode::ApproveNode(ApproveOptions options)
     : options_(std::move(options)),
       participant_(dds::to_dds_settings(options_.dds, "causal-approve")),
@@ -113,13 +81,10 @@ int ApproveNode::run() {
   std::uint64_t start = rec->sample_index() + options_.lead;
   if (latest_index_) start = *latest_index_ + options_.lead;
   if (options_.start_index) start = *options_.start_index;
-  std::int64_t start_time_ns = 0;
-  if (latest_index_ && cadence_ns_ > 0 && start >= *latest_index_) {
-    start_time_ns = latest_time_ns_ + static_cast<std::int64_t>(start - *latest_index_) * cadence_ns_;
-  }
+  const std::int64_t start_time_ns = dds::start_time_of(start, latest_index_, latest_time_ns_, cadence_ns_);
   const std::int64_t now_ns =
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-  Approval a = make_approval(*rec, options_, start, start_time_ns, now_ns);
+  dds::Approval a = dds::make_approval(*rec, {options_.asset_group, options_.user, options_.duration}, start, start_time_ns, now_ns);
   if (!a.why.empty()) {
     spdlog::error("not approved: {}", a.why);
     return kNotApprovable;

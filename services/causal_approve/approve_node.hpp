@@ -6,6 +6,7 @@
 #pragma once
 
 #include "causal/config/exit_codes.hpp"
+#include "causal/dds/approval.hpp"
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
@@ -36,13 +37,6 @@ inline constexpr int kPublished = config::kExitOk;
 inline constexpr int kNotDelivered = config::kExitNoPeer;   // recommendation not found, no reader, or not acknowledged in time
 inline constexpr int kNotApprovable = config::kExitLostOrRefused;  // the recommendation is not a lever that can be applied
 
-// The intervention an approval of `rec` makes (pure: tests call it). Empty `why` when approvable.
-struct Approval {
-  causal_twin::Intervention intervention;
-  std::string why;  // non-empty: not approvable, and why
-};
-Approval make_approval(const causal_twin::Recommendation& rec, const ApproveOptions& options, std::uint64_t start,
-                       std::int64_t start_time_ns, std::int64_t now_ns);
 
 class ApproveNode {
  public:

@@ -39,7 +39,10 @@ class InterventionTables {
   // Takes what arrived and writes it (files and history); returns the number of messages taken.
   std::size_t take();
   void flush();
-  std::size_t matched_writers() const { return interventions_.matched_writers() + outcomes_.matched_writers(); }
+  // The publishers the recorder's idle exit waits for: the outcomes' (alarm-recommender). Approval writers are not
+  // counted: twin-web keeps its approval writer for its whole run (approvals for late readers), which would keep
+  // an idle-exiting recorder from ever finishing beside a live view.
+  std::size_t matched_writers() const { return outcomes_.matched_writers(); }
   const TopicCounts& intervention_counts() const { return intervention_counts_; }
   const TopicCounts& outcome_counts() const { return outcome_counts_; }
 

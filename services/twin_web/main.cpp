@@ -14,14 +14,18 @@ int main(int argc, char** argv) {
                "and serves one status line per asset group and, per group, the condition trends over UTC time with\n"
                "alarm bands, the current causal graph (condition-level filter, links at |z| >= 2, the root cause\n"
                "ringed), the open alarms with time scale, root cause and full reason, the prognosis, the\n"
-               "recommendations, the approved interventions with the twin's check of each (read-only: approvals\n"
-               "come from causal-approve) and a what-if form that asks the\n"
-               "running alarm-recommender. Endpoints: / and /?group=ID (the page, with its state in the response);\n"
+               "recommendations with an approve button under each reliable lever, the approved interventions with\n"
+               "the twin's check of each and a what-if form that asks the running alarm-recommender. Every approval\n"
+               "(the page's and causal-approve's) is kept on twin-web's transient-local intervention writer while it\n"
+               "runs, so a plant or recorder that starts later still receives it.\nEndpoints: / and /?group=ID (the page, with its state in the response);\n"
                "/api/state?group=ID (JSON: that group and one line per group; without ?group= every group);\n"
                "/api/events?group=ID (the same as Server-Sent Events, on change);\n"
                "/api/history?group=ID&from=UTC&to=UTC (with --db: that range from the database, as /api/state);\n"
-               "POST /api/whatif {asset_group, channel, percent | delta, sustained} (same origin only, with the page's\n"
-               "X-Twin-CSRF token)."};
+               "POST /api/whatif {asset_group, channel, percent | delta, sustained};\n"
+               "POST /api/alarm_action {asset_group, alarm_id, action, minutes, reason};\n"
+               "POST /api/approve {asset_group, recommendation_id, duration_snapshots} (the approver: the\n"
+               "--basic-auth-file user, else the body's user). POSTs: same origin only, with the page's X-Twin-CSRF\n"
+               "token."};
   causal::dds::add_common_options(app, o.dds);
   app.add_option("--port", o.web.port, "TCP port to serve on (0: any free port, printed at start)")
       ->check(CLI::Range(0, 65535))
@@ -43,6 +47,16 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--history", o.limits.trend_points, "condition-trend points kept per asset group")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--approval-lead", o.web.approval_lead,
+                 "the approve button: an approval starts this many snapshots after the plant's latest one (as\n"
+                 "causal-approve --lead)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  app.add_option("--approval-duration", o.web.approval_duration,
+                 "the approve button: snapshots an approved change is held for (as causal-approve --duration; 0: the\n"
+                 "recommendation's horizon, at least 12)")
+      ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
   app.add_option("--whatif-timeout", o.web.whatif_timeout_s, "seconds a what-if question waits for its reply")
       ->check(CLI::PositiveNumber)

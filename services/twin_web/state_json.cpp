@@ -159,6 +159,7 @@ json recommendation_json(const RecommendationView& v, const GroupState& g) {
           {"effect_percent_high", number(r.effect_percent_high())},
           {"effect_level_change", number(r.effect_level_change())},
           {"reliable", r.reliable()},
+          {"action_kind", r.action_kind()},
           {"summary", r.summary()},
           {"arrival", v.arrival}};
 }

@@ -19,15 +19,19 @@ TwinWebNode::TwinWebNode(TwinWebOptions options)
       actions_out_(participant_, dds::topics::kAlarmAction, dds::profiles::kAlarmActionWriter),
       interventions_in_(participant_, dds::topics::kIntervention, dds::profiles::kInterventionReader),
       intervention_outcomes_in_(participant_, dds::topics::kInterventionOutcome,
-                                dds::profiles::kInterventionOutcomeReader) {
+                                dds::profiles::kInterventionOutcomeReader),
+      approvals_(participant_),
+      inputs_in_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputReader) {
   in_.attach_to(loop_);
   loop_.attach(replies_in_.get());
   loop_.attach(interventions_in_.get());
   loop_.attach(intervention_outcomes_in_.get());
+  loop_.attach(inputs_in_.get());
   state_.set_info("service", "twin-web");
   state_.set_info("domain", std::to_string(participant_.domain_id()));
   web_ = std::make_unique<WebServer>(options_.web, state_, whatif_, [this] { return whatif_readers_.load(); });
   web_->set_alarm_actions(&actions_);
+  web_->set_approvals(&approvals_.bridge(), &source_clock_);
   load_history_at_start();
 }
 
@@ -63,6 +67,7 @@ void TwinWebNode::load_history_at_start() {
 TwinWebNode::~TwinWebNode() {
   whatif_.stop();
   actions_.stop();
+  approvals_.stop();
   if (web_) web_->stop();
 }
 
@@ -80,6 +85,7 @@ int TwinWebNode::run() {
       [this] {
         send_due_questions();
         send_due_actions();
+        approvals_.send_due(loop_.stop_flag());
         return take_available();
       },
       [this] {
@@ -90,6 +96,7 @@ int TwinWebNode::run() {
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
   whatif_.stop();
   actions_.stop();
+  approvals_.stop();
   web_->stop();
   StateCounters c = state_.counters();
   // The topic lines count DDS samples: what the history database gave at start is said apart.
@@ -118,6 +125,7 @@ int TwinWebNode::run() {
   spdlog::info("summary topic={} received={} forgotten={}", dds::topics::kIntervention, c.interventions,
                c.interventions_forgotten);
   spdlog::info("summary topic={} received={}", dds::topics::kInterventionOutcome, c.intervention_outcomes);
+  approvals_.log_summary();
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kWhatIfRequest, requests_sent_,
                requests_failed_, whatif_.asked(), whatif_.answered());
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kAlarmAction, actions_sent_,
@@ -146,8 +154,15 @@ std::size_t TwinWebNode::take_available() {
         actions_.on_result(r);
       },
       loop_.stop_flag());
-  n += interventions_in_.take_all([this](const auto& i, const auto&) { state_.on_intervention(i); },
-                                   loop_.stop_flag());
+  n += interventions_in_.take_all(
+      [this](const auto& i, const auto& info) {
+        state_.on_intervention(i);
+        approvals_.on_read(i, info.sample_identity.writer_guid());
+      },
+      loop_.stop_flag());
+  n += inputs_in_.take_all([this](const auto& c, const auto&) {
+    source_clock_.on_input(c.asset_group(), c.snapshot_index(), c.time_ns());
+  }, loop_.stop_flag());
   n += intervention_outcomes_in_.take_all([this](const auto& o, const auto&) { state_.on_intervention_outcome(o); },
                                           loop_.stop_flag());
   n += replies_in_.take_all(

@@ -3,6 +3,7 @@
 // asks. The web server (its own threads) only sees the state's serialised copy and the bridge.
 #pragma once
 
+#include "approval_keeper.hpp"
 #include "history_interventions.hpp"
 #include "history_loader.hpp"
 #include "history_routes.hpp"
@@ -57,9 +58,14 @@ class TwinWebNode {
   dds::TypedWriter<causal_twin::WhatIfRequestPubSubType> requests_out_;
   AlarmActionBridge actions_;  // the page's acknowledge / shelve, out on causal_twin/alarm_action
   dds::TypedWriter<causal_twin::AlarmActionPubSubType> actions_out_;
-  // The closed loop, read-only: approvals (causal-approve) and the twin's checks of them (alarm-recommender).
+  // The closed loop: approvals (the approve button, causal-approve) and the twin's checks of them
+  // (alarm-recommender); the approvals are kept on twin-web's durable writer (approval_keeper.hpp).
   dds::TypedReader<causal_twin::InterventionPubSubType> interventions_in_;
   dds::TypedReader<causal_twin::InterventionOutcomePubSubType> intervention_outcomes_in_;
+  ApprovalKeeper approvals_;
+  // The plant's clock for the approve button: the source's condition inputs (volatile: what comes from now on).
+  dds::TypedReader<causal_twin::ConditionVectorPubSubType> inputs_in_;
+  SourceClock source_clock_;
   std::uint64_t actions_sent_ = 0, actions_failed_ = 0;
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   std::unique_ptr<history::HistoryStore> history_;

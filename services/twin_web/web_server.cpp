@@ -305,6 +305,7 @@ void WebServer::routes() {
   });
   history_route();
   alarm_action_route();
+  approve_route();
   s.Get("/api/events", [this](const HttpRequest& req, HttpResponse& res) {
     if (event_streams_.fetch_add(1) >= options_.max_event_streams) {
       --event_streams_;

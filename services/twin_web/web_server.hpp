@@ -5,6 +5,7 @@
 #pragma once
 
 #include "alarm_action_bridge.hpp"
+#include "approval_request.hpp"
 #include "history_routes.hpp"
 #include "http_server.hpp"
 #include "twin_state.hpp"
@@ -30,6 +31,11 @@ struct WebOptions {
   std::string tls_cert;
   std::string tls_key;
   std::string basic_auth_file;  // one line USER:PASSWORD, mode 0600; "" = no authentication
+  // The approve button: an approval starts this many snapshots after the plant's latest one (causal-approve --lead).
+  std::uint64_t approval_lead = 3;
+  // ... and holds the change for this many snapshots (causal-approve --duration); 0: the recommendation's horizon,
+  // at least 12. A duration in the request wins.
+  std::uint64_t approval_duration = 0;
 };
 
 class WebServer {
@@ -45,6 +51,12 @@ class WebServer {
   void set_history(HistoryRoutes* history) { history_ = history; }
   // POST /api/alarm_action sends through this bridge (alarm_action_route.cpp); without, it answers 503. Before start().
   void set_alarm_actions(AlarmActionBridge* actions) { actions_ = actions; }
+  // POST /api/approve plans with this clock and sends through this bridge (approve_route.cpp); without, it
+  // answers 503. Before start().
+  void set_approvals(ApprovalBridge* approvals, const SourceClock* clock) {
+    approvals_ = approvals;
+    clock_ = clock;
+  }
   void start();  // serves on its own thread
   void stop();   // closes the socket and every event stream; joins the thread
   int port() const { return port_; }
@@ -56,6 +68,7 @@ class WebServer {
   void history_route();  // GET /api/history (twin-web --db)
   void guard_requests();
   void alarm_action_route();  // POST /api/alarm_action
+  void approve_route();       // POST /api/approve
 
   WebOptions options_;
   TwinState& state_;
@@ -64,6 +77,8 @@ class WebServer {
   std::unique_ptr<RequestGuard> guard_;
   HistoryRoutes* history_ = nullptr;
   AlarmActionBridge* actions_ = nullptr;
+  ApprovalBridge* approvals_ = nullptr;
+  const SourceClock* clock_ = nullptr;
   std::unique_ptr<HttpServer> server_;
   std::string chartjs_;  // read once at start-up from the package path
   int port_ = 0;

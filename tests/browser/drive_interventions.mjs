@@ -2,7 +2,8 @@
 // Interventions card as an operator sees it: for the approved group (--group) every row's request id, status and
 // cell texts and the count badge; for the unapproved group (--other) the number of intervention rows. Reports
 // `RESULT {json}`; the gtest judges the facts, this script fails (exit 1) only when it cannot carry out a step.
-//   node drive_interventions.mjs --url U --out DIR --chromium PATH --group G --other G2
+//   node drive_interventions.mjs --url U --out DIR --chromium PATH --group G --other G2 [--user NAME --password P]
+// (--user and --password: twin-web's basic authentication.)
 // Screenshots: DIR/twin_web_interventions.png (the whole page), DIR/twin_web_interventions_card.png (the card).
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
@@ -37,7 +38,8 @@ const browser = await chromium.launch({
 });
 let code = 0;
 try {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 1000 } });
+  const credentials = args.user ? { httpCredentials: { username: args.user, password: args.password } } : {};
+  const page = await browser.newPage({ viewport: { width: 1280, height: 1000 }, ...credentials });
   page.on('console', (m) => { if (m.type() === 'error') result.console_errors.push(m.text()); });
   page.on('pageerror', (e) => result.page_errors.push(String(e)));
   page.on('requestfailed', (r) => {

@@ -11,7 +11,7 @@
     'effect_immediate', 'effect_steady_state', 'effect_low', 'effect_high', 'confidence', 'text', 'arrival',
     'answer_kind', 'horizon_snapshots', 'spectral_radius', 'draws', 'unstable_draws', 'unstable_draw_share',
     'effect_median', 'effect_percent', 'effect_percent_low', 'effect_percent_high', 'effect_level_change', 'reliable',
-    'summary']);
+    'summary', 'action_kind']);
   const $ = (id) => document.getElementById(id);
   const urlGroup = new URLSearchParams(window.location.search).get('group');
   let state = null;     // {version, overview: {groups: [...]}, group: {...} | null}
@@ -147,6 +147,8 @@
       // Fields this page does not know yet (the data model grows): shown as they come.
       const extra = Object.entries(r).filter(([k, v]) => !KNOWN_REC_FIELDS.has(k) && v !== null && typeof v !== 'object');
       if (extra.length) li.appendChild(node('div', { class: 'detail' }, extra.map(([k, v]) => `${k}: ${v}`).join(' \u00b7 ')));
+      const approve = window.interventionPanel.approveBlock(r, g);
+      if (approve) li.appendChild(approve);
       return li;
     }));
     if (recs.length === 0) list.appendChild(node('li', { class: 'muted' }, 'No open alarm asks for action.'));

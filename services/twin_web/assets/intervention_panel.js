@@ -1,7 +1,9 @@
-// The closed loop on the page (read-only): the group's approved interventions (who approved which lever, by how
-// much, over which snapshots) and, once the window has passed, the twin's check of its own prediction: the
-// predicted 90 % interval, the observed change, inside or not, improved or not, and the lever trust it left.
-// Approvals come from causal-approve (docs/advice.md). Text is set as text, never HTML.
+// The closed loop on the page: the approve button under each recommended reliable lever (POSTed to /api/approve
+// with the page's CSRF token, like the what-if form and the alarm actions; the approver is the authenticated
+// operator), the group's approved interventions (who approved which lever, by how much, over which snapshots)
+// and, once the window has passed, the twin's check of its own prediction: the predicted 90 % interval, the
+// observed change, inside or not, improved or not, and the lever trust it left. Approvals also come from
+// causal-approve (docs/advice.md). Text is set as text, never HTML.
 'use strict';
 
 window.interventionPanel = (function () {
@@ -66,5 +68,54 @@ window.interventionPanel = (function () {
     if (count) count.textContent = String(list.length);
   }
 
-  return { render };
+  // A recommendation that can be approved: a reliable upstream lever with a channel to change.
+  const approvable = (r) => r.action_kind === 'upstream_lever' && r.reliable === true && r.intervene_channel > 0 &&
+    finite(r.delta);
+
+  async function approve(r, g, lever) {
+    const out = document.getElementById('approve-result');
+    const percent = signed(100 * Math.expm1(r.delta));
+    if (!window.confirm(`Approve for ${g.id}: change ${lever} by ${percent} (recommendation ${r.id})? ` +
+      'The plant applies it for its window.')) return;
+    out.dataset.status = 'sending';
+    out.dataset.requestId = '';
+    out.textContent = `approving ${r.id}\u2026`;
+    try {
+      const csrf = document.querySelector('meta[name="twin-csrf"]').content;
+      const user = (document.getElementById('aa-user') || { value: '' }).value.trim();
+      const res = await (await fetch('/api/approve', { method: 'POST',
+        headers: { 'Content-Type': 'application/json', 'X-Twin-CSRF': csrf },
+        body: JSON.stringify({ asset_group: g.id, recommendation_id: r.id, user }) })).json();
+      out.dataset.status = res.published ? 'published' : (res.answered ? 'refused' : 'error');
+      out.dataset.requestId = res.request_id || res.already || '';
+      out.textContent = res.published
+        ? `approved ${res.request_id} by ${res.approved_by}: ${lever} ${signed(res.change_percent)} from snapshot ` +
+          `${res.start_snapshot_index} for ${res.duration_snapshots} (${res.readers} readers now; kept for later ones)`
+        : `${r.id}: ${res.error || 'failed'}`;
+    } catch (e) {
+      out.dataset.status = 'error';
+      out.textContent = `${r.id}: ${e}`;
+    }
+  }
+
+  // Under a recommendation: its approve button, or who approved it already; null when it is not approvable.
+  function approveBlock(r, g) {
+    if (!approvable(r)) return null;
+    const done = (g.interventions || []).find((iv) => iv.recommendation_id === r.id);
+    const div = node('div', { class: 'approval', 'data-recommendation-id': r.id });
+    if (done) {
+      div.dataset.approved = 'true';
+      div.appendChild(node('span', { class: 'muted', title: done.request_id },
+        `approved by ${done.approved_by || '\u2014'}`));
+      return div;
+    }
+    const lever = named(g.channels[r.intervene_channel - 1], r.intervene_channel);
+    const b = node('button', { type: 'button', class: 'approve', 'data-recommendation-id': r.id },
+      `Approve: ${lever} ${signed(100 * Math.expm1(r.delta))}`);
+    b.addEventListener('click', () => approve(r, g, lever));
+    div.appendChild(b);
+    return div;
+  }
+
+  return { render, approveBlock };
 })();

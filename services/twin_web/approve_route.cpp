@@ -1,0 +1,73 @@
+// POST /api/approve: the page's approve button on a recommended lever (approval_request.hpp), handed to the DDS
+// thread through ApprovalBridge, which writes it on twin-web's durable intervention writer. The pre-routing guard
+// has already applied the what-if form's rules (Host, Origin, CSRF token, basic authentication) as to every
+// state-changing request; the approver is the authenticated user.
+#include "web_server.hpp"
+
+#include "approval_request.hpp"
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+namespace causal::web {
+
+namespace {
+
+using nlohmann::json;
+
+void send(HttpResponse& res, int status, const json& body) {
+  res.status = status;
+  res.set_header("Cache-Control", "no-store");
+  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+}
+
+std::int64_t wall_clock_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+void WebServer::approve_route() {
+  server_->Post("/api/approve", [this](const HttpRequest& req, HttpResponse& res) {
+    if (approvals_ == nullptr || clock_ == nullptr) {
+      send(res, 503, {{"answered", false}, {"error", "approvals are not available"}});
+      return;
+    }
+    const json body = json::parse(req.body, nullptr, false);
+    if (body.is_discarded()) {
+      send(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
+      return;
+    }
+    ApprovalAsk ask;
+    if (const std::string problem = parse_approval(body, guard_->user(), ask); !problem.empty()) {
+      send(res, 400, {{"answered", false}, {"error", problem}});
+      return;
+    }
+    if (!ask.act.duration && options_.approval_duration > 0) ask.act.duration = options_.approval_duration;
+    const PlannedApproval plan = plan_approval(ask, state_.group(ask.act.asset_group),
+                                               clock_->latest(ask.act.asset_group), options_.approval_lead,
+                                               wall_clock_ns());
+    if (plan.status != 200) {
+      send(res, plan.status, {{"answered", false}, {"error", plan.why}, {"already", plan.already}});
+      return;
+    }
+    const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.whatif_timeout_s * 1000.0));
+    const ApprovalBridge::Outcome out = approvals_->ask(plan.intervention, timeout);
+    if (out.status == ApprovalBridge::Status::Answered) {
+      if (out.result.published) {
+        spdlog::info("approved from the page: {} by {} ({} readers matched)", plan.intervention.request_id(),
+                     plan.intervention.approved_by(), out.result.readers);
+      }
+      send(res, out.result.published ? 200 : 409, approval_json(plan.intervention, out.result));
+      return;
+    }
+    send(res, 503, {{"answered", false},
+                    {"error", out.status == ApprovalBridge::Status::Stopped ? "twin-web is stopping"
+                                                                            : "the approval was not written in time"}});
+  });
+}
+
+}  // namespace causal::web
