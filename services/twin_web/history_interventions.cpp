@@ -2,8 +2,6 @@
 
 #include "history_cells.hpp"
 
-#include <cmath>
-#include <stdexcept>
 #include <string>
 
 namespace causal::web {
