@@ -20,17 +20,8 @@ BUILD="${CAUSAL_TWIN_BUILD_DIR:-$ROOT/build}"
 SEEDS="1:3"
 RATE=15
 KEEP=0
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --seeds) SEEDS="${2:-}"; shift ;;
-    --rate) RATE="${2:-}"; shift ;;
-    --build) BUILD="${2:-}"; shift ;;
-    --keep) KEEP=1 ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
-    *) echo "bench_closed_loop.sh: unknown option $1" >&2; exit 2 ;;
-  esac
-  shift
-done
+. "$ROOT/deploy/bench_options.sh"
+parse_options "$0" 2,17 --seeds=SEEDS --rate=RATE --build=BUILD --keep+KEEP -- "$@"
 case "$SEEDS" in
   *[!0-9:]*|:*|*:|*:*:*|"") echo "bench_closed_loop.sh: --seeds must be FIRST:COUNT (numbers), got '$SEEDS'" >&2; exit 2 ;;
 esac

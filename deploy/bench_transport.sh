@@ -13,16 +13,8 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD="${BUILD_DIR:-$ROOT/build}"
 ROUNDS=1
 DURATION=10
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --build) BUILD="$2"; shift ;;
-    --rounds) ROUNDS="$2"; shift ;;
-    --duration) DURATION="$2"; shift ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
-    *) echo "bench_transport.sh: unknown option $1" >&2; exit 2 ;;
-  esac
-  shift
-done
+. "$ROOT/deploy/bench_options.sh"
+parse_options "$0" 2,13 --build=BUILD --rounds=ROUNDS --duration=DURATION -- "$@"
 RAW="$BUILD/tests/bench/causal_bench_raw_dds"
 [ -x "$RAW" ] && [ -x /usr/bin/time ] || { echo "bench_transport.sh: needs $RAW and /usr/bin/time (package time)" >&2; exit 2; }
 WORK=$(mktemp -d /tmp/bench_transport.XXXXXX)

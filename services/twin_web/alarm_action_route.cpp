@@ -53,10 +53,10 @@ void WebServer::alarm_action_route() {
     action.request_id("twin-web/" + std::string(host) + "/" + std::to_string(getpid()) + "/action/" +
                       std::to_string(++next_request_));
     const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.whatif_timeout_s * 1000.0));
-    const AlarmActionBridge::Outcome out = actions_->act(action, timeout);
+    const AlarmActionBridge::Outcome out = actions_->ask(action, timeout);
     if (out.status == AlarmActionBridge::Status::Answered) {
       // Refused: 409 (the request was well formed; the alarm's state does not allow it, or the id is unknown).
-      send(res, out.result.applied() ? 200 : 409, alarm_action_result_json(out.result));
+      send(res, out.reply.applied() ? 200 : 409, alarm_action_result_json(out.reply));
       return;
     }
     if (out.status == AlarmActionBridge::Status::Stopped) {

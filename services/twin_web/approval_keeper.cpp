@@ -83,7 +83,7 @@ ApprovalResult ApprovalKeeper::approve(causal_twin::Intervention& iv, const std:
 }
 
 void ApprovalKeeper::send_due(const std::atomic<bool>& stop) {
-  for (auto& iv : bridge_.due(ApprovalBridge::Clock::now())) bridge_.on_result(approve(iv, stop));
+  for (auto& iv : bridge_.due(ApprovalBridge::Clock::now())) bridge_.on_reply(approve(iv, stop));
   std::vector<causal_twin::Intervention> copies;
   copies.swap(copies_);
   for (auto& iv : copies) {

@@ -57,11 +57,11 @@ void WebServer::approve_route() {
     const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.whatif_timeout_s * 1000.0));
     const ApprovalBridge::Outcome out = approvals_->ask(plan.intervention, timeout);
     if (out.status == ApprovalBridge::Status::Answered) {
-      if (out.result.published) {
+      if (out.reply.published) {
         spdlog::info("approved from the page: {} by {} ({} readers matched)", plan.intervention.request_id(),
-                     plan.intervention.approved_by(), out.result.readers);
+                     plan.intervention.approved_by(), out.reply.readers);
       }
-      send(res, out.result.published ? 200 : 409, approval_json(plan.intervention, out.result));
+      send(res, out.reply.published ? 200 : 409, approval_json(plan.intervention, out.reply));
       return;
     }
     send(res, 503, {{"answered", false},

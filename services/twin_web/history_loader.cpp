@@ -1,12 +1,12 @@
 #include "history_loader.hpp"
 
+#include "history_cells.hpp"
+
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/history/json_cells.hpp"
-#include "causal/io/time_format.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 
 namespace causal::web {
@@ -14,39 +14,6 @@ namespace causal::web {
 namespace {
 
 using history::Row;
-using history::Table;
-
-// Typed access to a row by column name; a missing or unparsable number throws (the row is then unreadable).
-class Cells {
- public:
-  Cells(const char* table, const Row& row) : t_(history::table(table)), r_(row) {}
-  const history::Cell& cell(const char* name) const {
-    const std::size_t i = t_.column(name);
-    if (i == std::string::npos || i >= r_.size()) throw std::invalid_argument(std::string("no column ") + name);
-    return r_[i];
-  }
-  std::string text(const char* name) const { return cell(name).value_or(""); }
-  double real(const char* name) const {
-    const auto& c = cell(name);
-    return c && !c->empty() ? std::stod(*c) : NAN;  // NULL: unknown (NaN, as on the topic)
-  }
-  std::int64_t integer(const char* name) const {
-    const auto& c = cell(name);
-    return c && !c->empty() ? std::stoll(*c) : 0;
-  }
-  bool boolean(const char* name) const { return cell(name).value_or("") == "true"; }
-  std::int64_t utc(const char* name) const {
-    const auto& c = cell(name);
-    if (!c || c->empty()) return 0;  // 0: not set, as on the topic
-    const auto ns = io::parse_utc(*c);
-    if (!ns) throw std::invalid_argument(std::string("bad time in ") + name);
-    return *ns;
-  }
-
- private:
-  const Table& t_;
-  const Row& r_;
-};
 
 // The enum value whose name (dds::to_string) is `name`; the IDL enums have 3 values each.
 template <typename E>
@@ -57,17 +24,8 @@ E enum_named(const std::string& name) {
   throw std::invalid_argument("unknown value " + name);
 }
 
-template <typename T>
-std::optional<T> guarded(T (*make)(const Row&), const Row& row) {
-  try {
-    return make(row);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-}
-
 causal_twin::ConditionVector make_condition(const Row& row) {
-  const Cells c("condition_vectors", row);
+  const HistoryCells c("condition_vectors", row);
   causal_twin::ConditionVector v;
   v.asset_group(c.text("asset_group"));
   v.feature(c.text("feature"));
@@ -84,7 +42,7 @@ causal_twin::ConditionVector make_condition(const Row& row) {
 }
 
 causal_twin::Alarm make_alarm(const Row& row) {
-  const Cells c("alarms", row);
+  const HistoryCells c("alarms", row);
   causal_twin::Alarm a;
   a.alarm_id(c.text("alarm_id"));
   a.state(enum_named<causal_twin::AlarmState>(c.text("state")));
@@ -111,7 +69,7 @@ causal_twin::Alarm make_alarm(const Row& row) {
 }
 
 causal_twin::Recommendation make_recommendation(const Row& row) {
-  const Cells c("recommendations", row);
+  const HistoryCells c("recommendations", row);
   causal_twin::Recommendation r;
   r.recommendation_id(c.text("recommendation_id"));
   r.alarm_id(c.text("alarm_id"));
@@ -151,7 +109,7 @@ causal_twin::Recommendation make_recommendation(const Row& row) {
 }
 
 causal_twin::Prognosis make_prognosis(const Row& row) {
-  const Cells c("prognoses", row);
+  const HistoryCells c("prognoses", row);
   causal_twin::Prognosis p;
   p.asset_group(c.text("asset_group"));
   p.channel(static_cast<std::uint16_t>(c.integer("channel")));
@@ -177,7 +135,7 @@ causal_twin::Prognosis make_prognosis(const Row& row) {
 }
 
 causal_twin::AssetStatus make_status(const Row& row) {
-  const Cells c("asset_status", row);
+  const HistoryCells c("asset_status", row);
   causal_twin::AssetStatus s;
   s.asset_group(c.text("asset_group"));
   s.state(c.text("state"));
@@ -202,8 +160,6 @@ causal_twin::AssetStatus make_status(const Row& row) {
   return s;
 }
 
-// Alarm events in the order they happened: by evidence index, and within one index raise, escalation, clear
-// (an escalation's time can be unknown, so the time column alone does not order them).
 template <typename T, typename Key>
 void sort_by(std::vector<T>& v, Key key) {
   std::stable_sort(v.begin(), v.end(), [&](const T& a, const T& b) { return key(a) < key(b); });
@@ -222,50 +178,26 @@ std::optional<causal_twin::AssetStatus> status_from_row(const Row& row) { return
 HistoryLoad load_history(history::HistoryStore& store, TwinState& state, const history::RangeQuery& range) {
   HistoryLoad out;
   auto rows = [&](const char* name) { return store.select(history::table(name), range); };
-  for (const Row& r : rows("condition_vectors")) {
-    const auto v = condition_from_row(r);
-    if (!v) {
-      ++out.unreadable;
-      continue;
-    }
-    if (!out.earliest_ns || v->time_ns() < *out.earliest_ns) out.earliest_ns = v->time_ns();
-    state.on_condition(*v);
+  for (const auto& v : readable(rows("condition_vectors"), condition_from_row, out.unreadable)) {
+    if (!out.earliest_ns || v.time_ns() < *out.earliest_ns) out.earliest_ns = v.time_ns();
+    state.on_condition(v);
     ++out.condition_vectors;
   }
-  std::vector<causal_twin::Alarm> alarms;
-  for (const Row& r : rows("alarms")) {
-    if (auto a = alarm_from_row(r)) {
-      alarms.push_back(std::move(*a));
-    } else {
-      ++out.unreadable;
-    }
-  }
+  // Alarm events in the order they happened: by evidence index, and within one index raise, escalation, clear
+  // (an escalation's time can be unknown, so the time column alone does not order them).
+  auto alarms = readable(rows("alarms"), alarm_from_row, out.unreadable);
   sort_by(alarms, [](const causal_twin::Alarm& a) { return std::make_pair(a.sample_index(), static_cast<int>(a.state())); });
   for (const auto& a : alarms) state.on_alarm(a);
   out.alarm_events = alarms.size();
-  for (const Row& r : rows("recommendations")) {
-    const auto x = recommendation_from_row(r);
-    x ? (state.on_recommendation(*x), ++out.recommendations) : ++out.unreadable;
+  for (const auto& x : readable(rows("recommendations"), recommendation_from_row, out.unreadable)) {
+    state.on_recommendation(x);
+    ++out.recommendations;
   }
-  std::vector<causal_twin::Prognosis> prognoses;
-  for (const Row& r : rows("prognoses")) {
-    if (auto p = prognosis_from_row(r)) {
-      prognoses.push_back(std::move(*p));
-    } else {
-      ++out.unreadable;
-    }
-  }
+  auto prognoses = readable(rows("prognoses"), prognosis_from_row, out.unreadable);
   sort_by(prognoses, [](const causal_twin::Prognosis& p) { return p.sample_index(); });
   for (const auto& p : prognoses) state.on_prognosis(p);
   out.prognoses = prognoses.size();
-  std::vector<causal_twin::AssetStatus> statuses;
-  for (const Row& r : rows("asset_status")) {
-    if (auto st = status_from_row(r)) {
-      statuses.push_back(std::move(*st));
-    } else {
-      ++out.unreadable;
-    }
-  }
+  auto statuses = readable(rows("asset_status"), status_from_row, out.unreadable);
   sort_by(statuses, [](const causal_twin::AssetStatus& st) { return st.sample_index(); });
   for (const auto& st : statuses) state.on_status(st);
   out.statuses = statuses.size();

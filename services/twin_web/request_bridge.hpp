@@ -1,9 +1,9 @@
-// A web thread's request handed to the DDS thread and its result handed back: the pattern of WhatIfBridge and
-// AlarmActionBridge as one template for any request and result type (the approve button's ApprovalBridge is one).
-// A web thread calls ask() and waits (bounded); the DDS thread takes the requests that are due with
-// due() and sends them, and passes every result it has to on_result(). A request without a result a second after
-// its last send is due again with the same request id (a receiver answers a repeated id once).
-//   Request and Result: anything with request_id() (IDL types, or a plain struct with that member function).
+// Hands requests from the web threads to the DDS thread and their replies back, for every request/reply pair
+// the page sends over DDS (what-if questions, alarm actions). A web thread calls ask() and waits (bounded); the
+// DDS thread takes the requests that are due with due() and sends them, and passes every reply it reads to
+// on_reply(). Replies are volatile on DDS: a reply sent before the answering writer has matched our reader is
+// lost, so a request is repeated once a second with the same id (the answering service answers a repeated id
+// with its first reply and applies it once) until its reply comes or its asker gives up.
 #pragma once
 
 #include <chrono>
@@ -17,17 +17,19 @@
 
 namespace causal::web {
 
-template <typename Request, typename Result>
+// Request and Reply are IDL types with a request_id() each; a reply belongs to the request with its id.
+template <typename Request, typename Reply>
 class RequestBridge {
  public:
   using Clock = std::chrono::steady_clock;
+  static constexpr auto kResendAfter = std::chrono::seconds(1);
   enum class Status { Answered, NoReply, Stopped };
   struct Outcome {
     Status status = Status::NoReply;
-    Result result;  // valid when Answered
+    Reply reply;  // valid when Answered (the reply itself may still be a refusal)
   };
 
-  // Web thread: sends `request` (its id must be unique among those waiting) and waits up to `timeout`.
+  // Web thread: sends `request` (its id must be unique) and waits up to `timeout` for the reply.
   Outcome ask(const Request& request, std::chrono::milliseconds timeout) {
     std::unique_lock<std::mutex> lock(mutex_);
     Outcome out;
@@ -38,11 +40,11 @@ class RequestBridge {
     ++asked_;
     const std::string id = request.request_id();
     pending_[id] = Pending{request, std::nullopt, std::nullopt};
-    answered_cv_.wait_for(lock, timeout, [&] { return stopped_ || pending_[id].result.has_value(); });
+    replied_.wait_for(lock, timeout, [&] { return stopped_ || pending_[id].reply.has_value(); });
     Pending& p = pending_[id];
-    if (p.result) {
+    if (p.reply) {
       out.status = Status::Answered;
-      out.result = *p.result;
+      out.reply = *p.reply;
       ++answered_;
     } else {
       out.status = stopped_ ? Status::Stopped : Status::NoReply;
@@ -51,32 +53,33 @@ class RequestBridge {
     return out;
   }
 
-  // DDS thread: requests to send now (new ones, and those without a result a second after their last send).
+  // DDS thread: requests to send now (new ones, and those not answered within a second of their last send).
   std::vector<Request> due(Clock::time_point now) {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<Request> out;
     for (auto& [id, p] : pending_) {
-      if (p.result || (p.last_sent && now - *p.last_sent < kResendAfter)) continue;
+      if (p.reply || (p.last_sent && now - *p.last_sent < kResendAfter)) continue;
       p.last_sent = now;
       out.push_back(p.request);
     }
     return out;
   }
 
-  // DDS thread: a result; one no waiting request asked for is ignored (another sender's, or a repeat's).
-  void on_result(const Result& result) {
+  // DDS thread: a reply read from DDS; one that answers no waiting request is ignored (another asker's), and so
+  // is a repeated request's second reply.
+  void on_reply(const Reply& reply) {
     std::lock_guard<std::mutex> lock(mutex_);
-    const auto it = pending_.find(result.request_id());
-    if (it == pending_.end() || it->second.result) return;
-    it->second.result = result;
-    answered_cv_.notify_all();
+    const auto it = pending_.find(reply.request_id());
+    if (it == pending_.end() || it->second.reply) return;
+    it->second.reply = reply;
+    replied_.notify_all();
   }
 
   // Wakes every waiting asker with Stopped; later asks return Stopped at once.
   void stop() {
     std::lock_guard<std::mutex> lock(mutex_);
     stopped_ = true;
-    answered_cv_.notify_all();
+    replied_.notify_all();
   }
 
   std::uint64_t asked() const {
@@ -89,14 +92,13 @@ class RequestBridge {
   }
 
  private:
-  static constexpr auto kResendAfter = std::chrono::seconds(1);
   struct Pending {
     Request request;
     std::optional<Clock::time_point> last_sent;
-    std::optional<Result> result;
+    std::optional<Reply> reply;
   };
   mutable std::mutex mutex_;
-  std::condition_variable answered_cv_;
+  std::condition_variable replied_;
   std::map<std::string, Pending> pending_;  // by request id
   bool stopped_ = false;
   std::uint64_t asked_ = 0, answered_ = 0;

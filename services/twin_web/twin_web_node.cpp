@@ -151,7 +151,7 @@ std::size_t TwinWebNode::take_available() {
   n += in_.action_results.take_all(
       [this](const auto& r, const auto&) {
         state_.on_action_result(r);
-        actions_.on_result(r);
+        actions_.on_reply(r);
       },
       loop_.stop_flag());
   n += interventions_in_.take_all(

@@ -1,5 +1,7 @@
 // The ISA-18.2 alarm management state machine: acknowledge, shelve / unshelve / expiry (wall clock chosen by the
 // test), refusals counted by reason, and the health figures counted exactly in data time.
+#include "alarm_management_fixtures.hpp"
+
 #include "causal/alarm_management/alarm_management.hpp"
 
 #include <gtest/gtest.h>
@@ -7,32 +9,7 @@
 #include <string>
 
 namespace am = causal::alarm_management;
-
-namespace {
-
-constexpr std::int64_t kS = 1'000'000'000;
-constexpr std::int64_t kT0 = 1'700'000'000 * kS;  // a data time
-constexpr std::int64_t kNow = 1'800'000'000 * kS;  // a wall-clock time
-
-am::AlarmEventView event(const std::string& id, am::EventState state, std::int64_t raised, const std::string& g = "g1") {
-  return am::AlarmEventView{id, g, state, raised, state == am::EventState::Cleared ? raised + kS : 0};
-}
-
-am::ActionRequest request(const std::string& rid, const std::string& alarm, am::ActionKind kind,
-                          std::int64_t until = 0, const std::string& g = "g1") {
-  am::ActionRequest r;
-  r.request_id = rid;
-  r.asset_group = g;
-  r.alarm_id = alarm;
-  r.action = kind;
-  r.user = "ann";
-  r.reason = kind == am::ActionKind::Shelve ? "sensor under repair" : "";
-  r.time_ns = kNow;
-  r.until_ns = until;
-  return r;
-}
-
-}  // namespace
+using namespace causal::alarm_management::test;
 
 TEST(AlarmManagement, AcknowledgeHoldsUntilEscalation) {
   am::AlarmManager m;

@@ -1,6 +1,8 @@
 // AlarmManager's checkpoint round trip: what a restarted alarm-recommender restores is what it held, so an
 // acknowledged alarm stays acknowledged, a shelving ends at the same wall-clock time, a re-delivered request gets
 // its first outcome, the health figures are the same, and the republished events do not undo any of it.
+#include "alarm_management_fixtures.hpp"
+
 #include "causal/alarm_management/alarm_management.hpp"
 #include "causal/estimation/state_archive.hpp"
 
@@ -9,30 +11,9 @@
 #include <string>
 
 namespace am = causal::alarm_management;
+using namespace causal::alarm_management::test;
 
 namespace {
-
-constexpr std::int64_t kS = 1'000'000'000;
-constexpr std::int64_t kT0 = 1'700'000'000 * kS;   // a data time
-constexpr std::int64_t kNow = 1'800'000'000 * kS;  // a wall-clock time
-
-am::AlarmEventView event(const std::string& id, am::EventState state, std::int64_t raised) {
-  return am::AlarmEventView{id, "g1", state, raised, state == am::EventState::Cleared ? raised + kS : 0};
-}
-
-am::ActionRequest request(const std::string& rid, const std::string& alarm, am::ActionKind kind,
-                          std::int64_t until = 0) {
-  am::ActionRequest r;
-  r.request_id = rid;
-  r.asset_group = "g1";
-  r.alarm_id = alarm;
-  r.action = kind;
-  r.user = "ann";
-  r.reason = kind == am::ActionKind::Shelve ? "sensor under repair" : "";
-  r.time_ns = kNow;
-  r.until_ns = until;
-  return r;
-}
 
 // Three alarms: a acknowledged, b shelved until kNow + 60 s, c cleared; chatter on c's source.
 am::AlarmManager held() {

@@ -14,31 +14,13 @@
 set -uo pipefail
 here="$(cd "$(dirname "$0")/../.." && pwd)"
 build="$here/build" est="" qos="$here/deploy/dds/qos.xml" groups=16 frames=500 runs=1 domain=209 keep=""
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --build) build="$2"; shift ;;
-    --estimator) est="$2"; shift ;;
-    --qos) qos="$2"; shift ;;
-    --groups) groups="$2"; shift ;;
-    --frames-per-group) frames="$2"; shift ;;
-    --runs) runs="$2"; shift ;;
-    --domain) domain="$2"; shift ;;
-    --keep) keep="$2"; shift ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
-    *) echo "estimator_cpu.sh: unknown option $1" >&2; exit 2 ;;
-  esac
-  shift
-done
+. "$here/deploy/bench_options.sh"
+parse_options "$0" 2,13 --build=build --estimator=est --qos=qos --groups=groups --frames-per-group=frames --runs=runs \
+  --domain=domain --keep=keep -- "$@"
 est="${est:-$build/services/causal_estimator/causal-estimator}"
 sim="$build/services/sensor_sim/sensor-sim" counter="$build/tests/bench/causal_bench_factor_counter"
-for b in "$est" "$sim" "$counter"; do [ -x "$b" ] || { echo "estimator_cpu.sh: $b missing" >&2; exit 2; }; done
-dds=(--qos "$qos" --transport "$here/deploy/dds/localhost.xml")
-work="${keep:-$(mktemp -d /tmp/estimator_cpu.XXXXXX)}"
-mkdir -p "$work"
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; [ -n "$keep" ] || rm -rf "$work"; }
-trap cleanup EXIT
-trap 'exit 130' INT TERM
+. "$here/tests/bench/bench_setup.sh"
+bench_start estimator_cpu.sh "$est" "$sim" "$counter"
 measure=(/usr/bin/time -f "time user_s=%U sys_s=%S" -o)
 perf stat -e task-clock true >/dev/null 2>&1 && measure=(perf stat -e task-clock,context-switches -o)
 failed=0

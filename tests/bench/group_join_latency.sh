@@ -10,28 +10,12 @@
 set -uo pipefail
 here="$(cd "$(dirname "$0")/../.." && pwd)"
 build="$here/build" est="" qos="$here/deploy/dds/qos.xml" domain=201 keep=""
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --build) build="$2"; shift ;;
-    --estimator) est="$2"; shift ;;
-    --qos) qos="$2"; shift ;;
-    --domain) domain="$2"; shift ;;
-    --keep) keep="$2"; shift ;;
-    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
-    *) echo "group_join_latency.sh: unknown option $1" >&2; exit 2 ;;
-  esac
-  shift
-done
+. "$here/deploy/bench_options.sh"
+parse_options "$0" 2,9 --build=build --estimator=est --qos=qos --domain=domain --keep=keep -- "$@"
 est="${est:-$build/services/causal_estimator/causal-estimator}"
 sim="$build/services/sensor_sim/sensor-sim"
-for b in "$est" "$sim"; do [ -x "$b" ] || { echo "group_join_latency.sh: $b missing" >&2; exit 2; }; done
-work="${keep:-$(mktemp -d /tmp/group_join.XXXXXX)}"
-mkdir -p "$work"
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; [ -n "$keep" ] || rm -rf "$work"; }
-trap cleanup EXIT
-trap 'exit 130' INT TERM
-dds=(--qos "$qos" --transport "$here/deploy/dds/localhost.xml")
+. "$here/tests/bench/bench_setup.sh"
+bench_start group_join_latency.sh "$est" "$sim"
 live=(--channels 4 --frame-samples 1024 --sample-rate 20480 --wall-clock-stamps --rate 20480 --stagger
       --wait-subscribers 1 --max-runtime 60 --log-level warn)
 "$est" --domain "$domain" "${dds[@]}" --params "$here/deploy/config/estimator.yaml" --idle-exit 2 --max-runtime 60 \

@@ -16,19 +16,9 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")/../.." && pwd)"
 build="$here/build" bin="" qos="$here/deploy/dds/qos.xml" domain=88 groups=16 frames=200 runs=1
 params="$here/deploy/config/estimator.yaml"
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --build) build="$2"; shift 2 ;;
-    --bin) bin="$2"; shift 2 ;;
-    --qos) qos="$2"; shift 2 ;;
-    --domain) domain="$2"; shift 2 ;;
-    --groups) groups="$2"; shift 2 ;;
-    --frames-per-group) frames="$2"; shift 2 ;;
-    --params) params="$2"; shift 2 ;;
-    --runs) runs="$2"; shift 2 ;;
-    *) echo "lean_path.sh: unknown option $1" >&2; exit 2 ;;
-  esac
-done
+. "$here/deploy/bench_options.sh"
+parse_options "$0" 2,14 --build=build --bin=bin --qos=qos --domain=domain --groups=groups --frames-per-group=frames \
+  --params=params --runs=runs -- "$@"
 if [ -n "$bin" ]; then
   est="$bin/causal-estimator" rec="$bin/alarm-recommender" sim="$bin/sensor-sim"
 else

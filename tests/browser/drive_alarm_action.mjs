@@ -5,35 +5,15 @@
 // this script fails (exit 1) only when it cannot carry out a step.
 //   node drive_alarm_action.mjs --url U --out DIR --chromium PATH --user NAME
 // Screenshots: DIR/twin_web_alarm_action.png (the whole page), DIR/twin_web_alarm_action_card.png (the alarm card).
-import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
+import { drive, pageOverflowX, parseArgs } from './drive_common.mjs';
 
-const args = Object.fromEntries(process.argv.slice(2).reduce((acc, a, i, all) => {
-  if (a.startsWith('--')) acc.push([a.slice(2), all[i + 1]]);
-  return acc;
-}, []));
-for (const k of ['url', 'out', 'chromium', 'user']) {
-  if (!args[k]) { console.error(`drive_alarm_action: --${k} is required`); process.exit(2); }
-}
+const args = parseArgs('drive_alarm_action', ['url', 'out', 'chromium', 'user']);
 
-const result = { console_errors: [], page_errors: [], failed_requests: [], steps: [] };
-const step = (s) => { result.steps.push(s); console.log(`drive_alarm_action: ${s}`); };
 const rowOf = (id) => `#alarms tbody tr[data-alarm-id="${id}"]`;
 
-const browser = await chromium.launch({
-  executablePath: args.chromium,
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],  // root in a container: no user namespaces
-});
-let code = 0;
-try {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 1000 } });
-  page.on('console', (m) => { if (m.type() === 'error') result.console_errors.push(m.text()); });
-  page.on('pageerror', (e) => result.page_errors.push(String(e)));
-  page.on('requestfailed', (r) => {
-    if (new URL(r.url()).pathname !== '/api/events') result.failed_requests.push(`${r.url()}: ${r.failure()?.errorText}`);
-  });
+await drive('drive_alarm_action', args.chromium, async ({ page, result, step }) => {
   await page.goto(args.url, { waitUntil: 'load' });
   step('page loaded');
   await page.waitForSelector('#alarms tbody tr[data-alarm-id] button.aa.ack', { timeout: 30000 });
@@ -74,13 +54,5 @@ try {
   await page.screenshot({ path: result.screenshot, fullPage: true });
   result.screenshot_card = path.join(args.out, 'twin_web_alarm_action_card.png');
   await page.locator('#alarms').locator('xpath=ancestor::section').screenshot({ path: result.screenshot_card });
-  result.page_overflow_x = await page.evaluate(() =>
-    document.documentElement.scrollWidth - document.documentElement.clientWidth);
-} catch (e) {
-  result.error = String(e && e.stack ? e.stack : e);
-  code = 1;
-} finally {
-  await browser.close();
-}
-console.log(`RESULT ${JSON.stringify(result)}`);
-process.exit(code);
+  result.page_overflow_x = await pageOverflowX(page);
+});

@@ -6,36 +6,14 @@
 // facts, this script fails (exit 1) only when it cannot carry out a step.
 //   node drive_approve.mjs --url U --out DIR --chromium PATH --group G --user NAME --password P --typed-user NAME
 // Screenshot: DIR/twin_web_approve.png (the recommendations card after the answer).
-import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
+import { drive, parseArgs } from './drive_common.mjs';
 
-const args = Object.fromEntries(process.argv.slice(2).reduce((acc, a, i, all) => {
-  if (a.startsWith('--')) acc.push([a.slice(2), all[i + 1]]);
-  return acc;
-}, []));
-for (const k of ['url', 'out', 'chromium', 'group', 'user', 'password', 'typed-user']) {
-  if (!args[k]) { console.error(`drive_approve: --${k} is required`); process.exit(2); }
-}
+const args = parseArgs('drive_approve', ['url', 'out', 'chromium', 'group', 'user', 'password', 'typed-user']);
 
-const result = { console_errors: [], page_errors: [], failed_requests: [], steps: [], dialogs: [] };
-const step = (s) => { result.steps.push(s); console.log(`drive_approve: ${s}`); };
-
-const browser = await chromium.launch({
-  executablePath: args.chromium,
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],  // root in a container: no user namespaces
-});
-let code = 0;
-try {
-  const context = await browser.newContext({ viewport: { width: 1280, height: 1000 },
-    httpCredentials: { username: args.user, password: args.password } });
-  const page = await context.newPage();
-  page.on('console', (m) => { if (m.type() === 'error') result.console_errors.push(m.text()); });
-  page.on('pageerror', (e) => result.page_errors.push(String(e)));
-  page.on('requestfailed', (r) => {
-    if (new URL(r.url()).pathname !== '/api/events') result.failed_requests.push(`${r.url()}: ${r.failure()?.errorText}`);
-  });
+await drive('drive_approve', args.chromium, async ({ page, result, step }) => {
+  result.dialogs = [];
   page.on('dialog', async (d) => { result.dialogs.push({ type: d.type(), message: d.message() }); await d.accept(); });
   await page.goto(`${args.url}?group=${encodeURIComponent(args.group)}`, { waitUntil: 'load' });
   await page.fill('#aa-user', args['typed-user']);
@@ -58,11 +36,4 @@ try {
   fs.mkdirSync(args.out, { recursive: true });
   result.screenshot = path.join(args.out, 'twin_web_approve.png');
   await page.locator('#recs').locator('xpath=..').screenshot({ path: result.screenshot });
-} catch (e) {
-  result.error = String(e && e.stack ? e.stack : e);
-  code = 1;
-} finally {
-  await browser.close();
-}
-console.log(`RESULT ${JSON.stringify(result)}`);
-process.exit(code);
+}, { username: args.user, password: args.password });

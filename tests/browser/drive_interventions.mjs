@@ -5,20 +5,12 @@
 //   node drive_interventions.mjs --url U --out DIR --chromium PATH --group G --other G2 [--user NAME --password P]
 // (--user and --password: twin-web's basic authentication.)
 // Screenshots: DIR/twin_web_interventions.png (the whole page), DIR/twin_web_interventions_card.png (the card).
-import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
+import { drive, pageOverflowX, parseArgs } from './drive_common.mjs';
 
-const args = Object.fromEntries(process.argv.slice(2).reduce((acc, a, i, all) => {
-  if (a.startsWith('--')) acc.push([a.slice(2), all[i + 1]]);
-  return acc;
-}, []));
-for (const k of ['url', 'out', 'chromium', 'group', 'other']) {
-  if (!args[k]) { console.error(`drive_interventions: --${k} is required`); process.exit(2); }
-}
+const args = parseArgs('drive_interventions', ['url', 'out', 'chromium', 'group', 'other']);
 
-const result = { console_errors: [], page_errors: [], failed_requests: [], steps: [] };
-const step = (s) => { result.steps.push(s); console.log(`drive_interventions: ${s}`); };
 const card = () => {
   const cells = ['approved', 'lever', 'window', 'target', 'predicted', 'observed', 'result', 'trust'];
   const rows = [...document.querySelectorAll('#interventions tbody tr[data-request-id]')].map((tr) => {
@@ -31,20 +23,7 @@ const card = () => {
     body_text: document.querySelector('#interventions tbody').textContent };
 };
 
-const browser = await chromium.launch({
-  executablePath: args.chromium,
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],  // root in a container: no user namespaces
-});
-let code = 0;
-try {
-  const credentials = args.user ? { httpCredentials: { username: args.user, password: args.password } } : {};
-  const page = await browser.newPage({ viewport: { width: 1280, height: 1000 }, ...credentials });
-  page.on('console', (m) => { if (m.type() === 'error') result.console_errors.push(m.text()); });
-  page.on('pageerror', (e) => result.page_errors.push(String(e)));
-  page.on('requestfailed', (r) => {
-    if (new URL(r.url()).pathname !== '/api/events') result.failed_requests.push(`${r.url()}: ${r.failure()?.errorText}`);
-  });
+await drive('drive_interventions', args.chromium, async ({ page, result, step }) => {
   const open = async (group, selector) => {
     await page.goto(`${args.url}?group=${encodeURIComponent(group)}`, { waitUntil: 'load' });
     await page.waitForSelector(selector, { timeout: 30000 });
@@ -57,16 +36,8 @@ try {
   await page.screenshot({ path: result.screenshot, fullPage: true });
   result.screenshot_card = path.join(args.out, 'twin_web_interventions_card.png');
   await page.locator('#intervention-card').screenshot({ path: result.screenshot_card });
-  result.page_overflow_x = await page.evaluate(() =>
-    document.documentElement.scrollWidth - document.documentElement.clientWidth);
+  result.page_overflow_x = await pageOverflowX(page);
   // The other group's card once it has been rendered for that group (its placeholder row).
   result.other = await open(args.other, '#interventions tbody tr td.muted');
   step(`${args.other}: ${result.other.rows.length} row(s): ${result.other.body_text}`);
-} catch (e) {
-  result.error = String(e && e.stack ? e.stack : e);
-  code = 1;
-} finally {
-  await browser.close();
-}
-console.log(`RESULT ${JSON.stringify(result)}`);
-process.exit(code);
+}, args.user ? { username: args.user, password: args.password } : null);

@@ -8,17 +8,11 @@
 // facts: status lines, root-cause node, UTC axes and times, time scales, reasons without horizontal overflow);
 // then open the group's link (?group=ID) in a second page whose event stream never answers, screenshot it at
 // load (DIR/twin_web_at_load.png, 1280x900) and read it: the first response alone must draw the whole state.
-import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
+import { drive, pageOverflowX, parseArgs } from './drive_common.mjs';
 
-const args = Object.fromEntries(process.argv.slice(2).reduce((acc, a, i, all) => {
-  if (a.startsWith('--')) acc.push([a.slice(2), all[i + 1]]);
-  return acc;
-}, []));
-for (const k of ['url', 'out', 'chromium', 'done-file']) {
-  if (!args[k]) { console.error(`drive_twin_web: --${k} is required`); process.exit(2); }
-}
+const args = parseArgs('drive_twin_web', ['url', 'out', 'chromium', 'done-file']);
 // What the operator reads, from the page's DOM and its chart (runs in the page).
 function readOperatorFacts() {
   const text = (el) => (el ? el.textContent.trim() : null);
@@ -59,24 +53,8 @@ function readOperatorFacts() {
 }
 
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-const result = { console_errors: [], page_errors: [], failed_requests: [], steps: [] };
-const step = (s) => { result.steps.push(s); console.log(`drive_twin_web: ${s}`); };
 
-const browser = await chromium.launch({
-  executablePath: args.chromium,
-  headless: true,
-  // root in a container: Chromium's sandbox needs user namespaces it may not have.
-  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
-});
-let code = 0;
-try {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 1000 } });
-  page.on('console', (m) => { if (m.type() === 'error') result.console_errors.push(m.text()); });
-  page.on('pageerror', (e) => result.page_errors.push(String(e)));
-  page.on('requestfailed', (r) => {
-    // An event stream is cut when the page switches groups or the browser closes; anything else failing is a defect.
-    if (new URL(r.url()).pathname !== '/api/events') result.failed_requests.push(`${r.url()}: ${r.failure()?.errorText}`);
-  });
+await drive('drive_twin_web', args.chromium, async ({ browser, page, result, step }) => {
   await page.goto(args.url, { waitUntil: 'load' });
   step('page loaded');
   result.chart_library = await page.evaluate(() => typeof window.Chart === 'function');
@@ -173,11 +151,4 @@ try {
   await cold.unroute('**/api/events**');
   await cold.close();
   step(`at load (${link}): ${result.at_load.points} points, ${result.at_load.alarm_rows.length} alarm rows`);
-} catch (e) {
-  result.error = String(e && e.stack ? e.stack : e);
-  code = 1;
-} finally {
-  await browser.close();
-}
-console.log(`RESULT ${JSON.stringify(result)}`);
-process.exit(code);
+});

@@ -35,18 +35,6 @@ namespace {
 
 constexpr const char* kGroup = "sim-shaft";
 
-int served_port(ServiceProcess& web, std::chrono::seconds timeout) {
-  const std::regex served(R"(serving http://127\.0\.0\.1:(\d+)/)");
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline && web.running()) {
-    std::smatch m;
-    const std::string out = web.output();
-    if (std::regex_search(out, m, served)) return std::stoi(m[1]);
-    std::this_thread::sleep_for(50ms);
-  }
-  return 0;
-}
-
 std::vector<std::string> lines_of(const fs::path& p) {
   std::ifstream in(p);
   std::vector<std::string> out;
@@ -112,7 +100,7 @@ TEST(AlarmActionBrowser, OperatorClicksAcknowledgeAndEveryViewShowsIt) {
                                               "--max-runtime", "150"}, (work / "recorder.log").string());
   ServiceProcess web("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "150"},
                      (work / "twin-web.log").string());
-  const int port = served_port(web, 20s);
+  const int port = causal::test::served_port(web, 20s);
   ASSERT_GT(port, 0) << web.output();
   ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--max-runtime", "150",
                                              "--wait-for", "causal-recorder"}, (work / "alarm.log").string());

@@ -133,7 +133,7 @@ TEST(AlarmActionBridge, SendsResendsAndHandsTheMatchingResultBack) {
   AlarmActionBridge b;
   causal_twin::AlarmAction a;
   a.request_id("q1");
-  auto waiting = std::async(std::launch::async, [&] { return b.act(a, std::chrono::seconds(10)); });
+  auto waiting = std::async(std::launch::async, [&] { return b.ask(a, std::chrono::seconds(10)); });
   std::vector<causal_twin::AlarmAction> due;
   while (due.empty()) {
     due = b.due(AlarmActionBridge::Clock::now());
@@ -142,13 +142,13 @@ TEST(AlarmActionBridge, SendsResendsAndHandsTheMatchingResultBack) {
   ASSERT_EQ(due.size(), 1u);
   EXPECT_TRUE(b.due(AlarmActionBridge::Clock::now()).empty());  // not again within a second
   EXPECT_EQ(b.due(AlarmActionBridge::Clock::now() + std::chrono::seconds(2)).size(), 1u);  // resent after it
-  b.on_result(result("other", "g/1/x/0", causal_twin::ACKNOWLEDGE, true));  // another sender's: ignored
-  b.on_result(result("q1", "g/1/x/0", causal_twin::ACKNOWLEDGE, false));
+  b.on_reply(result("other", "g/1/x/0", causal_twin::ACKNOWLEDGE, true));  // another sender's: ignored
+  b.on_reply(result("q1", "g/1/x/0", causal_twin::ACKNOWLEDGE, false));
   const auto out = waiting.get();
   EXPECT_EQ(out.status, AlarmActionBridge::Status::Answered);
-  EXPECT_FALSE(out.result.applied());
+  EXPECT_FALSE(out.reply.applied());
   EXPECT_EQ(b.asked(), 1u);
   EXPECT_EQ(b.answered(), 1u);
   b.stop();
-  EXPECT_EQ(b.act(a, std::chrono::seconds(1)).status, AlarmActionBridge::Status::Stopped);
+  EXPECT_EQ(b.ask(a, std::chrono::seconds(1)).status, AlarmActionBridge::Status::Stopped);
 }

@@ -133,19 +133,19 @@ TEST(ApprovalRequest, TheBridgeHandsTheWritersAnswerBack) {
   ASSERT_EQ(due.size(), 1u);
   ApprovalResult other;
   other.id = "someone/else";
-  bridge.on_result(other);  // not asked for: ignored
+  bridge.on_reply(other);  // not asked for: ignored
   ApprovalResult r;
   r.id = "g/r@1/ann";
   r.published = true;
   r.readers = 3;
-  bridge.on_result(r);
+  bridge.on_reply(r);
   const auto out = asked.get();
   EXPECT_EQ(out.status, ApprovalBridge::Status::Answered);
-  EXPECT_TRUE(out.result.published);
-  EXPECT_EQ(out.result.readers, 3u);
+  EXPECT_TRUE(out.reply.published);
+  EXPECT_EQ(out.reply.readers, 3u);
   EXPECT_EQ(bridge.asked(), 1u);
   EXPECT_EQ(bridge.answered(), 1u);
-  const json j = causal::web::approval_json(iv, out.result);
+  const json j = causal::web::approval_json(iv, out.reply);
   EXPECT_EQ(j["request_id"], "g/r@1/ann");
   EXPECT_EQ(j["published"], true);
 }

@@ -33,19 +33,6 @@ namespace {
 constexpr int kDomain = 90;
 const std::vector<std::string> kChannels = {"bearing1", "bearing2", "bearing3", "bearing4"};
 
-// The port twin-web printed ("serving http://127.0.0.1:PORT/"), waiting for it (bounded).
-int served_port(ServiceProcess& web, std::chrono::seconds timeout) {
-  const std::regex served(R"(serving http://127\.0\.0\.1:(\d+)/)");
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline && web.running()) {
-    std::smatch m;
-    const std::string out = web.output();
-    if (std::regex_search(out, m, served)) return std::stoi(m[1]);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return 0;
-}
-
 std::string utc_minutes(std::int64_t ns) { return causal::io::format_utc(ns).substr(0, 16); }
 
 // The recommender's own count of what it published on a topic ("summary topic=T sent=N").
@@ -179,7 +166,7 @@ TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
   DdsObserver observer(kDomain);
   ServiceProcess web("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--max-runtime", "170"},
                      (out_dir / "twin-web.log").string());
-  const int port = served_port(web, std::chrono::seconds(20));
+  const int port = causal::test::served_port(web, std::chrono::seconds(20));
   ASSERT_GT(port, 0) << web.output();
   ServiceProcess alarm("alarm-recommender",
                        {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "5", "--max-runtime", "150"},

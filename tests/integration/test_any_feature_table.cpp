@@ -4,6 +4,7 @@
 // Fixed DDS domains of the alarms-suite range: 228 (eight channels), 229 (gaps, then the refusal).
 #include "loopback_settings.hpp"
 #include "dds_observer.hpp"
+#include "feature_table_run.hpp"
 #include "ims_variants.hpp"
 #include "process_runner.hpp"
 
@@ -37,12 +38,6 @@ fs::path work_dir(const std::string& what) {
   return dir;
 }
 
-std::uint64_t grab(const std::string& text, const std::string& pattern) {
-  std::smatch m;
-  if (!std::regex_search(text, m, std::regex(pattern))) return ~0ULL;
-  return std::stoull(m[1].str());
-}
-
 }  // namespace
 
 // Eight channels named "Bearing 1 C1, Bearing 1 C2, ...": accepted out of the box (the structure window stays
@@ -56,27 +51,10 @@ TEST(AnyFeatureTable, EightChannelsRunOutOfTheBox) {
   causal::testing::write_variant_csv(v, csv);
   const std::string d = "228";
   DdsObserver observer(228);
-  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "5", "--max-runtime", "180"},
-                       (work / "alarm.log").string());
-  ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "180", "--wait-for",
-                            "alarm-recommender", "--wait-for", "test-observer"},
-                           (work / "estimator.log").string());
-  ServiceProcess replay("sensor-replay", {SENSOR_REPLAY_BIN, "--domain", d, "--features", csv, "--wait-for", "causal-estimator",
-                                          "--wait-timeout", "60"},
-                        (work / "replay.log").string());
-  const auto replay_code = replay.wait(std::chrono::seconds(150));
-  ASSERT_TRUE(replay_code.has_value()) << replay.output();
-  EXPECT_EQ(*replay_code, 0) << replay.output();
-  const auto estimator_code = estimator.wait(std::chrono::seconds(120));
-  ASSERT_TRUE(estimator_code.has_value()) << estimator.output();
-  EXPECT_EQ(*estimator_code, 0) << estimator.output();
-  ASSERT_TRUE(alarm.wait(std::chrono::seconds(120)).has_value()) << alarm.output();
-
-  const std::string est = estimator.output();
-  EXPECT_EQ(grab(replay.output(), R"(summary topic=causal_twin/condition_input sent=(\d+))"), 984u);
-  EXPECT_EQ(grab(est, R"(summary topic=causal_twin/condition_input received=(\d+))"), 984u) << est;
-  EXPECT_EQ(grab(est, R"(summary topic=causal_twin/condition_input received=\d+ refused=(\d+))"), 0u) << est;
+  causal::test::FeatureTableRun run(d, csv, work);
+  ASSERT_NO_FATAL_FAILURE(run.wait_all());
+  run.expect_rows_delivered(984);
+  const std::string est = run.estimator.output();
   // The structure window stays at 100 snapshots; the order is learned per block of 4 sensors (logged).
   EXPECT_EQ(est.find("calibration window"), std::string::npos) << est;
   EXPECT_NE(est.find("channels 5-8: "), std::string::npos) << est;
@@ -90,7 +68,7 @@ TEST(AnyFeatureTable, EightChannelsRunOutOfTheBox) {
     EXPECT_GE(a.sample_index(), v.healthy_end) << "alarm in the healthy part: " << a.alarm_id() << ": " << a.reason();
     if (!first || a.sample_index() < first->sample_index()) first = a;
   }
-  ASSERT_TRUE(first.has_value()) << alarm.output();
+  ASSERT_TRUE(first.has_value()) << run.alarm.output();
   std::printf("eight channels: first alarm %s at snapshot %llu on %s, root cause %s\n", first->alarm_id().c_str(),
               static_cast<unsigned long long>(first->sample_index()), first->channel_name().c_str(),
               first->root_cause_name().c_str());
@@ -146,7 +124,7 @@ TEST(AnyFeatureTable, GapsAreDiscontinuitiesAndRefusalIsLoud) {
     ASSERT_TRUE(replay_code.has_value()) << replay.output();
     EXPECT_EQ(*replay_code, 0) << replay.output();
     const std::string rep = replay.output();
-    EXPECT_EQ(grab(rep, R"(summary topic=causal_twin/condition_input sent=\d+ rewinds=\d+ time_gaps=(\d+))"), 3u) << rep;
+    EXPECT_EQ(causal::test::logged_number(rep, R"(summary topic=causal_twin/condition_input sent=\d+ rewinds=\d+ time_gaps=(\d+))"), 3u) << rep;
     for (std::size_t k = 1; k < expected.size(); ++k) {
       EXPECT_NE(rep.find("before snapshot " + std::to_string(expected[k]) + " "), std::string::npos) << rep;
     }

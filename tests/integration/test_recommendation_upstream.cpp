@@ -11,16 +11,15 @@
 #include "dds_observer.hpp"
 #include "process_expect.hpp"
 #include "process_runner.hpp"
+#include "simulated_shaft_table.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -29,34 +28,7 @@ using namespace causal::test;
 
 namespace {
 
-constexpr int kSnapshots = 400;
-constexpr int kChangeAt = 250;
-
-// Log-levels of a structural VAR(1): z2 -> z1 instantaneous 0.8 and lagged 0.2; uniform (non-Gaussian) noise.
-std::string write_simulated_table(const fs::path& dir) {
-  std::mt19937_64 rng(20261122);
-  std::uniform_real_distribution<double> u(-0.035, 0.035);  // sd 0.02
-  const double base[4] = {std::log(0.08), std::log(0.10), std::log(0.06), std::log(0.05)};
-  double z[4] = {0, 0, 0, 0}, prev[4] = {0, 0, 0, 0};
-  const fs::path p = dir / "simulated_features.csv";
-  std::ofstream out(p);
-  out << ",bearing1,bearing2,bearing3,bearing4\n";
-  for (int n = 0; n < kSnapshots; ++n) {
-    const double own_change = n < kChangeAt ? 0.0 : 0.5 * std::min(1.0, (n - kChangeAt + 1) / 20.0);
-    z[1] = 0.5 * prev[1] + u(rng) + own_change * 0.5;  // steady state of the shift: +own_change
-    z[0] = 0.8 * z[1] + 0.2 * prev[1] + 0.3 * prev[0] + u(rng);
-    z[2] = 0.4 * prev[2] + u(rng);
-    z[3] = 0.4 * prev[3] + u(rng);
-    std::copy(z, z + 4, prev);
-    const long minutes = 10L * n;
-    char ts[32];
-    std::snprintf(ts, sizeof ts, "2026-01-%02ld %02ld:%02ld:00", 1 + minutes / 1440, (minutes / 60) % 24, minutes % 60);
-    out << ts;
-    for (int k = 0; k < 4; ++k) out << "," << std::exp(base[k] + z[k]);
-    out << "\n";
-  }
-  return p.string();
-}
+constexpr int kChangeAt = causal::test::kSimulatedShaftChangeAt;
 
 struct Scenario {
   const char* name;
@@ -91,7 +63,7 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
   const bool learned = std::string(sc.graph).empty();
   const fs::path work = fs::temp_directory_path() / ("causal_it_rec_" + std::string(sc.name) + "_" + std::to_string(getpid()));
   fs::create_directories(work);
-  const std::string table = write_simulated_table(work);
+  const std::string table = causal::test::write_simulated_shaft_table(work, 20261122);
   const std::string d = std::to_string(causal::test::private_domain_id(learned ? 4 : 3));
   DdsObserver observer(std::stoi(d));
   ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "20", "--max-runtime", "300"},

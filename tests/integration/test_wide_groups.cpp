@@ -8,6 +8,7 @@
 // while it waited for their factors, so the engine's baseline observations had no features.
 // Fixed DDS domain 226 (alarms-suite range).
 #include "dds_observer.hpp"
+#include "feature_table_run.hpp"
 #include "ims_variants.hpp"
 #include "process_runner.hpp"
 
@@ -26,12 +27,6 @@ using causal::test::DdsObserver;
 using causal::test::ServiceProcess;
 
 namespace {
-
-std::uint64_t grab(const std::string& text, const std::string& pattern) {
-  std::smatch m;
-  if (!std::regex_search(text, m, std::regex(pattern))) return ~0ULL;
-  return std::stoull(m[1].str());
-}
 
 bool bearing1(const std::string& name) { return name.rfind("Bearing 1 C", 0) == 0; }
 
@@ -57,33 +52,15 @@ TEST(WideGroups, TwentyChannelsGiveTheFourChannelVerdict) {
   std::ofstream(params) << std::regex_replace(yaml, advice_on, "$1false");
   const std::string d = "226";
   DdsObserver observer(226);
-  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--params", params, "--idle-exit", "5",
-                                             "--max-runtime", "180"},
-                       (work / "alarm.log").string());
-  ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "180", "--wait-for",
-                            "alarm-recommender", "--wait-for", "test-observer"},
-                           (work / "estimator.log").string());
-  ServiceProcess replay("sensor-replay", {SENSOR_REPLAY_BIN, "--domain", d, "--features", csv, "--wait-for", "causal-estimator",
-                                          "--wait-timeout", "60"},
-                        (work / "replay.log").string());
-  const auto replay_code = replay.wait(std::chrono::seconds(150));
-  ASSERT_TRUE(replay_code.has_value()) << replay.output();
-  EXPECT_EQ(*replay_code, 0) << replay.output();
-  const auto estimator_code = estimator.wait(std::chrono::seconds(120));
-  ASSERT_TRUE(estimator_code.has_value()) << estimator.output();
-  EXPECT_EQ(*estimator_code, 0) << estimator.output();
-  const auto alarm_code = alarm.wait(std::chrono::seconds(120));
-  ASSERT_TRUE(alarm_code.has_value()) << alarm.output();
-  EXPECT_EQ(*alarm_code, 0) << alarm.output();
+  causal::test::FeatureTableRun run(d, csv, work, {"--params", params});
+  ASSERT_NO_FATAL_FAILURE(run.wait_all());
+  EXPECT_EQ(*run.alarm_code, 0) << run.alarm.output();
 
   // Every vector recorded, exactly.
-  const std::string est = estimator.output(), rec = alarm.output();
-  EXPECT_EQ(grab(replay.output(), R"(summary topic=causal_twin/condition_input sent=(\d+))"), 984u);
-  EXPECT_EQ(grab(est, R"(summary topic=causal_twin/condition_input received=(\d+))"), 984u) << est;
-  EXPECT_EQ(grab(est, R"(summary topic=causal_twin/condition_input received=\d+ refused=(\d+))"), 0u) << est;
-  EXPECT_EQ(grab(rec, R"(summary topic=causal_twin/condition_vector received=(\d+))"), 984u) << rec;
-  EXPECT_EQ(grab(rec, R"(condition level: (\d+) observations)"), 984u) << rec;
+  run.expect_rows_delivered(984);
+  const std::string est = run.estimator.output(), rec = run.alarm.output();
+  EXPECT_EQ(causal::test::logged_number(rec, R"(summary topic=causal_twin/condition_vector received=(\d+))"), 984u) << rec;
+  EXPECT_EQ(causal::test::logged_number(rec, R"(condition level: (\d+) observations)"), 984u) << rec;
   EXPECT_EQ(observer.factors(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u * 20u);
   EXPECT_EQ(observer.factor_batches(causal_twin::CONDITION_LEVEL, causal_twin::FILTER), 984u);
   // The structure window stays at the configured 100 snapshots, learned per block of 5 sensors.

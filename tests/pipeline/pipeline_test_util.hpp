@@ -18,6 +18,20 @@ namespace causal::test {
 
 using pipeline::RowMajorMatrix;
 
+// The tuned-stream tests' parameters: automatic noise tuned on the first 300 samples (the fixed noise before it),
+// a report every 25 samples with fixed-lag twins 16 samples behind.
+inline pipeline::FactorStreamParams tuned_stream_params(int channels = 3) {
+  pipeline::FactorStreamParams p;
+  p.model.channels = channels;
+  p.model.lag_order = 1;
+  p.noise.automatic = true;
+  p.noise.fixed = causal::NoiseParams{1e-6, 1e-2, 0.5};
+  p.noise.calibration_samples = 300;
+  p.publish_every = 25;
+  p.fixed_lag = 16;
+  return p;
+}
+
 // N x G samples of y_k = sum_inst x y_j[n] + sum_lag x y_j[n-l] + e_k, e ~ N(0, r), factors a random walk
 // with variance q per sample starting U(-0.3, 0.3) (small enough that I - X0 stays well conditioned).
 inline RowMajorMatrix simulate_svar(const SvarLayout& layout, int n, std::uint64_t seed, double q = 1e-5,

@@ -18,22 +18,11 @@ namespace {
 using causal::test::checkpoint_of;
 using causal::test::expect_identical;
 using causal::test::restore_from;
+using causal::test::tuned_stream_params;
 
 constexpr std::int64_t kT0 = 1'650'000'000'000'000'000LL;
 constexpr double kPeriod = 50'000.0;
 constexpr std::uint64_t kFirstIndex = 5'000;  // the source had published samples before
-
-FactorStreamParams tuned_params(int g = 3) {
-  FactorStreamParams p;
-  p.model.channels = g;
-  p.model.lag_order = 1;
-  p.noise.automatic = true;
-  p.noise.fixed = causal::NoiseParams{1e-6, 1e-2, 0.5};
-  p.noise.calibration_samples = 300;
-  p.publish_every = 25;
-  p.fixed_lag = 16;
-  return p;
-}
 
 // 1500 samples with a rejected (NaN) sample and a discontinuity after the calibration window.
 struct Data {
@@ -42,7 +31,7 @@ struct Data {
 };
 
 Data data() {
-  const causal::SvarLayout layout(tuned_params().model);
+  const causal::SvarLayout layout(tuned_stream_params().model);
   Data d{causal::test::simulate_svar(layout, 1500, 21), std::vector<bool>(1500, false)};
   d.y(700, 1) = std::numeric_limits<double>::quiet_NaN();
   d.disc[0] = true;
@@ -83,7 +72,7 @@ void expect_same_state(const FactorStream& got, const FactorStream& want) {
 
 TEST(FactorStreamCheckpoint, TwoHalvesWithRestoreEqualTheUninterruptedRunBitForBit) {
   const Data d = data();
-  FactorStream whole(tuned_params());
+  FactorStream whole(tuned_stream_params());
   std::vector<FactorReport> want;
   feed_rows(whole, d, 0, 1500, want);
   whole.finish(want);
@@ -94,11 +83,11 @@ TEST(FactorStreamCheckpoint, TwoHalvesWithRestoreEqualTheUninterruptedRunBitForB
   // waits for its fixed-lag twin; 700/701: around the rejected sample; 900: at the discontinuity; 1500: all.
   for (Eigen::Index cut : {0, 1, 150, 299, 300, 301, 310, 700, 701, 900, 1499, 1500}) {
     SCOPED_TRACE("cut at sample " + std::to_string(cut));
-    FactorStream first(tuned_params());
+    FactorStream first(tuned_stream_params());
     std::vector<FactorReport> got;
     feed_rows(first, d, 0, cut, got);
     const std::string bytes = checkpoint_of(first);
-    FactorStream second(tuned_params());  // fresh, as after a restart
+    FactorStream second(tuned_stream_params());  // fresh, as after a restart
     restore_from(second, bytes);
     expect_same_state(second, first);
     feed_rows(second, d, cut, 1500, got);
@@ -110,18 +99,18 @@ TEST(FactorStreamCheckpoint, TwoHalvesWithRestoreEqualTheUninterruptedRunBitForB
 
 TEST(FactorStreamCheckpoint, TwoRestartsInARow) {
   const Data d = data();
-  FactorStream whole(tuned_params());
+  FactorStream whole(tuned_stream_params());
   std::vector<FactorReport> want;
   feed_rows(whole, d, 0, 1500, want);
   whole.finish(want);
 
-  FactorStream a(tuned_params());
+  FactorStream a(tuned_stream_params());
   std::vector<FactorReport> got;
   feed_rows(a, d, 0, 150, got);
-  FactorStream b(tuned_params());
+  FactorStream b(tuned_stream_params());
   restore_from(b, checkpoint_of(a));
   feed_rows(b, d, 150, 777, got);
-  FactorStream c(tuned_params());
+  FactorStream c(tuned_stream_params());
   restore_from(c, checkpoint_of(b));
   feed_rows(c, d, 777, 1500, got);
   c.finish(got);
@@ -130,7 +119,7 @@ TEST(FactorStreamCheckpoint, TwoRestartsInARow) {
 
 TEST(FactorStreamCheckpoint, ReportsCarryTheSourceIndex) {
   const Data d = data();
-  FactorStream counted(tuned_params()), sourced(tuned_params());
+  FactorStream counted(tuned_stream_params()), sourced(tuned_stream_params());
   std::vector<FactorReport> a, b;
   feed_rows(counted, d, 0, 1500, a, 0);
   feed_rows(sourced, d, 0, 1500, b, 7'000'000);
@@ -150,7 +139,7 @@ TEST(FactorStreamCheckpoint, ReportsCarryTheSourceIndex) {
 
 TEST(FactorStreamCheckpoint, OtherParametersAreRefusedAndLeaveTheStreamUnchanged) {
   const Data d = data();
-  FactorStream first(tuned_params());
+  FactorStream first(tuned_stream_params());
   std::vector<FactorReport> ignored;
   feed_rows(first, d, 0, 400, ignored);
   const std::string bytes = checkpoint_of(first);
@@ -164,23 +153,23 @@ TEST(FactorStreamCheckpoint, OtherParametersAreRefusedAndLeaveTheStreamUnchanged
     }
     return "no error";
   };
-  EXPECT_EQ(message(tuned_params(4)), "checkpoint has 3 channels, this factor stream has 4");
-  FactorStreamParams p = tuned_params();
+  EXPECT_EQ(message(tuned_stream_params(4)), "checkpoint has 3 channels, this factor stream has 4");
+  FactorStreamParams p = tuned_stream_params();
   p.publish_every = 50;
   EXPECT_EQ(message(p), "checkpoint has publish_every 25, this factor stream has 50");
-  p = tuned_params();
+  p = tuned_stream_params();
   p.fixed_lag = 8;
   EXPECT_EQ(message(p), "checkpoint has fixed lag 16, this factor stream has 8");
-  p = tuned_params();
+  p = tuned_stream_params();
   p.model.include_self_lags = true;
   EXPECT_EQ(message(p), "checkpoint has self lags off, this factor stream has on");
-  p = tuned_params();
+  p = tuned_stream_params();
   p.model.instantaneous_allowed.assign(3, std::vector<bool>(3, true));
   p.model.instantaneous_allowed[0][1] = false;
   EXPECT_EQ(message(p).rfind("checkpoint has another causal graph for outcome 1", 0), 0u) << message(p);
 
   // A refused restore leaves the stream as it was: fed from the start it matches an untouched stream.
-  p = tuned_params();
+  p = tuned_stream_params();
   p.publish_every = 50;
   FactorStream refused(p), untouched(p);
   EXPECT_THROW(restore_from(refused, bytes), StateError);
@@ -192,17 +181,17 @@ TEST(FactorStreamCheckpoint, OtherParametersAreRefusedAndLeaveTheStreamUnchanged
 
 TEST(FactorStreamCheckpoint, TruncatedOrForeignCheckpointsThrow) {
   const Data d = data();
-  FactorStream first(tuned_params());
+  FactorStream first(tuned_stream_params());
   std::vector<FactorReport> ignored;
   feed_rows(first, d, 0, 310, ignored);
   const std::string bytes = checkpoint_of(first);
   for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 200) {
-    FactorStream s(tuned_params());
+    FactorStream s(tuned_stream_params());
     EXPECT_THROW(restore_from(s, bytes.substr(0, n)), StateError) << "truncated to " << n << " bytes";
   }
   causal::StateWriter other;
   other.begin("structured_factor_stream", 1);
-  FactorStream s(tuned_params());
+  FactorStream s(tuned_stream_params());
   try {
     restore_from(s, other.bytes());
     ADD_FAILURE() << "a foreign section was accepted";

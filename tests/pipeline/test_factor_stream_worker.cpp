@@ -25,16 +25,10 @@ constexpr std::int64_t kT0 = 1'650'000'000'000'000'000LL;
 constexpr double kPeriod = 50'000.0;
 constexpr Eigen::Index kRows = 1500;
 
+// Tuned on `worker` when given, else on the feeding thread.
 FactorStreamParams tuned_params(std::shared_ptr<TuningWorker> worker = nullptr) {
-  FactorStreamParams p;
-  p.model.channels = 3;
-  p.model.lag_order = 1;
-  p.noise.automatic = true;
-  p.noise.fixed = causal::NoiseParams{1e-6, 1e-2, 0.5};
-  p.noise.calibration_samples = 300;
+  FactorStreamParams p = causal::test::tuned_stream_params();
   p.noise.worker = std::move(worker);
-  p.publish_every = 25;
-  p.fixed_lag = 16;
   return p;
 }
 

@@ -125,3 +125,50 @@ TEST(GuardedType, ChannelNamesMeetTheOneNameLimit) {
     EXPECT_EQ(causal::dds::refusals_total(), before + (allowed ? 0u : 2u)) << bytes;
   }
 }
+
+// An alarm action and alarm-recommender's result repeat the same fields and share one check: each id at most
+// kMaxIdBytes, the action kind one of the three. A valid one is taken; each id one byte too long, or an action
+// kind out of range, is refused and counted once, in both types alike.
+template <typename PubSubType, typename Sample>
+void expect_alarm_action_limits(Sample valid) {
+  const std::string too_long(causal::dds::kMaxIdBytes + 1, 'x');
+  std::vector<Sample> refused;
+  for (int field = 0; field < 5; ++field) {
+    Sample s = valid;
+    if (field == 0) s.request_id(too_long);
+    if (field == 1) s.asset_group(too_long);
+    if (field == 2) s.alarm_id(too_long);
+    if (field == 3) s.user_name(too_long);
+    if (field == 4) s.reason(too_long);
+    refused.push_back(s);
+  }
+  Sample bad_kind = valid;
+  bad_kind.action(static_cast<causal_twin::AlarmActionKind>(3));
+  refused.push_back(bad_kind);
+  const auto before = causal::dds::refusals_total();
+  EXPECT_TRUE(guarded_decode<PubSubType>(encode<PubSubType>(valid)));
+  for (std::size_t i = 0; i < refused.size(); ++i) {
+    EXPECT_FALSE(guarded_decode<PubSubType>(encode<PubSubType>(refused[i]))) << "refused[" << i << "]";
+  }
+  EXPECT_EQ(causal::dds::refusals_total(), before + refused.size());
+}
+
+TEST(GuardedType, AlarmActionsAndTheirResultsMeetTheSameLimits) {
+  using namespace causal_twin;
+  AlarmAction a;
+  a.request_id("r1");
+  a.asset_group("g");
+  a.alarm_id("g/1/feature_drift/0");
+  a.user_name("ann");
+  a.reason("sensor under repair");
+  a.action(SHELVE);
+  expect_alarm_action_limits<AlarmActionPubSubType>(a);
+  AlarmActionResult r;
+  r.request_id("r1");
+  r.asset_group("g");
+  r.alarm_id("g/1/feature_drift/0");
+  r.user_name("ann");
+  r.reason("sensor under repair");
+  r.action(SHELVE);
+  expect_alarm_action_limits<AlarmActionResultPubSubType>(r);
+}

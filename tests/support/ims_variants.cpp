@@ -27,18 +27,6 @@ std::int64_t median_interval(const std::vector<std::int64_t>& t) {
   return d[d.size() / 2];
 }
 
-Variant copy_of(const BaseRun& base, const std::string& name) {
-  Variant v;
-  v.name = name;
-  v.channel_names = base.channel_names;
-  v.time_ns = base.time_ns;
-  v.values = base.values;
-  for (std::size_t i = 0; i < base.time_ns.size(); ++i) v.source_row.push_back(i);
-  v.healthy_end = base.healthy_end;
-  v.failing_channels = {base.failing_channel};
-  return v;
-}
-
 void check_base(const BaseRun& base) {
   const auto n = static_cast<std::size_t>(base.values.rows());
   if (n != base.time_ns.size() || base.values.cols() != static_cast<Eigen::Index>(base.channel_names.size())) {
@@ -54,6 +42,18 @@ void check_base(const BaseRun& base) {
 
 }  // namespace
 
+Variant copy_of_base(const BaseRun& base, const std::string& name) {
+  Variant v;
+  v.name = name;
+  v.channel_names = base.channel_names;
+  v.time_ns = base.time_ns;
+  v.values = base.values;
+  for (std::size_t i = 0; i < base.time_ns.size(); ++i) v.source_row.push_back(i);
+  v.healthy_end = base.healthy_end;
+  v.failing_channels = {base.failing_channel};
+  return v;
+}
+
 BaseRun read_base_run(const std::string& merged_table_path) {
   const io::FeatureTable t = io::read_feature_table(merged_table_path);
   BaseRun b;
@@ -66,7 +66,7 @@ BaseRun read_base_run(const std::string& merged_table_path) {
 Variant make_gaps_variant(const BaseRun& base, std::uint64_t seed) {
   check_base(base);
   Draws draw(seed ^ 0xa1);
-  Variant v = copy_of(base, "gaps");
+  Variant v = copy_of_base(base, "gaps");
   // Three stops inside the healthy part, each with at least 140 healthy rows after the last one (as many as
   // the shipped warm-up + baseline), so a detector that re-learns after a gap has the room it has at the start.
   const std::size_t rows[3] = {draw.index(140, 160), draw.index(240, 260), draw.index(340, 360)};
@@ -94,7 +94,7 @@ Variant make_gaps_variant(const BaseRun& base, std::uint64_t seed) {
 Variant make_steps_variant(const BaseRun& base, std::uint64_t seed) {
   check_base(base);
   Draws draw(seed ^ 0xb2);
-  Variant v = copy_of(base, "steps");
+  Variant v = copy_of_base(base, "steps");
   std::vector<int> healthy;
   for (int c = 0; c < base.values.cols(); ++c) {
     if (c != base.failing_channel) healthy.push_back(c);
@@ -122,7 +122,7 @@ Variant make_steps_variant(const BaseRun& base, std::uint64_t seed) {
 Variant make_eight_channel_variant(const BaseRun& base, std::uint64_t seed) {
   check_base(base);
   Draws draw(seed ^ 0xc3);
-  Variant v = copy_of(base, "eight_channels");
+  Variant v = copy_of_base(base, "eight_channels");
   const Eigen::Index n = base.values.rows(), g = base.values.cols();
   v.values.resize(n, 2 * g);
   v.channel_names.clear();
@@ -210,7 +210,7 @@ Variant make_stretched_variant(const BaseRun& base, std::uint64_t seed, std::siz
 
 Variant make_unchanged_variant(const BaseRun& base) {
   check_base(base);
-  Variant v = copy_of(base, "unchanged");
+  Variant v = copy_of_base(base, "unchanged");
   v.description = "IMS test 2 as recorded";
   return v;
 }
@@ -220,7 +220,7 @@ Variant make_replicated_variant(const BaseRun& base, int copies, std::uint64_t s
   if (copies < 1) throw std::invalid_argument("ims variants: copies must be >= 1");
   if (!(noise >= 0.0 && noise <= 0.1)) throw std::invalid_argument("ims variants: noise must be in [0, 0.1]");
   Draws draw(seed ^ 0x5eed);
-  Variant v = copy_of(base, "replicated_" + std::to_string(copies));
+  Variant v = copy_of_base(base, "replicated_" + std::to_string(copies));
   const Eigen::Index n = base.values.rows(), g = base.values.cols(), r = copies;
   v.values.resize(n, g * r);
   v.channel_names.clear();

@@ -77,14 +77,7 @@ Variant make_relevelled_failure_variant(const BaseRun& base, std::uint64_t seed)
 Variant make_low_baseline_stretch_variant(const BaseRun& base) {
   if (base.values.cols() < 4 || static_cast<std::size_t>(base.values.rows()) <= base.healthy_end || base.healthy_end < 500)
     throw std::invalid_argument("low_baseline_stretch: needs IMS test 2's 4 channels and 500 healthy rows");
-  Variant v;
-  v.name = "low_baseline_stretch";
-  v.channel_names = base.channel_names;
-  v.time_ns = base.time_ns;
-  v.values = base.values;
-  for (std::size_t i = 0; i < base.time_ns.size(); ++i) v.source_row.push_back(i);
-  v.healthy_end = base.healthy_end;
-  v.failing_channels = {base.failing_channel};
+  Variant v = copy_of_base(base, "low_baseline_stretch");
   const Eigen::Index c = 3;  // Bearing 4: healthy to the end of test 2
   for (Eigen::Index i = 20; i < v.values.rows(); ++i) {
     double f = 1.0;

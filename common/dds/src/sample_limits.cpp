@@ -69,6 +69,19 @@ class Checker {
   Refusal result_ = Refusal::None;
 };
 
+// An alarm action and its result carry the same fields (the result repeats the request).
+template <typename ActionOrResult>
+Refusal check_alarm_action(const ActionOrResult& s, std::string& why) {
+  return Checker(why)
+      .id("request_id", s.request_id())
+      .id("asset_group", s.asset_group())
+      .id("alarm_id", s.alarm_id())
+      .id("user_name", s.user_name())
+      .id("reason", s.reason())
+      .enumeration("action", static_cast<std::uint32_t>(s.action()), 3)
+      .result();
+}
+
 }  // namespace
 
 Refusal check_limits(const causal_twin::VibrationFrame& s, std::string& why) {
@@ -157,27 +170,9 @@ Refusal check_limits(const causal_twin::WhatIfRequest& s, std::string& why) {
   return Checker(why).id("request_id", s.request_id()).id("asset_group", s.asset_group()).result();
 }
 
-Refusal check_limits(const causal_twin::AlarmAction& s, std::string& why) {
-  return Checker(why)
-      .id("request_id", s.request_id())
-      .id("asset_group", s.asset_group())
-      .id("alarm_id", s.alarm_id())
-      .id("user_name", s.user_name())
-      .id("reason", s.reason())
-      .enumeration("action", static_cast<std::uint32_t>(s.action()), 3)
-      .result();
-}
+Refusal check_limits(const causal_twin::AlarmAction& s, std::string& why) { return check_alarm_action(s, why); }
 
-Refusal check_limits(const causal_twin::AlarmActionResult& s, std::string& why) {
-  return Checker(why)
-      .id("request_id", s.request_id())
-      .id("asset_group", s.asset_group())
-      .id("alarm_id", s.alarm_id())
-      .id("user_name", s.user_name())
-      .id("reason", s.reason())
-      .enumeration("action", static_cast<std::uint32_t>(s.action()), 3)
-      .result();
-}
+Refusal check_limits(const causal_twin::AlarmActionResult& s, std::string& why) { return check_alarm_action(s, why); }
 
 Refusal check_limits(const causal_twin::WhatIfReply& s, std::string& why) {
   return Checker(why)

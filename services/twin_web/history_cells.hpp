@@ -1,0 +1,84 @@
+// Typed access to one historian row by column name, for turning rows back into the messages they were written
+// from (history_loader, history_interventions). A missing column or an unparsable number throws; guarded() turns
+// that into nullopt, so a row that does not convert is counted unreadable, never shown half.
+#pragma once
+
+#include "causal/history/history_store.hpp"
+#include "causal/io/time_format.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace causal::web {
+
+class HistoryCells {
+ public:
+  HistoryCells(const char* table, const history::Row& row) : t_(history::table(table)), r_(row) {}
+  std::string text(const char* name) const { return cell(name).value_or(""); }
+  double real(const char* name) const {
+    const auto& c = cell(name);
+    return c && !c->empty() ? std::stod(*c) : NAN;  // NULL: unknown (NaN, as on the topic)
+  }
+  // NULL or empty reads as 0 (not set, as on the topic).
+  std::int64_t integer(const char* name) const {
+    const auto& c = cell(name);
+    return c && !c->empty() ? std::stoll(*c) : 0;
+  }
+  // For columns the writer always fills: NULL or empty makes the row unreadable.
+  std::int64_t required_integer(const char* name) const {
+    const auto& c = cell(name);
+    if (!c || c->empty()) throw std::invalid_argument(std::string("no value in ") + name);
+    return std::stoll(*c);
+  }
+  bool boolean(const char* name) const { return cell(name).value_or("") == "true"; }
+  // A UTC text column as ns since the epoch; NULL or empty is 0 (not set, as on the topic).
+  std::int64_t utc(const char* name) const {
+    const auto& c = cell(name);
+    if (!c || c->empty()) return 0;
+    const auto ns = io::parse_utc(*c);
+    if (!ns) throw std::invalid_argument(std::string("bad time in ") + name);
+    return *ns;
+  }
+
+ private:
+  const history::Cell& cell(const char* name) const {
+    const std::size_t i = t_.column(name);
+    if (i == std::string::npos || i >= r_.size()) throw std::invalid_argument(std::string("no column ") + name);
+    return r_[i];
+  }
+  const history::Table& t_;
+  const history::Row& r_;
+};
+
+// make(row), or nullopt where the row does not convert.
+template <typename T>
+std::optional<T> guarded(T (*make)(const history::Row&), const history::Row& row) {
+  try {
+    return make(row);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+// The rows that convert, in the store's order; the others counted in `unreadable`.
+template <typename T>
+std::vector<T> readable(const std::vector<history::Row>& rows, std::optional<T> (*from_row)(const history::Row&),
+                        std::uint64_t& unreadable) {
+  std::vector<T> out;
+  for (const history::Row& r : rows) {
+    if (auto x = from_row(r)) {
+      out.push_back(std::move(*x));
+    } else {
+      ++unreadable;
+    }
+  }
+  return out;
+}
+
+}  // namespace causal::web
