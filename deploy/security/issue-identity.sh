@@ -3,14 +3,16 @@
 # identity CA and a permissions document for its role, signed (S/MIME) by the permissions CA.
 #   deploy/security/issue-identity.sh DIR NAME ROLE [--days N] [--expired] [--groups G1,G2,...]
 # ROLE is one of: sensor estimator recommender recorder operator (least privilege, see the roles below).
-# --groups (sensor only): the asset groups it may write, as DDS partitions causal_twin/group/G in its grant;
-# the estimator refuses and counts its samples of any other group. Without it a sensor may write every group.
+# --groups (sensor, operator): the asset groups it may write, as DDS partitions causal_twin/group/G in its grant;
+# a sensor's samples of any other group are refused and counted by the estimator, an operator's what-if requests,
+# alarm actions and approved interventions by alarm-recommender and sensor-sim. Without it: every group.
+# Every role reads the empty partition and every group partition (readers hear group-limited writers).
 # Writes DIR/NAME/{key.pem,cert.pem,permissions.xml,permissions.p7s}; copy that folder, DIR/identity_ca.pem,
 # DIR/permissions_ca.pem, DIR/governance.p7s and DIR/identity_ca.crl to the host.
 # --expired issues a certificate that expired in 2020 (for tests of the failure message).
 # Exit code: 0 issued, 2 bad usage or the identity exists already.
 set -euo pipefail
-usage() { sed -n '2,11p' "$0"; exit 2; }
+usage() { sed -n '2,13p' "$0"; exit 2; }
 [ $# -ge 3 ] || usage
 groups=""
 dir="$1"; name="$2"; role="$3"; shift 3
@@ -30,7 +32,7 @@ case "$name" in *[!A-Za-z0-9._-]*|"") echo "issue-identity: name '$name' must be
 
 # Asset groups: names as the estimator compares them (literally; no wildcards, which would widen a grant).
 if [ -n "$groups" ]; then
-  [ "$role" = sensor ] || { echo "issue-identity: --groups is for the sensor role only" >&2; exit 2; }
+  case "$role" in sensor|operator) ;; *) echo "issue-identity: --groups is for the sensor and operator roles only" >&2; exit 2 ;; esac
   for g in ${groups//,/ }; do
     case "$g" in *[!A-Za-z0-9._-]*) echo "issue-identity: asset group '$g' must be [A-Za-z0-9._-]+" >&2; exit 2 ;; esac
   done
@@ -70,8 +72,11 @@ subject="$(openssl x509 -in "$out/cert.pem" -noout -subject -nameopt RFC2253 | s
 not_before="$(date -u +%Y-%m-%dT%H:%M:%S -d "$(openssl x509 -in "$out/cert.pem" -noout -startdate | cut -d= -f2)")"
 not_after="$(date -u +%Y-%m-%dT%H:%M:%S -d "$(openssl x509 -in "$out/cert.pem" -noout -enddate | cut -d= -f2)")"
 topics() { for x in $1; do printf '            <topic>%s</topic>\n' "$x"; done; }
-# Partitions of a criteria (common/dds/include/causal/dds/group_partitions.hpp): the sensor's groups; the
-# estimator reads the empty partition (sensors of every group) and every group partition.
+# Partitions of a criteria (common/dds/include/causal/dds/group_partitions.hpp): a sensor's or an operator's
+# groups when it has --groups; every role reads the empty partition (writers of every group) and every group
+# partition (the writers limited to groups: sensors for the estimator and the live view, operators for
+# alarm-recommender, sensor-sim's plant, the recorder and the live view). The readers check each sample's group
+# against its writer's partitions (WriterGrantCheck).
 partitions() {
   [ -n "$1" ] || return 0
   printf '          <partitions>\n'
@@ -83,7 +88,7 @@ partitions() {
 }
 pub_partitions=""; sub_partitions=""
 if [ -n "$groups" ]; then for g in ${groups//,/ }; do pub_partitions="$pub_partitions causal_twin/group/$g"; done; fi
-[ "$role" = estimator ] && sub_partitions="<empty> causal_twin/group/*"
+sub_partitions="<empty> causal_twin/group/*"
 {
   cat <<XML
 <?xml version="1.0" encoding="UTF-8"?>

@@ -57,7 +57,7 @@ AlarmActionDesk::AlarmActionDesk(dds::Participant& participant, const std::strin
     : actions_(participant, dds::topics::kAlarmAction, dds::profiles::kAlarmActionReader),
       results_(participant, dds::topics::kAlarmActionResult, dds::profiles::kAlarmActionResultWriter),
       grants_(participant.directory(), "alarm_action", "alarm action",
-              "issue-identity.sh: an operator's grant names no partitions") {
+              "issue-identity.sh: an operator's grant names no partitions, or only those of --groups") {
   if (state_dir.empty()) return;
   state_file_ = (std::filesystem::path(state_dir) / "alarm_management.state").string();
   restore();

@@ -39,7 +39,9 @@ InterventionDesk::InterventionDesk(dds::Participant& participant, bool log_featu
       in_(participant, dds::topics::kIntervention, dds::profiles::kInterventionReader),
       out_(participant, dds::topics::kInterventionOutcome, dds::profiles::kInterventionOutcomeWriter),
       stop_(&never_stopped_),
-      log_features_(log_features) {}
+      log_features_(log_features),
+      grants_(participant.directory(), "intervention", "approved intervention",
+              "issue-identity.sh: an operator's grant names no partitions, or only those of --groups") {}
 
 void InterventionDesk::attach(dds::EventLoop& loop) {
   stop_ = &loop.stop_flag();
@@ -47,7 +49,13 @@ void InterventionDesk::attach(dds::EventLoop& loop) {
 }
 
 std::size_t InterventionDesk::take() {
-  return in_.take_all([this](const causal_twin::Intervention& in, const auto&) {
+  return in_.take_all([this](const causal_twin::Intervention& in, const auto& info) {
+    if (!grants_.entitled(in.asset_group(), info.sample_identity.writer_guid())) {
+      ++not_entitled_;
+      spdlog::warn("intervention {} (approved by '{}') refused: its writer may not approve for asset group '{}' ({} "
+                   "refused so far)", in.request_id(), in.approved_by(), in.asset_group(), not_entitled_);
+      return;
+    }
     if (in.channel() == 0 || in.target_channel() == 0 || in.duration_snapshots() == 0 ||
         !std::isfinite(in.change_percent()) || in.change_percent() <= -100.0) {
       ++invalid_;
@@ -144,6 +152,12 @@ void InterventionDesk::finish() {
   spdlog::info("interventions: {} approved, {} refused, {} outcomes published, {} not published, {} non-finite "
                "observations skipped by the check", approvals_, invalid_, published_, write_failures_,
                check_.rejected_non_finite());
+  if (not_entitled_ > 0) {
+    spdlog::error("{} approved interventions refused: their writers may not approve for their asset group ({} "
+                  "writer/group pairs)", not_entitled_, grants_.refused_pairs());
+  }
+  spdlog::info("summary topic=causal_twin/intervention approved={} refused={} not_entitled={}", approvals_, invalid_,
+               not_entitled_);
   if (!out_.wait_for_acknowledgments(std::chrono::seconds(5))) {
     spdlog::warn("not every intervention outcome was acknowledged within 5 s");
   }

@@ -3,6 +3,11 @@
 // (outcome_check.hpp, no DDS); this adapter feeds it every condition-level observation, answers the frozen
 // what-if from the advisor's model as of the snapshot before the start, and publishes what finished. Lever trust
 // learned from the outcomes withdraws a lever's claim (lever_claimed) when its outcomes miss.
+//
+// Approvals come from operator identities (causal-approve, twin-web): one is taken only when its writer's grant,
+// as of the writer's first discovery, names the approval's asset group (dds/writer_grant_check.hpp, as the what-if
+// requests and alarm actions). A refused approval is not checked, counted (not_entitled), alarmed once per writer
+// and group (HEALTH group_not_entitled, taken with take_health_alarms) and makes the exit code 4.
 #pragma once
 
 #include "advice_names.hpp"
@@ -11,6 +16,7 @@
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/typed_endpoints.hpp"
+#include "causal/dds/writer_grant_check.hpp"
 #include "causal/intervention/outcome_check.hpp"
 #include "causal_twinPubSubTypes.h"
 
@@ -33,6 +39,9 @@ class InterventionDesk {
   void finish();
   // Whether lever `lever` on `target` (0-based) of `group` may still be claimed, and the reason when not.
   bool lever_claimed(const std::string& group, int lever, int target, std::string& why) const;
+  // HEALTH group_not_entitled alarms raised by refused writers since the last call (the node publishes them).
+  std::vector<causal_twin::Alarm> take_health_alarms() { return grants_.take_alarms(); }
+  std::uint64_t not_entitled() const { return not_entitled_; }
 
  private:
   intervention::Prediction predict(const intervention::InterventionPlan& plan, const Advisor& advisor) const;
@@ -45,6 +54,8 @@ class InterventionDesk {
   std::atomic<bool> never_stopped_{false};
   bool log_features_;
   intervention::OutcomeCheck check_;
+  dds::WriterGrantCheck grants_;
+  std::uint64_t not_entitled_ = 0;
   std::map<std::string, std::vector<std::string>> channel_names_;  // per group, for the texts
   std::uint64_t approvals_ = 0, invalid_ = 0, published_ = 0, write_failures_ = 0;
 };

@@ -110,6 +110,7 @@ int RecommenderNode::run() {
   assembler_.flush(later);
   handle(later, [] {});
   interventions_.finish();
+  for (auto& alarm : interventions_.take_health_alarms()) publish_health_alarm(alarm);  // refused at the end
   store_.flush();
   for (const auto& [key, st] : engines_) {
     const auto active = st.engine->active_alarms();
@@ -165,7 +166,7 @@ int RecommenderNode::run() {
   log_whatif_summary();
   return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
           status_write_failures_ + whatif_not_entitled_ + action_desk_.result_write_failures() +
-          action_desk_.checkpoint_failures() + action_desk_.not_entitled()) > 0
+          action_desk_.checkpoint_failures() + action_desk_.not_entitled() + interventions_.not_entitled()) > 0
              ? config::kExitLostOrRefused
              : config::kExitOk;
 }
@@ -173,6 +174,7 @@ int RecommenderNode::run() {
 void RecommenderNode::publish_health() {
   health_.check(participant_.directory());
   for (auto& alarm : health_.take_alarms()) publish_health_alarm(alarm);
+  for (auto& alarm : interventions_.take_health_alarms()) publish_health_alarm(alarm);  // refused approvals' writers
 }
 
 void RecommenderNode::handle(std::vector<AssembledObservation>& ready, const std::function<void()>& take_more) {

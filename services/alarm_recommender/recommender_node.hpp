@@ -136,8 +136,9 @@ class RecommenderNode {
   OpenAlarmMetrics open_alarms_;  // causal_twin_alarms_open{asset_group, category, severity}
   PrognosisMetrics prognosis_metrics_;  // causal_twin_prognosis_time_to_level_seconds{...}
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;
-  dds::WriterGrantCheck whatif_grants_{participant_.directory(), "whatif", "what-if request",
-                                      "issue-identity.sh: an operator's grant names no partitions"};
+  dds::WriterGrantCheck whatif_grants_{
+      participant_.directory(), "whatif", "what-if request",
+      "issue-identity.sh: an operator's grant names no partitions, or only those of --groups"};
   std::uint64_t whatif_received_ = 0, whatif_not_entitled_ = 0;
 };
 

@@ -69,7 +69,9 @@ InterventionTables::InterventionTables(dds::Participant& participant, const std:
       outcomes_(participant, dds::topics::kInterventionOutcome, dds::profiles::kInterventionOutcomeReader),
       intervention_file_(std::make_unique<report::CsvFile>(out_dir / kInterventionsFile, intervention_header())),
       outcome_file_(std::make_unique<report::CsvFile>(out_dir / kInterventionOutcomesFile, intervention_outcome_header())),
-      history_(history) {
+      history_(history),
+      grants_(participant.directory(), "intervention", "approved intervention",
+              "issue-identity.sh: an operator's grant names no partitions, or only those of --groups") {
   loop.attach(interventions_.get());
   loop.attach(outcomes_.get());
 }
@@ -85,7 +87,17 @@ std::size_t InterventionTables::take() {
   };
   std::vector<std::pair<Key, causal_twin::Intervention>> ivs;
   std::vector<std::pair<Key, causal_twin::InterventionOutcome>> outs;
-  interventions_.take_all([&](const auto& in, const auto& info) { ivs.emplace_back(key_of(info), in); });
+  interventions_.take_all([&](const auto& in, const auto& info) {
+    if (grants_.entitled(in.asset_group(), info.sample_identity.writer_guid())) {
+      ivs.emplace_back(key_of(info), in);
+      return;
+    }
+    ++intervention_counts_.received;
+    ++intervention_counts_.refused;
+    spdlog::error("intervention {} (approved by '{}') not recorded: its writer may not approve for asset group '{}'",
+                  in.request_id(), in.approved_by(), in.asset_group());
+  });
+  for (const auto& alarm : grants_.take_alarms()) spdlog::warn("HEALTH RAISED {}: {}", alarm.alarm_id(), alarm.reason());
   outcomes_.take_all([&](const auto& in, const auto& info) { outs.emplace_back(key_of(info), in); });
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   std::stable_sort(ivs.begin(), ivs.end(), by_key);

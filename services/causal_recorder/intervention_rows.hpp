@@ -3,6 +3,10 @@
 // each exactly once per request id (a transient-local replay of the same message is a duplicate). Rows are in
 // publication order (writer, sequence number), so repeated runs give the same files. With --db the same rows go to
 // the historian's tables interventions and intervention_outcomes (keyed by asset group and request id).
+// An approval is recorded only when its writer's grant, as of the writer's first discovery, names its asset group
+// (dds/writer_grant_check.hpp, the check of the plant and alarm-recommender): the others were never approved for
+// that group, so they are refused (counted in the topic's refused, logged with a HEALTH line naming the writer's
+// participant; the recorder's identity publishes nothing) and make the exit code 4.
 #pragma once
 
 #include "history_sink.hpp"
@@ -11,6 +15,7 @@
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/typed_endpoints.hpp"
+#include "causal/dds/writer_grant_check.hpp"
 #include "causal/io/csv_format.hpp"
 #include "causal_twinPubSubTypes.h"
 
@@ -51,6 +56,7 @@ class InterventionTables {
   dds::TypedReader<causal_twin::InterventionOutcomePubSubType> outcomes_;
   std::unique_ptr<report::CsvFile> intervention_file_, outcome_file_;
   HistorySink* history_ = nullptr;
+  dds::WriterGrantCheck grants_;
   RepeatFilter intervention_repeats_, outcome_repeats_;
   TopicCounts intervention_counts_, outcome_counts_;
 };

@@ -390,6 +390,7 @@ int RecorderNode::finish() {
   spdlog::info("prognoses: {}", describe(prognosis_counts_));
   spdlog::info("interventions: {}; intervention outcomes: {}", describe(interventions_->intervention_counts()),
                describe(interventions_->outcome_counts()));
+  refused_total += interventions_->intervention_counts().refused;  // approvals whose writer was not entitled
   spdlog::info("summary topic=causal_twin/prognosis file={} written={} duplicates={}", kPrognosisFile,
                prognoses_->rows_written(), prognosis_counts_.duplicates);
   add(kAlarmsFile, alarms_->rows_written());

@@ -19,7 +19,7 @@ PlantNode::PlantNode(SimOptions options)
     : options_(std::move(options)),
       participant_(dds::to_dds_settings(options_.dds, "sensor-sim")),
       conditions_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputWriter),
-      interventions_(participant_, dds::topics::kIntervention, dds::profiles::kInterventionReader) {
+      interventions_(participant_) {
   for (int c = 1; c <= LevelPlant::kChannels; ++c) channel_names_.push_back("ch" + std::to_string(c));
   for (int i = 0; i < options_.groups; ++i) {
     // Plant kinds cycle over the groups: --plant lever,no-lever gives sim-0000 lever, sim-0001 no-lever, ...
@@ -70,7 +70,10 @@ void PlantNode::apply(const causal_twin::Intervention& in) {
 }
 
 void PlantNode::take_interventions() {
-  interventions_.take_all([this](const causal_twin::Intervention& in, const auto&) { apply(in); });
+  const auto ours = [this](const std::string& group) {
+    return std::any_of(groups_.begin(), groups_.end(), [&](const Group& g) { return g.id == group; });
+  };
+  interventions_.take(ours, [this](const causal_twin::Intervention& in) { apply(in); });
 }
 
 bool PlantNode::publish_snapshot(std::uint64_t n) {
@@ -128,16 +131,18 @@ int PlantNode::run() {
     spdlog::warn("not every condition vector was acknowledged by the readers");
   }
   print_summary();
-  // A refused approval (late or overlapping) is a refusal like a lost snapshot: the summary says which.
-  return lost_ + refused_ > 0 ? config::kExitLostOrRefused : config::kExitOk;
+  // A refused approval (late, overlapping, or from a writer not entitled to its group) is a refusal like a lost
+  // snapshot: the summary says which.
+  return lost_ + refused_ + interventions_.not_entitled() > 0 ? config::kExitLostOrRefused : config::kExitOk;
 }
 
 void PlantNode::print_summary() const {
   std::printf("sensor-sim: sent snapshots=%llu groups=%zu lost=%llu interventions applied=%llu refused=%llu "
-              "other_groups=%llu\n",
+              "other_groups=%llu not_entitled=%llu\n",
               static_cast<unsigned long long>(sent_), groups_.size(), static_cast<unsigned long long>(lost_),
               static_cast<unsigned long long>(applied_), static_cast<unsigned long long>(refused_),
-              static_cast<unsigned long long>(other_groups_));
+              static_cast<unsigned long long>(other_groups_),
+              static_cast<unsigned long long>(interventions_.not_entitled()));
   std::fflush(stdout);
 }
 

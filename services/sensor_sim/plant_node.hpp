@@ -3,9 +3,11 @@
 // causal_twin/intervention: each is applied to its group's true structural model as the do-operation (P2) from
 // its start snapshot index, so the data depend on the approvals and their indices only (same input, same output).
 // An intervention for another group is not ours (counted, ignored); one that cannot be applied as approved
-// (its start already published, a bad channel or size, an overlap) is refused, logged and counted (exit 5).
+// (its start already published, a bad channel or size, an overlap) is refused, logged and counted (exit 4), and
+// so is one whose writer may not approve for its group (intervention_inbox.hpp: not_entitled).
 #pragma once
 
+#include "intervention_inbox.hpp"
 #include "level_plant.hpp"
 #include "sim_options.hpp"
 
@@ -47,7 +49,7 @@ class PlantNode {
   SimOptions options_;
   dds::Participant participant_;
   dds::TypedWriter<causal_twin::ConditionVectorPubSubType> conditions_;
-  dds::TypedReader<causal_twin::InterventionPubSubType> interventions_;
+  InterventionInbox interventions_;  // approvals whose writer's grant names their group
   std::vector<Group> groups_;
   std::vector<std::string> channel_names_;
   std::set<std::string> seen_requests_;  // an intervention instance re-sent (transient local) is applied once

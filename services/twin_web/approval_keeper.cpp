@@ -32,17 +32,19 @@ ApprovalKeeper::ApprovalKeeper(dds::Participant& participant)
   }
 }
 
-void ApprovalKeeper::on_read(const causal_twin::Intervention& in, const eprosima::fastrtps::rtps::GUID_t& writer) {
-  if (writer == writer_.get()->guid() || written_.count(in.request_id()) > 0) return;  // ours, or kept already
-  for (const auto& queued : copies_) {
-    if (queued.request_id() == in.request_id()) return;
-  }
+bool ApprovalKeeper::on_read(const causal_twin::Intervention& in, const eprosima::fastrtps::rtps::GUID_t& writer) {
+  if (writer == writer_.get()->guid()) return true;  // ours: granted when it was written
   if (!grants_.entitled(in.asset_group(), writer)) {
     ++counts_.not_entitled;
     (void)grants_.take_alarms();  // twin-web writes no alarms: logged by the check, counted here and in the summary
-    return;
+    return false;
+  }
+  if (written_.count(in.request_id()) > 0) return true;  // kept already
+  for (const auto& queued : copies_) {
+    if (queued.request_id() == in.request_id()) return true;
   }
   copies_.push_back(in);
+  return true;
 }
 
 std::string ApprovalKeeper::keep(causal_twin::Intervention& iv, const std::atomic<bool>& stop) {

@@ -32,7 +32,9 @@ class ApprovalKeeper {
 
   ApprovalBridge& bridge() { return bridge_; }
   // An approval read from the bus (any writer, twin-web's own too): queued to be kept when it is another's.
-  void on_read(const causal_twin::Intervention& in, const eprosima::fastrtps::rtps::GUID_t& writer);
+  // False when its writer is not entitled to the group: the plant and the recommender refuse it, so the page
+  // must not show it as approved either.
+  bool on_read(const causal_twin::Intervention& in, const eprosima::fastrtps::rtps::GUID_t& writer);
   // Writes the page's approvals that are due (answering the bridge) and the queued copies.
   void send_due(const std::atomic<bool>& stop);
   void stop() { bridge_.stop(); }

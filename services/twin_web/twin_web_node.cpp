@@ -156,8 +156,7 @@ std::size_t TwinWebNode::take_available() {
       loop_.stop_flag());
   n += interventions_in_.take_all(
       [this](const auto& i, const auto& info) {
-        state_.on_intervention(i);
-        approvals_.on_read(i, info.sample_identity.writer_guid());
+        if (approvals_.on_read(i, info.sample_identity.writer_guid())) state_.on_intervention(i);
       },
       loop_.stop_flag());
   n += inputs_in_.take_all([this](const auto& c, const auto&) {

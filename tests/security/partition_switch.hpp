@@ -1,5 +1,6 @@
 // The partition-switch attack on a secured service, shared by the tests of every service that reads input from
-// outside identities (causal-estimator's inputs, alarm-recommender's what-if requests): a granted writer matches
+// outside identities (causal-estimator's inputs, alarm-recommender's what-if requests, alarm actions and approved
+// interventions, sensor-sim's approved interventions): a granted writer matches
 // the service and writes samples its grant allows, then moves its publisher to other partitions with
 // Publisher::set_qos (Fast DDS 2.9 keeps the match and only logs "partition not found in rule") and writes more.
 // The service must refuse the writer from the change on, for every group (dds/writer_grant_check.hpp).
@@ -57,6 +58,7 @@ struct PartitionSwitch {
   std::vector<Sample> before;
   std::vector<std::string> partitions;
   std::vector<Sample> after;
+  std::size_t readers = 1;  // the services reading the topic (each must match before the attack starts)
 };
 
 // Runs the plan against a service already started on `domain` (its output for failure messages from
@@ -71,7 +73,7 @@ std::uint64_t write_and_switch_partitions(int domain, const fs::path& pki, const
   causal::dds::TypedWriter<PubSubType> w(p, topic, profile);
   const std::atomic<bool> never{false};
   std::uint64_t sent = 0;
-  if (!w.wait_for_readers(1, std::chrono::seconds(30), never)) {
+  if (!w.wait_for_readers(plan.readers, std::chrono::seconds(30), never)) {
     ADD_FAILURE() << "the service never matched:\n" << service_output();
     return sent;
   }
@@ -89,7 +91,7 @@ std::uint64_t write_and_switch_partitions(int domain, const fs::path& pki, const
   // The change reaches the service by discovery (its own channel): give it time to arrive first, as an attacker
   // would (samples written in between are judged by the first partitions).
   std::this_thread::sleep_for(std::chrono::seconds(2));
-  EXPECT_EQ(w.matched_readers(), 1u) << "Fast DDS 2.9 keeps the match after the change";
+  EXPECT_EQ(w.matched_readers(), plan.readers) << "Fast DDS 2.9 keeps the match after the change";
   for (Sample v : plan.after) {
     if (w.write(v, never) == causal::dds::WriteResult::Ok) ++sent;
   }
