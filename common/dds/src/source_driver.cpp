@@ -63,7 +63,7 @@ bool SourceDriver::readers_present(const Writer& writer, bool first) {
                                        fmt::join(names, ", "), participant_.domain_id());
   const double timeout_s = options_.wait.wait_timeout_s;
   const std::string bound =
-      timeout_s > 0 ? fmt::format("up to {:.0f} s", timeout_s) : std::string("for as long as it takes");
+      timeout_s > 0 ? fmt::format("up to {:g} s", timeout_s) : std::string("for as long as it takes");
   if (first) {
     spdlog::info("waiting {} for {}", bound, what);
   } else {
@@ -79,7 +79,7 @@ bool SourceDriver::readers_present(const Writer& writer, bool first) {
   const bool ok = wait_for_peers(ready, timeout_s, stop_, what);
   if (!ok && !stop_.load()) {
     readers_missing_ = true;
-    spdlog::error("the readers did not match within {:.0f} s: is causal-estimator running on domain {} with the same "
+    spdlog::error("the readers did not match within {:g} s: is causal-estimator running on domain {} with the same "
                   "transport profile?",
                   timeout_s, participant_.domain_id());
   }
