@@ -1,5 +1,6 @@
 // alarm-recommender: causal factors in; alarms, root cause and recommendations out. See --help.
 #include "recommender_node.hpp"
+#include "causal/dds/source_driver.hpp"
 
 #include "causal/config/config_search.hpp"
 
@@ -37,11 +38,11 @@ int main(int argc, char** argv) {
                  "alarms and the last event of every alarm, re-published at restart; re-sent observations are "
                  "dropped. Empty = no persistence")
       ->capture_default_str();
-  app.add_option("--wait-for", o.wait_for,
-                 "before processing, wait until readers of these participants are matched on the alarm, "
-                 "recommendation, asset-status and prognosis topics: NAME or NAME:COUNT, e.g. --wait-for "
-                 "causal-recorder (input queues meanwhile; without it a historian that starts late gets only the "
-                 "last 64 changes per key)");
+  causal::dds::add_wait_for_option(app, o.wait_for,
+                                   "before processing, wait until readers of these participants are matched on the "
+                                   "alarm, recommendation, asset-status and prognosis topics (input queues meanwhile; "
+                                   "without it a historian that starts late gets only the last 64 changes per key)",
+                                   "causal-recorder");
   app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   CAUSAL_CLI_PARSE(app, argc, argv);

@@ -1,5 +1,6 @@
 // causal-estimator: vibration frames in, causal factor vectors out. See --help.
 #include "estimator_node.hpp"
+#include "causal/dds/source_driver.hpp"
 #include "causal/config/exit_codes.hpp"
 #include "causal/pipeline/estimator_params.hpp"
 #include "shard_assignment.hpp"
@@ -43,9 +44,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--wait-for", o.wait_for,
-                 "before processing, wait until readers of these participants are matched on the causal-factor topic: "
-                 "NAME or NAME:COUNT, e.g. --wait-for alarm-recommender causal-recorder (input queues meanwhile)");
+  causal::dds::add_wait_for_option(app, o.wait_for,
+                                   "before processing, wait until readers of these participants are matched on the "
+                                   "causal-factor topic (input queues meanwhile)",
+                                   "alarm-recommender causal-recorder");
   app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--outbound-queue", o.outbound_capacity,

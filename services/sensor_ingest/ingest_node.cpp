@@ -10,9 +10,6 @@
 #include <numeric>
 
 #include "causal/dds/frame_conversions.hpp"
-#include "causal/dds/stop_timer.hpp"
-#include "causal/dds/topics.hpp"
-#include "causal/config/exit_codes.hpp"
 
 namespace causal::ingest {
 
@@ -36,20 +33,36 @@ std::uint64_t total(const std::array<std::uint64_t, kRejectReasonCount>& a) {
   return std::accumulate(a.begin(), a.end(), std::uint64_t{0});
 }
 std::string suppressed_text(std::uint64_t n) { return n > 0 ? fmt::format(" ({} more like it not logged)", n) : ""; }
+
+std::vector<std::string> restart_readers(const IngestOptions& o) {
+  std::vector<std::string> names;
+  for (const auto& w : o.wait.wait_for) names.push_back(dds::parse_named_readers(w).name);
+  if (names.empty()) names.push_back("causal-estimator");
+  return names;
+}
+
+dds::SourceDriverOptions driver_options(const IngestOptions& o) {
+  dds::SourceDriverOptions d;
+  d.wait = o.wait;
+  d.frames = true;
+  d.conditions = true;  // feature rows
+  d.restart_readers = restart_readers(o);
+  d.write_timeout_s = o.write_timeout_s;
+  d.max_runtime_s = o.max_runtime_s;
+  d.drain_after_stop = true;  // what the source already took is published (or counted lost) after a stop
+  return d;
+}
 }  // namespace
 
 IngestNode::IngestNode(IngestOptions options)
     : options_(std::move(options)),
       participant_(dds::to_dds_settings(options_.dds, "sensor-ingest")),
-      frames_(participant_, dds::topics::kVibrationFrame, dds::profiles::kVibrationFrameWriter),
+      driver_(participant_, driver_options(options_)),
       queue_(options_.queue_messages),
       sequencer_(options_.gap_factor),
       numbering_(options_.state_dir),
-      features_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputWriter),
       backlog_(options_.backlog_frames),
-      progress_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader) {
-  for (const auto& w : options_.wait_for) reader_names_.push_back(dds::parse_named_readers(w).name);
-  if (reader_names_.empty()) reader_names_.push_back("causal-estimator");
+      reader_names_(restart_readers(options_)) {
   auto& m = metrics::process_metrics();
   const metrics::Labels source{{"source", source_kind_name(options_.source.kind)}};
   received_metric_ =
@@ -78,70 +91,64 @@ IngestNode::~IngestNode() {
 }
 
 void IngestNode::stop() {
-  stop_.store(true);
+  driver_.stop();
   queue_.close();
 }
 
-int IngestNode::run() {
-  const auto started = Clock::now();
-  dds::StopTimer runtime_limit(options_.max_runtime_s, [this] {
-    spdlog::warn("max runtime {:.1f} s reached: stopping", options_.max_runtime_s);
-    stop();
-  });
-  if (options_.max_runtime_s > 0) {
-    deadline_ =
-        started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.max_runtime_s));
-  }
-  if (options_.wait_subscribers > 0 || !options_.wait_for.empty()) {
-    const std::string what = fmt::format("{} reader(s){}{} on domain {}", options_.wait_subscribers,
-                                         options_.wait_for.empty() ? "" : " including ", fmt::join(options_.wait_for, ", "),
-                                         participant_.domain_id());
-    spdlog::info("waiting {} for {}", options_.wait_timeout_s > 0 ? fmt::format("up to {:.0f} s", options_.wait_timeout_s)
-                                                                   : std::string("for as long as it takes"), what);
-    std::vector<dds::NamedReaders> named;
-    for (const auto& w : options_.wait_for) named.push_back(dds::parse_named_readers(w));
-    const auto ready = [&](std::chrono::milliseconds limit) {
-      return frames_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), limit, stop_) &&
-             dds::wait_for_named_readers(frames_, named, limit, stop_).empty();
-    };
-    if (!dds::wait_for_peers(ready, options_.wait_timeout_s, stop_, what)) {
-      print_summary();
-      if (stop_.load()) return 0;
-      spdlog::error(
-          "no reader matched within {:.0f} s: is causal-estimator running on domain {} with the same "
-          "transport profile?",
-          options_.wait_timeout_s, participant_.domain_id());
-      return config::kExitNoPeer;
-    }
-  }
+void IngestNode::start(dds::SourceDriver& driver) {
+  running_ = &driver;
   spdlog::info("ingesting from {} ({}); backlog {} frames per asset group for a restarted estimator",
                options_.source.text, source_kind_name(options_.source.kind), options_.backlog_frames);
-  resend_to_new_readers();  // the first look: the readers present now are not new
   source_->start();
+}
+
+dds::Take IngestNode::next(dds::SourceDriver& driver, dds::SourceBlock& out) {
   // Until the source ends (stdin) or a stop; after a stop the messages already queued are still published.
   while (true) {
-    auto message = queue_.pop(std::chrono::milliseconds(200));
-    resend_to_new_readers();
-    if (!message) {
-      if (queue_.closed_and_empty()) break;
-      continue;
+    if (!pending_.empty()) {
+      out.kind = dds::SourceBlock::Kind::Kept;
+      out.kept = pending_.front();
+      pending_.pop_front();
+      return dds::Take::Block;
     }
-    process(*message);
+    if (!holding_) {
+      held_ = queue_.pop(std::chrono::milliseconds(200));
+      holding_ = true;
+      if (const auto published = driver.restarted()) resend(*published);
+      if (!pending_.empty()) continue;  // the kept frames first, then this message
+    }
+    holding_ = false;
+    auto message = std::move(held_);
+    held_.reset();
+    if (!message && queue_.closed_and_empty()) {
+      source_->stop();
+      return dds::Take::End;
+    }
+    if (!message) return dds::Take::Idle;
+    return process(*message, out) ? dds::Take::Block : dds::Take::Idle;
   }
-  source_->stop();
-  auto ack_wait =
-      std::chrono::duration_cast<Clock::duration>(stop_.load() ? std::chrono::seconds(2) : std::chrono::seconds(30));
-  if (deadline_ != Clock::time_point::max())
-    ack_wait = std::min(ack_wait, std::max(Clock::duration::zero(), deadline_ - Clock::now()));
-  if (!frames_.wait_for_acknowledgments(std::chrono::duration_cast<std::chrono::milliseconds>(ack_wait)) ||
-      !features_.wait_for_acknowledgments(std::chrono::duration_cast<std::chrono::milliseconds>(ack_wait))) {
-    spdlog::warn("not every frame was acknowledged by the readers within {:.1f} s",
-                 std::chrono::duration<double>(ack_wait).count());
+}
+
+std::uint64_t IngestNode::refused() const { return total(rejected_) + missed_; }
+
+void IngestNode::written(const dds::SourceBlock& block, dds::WriteResult result,
+                         const causal_twin::VibrationFrame* built) {
+  if (block.kind == dds::SourceBlock::Kind::Kept) {
+    if (result != dds::WriteResult::Ok) lost_metric_->inc();
+    return;
   }
-  spdlog::info("{} messages in, {} frames published in {:.2f} s{}", received_, published_,
-               std::chrono::duration<double>(Clock::now() - started).count(), stop_.load() ? " (stopped)" : "");
-  print_summary();
-  return total(rejected_) + lost_ + missed_ > 0 ? config::kExitLostOrRefused : config::kExitOk;
+  if (result != dds::WriteResult::Ok) {
+    // The frame's sequence number stays used: the readers see the gap, as the IDL says for lost frames.
+    lost_metric_->inc();
+    return;
+  }
+  ++published_;
+  published_metric_->inc();
+  if (block.kind == dds::SourceBlock::Kind::Condition) {
+    ++features_published_;
+  } else {
+    backlog_.keep(*built);
+  }
 }
 
 void IngestNode::count_rejection(RejectReason reason, const std::string& detail, const std::string& group) {
@@ -155,33 +162,30 @@ void IngestNode::count_rejection(RejectReason reason, const std::string& detail,
   }
 }
 
-void IngestNode::process(const std::string& message) {
+bool IngestNode::process(const std::string& message, dds::SourceBlock& out) {
   ++received_;
   received_metric_->inc();
-  if (is_feature_row(message)) {
-    process_features(message);
-    return;
-  }
+  if (is_feature_row(message)) return process_features(message, out);
   ParseResult parsed = parse_block(message, options_.limits);
   if (!parsed.block) {
     count_rejection(parsed.reason, parsed.detail, "");
-    return;
+    return false;
   }
   const IngestBlock& b = *parsed.block;
   // Limits every reader applies (frame_conversions.hpp InputLimits), checked before the block takes a number.
   if (const std::string problem = dds::validate_frame_header(b.channels.size(), b.sample_rate_hz, b.t0_ns);
       !problem.empty()) {
     count_rejection(RejectReason::Field, problem, b.asset_group);
-    return;
+    return false;
   }
   if (!sequencer_.knows(b.asset_group) && !resume_numbering(b.asset_group)) {
     count_rejection(RejectReason::Field, "the asset group's numbering state cannot be read", b.asset_group);
-    return;
+    return false;
   }
   const Admission admission = sequencer_.admit(b);
   if (!admission.plan) {
     count_rejection(admission.reason, admission.detail, b.asset_group);
-    return;
+    return false;
   }
   const FramePlan& plan = *admission.plan;
   std::uint64_t suppressed = 0;
@@ -213,7 +217,9 @@ void IngestNode::process(const std::string& message) {
                    plan.sequence, b.sequence, plan.snapshot_index, plan.why, suppressed_text(suppressed));
     }
   }
-  dds::FrameHeader h;
+  out.kind = dds::SourceBlock::Kind::Frame;
+  out.numbered = true;  // the sequencer's numbers: a restart or a missed block keeps its place
+  dds::FrameHeader& h = out.frame;
   h.asset_group = b.asset_group;
   h.sequence = plan.sequence;
   h.first_sample_index = plan.first_sample_index;
@@ -226,57 +232,22 @@ void IngestNode::process(const std::string& message) {
   h.end_of_segment = b.end_of_segment;
   h.source = fmt::format("{} block {}", options_.source.text, b.sequence);
   const auto rows = static_cast<Eigen::Index>(b.samples_per_channel);
-  const Eigen::MatrixXd block =
-      Eigen::Map<const dds::RowMajorMatrix>(b.samples.data(), rows, static_cast<Eigen::Index>(b.channels.size()));
-  dds::to_frame(h, block, 0, rows, frame_);
-  const auto write_deadline = std::min(Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                          std::chrono::duration<double>(options_.write_timeout_s)),
-                                       deadline_);
-  const auto result = frames_.write_until(frame_, stop_, write_deadline);
-  if (result == dds::WriteResult::Ok) {
-    ++published_;
-    published_metric_->inc();
-    backlog_.keep(frame_);
-    return;
-  }
-  // The frame's sequence number stays used: the readers see the gap, as the IDL says for lost frames.
-  ++lost_;
-  lost_metric_->inc();
-  spdlog::error("'{}' frame {} lost: {}", b.asset_group, plan.sequence,
-                result == dds::WriteResult::Stopped ? std::string("stopping while the readers were behind")
-                : result == dds::WriteResult::TimedOut
-                    ? fmt::format("not accepted within {:.1f} s", options_.write_timeout_s)
-                    : fmt::format("DDS write error, return code {}", frames_.last_error()));
+  block_ = Eigen::Map<const dds::RowMajorMatrix>(b.samples.data(), rows, static_cast<Eigen::Index>(b.channels.size()));
+  out.samples = &block_;
+  out.first_row = 0;
+  out.rows = rows;
+  return true;
 }
 
-void IngestNode::resend_to_new_readers() {
-  progress_.take_all([this](const causal_twin::ConditionVector& c, const auto&) {
-    auto [it, added] = estimator_published_.emplace(c.asset_group(), c.snapshot_index());
-    if (!added && c.snapshot_index() > it->second) it->second = c.snapshot_index();
-  });
-  const auto now = Clock::now();
-  const bool first_look = last_look_ == Clock::time_point{};
-  if (!first_look && now - last_look_ < std::chrono::milliseconds(100)) return;
-  last_look_ = now;
-  std::size_t named = 0, matched = 0;
-  for (const auto& name : reader_names_) {
-    for (const auto& guid : frames_.readers_named(name)) {
-      ++named;
-      if (known_readers_.insert(guid).second && !first_look) new_readers_.insert(guid);
-    }
-    matched += frames_.matched_readers_named(name);
-  }
-  // Resent once every reader discovered is matched: frames written before the match would not reach it.
-  if (new_readers_.empty() || matched < named || !backlog_.enabled()) return;
-  new_readers_.clear();
+void IngestNode::resend(const dds::PublishedSnapshots& published) {
+  if (!backlog_.enabled()) return;
   ++resends_;
-  for (const auto& group : backlog_.groups()) resend_group(group);
+  for (const auto& group : backlog_.groups()) resend_group(group, published);
 }
 
-void IngestNode::resend_group(const std::string& group) {
-  const auto it = estimator_published_.find(group);
-  const std::optional<std::uint64_t> after =
-      it == estimator_published_.end() ? std::nullopt : std::optional(it->second);
+void IngestNode::resend_group(const std::string& group, const dds::PublishedSnapshots& published) {
+  const auto it = published.find(group);
+  const std::optional<std::uint64_t> after = it == published.end() ? std::nullopt : std::optional(it->second);
   const auto frames = backlog_.after(group, after);
   const auto oldest = backlog_.oldest_snapshot(group);
   if (after && oldest && *oldest > *after + 1) {
@@ -292,85 +263,48 @@ void IngestNode::resend_group(const std::string& group) {
                "published for it was {})",
                group, fmt::join(reader_names_, "/"), frames.size(), frames.front()->snapshot_index(),
                after ? std::to_string(*after) : std::string("none"));
-  for (const auto* f : frames) {
-    auto copy = *f;
-    const auto deadline = std::min(Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                      std::chrono::duration<double>(options_.write_timeout_s)),
-                                   deadline_);
-    const auto result = frames_.write_until(copy, stop_, deadline);
-    if (result == dds::WriteResult::Ok) {
-      ++resent_;
-      continue;
-    }
-    ++lost_;
-    lost_metric_->inc();
-    spdlog::error("'{}' frame {} not resent: the readers did not accept it", group, f->sequence_number());
-  }
+  pending_.insert(pending_.end(), frames.begin(), frames.end());
 }
 
-void IngestNode::process_features(const std::string& message) {
+bool IngestNode::process_features(const std::string& message, dds::SourceBlock& out) {
   const FeatureParseResult parsed = parse_feature_row(message, options_.limits);
   if (!parsed.row) {
     count_rejection(parsed.reason, parsed.detail, "");
-    return;
+    return false;
   }
   const FeatureRow& r = *parsed.row;
-  if (!features_ready_) {
-    // The readers waited for at the start were the frames' ones: before the first feature row, the same wait on
-    // the condition-input topic (an estimator has both readers; a row written before the match would be lost).
-    features_ready_ = true;
-    std::vector<dds::NamedReaders> named;
-    for (const auto& w : options_.wait_for) named.push_back(dds::parse_named_readers(w));
-    const auto limit = std::chrono::milliseconds(static_cast<long>(1000 * (options_.wait_timeout_s > 0 ? options_.wait_timeout_s : 30.0)));
-    if (!features_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), limit, stop_) ||
-        !dds::wait_for_named_readers(features_, named, limit, stop_).empty()) {
-      spdlog::warn("no reader of causal_twin/condition_input matched within {} ms: feature rows go out anyway",
-                   limit.count());
-    }
-  }
   auto [it, first] = feature_streams_.try_emplace(r.asset_group);
   FeatureStream& s = it->second;
   if (!first && (r.channels != s.channels || r.feature != s.feature)) {
     count_rejection(RejectReason::LayoutChange, "channels or feature differ from this group's earlier rows", r.asset_group);
-    return;
+    return false;
   }
   if (!first && r.sequence <= s.last_sequence) {
     count_rejection(r.sequence == s.last_sequence ? RejectReason::Duplicate : RejectReason::OutOfOrder,
                     fmt::format("sequence {} after {}", r.sequence, s.last_sequence), r.asset_group);
-    return;
+    return false;
   }
   if (!first && r.time_ns <= s.last_time_ns) {
     count_rejection(RejectReason::OutOfOrder, "time does not advance", r.asset_group);
-    return;
+    return false;
   }
   if (r.non_finite > 0) {
     non_finite_ += r.non_finite;
     non_finite_metric_->inc(static_cast<double>(r.non_finite));
   }
-  feature_msg_.asset_group(r.asset_group);
-  feature_msg_.feature(r.feature);
-  feature_msg_.snapshot_index(r.sequence);  // the source's snapshot counter: gaps are lost rows, counted downstream
-  feature_msg_.time_ns(r.time_ns);
-  feature_msg_.channel_names(r.channels);
-  feature_msg_.values(r.values);
-  feature_msg_.discontinuity(r.discontinuity || first);
-  const auto deadline = std::min(Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                    std::chrono::duration<double>(options_.write_timeout_s)),
-                                 deadline_);
-  const auto result = features_.write_until(feature_msg_, stop_, deadline);
   s.channels = r.channels;
   s.feature = r.feature;
   s.last_sequence = r.sequence;
   s.last_time_ns = r.time_ns;
-  if (result == dds::WriteResult::Ok) {
-    ++published_;
-    ++features_published_;
-    published_metric_->inc();
-    return;
-  }
-  ++lost_;
-  lost_metric_->inc();
-  spdlog::error("'{}' feature row {} lost: the readers did not accept it", r.asset_group, r.sequence);
+  out.kind = dds::SourceBlock::Kind::Condition;
+  out.condition.asset_group = r.asset_group;
+  out.condition.feature = r.feature;
+  out.condition.snapshot_index = r.sequence;  // the source's snapshot counter: gaps are lost rows, counted downstream
+  out.condition.time_ns = r.time_ns;
+  out.condition.channel_names = r.channels;
+  out.condition.discontinuity = r.discontinuity || first;
+  out.values = Eigen::Map<const Eigen::VectorXd>(r.values.data(), static_cast<Eigen::Index>(r.values.size()));
+  return true;
 }
 
 bool IngestNode::resume_numbering(const std::string& group) {
@@ -390,10 +324,14 @@ bool IngestNode::resume_numbering(const std::string& group) {
   }
 }
 
-void IngestNode::print_summary() const {
+void IngestNode::summary(const dds::SourceCounts& counts, bool stopped) const {
+  if (running_) {
+    spdlog::info("{} messages in, {} frames published in {:.2f} s{}", received_, published_, running_->elapsed_s(),
+                 stopped ? " (stopped)" : "");
+  }
   const std::uint64_t rejected = total(rejected_);
   spdlog::info("summary topic=causal_twin/vibration_frame sent={} received={} rejected={} failed={}", published_,
-               received_, rejected, lost_);
+               received_, rejected, counts.lost);
   // Machine-readable, on stdout, outside the log pattern.
   std::string reasons;
   for (int r = 0; r < kRejectReasonCount; ++r) {
@@ -404,10 +342,10 @@ void IngestNode::print_summary() const {
       "resumed_groups=%llu state_failures=%llu resent=%llu resends=%llu beyond_backlog=%llu feature_rows=%llu%s "
       "missed=%llu\n",
       static_cast<unsigned long long>(received_), static_cast<unsigned long long>(published_),
-      static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(lost_),
+      static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(counts.lost),
       static_cast<unsigned long long>(non_finite_), static_cast<unsigned long long>(discontinuities_),
       static_cast<unsigned long long>(resumed_groups_), static_cast<unsigned long long>(numbering_.failures()),
-      static_cast<unsigned long long>(resent_), static_cast<unsigned long long>(resends_),
+      static_cast<unsigned long long>(counts.resent), static_cast<unsigned long long>(resends_),
       static_cast<unsigned long long>(beyond_backlog_), static_cast<unsigned long long>(features_published_),
       reasons.c_str(), static_cast<unsigned long long>(missed_));
   std::fflush(stdout);

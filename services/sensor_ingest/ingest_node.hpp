@@ -1,16 +1,19 @@
-// sensor-ingest's DDS node: a source (MQTT, UDP, stdin) fills a bounded queue; run() takes each message,
-// parses it (ingest_block.hpp), orders it into the asset group's frame stream (block_sequencer.hpp) and
-// publishes it as a VibrationFrame; a ready-made feature row (feature_row.hpp) goes out as a ConditionVector on
-// causal_twin/condition_input. Bad messages are rejected and counted by reason, never fatal.
+// sensor-ingest's DDS node: a source (MQTT, UDP, stdin) fills a bounded queue; next() takes each message,
+// parses it (ingest_block.hpp), orders it into the asset group's frame stream (block_sequencer.hpp) and hands it
+// to the one source driver (causal/dds/source_driver.hpp) as a VibrationFrame; a ready-made feature row
+// (feature_row.hpp) goes out as a ConditionVector on causal_twin/condition_input. Bad messages are rejected and
+// counted by reason, never fatal. A restarted estimator gets the kept frames after its last snapshot again.
 // Exit codes: 0 done, 3 no readers in time, 4 a message was rejected or a frame lost.
 #pragma once
 
+#include <Eigen/Core>
+
 #include <array>
-#include <atomic>
 #include <chrono>
+#include <deque>
 #include <map>
 #include <memory>
-#include <set>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,7 +21,8 @@
 #include "feature_row.hpp"
 #include "frame_backlog.hpp"
 #include "causal/dds/participant.hpp"
-#include "causal/dds/typed_endpoints.hpp"
+#include "causal/dds/sample_source.hpp"
+#include "causal/dds/source_driver.hpp"
 #include "causal/metrics/metrics_registry.hpp"
 #include "causal_twinPubSubTypes.h"
 #include "ingest_options.hpp"
@@ -38,28 +42,34 @@ class RateLimitedLog {
   std::chrono::steady_clock::time_point last_{};
 };
 
-class IngestNode {
+class IngestNode final : public dds::SampleSource {
  public:
   explicit IngestNode(IngestOptions options);
-  ~IngestNode();
-  int run();
+  ~IngestNode() override;
+  int run() { return driver_.run(*this); }
   void stop();
 
+  void start(dds::SourceDriver& driver) override;
+  dds::Take next(dds::SourceDriver& driver, dds::SourceBlock& out) override;
+  void written(const dds::SourceBlock& block, dds::WriteResult result, const causal_twin::VibrationFrame* built) override;
+  std::uint64_t refused() const override;
+  void summary(const dds::SourceCounts& counts, bool stopped) const override;
+
  private:
-  using Clock = std::chrono::steady_clock;
-  void process(const std::string& message);
+  // One message into `out`; false when it was rejected (counted).
+  bool process(const std::string& message, dds::SourceBlock& out);
   // A ready-made feature row (feature_row.hpp) onto causal_twin/condition_input: same rejections and counts.
-  void process_features(const std::string& message);
+  bool process_features(const std::string& message, dds::SourceBlock& out);
   void count_rejection(RejectReason reason, const std::string& detail, const std::string& group);
-  void print_summary() const;
-  // Resends the backlog to an estimator that appeared since the last look (a restart): every kept frame after
-  // the last snapshot an estimator published for its group (read from causal_twin/condition_vector).
-  void resend_to_new_readers();
-  void resend_group(const std::string& group);
+  // For an estimator that appeared since the last look (a restart): every kept frame after the last snapshot
+  // an estimator published for its group, queued to go out before the next message.
+  void resend(const dds::PublishedSnapshots& published);
+  void resend_group(const std::string& group, const dds::PublishedSnapshots& published);
 
   IngestOptions options_;
   dds::Participant participant_;
-  dds::TypedWriter<causal_twin::VibrationFramePubSubType> frames_;
+  dds::SourceDriver driver_;
+  const dds::SourceDriver* running_ = nullptr;
   MessageQueue queue_;
   std::unique_ptr<MessageSource> source_;
   BlockSequencer sequencer_;
@@ -68,9 +78,7 @@ class IngestNode {
   bool resume_numbering(const std::string& group);
   std::uint64_t resumed_groups_ = 0;
   RateLimitedLog numbering_log_;
-  causal_twin::VibrationFrame frame_;
-  dds::TypedWriter<causal_twin::ConditionVectorPubSubType> features_;
-  causal_twin::ConditionVector feature_msg_;
+  Eigen::MatrixXd block_;  // the samples of the frame handed out last
   struct FeatureStream {
     std::uint64_t last_sequence = 0;
     std::int64_t last_time_ns = 0;
@@ -79,18 +87,14 @@ class IngestNode {
   };
   std::map<std::string, FeatureStream> feature_streams_;
   std::uint64_t features_published_ = 0;
-  bool features_ready_ = false;  // the condition-input readers were waited for (before the first feature row)
   FrameBacklog backlog_;
-  dds::TypedReader<causal_twin::ConditionVectorPubSubType> progress_;  // the estimators' published snapshots
-  std::map<std::string, std::uint64_t> estimator_published_;  // last snapshot an estimator published, per group
-  std::set<eprosima::fastrtps::rtps::GUID_t> known_readers_, new_readers_;
   std::vector<std::string> reader_names_;  // whose new readers get the backlog
-  Clock::time_point last_look_{};
-  std::uint64_t resent_ = 0, resends_ = 0, beyond_backlog_ = 0;
-  std::atomic<bool> stop_{false};
-  Clock::time_point deadline_ = Clock::time_point::max();
+  std::deque<const causal_twin::VibrationFrame*> pending_;  // kept frames to resend, before the held message
+  std::optional<std::string> held_;
+  bool holding_ = false;
+  std::uint64_t resends_ = 0, beyond_backlog_ = 0;
 
-  std::uint64_t received_ = 0, published_ = 0, lost_ = 0, non_finite_ = 0, discontinuities_ = 0;
+  std::uint64_t received_ = 0, published_ = 0, non_finite_ = 0, discontinuities_ = 0;
   std::uint64_t missed_ = 0;  // source blocks lost across a restart (FramePlan::missed)
   std::array<std::uint64_t, kRejectReasonCount> rejected_{};
   std::array<RateLimitedLog, kRejectReasonCount> reject_log_{};

@@ -170,18 +170,7 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
   app.add_option("--queue", o.queue_messages, "messages held between the source and DDS; when full the source waits")
       ->check(CLI::Range(1, 1 << 20))
       ->capture_default_str();
-  app.add_option("--wait-subscribers", o.wait_subscribers,
-                 "wait until this many readers are matched before taking input (nothing is published into the void)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  app.add_option("--wait-for", o.wait_for,
-                 "and wait for readers of this participant name before taking input: NAME or NAME:COUNT, e.g. "
-                 "--wait-for causal-estimator");
-  app.add_option("--wait-timeout", o.wait_timeout_s,
-                 "give up waiting for readers after this many seconds (exit 3); 0 = wait for as long as it takes, "
-                 "saying so every 10 s (the units do: a sensor host that boots first must not give up)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  dds::add_source_wait_options(app, o.wait, false);
   app.add_option("--write-timeout", o.write_timeout_s,
                  "a frame the readers do not accept within this many seconds is counted lost (exit 4)")
       ->check(CLI::PositiveNumber)
@@ -203,7 +192,6 @@ std::optional<IngestOptions> parse_ingest_options(int argc, char** argv, int& ex
     app.parse(argc, argv);
     o.source = parse_source(source);
     for (const auto& t : topics) o.source.topics.push_back(t);
-    for (const auto& w : o.wait_for) (void)dds::parse_named_readers(w);  // reject a bad NAME:COUNT now
     if (!topics.empty() && o.source.kind != SourceKind::Mqtt)
       throw CLI::ValidationError("--topic", "only with an mqtt:// source");
     for (const auto& a : allow) o.udp_allow.push_back(parse_ipv4_network(a));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "causal/dds/service_runtime.hpp"
+#include "causal/dds/source_driver.hpp"
 #include "ingest_block.hpp"
 
 namespace causal::ingest {
@@ -61,9 +62,7 @@ struct IngestOptions {
   double gap_factor = 1.5;     // see block_sequencer.hpp
   BlockLimits limits;
   std::size_t queue_messages = 1024;  // between the source and the DDS writer; a full queue stalls the source
-  int wait_subscribers = 1;
-  std::vector<std::string> wait_for;  // and readers of these participants: "causal-estimator[:N]"
-  double wait_timeout_s = 30.0;
+  dds::SourceWaitOptions wait;  // the readers waited for before taking input
   double write_timeout_s = 10.0;
   double max_runtime_s = 0.0;
   std::string state_dir;  // per-group numbering kept across restarts (ingest_state_store.hpp); empty = none

@@ -1,6 +1,5 @@
 #include "replay_options.hpp"
 
-#include "causal/dds/typed_endpoints.hpp"
 #include "causal/io/name_limits.hpp"
 
 #include <CLI/CLI.hpp>
@@ -67,19 +66,7 @@ std::optional<ReplayOptions> parse_replay_options(int argc, char** argv, int& ex
                  "recorder); the row after it is published as a discontinuity and logged")
       ->check(CLI::Range(1.0, 1e9))
       ->capture_default_str();
-  app.add_option("--wait-subscribers", o.wait_subscribers,
-                 "wait until this many readers are matched before publishing (nothing is published into the void)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  app.add_option("--wait-for", o.wait_for,
-                 "also wait until readers of these participants are matched, before publishing and again whenever they "
-                 "go away (e.g. an estimator that restarts): NAME or NAME:COUNT, e.g. --wait-for causal-estimator:2")
-      ->each([](const std::string& spec) { (void)dds::parse_named_readers(spec); });  // refused here, used later
-  app.add_option("--wait-timeout", o.wait_timeout_s,
-                 "give up waiting for readers after this many seconds (exit 3); 0 = wait for as long as it takes, "
-                 "saying so every 10 s (the units do)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  dds::add_source_wait_options(app, o.wait, true);
   app.add_option("--progress-every", o.progress_every_s, "seconds between progress lines")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "causal/dds/service_runtime.hpp"
+#include "causal/dds/source_driver.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -30,10 +31,8 @@ struct ReplayOptions {
   std::string feature_name = "meanabs";   // feature tables: what the values are
   double gap_factor = 3.0;                // feature tables: an interval > gap_factor x the median interval is a
                                           // time gap; the row after it is published as a discontinuity
-  int wait_subscribers = 1;               // wait for this many matched readers (any) before publishing
-  std::vector<std::string> wait_for;      // and for readers of these participants ("causal-estimator[:N]"),
-                                          // before publishing and whenever they go away (a restarted estimator)
-  double wait_timeout_s = 30.0;
+  dds::SourceWaitOptions wait;           // readers waited for before publishing and whenever they go away (a
+                                          // restarted estimator gets what it had not processed again)
   double progress_every_s = 5.0;
 };
 

@@ -1,7 +1,7 @@
 #include "plant_node.hpp"
 
-#include "causal/dds/frame_conversions.hpp"
-#include "causal/config/exit_codes.hpp"
+#include "sim_node.hpp"
+
 #include "causal/dds/topics.hpp"
 
 #include <spdlog/spdlog.h>
@@ -18,7 +18,7 @@ std::string group_id(const std::string& prefix, int index) { return fmt::format(
 PlantNode::PlantNode(SimOptions options)
     : options_(std::move(options)),
       participant_(dds::to_dds_settings(options_.dds, "sensor-sim")),
-      conditions_(participant_, dds::topics::kConditionInput, dds::profiles::kConditionInputWriter),
+      driver_(participant_, driver_options(options_, false)),
       interventions_(participant_) {
   for (int c = 1; c <= LevelPlant::kChannels; ++c) channel_names_.push_back("ch" + std::to_string(c));
   for (int i = 0; i < options_.groups; ++i) {
@@ -27,20 +27,6 @@ PlantNode::PlantNode(SimOptions options)
     groups_.push_back(Group{group_id(options_.group_prefix, i), LevelPlant(kind, options_.seed, static_cast<std::uint64_t>(i))});
     spdlog::info("{}: {}", groups_.back().id, groups_.back().plant.describe());
   }
-}
-
-void PlantNode::stop() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stop_.store(true);
-  }
-  wake_.notify_all();
-}
-
-bool PlantNode::sleep_until(Clock::time_point due) {
-  std::unique_lock<std::mutex> lock(mutex_);
-  wake_.wait_until(lock, due, [this] { return stop_.load(); });
-  return !stop_.load();
 }
 
 void PlantNode::apply(const causal_twin::Intervention& in) {
@@ -76,72 +62,49 @@ void PlantNode::take_interventions() {
   interventions_.take(ours, [this](const causal_twin::Intervention& in) { apply(in); });
 }
 
-bool PlantNode::publish_snapshot(std::uint64_t n) {
-  causal_twin::ConditionVector out;
-  dds::ConditionHeader header;
-  header.feature = options_.plant_feature;
-  header.channel_names = channel_names_;
-  header.snapshot_index = n;
-  header.time_ns = options_.start_time_ns + static_cast<std::int64_t>(n) * options_.snapshot_seconds * 1000000000LL;
-  header.discontinuity = (n == 0);
-  for (auto& g : groups_) {
-    header.asset_group = g.id;
-    const Eigen::VectorXd levels = g.plant.next();
-    if (g.plant.true_effect().cwiseAbs().maxCoeff() > 0.0) {
-      spdlog::debug("{} snapshot {}: true effect of the interventions (log level) {:+.4f} {:+.4f} {:+.4f}", g.id, n,
-                    g.plant.true_effect()[0], g.plant.true_effect()[1], g.plant.true_effect()[2]);
-    }
-    dds::to_condition_vector(header, levels, out);
-    const auto result = conditions_.write(out, stop_);
-    if (result == dds::WriteResult::Stopped) return false;
-    if (result != dds::WriteResult::Ok) {
-      ++lost_;
-      spdlog::error("{}: snapshot {} lost: readers stopped acknowledging", g.id, n);
-      continue;
-    }
-    ++sent_;
-  }
-  return true;
+dds::Take PlantNode::end() {
+  if (!ended_) take_interventions();  // counted even when it came after the last snapshot (then refused as late)
+  ended_ = true;
+  return dds::Take::End;
 }
 
-int PlantNode::run() {
-  if (options_.wait_subscribers > 0) {
-    const auto wait = std::chrono::milliseconds(static_cast<long>(options_.wait_timeout_s * 1000.0));
-    if (!conditions_.wait_for_readers(static_cast<std::size_t>(options_.wait_subscribers), wait, stop_)) {
-      print_summary();
-      if (stop_.load()) return config::kExitOk;
-      spdlog::error("no reader of condition inputs matched within {:.0f} s", options_.wait_timeout_s);
-      return config::kExitNoPeer;
+dds::Take PlantNode::next(dds::SourceDriver& driver, dds::SourceBlock& out) {
+  if (next_group_ == groups_.size()) {
+    next_group_ = 0;
+    ++snapshot_;
+  }
+  if (driver.stopping() || snapshot_ >= options_.snapshots) return end();
+  const std::uint64_t n = snapshot_;
+  if (next_group_ == 0) {
+    if (n == 0) {
+      spdlog::info("publishing {} simulated plant(s), {} snapshots each{}", groups_.size(), options_.snapshots,
+                   options_.snapshot_rate > 0 ? fmt::format(", {} snapshots/s", options_.snapshot_rate) : std::string());
     }
+    if (options_.snapshot_rate > 0 && !driver.pace(static_cast<double>(n) / options_.snapshot_rate)) return end();
+    take_interventions();  // before every snapshot: an approval for it applies from its start index
   }
-  spdlog::info("publishing {} simulated plant(s), {} snapshots each{}", groups_.size(), options_.snapshots,
-               options_.snapshot_rate > 0 ? fmt::format(", {} snapshots/s", options_.snapshot_rate) : std::string());
-  const auto origin = Clock::now();
-  for (std::uint64_t n = 0; n < options_.snapshots; ++n) {
-    if (options_.snapshot_rate > 0) {
-      const auto due = origin + std::chrono::duration_cast<Clock::duration>(
-                                    std::chrono::duration<double>(static_cast<double>(n) / options_.snapshot_rate));
-      if (!sleep_until(due)) break;
-    }
-    take_interventions();
-    if (!publish_snapshot(n)) break;
+  auto& g = groups_[next_group_++];
+  out.kind = dds::SourceBlock::Kind::Condition;
+  out.condition.asset_group = g.id;
+  out.condition.feature = options_.plant_feature;
+  out.condition.channel_names = channel_names_;
+  out.condition.snapshot_index = n;
+  out.condition.time_ns = options_.start_time_ns + static_cast<std::int64_t>(n) * options_.snapshot_seconds * 1000000000LL;
+  out.condition.discontinuity = (n == 0);
+  out.values = g.plant.next();
+  if (g.plant.true_effect().cwiseAbs().maxCoeff() > 0.0) {
+    spdlog::debug("{} snapshot {}: true effect of the interventions (log level) {:+.4f} {:+.4f} {:+.4f}", g.id, n,
+                  g.plant.true_effect()[0], g.plant.true_effect()[1], g.plant.true_effect()[2]);
   }
-  take_interventions();  // counted even when it came after the last snapshot (then refused as late)
-  if (!conditions_.wait_for_acknowledgments(std::chrono::seconds(stop_.load() ? 2 : 30))) {
-    spdlog::warn("not every condition vector was acknowledged by the readers");
-  }
-  print_summary();
-  // A refused approval (late, overlapping, or from a writer not entitled to its group) is a refusal like a lost
-  // snapshot: the summary says which.
-  return lost_ + refused_ + interventions_.not_entitled() > 0 ? config::kExitLostOrRefused : config::kExitOk;
+  return dds::Take::Block;
 }
 
-void PlantNode::print_summary() const {
+void PlantNode::summary(const dds::SourceCounts& counts, bool) const {
   std::printf("sensor-sim: sent snapshots=%llu groups=%zu lost=%llu interventions applied=%llu refused=%llu "
               "other_groups=%llu not_entitled=%llu\n",
-              static_cast<unsigned long long>(sent_), groups_.size(), static_cast<unsigned long long>(lost_),
-              static_cast<unsigned long long>(applied_), static_cast<unsigned long long>(refused_),
-              static_cast<unsigned long long>(other_groups_),
+              static_cast<unsigned long long>(counts.conditions), groups_.size(),
+              static_cast<unsigned long long>(counts.lost), static_cast<unsigned long long>(applied_),
+              static_cast<unsigned long long>(refused_), static_cast<unsigned long long>(other_groups_),
               static_cast<unsigned long long>(interventions_.not_entitled()));
   std::fflush(stdout);
 }

@@ -5,6 +5,7 @@
 // An intervention for another group is not ours (counted, ignored); one that cannot be applied as approved
 // (its start already published, a bad channel or size, an overlap) is refused, logged and counted (exit 4), and
 // so is one whose writer may not approve for its group (intervention_inbox.hpp: not_entitled).
+// A source like the others (causal/dds/sample_source.hpp): the one source driver publishes what next() gives.
 #pragma once
 
 #include "intervention_inbox.hpp"
@@ -13,50 +14,48 @@
 
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
+#include "causal/dds/sample_source.hpp"
+#include "causal/dds/source_driver.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
 
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
 #include <cstdint>
-#include <mutex>
 #include <set>
 #include <string>
 #include <vector>
 
 namespace causal::sim {
 
-class PlantNode {
+class PlantNode final : public dds::SampleSource {
  public:
   explicit PlantNode(SimOptions options);
-  int run();
-  void stop();
+  int run() { return driver_.run(*this); }
+  void stop() { driver_.stop(); }
+  dds::Take next(dds::SourceDriver& driver, dds::SourceBlock& out) override;
+  // Late, overlapping or bad approvals, and those from a writer not entitled to the group: exit 4.
+  std::uint64_t refused() const override { return refused_ + interventions_.not_entitled(); }
+  void summary(const dds::SourceCounts& counts, bool stopped) const override;
 
  private:
   struct Group {
     std::string id;
     LevelPlant plant;
   };
-  using Clock = std::chrono::steady_clock;
-
-  bool sleep_until(Clock::time_point due);
   void take_interventions();  // before every snapshot: applies what arrived
   void apply(const causal_twin::Intervention& in);
-  bool publish_snapshot(std::uint64_t n);
-  void print_summary() const;
+  dds::Take end();  // after the last snapshot or a stop
 
   SimOptions options_;
   dds::Participant participant_;
-  dds::TypedWriter<causal_twin::ConditionVectorPubSubType> conditions_;
+  dds::SourceDriver driver_;
   InterventionInbox interventions_;  // approvals whose writer's grant names their group
   std::vector<Group> groups_;
   std::vector<std::string> channel_names_;
   std::set<std::string> seen_requests_;  // an intervention instance re-sent (transient local) is applied once
-  std::atomic<bool> stop_{false};
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  std::uint64_t sent_ = 0, lost_ = 0, applied_ = 0, refused_ = 0, other_groups_ = 0;
+  std::uint64_t snapshot_ = 0;      // the snapshot being published
+  std::size_t next_group_ = 0;      // its next group
+  bool ended_ = false;
+  std::uint64_t applied_ = 0, refused_ = 0, other_groups_ = 0;
 };
 
 }  // namespace causal::sim

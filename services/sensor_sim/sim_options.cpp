@@ -58,13 +58,10 @@ std::optional<SimOptions> parse_sim_options(int argc, char** argv, int& exit_cod
   app.add_option("--max-runtime", o.max_runtime_s,
                  "stop after this many seconds in any case, waiting for readers included (0 = no bound)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--wait-subscribers", o.wait_subscribers,
-                 "wait until this many readers are matched before publishing (nothing is published into the void)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--wait-timeout", o.wait_timeout_s, "give up waiting for readers after this many seconds (exit 3)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+  dds::add_source_wait_options(app, o.wait, false);
   app.add_option("--write-timeout", o.write_timeout_s,
-                 "a frame the readers do not accept within this many seconds is counted lost (exit 4)")
+                 "a frame (with --plant a condition vector) the readers do not accept within this many seconds is counted "
+                 "lost (exit 4)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--plant", o.plants,
                  "condition-level plant mode: plant kinds, cycled over the groups: lever (channel 2 drives channel 1, "

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "causal/dds/service_runtime.hpp"
+#include "causal/dds/source_driver.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -30,9 +31,8 @@ struct SimOptions {
   bool stagger = false;
   std::uint64_t frames_per_group = 0;      // stop after this many frames per group (0 = no bound)
   double max_runtime_s = 0.0;              // stop after this many seconds in any case (0 = no bound)
-  int wait_subscribers = 1;                // wait for this many matched readers before publishing
-  double wait_timeout_s = 30.0;
-  double write_timeout_s = 10.0;           // a frame not accepted within this (readers stuck) is counted lost
+  dds::SourceWaitOptions wait;             // the readers waited for before publishing
+  double write_timeout_s = 10.0;           // a frame (condition vector) not accepted within this is counted lost
   // Condition-level plant mode (--plant; plant_node.hpp): plant kinds cycled over the groups, condition vectors
   // instead of frames, approved interventions obeyed.
   std::vector<std::string> plants;         // empty: the sample-level SVAR frames above
