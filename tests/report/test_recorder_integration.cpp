@@ -381,7 +381,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   const std::string alarms = slurp(run / "alarms.csv");
   const auto alarm_rows = causal::report::parse_csv(alarms).rows;
   ASSERT_EQ(alarm_rows.size(), 4u) << alarms;
-  // ... then the decision fields (issue 22): no next level on this message, so empty cells.
+  // ... then the decision fields: no next level on this message, so empty cells.
   EXPECT_NE(alarms.find(",\"rms of Bearing 2 rose, \"\"sharply\"\"\",degradation,0.5,,,,\n"), std::string::npos) << alarms;
   EXPECT_EQ(alarm_rows[0][1], "raised");
   EXPECT_EQ(alarm_rows[0][2], "warning");
