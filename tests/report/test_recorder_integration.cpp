@@ -2,6 +2,7 @@
 // causal-report on what it recorded. Every wait is bounded; only processes started here are signalled,
 // by pid; leftover Fast DDS shared-memory files of dead processes are cleaned with `fastdds shm clean`.
 #include "causal/io/csv_format.hpp"
+#include "causal/io/file_names.hpp"
 
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
@@ -90,7 +91,7 @@ class RecorderIntegration : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     asset_ = "it " + std::to_string(::getpid()) + "/shaft,1";  // needs sanitising
-    file_asset_ = causal::report::sanitize_file_component(asset_);
+    file_asset_ = causal::io::safe_file_component(asset_);
   }
 
   void TearDown() override {
@@ -407,7 +408,9 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
       << slurp(dir_ / "report.log");
   std::vector<std::string> pngs{"condition_trends_" + file_asset_, "alarm_timeline_" + file_asset_,
                                 "causal_graph_" + file_asset_};
-  for (int k = 1; k <= kG; ++k) pngs.push_back("factors_" + file_asset_ + "_Bearing_" + std::to_string(k));
+  for (int k = 1; k <= kG; ++k) {  // channel names in file names: the one sanitiser, as the asset group's
+    pngs.push_back("factors_" + file_asset_ + "_" + causal::io::safe_file_component("Bearing " + std::to_string(k)));
+  }
   for (const auto& stem : pngs) {
     const std::string png = slurp(report / (stem + ".png"));
     ASSERT_GT(png.size(), 1000u) << stem;
