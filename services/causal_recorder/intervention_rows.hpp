@@ -46,7 +46,7 @@ class InterventionTables {
  private:
   dds::TypedReader<causal_twin::InterventionPubSubType> interventions_;
   dds::TypedReader<causal_twin::InterventionOutcomePubSubType> outcomes_;
-  std::unique_ptr<report::CsvFile> intervention_file_, outcome_file_;
+  std::unique_ptr<io::CsvFile> intervention_file_, outcome_file_;
   HistorySink* history_ = nullptr;
   RepeatFilter intervention_repeats_, outcome_repeats_;
   TopicCounts intervention_counts_, outcome_counts_;

@@ -12,8 +12,8 @@
 
 namespace causal::recorder {
 
-using report::format_integer;
-using report::format_number;
+using io::format_integer;
+using io::format_number;
 
 namespace {
 std::string utc_or_empty(std::int64_t time_ns) { return time_ns == 0 ? std::string() : io::format_utc(time_ns); }

@@ -67,9 +67,9 @@ RecorderNode::RecorderNode(RecorderOptions options)
   interventions_ = std::make_unique<InterventionTables>(participant_, out_dir_, loop_, history_.get());
 }
 
-std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name,
+std::unique_ptr<io::CsvFile> RecorderNode::open(const std::string& file_name,
                                                     const std::vector<std::string>& header) {
-  auto file = std::make_unique<report::CsvFile>(out_dir_ / file_name, header);
+  auto file = std::make_unique<io::CsvFile>(out_dir_ / file_name, header);
   if (file->appended()) spdlog::info("appending to {}", file->path().string());
   if (!file->moved_aside().empty()) {
     spdlog::warn("{} had another header: moved to {}", file->path().string(), file->moved_aside().string());

@@ -53,7 +53,7 @@ bool ends_with(const std::string& s, const std::string& tail) {
 }
 
 // The card's one row against the recorder's rows (interventions.csv `iv`, intervention_outcomes.csv `o`).
-void expect_row_shows(const json& row, const causal::report::CsvTable& ivs, const causal::report::CsvTable& outs) {
+void expect_row_shows(const json& row, const causal::io::CsvTable& ivs, const causal::io::CsvTable& outs) {
   const auto iv = [&](const char* name) { return ivs.rows.at(0).at(static_cast<std::size_t>(ivs.column(name))); };
   const auto o = [&](const char* name) { return outs.rows.at(0).at(static_cast<std::size_t>(outs.column(name))); };
   EXPECT_EQ(row.value("request_id", ""), iv("request_id"));
@@ -93,8 +93,8 @@ TEST(InterventionBrowser, TheApprovedInterventionItsOutcomeAndLeverTrustShowOnTh
 
   causal::test::ClosedLoopRun run(work, causal::test::private_domain_id(39));
   ASSERT_NO_FATAL_FAILURE(causal::test::approve_and_finish(run));
-  const auto ivs = causal::report::read_csv(work / "rec" / "interventions.csv");
-  const auto outcomes = causal::report::read_csv(work / "rec" / "intervention_outcomes.csv");
+  const auto ivs = causal::io::read_csv(work / "rec" / "interventions.csv");
+  const auto outcomes = causal::io::read_csv(work / "rec" / "intervention_outcomes.csv");
   ASSERT_EQ(ivs.rows.size(), 1u) << run.recorder.output();
   ASSERT_EQ(outcomes.rows.size(), 1u) << run.alarm.output();
   const int port = served_port(run.web);

@@ -105,7 +105,7 @@ long check_every_alarm_event_has_an_action(const std::vector<causal_twin::Alarm>
 
 // causal-recorder's recommendations.csv: the decision columns, one row per recommendation received.
 void check_recorded_actions(const fs::path& file, const std::vector<causal_twin::Recommendation>& recs) {
-  const auto t = causal::report::read_csv(file);
+  const auto t = causal::io::read_csv(file);
   const int index = t.column("sample_index"), action = t.column("action"), id = t.column("recommendation_id"),
             alarm = t.column("alarm_id");
   ASSERT_GE(index, 0) << file;

@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 namespace fs = std::filesystem;
-using namespace causal::report;
+using namespace causal::io;
 
 namespace {
 

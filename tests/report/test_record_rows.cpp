@@ -9,7 +9,7 @@
 #include <limits>
 
 using namespace causal::recorder;
-using causal::report::csv_line;
+using causal::io::csv_line;
 
 namespace {
 const std::int64_t kT0 = 1076581959LL * 1000000000LL;  // 2004-02-12 10:32:39 UTC

@@ -226,7 +226,7 @@ class RecorderIntegration : public ::testing::Test {
     const auto deadline = std::chrono::steady_clock::now() + limit;
     while (std::chrono::steady_clock::now() < deadline) {
       try {
-        if (causal::report::parse_csv(slurp(dir_ / "run" / file)).rows.size() >= rows) return true;
+        if (causal::io::parse_csv(slurp(dir_ / "run" / file)).rows.size() >= rows) return true;
       } catch (const std::runtime_error&) {
         // a row being written right now: look again
       }
@@ -380,7 +380,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
 
   // Alarms: one row per state change, text quoted, the escalation placed at snapshot 7's time.
   const std::string alarms = slurp(run / "alarms.csv");
-  const auto alarm_rows = causal::report::parse_csv(alarms).rows;
+  const auto alarm_rows = causal::io::parse_csv(alarms).rows;
   ASSERT_EQ(alarm_rows.size(), 4u) << alarms;
   // ... then the decision fields: no next level on this message, so empty cells.
   EXPECT_NE(alarms.find(",\"rms of Bearing 2 rose, \"\"sharply\"\"\",degradation,0.5,,,,\n"), std::string::npos) << alarms;
@@ -393,7 +393,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   EXPECT_EQ(alarm_rows[2][10], "2004-02-12 12:12:39");
   EXPECT_EQ(alarm_rows[2][12], "Bearing 3");
   EXPECT_EQ(alarm_rows[3][3], "innovation_nis");
-  const auto rec = causal::report::parse_csv(slurp(run / "recommendations.csv"));
+  const auto rec = causal::io::parse_csv(slurp(run / "recommendations.csv"));
   ASSERT_EQ(rec.rows.size(), 1u);
   EXPECT_EQ(rec.header.size(), 34u);  // 26 + sample_index, action, action_kind, act_on_*, horizon_hours, order_*
   EXPECT_EQ(rec.rows[0][12], "lower Bearing 3's load, then re-check");

@@ -14,6 +14,9 @@
 
 namespace causal::report {
 
+using io::CsvTable;
+using io::read_csv;
+
 namespace fs = std::filesystem;
 
 namespace {

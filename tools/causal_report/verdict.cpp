@@ -10,6 +10,9 @@
 
 namespace causal::report {
 
+using io::CsvTable;
+using io::read_csv;
+
 namespace {
 
 std::string cell(const std::vector<std::string>& row, int column) {

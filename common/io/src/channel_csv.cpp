@@ -152,7 +152,7 @@ void write_channel_csv(const std::string& path, const ChannelTable& table) {
   if (!table.time_ns.empty()) out += "timestamp,";
   for (std::size_t c = 0; c < g; ++c) {
     if (c) out += ',';
-    out += report::csv_quote(table.channel_names[c]);
+    out += csv_quote(table.channel_names[c]);
   }
   out += '\n';
   for (std::size_t r = 0; r < n; ++r) {

@@ -9,7 +9,7 @@
 
 #include "text_scan.hpp"
 
-namespace causal::report {
+namespace causal::io {
 
 namespace fs = std::filesystem;
 
@@ -23,7 +23,7 @@ std::string csv_quote(std::string_view cell) {
   }
   // Leading/trailing blanks are kept verbatim only inside quotes: many readers trim them otherwise, ours
   // (read_channel_csv, text_scan.hpp's trim) every one of is_blank_char's.
-  if (!cell.empty() && (io::detail::is_blank_char(cell.front()) || io::detail::is_blank_char(cell.back()))) needs = true;
+  if (!cell.empty() && (detail::is_blank_char(cell.front()) || detail::is_blank_char(cell.back()))) needs = true;
   if (!needs) return std::string(cell);
   std::string out;
   out.reserve(cell.size() + 2);
@@ -220,4 +220,4 @@ CsvTable read_csv(const fs::path& path) {
   return parse_csv(buffer.str(), path.string());
 }
 
-}  // namespace causal::report
+}  // namespace causal::io

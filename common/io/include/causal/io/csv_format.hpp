@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-namespace causal::report {
+namespace causal::io {
 
 // Quotes a cell when it contains a comma, a double quote, CR/LF or leading/trailing blanks (space, tab, CR,
 // VT, FF: what the readers trim) (RFC 4180 section 2.6-2.7: quotes inside are doubled). Other cells, the
@@ -82,4 +82,4 @@ struct CsvTable {
 [[nodiscard]] CsvTable parse_csv(std::string_view text, const std::string& path_for_messages = "<text>");
 CsvTable read_csv(const std::filesystem::path& path);
 
-}  // namespace causal::report
+}  // namespace causal::io
