@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The scale benchmark (issues 16 and 28), one run, bounded (< 10 min; --quick < 1 min, a smoke test of the format):
+# The scale benchmark, one run, bounded (< 10 min; --quick < 1 min, a smoke test of the format):
 #  (k) the kernel: BM_SampleLevelFactorStream at the fixed lag of estimator.yaml (one group's sample-level work,
 #      filter + fixed-lag smoother, CPU time) -> kernel_per_frame_us (per 1024-sample frame) and kernel_groups
 #      (the groups one core could serve at the IMS rate, 20 frames/s each); BM_FilterStep G=4 M=1 for the record;
@@ -21,7 +21,7 @@
 # Every process runs on the loopback profile (deploy/dds/localhost.xml) on domains 230 (raw), 231 (pipeline),
 # 232 (live), is started here and ended by its pid. The last line reads
 #   groups_live=N kernel_groups=K live_efficiency=E cpu_per_frame_us=C kernel_per_frame_us=k shard_cpu_ratio=S p99_ms=L
-# E = N / K; targets (issue 28): E >= 0.5, C <= 1.5 k, S <= 1.1, L < 5 ms; the line before it says which are met.
+# E = N / K; targets: E >= 0.5, C <= 1.5 k, S <= 1.1, L < 5 ms; the line before it says which are met.
 # Exit code 1 when a measurement failed (frames missing in (a) or (b), a benchmark that did not run); missed
 # targets are reported, not failed. Live probes that did not deliver every frame exactly are counted
 # (inexact_probes) and never count as held.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Same-host transport comparison (issue 24, docs/cross-user-and-restarts.md): the shipped UDP-loopback profile
+# Same-host transport comparison (docs/cross-user-and-restarts.md): the shipped UDP-loopback profile
 # (deploy/dds/localhost-udp.xml, installed as localhost.xml) against shared memory (deploy/dds/localhost.xml), interleaved in one run so
 # both see the same machine load. Per profile and round:
 #   raw:      causal_bench_raw_dds, 16 groups x 500 frames of 32 KiB (no estimation): frames/s and the CPU

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Hands each systemd unit of this host its own DDS-Security private key and no other (issue 25, least privilege
+# Hands each systemd unit of this host its own DDS-Security private key and no other (least privilege
 # per service; docs/security-hardening.md, "Keys per unit"). Run as root on the plant host after copying the
 # host's identity folders and the public PKI files into DIR (default /etc/causal-twin/security):
 #   /usr/share/causal-twin/security/install-unit-keys.sh [DIR] [UNIT=IDENTITY ...]

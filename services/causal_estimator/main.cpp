@@ -107,8 +107,8 @@ int main(int argc, char** argv) {
       o.groups.patterns = causal::estimator::load_shard_assignment(shards_file).patterns_of(shard_name);
       o.shard_name = shard_name;
     }
-    auto params = causal::estimator::load_estimator_params(o.params_file);
-    o.health_deadline_s = causal::estimator::load_estimator_health(o.params_file).deadline_s;
+    auto params = causal::pipeline::load_estimator_params(o.params_file);
+    o.health_deadline_s = causal::pipeline::load_estimator_health(o.params_file).deadline_s;
     return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(params));
   });
 }

@@ -29,8 +29,8 @@ std::vector<std::string> alarm_action_row(const causal_twin::AlarmActionResult& 
           r.reason(),
           r.time_ns() == 0 ? std::string() : io::format_utc(r.time_ns()),
           r.until_ns() == 0 ? std::string() : io::format_utc(r.until_ns()),
-          report::format_integer(static_cast<std::int64_t>(r.time_ns())),
-          report::format_integer(static_cast<std::int64_t>(r.until_ns()))};
+          io::format_integer(static_cast<std::int64_t>(r.time_ns())),
+          io::format_integer(static_cast<std::int64_t>(r.until_ns()))};
 }
 
 }  // namespace causal::recorder

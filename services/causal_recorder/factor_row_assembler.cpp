@@ -8,8 +8,8 @@
 
 namespace causal::recorder {
 
-using report::format_integer;
-using report::format_number;
+using io::format_integer;
+using io::format_number;
 
 FactorRowAssembler::FactorRowAssembler(std::size_t max_pending)
     : sets_(max_pending < 1 ? 1 : max_pending, dds::FactorSetAssembler::IncompletePolicy::ReleasePartial) {}

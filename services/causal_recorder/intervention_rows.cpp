@@ -12,8 +12,8 @@ namespace causal::recorder {
 
 namespace {
 
-using report::format_integer;
-using report::format_number;
+using io::format_integer;
+using io::format_number;
 
 std::string utc_or_empty(std::int64_t ns) { return ns == 0 ? std::string() : io::format_utc(ns); }
 std::string flag(bool b) { return b ? "true" : "false"; }
@@ -67,8 +67,8 @@ InterventionTables::InterventionTables(dds::Participant& participant, const std:
                                        dds::EventLoop& loop, HistorySink* history)
     : interventions_(participant, dds::topics::kIntervention, dds::profiles::kInterventionReader),
       outcomes_(participant, dds::topics::kInterventionOutcome, dds::profiles::kInterventionOutcomeReader),
-      intervention_file_(std::make_unique<report::CsvFile>(out_dir / kInterventionsFile, intervention_header())),
-      outcome_file_(std::make_unique<report::CsvFile>(out_dir / kInterventionOutcomesFile, intervention_outcome_header())),
+      intervention_file_(std::make_unique<io::CsvFile>(out_dir / kInterventionsFile, intervention_header())),
+      outcome_file_(std::make_unique<io::CsvFile>(out_dir / kInterventionOutcomesFile, intervention_outcome_header())),
       history_(history),
       grants_(participant.directory(), "intervention", "approved intervention",
               "issue-identity.sh: an operator's grant names no partitions, or only those of --groups") {

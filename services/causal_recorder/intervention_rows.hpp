@@ -54,7 +54,7 @@ class InterventionTables {
  private:
   dds::TypedReader<causal_twin::InterventionPubSubType> interventions_;
   dds::TypedReader<causal_twin::InterventionOutcomePubSubType> outcomes_;
-  std::unique_ptr<report::CsvFile> intervention_file_, outcome_file_;
+  std::unique_ptr<io::CsvFile> intervention_file_, outcome_file_;
   HistorySink* history_ = nullptr;
   dds::WriterGrantCheck grants_;
   RepeatFilter intervention_repeats_, outcome_repeats_;

@@ -1,6 +1,7 @@
 #include "record_rows.hpp"
 
 #include "causal/io/csv_format.hpp"
+#include "causal/io/file_names.hpp"
 
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/factor_conversions.hpp"
@@ -11,9 +12,8 @@
 
 namespace causal::recorder {
 
-using report::format_integer;
-using report::format_number;
-using report::sanitize_file_component;
+using io::format_integer;
+using io::format_number;
 
 namespace {
 std::string utc_or_empty(std::int64_t time_ns) { return time_ns == 0 ? std::string() : io::format_utc(time_ns); }
@@ -22,12 +22,12 @@ std::string hours_or_empty(double h) { return std::isfinite(h) ? format_number(h
 }  // namespace
 
 std::string conditions_file_name(const std::string& asset_group, const std::string& feature) {
-  return "conditions_" + sanitize_file_component(asset_group) + "_" + sanitize_file_component(feature) + ".csv";
+  return "conditions_" + io::safe_file_component(asset_group) + "_" + io::safe_file_component(feature) + ".csv";
 }
 
 std::string factors_file_name(const std::string& asset_group, causal_twin::TimeScale scale,
                               causal_twin::EstimateKind kind) {
-  return "factors_" + sanitize_file_component(asset_group) + "_" + dds::to_string(scale) + "_" + dds::to_string(kind) +
+  return "factors_" + io::safe_file_component(asset_group) + "_" + dds::to_string(scale) + "_" + dds::to_string(kind) +
          ".csv";
 }
 

@@ -1,6 +1,7 @@
 #include "recorder_node.hpp"
 
 #include "causal/config/exit_codes.hpp"
+#include "causal/io/file_names.hpp"
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
@@ -66,9 +67,9 @@ RecorderNode::RecorderNode(RecorderOptions options)
   interventions_ = std::make_unique<InterventionTables>(participant_, out_dir_, loop_, history_.get());
 }
 
-std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name,
+std::unique_ptr<io::CsvFile> RecorderNode::open(const std::string& file_name,
                                                     const std::vector<std::string>& header) {
-  auto file = std::make_unique<report::CsvFile>(out_dir_ / file_name, header);
+  auto file = std::make_unique<io::CsvFile>(out_dir_ / file_name, header);
   if (file->appended()) spdlog::info("appending to {}", file->path().string());
   if (!file->moved_aside().empty()) {
     spdlog::warn("{} had another header: moved to {}", file->path().string(), file->moved_aside().string());
@@ -78,7 +79,7 @@ std::unique_ptr<report::CsvFile> RecorderNode::open(const std::string& file_name
 
 const std::string& RecorderNode::file_asset(const std::string& asset_group) {
   if (auto it = file_assets_.find(asset_group); it != file_assets_.end()) return it->second;
-  const std::string base = report::sanitize_file_component(asset_group);
+  const std::string base = io::safe_file_component(asset_group);
   std::string name = base;
   for (int n = 2; used_file_assets_.count(name) > 0; ++n) name = base + "-" + std::to_string(n);
   if (name != base) {

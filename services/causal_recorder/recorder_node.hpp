@@ -50,7 +50,7 @@ class RecorderNode {
 
  private:
   struct ConditionTable {
-    std::unique_ptr<report::CsvFile> file;
+    std::unique_ptr<io::CsvFile> file;
     TopicCounts counts;
     dds::IndexLedger written;  // snapshot indices written: a second vector of one of them is a duplicate
   };
@@ -59,7 +59,7 @@ class RecorderNode {
     FactorRowAssembler assembler;
     std::string file_name;
     std::string asset_group, time_scale, kind;  // the database row's key
-    std::unique_ptr<report::CsvFile> file;
+    std::unique_ptr<io::CsvFile> file;
     std::uint64_t messages = 0;  // CausalFactorBatch messages received (the assembler counts outcome vectors)
     dds::IndexLedger on_disk;    // indices in the file before this run (appended to after a restart)
     std::uint64_t disk_duplicates = 0;  // rows not written again: their index was on disk already
@@ -76,7 +76,7 @@ class RecorderNode {
   void write_ready_rows(FactorTable& table);
   // Sanitised asset id for file names, unique per raw id (a clash gets "-2", "-3", ...).
   const std::string& file_asset(const std::string& asset_group);
-  std::unique_ptr<report::CsvFile> open(const std::string& file_name, const std::vector<std::string>& header);
+  std::unique_ptr<io::CsvFile> open(const std::string& file_name, const std::vector<std::string>& header);
   void flush_all();
   int finish();  // writes what is pending, logs the summary; returns the exit code (4: holes or refusals)
 
@@ -94,9 +94,9 @@ class RecorderNode {
   std::map<std::string, IndexClock> clocks_;          // per asset: condition-level index -> time
   std::map<std::string, std::string> file_assets_;    // raw asset id -> file-name component
   std::set<std::string> used_file_assets_;
-  std::unique_ptr<report::CsvFile> alarms_, recommendations_, statuses_, prognoses_;
+  std::unique_ptr<io::CsvFile> alarms_, recommendations_, statuses_, prognoses_;
   std::unique_ptr<HistorySink> history_;  // --db
-  std::unique_ptr<report::CsvFile> actions_file_;  // alarm_actions.csv
+  std::unique_ptr<io::CsvFile> actions_file_;  // alarm_actions.csv
   TopicCounts action_counts_;
   RepeatFilter action_repeats_;           // by request id: a result replayed to a late joiner is written once
   std::uint64_t actions_not_applied_ = 0;  // refused by alarm-recommender: nothing changed, nothing stored

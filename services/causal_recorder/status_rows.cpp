@@ -8,7 +8,7 @@
 
 namespace causal::recorder {
 
-using report::format_integer;
+using io::format_integer;
 
 const std::vector<std::string>& asset_status_header() {
   static const std::vector<std::string> h{"asset_group",     "state",           "learning_seen",  "learning_needed",

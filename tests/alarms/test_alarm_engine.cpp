@@ -74,7 +74,7 @@ TEST(AlarmEngine, ChangeInChannel2PropagatesTo3RootCauseIs2) {
     ASSERT_NE(i2, nullptr) << "seed " << seed;
     EXPECT_GE(f2->index, 400u);
     // A 6-sigma (+12 %) step: the CUSUM crosses after ~2 observations (2 x (4 - 1.5) > h = 3.94), the size
-    // floor (+8 %, median of 5) holds after ~3 and must hold for level_window observations (issue 23).
+    // floor (+8 %, median of 5) holds after ~3 and must hold for level_window observations.
     EXPECT_LE(f2->index, 400u + 2u * static_cast<std::uint64_t>(AlarmParams{}.level_window));
     EXPECT_GE(f3->index, 400u);
     EXPECT_EQ(first_of(ev, 2, kind::kInnovationRise), nullptr) << "channel 3 only follows; seed " << seed;
@@ -128,7 +128,7 @@ TEST(AlarmEngine, StationaryFalseAlarmRateWithinPromise) {
   };
   for (const Case& c : cases) {
     AlarmParams p = step_faults();
-    p.advisory_ratio = 1.0;                 // the statistical design alone: no size floor (issue 23) ...
+    p.advisory_ratio = 1.0;                 // the statistical design alone: no size floor ...
     p.baseline_tracking_observations = 0;  // ... and a fixed baseline, as Siegmund's ARL assumes
     p.cusum_k = c.k;
     p.target_arl0 = c.arl0;
@@ -230,7 +230,7 @@ TEST(AlarmEngine, ClearsOnlyAfterConfiguredCountBelowClearThreshold) {
     cusum[t] = e.channel_diagnostics(0).feature.cusum;
   }
   ASSERT_GE(raised, 300u);
-  ASSERT_LE(raised, 300u + 2u * static_cast<std::uint64_t>(AlarmParams{}.level_window));  // size floor held (issue 23)
+  ASSERT_LE(raised, 300u + 2u * static_cast<std::uint64_t>(AlarmParams{}.level_window));  // size floor held
   ASSERT_GT(cleared, 360u);
   // Reference: the first t after the raise such that cusum[t - c + 1 .. t] are all below the clear level.
   const double clear_level = p.clear_fraction * e.cusum_threshold();

@@ -2,7 +2,7 @@
 // chain of causal-alarm-eval and the services (features -> causal-estimator's condition-level pipeline with
 // the shipped estimator.yaml -> alarm-recommender's observation rule -> AlarmEngine, shipped AlarmParams):
 //  * a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 547
-//    (published detectors first flag bearing 1 between snapshots 526 and 541; issue 23 put the bar at 547
+//    (published detectors first flag bearing 1 between snapshots 526 and 541; the bar moved to 547
 //    when every alarm got a size floor: +8 % held for 5 snapshots, reached at 541);
 //  * no alarm of any kind before snapshot 500.
 // Uses CAUSAL_TWIN_SHARED_DIR/data/ims2 (or the identical tables in deploy/data/ims2-features); skipped

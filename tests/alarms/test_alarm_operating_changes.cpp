@@ -76,7 +76,7 @@ TEST(AlarmOperatingChanges, FlaggedDiscontinuityRebaselines) {
 }
 
 // Without a gap: +25 % on one channel at once that stays is not a fault; as only one channel moved it is
-// not confirmed as an operating change either (issue 23): it is followed as a level step (within
+// not confirmed as an operating change either: it is followed as a level step (within
 // max_absorbed_ratio of its reference). The same +25 % arriving as a ramp that keeps rising is degradation
 // and alarms.
 TEST(AlarmOperatingChanges, SettledStepIsOperatingChangeRisingStepAlarms) {

@@ -43,7 +43,7 @@ TEST(AlarmPipelineSynthetic, KalmanInnovationsSeparateRootFromFollower) {
     ASSERT_TRUE(res.summary[1].alarmed) << "seed " << seed;
     ASSERT_TRUE(res.summary[2].alarmed) << "seed " << seed;
     EXPECT_GE(res.summary[1].first.index, 400u);
-    // +12 % step: the size floor (+8 %, median of 5) must hold for level_window observations (issue 23); when
+    // +12 % step: the size floor (+8 %, median of 5) must hold for level_window observations; when
     // noise makes the first values look like a +15 % operating step, the confirmation window comes first.
     const AlarmParams p;
     EXPECT_LE(res.summary[1].first.index,

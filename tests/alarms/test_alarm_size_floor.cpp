@@ -1,4 +1,4 @@
-// Issue 23 / 22.5: alarms need evidence AND a size that matters. Pins the size floor
+// Alarms need evidence AND a size that matters. Pins the size floor
 // (AlarmParams::advisory_ratio), the spike bound (median-of-3 input of every CUSUM + the floor on the median
 // of 5), the escalation of a rising channel through the operating-change rules (warning at x2, critical at x4
 // of its reference, whatever a step rule adopted), and no false alarm from re-levelling on 12 correlated
@@ -125,7 +125,7 @@ TEST(AlarmSizeFloor, RisingChannelEscalatesThroughOperatingChanges) {
   }
 }
 
-// Issue 22.5: a plant whose log levels wander slowly (AR(1), phi 0.97, sd 1 %, plus 1.5 % snapshot noise,
+// A plant whose log levels wander slowly (AR(1), phi 0.97, sd 1 %, plus 1.5 % snapshot noise,
 // about the spread of IMS test 2's healthy bearings: 12 snapshots are strongly correlated, so the level re-learned
 // on them after a gap is off by a few percent) with gaps followed by
 // +15-20 % level steps, 984 snapshots at 10 minutes: no degradation alarm on any healthy channel; every gap

@@ -1,4 +1,4 @@
-// Issue 23: the false-alarm budget of the condition-level alarms on month-long healthy recordings, and their
+// The false-alarm budget of the condition-level alarms on month-long healthy recordings, and their
 // detection delay on accelerating faults, both against the robust-z reference detector
 // (tests/support/robust_z_baseline.hpp). The runs are simulated (tests/support/ims_variants_month.hpp: slow
 // drift, daily cycle, recording gaps with +15-20 % level steps, single-bearing operating steps of +20-40 %,

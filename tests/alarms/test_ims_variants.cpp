@@ -1,4 +1,4 @@
-// The issue-12 variant generator against its construction: every property is checked on the produced table
+// The robustness variant generator against its construction: every property is checked on the produced table
 // against the base table (independent truth), not against stored numbers of the generator itself.
 #include "ims_variants.hpp"
 

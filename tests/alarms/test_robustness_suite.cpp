@@ -1,4 +1,4 @@
-// Issue-12 robustness suite: the product (causal-alarm-eval, the condition-level alarm pipeline) against the
+// Robustness suite: the product (causal-alarm-eval, the condition-level alarm pipeline) against the
 // plain robust-z reference detector on IMS test 2 and four variants of it that the alarm tuning never saw
 // (tests/support/ims_variants.hpp: gaps + level shifts, operating-change steps, 8 channels, 6000 snapshots).
 //
@@ -191,7 +191,7 @@ Outcome evaluate(const Variant& v) {
   return o;
 }
 
-// Issue 23: the variants of make_all_variants plus 8 channels with gaps, and month-long simulated runs
+// The variants of make_all_variants plus 8 channels with gaps, and month-long simulated runs
 // (drift, daily cycle, gaps with level steps, single-bearing steps, a spike a day) ending in an
 // accelerating fault of bearing 1, with 4 and 8 channels (tests/support/ims_variants_month.hpp).
 std::vector<Variant> all_variants() {
@@ -217,7 +217,7 @@ Outcome evaluate(const std::string& name) {
 
 std::string at(const std::optional<std::uint64_t>& i) { return i ? std::to_string(*i) : "none"; }
 
-// The bar of issue 12 for one variant.
+// The robustness bar for one variant.
 void expect_holds(const Outcome& o) {
   const Variant& v = o.variant;
   ASSERT_EQ(o.exit_code, 0) << o.output;
@@ -281,14 +281,14 @@ TEST(RobustnessSuite, UnchangedTestTwo) { expect_holds(evaluate("unchanged")); }
 TEST(RobustnessSuite, EightChannels) { expect_holds(evaluate("eight_channels")); }
 TEST(RobustnessSuite, StretchedTo6000) { expect_holds(evaluate("stretched")); }
 
-// Time gaps with level shifts and operating-change steps (issue 12 items 1, 2, 4: the engine re-baselines
+// Time gaps with level shifts and operating-change steps (the engine re-baselines
 // across them and reports operating_change events). Before the engine's work (main f4e471e): gaps -> every
 // channel alarmed at the first gap (row 157) with root cause Bearing 2; steps -> the stepped channels alarmed
 // at once (Bearing 4 at 199, Bearing 2 at 351) and bearing 1's alarm at 533 named Bearing 4.
 TEST(RobustnessSuite, TimeGapsWithLevelShifts) { expect_holds(evaluate("gaps")); }
 TEST(RobustnessSuite, OperatingChangeSteps) { expect_holds(evaluate("steps")); }
 
-// Issue 23: 8 channels (two sensors per bearing) with the gaps and level steps of TimeGapsWithLevelShifts,
+// 8 channels (two sensors per bearing) with the gaps and level steps of TimeGapsWithLevelShifts,
 // and month-long simulated runs with an accelerating fault at the end.
 TEST(RobustnessSuite, EightChannelsWithGaps) { expect_holds(evaluate("eight_channels_gaps")); }
 TEST(RobustnessSuite, MonthLongFourChannels) { expect_holds(evaluate("month_fault_4ch_s12")); }

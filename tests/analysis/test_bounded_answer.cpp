@@ -269,7 +269,7 @@ TEST(BoundedAnswerCoverage, NearUnitRoot) {
 
 TEST(BoundedAnswerCoverage, Explosive) {
   // 200 samples from rest: the levels grow by at most 1.03^300 ~ 7000 (burn-in included), a scale the filter
-  // resolves (at 1e7 and more its covariance loses the weak directions: issue 11 item 4, scale invariance).
+  // resolves (at 1e7 and more its covariance loses the weak directions: scale invariance).
   const CaseSpec cs{"explosive (spectral radius 1.005-1.03)", 1.0, 1.03, 0.01, 1.005, 1.03, 200};
   const CoverageResult r = run_coverage(cs, 100, 3000);
   EXPECT_EQ(r.wrong_steady, 0) << "never a wrong-signed steady state";

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 22 evaluation of a recorded run (deploy/launch.sh ... --record DIR): does every degradation alarm
+"""Advice evaluation of a recorded run (deploy/launch.sh ... --record DIR): does every degradation alarm
 event (raise and escalation) carry an action, at its own index, and does any advice reduce a failing asset?
 
   python3 tests/bench/advice_eval.py DIR [--failing bearing1]

@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string deploy = CAUSAL_TWIN_DEPLOY_DIR;
-  auto params = causal::estimator::load_estimator_params(deploy + "/config/estimator.yaml");
+  auto params = causal::pipeline::load_estimator_params(deploy + "/config/estimator.yaml");
   const auto base = causal::testing::read_base_run(deploy + "/data/ims2-features/merged_dataset_BearingTest_2.csv");
   std::printf("channels window blocks order calibration_cpu_ms steady_cpu_us_per_snapshot (best of %d)\n", repeat);
   for (const int copies : {1, 2, 4, 5}) {

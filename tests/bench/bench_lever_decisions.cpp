@@ -1,4 +1,4 @@
-// Issue 22 evaluation (plain program, prints a table; numbers in docs/advice.md): the lever decision the live
+// Lever-decision evaluation (plain program, prints a table; numbers in docs/advice.md): the lever decision the live
 // recommender makes (the estimator's StructuredFactorStream with centring and VAR-LiNGAM order, the
 // recommender's Advisor::evaluate and advice policy decide(), the same code), on simulated plants of log
 // levels with a known answer, 25 seeds per case:

@@ -1,4 +1,4 @@
-// Issue 22 part 4 evaluation (plain program, prints a table; numbers in docs/advice.md): how often the
+// Order-trust evaluation (plain program, prints a table; numbers in docs/advice.md): how often the
 // learned VAR-LiNGAM order is trusted (analysis/order_trust.hpp), and how often a TRUSTED order is wrong,
 // on simulated plants of log levels with a known structure, over 25 seeds each:
 //   lever:    x2 -> x1 at once (0.8) and with one lag (0.2); x3 independent

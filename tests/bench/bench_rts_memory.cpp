@@ -1,4 +1,4 @@
-// Peak resident memory of the batch estimators on a long record (issue 11, item 5): a plain program, not a
+// Peak resident memory of the batch estimators on a long record: a plain program, not a
 // Google Benchmark, because peak RSS (getrusage ru_maxrss) is per process and only ever grows.
 //
 //   causal_bench_rts_memory [rows = 1000000] [rts|filter|fixed-lag] [every = 1]

@@ -62,7 +62,7 @@ bool ends_with(const std::string& s, const std::string& tail) {
 }
 
 // The card's one row against the recorder's rows (interventions.csv `iv`, intervention_outcomes.csv `o`).
-void expect_row_shows(const json& row, const causal::report::CsvTable& ivs, const causal::report::CsvTable& outs) {
+void expect_row_shows(const json& row, const causal::io::CsvTable& ivs, const causal::io::CsvTable& outs) {
   const auto iv = [&](const char* name) { return ivs.rows.at(0).at(static_cast<std::size_t>(ivs.column(name))); };
   const auto o = [&](const char* name) { return outs.rows.at(0).at(static_cast<std::size_t>(outs.column(name))); };
   EXPECT_EQ(row.value("request_id", ""), iv("request_id"));
@@ -148,8 +148,8 @@ TEST(InterventionBrowser, AnOperatorApprovesOnThePageAndSeesTheOutcomeAndLeverTr
   ASSERT_NO_FATAL_FAILURE(causal::test::finish_run(run));
   EXPECT_NE(run.sim.output().find("intervention " + request_id + " approved by it-operator"), std::string::npos)
       << run.sim.output();
-  const auto ivs = causal::report::read_csv(work / "rec" / "interventions.csv");
-  const auto outcomes = causal::report::read_csv(work / "rec" / "intervention_outcomes.csv");
+  const auto ivs = causal::io::read_csv(work / "rec" / "interventions.csv");
+  const auto outcomes = causal::io::read_csv(work / "rec" / "intervention_outcomes.csv");
   ASSERT_EQ(ivs.rows.size(), 1u) << run.recorder.output();
   ASSERT_EQ(outcomes.rows.size(), 1u) << run.alarm.output();
   EXPECT_EQ(ivs.rows[0].at(static_cast<std::size_t>(ivs.column("request_id"))), request_id);

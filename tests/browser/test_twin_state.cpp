@@ -281,7 +281,7 @@ TEST(TwinState, PageViewCarriesOneGroupAndWakesOnlyForIt) {
   EXPECT_TRUE(json::parse(s.page_json("unknown"))["group"].is_null());
 }
 
-// Issue 24 finding 6: the recommender's status line per group reaches the page (group and overview).
+// The recommender's status line per group reaches the page (group and overview).
 TEST(TwinState, AssetStatusIsShownPerGroupAndInTheOverview) {
   TwinState s;
   causal_twin::AssetStatus st;
@@ -352,7 +352,7 @@ TEST(WhatIfBridge, TimesOutWithoutReplyAndStopsWaiters) {
   EXPECT_EQ(bridge.ask(q, std::chrono::seconds(30)).status, WhatIfBridge::Status::Stopped);
 }
 
-// Issue 26: the overview is the operator's status line per group (state, worst severity, root cause, action,
+// The overview is the operator's status line per group (state, worst severity, root cause, action,
 // prognosis, learning n of N); a new prognosis line alone is a change every page sees.
 TEST(TwinState, OverviewCarriesEveryGroupsStatusLine) {
   TwinState s;

@@ -42,7 +42,7 @@ long published(const std::string& log, const std::string& topic) {
   return std::regex_search(log, m, sent) ? std::stol(m[1]) : -1;
 }
 
-// Issue 26, the operator's page: what the driver read from the final page and from a cold load of the group's
+// What the driver read from the final page and from a cold load of the group's
 // link, against the test's own DDS observer (the alarms' last events) and the recommender's log.
 void check_operator_page(const json& r, const DdsObserver& observer, std::size_t channels, const std::string& alarm_log) {
   ASSERT_TRUE(r.contains("operator") && r.contains("at_load")) << r.dump(1).substr(0, 2000);

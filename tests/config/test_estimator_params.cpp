@@ -11,8 +11,8 @@
 
 namespace {
 
-using causal::estimator::load_estimator_health;
-using causal::estimator::load_estimator_params;
+using causal::pipeline::load_estimator_health;
+using causal::pipeline::load_estimator_params;
 using causal::test::config_error;
 using causal::test::mutated_copy;
 

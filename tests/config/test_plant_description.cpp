@@ -161,7 +161,7 @@ TEST(PlantDescription, TopLevelKeys) {
 
 }  // namespace
 
-// Issue 25, finding 3: a sensor host may name the asset groups its identity is granted (make-pki.sh --plant).
+// A sensor host may name the asset groups its identity is granted (make-pki.sh --plant).
 TEST(PlantDescription, SensorHostsNameTheirAssetGroups) {
   const auto ok = parse_plant_description(plant(R"(
 hosts:

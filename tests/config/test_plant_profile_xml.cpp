@@ -106,7 +106,7 @@ TEST(PlantProfileXml, EveryHostGetsItsAddressAndEveryHostAsPeer) {
     EXPECT_EQ(t.udp->interfaceWhiteList, std::vector<std::string>{host.address});
     // At most 3 services on one host + 4 spare participant ids.
     EXPECT_EQ(t.udp->maxInitialPeersRange, 7u);
-    // No shared memory, also where services share a host (issue 24: other users' processes stalled it).
+    // No shared memory, also where services share a host (other users' processes stalled it).
     EXPECT_EQ(t.shm_count, 0);
     EXPECT_EQ(t.other_count, 0);
     EXPECT_EQ(property(qos, "causal_twin.security_dir"), "off");

@@ -1,4 +1,4 @@
-// Issue 24 findings 3 and 6: the operator's status line per asset group (alarm-recommender's AssetStatusBoard,
+// The operator's status line per asset group (alarm-recommender's AssetStatusBoard,
 // fed by a real AlarmEngine on synthetic data with a known change) and alarm ids that differ across time scales.
 #include "asset_status.hpp"
 #include "prognosis_conversions.hpp"
@@ -122,7 +122,7 @@ TEST(AlarmIds, ScopedEnginesNeverShareAnIdWithTheConditionLevel) {
   EXPECT_TRUE(condition_ids.count("g/2/feature_drift/1")) << "the changed channel's alarm";
 }
 
-// Issue 26: the status line carries the prognosis of its worst alarm (the node's function), only in alarm.
+// The status line carries the prognosis of its worst alarm (the node's function), only in alarm.
 TEST(AssetStatus, CarriesThePrognosisLineOnlyWhileInAlarm) {
   const auto obs = rising_bearing2();
   AlarmEngine engine("g", syn::channel_names4(), {}, AlarmParams{});

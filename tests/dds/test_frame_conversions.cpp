@@ -186,7 +186,7 @@ TEST(ConditionConversions, ValidationCatchesBadVectors) {
 
 }  // namespace
 
-// Issue 24 finding 8: values no sensor produces are refused with a message naming the field and its limit.
+// Values no sensor produces are refused with a message naming the field and its limit.
 TEST(FrameConversions, ValidateFrameEnforcesTheInputLimits) {
   const int n = 10, g = 2;
   causal_twin::VibrationFrame good;

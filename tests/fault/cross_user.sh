@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 24, finding 1: a DDS process of ANOTHER USER on the services' host must not stop their delivery.
+# A DDS process of ANOTHER USER on the services' host must not stop their delivery.
 #   cross_user.sh <build/services dir> <deploy dir> [shipped|shm]
 # The services (causal-estimator, alarm-recommender, causal-recorder, sensor-replay of the 984-snapshot feature
 # table, ~16 s) run as this user (root in CI); 5 s into the run a second Linux user, created here

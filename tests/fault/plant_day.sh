@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 24: a "plant day" on the live path. A real mosquitto broker on 127.0.0.1, sensor-ingest subscribed to it
+# A "plant day" on the live path. A real mosquitto broker on 127.0.0.1, sensor-ingest subscribed to it
 # (mqtt://, QoS 1), and a publisher (mosquitto_pub, standing in for the machine's DAQ) sending the 984 snapshots of
 # IMS test 2 as JSON blocks (tests/fault/plant_day_blocks.awk: one block per row of the feature table, 256 samples
 # x 4 bearings, the last one a stopped machine on the ADC floor). causal-estimator, alarm-recommender and

@@ -4,7 +4,7 @@
 # segment, as sensor-replay numbers IMS files). The samples are seeded uniform noise of the row's mean |x| per
 # bearing (mean |u| of U(-2a, 2a) is a), so the run degrades as IMS test 2 did; values are quantised to 0.001.
 # The last row is written as the stopped machine the real last file is: every value on the ADC floor
-# {-0.005, -0.002, 0, 0.002} (issue 24, finding 7).
+# {-0.005, -0.002, 0, 0.002}.
 #   awk -F, -v group=G -v rows=256 -v seed=24 -f plant_day_blocks.awk derived_per_file_stats_all984.csv
 NR == 1 {
   for (i = 1; i <= NF; ++i) col[$i] = i

@@ -185,7 +185,7 @@ void crash_and_compare(Victim victim, const std::string& label) {
               1)
         << "alarm id raised more than once (reused): " << id;
   }
-  // The prognoses (issue 22) equal the uncrashed run's byte for byte: the trends are in the recommender's
+  // The prognoses equal the uncrashed run's byte for byte: the trends are in the recommender's
   // checkpoint, and the last snapshot's prognoses are re-published at a restart (the recorder drops repeats).
   const auto bytes = [](const ft::fs::path& p) {
     std::ifstream in(p, std::ios::binary);

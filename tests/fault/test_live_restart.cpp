@@ -1,4 +1,4 @@
-// The live path across restarts and strange input (issue 24, findings 2 and 8), with real processes: sensor-ingest
+// The live path across restarts and strange input, with real processes: sensor-ingest
 // fed through stdin, causal-estimator with checkpoints, on a private loopback domain.
 //  * A restarted sensor-ingest with --state-dir continues each group's numbering: the estimator processes every
 //    frame of both runs (before: the second run numbered from 0 again and its frames were skipped as processed).

@@ -1,4 +1,4 @@
-// Operator states on the live path (issue 24, findings 6 and 7), with real processes on a private loopback domain:
+// Operator states on the live path, with real processes on a private loopback domain:
 //  * The raw IMS snapshots up to the stopped machine (the last file of IMS test 2: every value at the +-0.002
 //    quantisation step) through sensor-replay and causal-estimator: the stop is an operating_change event
 //    "machine_stopped", nothing is quarantined or dropped, exit 0 (before: 4 channels stuck, window dropped, exit 4).
@@ -158,7 +158,7 @@ TEST(OperatorStatus, AssetStatusSaysLearningThenHealthyThenAlarmAndIsRecorded) {
   if (!HasFailure()) fs::remove_all(work);
 }
 
-// A historian that starts late (CI, issue 25 package test: 396 of 428 status rows recorded, every service exit 0).
+// A historian that starts late (CI package test: 396 of 428 status rows recorded, every service exit 0).
 // The recommender publishes one status change per learning snapshot; its writer keeps the last 64 per group for late
 // joiners, so a recorder that matched after ~80 changes silently missed the first ones. With --wait-for
 // causal-recorder the recommender takes no input until the recorder's readers are matched, so the recorder gets

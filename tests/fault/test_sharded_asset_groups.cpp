@@ -1,4 +1,4 @@
-// Shards that divide the work (issue 16): sensor-sim publishes 48 asset groups; several causal-estimator
+// Shards that divide the work: sensor-sim publishes 48 asset groups; several causal-estimator
 // shards, each with content-filtered readers, must each RECEIVE exactly their own groups' frames (nothing of
 // the others reaches them: foreign=0), together cover every group exactly once, deliver every factor message,
 // and exit by themselves when the source has gone (--idle-exit), also a shard that owns no group at all.

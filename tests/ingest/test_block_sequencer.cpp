@@ -115,7 +115,7 @@ TEST(BlockSequencer, AssetGroupsAreCountedSeparately) {
   EXPECT_EQ(s.groups(), 2u);
 }
 
-// Issue 24 finding 2: a restarted sensor-ingest continues the numbering a previous run left (ResumePoint), so its
+// A restarted sensor-ingest continues the numbering a previous run left (ResumePoint), so its
 // frames are never taken for ones the estimator already processed.
 TEST(BlockSequencer, ResumedGroupContinuesNumberingWithANewSegment) {
   BlockSequencer first;

@@ -1,4 +1,4 @@
-// Issue 24, finding 4: the ingest unit gave up when the estimator was not there within 30 s (exit 3) and
+// The ingest unit gave up when the estimator was not there within 30 s (exit 3) and
 // RestartPreventExitStatus=3 kept it dead, so a plant whose sensor host boots first never ingested.
 // Checked here:
 //  * the shipped units restart on everything but a configuration error (exit 2), up to a start limit that a

@@ -1,4 +1,4 @@
-// Issue 12 items 3 and 5 through the real services: any IMS-format feature table, as it is, with
+// Through the real services: any IMS-format feature table, as it is, with
 // `sensor-replay --features FILE` alone (no per-file flags), 2-16 channels, time gaps marked as
 // discontinuities, and anything refused refused loudly. Variants of IMS test 2 from tests/support/ims_variants.
 // Fixed DDS domains of the alarms-suite range: 228 (eight channels), 229 (gaps, then the refusal).

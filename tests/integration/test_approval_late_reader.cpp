@@ -153,7 +153,7 @@ TEST(ApprovalLateReader, APlantStartedAfterTheApprovalsAppliesBoth) {
   EXPECT_EQ(counts.at("other_groups"), 0u) << sim.output();
   EXPECT_EQ(counts.at("snapshots"), 240u) << sim.output();
   EXPECT_EQ(recorder.terminate(), 0) << recorder.output();
-  const auto rows = causal::report::read_csv(work / "rec" / "interventions.csv");
+  const auto rows = causal::io::read_csv(work / "rec" / "interventions.csv");
   ASSERT_EQ(rows.rows.size(), 2u) << recorder.output();
   std::set<std::string> approvers;
   for (const auto& row : rows.rows) approvers.insert(row.at(static_cast<std::size_t>(rows.column("approved_by"))));

@@ -36,7 +36,7 @@ constexpr int kSnapshots = kClosedLoopSnapshots;
 // The history table holds the CSV file's rows exactly: same columns, every cell the same (numbers as the same
 // double: SQLite prints them with 17 digits, the CSV with the shortest that reads back).
 void expect_history_equals_csv(causal::history::HistoryStore& db, const std::string& table_name,
-                               const causal::report::CsvTable& csv) {
+                               const causal::io::CsvTable& csv) {
   const auto& t = causal::history::table(table_name);
   ASSERT_EQ(t.column_names(), csv.header) << table_name;
   const auto rows = db.select(t, {});
@@ -66,9 +66,9 @@ nlohmann::json live_group(ServiceProcess& web, const std::string& group) {
 }
 
 // The live view shows the recorded approval and outcome: the same request id, approver, window and outcome fields.
-void expect_live_view_shows(ServiceProcess& web, const causal::report::CsvTable& ivs,
-                            const causal::report::CsvTable& outcomes) {
-  const auto cell = [](const causal::report::CsvTable& t, const char* name) {
+void expect_live_view_shows(ServiceProcess& web, const causal::io::CsvTable& ivs,
+                            const causal::io::CsvTable& outcomes) {
+  const auto cell = [](const causal::io::CsvTable& t, const char* name) {
     return t.rows.at(0).at(static_cast<std::size_t>(t.column(name)));
   };
   const nlohmann::json g = live_group(web, "sim-0000");
@@ -93,7 +93,7 @@ void expect_live_view_shows(ServiceProcess& web, const causal::report::CsvTable&
 
 // The recorded condition vectors of `group` (snapshot -> levels of ch1..ch3).
 std::map<std::uint64_t, Eigen::Vector3d> recorded_levels(const fs::path& dir, const std::string& group) {
-  const auto t = causal::report::read_csv(dir / ("conditions_" + group + "_meanabs.csv"));
+  const auto t = causal::io::read_csv(dir / ("conditions_" + group + "_meanabs.csv"));
   std::map<std::uint64_t, Eigen::Vector3d> out;
   const int c1 = t.column("ch1");
   for (const auto& row : t.rows) {
@@ -118,7 +118,7 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
   EXPECT_TRUE(lever_advice(run.observer, "sim-0001").has_value()) << "the unapproved group had lever advice too";
 
   // The approval as recorded, and what it did to the data.
-  const auto ivs = causal::report::read_csv(work / "rec" / "interventions.csv");
+  const auto ivs = causal::io::read_csv(work / "rec" / "interventions.csv");
   ASSERT_EQ(ivs.rows.size(), 1u);
   const auto& row = ivs.rows[0];
   EXPECT_EQ(row[static_cast<std::size_t>(ivs.column("approved_by"))], "it-operator");
@@ -146,7 +146,7 @@ TEST(ClosedLoop, AnApprovedInterventionReachesThePlantAndIsChecked) {
     // (and only then).
     EXPECT_EQ(changed, g == 0 ? 24 : 0) << group;
   }
-  const auto outcomes = causal::report::read_csv(work / "rec" / "intervention_outcomes.csv");
+  const auto outcomes = causal::io::read_csv(work / "rec" / "intervention_outcomes.csv");
   ASSERT_EQ(outcomes.rows.size(), 1u) << alarm.output();
   const auto& o = outcomes.rows[0];
   std::printf("outcome: %s\n", o[static_cast<std::size_t>(outcomes.column("text"))].c_str());

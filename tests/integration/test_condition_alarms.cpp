@@ -1,12 +1,12 @@
-// Issue 4's bar, end to end over DDS: sensor-replay publishes the per-snapshot RMS of all 984 IMS test-2
+// The detection bar, end to end over DDS: sensor-replay publishes the per-snapshot RMS of all 984 IMS test-2
 // snapshots (mean |x|, from the embedded feature table) as condition vectors, causal-estimator runs the condition-level
 // filter across the 7-day run, alarm-recommender raises alarms with the SHIPPED parameters.
 // Snapshot i is 2004-02-12 10:32:39 + 10 i min; the index of an alarm is computed here from its time.
-// Bar: a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 547 (issue 23: every
+// Bar: a sustained alarm on bearing 1 with root cause bearing 1 no later than snapshot 547 (every
 // alarm needs a size floor; 541 measured offline), and no alarm of any kind before snapshot 500.
-// Issue 11 on the same run: every recommendation and a live what-if answer are honest (point inside its
+// On the same run: every recommendation and a live what-if answer are honest (point inside its
 // interval, percent never below -100 %, horizon and stability named; see check_honest_advice below).
-// Issue 22: every degradation raise and escalation carries an action (Alarm.action) and a rank-1
+// Every degradation raise and escalation carries an action (Alarm.action) and a rank-1
 // recommendation at the event's own sample_index; no advice reduces the failing bearing 1; causal-recorder's
 // recommendations.csv has the sample_index and action columns with the same content.
 #include "dds_observer.hpp"
@@ -32,7 +32,7 @@ constexpr std::int64_t kTenMinutesNs = 600LL * 1000000000LL;
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-// Issue 11: no recommendation with its point outside its interval, no percent beyond -100 %, every one names
+// No recommendation with its point outside its interval, no percent beyond -100 %, every one names
 // its horizon (or steady state, or refusal) and stability in one line that its text carries.
 void check_honest_advice(const std::vector<causal_twin::Recommendation>& recs) {
   const std::set<std::string> kinds{"steady_state", "horizon", "refused"};
@@ -47,7 +47,7 @@ void check_honest_advice(const std::vector<causal_twin::Recommendation>& recs) {
     EXPECT_TRUE(contains(r.text(), r.action())) << r.text();
     EXPECT_GE(r.act_on_channel(), 1u);
     EXPECT_LE(r.act_on_channel(), 4u);
-    // Issue 22: never "reduce the failing bearing 1" to help another bearing; no "+687 %" either.
+    // Never "reduce the failing bearing 1" to help another bearing; no "+687 %" either.
     EXPECT_FALSE(contains(r.action(), "Reduce bearing1")) << r.action();
     if (r.draws() == 0) {  // an action on the asset with no model answer behind it
       EXPECT_FALSE(r.reliable()) << r.text();
@@ -78,7 +78,7 @@ void check_honest_advice(const std::vector<causal_twin::Recommendation>& recs) {
   }
 }
 
-// Issue 22: every degradation raise and escalation has Alarm.action and a rank-1 recommendation for the same
+// Every degradation raise and escalation has Alarm.action and a rank-1 recommendation for the same
 // alarm id at the same sample_index. Returns the first such index (the first actionable advice).
 long check_every_alarm_event_has_an_action(const std::vector<causal_twin::Alarm>& alarms,
                                            const std::vector<causal_twin::Recommendation>& recs) {
@@ -98,14 +98,14 @@ long check_every_alarm_event_has_an_action(const std::vector<causal_twin::Alarm>
     EXPECT_TRUE(found) << "no recommendation for " << a.alarm_id() << " at index " << a.sample_index();
     if (found && (first < 0 || static_cast<long>(a.sample_index()) < first)) first = static_cast<long>(a.sample_index());
   }
-  std::printf("issue 22: %d degradation alarm events (raise/escalation), first actionable advice at snapshot %ld\n",
+  std::printf("advice: %d degradation alarm events (raise/escalation), first actionable advice at snapshot %ld\n",
               events, first);
   return first;
 }
 
-// causal-recorder's recommendations.csv: the issue-22 columns, one row per recommendation received.
+// causal-recorder's recommendations.csv: the decision columns, one row per recommendation received.
 void check_recorded_actions(const fs::path& file, const std::vector<causal_twin::Recommendation>& recs) {
-  const auto t = causal::report::read_csv(file);
+  const auto t = causal::io::read_csv(file);
   const int index = t.column("sample_index"), action = t.column("action"), id = t.column("recommendation_id"),
             alarm = t.column("alarm_id");
   ASSERT_GE(index, 0) << file;
@@ -146,7 +146,7 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
                             "causal-recorder"},
                            (work / "estimator.log").string());
   ASSERT_NO_FATAL_FAILURE(replay_through(estimator, SENSOR_REPLAY_BIN, d, table, work / "replay.log"));
-  // Issue 11: a what-if on the final IMS model, a sustained 10 % cut of bearing 1's level: answered honestly
+  // A what-if on the final IMS model, a sustained 10 % cut of bearing 1's level: answered honestly
   // (medians inside their intervals, horizon and stability named) or refused with the reason.
   causal_twin::WhatIfRequest question;
   question.request_id("it-ims-" + std::to_string(getpid()));

@@ -1,13 +1,13 @@
-// Issue 12 through the real services: IMS test 2's feature table with a 2-day recording gap after which
+// Through the real services: IMS test 2's feature table with a 2-day recording gap after which
 // every level is 18 % higher (snapshot 300), and a +25 % operating step of bearing 3 that stays (snapshot
 // 400). sensor-replay -> causal-estimator -> alarm-recommender over DDS, shipped parameters. Truth from the
 // construction: the run is healthy before snapshot 500, bearing 1 fails at the end.
 //  * no degradation alarm before snapshot 500;
 //  * the gap is said on the alarm topic: one category "operating_change" event of kind "discontinuity" per
 //    bearing, and the step one of kind "level_step" on bearing 3 (raised and cleared at once: a single
-//    channel's settled step is followed, not confirmed as an operating change; issue 23);
-//  * bearing 1 still alarms by snapshot 547 with root cause bearing 1 (issue 23's bar).
-// Fixed domain id 226 (helper range of issue 12's engine work).
+//    channel's settled step is followed, not confirmed as an operating change);
+//  * bearing 1 still alarms by snapshot 547 with root cause bearing 1 (the detection bar).
+// Fixed domain id 226 (a helper range of the engine work).
 #include "dds_observer.hpp"
 #include "process_expect.hpp"
 #include "ims_feature_replay.hpp"

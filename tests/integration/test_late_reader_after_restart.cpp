@@ -1,4 +1,4 @@
-// Issue 24, finding 5: after the services restart, the live view was empty: the open critical alarm was not
+// After the services restart, the live view was empty: the open critical alarm was not
 // shown again. alarm-recommender published its checkpointed alarms again only when a group's next observation
 // arrived, and its recommendations never: with the source finished, nothing came, so a reader that joined after
 // the restart (twin-web, a recorder) saw nothing.

@@ -1,4 +1,4 @@
-// Issue 22 (prognosis) end to end over DDS: sensor-replay publishes the IMS test-2 mean-abs features of all 984
+// Prognosis end to end over DDS: sensor-replay publishes the IMS test-2 mean-abs features of all 984
 // snapshots, causal-estimator and alarm-recommender run with the shipped parameters, causal-recorder writes
 // prognosis.csv. Pins the interface the acceptance checks use: the causal_twin/prognosis topic reaches the
 // recorder (every message published is written exactly once), prognosis.csv starts with

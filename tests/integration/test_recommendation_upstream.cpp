@@ -1,4 +1,4 @@
-// Issue 5 end to end over DDS, on simulated data where the answer is known: bearing 2 drives bearing 1
+// Upstream advice end to end over DDS, on simulated data where the answer is known: bearing 2 drives bearing 1
 // (instantaneously and with one lag); bearings 3 and 4 are independent. From snapshot 250 bearing 2's OWN
 // level rises; bearing 1 follows only through the causal link. The three services (shipped alarm parameters)
 // must alarm on bearing 1 and recommend acting on bearing 2, with a predicted reduction of bearing 1.
@@ -157,7 +157,7 @@ TEST_P(RecommendationUpstream, AlarmOnFollowerRecommendsActingOnTheUpstreamChann
     std::printf("[%s] recommendation %s: act on %u, target %u, %s effect %.4f [%.4f, %.4f]: %s\n", sc.name,
                 r.recommendation_id().c_str(), r.intervene_channel(), r.target_channel(), r.answer_kind().c_str(),
                 r.effect_median(), r.effect_low(), r.effect_high(), r.text().c_str());
-    EXPECT_FALSE(r.action().empty()) << r.text();  // issue 22: every alarm event carries an action
+    EXPECT_FALSE(r.action().empty()) << r.text();  // every alarm event carries an action
     if (r.draws() == 0) {  // an action on the alarmed asset with no model answer behind it
       EXPECT_EQ(r.action_kind(), "act_on_asset") << r.text();
       EXPECT_FALSE(r.reliable()) << r.text();

@@ -171,7 +171,7 @@ TEST(FeatureTable, ReadsRecorderConditionsFileAndStdin) {
   }
 }
 
-// A table as it is (issue 12): several features per channel only when every column is <channel>_<known feature>
+// A table as it is: several features per channel only when every column is <channel>_<known feature>
 // with two features or more; any other names are channels.
 TEST(FeatureTable, PerFeatureSuffixTellsDerivedFromMergedTables) {
   using causal::io::per_feature_suffix;

@@ -41,6 +41,21 @@ TEST(NameLimits, FileComponentsStayShortAndDistinct) {
   EXPECT_NE(safe_file_component(stem + std::string(55, 'a')), safe_file_component(stem + std::string(55, 'b')));
 }
 
+// The one file-name sanitiser, for state files and the recorder's CSV files alike: safe names unchanged, any
+// other byte replaced and a hash of the original appended, so "a b" and "a_b" never share a file.
+TEST(NameLimits, FileComponentsReplaceUnsafeBytesAndKeepIdsApart) {
+  EXPECT_EQ(safe_file_component("a.b_c-D9"), "a.b_c-D9");
+  const std::string slash = safe_file_component("ims2/shaft 1");
+  EXPECT_EQ(slash.substr(0, 13), "ims2_shaft_1-");
+  EXPECT_EQ(slash.size(), 12u + 1u + 8u);
+  EXPECT_NE(safe_file_component("ims2_shaft_1"), slash);
+  EXPECT_EQ(safe_file_component("..").substr(0, 3), "_.-");  // no "..", no hidden file
+  EXPECT_EQ(safe_file_component(".hidden").substr(0, 8), "_hidden-");
+  EXPECT_EQ(safe_file_component("../etc/passwd").find('/'), std::string::npos);
+  EXPECT_EQ(safe_file_component("").substr(0, 1), "-");
+  EXPECT_EQ(safe_file_component("\xC3\xA9t\xC3\xA9").substr(0, 6), "__t__-");  // UTF-8 replaced byte-wise
+}
+
 TEST(NameLimits, AStateFileForTheLongestNames) {
   const auto dir = std::filesystem::temp_directory_path() / ("causal_name_limits_" + std::to_string(getpid()));
   {

@@ -28,7 +28,7 @@ cd /
 dev_deb=$(ls "$(dirname "$deb")"/causal-twin-dev_*.deb)
 echo "--- dpkg -i $(basename "$deb") $(basename "$dev_deb")"
 dpkg -i "$deb" "$dev_deb" > "$work/installed_dpkg_i.log" 2>&1 || { cat "$work/installed_dpkg_i.log"; fail "dpkg -i"; }
-# One user per service, each in the group causal-twin (issue 25: a unit reads only its own key and state).
+# One user per service, each in the group causal-twin (a unit reads only its own key and state).
 services=(estimator ingest recommender recorder sensor web)
 getent group causal-twin > /dev/null || fail "postinst made no group causal-twin"
 for s in "${services[@]}"; do

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Part of package_root_check.sh (inside its private mount namespace, the package installed): the units' commands
-# run as the units' own users with DDS-Security on and each unit's key handed over as systemd would (issue 25,
-# least privilege per service). No systemd as PID 1 here, so systemd's part is done by this script as the unit
+# run as the units' own users with DDS-Security on and each unit's key handed over as systemd would (least
+# privilege per service). No systemd as PID 1 here, so systemd's part is done by this script as the unit
 # files and the key drop-ins say:
 #   * a PKI made by the installed make-pki.sh in /etc/causal-twin/security (the README's layout: CA keys
 #     included, so the purge's copy to /root is checked later), then the installed install-unit-keys.sh:

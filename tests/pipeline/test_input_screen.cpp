@@ -438,7 +438,7 @@ TEST(InputScreenParameters, InvalidThresholdsThrowAtConstructionAndRefuseTheFirs
 
 }  // namespace
 
-// Issue 24 finding 7: a stopped machine (every channel at the ADC's quantisation floor, as IMS test 2's last
+// A stopped machine (every channel at the ADC's quantisation floor, as IMS test 2's last
 // snapshot: -0.005, -0.002, 0, +0.002) is an operating state, not 4 stuck channels: nothing is quarantined, the
 // values pass, MachineStopped then MachineRunning are reported. One channel at the floor alone stays a fault.
 namespace {

@@ -136,7 +136,7 @@ TEST(StructuredFactorStream, LearnsACausalOrderThatPutsEveryTrueCauseFirst) {
   const auto& learned = structured.structure();
   ASSERT_TRUE(learned.problem.empty()) << learned.problem;
   ASSERT_EQ(learned.order.size(), static_cast<std::size_t>(kG));
-  // Issue 22: the order's trust is assessed and published (analysis/order_trust.hpp).
+  // The order's trust is assessed and published (analysis/order_trust.hpp).
   EXPECT_EQ(learned.order_source, "learned") << learned.order_summary;  // uniform noise, 1000 samples: identifiable
   EXPECT_GE(learned.order_confidence, 0.0);
   EXPECT_LE(learned.order_confidence, 1.0);
@@ -191,7 +191,7 @@ TEST(StructuredFactorStream, AConfiguredGraphIsIntersectedWithTheLearnedOrder) {
   for (int k = 0; k < kG; ++k)
     for (int j = 0; j < kG; ++j)
       EXPECT_EQ(mask[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)], k == 0 && j == 2) << j << " -> " << k;
-  // Issue 22: the plant's graph decides what the recommender may claim.
+  // The plant's graph decides what the recommender may claim.
   EXPECT_EQ(structured.structure().order_source, "configured");
 }
 

@@ -2,13 +2,14 @@
 #include "record_rows.hpp"
 
 #include "causal/io/csv_format.hpp"
+#include "causal/io/file_names.hpp"
 
 #include <gtest/gtest.h>
 
 #include <limits>
 
 using namespace causal::recorder;
-using causal::report::csv_line;
+using causal::io::csv_line;
 
 namespace {
 const std::int64_t kT0 = 1076581959LL * 1000000000LL;  // 2004-02-12 10:32:39 UTC
@@ -38,10 +39,15 @@ causal_twin::Alarm make_alarm() {
 }  // namespace
 
 TEST(RecordRows, FileNamesAreSanitised) {
-  EXPECT_EQ(conditions_file_name("ims2/shaft 1", "rms"), "conditions_ims2_shaft_1_rms.csv");
+  // Safe names as they are; any other byte becomes '_' and a hash of the name follows (causal/io/file_names.hpp),
+  // so "a b" and "a_b" never share a file.
+  EXPECT_EQ(conditions_file_name("ims2/shaft 1", "rms"),
+            "conditions_" + causal::io::safe_file_component("ims2/shaft 1") + "_rms.csv");
+  EXPECT_EQ(conditions_file_name("ims2/shaft 1", "rms").substr(0, 24), "conditions_ims2_shaft_1-");
+  EXPECT_NE(conditions_file_name("a b", "rms"), conditions_file_name("a_b", "rms"));
   EXPECT_EQ(factors_file_name("ims2-shaft1", causal_twin::CONDITION_LEVEL, causal_twin::FIXED_LAG_SMOOTHER),
             "factors_ims2-shaft1_condition_fixed-lag.csv");
-  EXPECT_EQ(factors_file_name("a b", causal_twin::SAMPLE_LEVEL, causal_twin::FILTER), "factors_a_b_sample_filter.csv");
+  EXPECT_EQ(factors_file_name("a_b", causal_twin::SAMPLE_LEVEL, causal_twin::FILTER), "factors_a_b_sample_filter.csv");
 }
 
 TEST(RecordRows, ConditionRow) {

@@ -2,6 +2,7 @@
 // causal-report on what it recorded. Every wait is bounded; only processes started here are signalled,
 // by pid; leftover Fast DDS shared-memory files of dead processes are cleaned with `fastdds shm clean`.
 #include "causal/io/csv_format.hpp"
+#include "causal/io/file_names.hpp"
 
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
@@ -90,7 +91,7 @@ class RecorderIntegration : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     asset_ = "it " + std::to_string(::getpid()) + "/shaft,1";  // needs sanitising
-    file_asset_ = causal::report::sanitize_file_component(asset_);
+    file_asset_ = causal::io::safe_file_component(asset_);
   }
 
   void TearDown() override {
@@ -225,7 +226,7 @@ class RecorderIntegration : public ::testing::Test {
     const auto deadline = std::chrono::steady_clock::now() + limit;
     while (std::chrono::steady_clock::now() < deadline) {
       try {
-        if (causal::report::parse_csv(slurp(dir_ / "run" / file)).rows.size() >= rows) return true;
+        if (causal::io::parse_csv(slurp(dir_ / "run" / file)).rows.size() >= rows) return true;
       } catch (const std::runtime_error&) {
         // a row being written right now: look again
       }
@@ -379,9 +380,9 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
 
   // Alarms: one row per state change, text quoted, the escalation placed at snapshot 7's time.
   const std::string alarms = slurp(run / "alarms.csv");
-  const auto alarm_rows = causal::report::parse_csv(alarms).rows;
+  const auto alarm_rows = causal::io::parse_csv(alarms).rows;
   ASSERT_EQ(alarm_rows.size(), 4u) << alarms;
-  // ... then the decision fields (issue 22): no next level on this message, so empty cells.
+  // ... then the decision fields: no next level on this message, so empty cells.
   EXPECT_NE(alarms.find(",\"rms of Bearing 2 rose, \"\"sharply\"\"\",degradation,0.5,,,,\n"), std::string::npos) << alarms;
   EXPECT_EQ(alarm_rows[0][1], "raised");
   EXPECT_EQ(alarm_rows[0][2], "warning");
@@ -392,7 +393,7 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
   EXPECT_EQ(alarm_rows[2][10], "2004-02-12 12:12:39");
   EXPECT_EQ(alarm_rows[2][12], "Bearing 3");
   EXPECT_EQ(alarm_rows[3][3], "innovation_nis");
-  const auto rec = causal::report::parse_csv(slurp(run / "recommendations.csv"));
+  const auto rec = causal::io::parse_csv(slurp(run / "recommendations.csv"));
   ASSERT_EQ(rec.rows.size(), 1u);
   EXPECT_EQ(rec.header.size(), 34u);  // 26 + sample_index, action, action_kind, act_on_*, horizon_hours, order_*
   EXPECT_EQ(rec.rows[0][12], "lower Bearing 3's load, then re-check");
@@ -407,7 +408,9 @@ TEST_F(RecorderIntegration, RecordsEveryTopicAndTheReportRendersIt) {
       << slurp(dir_ / "report.log");
   std::vector<std::string> pngs{"condition_trends_" + file_asset_, "alarm_timeline_" + file_asset_,
                                 "causal_graph_" + file_asset_};
-  for (int k = 1; k <= kG; ++k) pngs.push_back("factors_" + file_asset_ + "_Bearing_" + std::to_string(k));
+  for (int k = 1; k <= kG; ++k) {  // channel names in file names: the one sanitiser, as the asset group's
+    pngs.push_back("factors_" + file_asset_ + "_" + causal::io::safe_file_component("Bearing " + std::to_string(k)));
+  }
   for (const auto& stem : pngs) {
     const std::string png = slurp(report / (stem + ".png"));
     ASSERT_GT(png.size(), 1000u) << stem;

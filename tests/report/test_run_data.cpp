@@ -1,5 +1,6 @@
 // Reading a recorder folder back: file discovery, factor names, series, alarm spans.
 #include "run_data.hpp"
+#include "causal/io/file_names.hpp"
 #include "test_files.hpp"
 
 #include <gtest/gtest.h>
@@ -83,7 +84,9 @@ TEST(DiscoverRun, FindsAssetsFromFileNamesAndAlarms) {
   EXPECT_EQ(a.conditions[1].first, "rms");
   EXPECT_EQ(a.factors_filter, dir.path / "factors_ims2_shaft_1_condition_filter.csv");
   EXPECT_EQ(a.factors_fixed_lag, dir.path / "factors_ims2_shaft_1_condition_fixed-lag.csv");
-  EXPECT_EQ(run.assets[1].asset, "only_in_alarms__this_one");
+  // Named as its recorder files would be (the one sanitiser, causal/io/file_names.hpp): odd bytes + a hash.
+  EXPECT_EQ(run.assets[1].asset, causal::io::safe_file_component("only in alarms, this one"));
+  EXPECT_EQ(run.assets[1].asset.substr(0, 25), "only_in_alarms__this_one-");
 }
 
 TEST(LoadSeries, ConditionsAndFactorsWithMissingCells) {
@@ -121,7 +124,7 @@ TEST(LoadAlarms, FiltersByAssetAndParsesTimes) {
             "a/2/k/1,raised,warning,feature_drift,a/b,2,Bearing 2,5,2004-02-12 10:32:39,2004-02-12 10:32:39,,3,"
             "Bearing 3,2,1,\"up, \"\"a lot\"\"\"\n"
             "z/1/k/1,raised,critical,feature_drift,z,1,Bearing 1,5,,2004-02-12 10:32:39,,0,,2,1,r\n");
-  const auto rows = load_alarms(dir.path / "alarms.csv", "a_b");
+  const auto rows = load_alarms(dir.path / "alarms.csv", causal::io::safe_file_component("a/b"));
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].severity, Severity::Warning);
   EXPECT_EQ(rows[0].channel, 2);

@@ -80,7 +80,7 @@ TEST(Verdict, ShowsTheLatestAlarmEventsActionAtItsIndex) {
   first.sample_index = "533";
   later.action = "Act on B1 (critical alarm): replace it at the earliest safe stop.";
   later.sample_index = "980";
-  // Issue 22: the latest event's action wins over an older reliable lever without an action column.
+  // The latest event's action wins over an older reliable lever without an action column.
   const AssetVerdict v = verdict_of("g", alarms, {rec(1, true, "Reduce B4 by 10 %"), first, later});
   EXPECT_EQ(v.top_recommendation, "at 980: Act on B1 (critical alarm): replace it at the earliest safe stop.");
 }

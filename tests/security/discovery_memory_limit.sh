@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 25, finding 2: one unauthenticated 120-byte discovery packet (discovery_packet.py) makes a secured
+# One unauthenticated 120-byte discovery packet (discovery_packet.py) makes a secured
 # Fast DDS 2.9.1 participant allocate about 1.44 GB. The defence is a memory ceiling per unit (MemoryMax= in
 # deploy/systemd): the kernel stops that one service, not the host. Here a secured causal-recorder runs in a
 # memory cgroup of 256 MiB (as a unit with MemoryMax=256M) and an alarm-recommender of the same domain outside

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""One unauthenticated SPDP packet (issue 25, finding 2) to a secured participant's discovery port:
+"""One unauthenticated SPDP packet to a secured participant's discovery port:
 an identity token whose property count is COUNT. Fast DDS 2.9.1's CDRMessage::readPropertySeq resizes the
 property list to COUNT before it checks that the packet holds them (72 bytes each: 20,000,000 -> 1.44 GB).
   discovery_packet.py PORT COUNT      (to 127.0.0.1; prints the packet's size)"""

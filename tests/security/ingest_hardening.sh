@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 25, finding 4: sensor-ingest's edges, with real processes.
+# sensor-ingest's edges, with real processes.
 #  * UDP: datagrams are taken only from --udp-allow networks (default loopback): a sender on 10.77.0.1 (an
 #    address this test adds to lo in its own network namespace) is refused and counted
 #    (ingest_udp_refused_total), loopback senders get through; with --udp-allow 10.77.0.1 it is the other

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A measurement, not a ctest (issue 25, one user per unit): does Fast DDS 2.9 deliver between processes of
+# A measurement, not a ctest (one user per unit): does Fast DDS 2.9 deliver between processes of
 # DIFFERENT users of ONE group, on a given transport profile and umask? sensor-replay (user A) sends the
 # 984-row feature table to causal-estimator (user B), whose condition vectors causal-recorder (user C) records;
 # all three are in the group ctwin-shm and start with the given umask (as UMask= would set it). Prints the

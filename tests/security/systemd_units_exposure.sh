@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 25, finding 8: every shipped unit rates <= 3.0 in `systemd-analyze security --offline=true` (it rated
+# Every shipped unit rates <= 3.0 in `systemd-analyze security --offline=true` (it rated
 # 7.6 "EXPOSED" before), has a memory ceiling (MemoryMax=) and a private umask, and passes
 # `systemd-analyze verify` apart from the binary path (the units name @CAUSAL_TWIN_BINDIR@, filled in at
 # install; here /usr/bin, where nothing needs to be installed). And a restart policy that keeps a unit out of a

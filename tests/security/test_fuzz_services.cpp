@@ -1,4 +1,4 @@
-// Issue 25, finding 1: no sample of any content ends a service. causal-estimator, alarm-recommender,
+// No sample of any content ends a service. causal-estimator, alarm-recommender,
 // causal-recorder and twin-web run as real processes on a private loopback domain; a raw writer in this test
 // (a type support that puts the corpus's bytes on the wire unchanged, under the product's type names) sends
 // every malformed sample of fuzz_corpus.hpp on every topic they read: keys of 300 bytes (they used to end the

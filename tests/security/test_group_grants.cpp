@@ -1,4 +1,4 @@
-// Issue 25, finding 3: authorisation per asset group. A plant file names the asset groups of a sensor host;
+// Authorisation per asset group. A plant file names the asset groups of a sensor host;
 // make-pki.sh --plant issues that host's identity granted only those (DDS partitions causal_twin/group/<group>).
 // With a valid certificate of that identity:
 // * Fast DDS refuses a writer that announces another group's partition (its own access control, locally);

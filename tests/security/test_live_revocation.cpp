@@ -1,4 +1,4 @@
-// Issue 25, finding 6: a revocation takes effect on a running pipeline, without anyone restarting it.
+// A revocation takes effect on a running pipeline, without anyone restarting it.
 // A secured causal-estimator (with checkpoints) is fed by two sensor-replays: the plant's sensor (group
 // line-a) and a retired sensor (group line-r) whose host keeps its files. revoke-identity.sh then rewrites the
 // PKI's revocation list (empty since make-pki.sh). Every process watching that list restarts itself in place

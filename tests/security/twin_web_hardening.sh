@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 25, finding 5: twin-web's edges, with real HTTP requests (curl) against the running service.
+# twin-web's edges, with real HTTP requests (curl) against the running service.
 #  * every response carries Content-Security-Policy (frame-ancestors 'none') and X-Frame-Options DENY;
 #  * a request under a foreign Host name (DNS rebinding) is refused (421), reads included;
 #  * a what-if POST with a foreign Origin, with Sec-Fetch-Site cross-site, without or with a wrong CSRF token

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The product's rule "no function over 120 lines" (issue 27), checked: lists every C++ function body in the given
+"""The product's rule "no function over 120 lines", checked: lists every C++ function body in the given
 folders longer than LIMIT lines and exits 1 when there is one.
 
 Usage: function_length.py LIMIT FOLDER...

@@ -1,4 +1,4 @@
-// Robustness variants of IMS test 2 (issue 12): runs the alarm tuning never saw, built deterministically from
+// Robustness variants of IMS test 2: runs the alarm tuning never saw, built deterministically from
 // the real 984-snapshot feature table (deploy/data/ims2-features/merged_dataset_BearingTest_2.csv) by injecting
 // what other IMS-format recordings contain: time gaps with level shifts, operating-change steps on a healthy
 // channel, a second sensor per bearing (8 channels), and a long run whose degradation shows only at the end.
@@ -57,7 +57,7 @@ Variant make_steps_variant(const BaseRun& base, std::uint64_t seed);
 // bearing sees the same level with its own small noise).
 Variant make_eight_channel_variant(const BaseRun& base, std::uint64_t seed);
 // (c') (c) on top of (a): 8 channels, both sensors of a bearing stepping with the bearing after each gap
-// (issue 23, Run A). Not part of make_all_variants (its table is the issue-12 one); the suite adds it.
+// (Run A). Not part of make_all_variants (its table is the original one); the suite adds it.
 Variant make_eight_channel_gaps_variant(const BaseRun& base, std::uint64_t seed);
 // (d) Stretched to `total_rows` snapshots by walking back and forth through the healthy part (so every
 // step continues the previous level: no jump at a join), each repeated row times exp(N(0, 0.005^2)); time

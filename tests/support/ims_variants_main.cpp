@@ -1,4 +1,4 @@
-// ims-variants: writes the issue-12 robustness variants of IMS test 2 as IMS-format merged tables, one CSV per
+// ims-variants: writes the robustness variants of IMS test 2 as IMS-format merged tables, one CSV per
 // variant (and the two runs of ims_variants_unseen.hpp), plus variants.txt (one line per variant: name, rows, channels, healthy rows, failing channels,
 // what was injected). Deterministic: the same base table and seed give byte-identical files.
 //   ims-variants --base deploy/data/ims2-features/merged_dataset_BearingTest_2.csv --out DIR [--seed N]

@@ -1,4 +1,4 @@
-// Month-long simulated IMS-format recordings (issue 23): the false-alarm budget of the alarm engine on long
+// Month-long simulated IMS-format recordings: the false-alarm budget of the alarm engine on long
 // healthy runs and its detection delay on accelerating faults, against the robust-z reference detector.
 //
 // Log level of sensor s of bearing b at row t (10-minute snapshots):
@@ -8,7 +8,7 @@
 // + wander_b(t)                                     bearing's own slow wander, AR(1) phi 0.97, sd 0.7 %
 // + noise_s(t)                                      sensor noise, AR(1) phi 0.3, sd 1.2 %
 // Spread without drift and steps: sd ~1.9 % per snapshot, the healthy month's excursions of the median of 5
-// reach +5-7 % (as the healthy half of issue 23's Run B: +4 to +7 %); IMS test 2's healthy bearings: 1.0-1.8 %.
+// reach +5-7 % (as the healthy half of Run B: +4 to +7 %); IMS test 2's healthy bearings: 1.0-1.8 %.
 // + steps and gap re-levels (cumulative, from their row on) + spikes (one row) + the fault (bearing 0).
 // Injections: 3 recording gaps (4-6 h, 2 days, 30 h), each followed by a level step of x[1.15, 1.20] per
 // channel; 2 single-bearing operating steps of x[1.20, 1.40] on healthy bearings; one single-snapshot spike

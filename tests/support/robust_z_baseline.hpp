@@ -1,4 +1,4 @@
-// The reference detector of issue 12: a plain robust-z alarm, per channel. Median and MAD of an early
+// The reference detector of the robustness suite: a plain robust-z alarm, per channel. Median and MAD of an early
 // baseline window; z = (x - median) / (1.4826 MAD); an alarm when |z| > threshold for `persistence`
 // consecutive snapshots. Only the first alarm of each channel is reported (no clearing rule): this is the
 // bar the product must beat (earlier or equal on the failing bearing, no more false alarms).

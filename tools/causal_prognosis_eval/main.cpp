@@ -5,7 +5,7 @@
 // multiple of the baseline the engine had at the first alarm (one spike is not "reached"); a level never
 // reached before the stop is scored at the stop. Two sources:
 //   --ims FILE      IMS-format feature table (tests/bench/prognosis_eval.sh uses test 2): the services' chain
-//                   (causal_alarm_pipeline) gives the observations; --stop-index (default 981, the last running
+//                   (causal_alarms_pipeline) gives the observations; --stop-index (default 981, the last running
 //                   snapshot of test 2).
 //   --sim           simulated run-to-failure channels (run_to_failure_sim.hpp), --seeds N per noise kind
 //                   (Gaussian and uniform) from --first-seed.

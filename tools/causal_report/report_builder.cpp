@@ -3,6 +3,7 @@
 #include "causal/config/exit_codes.hpp"
 
 #include "causal/io/csv_format.hpp"
+#include "causal/io/file_names.hpp"
 #include "causal_graph_plot.hpp"
 #include "gnuplot_plots.hpp"
 #include "process.hpp"
@@ -195,7 +196,7 @@ void render_asset(const AssetFiles& files, const fs::path& alarms_file, const st
         const std::vector<std::size_t> page(idx.begin() + static_cast<long>(p * kPanelsPerPage),
                                             idx.begin() + static_cast<long>(std::min(idx.size(), (p + 1) * kPanelsPerPage)));
         const std::string outcome = primary->outcome_names[k];
-        const std::string stem = "factors_" + asset + "_" + sanitize_file_component(outcome) +
+        const std::string stem = "factors_" + asset + "_" + io::safe_file_component(outcome) +
                                  (pages > 1 ? "_p" + std::to_string(p + 1) : "");
         const std::string note = pages > 1 ? ", page " + std::to_string(p + 1) + "/" + std::to_string(pages) : "";
         const std::string script = factor_panels_script(asset, outcome, pf, pl, page, primary->outcome_names, spans,
@@ -257,7 +258,7 @@ int build_report(const ReportOptions& options, std::ostream& out, std::ostream& 
   }
   std::vector<const AssetFiles*> selected;
   for (const auto& a : files.assets) {
-    if (options.asset.empty() || a.asset == sanitize_file_component(options.asset)) selected.push_back(&a);
+    if (options.asset.empty() || a.asset == io::safe_file_component(options.asset)) selected.push_back(&a);
   }
   if (selected.empty()) {
     std::string known;

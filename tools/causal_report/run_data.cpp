@@ -1,6 +1,7 @@
 #include "run_data.hpp"
 
 #include "causal/io/csv_format.hpp"
+#include "causal/io/file_names.hpp"
 
 #include "causal/io/time_format.hpp"
 
@@ -12,6 +13,9 @@
 #include <stdexcept>
 
 namespace causal::report {
+
+using io::CsvTable;
+using io::read_csv;
 
 namespace fs = std::filesystem;
 
@@ -162,7 +166,7 @@ RunFiles discover_run(const fs::path& run_dir) {
   if (!run.alarms.empty()) {
     const CsvTable t = read_csv(run.alarms);
     const std::size_t col = need(t, "asset_group");
-    for (const auto& row : t.rows) assets[sanitize_file_component(row[col])];
+    for (const auto& row : t.rows) assets[io::safe_file_component(row[col])];
   }
   for (auto& [id, a] : assets) {
     a.asset = id;
@@ -238,7 +242,7 @@ std::vector<AlarmRecord> load_alarms(const fs::path& file, const std::string& as
             confidence = t.column("root_cause_confidence");
   std::vector<AlarmRecord> out;
   for (const auto& row : t.rows) {
-    if (!asset.empty() && sanitize_file_component(row[group]) != asset) continue;
+    if (!asset.empty() && io::safe_file_component(row[group]) != asset) continue;
     AlarmRecord r;
     if (category >= 0 && !row[static_cast<std::size_t>(category)].empty()) {
       r.category = row[static_cast<std::size_t>(category)];

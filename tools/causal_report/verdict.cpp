@@ -1,6 +1,7 @@
 #include "verdict.hpp"
 
 #include "causal/io/csv_format.hpp"
+#include "causal/io/file_names.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -8,6 +9,9 @@
 #include <sstream>
 
 namespace causal::report {
+
+using io::CsvTable;
+using io::read_csv;
 
 namespace {
 
@@ -41,7 +45,7 @@ std::vector<RecommendationRecord> load_recommendations(const std::filesystem::pa
   }
   std::vector<RecommendationRecord> out;
   for (const auto& row : t.rows) {
-    if (!asset.empty() && sanitize_file_component(cell(row, group)) != asset) continue;
+    if (!asset.empty() && io::safe_file_component(cell(row, group)) != asset) continue;
     RecommendationRecord r;
     r.recommendation_id = cell(row, id);
     r.alarm_id = cell(row, alarm);
@@ -70,7 +74,7 @@ std::vector<PrognosisRecord> load_prognoses(const std::filesystem::path& file, c
   }
   std::vector<PrognosisRecord> out;
   for (const auto& row : t.rows) {
-    if (!asset.empty() && sanitize_file_component(cell(row, group)) != asset) continue;
+    if (!asset.empty() && io::safe_file_component(cell(row, group)) != asset) continue;
     PrognosisRecord p;
     p.asset_group = cell(row, group);
     p.channel_name = cell(row, name);

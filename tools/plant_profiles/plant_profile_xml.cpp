@@ -67,7 +67,7 @@ std::string participant_profile_xml(const PlantDescription& plant, const PlantHo
     << (host.interface.empty() ? "" : " on " + xml_escape(host.interface)) << "), DDS domain " << plant.domain_id
     << ", services: " << roles_list(host) << " (commands: " << host.name << ".commands).\n"
     << "  UDPv4 only on the plant address, also between this host's own services (no shared memory: a DDS process\n"
-    << "  of another user on the host cannot use another user's segments and stalled the services, issue 24)"
+    << "  of another user on the host cannot use another user's segments and stalled the services)"
     << "; no multicast; discovery "
     << (server ? "through the discovery server on " + server->name + " (" + server->address + ":" +
                      std::to_string(plant.discovery_server->port) + ")"

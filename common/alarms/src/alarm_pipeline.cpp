@@ -87,7 +87,7 @@ ConditionSeries series_from_ims_directory(const std::string& dir, const std::str
 }
 
 causal::pipeline::AssetPipelineParams load_estimator_config(const std::string& path) {
-  return causal::estimator::load_estimator_params(path);
+  return causal::pipeline::load_estimator_params(path);
 }
 
 std::string shipped_estimator_config() { return std::string(CAUSAL_TWIN_ESTIMATOR_CONFIG); }

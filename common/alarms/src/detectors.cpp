@@ -8,6 +8,7 @@
 
 #include "causal/alarms/statistics.hpp"
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 namespace causal::alarms {
 
@@ -34,25 +35,22 @@ void ClippedCusum::reset() {
   onset_time_ns_ = 0;
 }
 
-void ClippedCusum::save(causal::StateWriter& out) const {
-  out.begin("clipped_cusum", 1);
-  out.put(k_);
-  out.put(clip_);
-  out.put(cap_);
-  out.put(s_);
-  out.put(onset_index_);
-  out.put(onset_time_ns_);
+template <class IO, class Self>
+void ClippedCusum::fields(IO io, Self& c) {
+  io.tag("clipped_cusum", 1);
+  io(c.k_);
+  io(c.clip_);
+  io(c.cap_);
+  io(c.s_);
+  io(c.onset_index_);
+  io(c.onset_time_ns_);
 }
 
+void ClippedCusum::save(causal::StateWriter& out) const { fields(causal::SaveFields{out}, *this); }
+
 void ClippedCusum::restore(causal::StateReader& in) {
-  in.expect("clipped_cusum", 1);
   ClippedCusum c;
-  in.read(c.k_);
-  in.read(c.clip_);
-  in.read(c.cap_);
-  in.read(c.s_);
-  in.read(c.onset_index_);
-  in.read(c.onset_time_ns_);
+  fields(causal::RestoreFields{in}, c);
   // The constructor's promises (k > 0, clip > k, cap > 0) and a statistic inside [0, cap].
   if (!(c.k_ > 0.0 && c.clip_ > c.k_ && c.cap_ > 0.0 && c.s_ >= 0.0 && c.s_ <= c.cap_)) {
     throw causal::StateError("checkpoint: clipped_cusum section holds invalid values");
@@ -96,21 +94,20 @@ double WindowMean::median() const {
   return causal::alarms::median(std::vector<double>(buf_.begin(), buf_.begin() + count_));
 }
 
-void WindowMean::save(causal::StateWriter& out) const {
-  out.begin("window_mean", 1);
-  out.put(buf_);
-  out.put(next_);
-  out.put(count_);
-  out.put(sum_);
+template <class IO, class Self>
+void WindowMean::fields(IO io, Self& w) {
+  io.tag("window_mean", 1);
+  io(w.buf_);
+  io(w.next_);
+  io(w.count_);
+  io(w.sum_);
 }
 
+void WindowMean::save(causal::StateWriter& out) const { fields(causal::SaveFields{out}, *this); }
+
 void WindowMean::restore(causal::StateReader& in) {
-  in.expect("window_mean", 1);
   WindowMean w;
-  in.read(w.buf_);
-  in.read(w.next_);
-  in.read(w.count_);
-  in.read(w.sum_);
+  fields(causal::RestoreFields{in}, w);
   const int n = static_cast<int>(w.buf_.size());
   if (w.next_ < 0 || w.count_ < 0 || w.count_ > n || (n > 0 && w.next_ >= n) || (n == 0 && w.next_ != 0)) {
     throw causal::StateError("checkpoint: window_mean section is inconsistent (position outside the window)");
@@ -154,23 +151,21 @@ void PersistenceLatch::reset() {
   active_ = false;
 }
 
-void PersistenceLatch::save(causal::StateWriter& out) const {
-  out.begin("persistence_latch", 1);
-  out.put(raise_count_);
-  out.put(clear_count_);
-  out.put(above_);
-  out.put(below_);
-  out.put(active_);
+template <class IO, class Self>
+void PersistenceLatch::fields(IO io, Self& l) {
+  io.tag("persistence_latch", 1);
+  io(l.raise_count_);
+  io(l.clear_count_);
+  io(l.above_);
+  io(l.below_);
+  io(l.active_);
 }
 
+void PersistenceLatch::save(causal::StateWriter& out) const { fields(causal::SaveFields{out}, *this); }
+
 void PersistenceLatch::restore(causal::StateReader& in) {
-  in.expect("persistence_latch", 1);
   PersistenceLatch l;
-  in.read(l.raise_count_);
-  in.read(l.clear_count_);
-  in.read(l.above_);
-  in.read(l.below_);
-  in.read(l.active_);
+  fields(causal::RestoreFields{in}, l);
   if (l.raise_count_ < 1 || l.clear_count_ < 1 || l.above_ < 0 || l.below_ < 0) {
     throw causal::StateError("checkpoint: persistence_latch section holds invalid counts");
   }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "causal/io/time_format.hpp"
 #include "engine_internal.hpp"
 
@@ -35,27 +36,22 @@ LostRange IndexContinuity::step(std::uint64_t index, std::int64_t time_ns) {
   return r;
 }
 
-void save(causal::StateWriter& out, const IndexContinuity& c) {
-  out.begin("alarm_index_continuity", 1);
-  out.put(c.has_last);
-  out.put(c.last_index);
-  out.put(c.last_time_ns);
-  out.put(c.unit_steps);
-  out.put(c.other_steps);
-  out.put(c.losses);
-  out.put(c.lost);
+// One field list for save and restore (state_fields.hpp): C is const when saving.
+template <class IO, class C>
+void continuity_fields(IO io, C& c) {
+  io.tag("alarm_index_continuity", 1);
+  io(c.has_last);
+  io(c.last_index);
+  io(c.last_time_ns);
+  io(c.unit_steps);
+  io(c.other_steps);
+  io(c.losses);
+  io(c.lost);
 }
 
-void restore(causal::StateReader& in, IndexContinuity& c) {
-  in.expect("alarm_index_continuity", 1);
-  in.read(c.has_last);
-  in.read(c.last_index);
-  in.read(c.last_time_ns);
-  in.read(c.unit_steps);
-  in.read(c.other_steps);
-  in.read(c.losses);
-  in.read(c.lost);
-}
+void save(causal::StateWriter& out, const IndexContinuity& c) { continuity_fields(causal::SaveFields{out}, c); }
+
+void restore(causal::StateReader& in, IndexContinuity& c) { continuity_fields(causal::RestoreFields{in}, c); }
 
 }  // namespace detail
 

@@ -2,6 +2,7 @@
 
 #include "causal/estimation/normal_quantile.hpp"
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -52,23 +53,22 @@ RobustStats robust_stats(const std::vector<double>& v, double relative_floor, do
   return s;
 }
 
-void save(causal::StateWriter& out, const RobustStats& stats) {
-  out.begin("robust_stats", 1);
-  out.put(stats.location);
-  out.put(stats.scale);
-  out.put(stats.lag1_autocorr);
-  out.put(static_cast<std::uint64_t>(stats.count));
-  out.put(stats.valid);
+// One field list for save and restore (state_fields.hpp): S is const when saving.
+template <class IO, class S>
+void robust_stats_fields(IO io, S& s) {
+  io.tag("robust_stats", 1);
+  io(s.location);
+  io(s.scale);
+  io(s.lag1_autocorr);
+  io.template as<std::uint64_t>(s.count);
+  io(s.valid);
 }
 
+void save(causal::StateWriter& out, const RobustStats& stats) { robust_stats_fields(causal::SaveFields{out}, stats); }
+
 void restore(causal::StateReader& in, RobustStats& stats) {
-  in.expect("robust_stats", 1);
   RobustStats s;
-  in.read(s.location);
-  in.read(s.scale);
-  in.read(s.lag1_autocorr);
-  s.count = static_cast<std::size_t>(in.get<std::uint64_t>());
-  in.read(s.valid);
+  robust_stats_fields(causal::RestoreFields{in}, s);
   // robust_stats() promises a positive, finite scale (its fallbacks): every z divides by it.
   if (!(std::isfinite(s.scale) && s.scale > 0.0) || (s.valid && !std::isfinite(s.location))) {
     throw causal::StateError("checkpoint: robust_stats section holds an invalid location or scale");

@@ -6,6 +6,7 @@
 
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_checks.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 
@@ -156,49 +157,36 @@ std::vector<SmoothedSample> FixedLagSmoother::flush() {
   return out;
 }
 
-void FixedLagSmoother::save(StateWriter& w) const {
-  w.begin("fixed_lag_smoother", 1);
-  w.put(static_cast<std::int32_t>(lag_));
-  w.put(release_every_);
-  filter_.save(w);
-  w.put(xs_);
-  w.put(pc_);
-  w.put(var_);
-  w.put(static_cast<std::int32_t>(head_));
-  w.put(static_cast<std::int32_t>(active_));
-  w.put(next_release_);
-  w.put(last_status_);
+template <class IO, class Self>
+void FixedLagSmoother::fields(IO io, Self& s) {
+  io.tag("fixed_lag_smoother", 1);
+  io.template same_as<std::int32_t>(s.lag_, "fixed lag", "smoother");
+  io.same(s.release_every_, "release_every", "smoother");
+  io.object(s.filter_);
+  io.same_size(s.xs_, "smoother lagged states");
+  io.same_size(s.pc_, "smoother cross-covariances");
+  io.same_size(s.var_, "smoother variances");
+  io.template as<std::int32_t>(s.head_);
+  io.template as<std::int32_t>(s.active_);
+  io(s.next_release_);
+  io(s.last_status_);
 }
 
+void FixedLagSmoother::save(StateWriter& w) const { fields(SaveFields{w}, *this); }
+
 void FixedLagSmoother::restore(StateReader& r) {
-  r.expect("fixed_lag_smoother", 1);
-  expect_saved(r, "fixed lag", static_cast<std::int32_t>(lag_), "smoother");
-  expect_saved(r, "release_every", release_every_, "smoother");
-  // Into copies first: a damaged checkpoint leaves this smoother as it was.
-  SvarKalmanFilter filter = filter_;
-  filter.restore(r);
-  std::vector<double> xs(xs_.size()), pc(pc_.size()), var(var_.size());
-  read_same_size(r, xs, "smoother lagged states");
-  read_same_size(r, pc, "smoother cross-covariances");
-  read_same_size(r, var, "smoother variances");
-  const auto head = r.get<std::int32_t>();
-  const auto active = r.get<std::int32_t>();
-  const auto next_release = r.get<std::uint64_t>();
-  const auto status = r.get<SampleStatus>();
+  // Into a copy first: a damaged checkpoint leaves this smoother as it was.
+  FixedLagSmoother s = *this;
+  fields(RestoreFields{r}, s);
+  const int head = s.head_, active = s.active_;
+  const SampleStatus status = s.last_status_;
   const bool head_ok = lag_ == 0 ? head == 0 : head >= 0 && head < lag_;
-  if (!head_ok || active < 0 || active > lag_ || next_release > filter.samples_seen() ||
+  if (!head_ok || active < 0 || active > lag_ || s.next_release_ > s.filter_.samples_seen() ||
       (status != SampleStatus::Updated && status != SampleStatus::WarmUp &&
        status != SampleStatus::RejectedNonFinite)) {
     throw StateError("checkpoint: fixed-lag smoother ring state out of range");
   }
-  filter_ = std::move(filter);
-  xs_ = std::move(xs);
-  pc_ = std::move(pc);
-  var_ = std::move(var);
-  head_ = head;
-  active_ = active;
-  next_release_ = next_release;
-  last_status_ = status;
+  *this = std::move(s);
 }
 
 }  // namespace causal

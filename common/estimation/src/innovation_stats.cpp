@@ -5,6 +5,7 @@
 #include <string>
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "causal/estimation/svar_kalman_filter.hpp"
 
 namespace causal {
@@ -39,21 +40,20 @@ void InnovationStats::reset() {
   for (auto& a : acc_) a.reset();
 }
 
-void InnovationAccumulator::save(StateWriter& w) const {
-  w.begin("innovation_accumulator", 1);
-  w.put(count_);
-  w.put(sum_e_);
-  w.put(sum_e2_);
-  w.put(sum_nis_);
+template <class IO, class Self>
+void InnovationAccumulator::fields(IO io, Self& a) {
+  io.tag("innovation_accumulator", 1);
+  io(a.count_);
+  io(a.sum_e_);
+  io(a.sum_e2_);
+  io(a.sum_nis_);
 }
 
+void InnovationAccumulator::save(StateWriter& w) const { fields(SaveFields{w}, *this); }
+
 void InnovationAccumulator::restore(StateReader& r) {
-  r.expect("innovation_accumulator", 1);
   InnovationAccumulator a;
-  a.count_ = r.get<std::uint64_t>();
-  a.sum_e_ = r.get<double>();
-  a.sum_e2_ = r.get<double>();
-  a.sum_nis_ = r.get<double>();
+  fields(RestoreFields{r}, a);
   *this = a;
 }
 

@@ -7,6 +7,7 @@
 
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_checks.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 #include "segment_tracker.hpp"
@@ -230,64 +231,47 @@ void SvarKalmanFilter::set_noise(int k, const NoiseParams& noise) {
   r_[gi * detail::kLanes + plan_->lane_of[k]] = noise.r;
 }
 
+template <class IO, class Self>
+void SvarKalmanFilter::fields(IO io, Self& f) {
+  for (auto& n : f.noise_) {
+    io(n.q);
+    io(n.r);
+    io(n.p0);
+  }
+  io.same_size(f.x_, "filter state");
+  io.same_size(f.p_, "filter covariance");
+  io.same_size(f.e_, "last innovations");
+  io.same_size(f.s_, "last innovation variances");
+  io.same_size(f.window_, "lag window");
+  io.template as<std::int32_t>(f.history_);
+  io(f.steps_);
+  io(f.counters_.updated);
+  io(f.counters_.warm_up);
+  io(f.counters_.rejected_non_finite);
+}
+
 void SvarKalmanFilter::save(StateWriter& w) const {
   w.begin("svar_kalman_filter", 1);
   save_model_spec(w, layout_.spec());
-  for (const NoiseParams& n : noise_) {
-    w.put(n.q);
-    w.put(n.r);
-    w.put(n.p0);
-  }
-  w.put(x_);
-  w.put(p_);
-  w.put(e_);
-  w.put(s_);
-  w.put(window_);
-  w.put(static_cast<std::int32_t>(history_));
-  w.put(steps_);
-  w.put(counters_.updated);
-  w.put(counters_.warm_up);
-  w.put(counters_.rejected_non_finite);
+  fields(SaveFields{w}, *this);
 }
 
 void SvarKalmanFilter::restore(StateReader& r) {
   r.expect("svar_kalman_filter", 1);
   expect_same_model(read_model_spec(r), layout_.spec(), "filter");
-  // Everything is read into copies first: a damaged checkpoint leaves this filter as it was.
-  std::vector<NoiseParams> noise(noise_.size());
-  for (std::size_t k = 0; k < noise.size(); ++k) {
-    noise[k].q = r.get<double>();
-    noise[k].r = r.get<double>();
-    noise[k].p0 = r.get<double>();
+  // Everything is read into a copy first: a damaged checkpoint leaves this filter as it was.
+  SvarKalmanFilter f = *this;
+  fields(RestoreFields{r}, f);
+  for (std::size_t k = 0; k < f.noise_.size(); ++k) {
     try {
-      validate_noise_params(noise[k], "noise[" + std::to_string(k) + "]");
+      validate_noise_params(f.noise_[k], "noise[" + std::to_string(k) + "]");
     } catch (const std::invalid_argument& e) {
       throw StateError(std::string("checkpoint holds invalid filter noise: ") + e.what());
     }
+    f.set_noise(static_cast<int>(k), f.noise_[k]);
   }
-  std::vector<double> x(x_.size()), p(p_.size()), e(e_.size()), s(s_.size()), window(window_.size());
-  read_same_size(r, x, "filter state");
-  read_same_size(r, p, "filter covariance");
-  read_same_size(r, e, "last innovations");
-  read_same_size(r, s, "last innovation variances");
-  read_same_size(r, window, "lag window");
-  const auto history = r.get<std::int32_t>();
-  if (history < 0 || history > m_) throw StateError("checkpoint: filter lag history out of range");
-  const auto steps = r.get<std::uint64_t>();
-  FilterCounters counters;
-  counters.updated = r.get<std::uint64_t>();
-  counters.warm_up = r.get<std::uint64_t>();
-  counters.rejected_non_finite = r.get<std::uint64_t>();
-
-  for (std::size_t k = 0; k < noise.size(); ++k) set_noise(static_cast<int>(k), noise[k]);
-  x_ = std::move(x);
-  p_ = std::move(p);
-  e_ = std::move(e);
-  s_ = std::move(s);
-  window_ = std::move(window);
-  history_ = history;
-  steps_ = steps;
-  counters_ = counters;
+  if (f.history_ < 0 || f.history_ > m_) throw StateError("checkpoint: filter lag history out of range");
+  *this = std::move(f);
 }
 
 }  // namespace causal

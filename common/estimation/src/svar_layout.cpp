@@ -1,6 +1,7 @@
 #include "causal/estimation/svar_layout.hpp"
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -101,23 +102,26 @@ std::vector<std::string> SvarLayout::factor_names() const {
   return names;
 }
 
-void save_model_spec(StateWriter& w, const ModelSpec& spec) {
-  w.begin("model_spec", 1);
-  w.put(static_cast<std::int32_t>(spec.channels));
-  w.put(static_cast<std::int32_t>(spec.lag_order));
-  w.put(spec.include_self_lags);
-  w.put(spec.allowed);
-  w.put(spec.instantaneous_allowed);
+namespace {
+
+// One field list for save and restore (state_fields.hpp): S is const when saving.
+template <class IO, class S>
+void model_spec_fields(IO io, S& spec) {
+  io.tag("model_spec", 1);
+  io.template as<std::int32_t>(spec.channels);
+  io.template as<std::int32_t>(spec.lag_order);
+  io(spec.include_self_lags);
+  io(spec.allowed);
+  io(spec.instantaneous_allowed);
 }
 
+}  // namespace
+
+void save_model_spec(StateWriter& w, const ModelSpec& spec) { model_spec_fields(SaveFields{w}, spec); }
+
 ModelSpec read_model_spec(StateReader& r) {
-  r.expect("model_spec", 1);
   ModelSpec spec;
-  spec.channels = r.get<std::int32_t>();
-  spec.lag_order = r.get<std::int32_t>();
-  spec.include_self_lags = r.get<bool>();
-  r.read(spec.allowed);
-  r.read(spec.instantaneous_allowed);
+  model_spec_fields(RestoreFields{r}, spec);
   return spec;
 }
 

@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "causal/io/csv_format.hpp"
 #include "causal/io/input_error.hpp"
 #include "causal/io/time_format.hpp"
 #include "text_file.hpp"
@@ -35,23 +36,6 @@ std::optional<std::int64_t> parse_time_cell(std::string_view cell) {
   // 9.2e9 s is the int64 ns range; beyond it the conversion would overflow.
   if (!secs || !std::isfinite(*secs) || std::abs(*secs) > 9.2e9) return std::nullopt;
   return static_cast<std::int64_t>(std::llround(*secs * 1e9));
-}
-
-bool needs_quotes(const std::string& s) {
-  if (s.empty()) return true;
-  if (detail::is_blank_char(s.front()) || detail::is_blank_char(s.back())) return true;
-  return s.find_first_of(",\"\n\r") != std::string::npos;
-}
-
-std::string csv_quote(const std::string& s) {
-  if (!needs_quotes(s)) return s;
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"') q += '"';
-    q += c;
-  }
-  q += '"';
-  return q;
 }
 
 void append_double(std::string& out, double v) {

@@ -7,6 +7,7 @@
 #include "causal/io/condition_features.hpp"
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_checks.hpp"
+#include "causal/estimation/state_fields.hpp"
 #include "moments.hpp"
 
 namespace causal::io {
@@ -114,12 +115,19 @@ Eigen::VectorXd ConditionAccumulator::value(ConditionFeature feature) const {
   return out;
 }
 
+template <class IO, class Self>
+void ConditionAccumulator::fields(IO io, Self& a) {
+  io.template as<std::uint64_t>(a.count_);
+  io.template as<std::uint64_t>(a.rejected_);
+  for (auto* v : {&a.mean_, &a.m2_, &a.m3_, &a.m4_, &a.abs_sum_, &a.abs_comp_, &a.peak_}) {
+    io.same_size(*v, "condition accumulator moments");
+  }
+}
+
 void ConditionAccumulator::save(StateWriter& w) const {
   w.begin("condition_accumulator", 1);
   w.put(static_cast<std::int32_t>(channels_));
-  w.put(static_cast<std::uint64_t>(count_));
-  w.put(static_cast<std::uint64_t>(rejected_));
-  for (const auto* v : {&mean_, &m2_, &m3_, &m4_, &abs_sum_, &abs_comp_, &peak_}) w.put(*v);
+  fields(SaveFields{w}, *this);
 }
 
 void ConditionAccumulator::restore(StateReader& r) {
@@ -130,11 +138,7 @@ void ConditionAccumulator::restore(StateReader& r) {
                      std::to_string(channels_));
   }
   ConditionAccumulator a(channels_);
-  a.count_ = static_cast<std::size_t>(r.get<std::uint64_t>());
-  a.rejected_ = static_cast<std::size_t>(r.get<std::uint64_t>());
-  for (auto* v : {&a.mean_, &a.m2_, &a.m3_, &a.m4_, &a.abs_sum_, &a.abs_comp_, &a.peak_}) {
-    read_same_size(r, *v, "condition accumulator moments");
-  }
+  fields(RestoreFields{r}, a);
   *this = std::move(a);
 }
 

@@ -7,7 +7,9 @@
 #include <stdexcept>
 #include <system_error>
 
-namespace causal::report {
+#include "text_scan.hpp"
+
+namespace causal::io {
 
 namespace fs = std::filesystem;
 
@@ -19,10 +21,9 @@ std::string csv_quote(std::string_view cell) {
       break;
     }
   }
-  // Leading/trailing blanks are kept verbatim only inside quotes (many readers trim them otherwise).
-  if (!cell.empty() && (cell.front() == ' ' || cell.back() == ' ' || cell.front() == '\t' || cell.back() == '\t')) {
-    needs = true;
-  }
+  // Leading/trailing blanks are kept verbatim only inside quotes: many readers trim them otherwise, ours
+  // (read_channel_csv, text_scan.hpp's trim) every one of is_blank_char's.
+  if (!cell.empty() && (detail::is_blank_char(cell.front()) || detail::is_blank_char(cell.back()))) needs = true;
   if (!needs) return std::string(cell);
   std::string out;
   out.reserve(cell.size() + 2);
@@ -45,19 +46,6 @@ std::string format_number(double value) {
 
 std::string format_integer(std::int64_t value) { return std::to_string(value); }
 std::string format_integer(std::uint64_t value) { return std::to_string(value); }
-
-std::string sanitize_file_component(std::string_view text) {
-  if (text.empty()) return "_";
-  std::string out(text);
-  for (char& c : out) {
-    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
-                    c == '.' || c == '-';
-    if (!ok) c = '_';
-  }
-  if (out == ".") return "_";
-  if (out == "..") return "__";
-  return out;
-}
 
 std::string csv_line(const std::vector<std::string>& cells) {
   std::string line;
@@ -232,4 +220,4 @@ CsvTable read_csv(const fs::path& path) {
   return parse_csv(buffer.str(), path.string());
 }
 
-}  // namespace causal::report
+}  // namespace causal::io

@@ -1,6 +1,7 @@
 #include "causal/pipeline/calibration_window.hpp"
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 namespace causal::pipeline {
 
@@ -23,19 +24,19 @@ Eigen::Map<const RowMajorMatrix> CalibrationWindow::samples() const {
                                           static_cast<Eigen::Index>(g_));
 }
 
-void CalibrationWindow::save(StateWriter& w) const {
-  w.put(values_);
-  w.put(disc_);
-  w.put(time_);
-  w.put(index_);
+template <class IO, class Self>
+void CalibrationWindow::fields(IO io, Self& w) {
+  io(w.values_);
+  io(w.disc_);
+  io(w.time_);
+  io(w.index_);
 }
+
+void CalibrationWindow::save(StateWriter& w) const { fields(SaveFields{w}, *this); }
 
 CalibrationWindow CalibrationWindow::read(StateReader& r, const std::string& inconsistent) const {
   CalibrationWindow w(g_);
-  r.read(w.values_);
-  r.read(w.disc_);
-  r.read(w.time_);
-  r.read(w.index_);
+  fields(RestoreFields{r}, w);
   const std::size_t n = w.size();
   if (w.values_.size() != n * static_cast<std::size_t>(g_) || w.time_.size() != n || w.index_.size() != n) {
     throw StateError(inconsistent);

@@ -2,6 +2,7 @@
 
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_checks.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -78,6 +79,19 @@ void ConditionStream::feed(const double* rows, std::size_t n, std::uint64_t firs
   if (end_of_segment) close(out);
 }
 
+template <class IO, class Self>
+void ConditionStream::fields(IO io, Self& c) {
+  io.object(c.acc_);
+  io(c.window_time_ns_);
+  io(c.window_first_sample_);
+  io(c.window_snapshot_);
+  io(c.window_open_);
+  io.template as<std::uint64_t>(c.fed_in_window_);
+  io(c.next_discontinuity_);
+  io(c.produced_);
+  io(c.dropped_);
+}
+
 void ConditionStream::save(StateWriter& w) const {
   w.begin("condition_stream", 1);
   w.put(params_.feature);
@@ -85,15 +99,7 @@ void ConditionStream::save(StateWriter& w) const {
   w.put(static_cast<std::uint64_t>(params_.window_samples));
   w.put(static_cast<std::uint64_t>(params_.min_samples));
   w.put(static_cast<std::int32_t>(channels_));
-  acc_.save(w);
-  w.put(window_time_ns_);
-  w.put(window_first_sample_);
-  w.put(window_snapshot_);
-  w.put(window_open_);
-  w.put(static_cast<std::uint64_t>(fed_in_window_));
-  w.put(next_discontinuity_);
-  w.put(produced_);
-  w.put(dropped_);
+  fields(SaveFields{w}, *this);
 }
 
 void ConditionStream::restore(StateReader& r) {
@@ -114,15 +120,7 @@ void ConditionStream::restore(StateReader& r) {
   }
   // Into copies first: on StateError this stream stays as it was.
   ConditionStream c(params_, channels_);
-  c.acc_.restore(r);
-  c.window_time_ns_ = r.get<std::int64_t>();
-  c.window_first_sample_ = r.get<std::uint64_t>();
-  c.window_snapshot_ = r.get<std::uint64_t>();
-  c.window_open_ = r.get<bool>();
-  c.fed_in_window_ = static_cast<std::size_t>(r.get<std::uint64_t>());
-  c.next_discontinuity_ = r.get<bool>();
-  c.produced_ = r.get<std::uint64_t>();
-  c.dropped_ = r.get<std::uint64_t>();
+  fields(RestoreFields{r}, c);
   if (params_.window_samples > 0 && c.fed_in_window_ >= params_.window_samples) {
     throw StateError("checkpoint: condition window fill out of range");
   }

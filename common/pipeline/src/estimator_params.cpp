@@ -2,7 +2,7 @@
 
 #include "causal/config/yaml_fields.hpp"
 
-namespace causal::estimator {
+namespace causal::pipeline {
 
 namespace {
 
@@ -94,4 +94,4 @@ EstimatorHealthParams load_estimator_health(const std::string& path) {
   return p;
 }
 
-}  // namespace causal::estimator
+}  // namespace causal::pipeline

@@ -57,6 +57,24 @@ void report_fields(Io io, R& r) {
 
 static_assert(sizeof(int) == sizeof(std::int32_t), "checkpoints store FactorReport::outcome as 4 bytes");
 
+template <class Io, class T>
+void tuning_fields(Io io, T& t) {
+  noise_fields(io, t.noise);
+  io(t.log_likelihood);
+  io.template as<std::int32_t>(t.evaluations);
+  io(t.converged);
+  io(t.message);
+  io(t.at_range_limit);
+  io.template as<std::int64_t>(t.updates);
+}
+
+// A filter report waiting for its twin: where it stands (its reports follow, with their count).
+template <class Io, class P>
+void pending_fields(Io io, P& p) {
+  io(p.index);
+  io(p.time_ns);
+}
+
 void put_noise(StateWriter& w, const NoiseParams& n) { noise_fields(SaveFields{w}, n); }
 
 NoiseParams get_noise(StateReader& r) {
@@ -316,21 +334,12 @@ void FactorStream::save(StateWriter& w) const {
     smoother_->save(w);
   }
   w.put(static_cast<std::uint64_t>(tuning_.size()));
-  for (const NoiseTuningResult& t : tuning_) {
-    put_noise(w, t.noise);
-    w.put(t.log_likelihood);
-    w.put(static_cast<std::int32_t>(t.evaluations));
-    w.put(t.converged);
-    w.put(t.message);
-    w.put(t.at_range_limit);
-    w.put(static_cast<std::int64_t>(t.updates));
-  }
+  for (const NoiseTuningResult& t : tuning_) tuning_fields(SaveFields{w}, t);
   stats_.save(w);
   window_.save(w);
   w.put(static_cast<std::uint64_t>(pending_.size()));
   for (const Pending& p : pending_) {
-    w.put(p.index);
-    w.put(p.time_ns);
+    pending_fields(SaveFields{w}, p);
     w.put(static_cast<std::uint64_t>(p.filter_reports.size()));
     for (const FactorReport& r : p.filter_reports) put_report(w, r);
   }
@@ -362,15 +371,7 @@ void FactorStream::restore(StateReader& r) {
   const auto n_tuning = r.get<std::uint64_t>();
   if (n_tuning != 0 && n_tuning != static_cast<std::uint64_t>(g_)) throw StateError("checkpoint: tuning of another shape");
   std::vector<NoiseTuningResult> tuning(static_cast<std::size_t>(n_tuning));
-  for (NoiseTuningResult& t : tuning) {
-    t.noise = get_noise(r);
-    t.log_likelihood = r.get<double>();
-    t.evaluations = r.get<std::int32_t>();
-    t.converged = r.get<bool>();
-    t.message = r.get<std::string>();
-    t.at_range_limit = r.get<bool>();
-    t.updates = static_cast<long>(r.get<std::int64_t>());
-  }
+  for (NoiseTuningResult& t : tuning) tuning_fields(RestoreFields{r}, t);
   InnovationStats stats(g_);
   stats.restore(r);
   const std::string inconsistent = "checkpoint: inconsistent calibration buffer of the factor stream";
@@ -381,8 +382,7 @@ void FactorStream::restore(StateReader& r) {
   if (n_pending > static_cast<std::uint64_t>(params_.fixed_lag) + 1) throw StateError("checkpoint: too many pending reports");
   std::deque<Pending> pending(static_cast<std::size_t>(n_pending));
   for (Pending& p : pending) {
-    p.index = r.get<std::uint64_t>();
-    p.time_ns = r.get<std::int64_t>();
+    pending_fields(RestoreFields{r}, p);
     const auto n = r.get<std::uint64_t>();
     if (n != static_cast<std::uint64_t>(g_)) throw StateError("checkpoint: pending report of another shape");
     for (std::uint64_t k = 0; k < n; ++k) p.filter_reports.push_back(get_report(r));

@@ -3,6 +3,7 @@
 #include "block_order.hpp"
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_checks.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -173,25 +174,41 @@ void StructuredFactorStream::finish(std::vector<FactorReport>& out) {
   stream_->finish(out);
 }
 
+namespace {
+
+// The checkpoint's field lists (SaveFields / RestoreFields, state_fields.hpp): the structure setting, which a
+// restore checks against its own, and the learned structure.
+template <class Io, class S>
+void setting_fields(Io io, const S& s) {
+  const char* me = "structured factor stream";
+  io.template same_as<std::uint64_t>(s.calibration_samples, "structure calibration_samples", me);
+  io.same(s.centre, "centring", me);
+  io.same(s.learn_order, "causal-order learning", me);
+  io.same(s.prune_threshold, "prune threshold", me);
+}
+
+template <class Io, class L>
+void learned_fields(Io io, L& l) {
+  io(l.ready);
+  io.template as<std::uint64_t>(l.samples);
+  io(l.centre);
+  io(l.order);
+  io(l.b0);
+  io(l.instantaneous_allowed);
+  io(l.problem);
+  io(l.order_confidence);
+  io(l.order_source);
+  io(l.order_summary);
+}
+
+}  // namespace
+
 void StructuredFactorStream::save(StateWriter& w) const {
   w.begin("structured_factor_stream", 2);
   save_model_spec(w, params_.model);
   save_stream_params(w, params_);
-  w.put(static_cast<std::uint64_t>(setting_.calibration_samples));
-  w.put(setting_.centre);
-  w.put(setting_.learn_order);
-  w.put(setting_.prune_threshold);
-
-  w.put(learned_.ready);
-  w.put(static_cast<std::uint64_t>(learned_.samples));
-  w.put(learned_.centre);
-  w.put(learned_.order);
-  w.put(learned_.b0);
-  w.put(learned_.instantaneous_allowed);
-  w.put(learned_.problem);
-  w.put(learned_.order_confidence);
-  w.put(learned_.order_source);
-  w.put(learned_.order_summary);
+  setting_fields(SaveFields{w}, setting_);
+  learned_fields(SaveFields{w}, learned_);
   w.put(stream_ != nullptr);
   if (stream_) {
     save_model_spec(w, stream_->layout().spec());  // the model the stream runs with (learned order applied)
@@ -205,24 +222,12 @@ void StructuredFactorStream::restore(StateReader& r) {
   const std::string me = "structured factor stream";
   expect_same_model(read_model_spec(r), params_.model, me);
   expect_same_stream_params(r, params_, me);
-  expect_saved(r, "structure calibration_samples", static_cast<std::uint64_t>(setting_.calibration_samples), me);
-  expect_saved(r, "centring", setting_.centre, me);
-  expect_saved(r, "causal-order learning", setting_.learn_order, me);
-  expect_saved(r, "prune threshold", setting_.prune_threshold, me);
+  setting_fields(RestoreFields{r}, setting_);
 
   // Everything into locals first: on StateError this object stays as it was.
   LearnedStructure learned;
   learned.blocks = learned_.blocks;  // a function of the configuration checked above
-  learned.ready = r.get<bool>();
-  learned.samples = static_cast<std::size_t>(r.get<std::uint64_t>());
-  r.read(learned.centre);
-  r.read(learned.order);
-  r.read(learned.b0);
-  r.read(learned.instantaneous_allowed);
-  r.read(learned.problem);
-  learned.order_confidence = r.get<double>();
-  r.read(learned.order_source);
-  r.read(learned.order_summary);
+  learned_fields(RestoreFields{r}, learned);
   if (learned.centre.size() != 0 && learned.centre.size() != g_) {
     throw StateError("checkpoint: learned centre of " + std::to_string(learned.centre.size()) + " channels, this " +
                      me + " has " + std::to_string(g_));

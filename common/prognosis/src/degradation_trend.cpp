@@ -1,6 +1,7 @@
 #include "causal/prognosis/degradation_trend.hpp"
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -135,49 +136,54 @@ void DegradationTrend::calibrate(double y, double r, bool discontinuity) {
   reference_ = state_;
 }
 
+namespace {
+
+// The parameters a trend was written with (restore compares them with its own).
+template <class IO, class P>
+void trend_param_fields(IO io, P& p) {
+  io(p.acceleration_diffusion);
+  io(p.forecast_diffusion);
+  io(p.level_diffusion);
+  io(p.initial_slope_std);
+  io(p.initial_acceleration_std);
+  io(p.min_noise_std);
+  io(p.huber_k);
+  io(p.noise_memory);
+  io(p.step_std);
+  io(p.calibration_lag_hours);
+  io(p.calibration_memory);
+}
+
+}  // namespace
+
+template <class IO, class Self>
+void DegradationTrend::fields(IO io, Self& t) {
+  io(t.state_.x);  // throws on another state size
+  io(t.state_.p);
+  io(t.state_.time_ns);
+  io(t.noise_scale_);
+  io(t.state_.inflation);
+  io(t.reference_.x);
+  io(t.reference_.p);
+  io(t.reference_.time_ns);
+  io(t.reference_.inflation);
+  io(t.error_ms_);
+  io(t.checks_);
+  io(t.observations_);
+  io(t.refused_);
+  io(t.downweighted_);
+}
+
 void DegradationTrend::save(causal::StateWriter& out) const {
   out.begin(kTag, kVersion);
-  out.put(params_.acceleration_diffusion);
-  out.put(params_.forecast_diffusion);
-  out.put(params_.level_diffusion);
-  out.put(params_.initial_slope_std);
-  out.put(params_.initial_acceleration_std);
-  out.put(params_.min_noise_std);
-  out.put(params_.huber_k);
-  out.put(params_.noise_memory);
-  out.put(params_.step_std);
-  out.put(params_.calibration_lag_hours);
-  out.put(params_.calibration_memory);
-  out.put(state_.x);
-  out.put(state_.p);
-  out.put(state_.time_ns);
-  out.put(noise_scale_);
-  out.put(state_.inflation);
-  out.put(reference_.x);
-  out.put(reference_.p);
-  out.put(reference_.time_ns);
-  out.put(reference_.inflation);
-  out.put(error_ms_);
-  out.put(checks_);
-  out.put(observations_);
-  out.put(refused_);
-  out.put(downweighted_);
+  trend_param_fields(causal::SaveFields{out}, params_);
+  fields(causal::SaveFields{out}, *this);
 }
 
 DegradationTrend DegradationTrend::restore(causal::StateReader& in, const TrendParams& params) {
   in.expect(kTag, kVersion);
   TrendParams saved;
-  saved.acceleration_diffusion = in.get<double>();
-  saved.forecast_diffusion = in.get<double>();
-  saved.level_diffusion = in.get<double>();
-  saved.initial_slope_std = in.get<double>();
-  saved.initial_acceleration_std = in.get<double>();
-  saved.min_noise_std = in.get<double>();
-  saved.huber_k = in.get<double>();
-  saved.noise_memory = in.get<double>();
-  saved.step_std = in.get<double>();
-  saved.calibration_lag_hours = in.get<double>();
-  saved.calibration_memory = in.get<double>();
+  trend_param_fields(causal::RestoreFields{in}, saved);
   if (saved.acceleration_diffusion != params.acceleration_diffusion ||
       saved.forecast_diffusion != params.forecast_diffusion || saved.level_diffusion != params.level_diffusion ||
       saved.initial_slope_std != params.initial_slope_std ||
@@ -187,20 +193,7 @@ DegradationTrend DegradationTrend::restore(causal::StateReader& in, const TrendP
     throw causal::StateError("the degradation trend was written with other prognosis trend parameters");
   }
   DegradationTrend t(params);
-  t.state_.x = in.get<Eigen::Vector3d>();  // throws on another state size
-  t.state_.p = in.get<Eigen::Matrix3d>();
-  t.state_.time_ns = in.get<std::int64_t>();
-  t.noise_scale_ = in.get<double>();
-  t.state_.inflation = in.get<double>();
-  t.reference_.x = in.get<Eigen::Vector3d>();
-  t.reference_.p = in.get<Eigen::Matrix3d>();
-  t.reference_.time_ns = in.get<std::int64_t>();
-  t.reference_.inflation = in.get<double>();
-  t.error_ms_ = in.get<double>();
-  t.checks_ = in.get<std::uint64_t>();
-  t.observations_ = in.get<std::uint64_t>();
-  t.refused_ = in.get<std::uint64_t>();
-  t.downweighted_ = in.get<std::uint64_t>();
+  fields(causal::RestoreFields{in}, t);
   return t;
 }
 

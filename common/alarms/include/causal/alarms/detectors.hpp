@@ -41,6 +41,9 @@ class ClippedCusum {
   void restore(causal::StateReader& in);
 
  private:
+  // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
   double k_ = 1.0, clip_ = 4.0, cap_ = 1e300;
   double s_ = 0.0;
   std::uint64_t onset_index_ = 0;
@@ -67,6 +70,9 @@ class WindowMean {
   void restore(causal::StateReader& in);
 
  private:
+  // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
   std::vector<double> buf_;
   int next_ = 0, count_ = 0;
   double sum_ = 0.0;
@@ -95,6 +101,9 @@ class PersistenceLatch {
   void restore(causal::StateReader& in);
 
  private:
+  // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
   int raise_count_ = 1, clear_count_ = 1;
   int above_ = 0, below_ = 0;
   bool active_ = false;

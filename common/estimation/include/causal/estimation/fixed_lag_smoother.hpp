@@ -70,6 +70,9 @@ class FixedLagSmoother {
   template <int D>
   struct Select;
   using LagUpdateFn = void (*)(FixedLagSmoother&, int group);
+  // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
 
   void shift_in_filter_state();
   int slot_pos(int i) const { return (head_ - (i - 1) + lag_) % lag_; }  // ring position of lag i (1..L)

@@ -28,6 +28,9 @@ class InnovationAccumulator {
   void restore(StateReader& r);
 
  private:
+  // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
   std::uint64_t count_ = 0;
   double sum_e_ = 0.0, sum_e2_ = 0.0, sum_nis_ = 0.0;
 };

@@ -93,6 +93,9 @@ class SvarKalmanFilter {
   template <int D>
   struct Select;
   struct StepKernel;  // step() itself, compiled per instruction set (src/svar_kalman_filter.cpp)
+  // The checkpoint's field list after the model spec (SaveFields / RestoreFields, state_fields.hpp).
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
 
   // Internals are "lane groups" of up to 4 outcomes of equal dimension updated together in SIMD lanes
   // (src/kernels.hpp, src/lane_plan.hpp); vectors/matrices are stored lane-interleaved.

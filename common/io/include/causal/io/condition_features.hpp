@@ -64,6 +64,9 @@ class ConditionAccumulator {
   void restore(StateReader& r);
 
  private:
+  // The checkpoint's field list after the channel check (SaveFields / RestoreFields, state_fields.hpp).
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
   int channels_;
   std::size_t count_ = 0;
   std::size_t rejected_ = 0;

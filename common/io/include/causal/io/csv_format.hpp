@@ -12,20 +12,17 @@
 #include <string_view>
 #include <vector>
 
-namespace causal::report {
+namespace causal::io {
 
-// Quotes a cell when it contains a comma, a double quote, CR/LF or leading/trailing blanks (RFC 4180
-// section 2.6-2.7: quotes inside are doubled). Other cells are returned unchanged.
+// Quotes a cell when it contains a comma, a double quote, CR/LF or leading/trailing blanks (space, tab, CR,
+// VT, FF: what the readers trim) (RFC 4180 section 2.6-2.7: quotes inside are doubled). Other cells, the
+// empty one too, are returned unchanged. The one CSV quoter: the recorder's rows and channel CSV headers.
 std::string csv_quote(std::string_view cell);
 
 // Shortest round-trip decimal form ("0.1", "1e-05", "nan", "inf", "-inf").
 std::string format_number(double value);
 std::string format_integer(std::int64_t value);
 std::string format_integer(std::uint64_t value);
-
-// Keeps [A-Za-z0-9_.-] and replaces every other byte by '_', so an asset id is safe inside a file name
-// ("ims2/shaft 1" -> "ims2_shaft_1"). Empty input gives "_"; "." and ".." become "_" and "__".
-std::string sanitize_file_component(std::string_view text);
 
 // One CSV line (with its "\n") of already formatted cells; each is quoted as needed.
 std::string csv_line(const std::vector<std::string>& cells);
@@ -85,4 +82,4 @@ struct CsvTable {
 [[nodiscard]] CsvTable parse_csv(std::string_view text, const std::string& path_for_messages = "<text>");
 CsvTable read_csv(const std::filesystem::path& path);
 
-}  // namespace causal::report
+}  // namespace causal::io

@@ -50,6 +50,9 @@ class CalibrationWindow {
   CalibrationWindow read(StateReader& r, const std::string& inconsistent) const;
 
  private:
+  // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
   int g_;
   std::vector<double> values_;       // row-major, G per sample
   std::vector<bool> disc_;

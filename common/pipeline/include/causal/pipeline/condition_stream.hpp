@@ -64,6 +64,9 @@ class ConditionStream {
   void restore(StateReader& r);
 
  private:
+  // The checkpoint's field list after the parameter checks (SaveFields / RestoreFields, state_fields.hpp).
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
   void close(std::vector<ConditionSample>& out);
 
   ConditionStreamParams params_;

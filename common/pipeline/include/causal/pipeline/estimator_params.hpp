@@ -5,7 +5,7 @@
 
 #include <string>
 
-namespace causal::estimator {
+namespace causal::pipeline {
 
 // Throws causal::config::ConfigError naming the file and key.
 [[nodiscard]] pipeline::AssetPipelineParams load_estimator_params(const std::string& path);
@@ -17,4 +17,4 @@ struct EstimatorHealthParams {
 };
 [[nodiscard]] EstimatorHealthParams load_estimator_health(const std::string& path);
 
-}  // namespace causal::estimator
+}  // namespace causal::pipeline

@@ -98,6 +98,9 @@ class DegradationTrend {
   static DegradationTrend restore(causal::StateReader& in, const TrendParams& params);
 
  private:
+  // The checkpoint's field lists (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
+  template <class IO, class Self>
+  static void fields(IO io, Self& self);
   void predict(double dt_hours, bool discontinuity);
   void calibrate(double y, double r, bool discontinuity);
 
