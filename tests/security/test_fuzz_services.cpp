@@ -153,7 +153,9 @@ TEST(FuzzedSamples, EveryServiceStaysUpAndCountsEachRefusal) {
       {"causal-estimator", {t::kVibrationFrame, t::kConditionInput}},
       {"alarm-recommender", {t::kCausalFactors, t::kConditionVector, t::kWhatIfRequest}},
       {"causal-recorder", {t::kConditionVector, t::kCausalFactors, t::kAlarm, t::kRecommendation}},
-      {"twin-web", {t::kConditionVector, t::kCausalFactors, t::kAlarm, t::kRecommendation, t::kWhatIfReply}}};
+      // twin-web reads the sources' condition inputs too: the plant's latest snapshot starts an approval.
+      {"twin-web", {t::kConditionVector, t::kConditionInput, t::kCausalFactors, t::kAlarm, t::kRecommendation,
+                    t::kWhatIfReply}}};
   const std::map<std::string, std::vector<std::string>> extra = {
       {"causal-estimator", {}},
       {"alarm-recommender", {}},
@@ -262,6 +264,7 @@ TEST(FuzzedSamples, EveryServiceStaysUpAndCountsEachRefusal) {
       expect_received(t::kConditionInput);
     }
     if (s.name == "alarm-recommender") expect_received(t::kWhatIfRequest);
+    if (s.name == "twin-web") expect_received(t::kConditionInput);
   }
   for (auto& w : writers) fuzzer.publisher()->delete_datawriter(w);
   for (auto& s : services) {
