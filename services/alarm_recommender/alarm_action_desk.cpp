@@ -65,13 +65,13 @@ AlarmActionDesk::AlarmActionDesk(dds::Participant& participant, const std::strin
 
 void AlarmActionDesk::restore() {
   try {
-    auto bytes = causal::load_state_file(state_file_);
+    auto bytes = estimation::load_state_file(state_file_);
     if (!bytes) return;  // no checkpoint yet
-    StateReader in(std::move(*bytes));
+    estimation::StateReader in(std::move(*bytes));
     manager_.restore(in);
-    if (!in.at_end()) throw causal::StateError("unexpected data after the alarm management section");
-  } catch (const causal::StateError& e) {
-    throw causal::StateError("checkpoint '" + state_file_ + "' cannot be used: " + e.what() +
+    if (!in.at_end()) throw estimation::StateError("unexpected data after the alarm management section");
+  } catch (const estimation::StateError& e) {
+    throw estimation::StateError("checkpoint '" + state_file_ + "' cannot be used: " + e.what() +
                              ". Move it away to start over (acknowledgements and shelvings are then forgotten)");
   }
   spdlog::info("alarm management resumed from checkpoint '{}'", state_file_);
@@ -79,12 +79,12 @@ void AlarmActionDesk::restore() {
 
 void AlarmActionDesk::save() {
   if (state_file_.empty()) return;
-  StateWriter out;
+  estimation::StateWriter out;
   manager_.save(out);
   try {
-    causal::save_state_file(state_file_, out.bytes());
+    estimation::save_state_file(state_file_, out.bytes());
     ++saves_;
-  } catch (const causal::StateError& e) {
+  } catch (const estimation::StateError& e) {
     if (save_failures_++ % 100 == 0) {  // the first failure and then every 100th: a full disk must not flood the log
       spdlog::error("alarm management checkpoint not written ({} failures so far): {}", save_failures_, e.what());
     }

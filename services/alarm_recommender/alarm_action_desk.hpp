@@ -33,7 +33,7 @@ namespace causal::recommender {
 class AlarmActionDesk {
  public:
   // state_dir empty: no checkpoint. Otherwise restores DIR/alarm_management.state when it exists; throws
-  // causal::StateError naming the file when it cannot be used (the operator moves it away to start over).
+  // estimation::StateError naming the file when it cannot be used (the operator moves it away to start over).
   AlarmActionDesk(dds::Participant& participant, const std::string& state_dir);
   dds::TypedReader<causal_twin::AlarmActionPubSubType>& reader() { return actions_; }
 

@@ -76,20 +76,20 @@ std::vector<AlarmStateStore::Found> AlarmStateStore::checkpoints() const {
   std::sort(files.begin(), files.end());  // a stable order: the same restart publishes in the same order
   for (const auto& file : files) {
     try {
-      auto bytes = causal::load_state_file(file);
+      auto bytes = estimation::load_state_file(file);
       if (!bytes) continue;  // removed meanwhile
-      StateReader in(std::move(*bytes));
+      estimation::StateReader in(std::move(*bytes));
       in.expect(kTag, kVersion);
       Found f;
       f.asset_group = in.get<std::string>();
       f.sample_level = in.get<bool>();
       if (path(f.asset_group, f.sample_level) != file) {
-        throw causal::StateError("its content is for asset group '" + f.asset_group + "' at " +
+        throw estimation::StateError("its content is for asset group '" + f.asset_group + "' at " +
                                  level_name(f.sample_level) + " level, another file name");
       }
       out.push_back(std::move(f));
-    } catch (const causal::StateError& e) {
-      throw causal::StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
+    } catch (const estimation::StateError& e) {
+      throw estimation::StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
                                ". Move it away to start this asset group over (the baseline is then re-learned "
                                "and alarm ids restart at 1)");
     }
@@ -108,14 +108,14 @@ AlarmStateStore::Opened AlarmStateStore::open_stream(const std::string& asset_gr
   const std::string file = enabled() ? path(asset_group, sample_level) : std::string();
   try {
     std::optional<std::string> bytes;
-    if (enabled()) bytes = causal::load_state_file(file);  // nullopt: no checkpoint yet
+    if (enabled()) bytes = estimation::load_state_file(file);  // nullopt: no checkpoint yet
     if (bytes) {
-      StateReader in(std::move(*bytes));
+      estimation::StateReader in(std::move(*bytes));
       in.expect(kTag, kVersion);
       const auto group = in.get<std::string>();
       const auto sample = in.get<bool>();
       if (group != asset_group || sample != sample_level) {
-        throw causal::StateError("it belongs to asset group '" + group + "' at " + level_name(sample) + " level");
+        throw estimation::StateError("it belongs to asset group '" + group + "' at " + level_name(sample) + " level");
       }
       if (in.get<bool>()) s.last_index = in.get<std::uint64_t>();
       const auto events = in.get<std::uint64_t>();
@@ -129,28 +129,28 @@ AlarmStateStore::Opened AlarmStateStore::open_stream(const std::string& asset_gr
         out.trends = std::make_unique<prognosis::ChannelTrends>(prognosis::ChannelTrends::restore(
             in, static_cast<int>(out.engine->channel_names().size()), prognosis_params));
       }
-      if (!in.at_end()) throw causal::StateError("unexpected data after the prognosis trends");
+      if (!in.at_end()) throw estimation::StateError("unexpected data after the prognosis trends");
       if (channel_names != nullptr && out.engine->channel_names() != *channel_names) {
-        throw causal::StateError("it was written for channels " + joined(out.engine->channel_names()) +
+        throw estimation::StateError("it was written for channels " + joined(out.engine->channel_names()) +
                                  ", the stream has " + joined(*channel_names));
       }
       if (factor_names != nullptr && out.engine->factor_names() != *factor_names) {
-        throw causal::StateError("it was written for factors " + joined(out.engine->factor_names()) +
+        throw estimation::StateError("it was written for factors " + joined(out.engine->factor_names()) +
                                  ", the stream has " + joined(*factor_names) +
                                  " (did causal-estimator restart without its state and learn another causal order?)");
       }
       out.resumed = true;
       for (const auto& [id, e] : s.last_events) out.republish.push_back(e);
     }
-  } catch (const causal::StateError& e) {
+  } catch (const estimation::StateError& e) {
     streams_.erase({asset_group, sample_level});
-    throw causal::StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
+    throw estimation::StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
                              ". Move it away to start this asset group over (the baseline is then re-learned "
                              "and alarm ids restart at 1)");
   }
   if (!out.engine) {
     if (channel_names == nullptr || factor_names == nullptr) {
-      throw causal::StateError("checkpoint '" + file + "' is gone: nothing to restore");
+      throw estimation::StateError("checkpoint '" + file + "' is gone: nothing to restore");
     }
     out.engine = std::make_unique<alarms::AlarmEngine>(asset_group, *channel_names, *factor_names, params);
   }
@@ -198,7 +198,7 @@ void AlarmStateStore::flush() {
 }
 
 void AlarmStateStore::save(const Key& key, Stream& s) {
-  StateWriter out;
+  estimation::StateWriter out;
   out.begin(kTag, kVersion);
   out.put(key.first);
   out.put(key.second);
@@ -210,11 +210,11 @@ void AlarmStateStore::save(const Key& key, Stream& s) {
   if (s.trends != nullptr) s.trends->save(out);
   const std::string file = path(key.first, key.second);
   try {
-    causal::save_state_file(file, out.bytes());
+    estimation::save_state_file(file, out.bytes());
     ++saves_;
     s.unsaved = false;
     s.last_save = Clock::now();
-  } catch (const causal::StateError& e) {
+  } catch (const estimation::StateError& e) {
     // Logged on the first failure and then every 100th: a full disk must not flood the log.
     if (save_failures_++ % 100 == 0) {
       spdlog::error("checkpoint not written ({} failures so far): {}", save_failures_, e.what());

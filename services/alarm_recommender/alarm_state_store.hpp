@@ -10,7 +10,7 @@
 // that reached a reader is always in the checkpoint; one saved but not yet published when the process died
 // is published at restart with the others (republish list of open()).
 //
-// Files are written atomically (causal::save_state_file: temporary file + rename), so a kill -9 while
+// Files are written atomically (causal::estimation::save_state_file: temporary file + rename), so a kill -9 while
 // saving leaves the previous checkpoint. Not fsync'ed: survives a process crash, not a power loss.
 #pragma once
 
@@ -54,7 +54,7 @@ class AlarmStateStore {
     std::vector<alarms::AlarmEvent> republish;   // last published event of every alarm id (when resumed)
   };
   // The engine of a stream seen for the first time: restored from its checkpoint when there is one, else
-  // new. Throws causal::StateError naming the file when a checkpoint exists but cannot be used (corrupted,
+  // new. Throws estimation::StateError naming the file when a checkpoint exists but cannot be used (corrupted,
   // truncated, other alarm parameters, other channels or factors): restarting silently would re-learn the
   // baseline and reuse alarm ids, so the operator decides (move the file away to start over).
   Opened open(const std::string& asset_group, bool sample_level, const std::vector<std::string>& channel_names,

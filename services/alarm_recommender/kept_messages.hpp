@@ -47,7 +47,7 @@ class KeptMessages {
     const auto it = g->second.find(id);
     return it != g->second.end() && dds::from_cdr_bytes<PubSub>(it->second, out);
   }
-  // Every message of every file in the directory (also kept for find()). Throws causal::StateError naming the
+  // Every message of every file in the directory (also kept for find()). Throws estimation::StateError naming the
   // file when one cannot be used.
   std::vector<Msg> load_all() {
     std::vector<Msg> out;
@@ -55,8 +55,8 @@ class KeptMessages {
     for (const auto& file : files()) {
       try {
         load(file, out);
-      } catch (const causal::StateError& e) {
-        throw causal::StateError(std::string(Traits::kWhat) + " checkpoint '" + file + "' cannot be used: " + e.what() +
+      } catch (const estimation::StateError& e) {
+        throw estimation::StateError(std::string(Traits::kWhat) + " checkpoint '" + file + "' cannot be used: " + e.what() +
                                  ". Move it away (its messages are then not published again)");
       }
     }
@@ -82,35 +82,35 @@ class KeptMessages {
     return found;
   }
   void load(const std::string& file, std::vector<Msg>& out) {
-    auto bytes = causal::load_state_file(file);
+    auto bytes = estimation::load_state_file(file);
     if (!bytes) return;
-    StateReader in(std::move(*bytes));
+    estimation::StateReader in(std::move(*bytes));
     in.expect(Traits::kTag, Traits::kVersion);
     const auto group = in.get<std::string>();
-    if (path(group) != file) throw causal::StateError("its content is for asset group '" + group + "'");
+    if (path(group) != file) throw estimation::StateError("its content is for asset group '" + group + "'");
     const auto n = in.get<std::uint64_t>();
     auto& kept = kept_[group];
     for (std::uint64_t i = 0; i < n; ++i) {
       const auto body = in.get<std::string>();
       Msg m;
       if (!dds::from_cdr_bytes<PubSub>(body, m) || Traits::group(m) != group) {
-        throw causal::StateError("message " + std::to_string(i) + " is not readable");
+        throw estimation::StateError("message " + std::to_string(i) + " is not readable");
       }
       kept[Traits::id(m)] = body;
       out.push_back(std::move(m));
     }
-    if (!in.at_end()) throw causal::StateError("unexpected data after the messages");
+    if (!in.at_end()) throw estimation::StateError("unexpected data after the messages");
   }
   void save(const std::string& group) {
-    StateWriter out;
+    estimation::StateWriter out;
     out.begin(Traits::kTag, Traits::kVersion);
     out.put(group);
     const auto& kept = kept_[group];
     out.put(static_cast<std::uint64_t>(kept.size()));
     for (const auto& [id, bytes] : kept) out.put(bytes);
     try {
-      causal::save_state_file(path(group), out.bytes());
-    } catch (const causal::StateError& e) {
+      estimation::save_state_file(path(group), out.bytes());
+    } catch (const estimation::StateError& e) {
       if (save_failures_++ % 100 == 0) {
         spdlog::error("{} checkpoint not written ({} failures so far): {}", Traits::kWhat, save_failures_, e.what());
       }

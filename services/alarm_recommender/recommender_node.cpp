@@ -216,7 +216,7 @@ void RecommenderNode::observe(AssembledObservation& a) {
     // Restored at start: the stream must be the one the checkpoint was written for (as AlarmStateStore::open).
     const auto& engine = *it->second.engine;
     if (engine.channel_names() != a.channel_names || engine.factor_names() != a.factor_names) {
-      throw causal::StateError("checkpoint '" + store_.path(a.asset_group, sample) +
+      throw estimation::StateError("checkpoint '" + store_.path(a.asset_group, sample) +
                                "' was written for other channels or factors than the stream has (did "
                                "causal-estimator restart without its state and learn another causal order?). Move it "
                                "away to start this asset group over");

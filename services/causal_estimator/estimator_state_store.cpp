@@ -11,25 +11,25 @@ bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::Asse
   const auto payload = files_.load(asset_group);
   if (!payload) return false;
   try {
-    StateReader r(*payload);
+    estimation::StateReader r(*payload);
     // Version 3 adds the data time of the last input fed; version 2 checkpoints are still read (time unknown).
     const std::string tag = r.get<std::string>();
     const auto version = r.get<std::uint32_t>();
     if (tag != "estimator_asset" || (version != 2 && version != 3)) {
-      throw StateError("expected section 'estimator_asset' version 2 or 3, found '" + tag + "' version " +
+      throw estimation::StateError("expected section 'estimator_asset' version 2 or 3, found '" + tag + "' version " +
                        std::to_string(version));
     }
     const std::string saved_group = r.get<std::string>();
     if (saved_group != asset_group) {
-      throw StateError("it belongs to asset group '" + saved_group + "'");
+      throw estimation::StateError("it belongs to asset group '" + saved_group + "'");
     }
     pipeline.restore(r);
     r.read(resend);
     std::int64_t time_ns = INT64_MIN;
     if (version >= 3) r.read(time_ns);
     if (last_time_ns != nullptr) *last_time_ns = time_ns;
-  } catch (const StateError& e) {
-    throw StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
+  } catch (const estimation::StateError& e) {
+    throw estimation::StateError("checkpoint '" + file + "' cannot be used: " + e.what() +
                      " (move it away to start this asset group over)");
   }
   return true;
@@ -37,7 +37,7 @@ bool EstimatorStateStore::restore(const std::string& asset_group, pipeline::Asse
 
 bool EstimatorStateStore::save(const std::string& asset_group, const pipeline::AssetPipeline& pipeline,
                                const std::vector<std::string>& resend, std::int64_t last_time_ns) {
-  return files_.save(asset_group, [&](StateWriter& w) {
+  return files_.save(asset_group, [&](estimation::StateWriter& w) {
     w.begin("estimator_asset", 3);
     w.put(asset_group);
     pipeline.save(w);

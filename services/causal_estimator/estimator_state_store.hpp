@@ -29,7 +29,7 @@ class EstimatorStateStore {
   std::string path(const std::string& asset_group) const { return files_.path(asset_group); }
 
   // Restores `pipeline` from the asset group's checkpoint. False when there is none (or no persistence).
-  // Throws causal::StateError naming the file when one exists but cannot be used (damaged, other parameters,
+  // Throws estimation::StateError naming the file when one exists but cannot be used (damaged, other parameters,
   // other channel count): silently starting over would re-learn the baseline on whatever data comes now.
   // `resend` receives the saved output messages (opaque byte strings, see save()).
   // `last_time_ns` receives the data time of the last input fed (INT64_MIN when the checkpoint predates it).

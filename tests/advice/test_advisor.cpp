@@ -34,18 +34,18 @@ constexpr double kZ = 1.6448536269514722;  // Phi^{-1}(0.95)
 
 // Outcomes 1 and 3: x_ka x_kb xL_ka xL_kb (a < b, both != k); outcome 2: x21 xL21 only (3 -> 2 masked, so
 // channel 2 cannot be fed back by channel 3 and its effect stays linear in the factors).
-SvarLayout make_layout() {
-  ModelSpec s;
+estimation::SvarLayout make_layout() {
+  estimation::ModelSpec s;
   s.channels = 3;
   s.lag_order = 1;
   s.include_self_lags = false;
   s.allowed.assign(3, std::vector<bool>(3, true));
   s.allowed[1][2] = false;
-  return SvarLayout(s);
+  return estimation::SvarLayout(s);
 }
 
 // Acyclic chain 1 -> 2 -> 3 plus 1 -> 3; every other factor 0.
-Eigen::VectorXd mean_factors(const SvarLayout& l) {
+Eigen::VectorXd mean_factors(const estimation::SvarLayout& l) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(l.total_factors());
   const auto set = [&](const std::string& name, double v) {
     const auto& names = l.factor_names();
@@ -71,19 +71,19 @@ Eigen::MatrixXd correlated_block(int d) {
   return p;
 }
 
-std::vector<Eigen::MatrixXd> correlated_blocks(const SvarLayout& l) {
+std::vector<Eigen::MatrixXd> correlated_blocks(const estimation::SvarLayout& l) {
   std::vector<Eigen::MatrixXd> out;
   for (int k = 0; k < l.channels(); ++k) out.push_back(correlated_block(l.factor_count(k)));
   return out;
 }
 
-std::vector<Eigen::MatrixXd> diagonal_blocks(const SvarLayout& l) {
+std::vector<Eigen::MatrixXd> diagonal_blocks(const estimation::SvarLayout& l) {
   std::vector<Eigen::MatrixXd> out;
   for (const auto& b : correlated_blocks(l)) out.push_back(b.diagonal().asDiagonal());
   return out;
 }
 
-ModelObservation observation(const SvarLayout& l, bool with_blocks) {
+ModelObservation observation(const estimation::SvarLayout& l, bool with_blocks) {
   ModelObservation a;
   a.asset_group = "ims2";
   a.channel_names = {"b1", "b2", "b3"};
@@ -120,7 +120,7 @@ Interval closed_form_channel2(double delta, double rho) {
 
 // Own Monte Carlo of the steady-state change of every channel, (W3): d = (I - A0c - A1c)^{-1} e_1 delta with
 // row 0 (channel 1's equation) cut. Returns the (1-c)/2 and (1+c)/2 sample quantiles of channel 3.
-Interval monte_carlo_channel3(const SvarLayout& l, const std::vector<Eigen::MatrixXd>& blocks, double delta,
+Interval monte_carlo_channel3(const estimation::SvarLayout& l, const std::vector<Eigen::MatrixXd>& blocks, double delta,
                               int draws) {
   const Eigen::VectorXd mean = mean_factors(l);
   std::vector<Eigen::MatrixXd> roots;
@@ -150,7 +150,7 @@ Interval monte_carlo_channel3(const SvarLayout& l, const std::vector<Eigen::Matr
 }
 
 TEST(Advisor, WhatIfUsesTheFullCovarianceBlocks) {
-  const SvarLayout l = make_layout();
+  const estimation::SvarLayout l = make_layout();
   Advisor full(params()), diag(params());
   full.update(observation(l, true));
   diag.update(observation(l, false));
@@ -214,7 +214,7 @@ TEST(Advisor, WhatIfUsesTheFullCovarianceBlocks) {
 }
 
 TEST(Advisor, RecommendationIntervalUsesTheFullCovarianceBlocks) {
-  const SvarLayout l = make_layout();
+  const estimation::SvarLayout l = make_layout();
   Advisor full(params()), diag(params());
   full.update(observation(l, true));
   diag.update(observation(l, false));
@@ -249,7 +249,7 @@ TEST(Advisor, RecommendationIntervalUsesTheFullCovarianceBlocks) {
 }
 
 TEST(Advisor, ARawLevelCannotBeReducedByMoreThanItsLevel) {
-  const SvarLayout l = make_layout();
+  const estimation::SvarLayout l = make_layout();
   AdvisorParams p = params();
   p.model_log_features = false;
   Advisor adv(p);
@@ -265,7 +265,7 @@ TEST(Advisor, ARawLevelCannotBeReducedByMoreThanItsLevel) {
 
 TEST(Advisor, AChannelWithinItsNormalSpreadIsNoCandidate) {
   // Channel 1 is exp(0.1) - 1 = 10.5 % above its baseline: a candidate at a 10 % minimum, none at 11 %.
-  const SvarLayout l = make_layout();
+  const estimation::SvarLayout l = make_layout();
   for (const double min_percent : {10.0, 11.0}) {
     AdvisorParams p = params();
     p.min_excess_percent = min_percent;
@@ -284,7 +284,7 @@ TEST(Advisor, AChannelWithinItsNormalSpreadIsNoCandidate) {
 }
 
 TEST(Advisor, FallsBackToDiagonalWhenBlocksAreMissingOrUnusable) {
-  const SvarLayout l = make_layout();
+  const estimation::SvarLayout l = make_layout();
   Advisor diag(params());
   diag.update(observation(l, false));
   const auto want = diag.what_if("ims2", 0, -0.1, true);
@@ -321,7 +321,7 @@ TEST(Advisor, FallsBackToDiagonalWhenBlocksAreMissingOrUnusable) {
 namespace {
 
 // The b1 -> b2 link (x21, xL21) set to zero: the model of a plant where b1 does not drive b2.
-ModelObservation observation_without_link(const SvarLayout& l) {
+ModelObservation observation_without_link(const estimation::SvarLayout& l) {
   ModelObservation a = observation(l, true);
   const auto& names = l.factor_names();
   for (const char* f : {"x21", "xL21"}) {
@@ -345,7 +345,7 @@ TEST(Advisor, ALinkAbsentFromTheHealthyReferenceIsMarkedAppeared) {
   // candidate reference. No reference while learning or before a confirmation ("none"); a confirmed linkless
   // one makes the lever "appeared"; a confirmed one with the link "held"; while a degradation alarm is open
   // no candidate is captured or confirmed.
-  const SvarLayout l = make_layout();
+  const estimation::SvarLayout l = make_layout();
   AdvisorParams p = params();
   p.reference_confirm_observations = 3;
   for (const bool degraded : {false, true}) {
@@ -372,7 +372,7 @@ namespace {
 // Only the max_candidates levers with the largest excess over their baseline are evaluated (each costs `draws`
 // solves of the whole model): b2 is 20 % (log) above its baseline, b1 10 %; the alarm is on b3.
 TEST(Advisor, OnlyTheLargestExcessesAreEvaluated) {
-  const SvarLayout l = make_layout();
+  const estimation::SvarLayout l = make_layout();
   ModelObservation o = observation(l, true);
   o.observation.features = Eigen::Vector3d(0.2, 0.1 * std::exp(0.2), 0.1);
   for (const int max_candidates : {1, 2}) {

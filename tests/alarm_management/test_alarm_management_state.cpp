@@ -32,9 +32,9 @@ am::AlarmManager held() {
 }
 
 am::AlarmManager round_trip(const am::AlarmManager& m) {
-  causal::StateWriter out;
+  causal::estimation::StateWriter out;
   m.save(out);
-  causal::StateReader in(out.bytes());
+  causal::estimation::StateReader in(out.bytes());
   am::AlarmManager restored;
   restored.restore(in);
   EXPECT_TRUE(in.at_end());
@@ -112,15 +112,15 @@ TEST(AlarmManagementState, RepublishedEventsKeepTheAcknowledgementAndCountNoNewR
 }
 
 TEST(AlarmManagementState, OtherSectionOrTruncatedIsRefused) {
-  causal::StateWriter other;
+  causal::estimation::StateWriter other;
   other.begin("alarm_management", 2);
-  causal::StateReader wrong_version(other.bytes());
+  causal::estimation::StateReader wrong_version(other.bytes());
   am::AlarmManager m;
-  EXPECT_THROW(m.restore(wrong_version), causal::StateError);
-  causal::StateWriter out;
+  EXPECT_THROW(m.restore(wrong_version), causal::estimation::StateError);
+  causal::estimation::StateWriter out;
   held().save(out);
-  causal::StateReader truncated(out.bytes().substr(0, out.bytes().size() - 3));
-  EXPECT_THROW(m.restore(truncated), causal::StateError);
+  causal::estimation::StateReader truncated(out.bytes().substr(0, out.bytes().size() - 3));
+  EXPECT_THROW(m.restore(truncated), causal::estimation::StateError);
   // A refused restore leaves the manager as it was (empty).
   EXPECT_EQ(m.health("g1", kT0).open, 0u);
 }

@@ -25,9 +25,9 @@
 #include "synthetic_group.hpp"
 
 using namespace causal::alarms;
-using causal::StateError;
-using causal::StateReader;
-using causal::StateWriter;
+using causal::estimation::StateError;
+using causal::estimation::StateReader;
+using causal::estimation::StateWriter;
 
 namespace {
 
@@ -92,7 +92,7 @@ void expect_same_engine(const AlarmEngine& a, const AlarmEngine& b, const std::s
 }
 
 std::string checkpoint_of(const AlarmEngine& e) {
-  StateWriter w;
+  causal::estimation::StateWriter w;
   e.save(w);
   return w.bytes();
 }
@@ -129,10 +129,10 @@ std::vector<AlarmEvent> run_with_cuts(const Stream& s, const std::set<std::size_
     if (cuts.count(t) > 0) {
       std::string bytes = checkpoint_of(engine);
       if (via_file) {
-        causal::save_state_file(file, bytes);
-        bytes = causal::load_state_file(file).value();
+        causal::estimation::save_state_file(file, bytes);
+        bytes = causal::estimation::load_state_file(file).value();
       }
-      StateReader in(bytes);
+      causal::estimation::StateReader in(bytes);
       engine = AlarmEngine::restore(in, s.params);  // the old object is gone: nothing survives but the bytes
       EXPECT_TRUE(in.at_end()) << label << " cut " << t;
     }
@@ -286,7 +286,7 @@ TEST(AlarmEngineCheckpoint, AlarmIdsAreNotReusedAfterRestore) {
   ASSERT_EQ(first_id, "grp/2/feature_drift/1");
   auto before = fresh(s);
   for (std::size_t t = 0; t < cut; ++t) before.observe(s.obs[t]);
-  StateReader in(checkpoint_of(before));
+  causal::estimation::StateReader in(checkpoint_of(before));
   auto after = AlarmEngine::restore(in, s.params);
   std::set<std::string> raised_ids;
   for (const auto& e : ref)
@@ -313,29 +313,29 @@ TEST(AlarmEngineCheckpoint, TruncatedCheckpointThrowsStateError) {
   ASSERT_GT(bytes.size(), 1000u);
   // Every proper prefix (sampled every 7 bytes, plus the last byte missing) must be refused cleanly.
   for (std::size_t n = 0; n < bytes.size(); n += n + 7 < bytes.size() ? 7 : std::max<std::size_t>(1, bytes.size() - 1 - n)) {
-    StateReader in(bytes.substr(0, n));
-    EXPECT_THROW(AlarmEngine::restore(in, s.params), StateError) << "prefix of " << n << " bytes";
+    causal::estimation::StateReader in(bytes.substr(0, n));
+    EXPECT_THROW(AlarmEngine::restore(in, s.params), causal::estimation::StateError) << "prefix of " << n << " bytes";
   }
-  StateReader whole(bytes);
+  causal::estimation::StateReader whole(bytes);
   EXPECT_NO_THROW(AlarmEngine::restore(whole, s.params));
 }
 
 TEST(AlarmEngineCheckpoint, WrongTagThrowsStateError) {
-  StateWriter w;
+  causal::estimation::StateWriter w;
   w.begin("svar_kalman_filter", 1);
   w.put(std::string("not an alarm engine"));
-  StateReader in(w.bytes());
+  causal::estimation::StateReader in(w.bytes());
   try {
     AlarmEngine::restore(in, AlarmParams{});
     FAIL() << "a foreign checkpoint was accepted";
-  } catch (const StateError& e) {
+  } catch (const causal::estimation::StateError& e) {
     EXPECT_NE(std::string(e.what()).find("'alarm_engine'"), std::string::npos) << e.what();
   }
   // A right tag with another version is refused as well.
-  StateWriter v;
+  causal::estimation::StateWriter v;
   v.begin("alarm_engine", 99);
-  StateReader vin(v.bytes());
-  EXPECT_THROW(AlarmEngine::restore(vin, AlarmParams{}), StateError);
+  causal::estimation::StateReader vin(v.bytes());
+  EXPECT_THROW(AlarmEngine::restore(vin, AlarmParams{}), causal::estimation::StateError);
 }
 
 TEST(AlarmEngineCheckpoint, OtherParamsThrowStateErrorNamingThem) {
@@ -346,18 +346,18 @@ TEST(AlarmEngineCheckpoint, OtherParamsThrowStateErrorNamingThem) {
   AlarmParams other = s.params;
   other.cusum_k = 2.0;
   other.clear_persistence = 6;
-  StateReader in(bytes);
+  causal::estimation::StateReader in(bytes);
   try {
     AlarmEngine::restore(in, other);
     FAIL() << "a checkpoint of other parameters was accepted";
-  } catch (const StateError& err) {
+  } catch (const causal::estimation::StateError& err) {
     const std::string what = err.what();
     EXPECT_NE(what.find("cusum_k: 1.5 -> 2"), std::string::npos) << what;
     EXPECT_NE(what.find("clear_persistence: 12 -> 6"), std::string::npos) << what;
     EXPECT_EQ(what.find("warmup_observations"), std::string::npos) << "only differences are named: " << what;
   }
   // Without expected parameters the checkpoint's own are used.
-  StateReader own(bytes);
+  causal::estimation::StateReader own(bytes);
   const auto restored = AlarmEngine::restore(own);
   EXPECT_EQ(param_differences(restored.params(), s.params), "");
   EXPECT_EQ(restored.observations_seen(), 200u);

@@ -153,9 +153,9 @@ TEST(AlarmInputLost, CheckpointKeepsTheLastIndexAndTheCount) {
   std::size_t i = 0;
   for (; obs[i].index <= 400; ++i)
     for (auto& ev : first.observe(obs[i])) got.push_back(std::move(ev));
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   first.save(w);
-  causal::StateReader r(w.bytes());
+  causal::estimation::StateReader r(w.bytes());
   auto restored = AlarmEngine::restore(r, AlarmParams{});
   for (; i < obs.size(); ++i)
     for (auto& ev : restored.observe(obs[i])) got.push_back(std::move(ev));

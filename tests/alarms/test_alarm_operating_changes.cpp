@@ -213,9 +213,9 @@ TEST(AlarmOperatingChanges, CheckpointDuringConfirmationContinuesExactly) {
   std::vector<AlarmEvent> got;
   for (std::size_t i = 0; i < 305; ++i)
     for (auto& x : a.observe(obs[i])) got.push_back(std::move(x));
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   a.save(w);
-  causal::StateReader r(w.bytes());
+  causal::estimation::StateReader r(w.bytes());
   auto b = AlarmEngine::restore(r, AlarmParams{});
   for (std::size_t i = 305; i < obs.size(); ++i)
     for (auto& x : b.observe(obs[i])) got.push_back(std::move(x));

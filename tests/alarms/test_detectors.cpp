@@ -98,9 +98,9 @@ TEST(PersistenceLatch, RaisesAfterConsecutiveAndClearsAfterConsecutive) {
 namespace {
 template <typename D>
 D restored_copy(const D& d) {
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   d.save(w);
-  causal::StateReader r(w.bytes());
+  causal::estimation::StateReader r(w.bytes());
   D out;
   out.restore(r);
   EXPECT_TRUE(r.at_end());
@@ -142,19 +142,19 @@ TEST(DetectorCheckpoint, CusumWindowLatchContinueAsUninterrupted) {
 }
 
 TEST(DetectorCheckpoint, ForeignOrInconsistentSectionsAreRefused) {
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   WindowMean(4).save(w);
-  causal::StateReader r(w.bytes());
+  causal::estimation::StateReader r(w.bytes());
   ClippedCusum c;
-  EXPECT_THROW(c.restore(r), causal::StateError);  // a window where a CUSUM is expected
+  EXPECT_THROW(c.restore(r), causal::estimation::StateError);  // a window where a CUSUM is expected
 
-  causal::StateWriter bad;  // a window whose write position lies outside its buffer
+  causal::estimation::StateWriter bad;  // a window whose write position lies outside its buffer
   bad.begin("window_mean", 1);
   bad.put(std::vector<double>(4, 0.0));
   bad.put(4);
   bad.put(4);
   bad.put(0.0);
-  causal::StateReader rb(bad.bytes());
+  causal::estimation::StateReader rb(bad.bytes());
   WindowMean m;
-  EXPECT_THROW(m.restore(rb), causal::StateError);
+  EXPECT_THROW(m.restore(rb), causal::estimation::StateError);
 }

@@ -171,15 +171,15 @@ CoverageResult run_coverage(const CaseSpec& cs, int replications, std::uint64_t 
     const Eigen::MatrixXd e = draw_noise(rng, cs.samples + 100, Eigen::VectorXd::Ones(g), NoiseKind::gaussian);
     const Eigen::MatrixXd y = simulate(truth, e).bottomRows(cs.samples);
 
-    ModelSpec spec;
+    causal::estimation::ModelSpec spec;
     spec.channels = g;
     spec.lag_order = 1;
     spec.include_self_lags = true;
     spec.instantaneous_allowed.assign(g, std::vector<bool>(g, false));
     for (int a = 0; a < g; ++a)
       for (int b = a + 1; b < g; ++b) spec.instantaneous_allowed[truth.order[b]][truth.order[a]] = true;
-    const SvarLayout layout(spec);
-    SvarKalmanFilter filter(layout, std::vector<NoiseParams>(g, NoiseParams{1e-12, 1.0, 1.0}));
+    const causal::estimation::SvarLayout layout(spec);
+    causal::estimation::SvarKalmanFilter filter(layout, std::vector<causal::estimation::NoiseParams>(g, causal::estimation::NoiseParams{1e-12, 1.0, 1.0}));
     for (int t = 0; t < cs.samples; ++t) {
       const Eigen::VectorXd row = y.row(t).transpose();
       filter.step(row.data());

@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <string>
 
-using causal::ModelSpec;
-using causal::SvarLayout;
+using causal::estimation::ModelSpec;
+using causal::estimation::SvarLayout;
 using causal::analysis::CausalGraph;
 using causal::analysis::parse_causal_graph;
 using causal::analysis::restrict_to_order;
@@ -53,7 +53,7 @@ TEST(CausalGraph, CycleIsDetectedAndNamed) {
   const std::string msg = message_of([&] { graph.topological_order(); });
   EXPECT_NE(msg.find("cycle"), std::string::npos) << msg;
   EXPECT_NE(msg.find("1 -> 2 -> 3 -> 1"), std::string::npos) << msg;
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 3;
   EXPECT_THROW(graph.apply_to(spec), std::invalid_argument);
   EXPECT_EQ(causal::analysis::describe_cycle(cycle, {"a", "b", "c"}), "a -> b -> c -> a");
@@ -77,10 +77,10 @@ TEST(CausalGraph, ApplyToSpecBuildsLayoutWithOnlyGraphLinks) {
   CausalGraph graph(3);
   graph.add_edge(0, 1);
   graph.add_edge(1, 2);
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 3;
   spec.lag_order = 1;
-  const SvarLayout layout(graph.apply_to(spec));
+  const causal::estimation::SvarLayout layout(graph.apply_to(spec));
   // Outcome 0 (root): no instantaneous factor; outcome 1: y1 only; outcome 2: y2 only.
   EXPECT_EQ(layout.factor_index(0, 1, 0), -1);
   EXPECT_GE(layout.factor_index(1, 0, 0), 0);
@@ -92,9 +92,9 @@ TEST(CausalGraph, ApplyToSpecBuildsLayoutWithOnlyGraphLinks) {
 }
 
 TEST(CausalGraph, RestrictToOrderAllowsOnlyEarlierCauses) {
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 4;
-  const ModelSpec r = restrict_to_order(spec, {3, 1, 0, 2});
+  const causal::estimation::ModelSpec r = restrict_to_order(spec, {3, 1, 0, 2});
   for (int k = 0; k < 4; ++k) EXPECT_FALSE(r.instantaneous_allowed[k][k]);
   EXPECT_TRUE(r.instantaneous_allowed[1][3]);
   EXPECT_FALSE(r.instantaneous_allowed[3][1]);
@@ -112,7 +112,7 @@ TEST(CausalGraph, RestrictToOrderAllowsOnlyEarlierCauses) {
 
 TEST(CausalGraph, CompleteFromOrderMatchesRestrictToOrder) {
   const std::vector<int> order{2, 0, 3, 1};
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 4;
   EXPECT_EQ(CausalGraph::complete_from_order(order).instantaneous_mask(), restrict_to_order(spec, order).instantaneous_allowed);
   EXPECT_EQ(CausalGraph::complete_from_order(order).topological_order(), order);

@@ -8,8 +8,8 @@
 
 #include "matrix_asserts.hpp"
 
-using causal::ModelSpec;
-using causal::SvarLayout;
+using causal::estimation::ModelSpec;
+using causal::estimation::SvarLayout;
 using namespace causal::analysis;
 
 namespace {
@@ -74,11 +74,11 @@ TEST(Recommendation, SentencesForRisesHorizonUncertainAndRefusedCases) {
 // by d moves y1 by 0.5 d at once and by 0.5 d / (1 - 0.4) at steady state; a shift of y3 by d moves y2 by
 // 0.8 d (no self lag: at once and for ever), so y1 by 0.4 d at once and 0.4 d / 0.6 at steady state.
 TEST(Recommendation, RanksByPredictedSteadyStateReduction) {
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 3;
   spec.include_self_lags = true;
   spec.instantaneous_allowed = {{false, true, false}, {false, false, true}, {false, false, false}};
-  const SvarLayout layout(spec);
+  const causal::estimation::SvarLayout layout(spec);
   FactorPosterior post;
   post.mean = Eigen::VectorXd::Zero(layout.total_factors());
   post.mean(layout.offset(0) + layout.factor_index(0, 1, 0)) = 0.5;
@@ -122,10 +122,10 @@ TEST(Recommendation, RanksByPredictedSteadyStateReduction) {
 // never ranked as if it helped. y1 = 0.6 y2 + 0.3 y3 + e1 (no lags): cutting y2 by 0.1 gives -0.06 but with a
 // wide interval (sd of x12 = 0.5: upper bound > 0); cutting y3 by 0.1 gives -0.03 with a narrow one.
 TEST(Recommendation, RanksByTheHelpfulBoundAndNeverRecommendsAnUnsureLever) {
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 3;
   spec.instantaneous_allowed = {{false, true, true}, {false, false, false}, {false, false, false}};
-  const SvarLayout layout(spec);
+  const causal::estimation::SvarLayout layout(spec);
   FactorPosterior post;
   post.mean = Eigen::VectorXd::Zero(layout.total_factors());
   const int i12 = layout.factor_index(0, 1, 0), i13 = layout.factor_index(0, 2, 0);

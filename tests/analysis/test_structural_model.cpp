@@ -10,20 +10,20 @@
 
 #include "matrix_asserts.hpp"
 
-using causal::ModelSpec;
-using causal::NoiseParams;
-using causal::SvarKalmanFilter;
-using causal::SvarLayout;
+using causal::estimation::ModelSpec;
+using causal::estimation::NoiseParams;
+using causal::estimation::SvarKalmanFilter;
+using causal::estimation::SvarLayout;
 using namespace causal::analysis;
 
 namespace {
 
 TEST(StructuralModel, AssemblesEveryFactorIntoItsSlot) {
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 3;
   spec.lag_order = 2;
   spec.include_self_lags = true;
-  const SvarLayout layout(spec);
+  const causal::estimation::SvarLayout layout(spec);
   Eigen::VectorXd x(layout.total_factors());
   for (int i = 0; i < x.size(); ++i) x(i) = 1.0 + i;
   const StructuralModel m = assemble_structural_model(layout, x);
@@ -43,7 +43,7 @@ TEST(StructuralModel, AssemblesEveryFactorIntoItsSlot) {
 }
 
 TEST(StructuralModel, FactorNamesMatchHouseConvention) {
-  const SvarLayout layout(ModelSpec{});  // G=4, M=1, no self lags: x12 x13 x14 xL12 xL13 xL14 x21 ...
+  const causal::estimation::SvarLayout layout(causal::estimation::ModelSpec{});  // G=4, M=1, no self lags: x12 x13 x14 xL12 xL13 xL14 x21 ...
   Eigen::VectorXd x = Eigen::VectorXd::Zero(layout.total_factors());
   x(0) = 0.5;   // x12: y2 -> y1 instantaneous
   x(3) = -0.25; // xL12: y2[n-1] -> y1
@@ -58,10 +58,10 @@ TEST(StructuralModel, FactorNamesMatchHouseConvention) {
 }
 
 TEST(StructuralModel, MaskedLinksAreZero) {
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 3;
   spec.instantaneous_allowed = {{false, false, false}, {true, false, false}, {true, true, false}};
-  const SvarLayout layout(spec);
+  const causal::estimation::SvarLayout layout(spec);
   const Eigen::VectorXd x = Eigen::VectorXd::Ones(layout.total_factors());
   const StructuralModel m = assemble_structural_model(layout, x);
   Eigen::MatrixXd expected(3, 3);
@@ -131,10 +131,10 @@ TEST(StructuralModel, ValidateRejectsBadShapes) {
 }
 
 TEST(StructuralModel, PosteriorFromFilterMatchesFilterState) {
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = 3;
-  const SvarLayout layout(spec);
-  SvarKalmanFilter filter(layout, {NoiseParams{1e-4, 0.1, 1.0}});
+  const causal::estimation::SvarLayout layout(spec);
+  causal::estimation::SvarKalmanFilter filter(layout, {causal::estimation::NoiseParams{1e-4, 0.1, 1.0}});
   std::mt19937_64 rng(7);
   std::normal_distribution<double> n01(0.0, 1.0);
   for (int t = 0; t < 50; ++t) {

@@ -23,16 +23,16 @@ using namespace causal::analysis::test;
 namespace {
 
 TEST(Uncertainty, NormalQuantile) {
-  EXPECT_NEAR(normal_quantile(0.5), 0.0, 1e-15);
-  EXPECT_NEAR(normal_quantile(0.95), 1.6448536269514722, 1e-13);
-  EXPECT_NEAR(normal_quantile(0.975), 1.959963984540054, 1e-13);
-  EXPECT_NEAR(normal_quantile(0.025), -1.959963984540054, 1e-13);
+  EXPECT_NEAR(causal::estimation::normal_quantile(0.5), 0.0, 1e-15);
+  EXPECT_NEAR(causal::estimation::normal_quantile(0.95), 1.6448536269514722, 1e-13);
+  EXPECT_NEAR(causal::estimation::normal_quantile(0.975), 1.959963984540054, 1e-13);
+  EXPECT_NEAR(causal::estimation::normal_quantile(0.025), -1.959963984540054, 1e-13);
   for (double p : {1e-12, 1e-6, 0.01, 0.02425, 0.3, 0.7, 0.99, 1.0 - 1e-9}) {
-    const double x = normal_quantile(p);
+    const double x = causal::estimation::normal_quantile(p);
     EXPECT_NEAR(0.5 * std::erfc(-x / std::sqrt(2.0)), p, 1e-14 + 1e-12 * p) << p;
   }
-  EXPECT_THROW(normal_quantile(0.0), std::invalid_argument);
-  EXPECT_THROW(normal_quantile(1.0), std::invalid_argument);
+  EXPECT_THROW(causal::estimation::normal_quantile(0.0), std::invalid_argument);
+  EXPECT_THROW(causal::estimation::normal_quantile(1.0), std::invalid_argument);
 }
 
 // G = 2, one lag, y2 = b y1 + a y2[n-1] + e2 with only b uncertain: the steady-state effect of do(y1 + delta)
@@ -135,15 +135,15 @@ TEST(Uncertainty, IntervalsCoverTrueInterventionalEffect) {
     const Eigen::MatrixXd e = draw_noise(rng, n + 200, Eigen::VectorXd::Ones(g), NoiseKind::laplace);
     const Eigen::MatrixXd y = simulate(truth, e).bottomRows(n);
 
-    ModelSpec spec;
+    causal::estimation::ModelSpec spec;
     spec.channels = g;
     spec.lag_order = 1;
     spec.include_self_lags = true;
     const VarLingamResult lingam = var_lingam(y.topRows(1000));
-    const SvarLayout layout(lingam.restrict(spec));
-    std::vector<NoiseParams> noise;
-    for (int k = 0; k < g; ++k) noise.push_back(NoiseParams{1e-9, lingam.noise_variance(k), 1.0});
-    SvarKalmanFilter filter(layout, noise);
+    const causal::estimation::SvarLayout layout(lingam.restrict(spec));
+    std::vector<causal::estimation::NoiseParams> noise;
+    for (int k = 0; k < g; ++k) noise.push_back(causal::estimation::NoiseParams{1e-9, lingam.noise_variance(k), 1.0});
+    causal::estimation::SvarKalmanFilter filter(layout, noise);
     for (int t = 0; t < n; ++t) {
       const Eigen::VectorXd row = y.row(t).transpose();  // contiguous copy: y is column-major
       filter.step(row.data());

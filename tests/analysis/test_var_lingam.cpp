@@ -16,9 +16,9 @@
 #include "matrix_asserts.hpp"
 #include "svar_sim.hpp"
 
-using causal::ModelSpec;
-using causal::NoiseParams;
-using causal::SvarLayout;
+using causal::estimation::ModelSpec;
+using causal::estimation::NoiseParams;
+using causal::estimation::SvarLayout;
 using namespace causal::analysis;
 using namespace causal::analysis::test;
 
@@ -86,10 +86,10 @@ TEST(VarLingam, StructuralCoefficientsAndMask) {
   EXPECT_MATRIX_NEAR(r.lagged[1], truth.lags[1], 0.03);
   EXPECT_MATRIX_NEAR(r.noise_variance, Eigen::VectorXd::Ones(kChannels), 0.05);
   EXPECT_TRUE(CausalGraph::from_mask(r.instantaneous_allowed).is_acyclic());
-  ModelSpec spec;
+  causal::estimation::ModelSpec spec;
   spec.channels = kChannels;
   spec.lag_order = 2;
-  const ModelSpec restricted = r.restrict(spec);
+  const causal::estimation::ModelSpec restricted = r.restrict(spec);
   for (int a = 0; a < kChannels; ++a)
     for (int b = 0; b < kChannels; ++b)
       EXPECT_EQ(restricted.instantaneous_allowed[truth.order[b]][truth.order[a]], a < b);
@@ -104,9 +104,9 @@ TEST(VarLingam, StructuralCoefficientsAndMask) {
 
 // RMSE of the filter's final structural matrices (A0 and A1, all off-diagonal and self-lag entries) against
 // the truth; links outside a layout count as estimated 0.
-double structural_rmse(const SvarLayout& layout, const Eigen::MatrixXd& y, const TrueSvar& truth) {
-  const std::vector<NoiseParams> noise(kChannels, NoiseParams{1e-8, 1.0, 1.0});
-  const causal::EstimationRun run = causal::run_filter(layout, noise, y);
+double structural_rmse(const causal::estimation::SvarLayout& layout, const Eigen::MatrixXd& y, const TrueSvar& truth) {
+  const std::vector<causal::estimation::NoiseParams> noise(kChannels, causal::estimation::NoiseParams{1e-8, 1.0, 1.0});
+  const causal::estimation::EstimationRun run = causal::estimation::run_filter(layout, noise, y);
   const StructuralModel m = assemble_structural_model(layout, run.estimates.bottomRows(1).transpose());
   const Eigen::MatrixXd d0 = m.a0 - truth.a0;
   const Eigen::MatrixXd d1 = m.lags[0] - truth.lags[0];
@@ -125,13 +125,13 @@ TEST(VarLingam, OrderRestrictedFilterBeatsUnrestrictedRegressions) {
     std::mt19937_64 rng(500 + static_cast<std::uint64_t>(s));
     const TrueSvar truth = random_svar(rng, kChannels, 1);
     const Eigen::MatrixXd y = simulate_data(truth, rng, 4000, NoiseKind::laplace);
-    ModelSpec spec;
+    causal::estimation::ModelSpec spec;
     spec.channels = kChannels;
     spec.lag_order = 1;
     spec.include_self_lags = true;
     const VarLingamResult lingam = var_lingam(y.topRows(1000));
-    const double restricted = structural_rmse(SvarLayout(lingam.restrict(spec)), y, truth);
-    const double unrestricted = structural_rmse(SvarLayout(spec), y, truth);
+    const double restricted = structural_rmse(causal::estimation::SvarLayout(lingam.restrict(spec)), y, truth);
+    const double unrestricted = structural_rmse(causal::estimation::SvarLayout(spec), y, truth);
     sum_restricted += restricted;
     sum_unrestricted += unrestricted;
     if (restricted < unrestricted) ++better;

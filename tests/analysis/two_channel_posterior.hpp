@@ -11,8 +11,8 @@
 namespace causal::analysis::test {
 
 struct TwoChannelPosterior {
-  SvarLayout layout{[] {
-    ModelSpec spec;
+  estimation::SvarLayout layout{[] {
+    estimation::ModelSpec spec;
     spec.channels = 2;
     spec.include_self_lags = true;
     spec.instantaneous_allowed = {{false, false}, {true, false}};

@@ -12,13 +12,13 @@
 
 namespace {
 
-using causal::NoiseParams;
+using causal::estimation::NoiseParams;
 
-causal::SvarLayout make_layout(benchmark::State& state) {
-  causal::ModelSpec spec;
+causal::estimation::SvarLayout make_layout(benchmark::State& state) {
+  causal::estimation::ModelSpec spec;
   spec.channels = static_cast<int>(state.range(0));
   spec.lag_order = static_cast<int>(state.range(1));
-  return causal::SvarLayout(spec);
+  return causal::estimation::SvarLayout(spec);
 }
 
 Eigen::MatrixXd random_samples(Eigen::Index n, int g) {
@@ -29,15 +29,15 @@ Eigen::MatrixXd random_samples(Eigen::Index n, int g) {
   return y;
 }
 
-const std::vector<NoiseParams> kNoise = {NoiseParams{1e-5, 1e-2, 1.0}};
+const std::vector<causal::estimation::NoiseParams> kNoise = {causal::estimation::NoiseParams{1e-5, 1e-2, 1.0}};
 
 // Streaming filter: SvarKalmanFilter::step on row-major samples.
 void BM_FilterStep(benchmark::State& state) {
-  const causal::SvarLayout layout = make_layout(state);
+  const causal::estimation::SvarLayout layout = make_layout(state);
   const int g = layout.channels();
   constexpr int kRows = 4096;
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> y = random_samples(kRows, g);
-  causal::SvarKalmanFilter filter(layout, kNoise);
+  causal::estimation::SvarKalmanFilter filter(layout, kNoise);
   int n = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(filter.step(y.row(n).data()));
@@ -49,11 +49,11 @@ void BM_FilterStep(benchmark::State& state) {
 
 // Batch filter with all outputs (estimates, std devs, innovations): run_filter.
 void BM_RunFilter(benchmark::State& state) {
-  const causal::SvarLayout layout = make_layout(state);
+  const causal::estimation::SvarLayout layout = make_layout(state);
   constexpr int kRows = 20000;
   const Eigen::MatrixXd y = random_samples(kRows, layout.channels());
   for (auto _ : state) {
-    causal::EstimationRun run = causal::run_filter(layout, kNoise, y);
+    causal::estimation::EstimationRun run = causal::estimation::run_filter(layout, kNoise, y);
     benchmark::DoNotOptimize(run.estimates.data());
   }
   state.SetItemsProcessed(state.iterations() * kRows);
@@ -62,11 +62,11 @@ void BM_RunFilter(benchmark::State& state) {
 // Streaming fixed-lag smoother, L = state.range(2), releasing every state.range(3)-th sample (1 = every
 // sample; causal-estimator releases one per publication, 1024 at sample level), allocation-free step_into.
 void BM_FixedLagStep(benchmark::State& state) {
-  const causal::SvarLayout layout = make_layout(state);
+  const causal::estimation::SvarLayout layout = make_layout(state);
   const int g = layout.channels();
   constexpr int kRows = 4096;
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> y = random_samples(kRows, g);
-  causal::FixedLagSmoother smoother(layout, kNoise, static_cast<int>(state.range(2)),
+  causal::estimation::FixedLagSmoother smoother(layout, kNoise, static_cast<int>(state.range(2)),
                                    static_cast<std::uint64_t>(state.range(3)));
   Eigen::VectorXd est(layout.total_factors()), sd(layout.total_factors());
   std::uint64_t index = 0;
@@ -80,11 +80,11 @@ void BM_FixedLagStep(benchmark::State& state) {
 
 // Batch RTS smoother with covariances: run_rts_smoother.
 void BM_RunRts(benchmark::State& state) {
-  const causal::SvarLayout layout = make_layout(state);
+  const causal::estimation::SvarLayout layout = make_layout(state);
   constexpr int kRows = 20000;
   const Eigen::MatrixXd y = random_samples(kRows, layout.channels());
   for (auto _ : state) {
-    causal::EstimationRun run = causal::run_rts_smoother(layout, kNoise, y);
+    causal::estimation::EstimationRun run = causal::estimation::run_rts_smoother(layout, kNoise, y);
     benchmark::DoNotOptimize(run.estimates.data());
   }
   state.SetItemsProcessed(state.iterations() * kRows);

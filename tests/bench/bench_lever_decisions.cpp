@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
         fp.model.channels = kG;
         fp.model.lag_order = 1;
         fp.model.include_self_lags = true;
-        fp.noise.fixed = NoiseParams{1e-4, 1e-2, 1.0};
+        fp.noise.fixed = causal::estimation::NoiseParams{1e-4, 1e-2, 1.0};
         fp.publish_every = 1;
         pipeline::StructureSetting st;
         st.calibration_samples = 200;

@@ -22,7 +22,7 @@ void BM_SampleLevelFactorStream(benchmark::State& state) {
   causal::pipeline::FactorStreamParams p;
   p.model.channels = 4;
   p.model.lag_order = 1;
-  p.noise.fixed = causal::NoiseParams{1e-6, 1e-2, 1.0};
+  p.noise.fixed = causal::estimation::NoiseParams{1e-6, 1e-2, 1.0};
   p.publish_every = 1024;
   p.fixed_lag = static_cast<int>(state.range(0));
   causal::pipeline::FactorStream stream(p);
@@ -89,7 +89,7 @@ void BM_AssetPipelineCheckpointSave(benchmark::State& state) {
   const auto pipe = fed_ims_group(static_cast<int>(state.range(0)));
   std::size_t bytes = 0;
   for (auto _ : state) {
-    causal::StateWriter w;
+    causal::estimation::StateWriter w;
     pipe->save(w);
     bytes = w.bytes().size();
     benchmark::DoNotOptimize(w.bytes().data());
@@ -100,11 +100,11 @@ BENCHMARK(BM_AssetPipelineCheckpointSave)->ArgName("snapshots")->Arg(0)->Arg(50)
 
 void BM_AssetPipelineCheckpointRestore(benchmark::State& state) {
   const auto pipe = fed_ims_group(static_cast<int>(state.range(0)));
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   pipe->save(w);
   for (auto _ : state) {
     causal::pipeline::AssetPipeline fresh(ims_params());
-    causal::StateReader r(w.bytes());
+    causal::estimation::StateReader r(w.bytes());
     fresh.restore(r);
     benchmark::DoNotOptimize(&fresh);
   }

@@ -34,8 +34,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s [rows >= 2] [rts|filter|fixed-lag] [every >= 1]\n", argv[0]);
     return 2;
   }
-  causal::ModelSpec spec;  // G = 4, M = 1: 24 factors
-  const causal::SvarLayout layout(spec);
+  causal::estimation::ModelSpec spec;  // G = 4, M = 1: 24 factors
+  const causal::estimation::SvarLayout layout(spec);
   // A stable VAR(1) with one instantaneous chain; the values only need to be realistic, not known.
   Eigen::MatrixXd y(rows, 4);
   std::mt19937_64 rng(1);
@@ -52,13 +52,13 @@ int main(int argc, char** argv) {
     y(n, 3) = prev[3] = y3;
   }
   const double before = peak_rss_mb();
-  const std::vector<causal::NoiseParams> noise = {{1e-6, 1.0, 1.0}};
-  const causal::BatchOutput out{every, every == 1};  // decimated: only the factors are wanted
+  const std::vector<causal::estimation::NoiseParams> noise = {{1e-6, 1.0, 1.0}};
+  const causal::estimation::BatchOutput out{every, every == 1};  // decimated: only the factors are wanted
   const auto t0 = std::chrono::steady_clock::now();
-  causal::EstimationRun run;
-  if (estimator == "rts") run = causal::run_rts_smoother(layout, noise, y, {}, out);
-  if (estimator == "filter") run = causal::run_filter(layout, noise, y, {}, out);
-  if (estimator == "fixed-lag") run = causal::run_fixed_lag_smoother(layout, noise, y, {}, 50, out);
+  causal::estimation::EstimationRun run;
+  if (estimator == "rts") run = causal::estimation::run_rts_smoother(layout, noise, y, {}, out);
+  if (estimator == "filter") run = causal::estimation::run_filter(layout, noise, y, {}, out);
+  if (estimator == "fixed-lag") run = causal::estimation::run_fixed_lag_smoother(layout, noise, y, {}, 50, out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double after = peak_rss_mb();
   std::printf("%s rows=%ld every=%ld kept_rows=%ld: peak RSS with data %.1f MB, after the estimator %.1f MB "

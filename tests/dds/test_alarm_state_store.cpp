@@ -190,7 +190,7 @@ TEST(AlarmStateStore, UnusableCheckpointsAreRefusedNamingTheFile) {
     try {
       store.open(kGroup, false, channels, {}, params);
       ADD_FAILURE() << "accepted: " << why;
-    } catch (const causal::StateError& e) {
+    } catch (const estimation::StateError& e) {
       const std::string what = e.what();
       EXPECT_NE(what.find(file), std::string::npos) << what;
       EXPECT_NE(what.find(why), std::string::npos) << what;

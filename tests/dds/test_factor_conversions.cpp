@@ -20,15 +20,15 @@ namespace {
 using causal::pipeline::EstimateKind;
 using causal::pipeline::FactorReport;
 
-SvarLayout layout(int g, int m, bool self_lags = false) {
-  ModelSpec s;
+estimation::SvarLayout layout(int g, int m, bool self_lags = false) {
+  estimation::ModelSpec s;
   s.channels = g;
   s.lag_order = m;
   s.include_self_lags = self_lags;
-  return SvarLayout(s);
+  return estimation::SvarLayout(s);
 }
 
-FactorReport report(const SvarLayout& l, int k, EstimateKind kind) {
+FactorReport report(const estimation::SvarLayout& l, int k, EstimateKind kind) {
   FactorReport r;
   r.kind = kind;
   r.outcome = k;
@@ -74,7 +74,7 @@ causal_twin::CausalFactorBatch through_the_wire(causal_twin::CausalFactorBatch m
   return wire;
 }
 
-FactorContext context(const SvarLayout& l, const std::vector<std::string>& names) {
+FactorContext context(const estimation::SvarLayout& l, const std::vector<std::string>& names) {
   FactorContext c;
   c.asset_group = "ims2";
   c.time_scale = causal_twin::CONDITION_LEVEL;
@@ -93,7 +93,7 @@ causal_twin::CausalFactorBatch batch_of(const FactorContext& c, const FactorRepo
 }
 
 TEST(FactorConversions, OutcomeIsOneBasedAndNamesFollowTheConvention) {
-  const SvarLayout l = layout(4, 1);
+  const estimation::SvarLayout l = layout(4, 1);
   const std::vector<std::string> names{"b1", "b2", "b3", "b4"};
   const causal_twin::CausalFactorBatch b = batch_of(context(l, names), report(l, 2, EstimateKind::Filter));
   const causal_twin::OutcomeFactors& m = b.outcomes().front();
@@ -112,7 +112,7 @@ TEST(FactorConversions, OutcomeIsOneBasedAndNamesFollowTheConvention) {
 }
 
 TEST(FactorConversions, NamesForTenChannelsAndSecondLag) {
-  const SvarLayout l = layout(10, 2, true);
+  const estimation::SvarLayout l = layout(10, 2, true);
   std::vector<std::string> names;
   for (int c = 1; c <= 10; ++c) names.push_back("ch" + std::to_string(c));
   const causal_twin::CausalFactorBatch b = batch_of(context(l, names), report(l, 9, EstimateKind::FixedLag));
@@ -135,7 +135,7 @@ TEST(FactorConversions, NamesForTenChannelsAndSecondLag) {
 // smoother's at n - L, outcomes in a scrambled order. Expected by hand: two batches (filter n, smoother n - L),
 // in the order their first report came, each with outcomes 1..G once, in order, and every report's values.
 TEST(FactorConversions, OneBatchPerKindAndIndexWithEveryOutcomeInOrder) {
-  const SvarLayout l = layout(4, 1);
+  const estimation::SvarLayout l = layout(4, 1);
   const std::vector<std::string> names{"b1", "b2", "b3", "b4"};
   std::vector<FactorReport> reports;
   for (int k : {2, 0, 3, 1}) {
@@ -172,7 +172,7 @@ TEST(FactorConversions, OneBatchPerKindAndIndexWithEveryOutcomeInOrder) {
 }
 
 TEST(FactorConversions, RoundTripThroughTheBatchAndCdr) {
-  const SvarLayout l = layout(4, 2, true);
+  const estimation::SvarLayout l = layout(4, 2, true);
   const std::vector<std::string> names{"b1", "b2", "b3", "b4"};
   for (EstimateKind kind : {EstimateKind::Filter, EstimateKind::FixedLag}) {
     std::vector<FactorReport> reports;
@@ -215,7 +215,7 @@ TEST(FactorConversions, RoundTripThroughTheBatchAndCdr) {
 }
 
 TEST(FactorConversions, ValidateCatchesInconsistentBatches) {
-  const SvarLayout l = layout(3, 1);
+  const estimation::SvarLayout l = layout(3, 1);
   std::vector<FactorReport> reports;
   for (int k = 0; k < 3; ++k) reports.push_back(report(l, k, EstimateKind::Filter));
   const auto good = causal::dds::to_causal_factor_batches(context(l, {"a", "b", "c"}), reports).front();
@@ -304,7 +304,7 @@ TEST(FactorCovariance, UnpackWithTheWrongCountIsEmpty) {
 }
 
 TEST(FactorCovariance, BatchRoundTripCarriesTheFullBlock) {
-  const SvarLayout l = layout(4, 2, true);  // 3 + 4 + 4 = 11 factors per outcome
+  const estimation::SvarLayout l = layout(4, 2, true);  // 3 + 4 + 4 = 11 factors per outcome
   const std::vector<std::string> names{"b1", "b2", "b3", "b4"};
   for (int k = 0; k < 4; ++k) {
     SCOPED_TRACE("outcome " + std::to_string(k));
@@ -330,7 +330,7 @@ TEST(FactorCovariance, BatchRoundTripCarriesTheFullBlock) {
 }
 
 TEST(FactorCovariance, ReportsWithoutCovarianceSendAnEmptySequence) {
-  const SvarLayout l = layout(3, 1);
+  const estimation::SvarLayout l = layout(3, 1);
   const std::vector<std::string> names{"a", "b", "c"};
   FactorReport fixed_lag = report(l, 1, EstimateKind::FixedLag);  // no covariance
   causal_twin::CausalFactorBatch m = batch_of(context(l, names), fixed_lag);
@@ -352,7 +352,7 @@ TEST(FactorCovariance, ReportsWithoutCovarianceSendAnEmptySequence) {
 }
 
 TEST(FactorCovariance, WrongCountIsMalformedAndUnpacksEmpty) {
-  const SvarLayout l = layout(3, 1);  // 4 factors per outcome: 10 values
+  const estimation::SvarLayout l = layout(3, 1);  // 4 factors per outcome: 10 values
   FactorReport r = report(l, 0, EstimateKind::Filter);
   r.covariance = random_spd(4, 11);
   const causal_twin::CausalFactorBatch good = batch_of(context(l, {"a", "b", "c"}), r);

@@ -21,19 +21,19 @@ using causal::dds::FactorMessage;
 constexpr std::int64_t kT0 = 1'077'000'000'000'000'000LL;
 constexpr std::int64_t kStep = 600'000'000'000LL;  // 10 min
 
-SvarLayout make_layout(int g) {
-  ModelSpec s;
+estimation::SvarLayout make_layout(int g) {
+  estimation::ModelSpec s;
   s.channels = g;
   s.lag_order = 1;
   s.include_self_lags = true;
-  return SvarLayout(s);
+  return estimation::SvarLayout(s);
 }
 
 double factor_value(std::uint64_t index, int global_factor) {
   return 0.001 * static_cast<double>(index) + 0.01 * global_factor - 0.2;
 }
 
-FactorMessage message(const SvarLayout& l, causal_twin::TimeScale scale, int k, std::uint64_t index,
+FactorMessage message(const estimation::SvarLayout& l, causal_twin::TimeScale scale, int k, std::uint64_t index,
                       causal_twin::EstimateKind kind = causal_twin::FILTER, const std::string& group = "ims2",
                       const std::string& feature = "rms") {
   FactorMessage m;
@@ -70,7 +70,7 @@ Eigen::VectorXd condition_values(int g, std::uint64_t index) {
 }
 
 // Checks everything that does not depend on features.
-void expect_observation(const AssembledObservation& a, const SvarLayout& l, causal_twin::TimeScale scale,
+void expect_observation(const AssembledObservation& a, const estimation::SvarLayout& l, causal_twin::TimeScale scale,
                         std::uint64_t index) {
   SCOPED_TRACE("observation " + std::to_string(index));
   const int g = l.channels();
@@ -103,7 +103,7 @@ void expect_observation(const AssembledObservation& a, const SvarLayout& l, caus
 }
 
 TEST(ObservationAssembler, ShuffledOutcomesOfOneIndexBecomeOneObservation) {
-  const SvarLayout l = make_layout(4);
+  const estimation::SvarLayout l = make_layout(4);
   ObservationAssembler asm_(4);
   std::mt19937_64 rng(5);
   std::vector<AssembledObservation> out;
@@ -121,7 +121,7 @@ TEST(ObservationAssembler, ShuffledOutcomesOfOneIndexBecomeOneObservation) {
 }
 
 TEST(ObservationAssembler, InterleavedIndicesAreAssembledSeparately) {
-  const SvarLayout l = make_layout(3);
+  const estimation::SvarLayout l = make_layout(3);
   ObservationAssembler asm_(4);
   std::mt19937_64 rng(9);
   // Each outcome is one DDS instance of one writer, so its messages come in index order; the outcomes
@@ -147,7 +147,7 @@ TEST(ObservationAssembler, InterleavedIndicesAreAssembledSeparately) {
 }
 
 TEST(ObservationAssembler, FixedLagMessagesAreIgnored) {
-  const SvarLayout l = make_layout(3);
+  const estimation::SvarLayout l = make_layout(3);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   for (int k = 0; k < 3; ++k) {
@@ -168,7 +168,7 @@ TEST(ObservationAssembler, FixedLagMessagesAreIgnored) {
 }
 
 TEST(ObservationAssembler, DuplicateOutcomeMessagesAreNotCountedTwice) {
-  const SvarLayout l = make_layout(4);
+  const estimation::SvarLayout l = make_layout(4);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   for (int k : {0, 0, 1, 2, 2}) asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, k, 3), out);
@@ -179,7 +179,7 @@ TEST(ObservationAssembler, DuplicateOutcomeMessagesAreNotCountedTwice) {
 }
 
 TEST(ObservationAssembler, NoUpdateSinceLastReportGivesNaNInnovations) {
-  const SvarLayout l = make_layout(3);
+  const estimation::SvarLayout l = make_layout(3);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   for (int k = 0; k < 3; ++k) {
@@ -201,7 +201,7 @@ TEST(ObservationAssembler, NoUpdateSinceLastReportGivesNaNInnovations) {
 // index by index, outcomes in any order). Every observation must get the vector of ITS time, in index order.
 TEST(ObservationAssembler, ConditionVectorsJoinedByTimeRegardlessOfArrivalOrder) {
   const int g = 4;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   for (std::uint64_t seed : {1u, 2u, 3u, 4u, 5u}) {
     ObservationAssembler asm_(4);
     std::mt19937_64 rng(seed);
@@ -242,7 +242,7 @@ TEST(ObservationAssembler, ConditionVectorsJoinedByTimeRegardlessOfArrivalOrder)
 }
 
 TEST(ObservationAssembler, ConditionVectorBeforeFactorsReleasesAtOnce) {
-  const SvarLayout l = make_layout(2);
+  const estimation::SvarLayout l = make_layout(2);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   asm_.add_condition("ims2", "rms", kT0, condition_values(2, 0), out);
@@ -256,7 +256,7 @@ TEST(ObservationAssembler, ConditionVectorBeforeFactorsReleasesAtOnce) {
 
 TEST(ObservationAssembler, ReleasedWithoutFeaturesAfterMaxPending) {
   const int g = 3;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   ObservationAssembler asm_(2);
   std::vector<AssembledObservation> out;
   auto complete = [&](std::uint64_t n) {
@@ -287,7 +287,7 @@ TEST(ObservationAssembler, ReleasedWithoutFeaturesAfterMaxPending) {
 
 TEST(ObservationAssembler, FlushReleasesEverythingHeld) {
   const int g = 2;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   ObservationAssembler asm_(10);
   std::vector<AssembledObservation> out;
   for (std::uint64_t n = 0; n < 5; ++n) {
@@ -307,7 +307,7 @@ TEST(ObservationAssembler, FlushReleasesEverythingHeld) {
 
 TEST(ObservationAssembler, VectorsOfAnotherFeatureOrGroupAreNotJoined) {
   const int g = 2;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   asm_.add_condition("ims2", "kurtosis", kT0, condition_values(g, 0), out);
@@ -321,7 +321,7 @@ TEST(ObservationAssembler, VectorsOfAnotherFeatureOrGroupAreNotJoined) {
 
 TEST(ObservationAssembler, GroupsAndTimeScalesAreSeparateStreams) {
   const int g = 2;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   // Same index on the sample level, the condition level and another group: three observations.
@@ -345,7 +345,7 @@ TEST(ObservationAssembler, GroupsAndTimeScalesAreSeparateStreams) {
 
 TEST(ObservationAssembler, LostOutcomeMessagesDoNotPinMemory) {
   const int g = 3;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   constexpr std::size_t kMaxSets = 8;
   ObservationAssembler asm_(4, kMaxSets);
   std::vector<AssembledObservation> out;
@@ -374,7 +374,7 @@ TEST(ObservationAssembler, LostOutcomeMessagesDoNotPinMemory) {
 
 TEST(ObservationAssembler, ReSentAndReplayedIndicesGiveNoSecondObservation) {
   const int g = 3;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   auto send = [&](std::uint64_t n) {
@@ -394,7 +394,7 @@ TEST(ObservationAssembler, ReSentAndReplayedIndicesGiveNoSecondObservation) {
 
 TEST(ObservationAssembler, ObservationIndexIsTheSnapshotIndexNotACount) {
   const int g = 2;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   // A consumer that joins late sees snapshots 533, 534 and (after a gap in the source) 540.
@@ -411,7 +411,7 @@ TEST(ObservationAssembler, ObservationIndexIsTheSnapshotIndexNotACount) {
 
 TEST(ObservationAssembler, TwoAssetGroupsInterleavedOnBothTimeScales) {
   const int g = 2;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   std::map<std::pair<std::string, int>, std::vector<std::uint64_t>> seen;
@@ -453,7 +453,7 @@ Eigen::MatrixXd block(int d, int k, std::uint64_t index) {
 
 TEST(ObservationAssembler, CovarianceBlocksReachTheObservationInOutcomeOrder) {
   const int g = 4;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   for (causal_twin::TimeScale scale : {causal_twin::SAMPLE_LEVEL, causal_twin::CONDITION_LEVEL}) {
     ObservationAssembler asm_(4);
     std::vector<AssembledObservation> out;
@@ -479,7 +479,7 @@ TEST(ObservationAssembler, CovarianceBlocksReachTheObservationInOutcomeOrder) {
 
 TEST(ObservationAssembler, CovarianceBlocksAreAllOrNothing) {
   const int g = 3;
-  const SvarLayout l = make_layout(g);
+  const estimation::SvarLayout l = make_layout(g);
   ObservationAssembler asm_(4);
   std::vector<AssembledObservation> out;
   // Index 0: outcome 1 without a block. Index 1: outcome 2 with a block of the wrong size.

@@ -15,7 +15,7 @@ namespace {
 constexpr std::int64_t kT0 = 1'077'000'000'000'000'000LL;
 constexpr std::int64_t kStep = 600'000'000'000LL;  // 10 min
 
-dds::FactorMessage message(const SvarLayout& l, int k, std::uint64_t index) {
+dds::FactorMessage message(const estimation::SvarLayout& l, int k, std::uint64_t index) {
   dds::FactorMessage m;
   m.asset_group = "wide";
   m.outcome = k;
@@ -43,11 +43,11 @@ dds::FactorMessage message(const SvarLayout& l, int k, std::uint64_t index) {
 TEST(ObservationAssemblerWindow, EveryVectorOfALongCalibrationWindowIsJoined) {
   constexpr int g = 20;
   constexpr std::uint64_t window = 400, total = 600;
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = g;
   spec.lag_order = 1;
   spec.include_self_lags = true;
-  const SvarLayout l(spec);
+  const estimation::SvarLayout l(spec);
   ObservationAssembler assembler;
   std::vector<AssembledObservation> out;
   auto vector_of = [&](std::uint64_t n) {

@@ -17,8 +17,8 @@ namespace causal::test {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // G channels, lag order M, every other ModelSpec field at its default.
-inline ModelSpec spec_g(int g, int m) {
-  ModelSpec s;
+inline estimation::ModelSpec spec_g(int g, int m) {
+  estimation::ModelSpec s;
   s.channels = g;
   s.lag_order = m;
   return s;
@@ -32,7 +32,7 @@ struct Simulation {
 // x[0] ~ U(-x0_scale, x0_scale) per factor, x[n] = x[n-1] + sqrt(q_k) N(0, 1); y[n] solves the structural
 // equations  y_k = sum_inst x y_j[n] + sum_lagged x y_j[n-l] + e_k,  e_k ~ N(0, r_k), i.e.
 // (I - X0[n]) y[n] = XL[n] y_lags + e[n]. Lags before the start are taken as 0.
-inline Simulation simulate_svar(const SvarLayout& layout, const std::vector<NoiseParams>& noise, int n,
+inline Simulation simulate_svar(const estimation::SvarLayout& layout, const std::vector<estimation::NoiseParams>& noise, int n,
                                 std::uint64_t seed, double x0_scale = 0.15) {
   const int g = layout.channels();
   const int f = layout.total_factors();
@@ -78,7 +78,7 @@ struct DenseReference {
   std::vector<bool> updated;
   std::vector<Eigen::VectorXd> innovations;  // G values where updated
 
-  DenseReference(const SvarLayout& layout, const std::vector<NoiseParams>& noise, const Eigen::MatrixXd& y,
+  DenseReference(const estimation::SvarLayout& layout, const std::vector<estimation::NoiseParams>& noise, const Eigen::MatrixXd& y,
                  const std::vector<bool>& disc = {}) {
     const int g = layout.channels(), f = layout.total_factors(), m = layout.lag_order();
     const int n = static_cast<int>(y.rows());

@@ -77,10 +77,10 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
 }
 
 TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
-  SvarLayout layout(spec);
-  const NoiseParams noise{2e-5, 0.02, 1.0};
+  estimation::SvarLayout layout(spec);
+  const estimation::NoiseParams noise{2e-5, 0.02, 1.0};
   const test::Simulation sim = test::simulate_svar(layout, {noise}, 200, 31);
   std::string csv = "time,alpha,beta,gamma\n";
   for (int n = 0; n < 200; ++n) {
@@ -100,9 +100,9 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
         "x31",    "x32",     "xL31",    "xL32",    "sd_x12",  "sd_x13",  "sd_xL12", "sd_xL13", "sd_x21",
         "sd_x23", "sd_xL21", "sd_xL23", "sd_x31",  "sd_x32",  "sd_xL31", "sd_xL32"};
     EXPECT_EQ(rows[0], expected_header);
-    const EstimationRun ref = estimator == std::string("filter") ? run_filter(layout, {noise}, sim.y)
-                              : estimator == std::string("rts")  ? run_rts_smoother(layout, {noise}, sim.y)
-                                                                 : run_fixed_lag_smoother(layout, {noise}, sim.y, {}, 7);
+    const estimation::EstimationRun ref = estimator == std::string("filter") ? estimation::run_filter(layout, {noise}, sim.y)
+                              : estimator == std::string("rts")  ? estimation::run_rts_smoother(layout, {noise}, sim.y)
+                                                                 : estimation::run_fixed_lag_smoother(layout, {noise}, sim.y, {}, 7);
     for (int n = 0; n < 200; n += 13) {
       ASSERT_EQ(rows[n + 1].size(), 25u);
       EXPECT_EQ(rows[n + 1][0], std::to_string(n));
@@ -121,10 +121,10 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
 // --format columns: the binary column file holds exactly the numbers of the CSV (bit for bit: both are the
 // same run) with the same names and n = i * every, and they are the library's factors.
 TEST_F(CausalOfflineCli, ColumnsFormatHoldsExactlyTheCsvNumbers) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
-  SvarLayout layout(spec);
-  const NoiseParams noise{2e-5, 0.02, 1.0};
+  estimation::SvarLayout layout(spec);
+  const estimation::NoiseParams noise{2e-5, 0.02, 1.0};
   const test::Simulation sim = test::simulate_svar(layout, {noise}, 300, 41);
   std::string csv = "alpha,beta,gamma\n";
   for (int n = 0; n < 300; ++n) csv += number(sim.y(n, 0)) + "," + number(sim.y(n, 1)) + "," + number(sim.y(n, 2)) + "\n";
@@ -135,7 +135,7 @@ TEST_F(CausalOfflineCli, ColumnsFormatHoldsExactlyTheCsvNumbers) {
   const Result res = run("\"" + in.string() + "\" --out \"" + out_cols.string() + "\" --format columns" + common);
   ASSERT_EQ(res.exit_code, 0) << res.err;
   // The log names the kernel variant the loader chose (results repeat bit for bit only within one variant).
-  EXPECT_NE(res.err.find(std::string("; kernels ") + kernel_instruction_set() + "\n"), std::string::npos) << res.err;
+  EXPECT_NE(res.err.find(std::string("; kernels ") + estimation::kernel_instruction_set() + "\n"), std::string::npos) << res.err;
   const auto rows = parse_csv(slurp(out_csv));
   const io::NumericTable cols = io::read_numeric_columns(out_cols.string());
   ASSERT_EQ(rows.size(), 101u);
@@ -145,9 +145,9 @@ TEST_F(CausalOfflineCli, ColumnsFormatHoldsExactlyTheCsvNumbers) {
   EXPECT_EQ(cols.index_start, 0);
   EXPECT_EQ(cols.index_step, 3);
   EXPECT_EQ(cols.names, std::vector<std::string>(rows[0].begin() + 1, rows[0].end()));
-  BatchOutput every3;
+  estimation::BatchOutput every3;
   every3.every = 3;
-  const EstimationRun ref = run_filter(layout, {noise}, sim.y, {}, every3);
+  const estimation::EstimationRun ref = estimation::run_filter(layout, {noise}, sim.y, {}, every3);
   for (int i = 0; i < 100; ++i) {
     EXPECT_EQ(rows[i + 1][0], std::to_string(3 * i));
     for (int c = 0; c < 24; ++c) {
@@ -172,10 +172,10 @@ std::string channels_csv(const Eigen::MatrixXd& y) {
 // Scale invariance end to end: 'beta' in other units (x1e6, x1e-9) gives the factors of the unscaled file
 // times the exact unit relation x_kj -> x_kj s_k / s_j, with fixed and with tuned noise, never NaN.
 TEST_F(CausalOfflineCli, ChannelUnitsDoNotChangeTheFactors) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
-  SvarLayout layout(spec);
-  const test::Simulation sim = test::simulate_svar(layout, {NoiseParams{2e-5, 0.02, 1.0}}, 400, 17);
+  estimation::SvarLayout layout(spec);
+  const test::Simulation sim = test::simulate_svar(layout, {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 400, 17);
   const std::vector<std::string> names = layout.factor_names();
   const fs::path base_in = write("base.csv", channels_csv(sim.y));
   for (const std::string noise : {"", " --auto-noise --calibration-samples 200"}) {
@@ -215,9 +215,9 @@ TEST_F(CausalOfflineCli, ChannelUnitsDoNotChangeTheFactors) {
 }
 
 TEST_F(CausalOfflineCli, DeadOrStuckChannelIsRefusedNamingIt) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
-  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 200, 3);
+  const test::Simulation sim = test::simulate_svar(estimation::SvarLayout(spec), {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 200, 3);
   for (double level : {0.0, 2.5}) {
     Eigen::MatrixXd y = sim.y;
     y.col(1).setConstant(level);
@@ -236,9 +236,9 @@ TEST_F(CausalOfflineCli, DeadOrStuckChannelIsRefusedNamingIt) {
 // Raw units at 1e160 overflow the filter: an error exit naming factor, channel, row and file line; never NaN
 // with exit 0. Standardised, the same file is estimated normally.
 TEST_F(CausalOfflineCli, NonFiniteEstimateExitsNonZeroNamingFactorChannelAndRow) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
-  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 100, 4);
+  const test::Simulation sim = test::simulate_svar(estimation::SvarLayout(spec), {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 100, 4);
   const fs::path in = write("huge.csv", channels_csv(sim.y * 1e160));
   const fs::path out = dir_ / "o.csv";
   Result res = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --no-standardise --estimator filter");
@@ -255,9 +255,9 @@ TEST_F(CausalOfflineCli, NonFiniteEstimateExitsNonZeroNamingFactorChannelAndRow)
 
 // --every K writes samples 0, K, 2K, ... with exactly the values of the full run.
 TEST_F(CausalOfflineCli, EveryKWritesTheFullRunsRows) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
-  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 301, 8);
+  const test::Simulation sim = test::simulate_svar(estimation::SvarLayout(spec), {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 301, 8);
   const fs::path in = write("in.csv", channels_csv(sim.y));
   const fs::path full = dir_ / "full.csv", dec = dir_ / "dec.csv";
   ASSERT_EQ(run("\"" + in.string() + "\" --out \"" + full.string() + "\" --auto-noise").exit_code, 0);
@@ -274,9 +274,9 @@ TEST_F(CausalOfflineCli, EveryKWritesTheFullRunsRows) {
 // causal-recorder's conditions CSV (snapshot,time_ns,time_utc before the channels) read from standard input
 // gives the factors of the plain channels file: the bookkeeping columns are not channels.
 TEST_F(CausalOfflineCli, ReadsARecorderConditionsCsvFromStandardInput) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
-  const test::Simulation sim = test::simulate_svar(SvarLayout(spec), {NoiseParams{2e-5, 0.02, 1.0}}, 120, 5);
+  const test::Simulation sim = test::simulate_svar(estimation::SvarLayout(spec), {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 120, 5);
   const fs::path plain = write("plain.csv", channels_csv(sim.y));
   std::string recorded;
   std::istringstream lines(channels_csv(sim.y));

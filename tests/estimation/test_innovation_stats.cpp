@@ -12,7 +12,7 @@ namespace causal {
 namespace {
 
 TEST(InnovationAccumulator, MeansOfKnownValues) {
-  InnovationAccumulator acc;
+  estimation::InnovationAccumulator acc;
   EXPECT_TRUE(std::isnan(acc.mean()));
   acc.add(1.0, 2.0);   // e^2/s = 0.5
   acc.add(-3.0, 1.0);  // 9
@@ -28,11 +28,11 @@ TEST(InnovationAccumulator, MeansOfKnownValues) {
 }
 
 TEST(InnovationStats, FedFromFilter) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 2;
-  SvarLayout layout(spec);
-  SvarKalmanFilter filter(layout, {NoiseParams{0.5, 1.0, 1.0}});
-  InnovationStats stats(2);
+  estimation::SvarLayout layout(spec);
+  estimation::SvarKalmanFilter filter(layout, {estimation::NoiseParams{0.5, 1.0, 1.0}});
+  estimation::InnovationStats stats(2);
   const double y0[] = {0.0, 1.0}, y1[] = {1.0, 1.0};
   filter.step(y0);
   filter.step(y1);
@@ -45,12 +45,12 @@ TEST(InnovationStats, FedFromFilter) {
 
 TEST(InnovationStats, CheckpointKeepsTheRunningSumsAndChecksTheShape) {
   // An accumulator restored mid-way continues with the same sums (hand-computed means below).
-  InnovationAccumulator a, b;
+  estimation::InnovationAccumulator a, b;
   a.add(1.0, 2.0);
   a.add(-3.0, 1.0);
-  StateWriter w;
+  estimation::StateWriter w;
   a.save(w);
-  StateReader r(w.bytes());
+  estimation::StateReader r(w.bytes());
   b.restore(r);
   b.add(2.0, 4.0);
   a.add(2.0, 4.0);
@@ -60,13 +60,13 @@ TEST(InnovationStats, CheckpointKeepsTheRunningSumsAndChecksTheShape) {
   EXPECT_EQ(b.mean_square(), a.mean_square());
 
   // InnovationStats: one accumulator per outcome; a checkpoint of 2 outcomes does not fit 3.
-  InnovationStats stats(2), same_shape(2);
-  StateWriter ws;
+  estimation::InnovationStats stats(2), same_shape(2);
+  estimation::StateWriter ws;
   stats.save(ws);
-  InnovationStats three(3);
-  StateReader rs(ws.bytes());
-  EXPECT_THROW(three.restore(rs), StateError);
-  StateReader rs2(ws.bytes());
+  estimation::InnovationStats three(3);
+  estimation::StateReader rs(ws.bytes());
+  EXPECT_THROW(three.restore(rs), estimation::StateError);
+  estimation::StateReader rs2(ws.bytes());
   EXPECT_NO_THROW(same_shape.restore(rs2));
   EXPECT_TRUE(rs2.at_end());
 }

@@ -35,7 +35,7 @@ bool has_all(const std::set<std::string>& flags, std::initializer_list<const cha
 
 TEST(KernelDispatch, NamesTheBestVariantTheCpuFlagsAllow) {
 #if !defined(__x86_64__) || !defined(__GNUC__) || defined(__clang__) || defined(CAUSAL_CORE_NO_CLONES)
-  EXPECT_STREQ(causal::kernel_instruction_set(), "baseline");
+  EXPECT_STREQ(causal::estimation::kernel_instruction_set(), "baseline");
 #else
   const std::set<std::string> flags = cpu_flags();
   if (flags.empty()) GTEST_SKIP() << "no /proc/cpuinfo flags";
@@ -43,6 +43,6 @@ TEST(KernelDispatch, NamesTheBestVariantTheCpuFlagsAllow) {
   const bool v3 = has_all(flags, {"avx", "avx2", "bmi1", "bmi2", "f16c", "fma", "abm", "movbe", "xsave"});
   const bool v4 = v3 && has_all(flags, {"avx512f", "avx512bw", "avx512cd", "avx512dq", "avx512vl"});
   const std::string expect = v4 ? "x86-64-v4" : v3 ? "x86-64-v3" : "baseline";
-  EXPECT_EQ(causal::kernel_instruction_set(), expect);
+  EXPECT_EQ(causal::estimation::kernel_instruction_set(), expect);
 #endif
 }

@@ -10,8 +10,8 @@
 namespace causal {
 namespace {
 
-ModelSpec acyclic_spec() {
-  ModelSpec spec;  // G = 4, M = 1, instantaneous links in causal order 1 -> 2 -> 3 -> 4 (see batch test)
+estimation::ModelSpec acyclic_spec() {
+  estimation::ModelSpec spec;  // G = 4, M = 1, instantaneous links in causal order 1 -> 2 -> 3 -> 4 (see batch test)
   spec.instantaneous_allowed = {{false, false, false, false},
                                 {true, false, false, false},
                                 {true, true, false, false},
@@ -24,17 +24,17 @@ ModelSpec acyclic_spec() {
 // the factor increments seen only through noisy regressions; its ML estimate has a relative sd of roughly
 // 20-40 % here, so the test allows a factor of 2.
 TEST(NoiseTuning, RecoversSimulatedQAndR) {
-  SvarLayout layout(acyclic_spec());
-  const std::vector<NoiseParams> truth = {{1e-5, 1e-2, 1.0}, {4e-5, 2e-2, 1.0}, {5e-6, 5e-3, 1.0}, {2e-5, 1e-2, 1.0}};
+  estimation::SvarLayout layout(acyclic_spec());
+  const std::vector<estimation::NoiseParams> truth = {{1e-5, 1e-2, 1.0}, {4e-5, 2e-2, 1.0}, {5e-6, 5e-3, 1.0}, {2e-5, 1e-2, 1.0}};
   const test::Simulation sim = test::simulate_svar(layout, truth, 5000, 2024);
   ASSERT_LT(sim.y.cwiseAbs().maxCoeff(), 10.0);
-  const std::vector<NoiseTuningResult> res = tune_noise_all(layout, sim.y, {});
+  const std::vector<estimation::NoiseTuningResult> res = estimation::tune_noise_all(layout, sim.y, {});
   ASSERT_EQ(res.size(), 4u);
   for (int k = 0; k < 4; ++k) {
     SCOPED_TRACE(res[k].message);
     EXPECT_TRUE(res[k].converged);
     EXPECT_FALSE(res[k].at_range_limit);
-    EXPECT_LE(res[k].evaluations, NoiseTuningOptions{}.max_evaluations);
+    EXPECT_LE(res[k].evaluations, estimation::NoiseTuningOptions{}.max_evaluations);
     EXPECT_NEAR(res[k].noise.r / truth[k].r, 1.0, 0.10) << "outcome " << k;
     EXPECT_GT(res[k].noise.q / truth[k].q, 0.5) << "outcome " << k;
     EXPECT_LT(res[k].noise.q / truth[k].q, 2.0) << "outcome " << k;
@@ -46,39 +46,39 @@ TEST(NoiseTuning, RecoversSimulatedQAndR) {
 // The result is a maximiser of the exact likelihood (not just of the tuner's internal approximation): moving
 // q or r away from it lowers the exact log-likelihood, and the reported value is the exact one.
 TEST(NoiseTuning, ResultMaximisesTheExactLikelihood) {
-  SvarLayout layout(acyclic_spec());
-  const std::vector<NoiseParams> truth = {{2e-5, 1e-2, 1.0}};
+  estimation::SvarLayout layout(acyclic_spec());
+  const std::vector<estimation::NoiseParams> truth = {{2e-5, 1e-2, 1.0}};
   const test::Simulation sim = test::simulate_svar(layout, truth, 3000, 77);
   const int k = 2;
-  const NoiseTuningResult res = tune_noise(layout, k, sim.y, {});
+  const estimation::NoiseTuningResult res = estimation::tune_noise(layout, k, sim.y, {});
   ASSERT_TRUE(res.converged) << res.message;
-  const double ll = innovation_log_likelihood(layout, k, sim.y, {}, res.noise);
+  const double ll = estimation::innovation_log_likelihood(layout, k, sim.y, {}, res.noise);
   EXPECT_NEAR(res.log_likelihood, ll, 1e-9 * std::abs(ll));
   for (double fq : {0.7, 1.4}) {
-    NoiseParams p = res.noise;
+    estimation::NoiseParams p = res.noise;
     p.q *= fq;
-    EXPECT_LT(innovation_log_likelihood(layout, k, sim.y, {}, p), ll) << "q x " << fq;
+    EXPECT_LT(estimation::innovation_log_likelihood(layout, k, sim.y, {}, p), ll) << "q x " << fq;
   }
   for (double fr : {0.95, 1.05}) {
-    NoiseParams p = res.noise;
+    estimation::NoiseParams p = res.noise;
     p.r *= fr;
-    EXPECT_LT(innovation_log_likelihood(layout, k, sim.y, {}, p), ll) << "r x " << fr;
+    EXPECT_LT(estimation::innovation_log_likelihood(layout, k, sim.y, {}, p), ll) << "r x " << fr;
   }
 }
 
 TEST(NoiseTuning, ConstantFactorsGiveTinyRatioAtLowerLimit) {
-  SvarLayout layout(acyclic_spec());
-  const std::vector<NoiseParams> truth = {{0.0, 1e-2, 1.0}};
+  estimation::SvarLayout layout(acyclic_spec());
+  const std::vector<estimation::NoiseParams> truth = {{0.0, 1e-2, 1.0}};
   const test::Simulation sim = test::simulate_svar(layout, truth, 3000, 5);
-  const NoiseTuningResult res = tune_noise(layout, 3, sim.y, {});
+  const estimation::NoiseTuningResult res = estimation::tune_noise(layout, 3, sim.y, {});
   EXPECT_NEAR(res.noise.r / 1e-2, 1.0, 0.10);
   EXPECT_LT(res.noise.q / res.noise.r, 1e-5);  // q is negligible: factors treated as (nearly) constant
 }
 
 TEST(NoiseTuning, TooFewSamplesIsReportedNotThrown) {
-  SvarLayout layout(acyclic_spec());
-  const test::Simulation sim = test::simulate_svar(layout, {NoiseParams{}}, 12, 1);
-  const NoiseTuningResult res = tune_noise(layout, 0, sim.y, {});
+  estimation::SvarLayout layout(acyclic_spec());
+  const test::Simulation sim = test::simulate_svar(layout, {estimation::NoiseParams{}}, 12, 1);
+  const estimation::NoiseTuningResult res = estimation::tune_noise(layout, 0, sim.y, {});
   EXPECT_FALSE(res.converged);
   EXPECT_NE(res.message.find("too few usable samples"), std::string::npos) << res.message;
   EXPECT_EQ(res.evaluations, 0);
@@ -88,11 +88,11 @@ TEST(NoiseTuning, TooFewSamplesIsReportedNotThrown) {
 // every outcome that regresses on channel 2 gets S = inf and a NaN likelihood at that sample, which makes every
 // candidate a FAILED one (never the optimum): not usable either. Nothing usable carries a non-finite value.
 TEST(NoiseTuning, AbsurdValueIsAReportedFailureNotAThrowNorAnInfiniteQ) {
-  SvarLayout layout(acyclic_spec());
-  test::Simulation sim = test::simulate_svar(layout, {NoiseParams{2e-5, 1e-2, 1.0}}, 3000, 17);
+  estimation::SvarLayout layout(acyclic_spec());
+  test::Simulation sim = test::simulate_svar(layout, {estimation::NoiseParams{2e-5, 1e-2, 1.0}}, 3000, 17);
   sim.y(100, 1) = 1e300;
-  std::vector<NoiseTuningResult> res;
-  ASSERT_NO_THROW(res = tune_noise_all(layout, sim.y, {}));
+  std::vector<estimation::NoiseTuningResult> res;
+  ASSERT_NO_THROW(res = estimation::tune_noise_all(layout, sim.y, {}));
   for (int k = 0; k < 4; ++k) {
     SCOPED_TRACE(res[k].message);
     if (res[k].usable) {
@@ -110,10 +110,10 @@ TEST(NoiseTuning, AbsurdValueIsAReportedFailureNotAThrowNorAnInfiniteQ) {
 
 // A dead outcome (identically 0) has no scale to tune r against: reported, not a likelihood at r -> 0.
 TEST(NoiseTuning, DeadOutcomeIsReportedAndTheOthersStillTune) {
-  SvarLayout layout(acyclic_spec());
-  test::Simulation sim = test::simulate_svar(layout, {NoiseParams{2e-5, 1e-2, 1.0}}, 3000, 18);
+  estimation::SvarLayout layout(acyclic_spec());
+  test::Simulation sim = test::simulate_svar(layout, {estimation::NoiseParams{2e-5, 1e-2, 1.0}}, 3000, 18);
   sim.y.col(3).setZero();
-  const std::vector<NoiseTuningResult> res = tune_noise_all(layout, sim.y, {});
+  const std::vector<estimation::NoiseTuningResult> res = estimation::tune_noise_all(layout, sim.y, {});
   EXPECT_FALSE(res[3].usable);
   EXPECT_NE(res[3].message.find("identically zero"), std::string::npos) << res[3].message;
   for (int k = 0; k < 3; ++k) {
@@ -123,13 +123,13 @@ TEST(NoiseTuning, DeadOutcomeIsReportedAndTheOthersStillTune) {
 }
 
 TEST(NoiseTuning, InvalidArgumentsThrow) {
-  SvarLayout layout(acyclic_spec());
+  estimation::SvarLayout layout(acyclic_spec());
   const Eigen::MatrixXd y = Eigen::MatrixXd::Ones(100, 4);
-  EXPECT_THROW(tune_noise(layout, 4, y, {}), std::invalid_argument);
-  NoiseTuningOptions bad;
+  EXPECT_THROW(estimation::tune_noise(layout, 4, y, {}), std::invalid_argument);
+  estimation::NoiseTuningOptions bad;
   bad.log10_ratio_min = 1.0;
-  EXPECT_THROW(tune_noise(layout, 0, y, {}, bad), std::invalid_argument);
-  EXPECT_THROW(tune_noise(layout, 0, Eigen::MatrixXd::Ones(100, 3), {}), std::invalid_argument);
+  EXPECT_THROW(estimation::tune_noise(layout, 0, y, {}, bad), std::invalid_argument);
+  EXPECT_THROW(estimation::tune_noise(layout, 0, Eigen::MatrixXd::Ones(100, 3), {}), std::invalid_argument);
 }
 
 }  // namespace

@@ -24,16 +24,16 @@ TEST(RobustChannelScales, MatchHandComputedValues) {
       3, 0, 5, 0, kNaN, 5,
       -4, 2, 5, 0, kNaN, 5 - 1e-15,
       5, kNaN, 5, 0, kNaN, 5;
-  const ChannelScales s = robust_channel_scales(w);
+  const estimation::ChannelScales s = estimation::robust_channel_scales(w);
   ASSERT_EQ(s.status.size(), 6u);
-  EXPECT_EQ(s.status[0], ScaleStatus::Ok);
+  EXPECT_EQ(s.status[0], estimation::ScaleStatus::Ok);
   EXPECT_DOUBLE_EQ(s.scale[0], 3.0 / 0.6744897501960817);
-  EXPECT_EQ(s.status[1], ScaleStatus::Ok);           // values 0,0,0,2: median |y| = 0 -> rms = sqrt(4/4)
+  EXPECT_EQ(s.status[1], estimation::ScaleStatus::Ok);           // values 0,0,0,2: median |y| = 0 -> rms = sqrt(4/4)
   EXPECT_DOUBLE_EQ(s.scale[1], 1.0);
-  EXPECT_EQ(s.status[2], ScaleStatus::ConstantChannel);
-  EXPECT_EQ(s.status[3], ScaleStatus::ConstantChannel);
-  EXPECT_EQ(s.status[4], ScaleStatus::NoFiniteValues);
-  EXPECT_EQ(s.status[5], ScaleStatus::ConstantChannel);  // spread 6e-16 of its level: rounding, not signal
+  EXPECT_EQ(s.status[2], estimation::ScaleStatus::ConstantChannel);
+  EXPECT_EQ(s.status[3], estimation::ScaleStatus::ConstantChannel);
+  EXPECT_EQ(s.status[4], estimation::ScaleStatus::NoFiniteValues);
+  EXPECT_EQ(s.status[5], estimation::ScaleStatus::ConstantChannel);  // spread 6e-16 of its level: rounding, not signal
   EXPECT_FALSE(s.ok());
   EXPECT_EQ(s.first_refused(), 2);
 }
@@ -41,30 +41,30 @@ TEST(RobustChannelScales, MatchHandComputedValues) {
 TEST(RobustChannelScales, ScaleIsEquivariantUpToTheTopOfTheDoubleRange) {
   Eigen::MatrixXd w(7, 1);
   w << 0.3, -1.2, 2.5, -0.7, 0.1, 4.0, -3.3;
-  const double base = robust_channel_scales(w).scale[0];
+  const double base = estimation::robust_channel_scales(w).scale[0];
   for (double f : {1e-200, 1e-9, 1e6, 1e160, 1e250}) {
-    const ChannelScales s = robust_channel_scales(w * f);
+    const estimation::ChannelScales s = estimation::robust_channel_scales(w * f);
     ASSERT_TRUE(s.ok()) << f;
     EXPECT_NEAR(s.scale[0] / (base * f), 1.0, 1e-15) << f;
   }
-  EXPECT_EQ(robust_channel_scales(w * 1e-300).status[0], ScaleStatus::OutOfRange);
+  EXPECT_EQ(estimation::robust_channel_scales(w * 1e-300).status[0], estimation::ScaleStatus::OutOfRange);
 }
 
 struct Data {
-  SvarLayout layout;
+  estimation::SvarLayout layout;
   Eigen::MatrixXd y;
 };
 
 Data simulated(int n = 800) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 4;
-  SvarLayout layout(spec);
-  const test::Simulation sim = test::simulate_svar(layout, {NoiseParams{1e-6, 0.05, 1.0}}, n, 11);
+  estimation::SvarLayout layout(spec);
+  const test::Simulation sim = test::simulate_svar(layout, {estimation::NoiseParams{1e-6, 0.05, 1.0}}, n, 11);
   return {layout, sim.y};
 }
 
 // Factor column c of `scaled` converted back to the units of the unscaled data: channel ch was multiplied by f.
-double unit_factor(const SvarLayout& layout, Eigen::Index c, int ch, double f) {
+double unit_factor(const estimation::SvarLayout& layout, Eigen::Index c, int ch, double f) {
   int k = 0;
   while (k + 1 < layout.channels() && layout.offset(k + 1) <= c) ++k;
   const int j = layout.regressors(k)[c - layout.offset(k)].channel;
@@ -77,21 +77,21 @@ double unit_factor(const SvarLayout& layout, Eigen::Index c, int ch, double f) {
 TEST(StandardisedEstimation, OneChannelInOtherUnitsGivesTheSameFactorsUpToTheExactScale) {
   const Data d = simulated();
   for (bool auto_noise : {false, true}) {
-    for (EstimatorKind kind : {EstimatorKind::Filter, EstimatorKind::FixedLag, EstimatorKind::Rts}) {
-      StandardisedOptions opt;
+    for (estimation::EstimatorKind kind : {estimation::EstimatorKind::Filter, estimation::EstimatorKind::FixedLag, estimation::EstimatorKind::Rts}) {
+      estimation::StandardisedOptions opt;
       opt.estimator = kind;
       opt.lag = 20;
       opt.auto_noise = auto_noise;
       opt.calibration_samples = 400;
-      const StandardisedRun base = estimate_standardised(d.layout, d.y, {}, opt);
-      ASSERT_EQ(base.status, EstimationStatus::Ok) << base.message;
+      const estimation::StandardisedRun base = estimation::estimate_standardised(d.layout, d.y, {}, opt);
+      ASSERT_EQ(base.status, estimation::EstimationStatus::Ok) << base.message;
       for (double f : {1e6, 1e-9}) {
         SCOPED_TRACE(testing::Message() << "auto_noise " << auto_noise << " estimator " << static_cast<int>(kind)
                                         << " factor " << f);
         Eigen::MatrixXd y = d.y;
         y.col(1) *= f;
-        const StandardisedRun run = estimate_standardised(d.layout, y, {}, opt);
-        ASSERT_EQ(run.status, EstimationStatus::Ok) << run.message;
+        const estimation::StandardisedRun run = estimation::estimate_standardised(d.layout, y, {}, opt);
+        ASSERT_EQ(run.status, estimation::EstimationStatus::Ok) << run.message;
         EXPECT_NEAR(run.scales.scale[1] / (base.scales.scale[1] * f), 1.0, 1e-14);
         double worst = 0.0;
         for (Eigen::Index c = 0; c < base.run.estimates.cols(); ++c) {
@@ -115,13 +115,13 @@ TEST(StandardisedEstimation, OneChannelInOtherUnitsGivesTheSameFactorsUpToTheExa
 
 // The raw (unstandardised) estimate is NOT invariant: this is the failure the standardisation removes.
 TEST(StandardisedEstimation, RawUnitsDependOnTheUnitsAndStandardisedRecoversTheRawAccuracy) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 4;
-  SvarLayout layout(spec);
-  const test::Simulation sim = test::simulate_svar(layout, {NoiseParams{1e-6, 0.05, 1.0}}, 2000, 5);
+  estimation::SvarLayout layout(spec);
+  const test::Simulation sim = test::simulate_svar(layout, {estimation::NoiseParams{1e-6, 0.05, 1.0}}, 2000, 5);
   Eigen::MatrixXd y = sim.y;
   y.col(1) *= 1e6;
-  auto rmse = [&](const StandardisedRun& r, double f) {
+  auto rmse = [&](const estimation::StandardisedRun& r, double f) {
     double ss = 0.0;
     long cnt = 0;
     for (Eigen::Index c = 0; c < sim.x.cols(); ++c) {
@@ -130,14 +130,14 @@ TEST(StandardisedEstimation, RawUnitsDependOnTheUnitsAndStandardisedRecoversTheR
     }
     return std::sqrt(ss / static_cast<double>(cnt));
   };
-  StandardisedOptions opt;
+  estimation::StandardisedOptions opt;
   opt.auto_noise = true;
   opt.calibration_samples = 1000;
   opt.standardise = false;
-  const double raw_unit = rmse(estimate_standardised(layout, sim.y, {}, opt), 1.0);
-  const double raw_scaled = rmse(estimate_standardised(layout, y, {}, opt), 1e6);
+  const double raw_unit = rmse(estimation::estimate_standardised(layout, sim.y, {}, opt), 1.0);
+  const double raw_scaled = rmse(estimation::estimate_standardised(layout, y, {}, opt), 1e6);
   opt.standardise = true;
-  const double std_scaled = rmse(estimate_standardised(layout, y, {}, opt), 1e6);
+  const double std_scaled = rmse(estimation::estimate_standardised(layout, y, {}, opt), 1e6);
   std::cout << "factor RMSE: raw units " << raw_unit << ", raw with channel 2 x1e6 " << raw_scaled
             << ", standardised with channel 2 x1e6 " << std_scaled << "\n";
   EXPECT_GT(raw_scaled, 1.3 * raw_unit);
@@ -150,10 +150,10 @@ TEST(StandardisedEstimation, DeadAndStuckChannelsAreRefusedByName) {
     Eigen::MatrixXd y = d.y;
     y.col(2).setConstant(level);
     for (bool auto_noise : {false, true}) {
-      StandardisedOptions opt;
+      estimation::StandardisedOptions opt;
       opt.auto_noise = auto_noise;
-      const StandardisedRun run = estimate_standardised(d.layout, y, {}, opt, {"a", "b", "c", "d"});
-      EXPECT_EQ(run.status, EstimationStatus::ConstantChannel);
+      const estimation::StandardisedRun run = estimation::estimate_standardised(d.layout, y, {}, opt, {"a", "b", "c", "d"});
+      EXPECT_EQ(run.status, estimation::EstimationStatus::ConstantChannel);
       EXPECT_EQ(run.channel, 2);
       EXPECT_NE(run.message.find("channel 3 'c' is constant"), std::string::npos) << run.message;
       EXPECT_EQ(run.run.estimates.size(), 0);
@@ -162,19 +162,19 @@ TEST(StandardisedEstimation, DeadAndStuckChannelsAreRefusedByName) {
   // Dead only in the calibration window: refused too (its factors would be learned from nothing).
   Eigen::MatrixXd y = d.y;
   y.block(0, 0, 100, 1).setZero();
-  StandardisedOptions opt;
+  estimation::StandardisedOptions opt;
   opt.calibration_samples = 100;
-  EXPECT_EQ(estimate_standardised(d.layout, y, {}, opt).status, EstimationStatus::ConstantChannel);
+  EXPECT_EQ(estimation::estimate_standardised(d.layout, y, {}, opt).status, estimation::EstimationStatus::ConstantChannel);
 }
 
 TEST(StandardisedEstimation, NonFiniteEstimateIsAStatusNamingFactorChannelAndRow) {
   Data d = simulated(200);
   d.y *= 1e160;  // raw units: h^T P h overflows at the first update
-  StandardisedOptions opt;
+  estimation::StandardisedOptions opt;
   opt.standardise = false;
-  opt.estimator = EstimatorKind::Filter;
-  const StandardisedRun raw = estimate_standardised(d.layout, d.y, {}, opt, {"a", "b", "c", "d"});
-  ASSERT_EQ(raw.status, EstimationStatus::NonFiniteOutput);
+  opt.estimator = estimation::EstimatorKind::Filter;
+  const estimation::StandardisedRun raw = estimation::estimate_standardised(d.layout, d.y, {}, opt, {"a", "b", "c", "d"});
+  ASSERT_EQ(raw.status, estimation::EstimationStatus::NonFiniteOutput);
   EXPECT_EQ(raw.row, 1);  // row 0 is warm-up (M = 1): the prediction, still finite
   EXPECT_EQ(raw.channel, 0);
   EXPECT_EQ(raw.factor, "x12");
@@ -183,8 +183,8 @@ TEST(StandardisedEstimation, NonFiniteEstimateIsAStatusNamingFactorChannelAndRow
       << raw.message;
   // Standardised, the same data is an ordinary estimate.
   opt.standardise = true;
-  const StandardisedRun fine = estimate_standardised(d.layout, d.y, {}, opt);
-  EXPECT_EQ(fine.status, EstimationStatus::Ok) << fine.message;
+  const estimation::StandardisedRun fine = estimation::estimate_standardised(d.layout, d.y, {}, opt);
+  EXPECT_EQ(fine.status, estimation::EstimationStatus::Ok) << fine.message;
   EXPECT_TRUE(fine.run.estimates.allFinite());
 }
 

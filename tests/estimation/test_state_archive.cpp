@@ -19,7 +19,7 @@ std::string temp_path(const std::string& name) {
 }
 
 TEST(StateArchive, RoundTripIsBitExact) {
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   w.begin("Thing", 3);
   const Eigen::MatrixXd m = Eigen::MatrixXd::Random(3, 5);
   const Eigen::VectorXd v = Eigen::VectorXd::Random(7);
@@ -35,7 +35,7 @@ TEST(StateArchive, RoundTripIsBitExact) {
   w.put(std::vector<bool>{true, false, true});
   w.put(std::vector<std::string>{"a", "", "c"});
 
-  causal::StateReader r(w.bytes());
+  causal::estimation::StateReader r(w.bytes());
   r.expect("Thing", 3);
   Eigen::MatrixXd m2;
   Eigen::VectorXd v2;
@@ -56,32 +56,32 @@ TEST(StateArchive, RoundTripIsBitExact) {
 }
 
 TEST(StateArchive, WrongTagOrVersionOrTruncationThrows) {
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   w.begin("Filter", 1);
   w.put(2.0);
   {
-    causal::StateReader r(w.bytes());
-    EXPECT_THROW(r.expect("Smoother", 1), causal::StateError);
+    causal::estimation::StateReader r(w.bytes());
+    EXPECT_THROW(r.expect("Smoother", 1), causal::estimation::StateError);
   }
   {
-    causal::StateReader r(w.bytes());
-    EXPECT_THROW(r.expect("Filter", 2), causal::StateError);
+    causal::estimation::StateReader r(w.bytes());
+    EXPECT_THROW(r.expect("Filter", 2), causal::estimation::StateError);
   }
   {
-    causal::StateReader r(w.bytes().substr(0, w.bytes().size() - 1));
+    causal::estimation::StateReader r(w.bytes().substr(0, w.bytes().size() - 1));
     r.expect("Filter", 1);
-    EXPECT_THROW(r.get<double>(), causal::StateError);
+    EXPECT_THROW(r.get<double>(), causal::estimation::StateError);
   }
 }
 
 TEST(StateArchive, FileRoundTripAndDamage) {
   const std::string path = temp_path("a.state");
-  EXPECT_FALSE(causal::load_state_file(path).has_value());
-  causal::save_state_file(path, "payload bytes");
+  EXPECT_FALSE(causal::estimation::load_state_file(path).has_value());
+  causal::estimation::save_state_file(path, "payload bytes");
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
-  EXPECT_EQ("payload bytes", causal::load_state_file(path).value());
-  causal::save_state_file(path, "second");  // replaces atomically
-  EXPECT_EQ("second", causal::load_state_file(path).value());
+  EXPECT_EQ("payload bytes", causal::estimation::load_state_file(path).value());
+  causal::estimation::save_state_file(path, "second");  // replaces atomically
+  EXPECT_EQ("second", causal::estimation::load_state_file(path).value());
 
   // Flip one payload byte: checksum mismatch.
   {
@@ -89,20 +89,20 @@ TEST(StateArchive, FileRoundTripAndDamage) {
     f.seekp(-1, std::ios::end);
     f.put('X');
   }
-  EXPECT_THROW(causal::load_state_file(path), causal::StateError);
+  EXPECT_THROW(causal::estimation::load_state_file(path), causal::estimation::StateError);
   // Truncated.
-  causal::save_state_file(path, "second");
+  causal::estimation::save_state_file(path, "second");
   std::filesystem::resize_file(path, std::filesystem::file_size(path) - 2);
-  EXPECT_THROW(causal::load_state_file(path), causal::StateError);
+  EXPECT_THROW(causal::estimation::load_state_file(path), causal::estimation::StateError);
   // Not a checkpoint at all.
   {
     std::ofstream f(path, std::ios::trunc);
     f << "timestamp,bearing1\n";
   }
   try {
-    causal::load_state_file(path);
+    causal::estimation::load_state_file(path);
     FAIL() << "expected StateError";
-  } catch (const causal::StateError& e) {
+  } catch (const causal::estimation::StateError& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
   }
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());

@@ -42,14 +42,14 @@ using test::spec_g;
 //              x = (0.6 - 1.2 * 11/37, -1.2 * 10/37) = (9/37, -12/37);
 //              P11 = 1.1 - 4.84 / 7.4 = 33/74, P12 = -4.4 / 7.4 = -22/37, P22 = 2 - 4 / 7.4 = 54/37.
 TEST(SvarKalmanFilter, HandComputedTwoSteps) {
-  SvarLayout layout(spec_g(2, 1));
-  SvarKalmanFilter filter(layout, {NoiseParams{0.5, 1.0, 1.0}});
+  estimation::SvarLayout layout(spec_g(2, 1));
+  estimation::SvarKalmanFilter filter(layout, {estimation::NoiseParams{0.5, 1.0, 1.0}});
   const double y0[] = {0.0, 1.0}, y1[] = {1.0, 1.0}, y2[] = {2.0, 0.0};
 
-  EXPECT_EQ(filter.step(y0), SampleStatus::WarmUp);
+  EXPECT_EQ(filter.step(y0), estimation::SampleStatus::WarmUp);
   ASSERT_MATRIX_NEAR(filter.covariance(0), Eigen::Matrix2d::Identity(), 0.0);
 
-  EXPECT_EQ(filter.step(y1), SampleStatus::Updated);
+  EXPECT_EQ(filter.step(y1), estimation::SampleStatus::Updated);
   EXPECT_NEAR(filter.last_innovation(0), 1.0, 1e-15);
   EXPECT_NEAR(filter.last_innovation_variance(0), 4.0, 1e-15);
   ASSERT_MATRIX_NEAR(filter.estimate(0), Eigen::Vector2d(0.375, 0.375), 1e-15);
@@ -60,7 +60,7 @@ TEST(SvarKalmanFilter, HandComputedTwoSteps) {
   ASSERT_MATRIX_NEAR(filter.estimate(1), Eigen::Vector2d(0.6, 0.0), 1e-15);
   ASSERT_MATRIX_NEAR(filter.covariance(1), Eigen::Vector2d(0.6, 1.5).asDiagonal().toDenseMatrix(), 1e-15);
 
-  EXPECT_EQ(filter.step(y2), SampleStatus::Updated);
+  EXPECT_EQ(filter.step(y2), estimation::SampleStatus::Updated);
   EXPECT_NEAR(filter.last_innovation(0), 13.0 / 8.0, 1e-14);
   EXPECT_NEAR(filter.last_innovation_variance(0), 39.0 / 16.0, 1e-14);
   ASSERT_MATRIX_NEAR(filter.estimate(0), Eigen::Vector2d(0.0, 4.0 / 3.0), 1e-14);
@@ -88,8 +88,8 @@ TEST(SvarKalmanFilter, HandComputedTwoSteps) {
 // The split filter must equal the dense stacked 24-state filter (block-diagonal H[n], dense P), including
 // warm-up, discontinuities and rejected samples, with different noise per outcome.
 TEST(SvarKalmanFilter, SplitEqualsDenseStackedFilter) {
-  SvarLayout layout(spec_g(4, 1));
-  const std::vector<NoiseParams> noise = {{1e-4, 0.02, 1.0}, {1e-3, 0.05, 0.5}, {1e-5, 0.01, 2.0}, {0.0, 0.1, 1.0}};
+  estimation::SvarLayout layout(spec_g(4, 1));
+  const std::vector<estimation::NoiseParams> noise = {{1e-4, 0.02, 1.0}, {1e-3, 0.05, 0.5}, {1e-5, 0.01, 2.0}, {0.0, 0.1, 1.0}};
   test::Simulation sim = test::simulate_svar(layout, noise, 400, 11);
   sim.y(100, 2) = kNaN;
   sim.y(250, 0) = std::numeric_limits<double>::infinity();
@@ -98,11 +98,11 @@ TEST(SvarKalmanFilter, SplitEqualsDenseStackedFilter) {
   disc[181] = true;  // consecutive flags: each restarts
   const test::DenseReference ref(layout, noise, sim.y, disc);
 
-  SvarKalmanFilter filter(layout, noise);
+  estimation::SvarKalmanFilter filter(layout, noise);
   for (int n = 0; n < 400; ++n) {
     const Eigen::RowVectorXd row = sim.y.row(n);
-    const SampleStatus st = filter.step(row.data(), disc[n]);
-    ASSERT_EQ(st == SampleStatus::Updated, ref.updated[n]) << "n = " << n;
+    const estimation::SampleStatus st = filter.step(row.data(), disc[n]);
+    ASSERT_EQ(st == estimation::SampleStatus::Updated, ref.updated[n]) << "n = " << n;
     Eigen::VectorXd x(24);
     filter.estimates(x.data());
     ASSERT_MATRIX_NEAR(x, ref.x_filt[n], 1e-10);
@@ -123,8 +123,8 @@ TEST(SvarKalmanFilter, SplitEqualsDenseStackedFilter) {
 // After a discontinuity (M = 1) the flagged sample only fills the history; the next update regresses on the
 // flagged sample, never on the one before the gap.
 TEST(SvarKalmanFilter, DiscontinuityRestartsLagHistory) {
-  SvarLayout layout(spec_g(3, 1));
-  SvarKalmanFilter filter(layout, {NoiseParams{1e-3, 0.1, 1.0}});
+  estimation::SvarLayout layout(spec_g(3, 1));
+  estimation::SvarKalmanFilter filter(layout, {estimation::NoiseParams{1e-3, 0.1, 1.0}});
   std::mt19937_64 rng(3);
   std::normal_distribution<double> normal;
   Eigen::MatrixXd y(60, 3);
@@ -136,11 +136,11 @@ TEST(SvarKalmanFilter, DiscontinuityRestartsLagHistory) {
   }
   const Eigen::VectorXd before = filter.estimate(0);
   Eigen::RowVectorXd row = y.row(30);
-  EXPECT_EQ(filter.step(row.data(), true), SampleStatus::WarmUp);
+  EXPECT_EQ(filter.step(row.data(), true), estimation::SampleStatus::WarmUp);
   ASSERT_MATRIX_NEAR(filter.estimate(0), before, 0.0);  // no update
   const double innov_before = filter.last_innovation(0);
   row = y.row(31);
-  EXPECT_EQ(filter.step(row.data()), SampleStatus::Updated);
+  EXPECT_EQ(filter.step(row.data()), estimation::SampleStatus::Updated);
   // outcome 1: h = (y2[31], y3[31], y2[30], y3[30])
   const Eigen::Vector4d h(y(31, 1), y(31, 2), y(30, 1), y(30, 2));
   const Eigen::Vector4d h_spanning(y(31, 1), y(31, 2), y(29, 1), y(29, 2));
@@ -149,25 +149,25 @@ TEST(SvarKalmanFilter, DiscontinuityRestartsLagHistory) {
   EXPECT_NE(filter.last_innovation(0), innov_before);
 
   // M = 3: the flagged sample and the next two are warm-up.
-  ModelSpec s3 = spec_g(3, 3);
-  SvarKalmanFilter f3(SvarLayout(s3), {NoiseParams{}});
-  std::vector<SampleStatus> got;
+  estimation::ModelSpec s3 = spec_g(3, 3);
+  estimation::SvarKalmanFilter f3(estimation::SvarLayout(s3), {estimation::NoiseParams{}});
+  std::vector<estimation::SampleStatus> got;
   for (int n = 0; n < 12; ++n) {
     row = y.row(n);
     got.push_back(f3.step(row.data(), n == 6));
   }
-  const std::vector<SampleStatus> expected = {
-      SampleStatus::WarmUp,  SampleStatus::WarmUp,  SampleStatus::WarmUp,  SampleStatus::Updated,
-      SampleStatus::Updated, SampleStatus::Updated, SampleStatus::WarmUp,  SampleStatus::WarmUp,
-      SampleStatus::WarmUp,  SampleStatus::Updated, SampleStatus::Updated, SampleStatus::Updated};
+  const std::vector<estimation::SampleStatus> expected = {
+      estimation::SampleStatus::WarmUp,  estimation::SampleStatus::WarmUp,  estimation::SampleStatus::WarmUp,  estimation::SampleStatus::Updated,
+      estimation::SampleStatus::Updated, estimation::SampleStatus::Updated, estimation::SampleStatus::WarmUp,  estimation::SampleStatus::WarmUp,
+      estimation::SampleStatus::WarmUp,  estimation::SampleStatus::Updated, estimation::SampleStatus::Updated, estimation::SampleStatus::Updated};
   EXPECT_EQ(got, expected);
 }
 
 // Non-finite samples: rejected and counted; time still passes (P += q I); the next M samples re-fill history.
 TEST(SvarKalmanFilter, NonFiniteSamplesAreRejectedAndCounted) {
-  SvarLayout layout(spec_g(3, 2));
+  estimation::SvarLayout layout(spec_g(3, 2));
   const double q = 1e-3;
-  SvarKalmanFilter filter(layout, {NoiseParams{q, 0.1, 1.0}});
+  estimation::SvarKalmanFilter filter(layout, {estimation::NoiseParams{q, 0.1, 1.0}});
   std::mt19937_64 rng(5);
   std::normal_distribution<double> normal;
   double y[3];
@@ -178,17 +178,17 @@ TEST(SvarKalmanFilter, NonFiniteSamplesAreRejectedAndCounted) {
   const Eigen::MatrixXd p_before = filter.covariance(1);
   const Eigen::VectorXd x_before = filter.estimate(1);
   y[1] = kNaN;
-  EXPECT_EQ(filter.step(y), SampleStatus::RejectedNonFinite);
+  EXPECT_EQ(filter.step(y), estimation::SampleStatus::RejectedNonFinite);
   const Eigen::MatrixXd expected_p =
       p_before + q * Eigen::MatrixXd::Identity(p_before.rows(), p_before.cols());
   ASSERT_MATRIX_NEAR(filter.covariance(1), expected_p, 1e-15);
   ASSERT_MATRIX_NEAR(filter.estimate(1), x_before, 0.0);
   y[1] = -std::numeric_limits<double>::infinity();
-  EXPECT_EQ(filter.step(y), SampleStatus::RejectedNonFinite);
+  EXPECT_EQ(filter.step(y), estimation::SampleStatus::RejectedNonFinite);
   for (double& v : y) v = normal(rng);
-  EXPECT_EQ(filter.step(y), SampleStatus::WarmUp);
-  EXPECT_EQ(filter.step(y), SampleStatus::WarmUp);
-  EXPECT_EQ(filter.step(y), SampleStatus::Updated);
+  EXPECT_EQ(filter.step(y), estimation::SampleStatus::WarmUp);
+  EXPECT_EQ(filter.step(y), estimation::SampleStatus::WarmUp);
+  EXPECT_EQ(filter.step(y), estimation::SampleStatus::Updated);
   EXPECT_EQ(filter.counters().rejected_non_finite, 2u);
   EXPECT_EQ(filter.counters().warm_up, 2u + 2u);
   EXPECT_EQ(filter.counters().updated, 18u + 1u);
@@ -198,8 +198,8 @@ TEST(SvarKalmanFilter, NonFiniteSamplesAreRejectedAndCounted) {
 // 200 000 steps with tight measurement noise, tiny q, nearly collinear channels: every P_k stays symmetric
 // positive definite.
 TEST(SvarKalmanFilter, CovarianceStaysSymmetricPositiveDefiniteOverLongRuns) {
-  SvarLayout layout(spec_g(4, 1));
-  SvarKalmanFilter filter(layout, {NoiseParams{1e-10, 1e-8, 1.0}});
+  estimation::SvarLayout layout(spec_g(4, 1));
+  estimation::SvarKalmanFilter filter(layout, {estimation::NoiseParams{1e-10, 1e-8, 1.0}});
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal;
   double y[4];
@@ -224,7 +224,7 @@ TEST(SvarKalmanFilter, CovarianceStaysSymmetricPositiveDefiniteOverLongRuns) {
 // Masks give outcomes of different dimensions (separate SIMD lane groups) and one outcome without factors
 // (its innovation is y itself): still identical to the dense stacked filter.
 TEST(SvarKalmanFilter, MixedDimensionsAndEmptyOutcomeMatchDense) {
-  ModelSpec spec = spec_g(5, 2);
+  estimation::ModelSpec spec = spec_g(5, 2);
   spec.allowed.assign(5, std::vector<bool>(5, true));
   spec.allowed[0] = {true, false, false, false, false};  // outcome 1: no parents at all -> no factors
   spec.instantaneous_allowed = {{false, false, false, false, false},
@@ -233,20 +233,20 @@ TEST(SvarKalmanFilter, MixedDimensionsAndEmptyOutcomeMatchDense) {
                                 {true, true, true, false, false},
                                 {true, true, true, true, false}};
   spec.include_self_lags = true;
-  SvarLayout layout(spec);
+  estimation::SvarLayout layout(spec);
   ASSERT_EQ(layout.factor_count(0), 2);  // only the self lags survive
   spec.include_self_lags = false;
-  SvarLayout no_self(spec);
+  estimation::SvarLayout no_self(spec);
   ASSERT_EQ(no_self.factor_count(0), 0);
-  for (const SvarLayout* l : {&layout, &no_self}) {
-    const std::vector<NoiseParams> noise = {{1e-4, 0.02, 1.0}, {1e-3, 0.05, 0.5}, {1e-5, 0.01, 2.0},
+  for (const estimation::SvarLayout* l : {&layout, &no_self}) {
+    const std::vector<estimation::NoiseParams> noise = {{1e-4, 0.02, 1.0}, {1e-3, 0.05, 0.5}, {1e-5, 0.01, 2.0},
                                             {0.0, 0.1, 1.0}, {2e-4, 0.03, 1.5}};
     test::Simulation sim = test::simulate_svar(*l, noise, 250, 17, 0.1);
     sim.y(90, 4) = kNaN;
     std::vector<bool> disc(250, false);
     disc[150] = true;
     const test::DenseReference ref(*l, noise, sim.y, disc);
-    SvarKalmanFilter filter(*l, noise);
+    estimation::SvarKalmanFilter filter(*l, noise);
     Eigen::VectorXd x(l->total_factors());
     for (int n = 0; n < 250; ++n) {
       const Eigen::RowVectorXd row = sim.y.row(n);
@@ -269,12 +269,12 @@ TEST(SvarKalmanFilter, MixedDimensionsAndEmptyOutcomeMatchDense) {
 
 TEST(SvarKalmanFilter, GenericDimensionPathMatchesDenseReference) {
   // G = 6, M = 2: 15 factors per outcome, beyond the fixed-size kernels (<= 14).
-  SvarLayout layout(spec_g(6, 2));
+  estimation::SvarLayout layout(spec_g(6, 2));
   ASSERT_GT(layout.factor_count(0), 14);
-  const std::vector<NoiseParams> noise = {{1e-4, 0.05, 1.0}};
+  const std::vector<estimation::NoiseParams> noise = {{1e-4, 0.05, 1.0}};
   const test::Simulation sim = test::simulate_svar(layout, noise, 120, 21, 0.05);
   const test::DenseReference ref(layout, noise, sim.y);
-  SvarKalmanFilter filter(layout, noise);
+  estimation::SvarKalmanFilter filter(layout, noise);
   Eigen::VectorXd x(layout.total_factors());
   for (int n = 0; n < 120; ++n) {
     const Eigen::RowVectorXd row = sim.y.row(n);
@@ -290,14 +290,14 @@ TEST(SvarKalmanFilter, GenericDimensionPathMatchesDenseReference) {
 TEST(SvarKalmanFilter, FixedKernelsOfDimension13And14MatchDenseReference) {
   for (const auto& [g, self_lags, d] : {std::tuple{7, true, 13}, std::tuple{8, false, 14}}) {
     SCOPED_TRACE("d = " + std::to_string(d));
-    ModelSpec spec = spec_g(g, 1);
+    estimation::ModelSpec spec = spec_g(g, 1);
     spec.include_self_lags = self_lags;
-    SvarLayout layout(spec);
+    estimation::SvarLayout layout(spec);
     ASSERT_EQ(layout.factor_count(0), d);
-    const std::vector<NoiseParams> noise = {{1e-4, 0.05, 1.0}};
+    const std::vector<estimation::NoiseParams> noise = {{1e-4, 0.05, 1.0}};
     const test::Simulation sim = test::simulate_svar(layout, noise, 150, 23, 0.05);
     const test::DenseReference ref(layout, noise, sim.y);
-    SvarKalmanFilter filter(layout, noise);
+    estimation::SvarKalmanFilter filter(layout, noise);
     Eigen::VectorXd x(layout.total_factors());
     for (int n = 0; n < 150; ++n) {
       const Eigen::RowVectorXd row = sim.y.row(n);
@@ -306,14 +306,14 @@ TEST(SvarKalmanFilter, FixedKernelsOfDimension13And14MatchDenseReference) {
       ASSERT_MATRIX_NEAR(x, ref.x_filt[n], 1e-10);
     }
     ASSERT_MATRIX_NEAR(filter.covariance(g - 1), ref.p_filt[149].bottomRightCorner(d, d), 1e-10);
-    const EstimationRun rts = run_rts_smoother(layout, noise, sim.y);
+    const estimation::EstimationRun rts = estimation::run_rts_smoother(layout, noise, sim.y);
     for (int n = 0; n < 150; n += 7) ASSERT_MATRIX_NEAR(rts.estimates.row(n).transpose(), ref.x_smooth[n], 1e-9);
   }
 }
 
 TEST(SvarKalmanFilter, ResetRestoresPriorAndSetNoiseApplies) {
-  SvarLayout layout(spec_g(2, 1));
-  SvarKalmanFilter filter(layout, {NoiseParams{0.5, 1.0, 2.0}});
+  estimation::SvarLayout layout(spec_g(2, 1));
+  estimation::SvarKalmanFilter filter(layout, {estimation::NoiseParams{0.5, 1.0, 2.0}});
   const double y[] = {1.0, 2.0};
   filter.step(y);
   filter.step(y);
@@ -322,7 +322,7 @@ TEST(SvarKalmanFilter, ResetRestoresPriorAndSetNoiseApplies) {
   EXPECT_EQ(filter.samples_seen(), 0u);
   ASSERT_MATRIX_NEAR(filter.covariance(0), 2.0 * Eigen::Matrix2d::Identity(), 0.0);
   EXPECT_TRUE(std::isnan(filter.last_innovation(0)));
-  filter.set_noise(1, NoiseParams{0.25, 1.0, 3.0});
+  filter.set_noise(1, estimation::NoiseParams{0.25, 1.0, 3.0});
   filter.step(y);
   filter.step(y);  // predict adds the new q = 0.25 for outcome 2 before the update
   // outcome 2: P = 2.25 I, h = (1, 1): S = 4.5 + 1
@@ -331,14 +331,14 @@ TEST(SvarKalmanFilter, ResetRestoresPriorAndSetNoiseApplies) {
 }
 
 TEST(SvarKalmanFilter, InvalidNoiseThrows) {
-  SvarLayout layout(spec_g(3, 1));
-  EXPECT_THROW(SvarKalmanFilter(layout, {}), std::invalid_argument);
-  EXPECT_THROW(SvarKalmanFilter(layout, {NoiseParams{}, NoiseParams{}}), std::invalid_argument);
-  EXPECT_THROW(SvarKalmanFilter(layout, {NoiseParams{-1.0, 1.0, 1.0}}), std::invalid_argument);
-  EXPECT_THROW(SvarKalmanFilter(layout, {NoiseParams{0.0, 0.0, 1.0}}), std::invalid_argument);
-  EXPECT_THROW(SvarKalmanFilter(layout, {NoiseParams{0.0, 1.0, kNaN}}), std::invalid_argument);
+  estimation::SvarLayout layout(spec_g(3, 1));
+  EXPECT_THROW(estimation::SvarKalmanFilter(layout, {}), std::invalid_argument);
+  EXPECT_THROW(estimation::SvarKalmanFilter(layout, {estimation::NoiseParams{}, estimation::NoiseParams{}}), std::invalid_argument);
+  EXPECT_THROW(estimation::SvarKalmanFilter(layout, {estimation::NoiseParams{-1.0, 1.0, 1.0}}), std::invalid_argument);
+  EXPECT_THROW(estimation::SvarKalmanFilter(layout, {estimation::NoiseParams{0.0, 0.0, 1.0}}), std::invalid_argument);
+  EXPECT_THROW(estimation::SvarKalmanFilter(layout, {estimation::NoiseParams{0.0, 1.0, kNaN}}), std::invalid_argument);
   try {
-    SvarKalmanFilter f(layout, {NoiseParams{}, NoiseParams{}, NoiseParams{1e-6, -2.0, 1.0}});
+    estimation::SvarKalmanFilter f(layout, {estimation::NoiseParams{}, estimation::NoiseParams{}, estimation::NoiseParams{1e-6, -2.0, 1.0}});
     ADD_FAILURE();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("noise[2].r = -2"), std::string::npos) << e.what();
@@ -349,13 +349,13 @@ TEST(SvarKalmanFilter, InvalidNoiseThrows) {
 // checkpoint) continues bit for bit like the uninterrupted one, for every cut of a run with a discontinuity,
 // a rejected sample, lag order 2 and outcomes of different dimension (lane padding). Another model throws.
 TEST(SvarKalmanFilterCheckpoint, RestoredFilterContinuesBitForBit) {
-  ModelSpec spec = spec_g(5, 2);
+  estimation::ModelSpec spec = spec_g(5, 2);
   spec.instantaneous_allowed.assign(5, std::vector<bool>(5, true));
   spec.instantaneous_allowed[0][3] = false;  // outcomes 0 and 2 lose a factor: two lane groups
   spec.instantaneous_allowed[2][1] = false;
-  const SvarLayout layout(spec);
-  std::vector<NoiseParams> noise;
-  for (int k = 0; k < 5; ++k) noise.push_back(NoiseParams{1e-5 * (k + 1), 0.05 + 0.01 * k, 0.7});
+  const estimation::SvarLayout layout(spec);
+  std::vector<estimation::NoiseParams> noise;
+  for (int k = 0; k < 5; ++k) noise.push_back(estimation::NoiseParams{1e-5 * (k + 1), 0.05 + 0.01 * k, 0.7});
   const auto sim = test::simulate_svar(layout, noise, 120, 8);
   Eigen::MatrixXd y = sim.y;
   y(40, 2) = kNaN;
@@ -365,16 +365,16 @@ TEST(SvarKalmanFilterCheckpoint, RestoredFilterContinuesBitForBit) {
   };
   for (int cut : {0, 1, 2, 39, 40, 41, 70, 71, 119}) {
     SCOPED_TRACE("cut at " + std::to_string(cut));
-    SvarKalmanFilter whole(layout, noise), first(layout, noise);
+    estimation::SvarKalmanFilter whole(layout, noise), first(layout, noise);
     for (int n = 0; n < cut; ++n) {
       const Eigen::RowVectorXd row = y.row(n);
       whole.step(row.data(), disc(n));
       first.step(row.data(), disc(n));
     }
-    StateWriter w;
+    estimation::StateWriter w;
     first.save(w);
-    SvarKalmanFilter restored(layout, {NoiseParams{1.0, 1.0, 1.0}});
-    StateReader r(w.bytes());
+    estimation::SvarKalmanFilter restored(layout, {estimation::NoiseParams{1.0, 1.0, 1.0}});
+    estimation::StateReader r(w.bytes());
     restored.restore(r);
     EXPECT_TRUE(r.at_end());
     for (int n = cut; n < 120; ++n) {
@@ -396,15 +396,15 @@ TEST(SvarKalmanFilterCheckpoint, RestoredFilterContinuesBitForBit) {
 }
 
 TEST(SvarKalmanFilterCheckpoint, AnotherModelOrADamagedCheckpointThrows) {
-  SvarKalmanFilter filter(SvarLayout(spec_g(4, 1)), {NoiseParams{}});
-  StateWriter w;
+  estimation::SvarKalmanFilter filter(estimation::SvarLayout(spec_g(4, 1)), {estimation::NoiseParams{}});
+  estimation::StateWriter w;
   filter.save(w);
-  auto message = [&](const ModelSpec& spec) -> std::string {
-    SvarKalmanFilter other(SvarLayout(spec), {NoiseParams{}});
-    StateReader r(w.bytes());
+  auto message = [&](const estimation::ModelSpec& spec) -> std::string {
+    estimation::SvarKalmanFilter other(estimation::SvarLayout(spec), {estimation::NoiseParams{}});
+    estimation::StateReader r(w.bytes());
     try {
       other.restore(r);
-    } catch (const StateError& e) {
+    } catch (const estimation::StateError& e) {
       return e.what();
     }
     return "no error";
@@ -412,9 +412,9 @@ TEST(SvarKalmanFilterCheckpoint, AnotherModelOrADamagedCheckpointThrows) {
   EXPECT_EQ(message(spec_g(8, 1)), "checkpoint has 4 channels, this filter has 8");
   EXPECT_EQ(message(spec_g(4, 2)), "checkpoint has lag order 1, this filter has 2");
   for (std::size_t n = 0; n < w.bytes().size(); n += 7) {
-    SvarKalmanFilter other(SvarLayout(spec_g(4, 1)), {NoiseParams{}});
-    StateReader r(w.bytes().substr(0, n));
-    EXPECT_THROW(other.restore(r), StateError) << "truncated to " << n;
+    estimation::SvarKalmanFilter other(estimation::SvarLayout(spec_g(4, 1)), {estimation::NoiseParams{}});
+    estimation::StateReader r(w.bytes().substr(0, n));
+    EXPECT_THROW(other.restore(r), estimation::StateError) << "truncated to " << n;
   }
 }
 

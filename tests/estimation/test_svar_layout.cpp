@@ -14,8 +14,8 @@ namespace {
 using Names = std::vector<std::string>;
 
 TEST(SvarLayout, FourChannelsLagOneNamesAndOrder) {
-  ModelSpec spec;  // G = 4, M = 1
-  SvarLayout layout(spec);
+  estimation::ModelSpec spec;  // G = 4, M = 1
+  estimation::SvarLayout layout(spec);
   const Names expected = {"x12",  "x13",  "x14",  "xL12", "xL13", "xL14", "x21",  "x23",
                           "x24",  "xL21", "xL23", "xL24", "x31",  "x32",  "x34",  "xL31",
                           "xL32", "xL34", "x41",  "x42",  "x43",  "xL41", "xL42", "xL43"};
@@ -38,10 +38,10 @@ TEST(SvarLayout, FourChannelsLagOneNamesAndOrder) {
 }
 
 TEST(SvarLayout, ThreeChannelsLagTwoNames) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
   spec.lag_order = 2;
-  SvarLayout layout(spec);
+  estimation::SvarLayout layout(spec);
   const Names expected = {"x12", "x13", "xL12", "xL13", "xL212", "xL213",
                           "x21", "x23", "xL21", "xL23", "xL221", "xL223",
                           "x31", "x32", "xL31", "xL32", "xL231", "xL232"};
@@ -49,11 +49,11 @@ TEST(SvarLayout, ThreeChannelsLagTwoNames) {
 }
 
 TEST(SvarLayout, SelfLagsAreInJOrderWithinEachLag) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
   spec.lag_order = 2;
   spec.include_self_lags = true;
-  SvarLayout layout(spec);
+  estimation::SvarLayout layout(spec);
   const Names expected = {"x21", "x23", "xL21", "xL22", "xL23", "xL221", "xL222", "xL223"};
   Names got;
   for (int i = 0; i < layout.factor_count(1); ++i) got.push_back(layout.factor_name(1, i));
@@ -62,10 +62,10 @@ TEST(SvarLayout, SelfLagsAreInJOrderWithinEachLag) {
 }
 
 TEST(SvarLayout, TwelveChannelsUseUnderscores) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 12;
   spec.lag_order = 2;
-  SvarLayout layout(spec);
+  estimation::SvarLayout layout(spec);
   EXPECT_EQ(layout.factor_count(0), 11 * 3);
   EXPECT_EQ(layout.factor_name(0, 0), "x1_2");
   EXPECT_EQ(layout.factor_name(0, 10), "x1_12");
@@ -81,12 +81,12 @@ TEST(SvarLayout, TwelveChannelsUseUnderscores) {
 }
 
 TEST(SvarLayout, AllowedMaskRemovesAllLinksOfAPair) {
-  ModelSpec spec;  // G = 4, M = 1
+  estimation::ModelSpec spec;  // G = 4, M = 1
   spec.allowed.assign(4, std::vector<bool>(4, true));
   spec.allowed[0][2] = false;  // no 3 -> 1: x13, xL13 absent
   spec.allowed[3][0] = false;  // no 1 -> 4: x41, xL41 absent
   spec.allowed[1][1] = false;  // diagonal ignored
-  SvarLayout layout(spec);
+  estimation::SvarLayout layout(spec);
   EXPECT_EQ(layout.total_factors(), 20);
   const Names names = layout.factor_names();
   for (const char* absent : {"x13", "xL13", "x41", "xL41"}) {
@@ -99,33 +99,33 @@ TEST(SvarLayout, AllowedMaskRemovesAllLinksOfAPair) {
 }
 
 TEST(SvarLayout, InstantaneousMaskOnlyRemovesInstantaneousLinks) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 3;
   // Causal order 1 -> 2 -> 3 for instantaneous links (lower triangular), lags unrestricted.
   spec.instantaneous_allowed = {{false, false, false}, {true, false, false}, {true, true, false}};
-  SvarLayout layout(spec);
+  estimation::SvarLayout layout(spec);
   const Names expected = {"xL12", "xL13", "x21", "xL21", "xL23", "x31", "x32", "xL31", "xL32"};
   EXPECT_EQ(layout.factor_names(), expected);
   // Both masks: instantaneous link needs both.
   spec.allowed = {{true, true, true}, {true, true, true}, {false, true, true}};
-  SvarLayout both(spec);
+  estimation::SvarLayout both(spec);
   const Names expected_both = {"xL12", "xL13", "x21", "xL21", "xL23", "x32", "xL32"};
   EXPECT_EQ(both.factor_names(), expected_both);
 }
 
 TEST(SvarLayout, FullyMaskedOutcomeHasNoFactors) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 2;
   spec.allowed = {{true, false}, {true, true}};
-  SvarLayout layout(spec);
+  estimation::SvarLayout layout(spec);
   EXPECT_EQ(layout.factor_count(0), 0);
   EXPECT_EQ(layout.factor_count(1), 2);
   EXPECT_EQ(layout.offset(1), 0);
 }
 
-void expect_invalid(const ModelSpec& spec, const std::string& fragment) {
+void expect_invalid(const estimation::ModelSpec& spec, const std::string& fragment) {
   try {
-    SvarLayout layout(spec);
+    estimation::SvarLayout layout(spec);
     ADD_FAILURE() << "expected std::invalid_argument containing '" << fragment << "'";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
@@ -133,20 +133,20 @@ void expect_invalid(const ModelSpec& spec, const std::string& fragment) {
 }
 
 TEST(SvarLayout, InvalidSpecsThrowClearMessages) {
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = 1;
   expect_invalid(spec, "channels must be >= 2 (got 1)");
-  spec = ModelSpec{};
+  spec = estimation::ModelSpec{};
   spec.lag_order = 0;
   expect_invalid(spec, "lag_order must be >= 1 (got 0)");
-  spec = ModelSpec{};
+  spec = estimation::ModelSpec{};
   spec.allowed.assign(3, std::vector<bool>(4, true));
   expect_invalid(spec, "allowed must be empty or 4 x 4");
-  spec = ModelSpec{};
+  spec = estimation::ModelSpec{};
   spec.instantaneous_allowed.assign(4, std::vector<bool>(4, true));
   spec.instantaneous_allowed[2].pop_back();
   expect_invalid(spec, "instantaneous_allowed row 2 has 3 entries");
-  spec = ModelSpec{};
+  spec = estimation::ModelSpec{};
   spec.channels = 2;
   spec.allowed = {{true, false}, {false, true}};
   expect_invalid(spec, "no state");

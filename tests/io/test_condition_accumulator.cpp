@@ -155,10 +155,10 @@ TEST(ConditionAccumulator, CheckpointContinuesTheWindowBitForBit) {
   whole.add(x.data(), 400);
   whole.add(x.data() + 400 * 3, 600);
   first.add(x.data(), 400);
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   first.save(w);
   ConditionAccumulator restored(3);
-  causal::StateReader r(w.bytes());
+  causal::estimation::StateReader r(w.bytes());
   restored.restore(r);
   EXPECT_TRUE(r.at_end());
   restored.add(x.data() + 400 * 3, 600);
@@ -169,8 +169,8 @@ TEST(ConditionAccumulator, CheckpointContinuesTheWindowBitForBit) {
     EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * 3), 0) << causal::io::to_string(f);
   }
   ConditionAccumulator four(4);
-  causal::StateReader r4(w.bytes());
-  EXPECT_THROW(four.restore(r4), causal::StateError);
-  causal::StateReader cut(w.bytes().substr(0, w.bytes().size() - 1));
-  EXPECT_THROW(restored.restore(cut), causal::StateError);
+  causal::estimation::StateReader r4(w.bytes());
+  EXPECT_THROW(four.restore(r4), causal::estimation::StateError);
+  causal::estimation::StateReader cut(w.bytes().substr(0, w.bytes().size() - 1));
+  EXPECT_THROW(restored.restore(cut), causal::estimation::StateError);
 }

@@ -62,10 +62,10 @@ TEST(NameLimits, AStateFileForTheLongestNames) {
     causal::io::GroupStateFiles files(dir.string(), ".estimator.state");
     for (const std::string& name : {std::string(kMaxNameBytes, 'z'), std::string(kMaxNameBytes, '\xc3'),
                                     std::string(242, 'y') + "/../x"}) {
-      ASSERT_TRUE(files.save(name, [&](causal::StateWriter& w) { w.put(name); })) << files.last_error();
+      ASSERT_TRUE(files.save(name, [&](causal::estimation::StateWriter& w) { w.put(name); })) << files.last_error();
       const auto payload = files.load(name);
       ASSERT_TRUE(payload);
-      causal::StateReader r(*payload);
+      causal::estimation::StateReader r(*payload);
       EXPECT_EQ(r.get<std::string>(), name);
       EXPECT_EQ(std::filesystem::path(files.path(name)).parent_path(), dir);
     }

@@ -19,7 +19,7 @@ namespace causal::test {
 
 template <class T>
 std::string checkpoint_of(const T& object) {
-  StateWriter w;
+  estimation::StateWriter w;
   object.save(w);
   return w.bytes();
 }
@@ -27,7 +27,7 @@ std::string checkpoint_of(const T& object) {
 // Restores `object` from `bytes` and checks that the whole checkpoint was read.
 template <class T>
 void restore_from(T& object, const std::string& bytes) {
-  StateReader r(bytes);
+  estimation::StateReader r(bytes);
   object.restore(r);
   EXPECT_TRUE(r.at_end()) << "restore() left bytes unread";
 }

@@ -1,5 +1,5 @@
 // Test-only helpers for the causal_pipeline tests: simulated SVAR data with known random-walk factors, block
-// feeding with per-block times, and a reference that steps causal::SvarKalmanFilter directly (no pipeline)
+// feeding with per-block times, and a reference that steps causal::estimation::SvarKalmanFilter directly (no pipeline)
 // and records what a report at each publish point must contain.
 #pragma once
 
@@ -25,7 +25,7 @@ inline pipeline::FactorStreamParams tuned_stream_params(int channels = 3) {
   p.model.channels = channels;
   p.model.lag_order = 1;
   p.noise.automatic = true;
-  p.noise.fixed = causal::NoiseParams{1e-6, 1e-2, 0.5};
+  p.noise.fixed = estimation::NoiseParams{1e-6, 1e-2, 0.5};
   p.noise.calibration_samples = 300;
   p.publish_every = 25;
   p.fixed_lag = 16;
@@ -34,7 +34,7 @@ inline pipeline::FactorStreamParams tuned_stream_params(int channels = 3) {
 
 // N x G samples of y_k = sum_inst x y_j[n] + sum_lag x y_j[n-l] + e_k, e ~ N(0, r), factors a random walk
 // with variance q per sample starting U(-0.3, 0.3) (small enough that I - X0 stays well conditioned).
-inline RowMajorMatrix simulate_svar(const SvarLayout& layout, int n, std::uint64_t seed, double q = 1e-5,
+inline RowMajorMatrix simulate_svar(const estimation::SvarLayout& layout, int n, std::uint64_t seed, double q = 1e-5,
                                     double r = 0.05) {
   const int g = layout.channels();
   std::mt19937_64 rng(seed);
@@ -90,18 +90,18 @@ struct ExpectedReport {
 // Steps SvarKalmanFilter over all rows with the given discontinuity flags (one per row, or empty); every
 // `publish_every` samples records G expected reports with the innovation statistics accumulated here from
 // last_innovation / last_innovation_variance after each Updated step.
-inline std::vector<ExpectedReport> reference_reports(const SvarLayout& layout, const std::vector<NoiseParams>& noise,
+inline std::vector<ExpectedReport> reference_reports(const estimation::SvarLayout& layout, const std::vector<estimation::NoiseParams>& noise,
                                                      const RowMajorMatrix& y, const std::vector<bool>& disc,
                                                      std::size_t publish_every) {
-  SvarKalmanFilter filter(layout, noise);
+  estimation::SvarKalmanFilter filter(layout, noise);
   const int g = layout.channels();
   std::vector<ExpectedReport> out;
   std::vector<std::uint64_t> count(static_cast<std::size_t>(g), 0);
   std::vector<double> sum_e(static_cast<std::size_t>(g), 0.0), sum_nis(static_cast<std::size_t>(g), 0.0);
   for (Eigen::Index n = 0; n < y.rows(); ++n) {
     const bool d = !disc.empty() && disc[static_cast<std::size_t>(n)];
-    const SampleStatus st = filter.step(y.row(n).data(), d);
-    if (st == SampleStatus::Updated) {
+    const estimation::SampleStatus st = filter.step(y.row(n).data(), d);
+    if (st == estimation::SampleStatus::Updated) {
       for (int k = 0; k < g; ++k) {
         const double e = filter.last_innovation(k), s = filter.last_innovation_variance(k);
         ++count[static_cast<std::size_t>(k)];

@@ -17,8 +17,8 @@ namespace {
 
 constexpr std::int64_t kT0 = 1'650'000'000'000'000'000LL;
 constexpr double kRate = 20'000.0;  // 50 us per sample
-const NoiseParams kSampleNoise{2e-5, 0.05, 0.5};
-const NoiseParams kConditionNoise{1e-4, 1e-2, 1.0};
+const estimation::NoiseParams kSampleNoise{2e-5, 0.05, 0.5};
+const estimation::NoiseParams kConditionNoise{1e-4, 1e-2, 1.0};
 
 AssetPipelineParams params(bool sample, bool condition) {
   AssetPipelineParams p;
@@ -42,8 +42,8 @@ AssetPipelineParams params(bool sample, bool condition) {
   return p;
 }
 
-ModelSpec sample_spec(int g) {
-  ModelSpec s;
+estimation::ModelSpec sample_spec(int g) {
+  estimation::ModelSpec s;
   s.channels = g;
   s.lag_order = 1;
   return s;
@@ -100,7 +100,7 @@ TEST(AssetPipeline, FewerThanTwoChannelsIsRefusedAndDoesNotFixTheCount) {
 // 40, 43, 46, 49; reports and vectors must carry exactly those.
 TEST(AssetPipeline, GapRestartsSampleLagsAndDropsTheOpenConditionWindow) {
   const int g = 3, frame = 128, frames_per_snap = 4, snaps = 4;
-  const SvarLayout layout(sample_spec(g));
+  const estimation::SvarLayout layout(sample_spec(g));
   const int n = frame * frames_per_snap * snaps;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 77);
   AssetPipeline pipe(params(true, true));
@@ -163,9 +163,9 @@ TEST(AssetPipeline, GapRestartsSampleLagsAndDropsTheOpenConditionWindow) {
     z.row(i) = out.conditions[static_cast<std::size_t>(i)].values.array().log().matrix().transpose();
     zdisc.push_back(disc_of[i]);
   }
-  ModelSpec cs = sample_spec(g);
+  estimation::ModelSpec cs = sample_spec(g);
   cs.include_self_lags = true;
-  const SvarLayout clayout(cs);
+  const estimation::SvarLayout clayout(cs);
   const auto cexp = causal::test::reference_reports(clayout, {kConditionNoise}, z, zdisc, 1);
   ASSERT_EQ(out.condition_reports.size(), cexp.size());
   for (std::size_t i = 0; i < cexp.size(); ++i) {
@@ -185,9 +185,9 @@ TEST(AssetPipeline, FeedConditionRunsTheConditionModelOnLogValues) {
   AssetPipeline pipe(p);
   PipelineOutput out;
   // Positive condition values following a log-linear SVAR (simulated in log space).
-  ModelSpec cs = sample_spec(g);
+  estimation::ModelSpec cs = sample_spec(g);
   cs.include_self_lags = true;
-  const SvarLayout clayout(cs);
+  const estimation::SvarLayout clayout(cs);
   RowMajorMatrix z = causal::test::simulate_svar(clayout, n, 91, 1e-4, 1e-2);
   z(30, 2) = std::numeric_limits<double>::quiet_NaN();  // becomes a rejected sample
   std::vector<bool> zdisc(static_cast<std::size_t>(n), false);
@@ -234,7 +234,7 @@ TEST(AssetPipeline, FeedConditionRefusedWhenTheConditionLevelIsDisabled) {
 
 TEST(AssetPipeline, SampleLevelOnlyProducesNoConditions) {
   const int g = 2;
-  const SvarLayout layout(sample_spec(g));
+  const estimation::SvarLayout layout(sample_spec(g));
   const RowMajorMatrix y = causal::test::simulate_svar(layout, 256, 5);
   AssetPipeline pipe(params(true, false));
   PipelineOutput out;
@@ -249,7 +249,7 @@ TEST(AssetPipeline, SampleLevelOnlyProducesNoConditions) {
 
 TEST(AssetPipeline, SampleTimesUseTheSampleRate) {
   const int g = 3;
-  const SvarLayout layout(sample_spec(g));
+  const estimation::SvarLayout layout(sample_spec(g));
   const RowMajorMatrix y = causal::test::simulate_svar(layout, 512, 6);
   AssetPipeline pipe(params(true, false));
   PipelineOutput out;

@@ -37,7 +37,7 @@ AssetPipelineParams params(bool sample_level = true) {
   p.sample_level = sample_level;
   p.sample.model.lag_order = 1;
   p.sample.noise.automatic = true;
-  p.sample.noise.fixed = causal::NoiseParams{1e-6, 1e-2, 1.0};
+  p.sample.noise.fixed = estimation::NoiseParams{1e-6, 1e-2, 1.0};
   p.sample.noise.calibration_samples = 2048;  // the first 4 snapshots
   p.sample.publish_every = 128;
   p.sample.fixed_lag = 16;
@@ -64,10 +64,10 @@ struct Recording {
 };
 
 Recording make_recording() {
-  causal::ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = kG;
   spec.lag_order = 1;
-  Recording run{causal::test::simulate_svar(causal::SvarLayout(spec), kSnapshots * kSnapshotRows, 3, 1e-10), {}};
+  Recording run{causal::test::simulate_svar(estimation::SvarLayout(spec), kSnapshots * kSnapshotRows, 3, 1e-10), {}};
   const Eigen::MatrixXd level = causal::test::simulate_lingam(kSnapshots, 5, 0.3, 0.0);
   for (int s = 0; s < kSnapshots; ++s) {
     for (int j = 0; j < kG; ++j) run.y.block(s * kSnapshotRows, j, kSnapshotRows, 1) *= std::exp(level(s, j));
@@ -200,10 +200,10 @@ TEST_F(AssetPipelineCheckpoint, ThroughAFileWithResentInputSkipped) {
   AssetPipeline first(params());
   PipelineOutput got, rest;
   feed(first, *run_, 0, cut, got);
-  causal::save_state_file(path, checkpoint_of(first));
+  estimation::save_state_file(path, checkpoint_of(first));
 
   AssetPipeline second(params());
-  const auto payload = causal::load_state_file(path);
+  const auto payload = estimation::load_state_file(path);
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(payload.has_value());
   restore_from(second, *payload);
@@ -266,31 +266,31 @@ TEST_F(AssetPipelineCheckpoint, AnotherShapeOrADamagedCheckpointIsRefused) {
   try {
     restore_from(eight, bytes);
     ADD_FAILURE() << "an 8-channel asset group took a 4-channel checkpoint";
-  } catch (const StateError& e) {
+  } catch (const estimation::StateError& e) {
     EXPECT_STREQ(e.what(), "checkpoint has 4 channels, this asset group has 8");
   }
   EXPECT_EQ(eight.channels(), 8) << "a refused restore changes nothing";
 
   AssetPipeline named(params());
   named.set_channel_names({"b1", "b2", "b3", "b4", "b5", "b6", "b7", "b8"});
-  EXPECT_THROW(restore_from(named, bytes), StateError);
+  EXPECT_THROW(restore_from(named, bytes), estimation::StateError);
   EXPECT_EQ(named.channels(), 0);
 
   AssetPipelineParams other = params();
   other.sample.publish_every = 256;
   AssetPipeline differently_configured(other);
-  EXPECT_THROW(restore_from(differently_configured, bytes), StateError);
+  EXPECT_THROW(restore_from(differently_configured, bytes), estimation::StateError);
   EXPECT_EQ(differently_configured.channels(), 0) << "nothing built when the streams refuse";
 
   for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 300) {
     AssetPipeline fresh(params());
-    EXPECT_THROW(restore_from(fresh, bytes.substr(0, n)), StateError) << "truncated to " << n;
+    EXPECT_THROW(restore_from(fresh, bytes.substr(0, n)), estimation::StateError) << "truncated to " << n;
     EXPECT_EQ(fresh.channels(), 0);
   }
-  causal::StateWriter foreign;
+  estimation::StateWriter foreign;
   foreign.begin("alarm_engine", 1);
   AssetPipeline fresh(params());
-  EXPECT_THROW(restore_from(fresh, foreign.bytes()), StateError);
+  EXPECT_THROW(restore_from(fresh, foreign.bytes()), estimation::StateError);
 }
 
 }  // namespace

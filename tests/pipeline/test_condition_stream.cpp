@@ -325,11 +325,11 @@ TEST(ConditionStream, CheckpointBetweenAnyTwoFramesGivesTheUninterruptedVectors)
   ConditionStream saved(params(0, 250), 2);
   const std::string bytes = causal::test::checkpoint_of(saved);
   ConditionStream other_window(params(256, 250), 2), other_channels(params(0, 250), 3);
-  EXPECT_THROW(causal::test::restore_from(other_window, bytes), causal::StateError);
+  EXPECT_THROW(causal::test::restore_from(other_window, bytes), estimation::StateError);
   try {
     causal::test::restore_from(other_channels, bytes);
     ADD_FAILURE() << "3 channels accepted a 2-channel checkpoint";
-  } catch (const causal::StateError& e) {
+  } catch (const estimation::StateError& e) {
     EXPECT_STREQ(e.what(), "checkpoint has 2 channels, this condition stream has 3");
   }
 }

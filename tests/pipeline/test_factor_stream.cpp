@@ -23,19 +23,19 @@ using causal::test::ExpectedReport;
 constexpr std::int64_t kT0 = 1'700'000'000'000'000'000LL;  // an epoch time in ns
 constexpr double kPeriod = 50'000.0;                        // 20 kHz, exact in ns
 
-ModelSpec spec(int g, int m, bool self_lags) {
-  ModelSpec s;
+estimation::ModelSpec spec(int g, int m, bool self_lags) {
+  estimation::ModelSpec s;
   s.channels = g;
   s.lag_order = m;
   s.include_self_lags = self_lags;
   return s;
 }
 
-FactorStreamParams fixed_params(const ModelSpec& s, std::size_t publish_every, int fixed_lag = 0) {
+FactorStreamParams fixed_params(const estimation::ModelSpec& s, std::size_t publish_every, int fixed_lag = 0) {
   FactorStreamParams p;
   p.model = s;
   p.noise.automatic = false;
-  p.noise.fixed = NoiseParams{2e-5, 0.05, 0.5};
+  p.noise.fixed = estimation::NoiseParams{2e-5, 0.05, 0.5};
   p.publish_every = publish_every;
   p.fixed_lag = fixed_lag;
   return p;
@@ -84,11 +84,11 @@ class FactorStreamFilter : public ::testing::TestWithParam<FilterCase> {};
 
 TEST_P(FactorStreamFilter, ReportsEqualTheFilterSteppedDirectly) {
   const FilterCase c = GetParam();
-  const SvarLayout layout(spec(c.g, c.m, c.self_lags));
+  const estimation::SvarLayout layout(spec(c.g, c.m, c.self_lags));
   const RowMajorMatrix y = causal::test::simulate_svar(layout, c.n, 1000 + static_cast<std::uint64_t>(c.g));
   FactorStream stream(fixed_params(layout.spec(), c.publish_every));
   const auto reports = feed_all(stream, y, causal::test::irregular_blocks(c.n), {});
-  const auto expected = causal::test::reference_reports(layout, {NoiseParams{2e-5, 0.05, 0.5}}, y, {},
+  const auto expected = causal::test::reference_reports(layout, {estimation::NoiseParams{2e-5, 0.05, 0.5}}, y, {},
                                                         c.publish_every);
   // floor(N / publish_every) reports per outcome.
   ASSERT_EQ(reports.size(), static_cast<std::size_t>(c.n) / c.publish_every * static_cast<std::size_t>(c.g));
@@ -108,7 +108,7 @@ INSTANTIATE_TEST_SUITE_P(Models, FactorStreamFilter,
                                            FilterCase{3, 1, false, 40, 64}));
 
 TEST(FactorStream, ReportCountIsFloorOfSamplesOverCadence) {
-  const SvarLayout layout(spec(3, 1, false));
+  const estimation::SvarLayout layout(spec(3, 1, false));
   const RowMajorMatrix y = causal::test::simulate_svar(layout, 1000, 7);
   for (std::size_t pe : {1u, 2u, 3u, 10u, 64u, 999u, 1000u, 1001u}) {
     for (int n : {0, 1, 64, 65, 999, 1000}) {
@@ -126,7 +126,7 @@ TEST(FactorStream, ReportCountIsFloorOfSamplesOverCadence) {
 }
 
 TEST(FactorStream, ReportTimeIsFirstTimePlusIndexTimesPeriod) {
-  const SvarLayout layout(spec(3, 1, false));
+  const estimation::SvarLayout layout(spec(3, 1, false));
   const int n = 900;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 11);
   FactorStream stream(fixed_params(layout.spec(), 37, 5));
@@ -147,7 +147,7 @@ TEST(FactorStream, ReportTimeIsFirstTimePlusIndexTimesPeriod) {
 }
 
 TEST(FactorStream, DiscontinuitiesRestartLagsLikeTheFilter) {
-  const SvarLayout layout(spec(3, 2, true));
+  const estimation::SvarLayout layout(spec(3, 2, true));
   const int n = 1200;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 21);
   const auto sizes = causal::test::irregular_blocks(n);
@@ -160,7 +160,7 @@ TEST(FactorStream, DiscontinuitiesRestartLagsLikeTheFilter) {
   }
   FactorStream stream(fixed_params(layout.spec(), 25));
   const auto reports = feed_all(stream, y, sizes, disc);
-  const NoiseParams noise{2e-5, 0.05, 0.5};
+  const estimation::NoiseParams noise{2e-5, 0.05, 0.5};
   const auto expected = causal::test::reference_reports(layout, {noise}, y, disc, 25);
   ASSERT_EQ(reports.size(), expected.size());
   for (std::size_t i = 0; i < reports.size(); ++i) expect_report_matches(reports[i], expected[i], 1e-12);
@@ -168,21 +168,21 @@ TEST(FactorStream, DiscontinuitiesRestartLagsLikeTheFilter) {
   const auto no_flags = causal::test::reference_reports(layout, {noise}, y, {}, 25);
   EXPECT_GT((no_flags.back().factors - expected.back().factors).cwiseAbs().maxCoeff(), 1e-9);
   // Warm-up samples counted like the filter: M per discontinuity.
-  causal::SvarKalmanFilter direct(layout, {noise});
+  estimation::SvarKalmanFilter direct(layout, {noise});
   for (Eigen::Index i = 0; i < n; ++i) direct.step(y.row(i).data(), disc[static_cast<std::size_t>(i)]);
   EXPECT_EQ(stream.counters().warm_up, direct.counters().warm_up);
   EXPECT_EQ(stream.counters().updated, direct.counters().updated);
 }
 
 TEST(FactorStream, NonFiniteSamplesAreRejectedAndCounted) {
-  const SvarLayout layout(spec(3, 1, false));
+  const estimation::SvarLayout layout(spec(3, 1, false));
   const int n = 600;
   RowMajorMatrix y = causal::test::simulate_svar(layout, n, 31);
   for (int i : {10, 11, 200, 401, 402, 403}) y(i, i % 3) = std::numeric_limits<double>::quiet_NaN();
   y(300, 0) = std::numeric_limits<double>::infinity();
   FactorStream stream(fixed_params(layout.spec(), 100));
   const auto reports = feed_all(stream, y, causal::test::irregular_blocks(n), {});
-  const auto expected = causal::test::reference_reports(layout, {NoiseParams{2e-5, 0.05, 0.5}}, y, {}, 100);
+  const auto expected = causal::test::reference_reports(layout, {estimation::NoiseParams{2e-5, 0.05, 0.5}}, y, {}, 100);
   ASSERT_EQ(reports.size(), expected.size());
   for (std::size_t i = 0; i < reports.size(); ++i) expect_report_matches(reports[i], expected[i], 1e-12);
   EXPECT_EQ(reports.back().rejected, 7u);
@@ -190,7 +190,7 @@ TEST(FactorStream, NonFiniteSamplesAreRejectedAndCounted) {
 }
 
 TEST(FactorStream, FixedLagReportsEqualTheBatchFixedLagSmootherAtTheSameIndices) {
-  const SvarLayout layout(spec(3, 1, true));
+  const estimation::SvarLayout layout(spec(3, 1, true));
   const int n = 500, lag = 5;
   const std::size_t pe = 16;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 41);
@@ -206,9 +206,9 @@ TEST(FactorStream, FixedLagReportsEqualTheBatchFixedLagSmootherAtTheSameIndices)
   ASSERT_EQ(filt.size(), per_outcome * 3);
   ASSERT_EQ(smooth.size(), filt.size());  // after finish() every filter report has its twin
 
-  const NoiseParams noise{2e-5, 0.05, 0.5};
-  const causal::EstimationRun batch =
-      causal::run_fixed_lag_smoother(layout, {noise}, Eigen::MatrixXd(y), disc, lag);
+  const estimation::NoiseParams noise{2e-5, 0.05, 0.5};
+  const estimation::EstimationRun batch =
+      estimation::run_fixed_lag_smoother(layout, {noise}, Eigen::MatrixXd(y), disc, lag);
   for (std::size_t i = 0; i < smooth.size(); ++i) {
     const FactorReport& s = smooth[i];
     const FactorReport& f = filt[i];
@@ -231,7 +231,7 @@ TEST(FactorStream, FixedLagReportsEqualTheBatchFixedLagSmootherAtTheSameIndices)
 }
 
 TEST(FactorStream, FixedLagReportWaitsForItsLag) {
-  const SvarLayout layout(spec(3, 1, false));
+  const estimation::SvarLayout layout(spec(3, 1, false));
   const int lag = 10;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, 200, 43);
   FactorStream stream(fixed_params(layout.spec(), 20, lag));
@@ -252,7 +252,7 @@ TEST(FactorStream, FixedLagReportWaitsForItsLag) {
 // Filter reports carry P_k: stepped here with a separate SvarKalmanFilter on the same samples and flags, the
 // covariance at each report's sample must be the filter's covariance(k); fixed-lag reports carry none.
 TEST(FactorStream, FilterReportsCarryTheFilterCovarianceBlock) {
-  const SvarLayout layout(spec(3, 2, true));  // 2 + 3 + 3 = 8 factors per outcome
+  const estimation::SvarLayout layout(spec(3, 2, true));  // 2 + 3 + 3 = 8 factors per outcome
   const int n = 600, lag = 6;
   const std::size_t pe = 40;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 61);
@@ -268,7 +268,7 @@ TEST(FactorStream, FilterReportsCarryTheFilterCovarianceBlock) {
   ASSERT_EQ(smooth.size(), filt.size());
 
   // Independent truth: the filter stepped directly, covariance(k) read at every publish point.
-  causal::SvarKalmanFilter direct(layout, {NoiseParams{2e-5, 0.05, 0.5}});
+  estimation::SvarKalmanFilter direct(layout, {estimation::NoiseParams{2e-5, 0.05, 0.5}});
   std::vector<std::vector<Eigen::MatrixXd>> truth;  // per report time, per outcome
   for (Eigen::Index i = 0; i < n; ++i) {
     direct.step(y.row(i).data(), disc[static_cast<std::size_t>(i)]);
@@ -298,26 +298,26 @@ TEST(FactorStream, FilterReportsCarryTheFilterCovarianceBlock) {
 
 // ---- automatic noise ------------------------------------------------------------------------------------
 
-FactorStreamParams auto_params(const ModelSpec& s, std::size_t publish_every, std::size_t calibration,
+FactorStreamParams auto_params(const estimation::ModelSpec& s, std::size_t publish_every, std::size_t calibration,
                                int fixed_lag = 0) {
   FactorStreamParams p = fixed_params(s, publish_every, fixed_lag);
   p.noise.automatic = true;
-  p.noise.fixed = NoiseParams{1e-3, 0.7, 0.5};  // configured values, far from the data's: tuning must replace them
+  p.noise.fixed = estimation::NoiseParams{1e-3, 0.7, 0.5};  // configured values, far from the data's: tuning must replace them
   p.noise.calibration_samples = calibration;
   return p;
 }
 
-std::vector<NoiseParams> tuned_noise(const SvarLayout& layout, const RowMajorMatrix& window,
+std::vector<estimation::NoiseParams> tuned_noise(const estimation::SvarLayout& layout, const RowMajorMatrix& window,
                                      const std::vector<bool>& disc, double p0) {
-  causal::NoiseTuningOptions options;
+  estimation::NoiseTuningOptions options;
   options.p0 = p0;
-  std::vector<NoiseParams> out;
-  for (const auto& t : causal::tune_noise_all(layout, Eigen::MatrixXd(window), disc, options)) out.push_back(t.noise);
+  std::vector<estimation::NoiseParams> out;
+  for (const auto& t : estimation::tune_noise_all(layout, Eigen::MatrixXd(window), disc, options)) out.push_back(t.noise);
   return out;
 }
 
 TEST(FactorStreamAutomatic, NoiseEqualsTuneNoiseAllAndNoSampleIsLost) {
-  const SvarLayout layout(spec(3, 1, false));
+  const estimation::SvarLayout layout(spec(3, 1, false));
   const int n = 1000;
   const std::size_t cal = 400, pe = 64;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 51);
@@ -369,7 +369,7 @@ TEST(FactorStreamAutomatic, NoiseEqualsTuneNoiseAllAndNoSampleIsLost) {
 }
 
 TEST(FactorStreamAutomatic, FixedLagAfterCalibrationEqualsBatchSmootherWithTunedNoise) {
-  const SvarLayout layout(spec(3, 1, true));
+  const estimation::SvarLayout layout(spec(3, 1, true));
   const int n = 700, lag = 4;
   const std::size_t cal = 300, pe = 32;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 53);
@@ -381,7 +381,7 @@ TEST(FactorStreamAutomatic, FixedLagAfterCalibrationEqualsBatchSmootherWithTuned
                                  std::vector<bool>(disc.begin(), disc.begin() + static_cast<std::ptrdiff_t>(cal)), 0.5);
   const auto smooth = causal::test::of_kind(all, EstimateKind::FixedLag);
   ASSERT_EQ(smooth.size(), static_cast<std::size_t>(n) / pe * 3);
-  const causal::EstimationRun batch = causal::run_fixed_lag_smoother(layout, noise, Eigen::MatrixXd(y), disc, lag);
+  const estimation::EstimationRun batch = estimation::run_fixed_lag_smoother(layout, noise, Eigen::MatrixXd(y), disc, lag);
   for (const auto& s : smooth) {
     const auto row = static_cast<Eigen::Index>(s.sample_index);
     EXPECT_MATRIX_NEAR(s.factors, batch.estimates.row(row).segment(layout.offset(s.outcome),
@@ -390,7 +390,7 @@ TEST(FactorStreamAutomatic, FixedLagAfterCalibrationEqualsBatchSmootherWithTuned
 }
 
 TEST(FactorStreamAutomatic, FinishCalibratesOnWhatWasBuffered) {
-  const SvarLayout layout(spec(3, 1, false));
+  const estimation::SvarLayout layout(spec(3, 1, false));
   const int n = 300;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 57);
   FactorStream stream(auto_params(layout.spec(), 64, 400));
@@ -410,7 +410,7 @@ TEST(FactorStreamAutomatic, FinishCalibratesOnWhatWasBuffered) {
 }
 
 TEST(FactorStreamAutomatic, FinishOnAnEmptyStreamReportsNothing) {
-  const SvarLayout layout(spec(3, 1, false));
+  const estimation::SvarLayout layout(spec(3, 1, false));
   FactorStream stream(auto_params(layout.spec(), 64, 400));
   std::vector<FactorReport> out;
   stream.finish(out);
@@ -421,7 +421,7 @@ TEST(FactorStreamAutomatic, FinishOnAnEmptyStreamReportsNothing) {
 // values for that outcome." tune_noise documents that case as converged = false with NoiseParams{} (the
 // library defaults, not the configured values) and updates = the (too few, but > 0) usable count.
 TEST(FactorStreamAutomatic, TooFewUsableSamplesKeepsTheConfiguredNoise) {
-  const SvarLayout layout(spec(3, 1, false));  // 4 factors per outcome: tuning needs >= 2*4 + 10 = 18 updates
+  const estimation::SvarLayout layout(spec(3, 1, false));  // 4 factors per outcome: tuning needs >= 2*4 + 10 = 18 updates
   const RowMajorMatrix y = causal::test::simulate_svar(layout, 15, 59);
   FactorStream stream(auto_params(layout.spec(), 5, 400));
   std::vector<FactorReport> out;
@@ -444,7 +444,7 @@ TEST(FactorStreamAutomatic, TooFewUsableSamplesKeepsTheConfiguredNoise) {
 // ---- parameter and shape errors ----------------------------------------------------------------------------
 
 TEST(FactorStream, InvalidParametersThrow) {
-  const ModelSpec s = spec(3, 1, false);
+  const estimation::ModelSpec s = spec(3, 1, false);
   auto p = fixed_params(s, 0);
   EXPECT_THROW(FactorStream{p}, std::invalid_argument);
   p = fixed_params(s, 10, -1);

@@ -16,19 +16,19 @@ namespace {
 constexpr std::int64_t kT0 = 1'700'000'000'000'000'000LL;
 constexpr double kPeriod = 50'000.0;
 
-ModelSpec spec(int g) {
-  ModelSpec s;
+estimation::ModelSpec spec(int g) {
+  estimation::ModelSpec s;
   s.channels = g;
   s.lag_order = 1;
   return s;
 }
 
 // Configured values far from the data's, so a fallback is visible.
-FactorStreamParams auto_params(const ModelSpec& s, std::size_t publish_every, std::size_t calibration) {
+FactorStreamParams auto_params(const estimation::ModelSpec& s, std::size_t publish_every, std::size_t calibration) {
   FactorStreamParams p;
   p.model = s;
   p.noise.automatic = true;
-  p.noise.fixed = NoiseParams{1e-3, 0.7, 0.5};
+  p.noise.fixed = estimation::NoiseParams{1e-3, 0.7, 0.5};
   p.noise.calibration_samples = calibration;
   p.publish_every = publish_every;
   return p;
@@ -49,7 +49,7 @@ std::vector<FactorReport> feed_all(FactorStream& stream, const RowMajorMatrix& y
 // (std::invalid_argument from the filter), ending the service for every asset group. Now the outcomes that
 // cannot be tuned run the configured noise and warnings() says so, naming each one.
 TEST(FactorStreamAutomatic, AbsurdValueInTheWindowFallsBackToTheConfiguredNoiseAndSaysSo) {
-  const SvarLayout layout(spec(3));
+  const estimation::SvarLayout layout(spec(3));
   RowMajorMatrix y = causal::test::simulate_svar(layout, 1000, 61);
   y(100, 1) = 1e300;
   FactorStream stream(auto_params(layout.spec(), 64, 400));
@@ -84,7 +84,7 @@ void expect_every_report_finite(const std::vector<FactorReport>& out) {
 // A dead channel with automatic noise gave NaN standard deviations on main (r tuned to ~1e-308). Its outcome
 // now runs the configured noise; no report holds a NaN or a clamped (degenerate) standard deviation.
 TEST(FactorStreamAutomatic, DeadChannelGivesNoNaN) {
-  const SvarLayout layout(spec(3));
+  const estimation::SvarLayout layout(spec(3));
   RowMajorMatrix y = causal::test::simulate_svar(layout, 2000, 62);
   y.col(2).setZero();
   FactorStream stream(auto_params(layout.spec(), 64, 400));
@@ -100,7 +100,7 @@ TEST(FactorStreamAutomatic, DeadChannelGivesNoNaN) {
 // (failed) grid point was kept, giving NaN standard deviations. Now that outcome is a reported failure and
 // runs the configured noise; nothing is NaN and no variance had to be clamped.
 TEST(FactorStreamAutomatic, ChannelScaledBy1e9GivesNoNaN) {
-  const SvarLayout layout(spec(3));
+  const estimation::SvarLayout layout(spec(3));
   RowMajorMatrix y = causal::test::simulate_svar(layout, 2000, 63);
   y.col(1) *= 1e-9;
   FactorStream stream(auto_params(layout.spec(), 64, 400));

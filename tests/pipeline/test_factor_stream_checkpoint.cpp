@@ -31,7 +31,7 @@ struct Data {
 };
 
 Data data() {
-  const causal::SvarLayout layout(tuned_stream_params().model);
+  const estimation::SvarLayout layout(tuned_stream_params().model);
   Data d{causal::test::simulate_svar(layout, 1500, 21), std::vector<bool>(1500, false)};
   d.y(700, 1) = std::numeric_limits<double>::quiet_NaN();
   d.disc[0] = true;
@@ -148,7 +148,7 @@ TEST(FactorStreamCheckpoint, OtherParametersAreRefusedAndLeaveTheStreamUnchanged
     FactorStream other(p);
     try {
       restore_from(other, bytes);
-    } catch (const StateError& e) {
+    } catch (const estimation::StateError& e) {
       return e.what();
     }
     return "no error";
@@ -172,7 +172,7 @@ TEST(FactorStreamCheckpoint, OtherParametersAreRefusedAndLeaveTheStreamUnchanged
   p = tuned_stream_params();
   p.publish_every = 50;
   FactorStream refused(p), untouched(p);
-  EXPECT_THROW(restore_from(refused, bytes), StateError);
+  EXPECT_THROW(restore_from(refused, bytes), estimation::StateError);
   std::vector<FactorReport> a, b;
   feed_rows(refused, d, 0, 1500, a);
   feed_rows(untouched, d, 0, 1500, b);
@@ -187,15 +187,15 @@ TEST(FactorStreamCheckpoint, TruncatedOrForeignCheckpointsThrow) {
   const std::string bytes = checkpoint_of(first);
   for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 200) {
     FactorStream s(tuned_stream_params());
-    EXPECT_THROW(restore_from(s, bytes.substr(0, n)), StateError) << "truncated to " << n << " bytes";
+    EXPECT_THROW(restore_from(s, bytes.substr(0, n)), estimation::StateError) << "truncated to " << n << " bytes";
   }
-  causal::StateWriter other;
+  estimation::StateWriter other;
   other.begin("structured_factor_stream", 1);
   FactorStream s(tuned_stream_params());
   try {
     restore_from(s, other.bytes());
     ADD_FAILURE() << "a foreign section was accepted";
-  } catch (const StateError& e) {
+  } catch (const estimation::StateError& e) {
     EXPECT_STREQ(e.what(), "checkpoint: expected section 'factor_stream', found 'structured_factor_stream'");
   }
 }

@@ -33,7 +33,7 @@ FactorStreamParams tuned_params(std::shared_ptr<TuningWorker> worker = nullptr) 
 }
 
 RowMajorMatrix data() {
-  const causal::SvarLayout layout(tuned_params().model);
+  const estimation::SvarLayout layout(tuned_params().model);
   return causal::test::simulate_svar(layout, static_cast<int>(kRows), 23);
 }
 

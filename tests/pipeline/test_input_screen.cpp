@@ -91,14 +91,14 @@ AssetPipelineParams params_for(const sim::TrueSvar& truth, bool condition_level 
   for (int k = 0; k < kG; ++k)
     for (int j = 0; j < kG; ++j) p.sample.model.instantaneous_allowed[k][j] = position[j] < position[k];
   p.sample.noise.automatic = true;
-  p.sample.noise.fixed = causal::NoiseParams{1e-6, 1.0, 1.0};
+  p.sample.noise.fixed = estimation::NoiseParams{1e-6, 1.0, 1.0};
   p.sample.noise.calibration_samples = 2048;
   p.sample.publish_every = 256;
   p.condition_level = condition_level;
   p.condition.min_samples = 256;
   p.condition_model.model.lag_order = 1;
   p.condition_model.model.include_self_lags = true;
-  p.condition_model.noise.fixed = causal::NoiseParams{1e-4, 1e-2, 1.0};
+  p.condition_model.noise.fixed = estimation::NoiseParams{1e-4, 1e-2, 1.0};
   p.condition_model.publish_every = 1;
   return p;
 }
@@ -348,7 +348,7 @@ TEST(InputScreenConditions, ReadyMadeVectorsAreScreenedPerChannel) {
   p.sample_level = false;
   p.condition_model.model.lag_order = 1;
   p.condition_model.model.include_self_lags = true;
-  p.condition_model.noise.fixed = causal::NoiseParams{1e-4, 1e-2, 1.0};
+  p.condition_model.noise.fixed = estimation::NoiseParams{1e-4, 1e-2, 1.0};
   p.condition_model.publish_every = 1;
   AssetPipeline pipe(p);
   PipelineOutput out;
@@ -427,7 +427,7 @@ TEST(InputScreenParameters, InvalidThresholdsThrowAtConstructionAndRefuseTheFirs
   EXPECT_THROW(InputScreen(bad, 4, ScreenLevel::Sample), std::invalid_argument);
   EXPECT_THROW(InputScreen(InputScreenParams{}, 0, ScreenLevel::Sample), std::invalid_argument);
   AssetPipelineParams p;
-  p.sample.noise.fixed = causal::NoiseParams{1e-6, 1.0, 1.0};
+  p.sample.noise.fixed = estimation::NoiseParams{1e-6, 1.0, 1.0};
   p.frame_screen.max_abs_value = 0.0;
   AssetPipeline pipe(p);
   PipelineOutput out;

@@ -56,7 +56,7 @@ FactorStreamParams params(bool self_lags = true, std::size_t publish_every = 5) 
   p.model.lag_order = 1;
   p.model.include_self_lags = self_lags;
   p.noise.automatic = false;
-  p.noise.fixed = NoiseParams{1e-4, 1.0, 1.0};
+  p.noise.fixed = estimation::NoiseParams{1e-4, 1.0, 1.0};
   p.publish_every = publish_every;
   return p;
 }

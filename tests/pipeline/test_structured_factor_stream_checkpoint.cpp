@@ -30,7 +30,7 @@ FactorStreamParams condition_params() {
   p.model.channels = 4;
   p.model.lag_order = 1;
   p.model.include_self_lags = true;
-  p.noise.fixed = causal::NoiseParams{1e-4, 1e-2, 1.0};
+  p.noise.fixed = estimation::NoiseParams{1e-4, 1e-2, 1.0};
   p.publish_every = 1;
   p.fixed_lag = 6;
   return p;
@@ -148,7 +148,7 @@ TEST(StructuredFactorStreamCheckpoint, OtherSettingsAreRefused) {
     StructuredFactorStream other(p, s);
     try {
       restore_from(other, bytes);
-    } catch (const StateError& e) {
+    } catch (const estimation::StateError& e) {
       return e.what();
     }
     return "no error";
@@ -164,7 +164,7 @@ TEST(StructuredFactorStreamCheckpoint, OtherSettingsAreRefused) {
   EXPECT_EQ(message(p, learn_all(100)), "checkpoint has fixed lag 6, this structured factor stream has 3");
   StructuredFactorStream fresh(condition_params(), learn_all(100));
   for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 150) {
-    EXPECT_THROW(restore_from(fresh, bytes.substr(0, n)), StateError) << "truncated to " << n;
+    EXPECT_THROW(restore_from(fresh, bytes.substr(0, n)), estimation::StateError) << "truncated to " << n;
   }
   EXPECT_EQ(fresh.stream(), nullptr) << "failed restores leave the fresh stream untouched";
 }

@@ -136,9 +136,9 @@ TEST(ExcessGrowth, ChannelTrendsKeepTheHistoryThroughACheckpoint) {
   }
   ASSERT_EQ(a.history(0).size(), 50u);  // bounded: the oldest dropped
   EXPECT_EQ(a.history(0).front().time_ns, kT0 + 30 * kHour / 6);
-  causal::StateWriter out;
+  causal::estimation::StateWriter out;
   a.save(out);
-  causal::StateReader in(out.bytes());
+  causal::estimation::StateReader in(out.bytes());
   const ChannelTrends b = ChannelTrends::restore(in, 1, params);
   EXPECT_TRUE(in.at_end());
   const TimeToLevel ta = a.time_to(0, std::log(0.06), 4.0, 60, kT0 + 20 * kHour / 6, 0.01);
@@ -148,6 +148,6 @@ TEST(ExcessGrowth, ChannelTrendsKeepTheHistoryThroughACheckpoint) {
   EXPECT_EQ(ta.hours_high, tb.hours_high);
   PrognosisParams other = params;
   other.history_limit = 60;
-  causal::StateReader in2(out.bytes());
-  EXPECT_THROW(ChannelTrends::restore(in2, 1, other), causal::StateError);
+  causal::estimation::StateReader in2(out.bytes());
+  EXPECT_THROW(ChannelTrends::restore(in2, 1, other), causal::estimation::StateError);
 }

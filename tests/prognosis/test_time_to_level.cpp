@@ -249,9 +249,9 @@ TEST(ChannelTrends, CheckpointContinuesBitForBit) {
     }
   };
   feed(a, 0, 100);
-  causal::StateWriter w;
+  causal::estimation::StateWriter w;
   a.save(w);
-  causal::StateReader r(w.bytes());
+  causal::estimation::StateReader r(w.bytes());
   ChannelTrends b = ChannelTrends::restore(r, 2, params);
   EXPECT_TRUE(r.at_end());
   std::mt19937_64 keep = rng;
@@ -266,8 +266,8 @@ TEST(ChannelTrends, CheckpointContinuesBitForBit) {
   // Other parameters or another channel count: refused.
   PrognosisParams other = params;
   other.trend.acceleration_diffusion *= 2;
-  causal::StateReader r2(w.bytes());
-  EXPECT_THROW(ChannelTrends::restore(r2, 2, other), causal::StateError);
-  causal::StateReader r3(w.bytes());
-  EXPECT_THROW(ChannelTrends::restore(r3, 3, params), causal::StateError);
+  causal::estimation::StateReader r2(w.bytes());
+  EXPECT_THROW(ChannelTrends::restore(r2, 2, other), causal::estimation::StateError);
+  causal::estimation::StateReader r3(w.bytes());
+  EXPECT_THROW(ChannelTrends::restore(r3, 3, params), causal::estimation::StateError);
 }

@@ -20,7 +20,7 @@ SOURCE = ('.cpp', '.hpp', '.h')
 TARGET = re.compile(r'add_library\(\s*([A-Za-z0-9_]+)')
 NAMESPACE = re.compile(r'^\s*namespace\s+(causal(?:::[A-Za-z_]\w*)*)\s*\{', re.M)
 # Folders not yet renamed (skipped): empty once every library follows the rule.
-PENDING = {'estimation'}
+PENDING = set()
 FORWARD = re.compile(r'^\s*(?:(?:class|struct)\s+\w+\s*;\s*(?://.*)?|//.*)?\s*$')
 
 

@@ -11,7 +11,7 @@ inline void set_ims_condition_model(pipeline::AssetPipelineParams& p) {
   p.condition.feature = io::ConditionFeature::MeanAbs;
   p.condition_model.model.lag_order = 1;
   p.condition_model.model.include_self_lags = true;
-  p.condition_model.noise.fixed = NoiseParams{1e-4, 1e-2, 1.0};
+  p.condition_model.noise.fixed = estimation::NoiseParams{1e-4, 1e-2, 1.0};
   p.condition_model.publish_every = 1;
   p.condition_model.fixed_lag = 6;
   p.condition_structure.calibration_samples = 100;

@@ -26,20 +26,20 @@ SampleLevelResult run_sample_level(const std::string& ims_dir, const SampleLevel
     res.snapshot_names.push_back(s.name);
   }
   const auto g = data.front().cols();
-  causal::ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = static_cast<int>(g);
   spec.lag_order = options.lag_order;
   spec.include_self_lags = options.include_self_lags;
-  const causal::SvarLayout layout(spec);
+  const estimation::SvarLayout layout(spec);
 
   // q, r by maximum likelihood on the first calibration samples (causal-estimator's "automatic" mode).
   const Eigen::Index cal = std::min<Eigen::Index>(options.calibration_samples, data.front().rows());
   std::vector<bool> cal_disc(static_cast<std::size_t>(cal), false);
   cal_disc[0] = true;
-  const auto tuned = causal::tune_noise_all(layout, data.front().topRows(cal), cal_disc);
-  std::vector<causal::NoiseParams> noise;
+  const auto tuned = estimation::tune_noise_all(layout, data.front().topRows(cal), cal_disc);
+  std::vector<estimation::NoiseParams> noise;
   for (const auto& t : tuned) noise.push_back(t.noise);
-  causal::SvarKalmanFilter filter(layout, noise);
+  estimation::SvarKalmanFilter filter(layout, noise);
 
   int healthy_publications = 0;
   for (int s = 0; s < options.healthy_snapshots; ++s)
@@ -56,11 +56,11 @@ SampleLevelResult run_sample_level(const std::string& ims_dir, const SampleLevel
   std::uint64_t pub = 0;
   for (std::size_t s = 0; s < data.size(); ++s) {
     const Eigen::MatrixXd& d = data[s];
-    causal::InnovationStats stats(static_cast<int>(g));
+    estimation::InnovationStats stats(static_cast<int>(g));
     int in_block = 0, pubs = 0;
     for (Eigen::Index n = 0; n < d.rows(); ++n) {
       const Eigen::VectorXd row = d.row(n).transpose();
-      if (filter.step(row.data(), n == 0) == causal::SampleStatus::Updated) stats.add(filter);
+      if (filter.step(row.data(), n == 0) == estimation::SampleStatus::Updated) stats.add(filter);
       if (++in_block < options.publish_every && n + 1 < d.rows()) continue;
       // One publication: what causal-estimator puts in an OutcomeFactors block (factors, std, nis_mean).
       Observation o;

@@ -71,17 +71,17 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
                    std::to_string(options.lag_order));
   }
 
-  ModelSpec spec;
+  estimation::ModelSpec spec;
   spec.channels = g;
   spec.lag_order = options.lag_order;
   spec.include_self_lags = options.self_lags;
-  const SvarLayout layout(spec);
+  const estimation::SvarLayout layout(spec);
 
-  StandardisedOptions sopt;
+  estimation::StandardisedOptions sopt;
   switch (options.estimator) {
-    case Estimator::Filter: sopt.estimator = EstimatorKind::Filter; break;
-    case Estimator::FixedLag: sopt.estimator = EstimatorKind::FixedLag; break;
-    case Estimator::Rts: sopt.estimator = EstimatorKind::Rts; break;
+    case Estimator::Filter: sopt.estimator = estimation::EstimatorKind::Filter; break;
+    case Estimator::FixedLag: sopt.estimator = estimation::EstimatorKind::FixedLag; break;
+    case Estimator::Rts: sopt.estimator = estimation::EstimatorKind::Rts; break;
   }
   sopt.lag = options.lag;
   sopt.standardise = options.standardise;
@@ -91,10 +91,10 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
   sopt.tuning.p0 = options.noise.p0;
   sopt.output.every = options.every;
   sopt.output.innovations = false;  // not written: 2 G doubles per sample saved
-  const StandardisedRun res = estimate_standardised(layout, y, {}, sopt, table.channel_names);
+  const estimation::StandardisedRun res = estimation::estimate_standardised(layout, y, {}, sopt, table.channel_names);
   switch (res.status) {
-    case EstimationStatus::Ok: break;
-    case EstimationStatus::NonFiniteOutput:
+    case estimation::EstimationStatus::Ok: break;
+    case estimation::EstimationStatus::NonFiniteOutput:
       throw EstimationFailed(path + ":" + std::to_string(data_row_line(path, static_cast<long>(res.row))) + ": " +
                              res.message + "; no factors written");
     default: throw BadInput(path + ": " + res.message);
@@ -107,11 +107,11 @@ void run_offline(const std::string& path, const causal::io::ChannelTable& table,
     for (int j = 0; j < g; ++j) log << " " << table.channel_names[j] << "=" << res.scales.scale[j];
     log << "\n";
   }
-  for (const NoiseTuningResult& t : res.tuning) log << "auto-noise: " << t.message << "\n";
-  const EstimationRun& run = res.run;
+  for (const estimation::NoiseTuningResult& t : res.tuning) log << "auto-noise: " << t.message << "\n";
+  const estimation::EstimationRun& run = res.run;
   log << "estimator " << estimator_name(options.estimator) << ": " << y.rows() << " samples, " << g
       << " channels, " << layout.total_factors() << " factors; updated " << run.counters.updated << ", warm-up "
-      << run.counters.warm_up << "; kernels " << kernel_instruction_set() << "\n";
+      << run.counters.warm_up << "; kernels " << estimation::kernel_instruction_set() << "\n";
   if (run.clamped_variances > 0) {
     log << "warning: " << run.clamped_variances << " filtered variances were <= 0 from rounding and reported "
         << "as standard deviation 0: those factors lost precision\n";

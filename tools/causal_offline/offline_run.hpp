@@ -24,7 +24,7 @@ struct OfflineOptions {
   int lag_order = 1;             // M
   bool self_lags = false;
   bool standardise = true;       // estimate on channels divided by their robust scale (scale-invariant)
-  NoiseParams noise;             // used unless auto_noise; standardised units unless standardise = false
+  estimation::NoiseParams noise;             // used unless auto_noise; standardised units unless standardise = false
   bool auto_noise = false;       // tune q, r per outcome (p0 from noise.p0)
   long calibration_samples = 0;  // first rows used for the scales and tuning; 0 = all
   long every = 1;                // write samples 0, every, 2 every, ... (the full run's estimates)

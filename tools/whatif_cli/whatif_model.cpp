@@ -103,24 +103,24 @@ FittedModel fit_model(const io::ChannelTable& table, const ModelOptions& options
   fm.layout.emplace(fm.spec);
 
   if (options.q || options.r) {
-    NoiseParams np;
+    estimation::NoiseParams np;
     if (options.q) np.q = *options.q;
     if (options.r) np.r = *options.r;
     np.p0 = options.p0;
-    validate_noise_params(np, "--q/--r/--p0");
+    estimation::validate_noise_params(np, "--q/--r/--p0");
     fm.noise.assign(static_cast<std::size_t>(g), np);
   } else {
-    NoiseTuningOptions to;
+    estimation::NoiseTuningOptions to;
     to.p0 = options.p0;
-    for (const NoiseTuningResult& t : tune_noise_all(*fm.layout, fm.centered.topRows(fm.calibration_rows), {}, to)) {
+    for (const estimation::NoiseTuningResult& t : estimation::tune_noise_all(*fm.layout, fm.centered.topRows(fm.calibration_rows), {}, to)) {
       fm.noise.push_back(t.noise);
     }
     fm.noise_tuned = true;
   }
 
-  fm.run = run_filter(*fm.layout, fm.noise, fm.centered);
+  fm.run = estimation::run_filter(*fm.layout, fm.noise, fm.centered);
   // Full covariance blocks at `at`: step a filter to that sample (run_filter keeps only std devs).
-  SvarKalmanFilter filter(*fm.layout, fm.noise);
+  estimation::SvarKalmanFilter filter(*fm.layout, fm.noise);
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows = fm.centered.topRows(fm.at + 1);
   for (int t = 0; t <= fm.at; ++t) filter.step(rows.row(t).data());
   fm.posterior = analysis::posterior_from_filter(*fm.layout, filter);

@@ -2,7 +2,7 @@
 //
 // Steps: optional centering (subtract the calibration-window mean: the SVAR has no intercept, effects are
 // differences and do not change), the instantaneous restriction (VAR-LiNGAM order, a configured graph, or
-// none), noise (given q/r, or tuned per outcome by causal::tune_noise_all on the calibration window), then
+// none), noise (given q/r, or tuned per outcome by causal::estimation::tune_noise_all on the calibration window), then
 // the Kalman filter over all rows: per-sample estimates (for counterfactuals) and the full posterior at one
 // sample (for what-if and recommendations).
 #pragma once
@@ -41,13 +41,13 @@ struct FittedModel {
   Eigen::MatrixXd raw;                    // N x G as read
   Eigen::VectorXd center;                 // subtracted per channel (zeros without centering)
   Eigen::MatrixXd centered;               // N x G data the model was fitted to
-  ModelSpec spec;
-  std::optional<SvarLayout> layout;
-  std::vector<NoiseParams> noise;
+  estimation::ModelSpec spec;
+  std::optional<estimation::SvarLayout> layout;
+  std::vector<estimation::NoiseParams> noise;
   bool noise_tuned = false;
   std::optional<analysis::VarLingamResult> lingam;
   std::vector<int> order;                 // instantaneous causal order when restricted (empty otherwise)
-  EstimationRun run;                      // per-sample filtered estimates
+  estimation::EstimationRun run;                      // per-sample filtered estimates
   analysis::FactorPosterior posterior;    // at sample `at`
   int at = 0;
   analysis::DynamicsCheck dynamics;       // of the snapshot model

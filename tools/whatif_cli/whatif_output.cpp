@@ -43,7 +43,7 @@ std::string csv_field(const std::string& text) {
 }
 
 void print_model_summary(std::ostream& out, const FittedModel& m) {
-  const SvarLayout& layout = *m.layout;
+  const estimation::SvarLayout& layout = *m.layout;
   out << "model: " << layout.channels() << " channels, " << m.centered.rows() << " rows, lag order " << layout.lag_order()
       << ", self lags " << (m.spec.include_self_lags ? "on" : "off") << ", " << layout.total_factors() << " factors\n";
   const std::string window = "rows 0.." + std::to_string(m.calibration_rows - 1);

@@ -13,28 +13,28 @@
 
 namespace causal::advice {
 
-std::optional<SvarLayout> layout_from_names(int channels, int lag_order, const std::vector<std::string>& names) {
+std::optional<estimation::SvarLayout> layout_from_names(int channels, int lag_order, const std::vector<std::string>& names) {
   // Masks (a configured causal graph) remove factors: rebuild them from which canonical names are present.
   const std::set<std::string> present(names.begin(), names.end());
   for (bool self_lags : {false, true}) {
-    ModelSpec spec;
+    estimation::ModelSpec spec;
     spec.channels = channels;
     spec.lag_order = lag_order;
     spec.include_self_lags = self_lags;
     try {
-      const SvarLayout full(spec);
+      const estimation::SvarLayout full(spec);
       const auto g = static_cast<std::size_t>(channels);
       spec.allowed.assign(g, std::vector<bool>(g, false));
       spec.instantaneous_allowed.assign(g, std::vector<bool>(g, false));
       for (int k = 0; k < channels; ++k) {
         for (int i = 0; i < full.factor_count(k); ++i) {
           if (present.count(full.factor_name(k, i)) == 0) continue;
-          const Regressor r = full.regressors(k)[static_cast<std::size_t>(i)];
+          const estimation::Regressor r = full.regressors(k)[static_cast<std::size_t>(i)];
           spec.allowed[static_cast<std::size_t>(k)][static_cast<std::size_t>(r.channel)] = true;
           if (r.lag == 0) spec.instantaneous_allowed[static_cast<std::size_t>(k)][static_cast<std::size_t>(r.channel)] = true;
         }
       }
-      SvarLayout layout(spec);
+      estimation::SvarLayout layout(spec);
       if (layout.factor_names() == names) return layout;
     } catch (const std::invalid_argument&) {
       continue;  // e.g. a spec without any factor
@@ -48,7 +48,7 @@ void Advisor::update(const ModelObservation& a) {
   if (!m.layout) {
     auto layout = layout_from_names(static_cast<int>(a.channel_names.size()), a.lag_order, a.factor_names);
     if (!layout) return;
-    m.layout = std::make_unique<SvarLayout>(*layout);
+    m.layout = std::make_unique<estimation::SvarLayout>(*layout);
     m.channel_names = a.channel_names;
   }
   m.factors = a.observation.factors;
@@ -96,7 +96,7 @@ double Advisor::snapshot_hours(const std::string& asset_group) const {
 
 namespace {
 
-bool blocks_fit(const SvarLayout& layout, const Eigen::VectorXd& factors, const std::vector<Eigen::MatrixXd>& blocks) {
+bool blocks_fit(const estimation::SvarLayout& layout, const Eigen::VectorXd& factors, const std::vector<Eigen::MatrixXd>& blocks) {
   if (blocks.empty()) return false;
   for (const auto& b : blocks) {
     if (!b.allFinite()) return false;  // a NaN block would poison every Monte Carlo draw
@@ -123,7 +123,7 @@ analysis::FactorPosterior Advisor::posterior(const AssetModel& m) const {
   return analysis::posterior_from_std_devs(*m.layout, m.factors, m.factor_std);
 }
 
-analysis::FactorPosterior Advisor::posterior(const SvarLayout& layout, const FactorSnapshot& s) const {
+analysis::FactorPosterior Advisor::posterior(const estimation::SvarLayout& layout, const FactorSnapshot& s) const {
   if (blocks_fit(layout, s.factors, s.blocks)) return analysis::FactorPosterior{s.factors, s.blocks};
   return analysis::posterior_from_std_devs(layout, s.factors, s.factor_std);
 }

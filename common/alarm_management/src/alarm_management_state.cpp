@@ -13,13 +13,13 @@ constexpr std::uint32_t kVersion = 1;
 
 // A map or a deque as its size and its entries; `entry(io, element)` is the element's own field list.
 template <class Map, class Entry>
-void entries(SaveFields io, const Map& m, Entry entry) {
+void entries(estimation::SaveFields io, const Map& m, Entry entry) {
   io.out.put(static_cast<std::uint64_t>(m.size()));
   for (const auto& e : m) entry(io, e);
 }
 
 template <class K, class V, class Entry>
-void entries(RestoreFields io, std::map<K, V>& m, Entry entry) {
+void entries(estimation::RestoreFields io, std::map<K, V>& m, Entry entry) {
   m.clear();
   for (auto n = io.in.get<std::uint64_t>(); n > 0; --n) {
     std::pair<K, V> e;
@@ -29,7 +29,7 @@ void entries(RestoreFields io, std::map<K, V>& m, Entry entry) {
 }
 
 template <class Entry>
-void entries(RestoreFields io, std::deque<std::string>& d, Entry entry) {
+void entries(estimation::RestoreFields io, std::deque<std::string>& d, Entry entry) {
   d.clear();
   for (auto n = io.in.get<std::uint64_t>(); n > 0; --n) entry(io, d.emplace_back());
 }
@@ -77,22 +77,22 @@ void AlarmManager::fields(Io io, M& m) {
   entries(io, m.outcome_order_, [](auto f, auto& id) { f(id); });
 }
 
-void AlarmManager::save(StateWriter& out) const {
+void AlarmManager::save(estimation::StateWriter& out) const {
   out.begin(kTag, kVersion);
-  fields(SaveFields{out}, *this);
+  fields(estimation::SaveFields{out}, *this);
 }
 
-void AlarmManager::restore(StateReader& in) {
+void AlarmManager::restore(estimation::StateReader& in) {
   in.expect(kTag, kVersion);
   AlarmManager m(limits_);
-  fields(RestoreFields{in}, m);
+  fields(estimation::RestoreFields{in}, m);
   for (const auto& [id, o] : m.outcomes_) {
     if (o.refusal < Refusal::None || o.refusal > Refusal::NotApplicable) {
-      throw StateError("checkpoint: alarm_management outcome '" + id + "' has an unknown refusal");
+      throw estimation::StateError("checkpoint: alarm_management outcome '" + id + "' has an unknown refusal");
     }
   }
   if (m.outcomes_.size() != m.outcome_order_.size()) {
-    throw StateError("checkpoint: alarm_management request outcomes and their order differ");
+    throw estimation::StateError("checkpoint: alarm_management request outcomes and their order differ");
   }
   m.counters_ = counters_;  // this process's counts (not saved)
   *this = std::move(m);

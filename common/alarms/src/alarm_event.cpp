@@ -57,16 +57,16 @@ void fields_after_state(Io io, E& e) {
 
 }  // namespace
 
-void save(causal::StateWriter& out, const AlarmEvent& e) {
+void save(estimation::StateWriter& out, const AlarmEvent& e) {
   out.begin("alarm_event", 2);
   out.put(e.alarm_id);
   out.put(e.channel);
   out.put(static_cast<std::int32_t>(e.severity));
   out.put(static_cast<std::int32_t>(e.state));
-  fields_after_state(SaveFields{out}, e);
+  fields_after_state(estimation::SaveFields{out}, e);
 }
 
-void restore(causal::StateReader& in, AlarmEvent& event) {
+void restore(estimation::StateReader& in, AlarmEvent& event) {
   in.expect("alarm_event", 2);
   AlarmEvent e;
   in.read(e.alarm_id);
@@ -75,11 +75,11 @@ void restore(causal::StateReader& in, AlarmEvent& event) {
   const auto state = in.get<std::int32_t>();
   if (severity < static_cast<int>(Severity::Advisory) || severity > static_cast<int>(Severity::Critical) ||
       state < static_cast<int>(AlarmState::Raised) || state > static_cast<int>(AlarmState::Cleared)) {
-    throw causal::StateError("checkpoint: alarm_event '" + e.alarm_id + "' has an unknown severity or state");
+    throw estimation::StateError("checkpoint: alarm_event '" + e.alarm_id + "' has an unknown severity or state");
   }
   e.severity = static_cast<Severity>(severity);
   e.state = static_cast<AlarmState>(state);
-  fields_after_state(RestoreFields{in}, e);
+  fields_after_state(estimation::RestoreFields{in}, e);
   event = std::move(e);
 }
 

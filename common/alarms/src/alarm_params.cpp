@@ -74,7 +74,7 @@ static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 248,
 
 }  // namespace
 
-void save(causal::StateWriter& out, const AlarmParams& params) {
+void save(estimation::StateWriter& out, const AlarmParams& params) {
   out.begin("alarm_params", 1);
   out.put(kParamCount);
   for_each_param(params, [&](const char* name, const auto& value) {
@@ -83,18 +83,18 @@ void save(causal::StateWriter& out, const AlarmParams& params) {
   });
 }
 
-void restore(causal::StateReader& in, AlarmParams& params) {
+void restore(estimation::StateReader& in, AlarmParams& params) {
   in.expect("alarm_params", 1);
   const auto count = in.get<std::uint32_t>();
   if (count != kParamCount) {
-    throw causal::StateError("checkpoint: " + std::to_string(count) + " alarm parameters saved, this build has " +
+    throw estimation::StateError("checkpoint: " + std::to_string(count) + " alarm parameters saved, this build has " +
                              std::to_string(kParamCount));
   }
   AlarmParams p;
   for_each_param(p, [&](const char* name, auto& value) {
     const auto saved = in.get<std::string>();
     if (saved != name) {
-      throw causal::StateError("checkpoint: alarm parameter '" + saved + "' where this build expects '" + name + "'");
+      throw estimation::StateError("checkpoint: alarm parameter '" + saved + "' where this build expects '" + name + "'");
     }
     in.read(value);
   });

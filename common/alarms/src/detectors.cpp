@@ -46,14 +46,14 @@ void ClippedCusum::fields(IO io, Self& c) {
   io(c.onset_time_ns_);
 }
 
-void ClippedCusum::save(causal::StateWriter& out) const { fields(causal::SaveFields{out}, *this); }
+void ClippedCusum::save(estimation::StateWriter& out) const { fields(estimation::SaveFields{out}, *this); }
 
-void ClippedCusum::restore(causal::StateReader& in) {
+void ClippedCusum::restore(estimation::StateReader& in) {
   ClippedCusum c;
-  fields(causal::RestoreFields{in}, c);
+  fields(estimation::RestoreFields{in}, c);
   // The constructor's promises (k > 0, clip > k, cap > 0) and a statistic inside [0, cap].
   if (!(c.k_ > 0.0 && c.clip_ > c.k_ && c.cap_ > 0.0 && c.s_ >= 0.0 && c.s_ <= c.cap_)) {
-    throw causal::StateError("checkpoint: clipped_cusum section holds invalid values");
+    throw estimation::StateError("checkpoint: clipped_cusum section holds invalid values");
   }
   *this = c;
 }
@@ -103,14 +103,14 @@ void WindowMean::fields(IO io, Self& w) {
   io(w.sum_);
 }
 
-void WindowMean::save(causal::StateWriter& out) const { fields(causal::SaveFields{out}, *this); }
+void WindowMean::save(estimation::StateWriter& out) const { fields(estimation::SaveFields{out}, *this); }
 
-void WindowMean::restore(causal::StateReader& in) {
+void WindowMean::restore(estimation::StateReader& in) {
   WindowMean w;
-  fields(causal::RestoreFields{in}, w);
+  fields(estimation::RestoreFields{in}, w);
   const int n = static_cast<int>(w.buf_.size());
   if (w.next_ < 0 || w.count_ < 0 || w.count_ > n || (n > 0 && w.next_ >= n) || (n == 0 && w.next_ != 0)) {
-    throw causal::StateError("checkpoint: window_mean section is inconsistent (position outside the window)");
+    throw estimation::StateError("checkpoint: window_mean section is inconsistent (position outside the window)");
   }
   *this = std::move(w);
 }
@@ -161,13 +161,13 @@ void PersistenceLatch::fields(IO io, Self& l) {
   io(l.active_);
 }
 
-void PersistenceLatch::save(causal::StateWriter& out) const { fields(causal::SaveFields{out}, *this); }
+void PersistenceLatch::save(estimation::StateWriter& out) const { fields(estimation::SaveFields{out}, *this); }
 
-void PersistenceLatch::restore(causal::StateReader& in) {
+void PersistenceLatch::restore(estimation::StateReader& in) {
   PersistenceLatch l;
-  fields(causal::RestoreFields{in}, l);
+  fields(estimation::RestoreFields{in}, l);
   if (l.raise_count_ < 1 || l.clear_count_ < 1 || l.above_ < 0 || l.below_ < 0) {
-    throw causal::StateError("checkpoint: persistence_latch section holds invalid counts");
+    throw estimation::StateError("checkpoint: persistence_latch section holds invalid counts");
   }
   *this = l;
 }

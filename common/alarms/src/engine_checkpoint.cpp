@@ -120,13 +120,13 @@ void confirmation_scalars(Io io, C& c) {
   io(c.step_onset_time_ns);
 }
 
-void save(causal::StateWriter& out, const Onset& o) { onset_fields(SaveFields{out}, o); }
-void restore(causal::StateReader& in, Onset& o) { onset_fields(RestoreFields{in}, o); }
+void save(estimation::StateWriter& out, const Onset& o) { onset_fields(estimation::SaveFields{out}, o); }
+void restore(estimation::StateReader& in, Onset& o) { onset_fields(estimation::RestoreFields{in}, o); }
 
-std::size_t read_count(causal::StateReader& in, std::size_t expected, const char* what) {
+std::size_t read_count(estimation::StateReader& in, std::size_t expected, const char* what) {
   const auto n = in.get<std::uint64_t>();
   if (n != expected) {
-    throw causal::StateError(std::string("checkpoint: ") + what + " count " + std::to_string(n) + ", expected " +
+    throw estimation::StateError(std::string("checkpoint: ") + what + " count " + std::to_string(n) + ", expected " +
                              std::to_string(expected));
   }
   return static_cast<std::size_t>(n);
@@ -134,46 +134,46 @@ std::size_t read_count(causal::StateReader& in, std::size_t expected, const char
 
 }  // namespace
 
-void save(causal::StateWriter& out, const SignalMonitor& s) {
+void save(estimation::StateWriter& out, const SignalMonitor& s) {
   out.begin("signal_monitor", 4);
-  signal_fields(SaveFields{out}, s);
+  signal_fields(estimation::SaveFields{out}, s);
 }
 
-void restore(causal::StateReader& in, SignalMonitor& s) {
+void restore(estimation::StateReader& in, SignalMonitor& s) {
   in.expect("signal_monitor", 4);
-  signal_fields(RestoreFields{in}, s);
+  signal_fields(estimation::RestoreFields{in}, s);
 }
 
-void save(causal::StateWriter& out, const FactorMonitor& f) {
+void save(estimation::StateWriter& out, const FactorMonitor& f) {
   out.begin("factor_monitor", 1);
-  factor_fields(SaveFields{out}, f);
+  factor_fields(estimation::SaveFields{out}, f);
 }
 
-void restore(causal::StateReader& in, FactorMonitor& f) {
+void restore(estimation::StateReader& in, FactorMonitor& f) {
   in.expect("factor_monitor", 1);
-  factor_fields(RestoreFields{in}, f);
+  factor_fields(estimation::RestoreFields{in}, f);
 }
 
-void save(causal::StateWriter& out, const AlarmSlot& slot) {
+void save(estimation::StateWriter& out, const AlarmSlot& slot) {
   out.begin("alarm_slot", 2);
-  slot_fields_before_severity(SaveFields{out}, slot);
+  slot_fields_before_severity(estimation::SaveFields{out}, slot);
   out.put(static_cast<std::int32_t>(slot.severity));
-  slot_fields_after_severity(SaveFields{out}, slot);
+  slot_fields_after_severity(estimation::SaveFields{out}, slot);
 }
 
-void restore(causal::StateReader& in, AlarmSlot& slot) {
+void restore(estimation::StateReader& in, AlarmSlot& slot) {
   in.expect("alarm_slot", 2);
-  slot_fields_before_severity(RestoreFields{in}, slot);
+  slot_fields_before_severity(estimation::RestoreFields{in}, slot);
   const auto severity = in.get<std::int32_t>();
   if (slot.counter < 0 || severity < static_cast<int>(Severity::Advisory) ||
       severity > static_cast<int>(Severity::Critical)) {
-    throw causal::StateError("checkpoint: alarm_slot '" + slot.id + "' holds an invalid counter or severity");
+    throw estimation::StateError("checkpoint: alarm_slot '" + slot.id + "' holds an invalid counter or severity");
   }
   slot.severity = static_cast<Severity>(severity);
-  slot_fields_after_severity(RestoreFields{in}, slot);
+  slot_fields_after_severity(estimation::RestoreFields{in}, slot);
 }
 
-void save(causal::StateWriter& out, const ChannelState& cs) {
+void save(estimation::StateWriter& out, const ChannelState& cs) {
   out.begin("alarm_channel", 4);
   save(out, cs.feature);
   save(out, cs.innovation);
@@ -182,10 +182,10 @@ void save(causal::StateWriter& out, const ChannelState& cs) {
   for (const auto& slot : cs.slots) save(out, slot);
   out.put(cs.factor_stat);
   out.put(cs.factor_argmax);
-  channel_fields_after_argmax(SaveFields{out}, cs);
+  channel_fields_after_argmax(estimation::SaveFields{out}, cs);
 }
 
-void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
+void restore(estimation::StateReader& in, ChannelState& cs, int factor_count) {
   in.expect("alarm_channel", 4);
   restore(in, cs.feature);
   restore(in, cs.innovation);
@@ -195,13 +195,13 @@ void restore(causal::StateReader& in, ChannelState& cs, int factor_count) {
   in.read(cs.factor_stat);
   in.read(cs.factor_argmax);
   if (cs.factor_argmax < -1 || cs.factor_argmax >= factor_count) {
-    throw causal::StateError("checkpoint: alarm_channel refers to factor " + std::to_string(cs.factor_argmax) +
+    throw estimation::StateError("checkpoint: alarm_channel refers to factor " + std::to_string(cs.factor_argmax) +
                              " of " + std::to_string(factor_count));
   }
-  channel_fields_after_argmax(RestoreFields{in}, cs);
+  channel_fields_after_argmax(estimation::RestoreFields{in}, cs);
 }
 
-void save(causal::StateWriter& out, const Episode& e) {
+void save(estimation::StateWriter& out, const Episode& e) {
   out.begin("alarm_episode", 1);
   out.put(static_cast<std::uint64_t>(e.own.size()));
   for (const auto& o : e.own) save(out, o);
@@ -209,7 +209,7 @@ void save(causal::StateWriter& out, const Episode& e) {
   for (const auto& o : e.departure) save(out, o);
 }
 
-void restore(causal::StateReader& in, Episode& e, int channels) {
+void restore(estimation::StateReader& in, Episode& e, int channels) {
   in.expect("alarm_episode", 1);
   e.reset(channels);
   read_count(in, e.own.size(), "episode onsets (own)");
@@ -218,9 +218,9 @@ void restore(causal::StateReader& in, Episode& e, int channels) {
   for (auto& o : e.departure) restore(in, o);
 }
 
-void save(causal::StateWriter& out, const Confirmation& c) {
+void save(estimation::StateWriter& out, const Confirmation& c) {
   out.begin("alarm_confirmation", 1);
-  confirmation_scalars(SaveFields{out}, c);
+  confirmation_scalars(estimation::SaveFields{out}, c);
   out.put(static_cast<std::uint64_t>(c.feature.size()));
   for (std::size_t i = 0; i < c.feature.size(); ++i) {
     out.put(c.feature[i]);
@@ -228,13 +228,13 @@ void save(causal::StateWriter& out, const Confirmation& c) {
   }
 }
 
-void restore(causal::StateReader& in, Confirmation& c, int channels) {
+void restore(estimation::StateReader& in, Confirmation& c, int channels) {
   in.expect("alarm_confirmation", 1);
   Confirmation r;
-  confirmation_scalars(RestoreFields{in}, r);
+  confirmation_scalars(estimation::RestoreFields{in}, r);
   const auto n = in.get<std::uint64_t>();
   if ((n != 0 && n != static_cast<std::uint64_t>(channels)) || r.step_channel < -1 || r.step_channel >= channels) {
-    throw causal::StateError("checkpoint: alarm_confirmation does not fit " + std::to_string(channels) + " channels");
+    throw estimation::StateError("checkpoint: alarm_confirmation does not fit " + std::to_string(channels) + " channels");
   }
   r.feature.resize(static_cast<std::size_t>(n));
   r.innovation.resize(static_cast<std::size_t>(n));
@@ -247,7 +247,7 @@ void restore(causal::StateReader& in, Confirmation& c, int channels) {
 
 }  // namespace detail
 
-void AlarmEngine::Impl::save_state(causal::StateWriter& out) const {
+void AlarmEngine::Impl::save_state(estimation::StateWriter& out) const {
   out.begin("alarm_engine_state", 3);
   out.put(seen);
   out.put(rejected);
@@ -269,7 +269,7 @@ void AlarmEngine::Impl::save_state(causal::StateWriter& out) const {
   detail::save(out, continuity);
 }
 
-void AlarmEngine::Impl::restore_state(causal::StateReader& in) {
+void AlarmEngine::Impl::restore_state(estimation::StateReader& in) {
   in.expect("alarm_engine_state", 3);
   in.read(seen);
   in.read(rejected);
@@ -291,7 +291,7 @@ void AlarmEngine::Impl::restore_state(causal::StateReader& in) {
   detail::restore(in, continuity);
 }
 
-void AlarmEngine::save(causal::StateWriter& out) const {
+void AlarmEngine::save(estimation::StateWriter& out) const {
   const Impl& m = *impl_;
   out.begin("alarm_engine", 1);
   out.put(m.group);
@@ -304,7 +304,7 @@ void AlarmEngine::save(causal::StateWriter& out) const {
 
 namespace {
 
-AlarmEngine restore_engine(causal::StateReader& in, const AlarmParams* expected) {
+AlarmEngine restore_engine(estimation::StateReader& in, const AlarmParams* expected) {
   in.expect("alarm_engine", 1);
   auto group = in.get<std::string>();
   auto names = in.get<std::vector<std::string>>();
@@ -314,7 +314,7 @@ AlarmEngine restore_engine(causal::StateReader& in, const AlarmParams* expected)
   if (expected != nullptr) {
     const std::string diff = param_differences(saved, *expected);
     if (!diff.empty()) {
-      throw causal::StateError("checkpoint of asset group '" + group +
+      throw estimation::StateError("checkpoint of asset group '" + group +
                                "' was written with other alarm parameters (checkpoint -> configured: " + diff +
                                "); its baseline and detectors do not apply to this configuration");
     }
@@ -322,20 +322,20 @@ AlarmEngine restore_engine(causal::StateReader& in, const AlarmParams* expected)
   try {
     return AlarmEngine(std::move(group), std::move(names), std::move(factor_names), saved);
   } catch (const std::invalid_argument& e) {
-    throw causal::StateError(std::string("checkpoint: invalid engine configuration: ") + e.what());
+    throw estimation::StateError(std::string("checkpoint: invalid engine configuration: ") + e.what());
   }
 }
 
 }  // namespace
 
-AlarmEngine AlarmEngine::restore(causal::StateReader& in, const AlarmParams& params) {
+AlarmEngine AlarmEngine::restore(estimation::StateReader& in, const AlarmParams& params) {
   AlarmEngine e = restore_engine(in, &params);
   e.impl_->restore_state(in);
   in.expect("alarm_engine_end", 1);
   return e;
 }
 
-AlarmEngine AlarmEngine::restore(causal::StateReader& in) {
+AlarmEngine AlarmEngine::restore(estimation::StateReader& in) {
   AlarmEngine e = restore_engine(in, nullptr);
   e.impl_->restore_state(in);
   in.expect("alarm_engine_end", 1);

@@ -194,20 +194,20 @@ struct Episode {
   }
 };
 
-// Checkpoints of the engine's pieces (engine_checkpoint.cpp). restore() throws causal::StateError on a
+// Checkpoints of the engine's pieces (engine_checkpoint.cpp). restore() throws estimation::StateError on a
 // truncated, foreign or inconsistent section.
-void save(causal::StateWriter& out, const SignalMonitor& s);
-void restore(causal::StateReader& in, SignalMonitor& s);
-void save(causal::StateWriter& out, const FactorMonitor& f);
-void restore(causal::StateReader& in, FactorMonitor& f);
-void save(causal::StateWriter& out, const AlarmSlot& slot);
-void restore(causal::StateReader& in, AlarmSlot& slot);
-void save(causal::StateWriter& out, const ChannelState& cs);
-void restore(causal::StateReader& in, ChannelState& cs, int factor_count);
-void save(causal::StateWriter& out, const Episode& e);
-void restore(causal::StateReader& in, Episode& e, int channels);
-void save(causal::StateWriter& out, const Confirmation& c);
-void restore(causal::StateReader& in, Confirmation& c, int channels);
+void save(estimation::StateWriter& out, const SignalMonitor& s);
+void restore(estimation::StateReader& in, SignalMonitor& s);
+void save(estimation::StateWriter& out, const FactorMonitor& f);
+void restore(estimation::StateReader& in, FactorMonitor& f);
+void save(estimation::StateWriter& out, const AlarmSlot& slot);
+void restore(estimation::StateReader& in, AlarmSlot& slot);
+void save(estimation::StateWriter& out, const ChannelState& cs);
+void restore(estimation::StateReader& in, ChannelState& cs, int factor_count);
+void save(estimation::StateWriter& out, const Episode& e);
+void restore(estimation::StateReader& in, Episode& e, int channels);
+void save(estimation::StateWriter& out, const Confirmation& c);
+void restore(estimation::StateReader& in, Confirmation& c, int channels);
 
 // ---- the detector table (detector_table.cpp) ------------------------------------------------------
 // Alarm kinds are data: one row per kind with what it watches and how its statistic, threshold, onset and
@@ -334,8 +334,8 @@ struct AlarmEngine::Impl {
   // Everything that changes after construction (engine_checkpoint.cpp); the configuration (group, names,
   // params) is written by AlarmEngine::save before it, and restore_state() runs on an engine constructed
   // from that configuration, so the derived structure (latch counts, factor references) is rebuilt.
-  void save_state(causal::StateWriter& out) const;
-  void restore_state(causal::StateReader& in);
+  void save_state(estimation::StateWriter& out) const;
+  void restore_state(estimation::StateReader& in);
 };
 
 }  // namespace causal::alarms

@@ -49,9 +49,9 @@ void continuity_fields(IO io, C& c) {
   io(c.lost);
 }
 
-void save(causal::StateWriter& out, const IndexContinuity& c) { continuity_fields(causal::SaveFields{out}, c); }
+void save(estimation::StateWriter& out, const IndexContinuity& c) { continuity_fields(estimation::SaveFields{out}, c); }
 
-void restore(causal::StateReader& in, IndexContinuity& c) { continuity_fields(causal::RestoreFields{in}, c); }
+void restore(estimation::StateReader& in, IndexContinuity& c) { continuity_fields(estimation::RestoreFields{in}, c); }
 
 }  // namespace detail
 

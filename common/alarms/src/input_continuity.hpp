@@ -38,7 +38,7 @@ struct IndexContinuity {
   LostRange step(std::uint64_t index, std::int64_t time_ns);
 };
 
-void save(causal::StateWriter& out, const IndexContinuity& c);
-void restore(causal::StateReader& in, IndexContinuity& c);
+void save(estimation::StateWriter& out, const IndexContinuity& c);
+void restore(estimation::StateReader& in, IndexContinuity& c);
 
 }  // namespace causal::alarms::detail

@@ -64,21 +64,21 @@ void robust_stats_fields(IO io, S& s) {
   io(s.valid);
 }
 
-void save(causal::StateWriter& out, const RobustStats& stats) { robust_stats_fields(causal::SaveFields{out}, stats); }
+void save(estimation::StateWriter& out, const RobustStats& stats) { robust_stats_fields(estimation::SaveFields{out}, stats); }
 
-void restore(causal::StateReader& in, RobustStats& stats) {
+void restore(estimation::StateReader& in, RobustStats& stats) {
   RobustStats s;
-  robust_stats_fields(causal::RestoreFields{in}, s);
+  robust_stats_fields(estimation::RestoreFields{in}, s);
   // robust_stats() promises a positive, finite scale (its fallbacks): every z divides by it.
   if (!(std::isfinite(s.scale) && s.scale > 0.0) || (s.valid && !std::isfinite(s.location))) {
-    throw causal::StateError("checkpoint: robust_stats section holds an invalid location or scale");
+    throw estimation::StateError("checkpoint: robust_stats section holds an invalid location or scale");
   }
   stats = s;
 }
 
 double normal_upper_quantile(double p) {
   if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("normal_upper_quantile: p must be in (0, 1)");
-  return -causal::normal_quantile(p);  // upper tail p = lower tail p, mirrored
+  return -estimation::normal_quantile(p);  // upper tail p = lower tail p, mirrored
 }
 
 double chi_square_upper_quantile(int dof, double p) {

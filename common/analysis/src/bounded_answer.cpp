@@ -100,7 +100,7 @@ void validate_rule(const AnswerRule& rule) {
   if (rule.horizon_snapshots < 1) throw std::invalid_argument("answer rule: horizon_snapshots must be >= 1");
 }
 
-BoundedAnswer answer_intervention(const SvarLayout& layout, const FactorPosterior& posterior,
+BoundedAnswer answer_intervention(const estimation::SvarLayout& layout, const FactorPosterior& posterior,
                                   const InterventionQuery& query, const AnswerRule& rule,
                                   const UncertaintyOptions& options) {
   validate_rule(rule);

@@ -169,7 +169,7 @@ std::vector<std::vector<bool>> CausalGraph::instantaneous_mask() const {
   return mask;
 }
 
-ModelSpec CausalGraph::apply_to(ModelSpec spec) const {
+estimation::ModelSpec CausalGraph::apply_to(estimation::ModelSpec spec) const {
   if (spec.channels != channels_) {
     throw std::invalid_argument("causal graph has " + std::to_string(channels_) + " channels but the model spec " +
                                 std::to_string(spec.channels));
@@ -210,7 +210,7 @@ CausalGraph parse_causal_graph(const std::string& text, int channels, const std:
   return graph;
 }
 
-ModelSpec restrict_to_order(ModelSpec spec, const std::vector<int>& order) {
+estimation::ModelSpec restrict_to_order(estimation::ModelSpec spec, const std::vector<int>& order) {
   check_permutation(order, spec.channels);
   const std::size_t g = static_cast<std::size_t>(spec.channels);
   std::vector<int> position(g);

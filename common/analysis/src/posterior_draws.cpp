@@ -20,7 +20,7 @@ Eigen::MatrixXd psd_sqrt(const Eigen::MatrixXd& p) {
 
 }  // namespace
 
-PosteriorSampler::PosteriorSampler(const SvarLayout& layout, const FactorPosterior& posterior, std::uint64_t seed)
+PosteriorSampler::PosteriorSampler(const estimation::SvarLayout& layout, const FactorPosterior& posterior, std::uint64_t seed)
     : layout_(layout), posterior_(posterior), rng_(seed), x_(posterior.mean.size()) {
   for (const auto& block : posterior.blocks) roots_.push_back(psd_sqrt(block));
 }

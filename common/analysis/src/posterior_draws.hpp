@@ -17,12 +17,12 @@ namespace causal::analysis::detail {
 // full block P_k is used. Fixed seed: the same posterior gives the same draws.
 class PosteriorSampler {
  public:
-  PosteriorSampler(const SvarLayout& layout, const FactorPosterior& posterior, std::uint64_t seed);
+  PosteriorSampler(const estimation::SvarLayout& layout, const FactorPosterior& posterior, std::uint64_t seed);
   // The next factor vector (layout order).
   const Eigen::VectorXd& next();
 
  private:
-  const SvarLayout& layout_;
+  const estimation::SvarLayout& layout_;
   const FactorPosterior& posterior_;
   std::vector<Eigen::MatrixXd> roots_;
   std::mt19937_64 rng_;

@@ -87,7 +87,7 @@ std::string describe_recommendation(const Recommendation& rec, int target, const
   return text;
 }
 
-std::vector<Recommendation> rank_interventions(const SvarLayout& layout, const FactorPosterior& posterior, int target,
+std::vector<Recommendation> rank_interventions(const estimation::SvarLayout& layout, const FactorPosterior& posterior, int target,
                                                const std::vector<CandidateIntervention>& candidates,
                                                const RecommendationOptions& options) {
   const int g = layout.channels();

@@ -9,7 +9,7 @@
 namespace causal::analysis {
 namespace {
 
-void check_factor_count(const SvarLayout& layout, Eigen::Index size, const char* what) {
+void check_factor_count(const estimation::SvarLayout& layout, Eigen::Index size, const char* what) {
   if (size != layout.total_factors()) {
     throw std::invalid_argument(std::string(what) + " has " + std::to_string(size) + " entries but the layout has " +
                                 std::to_string(layout.total_factors()) + " factors");
@@ -17,7 +17,7 @@ void check_factor_count(const SvarLayout& layout, Eigen::Index size, const char*
 }
 
 // Where a regressor of outcome k lives in (A0, A_1..A_M).
-double& slot(StructuralModel& model, int k, const Regressor& r) {
+double& slot(StructuralModel& model, int k, const estimation::Regressor& r) {
   return r.lag == 0 ? model.a0(k, r.channel) : model.lags[static_cast<std::size_t>(r.lag - 1)](k, r.channel);
 }
 
@@ -54,7 +54,7 @@ bool all_finite(const StructuralModel& model) {
   return true;
 }
 
-StructuralModel assemble_structural_model(const SvarLayout& layout, const Eigen::VectorXd& factors) {
+StructuralModel assemble_structural_model(const estimation::SvarLayout& layout, const Eigen::VectorXd& factors) {
   check_factor_count(layout, factors.size(), "factor vector");
   StructuralModel model = zero_model(layout.channels(), layout.lag_order());
   for (int k = 0; k < layout.channels(); ++k) {
@@ -71,7 +71,7 @@ StructuralModel assemble_structural_model(const SvarLayout& layout, const Eigen:
   return model;
 }
 
-Eigen::VectorXd factors_from_model(const SvarLayout& layout, const StructuralModel& model) {
+Eigen::VectorXd factors_from_model(const estimation::SvarLayout& layout, const StructuralModel& model) {
   validate_model(model);
   if (model.channels() != layout.channels() || model.lag_order() != layout.lag_order()) {
     throw std::invalid_argument("factors_from_model: model and layout disagree on channels or lag order");
@@ -85,7 +85,7 @@ Eigen::VectorXd factors_from_model(const SvarLayout& layout, const StructuralMod
   return factors;
 }
 
-FactorPosterior posterior_from_filter(const SvarLayout& layout, const SvarKalmanFilter& filter) {
+FactorPosterior posterior_from_filter(const estimation::SvarLayout& layout, const estimation::SvarKalmanFilter& filter) {
   FactorPosterior posterior;
   posterior.mean.resize(layout.total_factors());
   for (int k = 0; k < layout.channels(); ++k) {
@@ -98,7 +98,7 @@ FactorPosterior posterior_from_filter(const SvarLayout& layout, const SvarKalman
   return posterior;
 }
 
-FactorPosterior posterior_from_std_devs(const SvarLayout& layout, const Eigen::VectorXd& mean,
+FactorPosterior posterior_from_std_devs(const estimation::SvarLayout& layout, const Eigen::VectorXd& mean,
                                         const Eigen::VectorXd& std_devs) {
   check_factor_count(layout, mean.size(), "factor mean");
   check_factor_count(layout, std_devs.size(), "factor std devs");
@@ -111,7 +111,7 @@ FactorPosterior posterior_from_std_devs(const SvarLayout& layout, const Eigen::V
   return posterior;
 }
 
-void validate_posterior(const SvarLayout& layout, const FactorPosterior& posterior) {
+void validate_posterior(const estimation::SvarLayout& layout, const FactorPosterior& posterior) {
   check_factor_count(layout, posterior.mean.size(), "posterior mean");
   if (static_cast<int>(posterior.blocks.size()) != layout.channels()) {
     throw std::invalid_argument("posterior has " + std::to_string(posterior.blocks.size()) +

@@ -32,7 +32,7 @@ void unstack(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, const Eigen::
   if (lo.size() > 2 * g) out.cumulative = {lo.segment(2 * g, g), hi.segment(2 * g, g), sd.segment(2 * g, g)};
 }
 
-void monte_carlo(const SvarLayout& layout, const FactorPosterior& posterior, const InterventionQuery& query,
+void monte_carlo(const estimation::SvarLayout& layout, const FactorPosterior& posterior, const InterventionQuery& query,
                  const UncertaintyOptions& options, UncertainEffect& out) {
   const Eigen::Index g = layout.channels();
   detail::PosteriorSampler sampler(layout, posterior, options.seed);
@@ -65,7 +65,7 @@ void monte_carlo(const SvarLayout& layout, const FactorPosterior& posterior, con
   out.interval_valid = true;
 }
 
-void delta_method(const SvarLayout& layout, const FactorPosterior& posterior, const InterventionQuery& query,
+void delta_method(const estimation::SvarLayout& layout, const FactorPosterior& posterior, const InterventionQuery& query,
                   const UncertaintyOptions& options, UncertainEffect& out) {
   const Eigen::Index g = layout.channels();
   const Eigen::VectorXd f0 = stack(out.point);
@@ -89,7 +89,7 @@ void delta_method(const SvarLayout& layout, const FactorPosterior& posterior, co
     variance += (jac * p * jac.transpose()).diagonal().cwiseMax(0.0);
   }
   const Eigen::VectorXd sd = variance.cwiseSqrt();
-  const double z = normal_quantile(0.5 * (1.0 + options.coverage));
+  const double z = estimation::normal_quantile(0.5 * (1.0 + options.coverage));
   unstack(f0 - z * sd, f0 + z * sd, sd, g, out);
   out.interval_valid = sd.allFinite();
 }
@@ -101,7 +101,7 @@ const char* to_string(IntervalMethod method) {
 }
 
 
-UncertainEffect predict_intervention_with_uncertainty(const SvarLayout& layout, const FactorPosterior& posterior,
+UncertainEffect predict_intervention_with_uncertainty(const estimation::SvarLayout& layout, const FactorPosterior& posterior,
                                                       const InterventionQuery& query,
                                                       const UncertaintyOptions& options) {
   if (!(options.coverage > 0.0 && options.coverage < 1.0)) {

@@ -15,7 +15,7 @@ StructuralModel VarLingamResult::model() const {
   return m;
 }
 
-ModelSpec VarLingamResult::restrict(ModelSpec spec) const {
+estimation::ModelSpec VarLingamResult::restrict(estimation::ModelSpec spec) const {
   const std::size_t g = instantaneous_allowed.size();
   if (spec.channels != static_cast<int>(g)) {
     throw std::invalid_argument("VAR-LiNGAM result has " + std::to_string(g) + " channels, model spec " +

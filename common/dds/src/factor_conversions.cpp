@@ -40,7 +40,7 @@ Eigen::MatrixXd unpack_lower_triangle(const std::vector<double>& packed, int d) 
 
 void to_outcome_factors(const FactorContext& context, const pipeline::FactorReport& report,
                         causal_twin::OutcomeFactors& out) {
-  const SvarLayout& layout = *context.layout;
+  const estimation::SvarLayout& layout = *context.layout;
   const int k = report.outcome;
   out.outcome(static_cast<uint16_t>(k + 1));
   out.outcome_name(context.channel_names.at(static_cast<std::size_t>(k)));
@@ -65,7 +65,7 @@ void to_outcome_factors(const FactorContext& context, const pipeline::FactorRepo
 
 std::vector<causal_twin::CausalFactorBatch> to_causal_factor_batches(const FactorContext& context,
                                                                      const std::vector<pipeline::FactorReport>& reports) {
-  const SvarLayout& layout = *context.layout;
+  const estimation::SvarLayout& layout = *context.layout;
   std::vector<causal_twin::CausalFactorBatch> batches;
   std::vector<std::vector<const pipeline::FactorReport*>> members;
   for (const auto& r : reports) {

@@ -11,7 +11,7 @@
 #include "filter_access.hpp"
 #include "rts_pass.hpp"
 
-namespace causal {
+namespace causal::estimation {
 namespace {
 
 using detail::FilterAccess;
@@ -228,4 +228,4 @@ EstimationRun run_fixed_lag_smoother(const SvarLayout& layout, const std::vector
   return run;
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -10,7 +10,7 @@
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 
-namespace causal::detail {
+namespace causal::estimation::detail {
 
 struct FilterAccess {
   static const LanePlan& plan(const SvarKalmanFilter& f) { return *f.plan_; }
@@ -40,4 +40,4 @@ struct FilterAccess {
   }
 };
 
-}  // namespace causal::detail
+}  // namespace causal::estimation::detail

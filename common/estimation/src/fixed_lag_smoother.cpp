@@ -10,7 +10,7 @@
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 // Lag update of one lane group with the filter's last regressors h, u = P[n|n-1] h, innovation e and
 // variance S (equations in the header), for every lagged slot i = 1..active.
@@ -189,4 +189,4 @@ void FixedLagSmoother::restore(StateReader& r) {
   *this = std::move(s);
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -8,7 +8,7 @@
 #include "causal/estimation/state_fields.hpp"
 #include "causal/estimation/svar_kalman_filter.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 void InnovationAccumulator::add(double e, double s) {
   if (!std::isfinite(e) || !std::isfinite(s) || !(s > 0.0)) return;
@@ -75,4 +75,4 @@ void InnovationStats::restore(StateReader& r) {
   acc_ = std::move(acc);
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -2,7 +2,7 @@
 
 #include "kernels.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 const char* kernel_instruction_set() {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(CAUSAL_CORE_NO_CLONES)
@@ -14,4 +14,4 @@ const char* kernel_instruction_set() {
   return "baseline";
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

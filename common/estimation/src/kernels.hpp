@@ -14,7 +14,7 @@
 #include <cstddef>
 #include <utility>
 
-namespace causal::detail {
+namespace causal::estimation::detail {
 
 constexpr int kLanes = 4;
 // 14 covers G = 8, M = 1 (the eight-sensor model; 1.4-1.5x faster than the run-time-size kernels, measured).
@@ -306,4 +306,4 @@ decltype(auto) dispatch_dim(int d, Args&&... args) {
   }
 }
 
-}  // namespace causal::detail
+}  // namespace causal::estimation::detail

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace causal::detail {
+namespace causal::estimation::detail {
 namespace {
 
 void add_group(LanePlan& plan, int d, const std::vector<int>& members) {
@@ -60,4 +60,4 @@ LanePlan make_replicated_plan(const SvarLayout& layout, int k) {
   return plan;
 }
 
-}  // namespace causal::detail
+}  // namespace causal::estimation::detail

@@ -10,7 +10,7 @@
 #include "causal/estimation/svar_layout.hpp"
 #include "kernels.hpp"
 
-namespace causal::detail {
+namespace causal::estimation::detail {
 
 struct LaneGroup {
   int d = 0;
@@ -36,4 +36,4 @@ LanePlan make_lane_plan(const SvarLayout& layout);
 // One group whose lanes all hold outcome k (used to evaluate up to 4 noise candidates in one pass).
 LanePlan make_replicated_plan(const SvarLayout& layout, int k);
 
-}  // namespace causal::detail
+}  // namespace causal::estimation::detail

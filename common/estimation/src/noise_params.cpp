@@ -4,7 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace causal {
+namespace causal::estimation {
 
 void validate_noise_params(const NoiseParams& noise, const std::string& what) {
   auto fail = [&](const std::string& field, double v, const char* rule) {
@@ -17,4 +17,4 @@ void validate_noise_params(const NoiseParams& noise, const std::string& what) {
   if (!std::isfinite(noise.p0) || noise.p0 <= 0.0) fail("p0", noise.p0, "finite and > 0");
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

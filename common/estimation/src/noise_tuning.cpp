@@ -11,7 +11,7 @@
 #include "filter_access.hpp"
 #include "rts_pass.hpp"
 
-namespace causal {
+namespace causal::estimation {
 namespace {
 
 constexpr double kLog2Pi = 1.8378770664093454836;  // log(2 pi)
@@ -321,4 +321,4 @@ std::vector<NoiseTuningResult> tune_noise_all(const SvarLayout& layout, const Ei
   return out;
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace causal {
+namespace causal::estimation {
 
 double normal_quantile(double p) {
   if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("normal_quantile: p must be in (0, 1)");
@@ -37,4 +37,4 @@ double normal_quantile(double p) {
   return x - u / (1.0 + 0.5 * x * u);
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -8,7 +8,7 @@
 #include "kernels.hpp"
 #include "segment_tracker.hpp"
 
-namespace causal::detail {
+namespace causal::estimation::detail {
 
 std::vector<SampleStatus> classify_all(const SvarLayout& layout, const Eigen::MatrixXd& samples,
                                        const std::vector<bool>& discontinuity) {
@@ -109,4 +109,4 @@ void run_group_rts_block(const LaneGroup& grp, const std::array<double, kLanes>&
   dispatch_dim<RtsOp>(grp.d, grp, q, block, carry, out);
 }
 
-}  // namespace causal::detail
+}  // namespace causal::estimation::detail

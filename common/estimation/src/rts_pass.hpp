@@ -13,7 +13,7 @@
 #include "causal/estimation/svar_layout.hpp"
 #include "lane_plan.hpp"
 
-namespace causal::detail {
+namespace causal::estimation::detail {
 
 // Status of every sample, exactly as SvarKalmanFilter::step reports it (same classify_sample). Throws
 // std::invalid_argument if samples.cols() != G or discontinuity is neither empty nor of size N.
@@ -48,4 +48,4 @@ struct SmoothedBlock {
 void run_group_rts_block(const LaneGroup& grp, const std::array<double, kLanes>& q, const FilteredBlock& block,
                          RtsCarry& carry, SmoothedBlock& out);
 
-}  // namespace causal::detail
+}  // namespace causal::estimation::detail

@@ -7,7 +7,7 @@
 
 #include "causal/estimation/svar_kalman_filter.hpp"
 
-namespace causal::detail {
+namespace causal::estimation::detail {
 
 // history: consecutive finite samples of the current segment before this one, capped at M (updated here).
 inline SampleStatus classify_sample(const double* y, int channels, int lag_order, bool discontinuity,
@@ -24,4 +24,4 @@ inline SampleStatus classify_sample(const double* y, int channels, int lag_order
   return status;
 }
 
-}  // namespace causal::detail
+}  // namespace causal::estimation::detail

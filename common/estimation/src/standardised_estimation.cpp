@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace causal {
+namespace causal::estimation {
 namespace {
 
 constexpr double kMadToSigma = 0.6744897501960817;  // median |N(0, 1)|
@@ -240,4 +240,4 @@ StandardisedRun estimate_standardised(const SvarLayout& layout, const Eigen::Mat
   return out;
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -5,7 +5,7 @@
 #include <iterator>
 #include <sstream>
 
-namespace causal {
+namespace causal::estimation {
 
 namespace {
 
@@ -67,4 +67,4 @@ std::optional<std::string> load_state_file(const std::string& path) {
   return payload;
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -12,7 +12,7 @@
 #include "lane_plan.hpp"
 #include "segment_tracker.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 const char* to_string(SampleStatus status) {
   switch (status) {
@@ -274,4 +274,4 @@ void SvarKalmanFilter::restore(StateReader& r) {
   *this = std::move(f);
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -8,7 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
-namespace causal {
+namespace causal::estimation {
 namespace {
 
 void check_mask(const std::vector<std::vector<bool>>& mask, int g, const char* name) {
@@ -163,4 +163,4 @@ void expect_same_model(const ModelSpec& saved, const ModelSpec& current, const s
   }
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

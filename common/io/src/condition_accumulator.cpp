@@ -124,21 +124,21 @@ void ConditionAccumulator::fields(IO io, Self& a) {
   }
 }
 
-void ConditionAccumulator::save(StateWriter& w) const {
+void ConditionAccumulator::save(estimation::StateWriter& w) const {
   w.begin("condition_accumulator", 1);
   w.put(static_cast<std::int32_t>(channels_));
-  fields(SaveFields{w}, *this);
+  fields(estimation::SaveFields{w}, *this);
 }
 
-void ConditionAccumulator::restore(StateReader& r) {
+void ConditionAccumulator::restore(estimation::StateReader& r) {
   r.expect("condition_accumulator", 1);
   const auto g = r.get<std::int32_t>();
   if (g != channels_) {
-    throw StateError("checkpoint has a condition accumulator of " + std::to_string(g) + " channels, this one has " +
+    throw estimation::StateError("checkpoint has a condition accumulator of " + std::to_string(g) + " channels, this one has " +
                      std::to_string(channels_));
   }
   ConditionAccumulator a(channels_);
-  fields(RestoreFields{r}, a);
+  fields(estimation::RestoreFields{r}, a);
   *this = std::move(a);
 }
 

@@ -24,18 +24,18 @@ std::string GroupStateFiles::path(const std::string& asset_group) const {
 
 std::optional<std::string> GroupStateFiles::load(const std::string& asset_group) const {
   if (!enabled()) return std::nullopt;
-  return load_state_file(path(asset_group));
+  return estimation::load_state_file(path(asset_group));
 }
 
-bool GroupStateFiles::save(const std::string& asset_group, const std::function<void(StateWriter&)>& fill) {
+bool GroupStateFiles::save(const std::string& asset_group, const std::function<void(estimation::StateWriter&)>& fill) {
   if (!enabled()) return true;
   try {
-    StateWriter w;
+    estimation::StateWriter w;
     fill(w);
-    save_state_file(path(asset_group), w.bytes());
+    estimation::save_state_file(path(asset_group), w.bytes());
     ++saves_;
     return true;
-  } catch (const StateError& e) {
+  } catch (const estimation::StateError& e) {
     ++failures_;
     last_error_ = e.what();
     return false;

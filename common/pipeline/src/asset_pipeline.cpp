@@ -162,7 +162,7 @@ void AssetPipeline::finish(PipelineOutput& out) {
   if (condition_model_) condition_model_->finish(out.condition_reports);
 }
 
-void AssetPipeline::save(StateWriter& w) const {
+void AssetPipeline::save(estimation::StateWriter& w) const {
   w.begin("asset_pipeline", 1);
   w.put(params_.sample_level);
   w.put(params_.condition_level);
@@ -193,13 +193,13 @@ std::string joined(const std::vector<std::string>& names) {
 
 }  // namespace
 
-void AssetPipeline::restore(StateReader& r) {
+void AssetPipeline::restore(estimation::StateReader& r) {
   r.expect("asset_pipeline", 1);
   const std::string me = "asset group";
-  expect_saved(r, "the sample level", params_.sample_level, me);
-  expect_saved(r, "the condition level", params_.condition_level, me);
-  expect_saved(r, "sample-level graph", params_.sample_graph, me);
-  expect_saved(r, "condition-level graph", params_.condition_graph, me);
+  estimation::expect_saved(r, "the sample level", params_.sample_level, me);
+  estimation::expect_saved(r, "the condition level", params_.condition_level, me);
+  estimation::expect_saved(r, "sample-level graph", params_.sample_graph, me);
+  estimation::expect_saved(r, "condition-level graph", params_.condition_graph, me);
   const auto g = r.get<std::int32_t>();
   std::vector<std::string> names;
   r.read(names);
@@ -212,20 +212,20 @@ void AssetPipeline::restore(StateReader& r) {
   // The channel count and names come from the checkpoint; an asset group that already knows its own (it
   // was fed, or told its names) must have the same ones.
   auto differ = [&](int mine) {
-    return StateError("checkpoint has " + std::to_string(g) + " channels, this " + me + " has " + std::to_string(mine));
+    return estimation::StateError("checkpoint has " + std::to_string(g) + " channels, this " + me + " has " + std::to_string(mine));
   };
   if (channels_ > 0 && g != channels_) throw differ(channels_);
   const int named = static_cast<int>(channel_names_.size());
   if (g > 0 && named > 0 && g != named) throw differ(named);
   if (!channel_names_.empty() && !names.empty() && names != channel_names_) {
-    throw StateError("checkpoint has channels " + joined(names) + ", this " + me + " has " + joined(channel_names_));
+    throw estimation::StateError("checkpoint has channels " + joined(names) + ", this " + me + " has " + joined(channel_names_));
   }
   if (g == 0) {  // saved before the first frame: only the names and indices
     if (channel_names_.empty()) channel_names_ = names;
     last_ = last;
     return;
   }
-  if (g < 2) throw StateError("checkpoint has " + std::to_string(g) + " channels (at least 2 needed)");
+  if (g < 2) throw estimation::StateError("checkpoint has " + std::to_string(g) + " channels (at least 2 needed)");
 
   // Rebuild the streams from this pipeline's params (with the checkpoint's names, which resolve the graphs
   // as they were resolved when the checkpoint's streams were built), then restore them.
@@ -237,7 +237,7 @@ void AssetPipeline::restore(StateReader& r) {
     auto restore_part = [&](auto& part, const char* what) {
       const bool saved = r.get<bool>();
       if (saved != (part != nullptr)) {
-        throw StateError(std::string("checkpoint ") + (saved ? "has" : "lacks") + " the " + what + " of this " + me);
+        throw estimation::StateError(std::string("checkpoint ") + (saved ? "has" : "lacks") + " the " + what + " of this " + me);
       }
       if (part) part->restore(r);
     };
@@ -246,7 +246,7 @@ void AssetPipeline::restore(StateReader& r) {
     restore_part(s.condition_model, "condition-level stream");
   } catch (const std::invalid_argument& e) {
     channel_names_ = own_names;
-    throw StateError(std::string("checkpoint: the configured model does not fit its asset group: ") + e.what());
+    throw estimation::StateError(std::string("checkpoint: the configured model does not fit its asset group: ") + e.what());
   } catch (...) {
     channel_names_ = own_names;
     throw;

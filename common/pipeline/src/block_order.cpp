@@ -71,7 +71,7 @@ BlockOrder learn_block_order(const Eigen::MatrixXd& samples, const std::vector<s
   return out;
 }
 
-ModelSpec restrict_to_blocks(ModelSpec spec, const BlockOrder& learned) {
+estimation::ModelSpec restrict_to_blocks(estimation::ModelSpec spec, const BlockOrder& learned) {
   spec = analysis::restrict_to_order(std::move(spec), learned.order);  // intersects an existing mask
   const std::size_t g = learned.allowed.size();
   for (std::size_t k = 0; k < g; ++k)

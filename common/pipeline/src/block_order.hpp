@@ -46,6 +46,6 @@ BlockOrder learn_block_order(const Eigen::MatrixXd& samples, const std::vector<s
                              const analysis::VarLingamOptions& options);
 
 // spec restricted to the learned order: j -> k only where allowed[k][j] (intersected with spec's own mask).
-ModelSpec restrict_to_blocks(ModelSpec spec, const BlockOrder& learned);
+estimation::ModelSpec restrict_to_blocks(estimation::ModelSpec spec, const BlockOrder& learned);
 
 }  // namespace causal::pipeline

@@ -32,14 +32,14 @@ void CalibrationWindow::fields(IO io, Self& w) {
   io(w.index_);
 }
 
-void CalibrationWindow::save(StateWriter& w) const { fields(SaveFields{w}, *this); }
+void CalibrationWindow::save(estimation::StateWriter& w) const { fields(estimation::SaveFields{w}, *this); }
 
-CalibrationWindow CalibrationWindow::read(StateReader& r, const std::string& inconsistent) const {
+CalibrationWindow CalibrationWindow::read(estimation::StateReader& r, const std::string& inconsistent) const {
   CalibrationWindow w(g_);
-  fields(RestoreFields{r}, w);
+  fields(estimation::RestoreFields{r}, w);
   const std::size_t n = w.size();
   if (w.values_.size() != n * static_cast<std::size_t>(g_) || w.time_.size() != n || w.index_.size() != n) {
-    throw StateError(inconsistent);
+    throw estimation::StateError(inconsistent);
   }
   return w;
 }

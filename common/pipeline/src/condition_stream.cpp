@@ -92,37 +92,37 @@ void ConditionStream::fields(IO io, Self& c) {
   io(c.dropped_);
 }
 
-void ConditionStream::save(StateWriter& w) const {
+void ConditionStream::save(estimation::StateWriter& w) const {
   w.begin("condition_stream", 1);
   w.put(params_.feature);
   w.put(params_.log_transform);
   w.put(static_cast<std::uint64_t>(params_.window_samples));
   w.put(static_cast<std::uint64_t>(params_.min_samples));
   w.put(static_cast<std::int32_t>(channels_));
-  fields(SaveFields{w}, *this);
+  fields(estimation::SaveFields{w}, *this);
 }
 
-void ConditionStream::restore(StateReader& r) {
+void ConditionStream::restore(estimation::StateReader& r) {
   r.expect("condition_stream", 1);
   const std::string me = "condition stream";
   const auto feature = r.get<io::ConditionFeature>();
   if (feature != params_.feature) {
-    throw StateError("checkpoint has condition feature " + io::to_string(feature) + ", this " + me + " has " +
+    throw estimation::StateError("checkpoint has condition feature " + io::to_string(feature) + ", this " + me + " has " +
                      io::to_string(params_.feature));
   }
-  expect_saved(r, "log transform", params_.log_transform, me);
-  expect_saved(r, "window_samples", static_cast<std::uint64_t>(params_.window_samples), me);
-  expect_saved(r, "min_samples", static_cast<std::uint64_t>(params_.min_samples), me);
+  estimation::expect_saved(r, "log transform", params_.log_transform, me);
+  estimation::expect_saved(r, "window_samples", static_cast<std::uint64_t>(params_.window_samples), me);
+  estimation::expect_saved(r, "min_samples", static_cast<std::uint64_t>(params_.min_samples), me);
   const auto g = r.get<std::int32_t>();
   if (g != channels_) {
-    throw StateError("checkpoint has " + std::to_string(g) + " channels, this " + me + " has " +
+    throw estimation::StateError("checkpoint has " + std::to_string(g) + " channels, this " + me + " has " +
                      std::to_string(channels_));
   }
   // Into copies first: on StateError this stream stays as it was.
   ConditionStream c(params_, channels_);
-  fields(RestoreFields{r}, c);
+  fields(estimation::RestoreFields{r}, c);
   if (params_.window_samples > 0 && c.fed_in_window_ >= params_.window_samples) {
-    throw StateError("checkpoint: condition window fill out of range");
+    throw estimation::StateError("checkpoint: condition window fill out of range");
   }
   *this = std::move(c);
 }

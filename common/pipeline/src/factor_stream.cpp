@@ -13,7 +13,7 @@ namespace causal::pipeline {
 namespace {
 
 // validate_noise_params without the exception: tuned values come from data, not from the parameters.
-bool valid_noise(const NoiseParams& n) {
+bool valid_noise(const estimation::NoiseParams& n) {
   return std::isfinite(n.q) && n.q >= 0.0 && std::isfinite(n.r) && n.r > 0.0 && std::isfinite(n.p0) && n.p0 > 0.0;
 }
 
@@ -75,25 +75,25 @@ void pending_fields(Io io, P& p) {
   io(p.time_ns);
 }
 
-void put_noise(StateWriter& w, const NoiseParams& n) { noise_fields(SaveFields{w}, n); }
+void put_noise(estimation::StateWriter& w, const estimation::NoiseParams& n) { noise_fields(estimation::SaveFields{w}, n); }
 
-NoiseParams get_noise(StateReader& r) {
-  NoiseParams n;
-  noise_fields(RestoreFields{r}, n);
+estimation::NoiseParams get_noise(estimation::StateReader& r) {
+  estimation::NoiseParams n;
+  noise_fields(estimation::RestoreFields{r}, n);
   return n;
 }
 
-void put_report(StateWriter& w, const FactorReport& r) { report_fields(SaveFields{w}, r); }
+void put_report(estimation::StateWriter& w, const FactorReport& r) { report_fields(estimation::SaveFields{w}, r); }
 
-FactorReport get_report(StateReader& in) {
+FactorReport get_report(estimation::StateReader& in) {
   FactorReport r;
-  report_fields(RestoreFields{in}, r);
+  report_fields(estimation::RestoreFields{in}, r);
   return r;
 }
 
 }  // namespace
 
-void save_stream_params(StateWriter& w, const FactorStreamParams& params) {
+void save_stream_params(estimation::StateWriter& w, const FactorStreamParams& params) {
   w.put(params.noise.automatic);
   put_noise(w, params.noise.fixed);
   w.put(static_cast<std::uint64_t>(params.noise.calibration_samples));
@@ -101,19 +101,19 @@ void save_stream_params(StateWriter& w, const FactorStreamParams& params) {
   w.put(static_cast<std::int32_t>(params.fixed_lag));
 }
 
-void expect_same_stream_params(StateReader& r, const FactorStreamParams& params, const std::string& owner) {
-  expect_saved(r, "automatic noise", params.noise.automatic, owner);
-  expect_saved(r, "configured q", params.noise.fixed.q, owner);
-  expect_saved(r, "configured r", params.noise.fixed.r, owner);
-  expect_saved(r, "configured p0", params.noise.fixed.p0, owner);
-  expect_saved(r, "calibration_samples", static_cast<std::uint64_t>(params.noise.calibration_samples), owner);
-  expect_saved(r, "publish_every", static_cast<std::uint64_t>(params.publish_every), owner);
-  expect_saved(r, "fixed lag", static_cast<std::int32_t>(params.fixed_lag), owner);
+void expect_same_stream_params(estimation::StateReader& r, const FactorStreamParams& params, const std::string& owner) {
+  estimation::expect_saved(r, "automatic noise", params.noise.automatic, owner);
+  estimation::expect_saved(r, "configured q", params.noise.fixed.q, owner);
+  estimation::expect_saved(r, "configured r", params.noise.fixed.r, owner);
+  estimation::expect_saved(r, "configured p0", params.noise.fixed.p0, owner);
+  estimation::expect_saved(r, "calibration_samples", static_cast<std::uint64_t>(params.noise.calibration_samples), owner);
+  estimation::expect_saved(r, "publish_every", static_cast<std::uint64_t>(params.publish_every), owner);
+  estimation::expect_saved(r, "fixed lag", static_cast<std::int32_t>(params.fixed_lag), owner);
 }
 
-std::size_t FactorStream::minimum_noise_calibration_samples(const ModelSpec& model) {
+std::size_t FactorStream::minimum_noise_calibration_samples(const estimation::ModelSpec& model) {
   // The likelihood needs clearly more usable samples than factors per outcome.
-  return 10 * static_cast<std::size_t>(SvarLayout(model).factor_count(0)) + 10;
+  return 10 * static_cast<std::size_t>(estimation::SvarLayout(model).factor_count(0)) + 10;
 }
 
 FactorStream::FactorStream(FactorStreamParams params)
@@ -124,7 +124,7 @@ FactorStream::FactorStream(FactorStreamParams params)
       window_(layout_.channels()) {
   if (params_.publish_every == 0) throw std::invalid_argument("publish_every must be >= 1");
   if (params_.fixed_lag < 0) throw std::invalid_argument("fixed_lag must be >= 0");
-  validate_noise_params(params_.noise.fixed, "noise");
+  estimation::validate_noise_params(params_.noise.fixed, "noise");
   const auto f = static_cast<Eigen::Index>(layout_.total_factors());
   all_factors_.resize(f);
   all_std_.resize(f);
@@ -136,12 +136,12 @@ FactorStream::FactorStream(FactorStreamParams params)
     }
   } else {
     noise_.assign(static_cast<std::size_t>(g_), params_.noise.fixed);
-    smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
+    smoother_ = std::make_unique<estimation::FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
   }
 }
 
-FilterCounters FactorStream::counters() const {
-  return smoother_ ? smoother_->filter().counters() : FilterCounters{};
+estimation::FilterCounters FactorStream::counters() const {
+  return smoother_ ? smoother_->filter().counters() : estimation::FilterCounters{};
 }
 
 void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint64_t first_index, bool discontinuity,
@@ -179,11 +179,11 @@ namespace {
 
 // The tuning's input: the window's first `rows` samples (the calibration window proper; while a worker tunes,
 // the window also buffers what came after it).
-std::vector<NoiseTuningResult> tune_window(const SvarLayout& layout, const Eigen::MatrixXd& samples,
+std::vector<estimation::NoiseTuningResult> tune_window(const estimation::SvarLayout& layout, const Eigen::MatrixXd& samples,
                                            const std::vector<bool>& disc, double p0) {
-  NoiseTuningOptions options;
+  estimation::NoiseTuningOptions options;
   options.p0 = p0;
-  return tune_noise_all(layout, samples, disc, options);
+  return estimation::tune_noise_all(layout, samples, disc, options);
 }
 
 }  // namespace
@@ -215,7 +215,7 @@ void FactorStream::calibrate(std::vector<FactorReport>& out) {
   install_tuning(tune_window(layout_, window_.samples().topRows(rows), disc, params_.noise.fixed.p0), out);
 }
 
-void FactorStream::install_tuning(std::vector<NoiseTuningResult> tuning, std::vector<FactorReport>& out) {
+void FactorStream::install_tuning(std::vector<estimation::NoiseTuningResult> tuning, std::vector<FactorReport>& out) {
   tuning_ = std::move(tuning);
   noise_.clear();
   for (int k = 0; k < g_; ++k) {
@@ -230,7 +230,7 @@ void FactorStream::install_tuning(std::vector<NoiseTuningResult> tuning, std::ve
                           ") used: " + t.message);
     }
   }
-  smoother_ = std::make_unique<FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
+  smoother_ = std::make_unique<estimation::FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
   // Replay the calibration window so no sample is lost.
   window_.replay_and_clear([&](const double* y, bool disc, std::int64_t t, std::uint64_t source_index) {
     process(y, disc, t, source_index, out);
@@ -242,10 +242,10 @@ void FactorStream::process(const double* y, bool discontinuity, std::int64_t tim
   std::uint64_t released_index = 0;
   const bool released =
       smoother_->step_into(y, discontinuity, &released_index, all_factors_.data(), all_std_.data());
-  if (smoother_->last_status() == SampleStatus::Updated) stats_.add(smoother_->filter());
+  if (smoother_->last_status() == estimation::SampleStatus::Updated) stats_.add(smoother_->filter());
   const std::uint64_t index = next_index_++;
   if (released && params_.fixed_lag > 0) {
-    emit_smoothed(SmoothedSample{released_index, all_factors_, all_std_}, out);
+    emit_smoothed(estimation::SmoothedSample{released_index, all_factors_, all_std_}, out);
   }
   if (++since_report_ >= params_.publish_every) {
     since_report_ = 0;
@@ -295,7 +295,7 @@ void FactorStream::emit_filter(std::uint64_t index, std::uint64_t source_index, 
   if (params_.fixed_lag > 0) pending_.push_back(std::move(pending));
 }
 
-void FactorStream::emit_smoothed(const SmoothedSample& s, std::vector<FactorReport>& out) {
+void FactorStream::emit_smoothed(const estimation::SmoothedSample& s, std::vector<FactorReport>& out) {
   // Only the indices that got a filter report get a smoothed twin (same cadence on both topics).
   while (!pending_.empty() && pending_.front().index < s.index) pending_.pop_front();
   if (pending_.empty() || pending_.front().index != s.index) return;
@@ -318,28 +318,28 @@ void FactorStream::finish(std::vector<FactorReport>& out) {
     if (window_.empty()) return;
     calibrate(out);
   }
-  for (const SmoothedSample& s : smoother_->flush()) {
+  for (const estimation::SmoothedSample& s : smoother_->flush()) {
     if (params_.fixed_lag > 0) emit_smoothed(s, out);
   }
 }
 
-void FactorStream::save(StateWriter& w) const {
+void FactorStream::save(estimation::StateWriter& w) const {
   w.begin("factor_stream", 1);
-  save_model_spec(w, params_.model);
+  estimation::save_model_spec(w, params_.model);
   save_stream_params(w, params_);
 
   w.put(calibrated());
   if (calibrated()) {
-    for (const NoiseParams& n : noise_) put_noise(w, n);
+    for (const estimation::NoiseParams& n : noise_) put_noise(w, n);
     smoother_->save(w);
   }
   w.put(static_cast<std::uint64_t>(tuning_.size()));
-  for (const NoiseTuningResult& t : tuning_) tuning_fields(SaveFields{w}, t);
+  for (const estimation::NoiseTuningResult& t : tuning_) tuning_fields(estimation::SaveFields{w}, t);
   stats_.save(w);
   window_.save(w);
   w.put(static_cast<std::uint64_t>(pending_.size()));
   for (const Pending& p : pending_) {
-    pending_fields(SaveFields{w}, p);
+    pending_fields(estimation::SaveFields{w}, p);
     w.put(static_cast<std::uint64_t>(p.filter_reports.size()));
     for (const FactorReport& r : p.filter_reports) put_report(w, r);
   }
@@ -348,49 +348,49 @@ void FactorStream::save(StateWriter& w) const {
   w.put(static_cast<std::uint64_t>(since_report_));
 }
 
-void FactorStream::restore(StateReader& r) {
+void FactorStream::restore(estimation::StateReader& r) {
   r.expect("factor_stream", 1);
   const std::string me = "factor stream";
-  expect_same_model(read_model_spec(r), params_.model, me);
+  estimation::expect_same_model(estimation::read_model_spec(r), params_.model, me);
   expect_same_stream_params(r, params_, me);
 
   // Everything into locals first: on StateError this stream stays as it was.
-  std::vector<NoiseParams> noise;
-  std::unique_ptr<FixedLagSmoother> smoother;
+  std::vector<estimation::NoiseParams> noise;
+  std::unique_ptr<estimation::FixedLagSmoother> smoother;
   if (r.get<bool>()) {
     for (int k = 0; k < g_; ++k) noise.push_back(get_noise(r));
     try {
-      smoother = std::make_unique<FixedLagSmoother>(layout_, noise, params_.fixed_lag, params_.publish_every);
+      smoother = std::make_unique<estimation::FixedLagSmoother>(layout_, noise, params_.fixed_lag, params_.publish_every);
     } catch (const std::invalid_argument& e) {
-      throw StateError(std::string("checkpoint holds invalid noise: ") + e.what());
+      throw estimation::StateError(std::string("checkpoint holds invalid noise: ") + e.what());
     }
     smoother->restore(r);
   } else if (!params_.noise.automatic) {
-    throw StateError("checkpoint: an uncalibrated stream with configured noise");
+    throw estimation::StateError("checkpoint: an uncalibrated stream with configured noise");
   }
   const auto n_tuning = r.get<std::uint64_t>();
-  if (n_tuning != 0 && n_tuning != static_cast<std::uint64_t>(g_)) throw StateError("checkpoint: tuning of another shape");
-  std::vector<NoiseTuningResult> tuning(static_cast<std::size_t>(n_tuning));
-  for (NoiseTuningResult& t : tuning) tuning_fields(RestoreFields{r}, t);
-  InnovationStats stats(g_);
+  if (n_tuning != 0 && n_tuning != static_cast<std::uint64_t>(g_)) throw estimation::StateError("checkpoint: tuning of another shape");
+  std::vector<estimation::NoiseTuningResult> tuning(static_cast<std::size_t>(n_tuning));
+  for (estimation::NoiseTuningResult& t : tuning) tuning_fields(estimation::RestoreFields{r}, t);
+  estimation::InnovationStats stats(g_);
   stats.restore(r);
   const std::string inconsistent = "checkpoint: inconsistent calibration buffer of the factor stream";
   CalibrationWindow window = window_.read(r, inconsistent);
-  if (smoother && !window.empty()) throw StateError(inconsistent);
+  if (smoother && !window.empty()) throw estimation::StateError(inconsistent);
   // Filter reports wait at most `fixed_lag` samples for their twin: at most fixed_lag + 1 are pending.
   const auto n_pending = r.get<std::uint64_t>();
-  if (n_pending > static_cast<std::uint64_t>(params_.fixed_lag) + 1) throw StateError("checkpoint: too many pending reports");
+  if (n_pending > static_cast<std::uint64_t>(params_.fixed_lag) + 1) throw estimation::StateError("checkpoint: too many pending reports");
   std::deque<Pending> pending(static_cast<std::size_t>(n_pending));
   for (Pending& p : pending) {
-    pending_fields(RestoreFields{r}, p);
+    pending_fields(estimation::RestoreFields{r}, p);
     const auto n = r.get<std::uint64_t>();
-    if (n != static_cast<std::uint64_t>(g_)) throw StateError("checkpoint: pending report of another shape");
+    if (n != static_cast<std::uint64_t>(g_)) throw estimation::StateError("checkpoint: pending report of another shape");
     for (std::uint64_t k = 0; k < n; ++k) p.filter_reports.push_back(get_report(r));
   }
   const auto next_index = r.get<std::uint64_t>();
   const auto buffered_index = r.get<std::uint64_t>();
   const auto since_report = r.get<std::uint64_t>();
-  if (since_report >= params_.publish_every) throw StateError("checkpoint: factor stream report counter out of range");
+  if (since_report >= params_.publish_every) throw estimation::StateError("checkpoint: factor stream report counter out of range");
 
   tuning_job_ = {};  // a tuning still running for the replaced state is not used (it finishes on the worker)
   noise_ = std::move(noise);

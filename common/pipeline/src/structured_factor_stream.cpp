@@ -203,55 +203,55 @@ void learned_fields(Io io, L& l) {
 
 }  // namespace
 
-void StructuredFactorStream::save(StateWriter& w) const {
+void StructuredFactorStream::save(estimation::StateWriter& w) const {
   w.begin("structured_factor_stream", 2);
-  save_model_spec(w, params_.model);
+  estimation::save_model_spec(w, params_.model);
   save_stream_params(w, params_);
-  setting_fields(SaveFields{w}, setting_);
-  learned_fields(SaveFields{w}, learned_);
+  setting_fields(estimation::SaveFields{w}, setting_);
+  learned_fields(estimation::SaveFields{w}, learned_);
   w.put(stream_ != nullptr);
   if (stream_) {
-    save_model_spec(w, stream_->layout().spec());  // the model the stream runs with (learned order applied)
+    estimation::save_model_spec(w, stream_->layout().spec());  // the model the stream runs with (learned order applied)
     stream_->save(w);
   }
   window_.save(w);
 }
 
-void StructuredFactorStream::restore(StateReader& r) {
+void StructuredFactorStream::restore(estimation::StateReader& r) {
   r.expect("structured_factor_stream", 2);
   const std::string me = "structured factor stream";
-  expect_same_model(read_model_spec(r), params_.model, me);
+  estimation::expect_same_model(estimation::read_model_spec(r), params_.model, me);
   expect_same_stream_params(r, params_, me);
-  setting_fields(RestoreFields{r}, setting_);
+  setting_fields(estimation::RestoreFields{r}, setting_);
 
   // Everything into locals first: on StateError this object stays as it was.
   LearnedStructure learned;
   learned.blocks = learned_.blocks;  // a function of the configuration checked above
-  learned_fields(RestoreFields{r}, learned);
+  learned_fields(estimation::RestoreFields{r}, learned);
   if (learned.centre.size() != 0 && learned.centre.size() != g_) {
-    throw StateError("checkpoint: learned centre of " + std::to_string(learned.centre.size()) + " channels, this " +
+    throw estimation::StateError("checkpoint: learned centre of " + std::to_string(learned.centre.size()) + " channels, this " +
                      me + " has " + std::to_string(g_));
   }
   std::unique_ptr<FactorStream> stream;
   if (r.get<bool>()) {
     FactorStreamParams running = params_;
-    running.model = read_model_spec(r);
+    running.model = estimation::read_model_spec(r);
     // The learned model may only restrict the instantaneous links of the configured one.
     if (running.model.channels != g_ || running.model.lag_order != params_.model.lag_order ||
         running.model.include_self_lags != params_.model.include_self_lags) {
-      throw StateError("checkpoint: the learned model does not derive from this " + me + "'s model");
+      throw estimation::StateError("checkpoint: the learned model does not derive from this " + me + "'s model");
     }
     try {
       stream = std::make_unique<FactorStream>(running);
     } catch (const std::invalid_argument& e) {
-      throw StateError(std::string("checkpoint holds an invalid learned model: ") + e.what());
+      throw estimation::StateError(std::string("checkpoint holds an invalid learned model: ") + e.what());
     }
     stream->restore(r);
   }
-  if (learned.ready != (stream != nullptr)) throw StateError("checkpoint: structure state of the stream is inconsistent");
+  if (learned.ready != (stream != nullptr)) throw estimation::StateError("checkpoint: structure state of the stream is inconsistent");
   const std::string inconsistent = "checkpoint: inconsistent structure calibration window";
   CalibrationWindow window = window_.read(r, inconsistent);
-  if (stream && !window.empty()) throw StateError(inconsistent);
+  if (stream && !window.empty()) throw estimation::StateError(inconsistent);
   learned_ = std::move(learned);
   stream_ = std::move(stream);
   window_ = std::move(window);

@@ -88,7 +88,7 @@ TimeToLevel ChannelTrends::time_to(int channel, double baseline_log, double rati
   return growth;
 }
 
-void ChannelTrends::save(causal::StateWriter& out) const {
+void ChannelTrends::save(estimation::StateWriter& out) const {
   out.begin(kTag, kVersion);
   out.put(params_.end_of_life_ratio);
   out.put(static_cast<std::uint64_t>(trends_.size()));
@@ -104,22 +104,22 @@ void ChannelTrends::save(causal::StateWriter& out) const {
   out.put(refused_);
 }
 
-ChannelTrends ChannelTrends::restore(causal::StateReader& in, int channels, const PrognosisParams& params) {
+ChannelTrends ChannelTrends::restore(estimation::StateReader& in, int channels, const PrognosisParams& params) {
   in.expect(kTag, kVersion);
   const double eol = in.get<double>();
-  if (eol != params.end_of_life_ratio) throw causal::StateError("the trends were written with another end_of_life_ratio");
+  if (eol != params.end_of_life_ratio) throw estimation::StateError("the trends were written with another end_of_life_ratio");
   const auto n = in.get<std::uint64_t>();
   if (n != static_cast<std::uint64_t>(channels)) {
-    throw causal::StateError("the trends were written for " + std::to_string(n) + " channels, not " +
+    throw estimation::StateError("the trends were written for " + std::to_string(n) + " channels, not " +
                              std::to_string(channels));
   }
   ChannelTrends out(channels, params);
   for (auto& t : out.trends_) t = DegradationTrend::restore(in, params.trend);
   if (in.get<std::uint64_t>() != params.history_limit)
-    throw causal::StateError("the trends were written with another history_limit");
+    throw estimation::StateError("the trends were written with another history_limit");
   for (auto& h : out.history_) {
     const auto size = in.get<std::uint64_t>();
-    if (size > params.history_limit) throw causal::StateError("the trends' level history is longer than history_limit");
+    if (size > params.history_limit) throw estimation::StateError("the trends' level history is longer than history_limit");
     for (std::uint64_t i = 0; i < size; ++i) {
       const auto time_ns = in.get<std::int64_t>();
       h.push_back({time_ns, in.get<double>()});

@@ -174,26 +174,26 @@ void DegradationTrend::fields(IO io, Self& t) {
   io(t.downweighted_);
 }
 
-void DegradationTrend::save(causal::StateWriter& out) const {
+void DegradationTrend::save(estimation::StateWriter& out) const {
   out.begin(kTag, kVersion);
-  trend_param_fields(causal::SaveFields{out}, params_);
-  fields(causal::SaveFields{out}, *this);
+  trend_param_fields(estimation::SaveFields{out}, params_);
+  fields(estimation::SaveFields{out}, *this);
 }
 
-DegradationTrend DegradationTrend::restore(causal::StateReader& in, const TrendParams& params) {
+DegradationTrend DegradationTrend::restore(estimation::StateReader& in, const TrendParams& params) {
   in.expect(kTag, kVersion);
   TrendParams saved;
-  trend_param_fields(causal::RestoreFields{in}, saved);
+  trend_param_fields(estimation::RestoreFields{in}, saved);
   if (saved.acceleration_diffusion != params.acceleration_diffusion ||
       saved.forecast_diffusion != params.forecast_diffusion || saved.level_diffusion != params.level_diffusion ||
       saved.initial_slope_std != params.initial_slope_std ||
       saved.initial_acceleration_std != params.initial_acceleration_std || saved.min_noise_std != params.min_noise_std ||
       saved.huber_k != params.huber_k || saved.noise_memory != params.noise_memory || saved.step_std != params.step_std ||
       saved.calibration_lag_hours != params.calibration_lag_hours || saved.calibration_memory != params.calibration_memory) {
-    throw causal::StateError("the degradation trend was written with other prognosis trend parameters");
+    throw estimation::StateError("the degradation trend was written with other prognosis trend parameters");
   }
   DegradationTrend t(params);
-  fields(causal::RestoreFields{in}, t);
+  fields(estimation::RestoreFields{in}, t);
   return t;
 }
 

@@ -138,8 +138,8 @@ TimeToLevel time_to_level(const TrendState& s, const TrendParams& trend, double 
   const double tail = 0.5 * (1.0 - params.coverage);
   const double h = params.max_horizon_hours;
   const double median = first_time_at_or_above(s, trend, log_threshold, 0.0, h);
-  const double low = first_time_at_or_above(s, trend, log_threshold, causal::normal_quantile(tail), h);
-  const double high = first_time_at_or_above(s, trend, log_threshold, causal::normal_quantile(1.0 - tail), h);
+  const double low = first_time_at_or_above(s, trend, log_threshold, estimation::normal_quantile(tail), h);
+  const double high = first_time_at_or_above(s, trend, log_threshold, estimation::normal_quantile(1.0 - tail), h);
   if (!std::isfinite(median) || !std::isfinite(high)) {
     std::snprintf(buf, sizeof buf, "the %g %% point is beyond the %g h horizon", 100.0 * (1.0 - tail), h);
     unknown(out, buf);

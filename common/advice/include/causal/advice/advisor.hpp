@@ -145,7 +145,7 @@ class Advisor {
     std::uint64_t at = 0;  // the model's observation count when captured
   };
   struct AssetModel {
-    std::unique_ptr<SvarLayout> layout;
+    std::unique_ptr<estimation::SvarLayout> layout;
     std::vector<std::string> channel_names;
     Eigen::VectorXd factors, factor_std, features;
     std::vector<Eigen::MatrixXd> blocks;  // P_k per outcome; empty when the latest observation had none
@@ -157,7 +157,7 @@ class Advisor {
   };
   static FactorSnapshot snapshot_of(const AssetModel& m);
   static void note_reference(AssetModel& m, int confirm);
-  analysis::FactorPosterior posterior(const SvarLayout& layout, const FactorSnapshot& s) const;
+  analysis::FactorPosterior posterior(const estimation::SvarLayout& layout, const FactorSnapshot& s) const;
   void compare_with_reference(const AssetModel& m, int target, const std::vector<analysis::CandidateIntervention>& candidates,
                               const analysis::RecommendationOptions& options, double level,
                               std::vector<AdviceItem>& items) const;
@@ -176,6 +176,6 @@ class Advisor {
 
 // Rebuilds the estimator's layout from what a CausalFactorBatch stream carries (G, M, factor names); nullopt
 // when no standard layout has exactly these names (then no advice is given).
-std::optional<SvarLayout> layout_from_names(int channels, int lag_order, const std::vector<std::string>& names);
+std::optional<estimation::SvarLayout> layout_from_names(int channels, int lag_order, const std::vector<std::string>& names);
 
 }  // namespace causal::advice

@@ -26,10 +26,10 @@
 #include <utility>
 #include <vector>
 
-namespace causal {
+namespace causal::estimation {
 class StateWriter;  // causal/estimation/state_archive.hpp (causal_core: std + Eigen)
 class StateReader;
-}  // namespace causal
+}  // namespace causal::estimation
 
 namespace causal::alarm_management {
 
@@ -152,9 +152,9 @@ class AlarmManager {
   // histories of the health figures and the remembered request outcomes (a request re-delivered after a restart
   // is answered with its first outcome, not applied twice). One tagged section "alarm_management" (version 1).
   // The counters are not saved: they count this process's work (its summary line). restore() replaces the state
-  // and throws causal::StateError on a section of another tag or version or a truncated one.
-  void save(StateWriter& out) const;
-  void restore(StateReader& in);
+  // and throws estimation::StateError on a section of another tag or version or a truncated one.
+  void save(estimation::StateWriter& out) const;
+  void restore(estimation::StateReader& in);
   const ManagementLimits& limits() const { return limits_; }
 
  private:

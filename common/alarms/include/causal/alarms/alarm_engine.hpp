@@ -137,13 +137,13 @@ class AlarmEngine {
   // values collected so far), every detector, latch, episode onset and counter, the alarm id counters
   // and the latest event of every alarm. An engine restored from it and fed the rest of a stream emits
   // exactly the events, ids, active alarms and diagnostics of the engine that never stopped.
-  void save(causal::StateWriter& out) const;
+  void save(estimation::StateWriter& out) const;
   // Restores an engine written by save(), refusing one written with other parameters: a baseline and
   // detectors designed under other thresholds cannot continue as if nothing had changed. Throws
-  // causal::StateError (truncated or foreign checkpoint; the message names every differing parameter).
-  static AlarmEngine restore(causal::StateReader& in, const AlarmParams& params);
+  // estimation::StateError (truncated or foreign checkpoint; the message names every differing parameter).
+  static AlarmEngine restore(estimation::StateReader& in, const AlarmParams& params);
   // Same, with the parameters stored in the checkpoint (offline inspection, tools).
-  static AlarmEngine restore(causal::StateReader& in);
+  static AlarmEngine restore(estimation::StateReader& in);
 
   // Opaque state (engine_internal.hpp); public only so the library's detector table can name it.
   struct Impl;

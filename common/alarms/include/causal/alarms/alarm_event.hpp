@@ -71,9 +71,9 @@ const char* to_string(AlarmState s);
 [[nodiscard]] std::optional<Severity> parse_severity(std::string_view text);
 
 // Checkpoint of one event, every field (the engine keeps each alarm's latest event; services keep the last
-// published one to republish after a restart). restore() throws causal::StateError on a truncated or
+// published one to republish after a restart). restore() throws estimation::StateError on a truncated or
 // foreign section, or an unknown severity / state.
-void save(causal::StateWriter& out, const AlarmEvent& event);
-void restore(causal::StateReader& in, AlarmEvent& event);
+void save(estimation::StateWriter& out, const AlarmEvent& event);
+void restore(estimation::StateReader& in, AlarmEvent& event);
 
 }  // namespace causal::alarms

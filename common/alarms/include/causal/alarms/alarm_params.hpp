@@ -269,10 +269,10 @@ struct AlarmParams {
   static AlarmParams sample_level(int baseline_publications);
 };
 
-// Checkpoint of every parameter, by name. restore() throws causal::StateError on a truncated or foreign
+// Checkpoint of every parameter, by name. restore() throws estimation::StateError on a truncated or foreign
 // section, or when the saved names are not this build's (a parameter added or removed).
-void save(causal::StateWriter& out, const AlarmParams& params);
-void restore(causal::StateReader& in, AlarmParams& params);
+void save(estimation::StateWriter& out, const AlarmParams& params);
+void restore(estimation::StateReader& in, AlarmParams& params);
 // "name: a -> b" for every parameter whose value differs, comma-separated; empty when all are equal.
 std::string param_differences(const AlarmParams& a, const AlarmParams& b);
 

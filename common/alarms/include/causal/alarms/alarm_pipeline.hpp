@@ -78,7 +78,7 @@ struct ChannelSummary {
 struct PipelineResult {
   std::vector<causal::alarms::AlarmEvent> events;  // every event, operating changes included
   std::vector<ChannelSummary> summary;       // G, degradation alarms only
-  std::vector<causal::NoiseParams> noise;    // per outcome, as used by the estimator's condition filter
+  std::vector<estimation::NoiseParams> noise;    // per outcome, as used by the estimator's condition filter
   std::vector<std::string> estimator_notes;  // what the estimator learned / worked around (structure, noise)
   std::vector<std::string> factor_names;     // the engine's factors (the estimator's layout, outcome-major)
   std::uint64_t observations = 0;            // observations the engine judged

@@ -36,9 +36,9 @@ class ClippedCusum {
   std::int64_t onset_time_ns() const { return onset_time_ns_; }
 
   // Checkpoint of the whole state, settings included, so the restored chart continues bit for bit.
-  // restore() throws causal::StateError on a truncated or foreign section.
-  void save(causal::StateWriter& out) const;
-  void restore(causal::StateReader& in);
+  // restore() throws estimation::StateError on a truncated or foreign section.
+  void save(estimation::StateWriter& out) const;
+  void restore(estimation::StateReader& in);
 
  private:
   // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
@@ -64,10 +64,10 @@ class WindowMean {
   double median() const;  // median of the values in the window (NaN when empty)
 
   // Checkpoint of the buffer and the running sum as they are (not recomputed: the restored window must
-  // give the same rounding as the uninterrupted one). restore() throws causal::StateError on a truncated,
+  // give the same rounding as the uninterrupted one). restore() throws estimation::StateError on a truncated,
   // foreign or inconsistent section.
-  void save(causal::StateWriter& out) const;
-  void restore(causal::StateReader& in);
+  void save(estimation::StateWriter& out) const;
+  void restore(estimation::StateReader& in);
 
  private:
   // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
@@ -97,8 +97,8 @@ class PersistenceLatch {
   void force_raise();
 
   // Checkpoint of the counts and the latch (a restored active alarm keeps its hysteresis progress).
-  void save(causal::StateWriter& out) const;
-  void restore(causal::StateReader& in);
+  void save(estimation::StateWriter& out) const;
+  void restore(estimation::StateReader& in);
 
  private:
   // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.

@@ -23,9 +23,9 @@ struct RobustStats {
 };
 
 // Checkpoint of a learned baseline (the values themselves are not kept once the baseline is learned, so
-// a restart must carry the estimate). restore() throws causal::StateError on a truncated or foreign section.
-void save(causal::StateWriter& out, const RobustStats& stats);
-void restore(causal::StateReader& in, RobustStats& stats);
+// a restart must carry the estimate). restore() throws estimation::StateError on a truncated or foreign section.
+void save(estimation::StateWriter& out, const RobustStats& stats);
+void restore(estimation::StateReader& in, RobustStats& stats);
 
 // Median and 1.4826 * MAD of the finite values of `v` (time order kept for the autocorrelation).
 // Why MAD: the baseline may contain a few outliers (sensor glitches, a transient); MAD has a 50 %

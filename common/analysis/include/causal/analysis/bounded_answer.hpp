@@ -72,7 +72,7 @@ struct BoundedAnswer {
 
 // Throws std::invalid_argument for a bad rule, bad options (coverage, draws < 2), a bad channel or a
 // posterior that does not match the layout. options.method is ignored: answers are always Monte Carlo.
-BoundedAnswer answer_intervention(const SvarLayout& layout, const FactorPosterior& posterior,
+BoundedAnswer answer_intervention(const estimation::SvarLayout& layout, const FactorPosterior& posterior,
                                   const InterventionQuery& query, const AnswerRule& rule,
                                   const UncertaintyOptions& options);
 

@@ -42,7 +42,7 @@ class CausalGraph {
   std::vector<std::vector<bool>> instantaneous_mask() const;
   // spec with instantaneous_allowed replaced by this graph's mask. Throws std::invalid_argument when the
   // graph has a cycle (message names it) or spec.channels != channels().
-  ModelSpec apply_to(ModelSpec spec) const;
+  estimation::ModelSpec apply_to(estimation::ModelSpec spec) const;
 
  private:
   int channels_;
@@ -59,7 +59,7 @@ std::string describe_cycle(const std::vector<int>& cycle, const std::vector<std:
 
 // Restricts spec to a causal order: j may cause k instantaneously only if j precedes k. An existing
 // spec.instantaneous_allowed mask is intersected (links it forbids stay forbidden).
-ModelSpec restrict_to_order(ModelSpec spec, const std::vector<int>& order);
+estimation::ModelSpec restrict_to_order(estimation::ModelSpec spec, const std::vector<int>& order);
 
 // Throws std::invalid_argument unless order is a permutation of 0..channels-1.
 void check_permutation(const std::vector<int>& order, int channels);

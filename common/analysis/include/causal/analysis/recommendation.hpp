@@ -53,7 +53,7 @@ struct RecommendationOptions {
 // Sorted: reliable first, then answered but unreliable, then refused; within each by `upper` ascending (the
 // largest reduction we are sure of first), ties by channel. Throws std::invalid_argument for a bad target/candidate channel, a candidate on the target
 // itself, a non-finite delta, or names of the wrong count.
-std::vector<Recommendation> rank_interventions(const SvarLayout& layout, const FactorPosterior& posterior, int target,
+std::vector<Recommendation> rank_interventions(const estimation::SvarLayout& layout, const FactorPosterior& posterior, int target,
                                                const std::vector<CandidateIntervention>& candidates,
                                                const RecommendationOptions& options = {});
 

@@ -46,9 +46,9 @@ bool all_finite(const StructuralModel& model);
 
 // Factor vector (layout order, size total_factors()) -> A0, A_1..A_M. Throws std::invalid_argument on
 // a size mismatch.
-StructuralModel assemble_structural_model(const SvarLayout& layout, const Eigen::VectorXd& factors);
+StructuralModel assemble_structural_model(const estimation::SvarLayout& layout, const Eigen::VectorXd& factors);
 // The inverse: the factors a layout would carry for this model (links outside the layout are dropped).
-Eigen::VectorXd factors_from_model(const SvarLayout& layout, const StructuralModel& model);
+Eigen::VectorXd factors_from_model(const estimation::SvarLayout& layout, const StructuralModel& model);
 
 // Factor estimate with its uncertainty at one sample.
 struct FactorPosterior {
@@ -57,13 +57,13 @@ struct FactorPosterior {
 };
 
 // Current estimate and per-outcome covariance of a running filter.
-FactorPosterior posterior_from_filter(const SvarLayout& layout, const SvarKalmanFilter& filter);
+FactorPosterior posterior_from_filter(const estimation::SvarLayout& layout, const estimation::SvarKalmanFilter& filter);
 // Diagonal blocks from standard deviations (e.g. a row of EstimationRun::std_devs); loses the
 // within-outcome correlations, so intervals are only approximate.
-FactorPosterior posterior_from_std_devs(const SvarLayout& layout, const Eigen::VectorXd& mean,
+FactorPosterior posterior_from_std_devs(const estimation::SvarLayout& layout, const Eigen::VectorXd& mean,
                                         const Eigen::VectorXd& std_devs);
 // Throws std::invalid_argument when sizes disagree with the layout.
-void validate_posterior(const SvarLayout& layout, const FactorPosterior& posterior);
+void validate_posterior(const estimation::SvarLayout& layout, const FactorPosterior& posterior);
 
 // Graph surgery for do(y_j := ...): the equations of the `replaced` channels are removed, i.e. their
 // rows of A0 and of every A_l are set to zero (the intervention then supplies y_j directly).

@@ -55,13 +55,13 @@ struct UncertainEffect {
 
 // Throws std::invalid_argument for coverage outside (0,1), draws < 2, non-positive step, or a posterior
 // that does not match the layout.
-UncertainEffect predict_intervention_with_uncertainty(const SvarLayout& layout, const FactorPosterior& posterior,
+UncertainEffect predict_intervention_with_uncertainty(const estimation::SvarLayout& layout, const FactorPosterior& posterior,
                                                       const InterventionQuery& query,
                                                       const UncertaintyOptions& options = {});
 
 // Standard normal quantile Phi^{-1}(p), p in (0, 1) (Acklam's rational approximation refined by one
 // Halley step on erfc; |error| < 1e-12).
-using causal::normal_quantile;  // common/estimation: <causal/estimation/normal_quantile.hpp>
+using estimation::normal_quantile;  // common/estimation: <causal/estimation/normal_quantile.hpp>
 
 const char* to_string(IntervalMethod method);
 

@@ -36,7 +36,7 @@ struct VarLingamResult {
   // (S1) with A0 = B0 and A_l = B_l (self lags included).
   StructuralModel model() const;
   // spec with instantaneous_allowed = this mask (intersected with spec's own mask if it has one).
-  ModelSpec restrict(ModelSpec spec) const;
+  estimation::ModelSpec restrict(estimation::ModelSpec spec) const;
 };
 
 // samples: N x G calibration window. Throws std::invalid_argument as fit_var_least_squares /

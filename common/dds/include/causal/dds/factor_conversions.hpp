@@ -18,7 +18,7 @@ struct FactorContext {
   std::string asset_group;
   causal_twin::TimeScale time_scale = causal_twin::SAMPLE_LEVEL;
   std::string feature;                     // condition feature ("" at sample level)
-  const SvarLayout* layout = nullptr;
+  const estimation::SvarLayout* layout = nullptr;
   std::vector<std::string> channel_names;  // G names
   // CausalFactorBatch.order_confidence / order_source (pipeline::LearnedStructure); NaN / "" = not assessed.
   double order_confidence = std::numeric_limits<double>::quiet_NaN();

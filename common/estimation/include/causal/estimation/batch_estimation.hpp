@@ -24,7 +24,7 @@
 #include "causal/estimation/svar_kalman_filter.hpp"
 #include "causal/estimation/svar_layout.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 // Samples per RTS block (see Memory above).
 constexpr Eigen::Index kRtsBlock = 2048;
@@ -66,4 +66,4 @@ EstimationRun run_fixed_lag_smoother(const SvarLayout& layout, const std::vector
                                      const Eigen::MatrixXd& samples, const std::vector<bool>& discontinuity,
                                      int lag, const BatchOutput& output = {});
 
-}  // namespace causal
+}  // namespace causal::estimation

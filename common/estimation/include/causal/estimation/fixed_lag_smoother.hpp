@@ -27,7 +27,7 @@
 #include "causal/estimation/svar_kalman_filter.hpp"
 #include "causal/estimation/svar_layout.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 struct SmoothedSample {
   std::uint64_t index;       // 0-based sample index (counting every sample passed to step)
@@ -93,4 +93,4 @@ class FixedLagSmoother {
   SampleStatus last_status_ = SampleStatus::WarmUp;
 };
 
-}  // namespace causal
+}  // namespace causal::estimation

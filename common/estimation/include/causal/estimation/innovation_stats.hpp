@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace causal {
+namespace causal::estimation {
 
 class SvarKalmanFilter;
 class StateWriter;
@@ -53,4 +53,4 @@ class InnovationStats {
   std::vector<InnovationAccumulator> acc_;
 };
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -4,10 +4,10 @@
 // (FMA contraction).
 #pragma once
 
-namespace causal {
+namespace causal::estimation {
 
 // "x86-64-v4" (AVX-512 F/BW/CD/DQ/VL), "x86-64-v3" (AVX2, FMA), "baseline" (a CPU without those, or a build
 // without the clones: another compiler or architecture, or CAUSAL_CORE_NO_CLONES).
 const char* kernel_instruction_set();
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -6,7 +6,7 @@
 
 #include <string>
 
-namespace causal {
+namespace causal::estimation {
 
 struct NoiseParams {
   double q = 1e-6;
@@ -18,4 +18,4 @@ struct NoiseParams {
 // (e.g. "noise[2]").
 void validate_noise_params(const NoiseParams& noise, const std::string& what);
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -29,7 +29,7 @@
 #include "causal/estimation/noise_params.hpp"
 #include "causal/estimation/svar_layout.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 struct NoiseTuningOptions {
   double p0 = 1.0;                 // absolute initial state variance used for tuning and returned
@@ -71,4 +71,4 @@ double innovation_log_likelihood(const SvarLayout& layout, int k, const Eigen::M
                                  const std::vector<bool>& discontinuity, const NoiseParams& noise,
                                  long* updates = nullptr);
 
-}  // namespace causal
+}  // namespace causal::estimation

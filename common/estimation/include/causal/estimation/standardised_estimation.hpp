@@ -26,7 +26,7 @@
 #include "causal/estimation/noise_tuning.hpp"
 #include "causal/estimation/svar_layout.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 enum class ScaleStatus {
   Ok,
@@ -95,4 +95,4 @@ StandardisedRun estimate_standardised(const SvarLayout& layout, const Eigen::Mat
 // Converts an EstimationRun made on samples divided by `scale` into the user's units (see the header text).
 void to_user_units(const SvarLayout& layout, const std::vector<double>& scale, EstimationRun& run);
 
-}  // namespace causal
+}  // namespace causal::estimation

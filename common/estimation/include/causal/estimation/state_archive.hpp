@@ -24,7 +24,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace causal {
+namespace causal::estimation {
 
 class StateError : public std::runtime_error {
  public:
@@ -155,4 +155,4 @@ void save_state_file(const std::string& path, const std::string& payload);
 // StateError naming the path when the file is unreadable, truncated, corrupted or of another format.
 std::optional<std::string> load_state_file(const std::string& path);
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -2,7 +2,7 @@
 // that declares save()/restore() members includes this, its .cpp includes state_archive.hpp.
 #pragma once
 
-namespace causal {
+namespace causal::estimation {
 class StateWriter;
 class StateReader;
-}  // namespace causal
+}  // namespace causal::estimation

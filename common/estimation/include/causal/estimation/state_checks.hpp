@@ -13,7 +13,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace causal {
+namespace causal::estimation {
 
 namespace detail {
 
@@ -63,4 +63,4 @@ inline void read_same_size(StateReader& r, std::vector<double>& out, const std::
   out = std::move(v);
 }
 
-}  // namespace causal
+}  // namespace causal::estimation

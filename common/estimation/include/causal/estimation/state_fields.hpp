@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace causal {
+namespace causal::estimation {
 
 // One field list per structure can serve both directions, so what restore reads is what save wrote, field
 // for field, by construction (no second list to keep in step): write it once as a template `fields(io, x)`
@@ -58,4 +58,4 @@ struct RestoreFields {
   void section(T& value) { restore(in, value); }
 };
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -24,7 +24,7 @@
 #include "causal/estimation/noise_params.hpp"
 #include "causal/estimation/svar_layout.hpp"
 
-namespace causal {
+namespace causal::estimation {
 
 enum class SampleStatus {
   Updated,           // all outcomes updated with this sample
@@ -119,4 +119,4 @@ class SvarKalmanFilter {
   FilterCounters counters_;
 };
 
-}  // namespace causal
+}  // namespace causal::estimation

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace causal {
+namespace causal::estimation {
 
 class StateWriter;
 class StateReader;
@@ -78,4 +78,4 @@ ModelSpec read_model_spec(StateReader& r);  // throws StateError for a truncated
 // the regressors of every outcome, i.e. the masks in effect): "checkpoint has 4 channels, this <owner> has 8".
 void expect_same_model(const ModelSpec& saved, const ModelSpec& current, const std::string& owner);
 
-}  // namespace causal
+}  // namespace causal::estimation

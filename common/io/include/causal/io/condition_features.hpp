@@ -18,10 +18,10 @@
 #include <string_view>
 #include <vector>
 
-namespace causal {
+namespace causal::estimation {
 class StateWriter;
 class StateReader;
-}  // namespace causal
+}  // namespace causal::estimation
 
 namespace causal::io {
 
@@ -60,8 +60,8 @@ class ConditionAccumulator {
   // throws StateError when it differs, leaving the accumulator unchanged), the accepted and rejected row
   // counts and the per-channel running moments, compensated |x| sums and peaks, so that a window cut by a
   // restart yields the same features bit for bit.
-  void save(StateWriter& w) const;
-  void restore(StateReader& r);
+  void save(estimation::StateWriter& w) const;
+  void restore(estimation::StateReader& r);
 
  private:
   // The checkpoint's field list after the channel check (SaveFields / RestoreFields, state_fields.hpp).

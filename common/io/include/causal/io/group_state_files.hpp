@@ -9,9 +9,9 @@
 #include <optional>
 #include <string>
 
-namespace causal {
+namespace causal::estimation {
 class StateWriter;
-}  // namespace causal
+}  // namespace causal::estimation
 
 namespace causal::io {
 
@@ -23,12 +23,12 @@ class GroupStateFiles {
   bool enabled() const { return !dir_.empty(); }
   std::string path(const std::string& asset_group) const;
 
-  // The group's payload; nullopt when there is no file (or no persistence). Throws causal::StateError naming
+  // The group's payload; nullopt when there is no file (or no persistence). Throws estimation::StateError naming
   // the file when it is unreadable, truncated or corrupted.
   std::optional<std::string> load(const std::string& asset_group) const;
   // Writes what `fill` puts into a StateWriter as the group's file. False (counted in failures(), reason in
-  // last_error()) when a causal::StateError says it cannot be written; true without persistence.
-  [[nodiscard]] bool save(const std::string& asset_group, const std::function<void(StateWriter&)>& fill);
+  // last_error()) when a estimation::StateError says it cannot be written; true without persistence.
+  [[nodiscard]] bool save(const std::string& asset_group, const std::function<void(estimation::StateWriter&)>& fill);
 
   std::uint64_t saves() const { return saves_; }
   std::uint64_t failures() const { return failures_; }

@@ -145,8 +145,8 @@ class AssetPipeline {
   // (another channel count, e.g. "checkpoint has 4 channels, this asset group has 8", other parameters, a
   // damaged checkpoint) the pipeline is unchanged. Feeding the rest of the input after save -> restore
   // into a fresh pipeline gives bit for bit the output of an uninterrupted run.
-  void save(StateWriter& w) const;
-  void restore(StateReader& r);
+  void save(estimation::StateWriter& w) const;
+  void restore(estimation::StateReader& r);
 
  private:
   struct Streams {

@@ -44,10 +44,10 @@ class CalibrationWindow {
   }
 
   // Checkpoint: the values, the discontinuities, the times and the source indices, in that order.
-  void save(StateWriter& w) const;
+  void save(estimation::StateWriter& w) const;
   // Reads what save() wrote into a window of the same channel count; throws StateError(`inconsistent`) when
   // the parts disagree in length. `this` is unchanged (assign the result when every other part is read).
-  CalibrationWindow read(StateReader& r, const std::string& inconsistent) const;
+  CalibrationWindow read(estimation::StateReader& r, const std::string& inconsistent) const;
 
  private:
   // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.

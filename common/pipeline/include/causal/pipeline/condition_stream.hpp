@@ -60,8 +60,8 @@ class ConditionStream {
   // (restore throws StateError when this stream was built with others, leaving it unchanged), the open
   // window (accumulated moments, start time, source indices, rows fed), whether the next vector restarts
   // the lags, and the produced / dropped counters: a window cut by a restart gives the same vector.
-  void save(StateWriter& w) const;
-  void restore(StateReader& r);
+  void save(estimation::StateWriter& w) const;
+  void restore(estimation::StateReader& r);
 
  private:
   // The checkpoint's field list after the parameter checks (SaveFields / RestoreFields, state_fields.hpp).

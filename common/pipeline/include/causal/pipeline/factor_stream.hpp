@@ -41,7 +41,7 @@ enum class EstimateKind { Filter, FixedLag };
 
 struct NoiseSetting {
   bool automatic = false;            // tune q and r per outcome on a calibration window
-  NoiseParams fixed;                 // used as is when !automatic; fixed.p0 is also the tuning's p0
+  estimation::NoiseParams fixed;                 // used as is when !automatic; fixed.p0 is also the tuning's p0
   std::size_t calibration_samples = 2048;
   // Where the automatic tuning runs: null = on the feeding thread, at the sample that fills the window;
   // else on this worker, while the stream keeps buffering what it is fed (polled at each feed; finish() waits).
@@ -54,7 +54,7 @@ struct NoiseSetting {
 };
 
 struct FactorStreamParams {
-  ModelSpec model;
+  estimation::ModelSpec model;
   NoiseSetting noise;
   std::size_t publish_every = 1024;  // samples between reports (>= 1)
   int fixed_lag = 0;                 // > 0: also report the fixed-lag smoother with this lag
@@ -83,14 +83,14 @@ struct FactorReport {
 // Checkpoint helpers shared by the streams: write the parameters, and check on restore that an object is
 // built with the same ones (StateError naming the first that differs, e.g. "checkpoint has publish_every 1024,
 // this factor stream has 512"). The model spec is checked separately (expect_same_model).
-void save_stream_params(StateWriter& w, const FactorStreamParams& params);
-void expect_same_stream_params(StateReader& r, const FactorStreamParams& params, const std::string& owner);
+void save_stream_params(estimation::StateWriter& w, const FactorStreamParams& params);
+void expect_same_stream_params(estimation::StateReader& r, const FactorStreamParams& params, const std::string& owner);
 
 class FactorStream {
  public:
   explicit FactorStream(FactorStreamParams params);  // throws std::invalid_argument for invalid params
   // Automatic noise needs clearly more usable samples than factors per outcome: 10 x factors + 10.
-  static std::size_t minimum_noise_calibration_samples(const ModelSpec& model);
+  static std::size_t minimum_noise_calibration_samples(const estimation::ModelSpec& model);
 
   // Feeds the rows of an N x G block; row 0 has the source index first_index (row i: first_index + i) and
   // is at first_time_ns, rows are period_ns apart, `discontinuity` applies to row 0. Reports are appended
@@ -100,15 +100,15 @@ class FactorStream {
   // End of stream: calibrates on what was buffered (if still calibrating) and flushes the smoother.
   void finish(std::vector<FactorReport>& out);
 
-  const SvarLayout& layout() const { return layout_; }
+  const estimation::SvarLayout& layout() const { return layout_; }
   bool calibrated() const { return smoother_ != nullptr; }
   bool tuning_in_background() const { return tuning_job_.valid(); }  // submitted to the worker, not yet taken
-  const std::vector<NoiseParams>& noise() const { return noise_; }
-  const std::vector<NoiseTuningResult>& tuning() const { return tuning_; }
+  const std::vector<estimation::NoiseParams>& noise() const { return noise_; }
+  const std::vector<estimation::NoiseTuningResult>& tuning() const { return tuning_; }
   // Data problems the stream worked around (e.g. automatic noise failed for an outcome and the configured
   // noise runs instead), one human-readable line each; the service decides how to log them.
   const std::vector<std::string>& warnings() const { return warnings_; }
-  FilterCounters counters() const;
+  estimation::FilterCounters counters() const;
   std::uint64_t samples_seen() const { return next_index_; }  // samples through the filter (not buffered ones)
 
   // Checkpoint (state_archive.hpp), section "factor_stream". Saved: the parameters (model spec, noise
@@ -118,8 +118,8 @@ class FactorStream {
   // indices), the filter reports waiting for their fixed-lag twins, and the sample counters. Feeding the
   // rest of a stream after restore() gives bit for bit the reports of an uninterrupted run. On StateError
   // (other parameters, damaged checkpoint) the stream is left unchanged.
-  void save(StateWriter& w) const;
-  void restore(StateReader& r);
+  void save(estimation::StateWriter& w) const;
+  void restore(estimation::StateReader& r);
 
  private:
   struct Pending {  // a filter report waiting for its fixed-lag twin
@@ -130,25 +130,25 @@ class FactorStream {
   void calibrate(std::vector<FactorReport>& out);  // tunes on this thread (or waits for the worker), replays
   void start_tuning();                             // submits the tuning of the window's first samples
   void poll_tuning(std::vector<FactorReport>& out);  // the worker's result, when ready: install and replay
-  void install_tuning(std::vector<NoiseTuningResult> tuning, std::vector<FactorReport>& out);
+  void install_tuning(std::vector<estimation::NoiseTuningResult> tuning, std::vector<FactorReport>& out);
   void process(const double* y, bool discontinuity, std::int64_t time_ns, std::uint64_t source_index,
                std::vector<FactorReport>& out);
   void emit_filter(std::uint64_t index, std::uint64_t source_index, std::int64_t time_ns,
                    std::vector<FactorReport>& out);
-  void emit_smoothed(const SmoothedSample& s, std::vector<FactorReport>& out);
+  void emit_smoothed(const estimation::SmoothedSample& s, std::vector<FactorReport>& out);
   FactorReport make_report(EstimateKind kind, int k, std::uint64_t index, std::int64_t time_ns,
                            const Eigen::VectorXd& all_factors, const Eigen::VectorXd& all_std) const;
 
   FactorStreamParams params_;
-  SvarLayout layout_;
+  estimation::SvarLayout layout_;
   int g_;
-  std::vector<NoiseParams> noise_;
-  std::vector<NoiseTuningResult> tuning_;
+  std::vector<estimation::NoiseParams> noise_;
+  std::vector<estimation::NoiseTuningResult> tuning_;
   std::vector<std::string> warnings_;
-  std::unique_ptr<FixedLagSmoother> smoother_;  // lag 0 when only the filter is wanted
-  InnovationStats stats_;
+  std::unique_ptr<estimation::FixedLagSmoother> smoother_;  // lag 0 when only the filter is wanted
+  estimation::InnovationStats stats_;
   CalibrationWindow window_;  // automatic noise only; grows past calibration_samples while the worker tunes
-  std::future<std::vector<NoiseTuningResult>> tuning_job_;  // the worker's tuning (valid while submitted)
+  std::future<std::vector<estimation::NoiseTuningResult>> tuning_job_;  // the worker's tuning (valid while submitted)
   std::deque<Pending> pending_;
   std::uint64_t next_index_ = 0;      // index of the next sample processed by the filter
   std::uint64_t buffered_index_ = 0;  // samples seen including the calibration buffer

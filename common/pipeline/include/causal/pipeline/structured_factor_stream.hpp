@@ -87,8 +87,8 @@ class StructuredFactorStream {
   // model the FactorStream runs with and its state (FactorStream::save) once it is built, and the calibration
   // window (samples, discontinuities, times, source indices) while it fills. restore() rebuilds the
   // FactorStream with the learned model before restoring it; on StateError this object is unchanged.
-  void save(StateWriter& w) const;
-  void restore(StateReader& r);
+  void save(estimation::StateWriter& w) const;
+  void restore(estimation::StateReader& r);
 
  private:
   void learn(std::vector<FactorReport>& out);

@@ -44,9 +44,9 @@ class ChannelTrends {
   const std::deque<Point>& history(int channel) const { return history_.at(static_cast<std::size_t>(channel)); }
   std::uint64_t refused() const { return refused_; }
 
-  void save(causal::StateWriter& out) const;
-  // Throws causal::StateError on a truncated or foreign section or another channel count.
-  static ChannelTrends restore(causal::StateReader& in, int channels, const PrognosisParams& params);
+  void save(estimation::StateWriter& out) const;
+  // Throws estimation::StateError on a truncated or foreign section or another channel count.
+  static ChannelTrends restore(estimation::StateReader& in, int channels, const PrognosisParams& params);
 
  private:
   PrognosisParams params_;

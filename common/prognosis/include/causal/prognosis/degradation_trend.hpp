@@ -93,9 +93,9 @@ class DegradationTrend {
   std::uint64_t calibration_checks() const { return checks_; }  // forecast errors the inflation has seen
   const TrendParams& params() const { return params_; }
 
-  // Checkpoint: every field, so a restored trend continues bit for bit (restore throws causal::StateError).
-  void save(causal::StateWriter& out) const;
-  static DegradationTrend restore(causal::StateReader& in, const TrendParams& params);
+  // Checkpoint: every field, so a restored trend continues bit for bit (restore throws estimation::StateError).
+  void save(estimation::StateWriter& out) const;
+  static DegradationTrend restore(estimation::StateReader& in, const TrendParams& params);
 
  private:
   // The checkpoint's field lists (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
