@@ -4,6 +4,7 @@
 #include "web_server.hpp"
 
 #include "alarm_action_request.hpp"
+#include "json_reply.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -14,38 +15,23 @@
 
 namespace causal::web {
 
-namespace {
-
 using nlohmann::json;
-
-void send(HttpResponse& res, int status, const json& body) {
-  res.status = status;
-  res.set_header("Cache-Control", "no-store");
-  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
-}
-
-std::int64_t wall_clock_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
 
 void WebServer::alarm_action_route() {
   server_->Post("/api/alarm_action", [this](const HttpRequest& req, HttpResponse& res) {
     if (actions_ == nullptr) {
-      send(res, 503, {{"answered", false}, {"error", "alarm actions are not available"}});
+      send_json(res, 503, {{"answered", false}, {"error", "alarm actions are not available"}});
       return;
     }
     const json body = json::parse(req.body, nullptr, false);
     if (body.is_discarded()) {
-      send(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
+      send_json(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
       return;
     }
     causal_twin::AlarmAction action;
     if (const std::string problem = parse_alarm_action(body, guard_->user(), wall_clock_ns(), action);
         !problem.empty()) {
-      send(res, 400, {{"answered", false}, {"error", problem}});
+      send_json(res, 400, {{"answered", false}, {"error", problem}});
       return;
     }
     char host[128] = "host";
@@ -56,16 +42,16 @@ void WebServer::alarm_action_route() {
     const AlarmActionBridge::Outcome out = actions_->ask(action, timeout);
     if (out.status == AlarmActionBridge::Status::Answered) {
       // Refused: 409 (the request was well formed; the alarm's state does not allow it, or the id is unknown).
-      send(res, out.reply.applied() ? 200 : 409, alarm_action_result_json(out.reply));
+      send_json(res, out.reply.applied() ? 200 : 409, alarm_action_result_json(out.reply));
       return;
     }
     if (out.status == AlarmActionBridge::Status::Stopped) {
-      send(res, 503, {{"answered", false}, {"error", "twin-web is stopping"}});
+      send_json(res, 503, {{"answered", false}, {"error", "twin-web is stopping"}});
       return;
     }
     char msg[160];
     std::snprintf(msg, sizeof msg, "no result within %.0f s: is alarm-recommender running?", options_.whatif_timeout_s);
-    send(res, 504, {{"answered", false}, {"error", msg}});
+    send_json(res, 504, {{"answered", false}, {"error", msg}});
   });
 }
 

@@ -5,6 +5,7 @@
 #include "web_server.hpp"
 
 #include "approval_request.hpp"
+#include "json_reply.hpp"
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -13,37 +14,22 @@
 
 namespace causal::web {
 
-namespace {
-
 using nlohmann::json;
-
-void send(HttpResponse& res, int status, const json& body) {
-  res.status = status;
-  res.set_header("Cache-Control", "no-store");
-  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
-}
-
-std::int64_t wall_clock_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
 
 void WebServer::approve_route() {
   server_->Post("/api/approve", [this](const HttpRequest& req, HttpResponse& res) {
     if (approvals_ == nullptr || clock_ == nullptr) {
-      send(res, 503, {{"answered", false}, {"error", "approvals are not available"}});
+      send_json(res, 503, {{"answered", false}, {"error", "approvals are not available"}});
       return;
     }
     const json body = json::parse(req.body, nullptr, false);
     if (body.is_discarded()) {
-      send(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
+      send_json(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
       return;
     }
     ApprovalAsk ask;
     if (const std::string problem = parse_approval(body, guard_->user(), ask); !problem.empty()) {
-      send(res, 400, {{"answered", false}, {"error", problem}});
+      send_json(res, 400, {{"answered", false}, {"error", problem}});
       return;
     }
     if (!ask.act.duration && options_.approval_duration > 0) ask.act.duration = options_.approval_duration;
@@ -51,7 +37,7 @@ void WebServer::approve_route() {
                                                clock_->latest(ask.act.asset_group), options_.approval_lead,
                                                wall_clock_ns());
     if (plan.status != 200) {
-      send(res, plan.status, {{"answered", false}, {"error", plan.why}, {"already", plan.already}});
+      send_json(res, plan.status, {{"answered", false}, {"error", plan.why}, {"already", plan.already}});
       return;
     }
     const auto timeout = std::chrono::milliseconds(static_cast<long>(options_.whatif_timeout_s * 1000.0));
@@ -61,10 +47,10 @@ void WebServer::approve_route() {
         spdlog::info("approved from the page: {} by {} ({} readers matched)", plan.intervention.request_id(),
                      plan.intervention.approved_by(), out.reply.readers);
       }
-      send(res, out.reply.published ? 200 : 409, approval_json(plan.intervention, out.reply));
+      send_json(res, out.reply.published ? 200 : 409, approval_json(plan.intervention, out.reply));
       return;
     }
-    send(res, 503, {{"answered", false},
+    send_json(res, 503, {{"answered", false},
                     {"error", out.status == ApprovalBridge::Status::Stopped ? "twin-web is stopping"
                                                                             : "the approval was not written in time"}});
   });

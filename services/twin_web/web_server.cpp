@@ -1,5 +1,7 @@
 #include "web_server.hpp"
 
+#include "json_reply.hpp"
+
 #include "twin_web_assets.hpp"
 
 #include "causal/dds/sample_limits.hpp"
@@ -43,12 +45,6 @@ std::string script_safe(const std::string& json_text) {
 
 void replace_marker(std::string& body, const char* marker, const std::string& value) {
   if (const auto at = body.find(marker); at != std::string::npos) body.replace(at, std::string(marker).size(), value);
-}
-
-void send_json(HttpResponse& res, int status, const json& body) {
-  res.status = status;
-  res.set_header("Cache-Control", "no-store");
-  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
 }
 
 std::string read_file(const std::string& path) {
