@@ -57,9 +57,12 @@ struct ClosedLoopRun {
                    "causal-recorder", "--wait-for", "test-observer"},
                   (work / "estimator.log").string()),
         // 25 snapshots/s: the alarm (about snapshot 270) leaves 6 s of data for the approval and its window.
+        // It waits for the estimator by name: twin-web reads condition inputs too, and a first matched reader
+        // that is twin-web would let the estimator miss snapshot 0.
         sim("sensor-sim",
             {SENSOR_SIM_BIN, "--domain", d, "--plant", "lever", "--groups", "2", "--seed", "38", "--snapshots",
-             std::to_string(kClosedLoopSnapshots), "--snapshot-rate", "25", "--wait-timeout", "60"},
+             std::to_string(kClosedLoopSnapshots), "--snapshot-rate", "25", "--wait-timeout", "60", "--wait-for",
+             "causal-estimator"},
             (work / "sim.log").string()) {}
 
   std::string history_uri() const { return "sqlite:" + (work / "history.db").string(); }
