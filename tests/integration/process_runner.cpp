@@ -8,6 +8,7 @@
 #include <regex>
 #include <sstream>
 #include <stdexcept>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -117,7 +118,22 @@ std::map<std::string, std::uint64_t> counts_in_last_line(const std::string& outp
   return counts;
 }
 
-int private_domain_id(int salt) { return 100 + static_cast<int>((static_cast<unsigned>(getpid()) * 7u + static_cast<unsigned>(salt)) % 100u); }
+int private_domain_id(int salt) {
+  // ctest runs tests side by side, each in its own process: a hash of the pid alone let two of them share a
+  // domain now and then (one test's alarms in the other's observer). Each id is claimed with an exclusive lock
+  // on a file that this process holds until it exits, so concurrent tests on this host never share one.
+  const unsigned start = (static_cast<unsigned>(getpid()) * 7u + static_cast<unsigned>(salt)) % 100u;
+  for (unsigned i = 0; i < 100u; ++i) {
+    const int id = 100 + static_cast<int>((start + i) % 100u);
+    const std::string path = "/tmp/causal-test-domain-" + std::to_string(id) + ".lock";
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0) continue;
+    // flock: per open file, so a second call in this process (another salt) cannot take an id it already holds.
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) return id;  // kept open (and locked) until the process exits
+    ::close(fd);
+  }
+  return 100 + static_cast<int>(start);  // every id taken: the old hash (a collision is then possible)
+}
 
 bool clean_stale_shared_memory() { return std::system("fastdds shm clean > /dev/null 2>&1") == 0; }
 

@@ -47,7 +47,8 @@ class ServiceProcess {
 // "sensor-ingest: received=7 published=5 ... malformed=1"); empty when there is no such line.
 std::map<std::string, std::uint64_t> counts_in_last_line(const std::string& output, const std::string& marker);
 
-// A private DDS domain id for this test process (100..199), so concurrent runs do not hear each other.
+// A private DDS domain id for this test process (100..199), so concurrent runs do not hear each other: claimed
+// with a lock held until the process exits (/tmp/causal-test-domain-ID.lock).
 int private_domain_id(int salt);
 
 // Removes shared-memory files left by Fast DDS processes that are gone (`fastdds shm clean` only touches

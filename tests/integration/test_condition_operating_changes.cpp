@@ -7,7 +7,7 @@
 //    bearing, and the step one of kind "level_step" on bearing 3 (raised and cleared at once: a single
 //    channel's settled step is followed, not confirmed as an operating change);
 //  * bearing 1 still alarms by snapshot 547 with root cause bearing 1 (the detection bar).
-// Fixed domain id 226 (a helper range of the engine work).
+// A private domain id per run (process_runner.hpp: claimed, never shared with a concurrent test).
 #include "dds_observer.hpp"
 #include "process_expect.hpp"
 #include "ims_feature_replay.hpp"
@@ -27,7 +27,6 @@ namespace fs = std::filesystem;
 using namespace causal::test;
 
 namespace {
-constexpr int kDomain = 226;
 constexpr std::int64_t kDayNs = 86400LL * 1000000000LL;
 constexpr int kGapAt = 300, kStepAt = 400, kStepChannel = 2;
 }  // namespace
@@ -62,8 +61,9 @@ TEST(ConditionOperatingChanges, GapAndOperatingStepAreReportedNotAlarmed) {
     return static_cast<long>(std::lower_bound(times.begin(), times.end(), t) - times.begin());
   };
 
-  const std::string d = std::to_string(kDomain);
-  DdsObserver observer(kDomain);
+  const int domain = causal::test::private_domain_id(26);
+  const std::string d = std::to_string(domain);
+  DdsObserver observer(domain);
   ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "5", "--max-runtime", "300"},
                        (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator",

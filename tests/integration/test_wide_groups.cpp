@@ -6,7 +6,7 @@
 // at the end, and every vector and factor set delivered (exact counts). Why it failed before: the structure
 // window grew to 10 x 20 x 2 = 400 snapshots and the recommender kept only the last 256 condition vectors
 // while it waited for their factors, so the engine's baseline observations had no features.
-// Fixed DDS domain 226 (alarms-suite range).
+// A private domain id per run (process_runner.hpp: claimed, never shared with a concurrent test).
 #include "dds_observer.hpp"
 #include "feature_table_run.hpp"
 #include "ims_variants.hpp"
@@ -50,8 +50,9 @@ TEST(WideGroups, TwentyChannelsGiveTheFourChannelVerdict) {
   ASSERT_TRUE(std::regex_search(yaml, advice_on));
   const std::string params = (work / "alarms.yaml").string();
   std::ofstream(params) << std::regex_replace(yaml, advice_on, "$1false");
-  const std::string d = "226";
-  DdsObserver observer(226);
+  const int domain = causal::test::private_domain_id(27);
+  const std::string d = std::to_string(domain);
+  DdsObserver observer(domain);
   causal::test::FeatureTableRun run(d, csv, work, {"--params", params});
   ASSERT_NO_FATAL_FAILURE(run.wait_all());
   EXPECT_EQ(*run.alarm_code, 0) << run.alarm.output();
