@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """What choosing or gating among causal-prognosis-eval's rows could reach, from its --trace lines.
 
-Usage: causal-prognosis-eval ... --trace | python3 tests/bench/prognosis_trace_bounds.py [GATE_HOURS]
+Usage: causal-prognosis-eval ... --trace | python3 tests/bench/prognosis_trace_bounds.py [GATE_HOURS] [--announced-at N]
 
 Per level it prints:
   hindsight: the share of decision points at which at least one row's 90 % interval holds the actual time
@@ -14,6 +14,9 @@ Per level it prints:
     (default 24) is already known to be wrong, i.e. its whole interval has passed without the level being
     reached (a check on the channel's own history before the decision point; a miss with the truth before
     the interval is only known at the crossing, so it cannot gate).
+  --announced-at N: the same hindsight shares when, in addition, a perfect forecast (covered, narrow and
+    exact) were available at every decision point from snapshot N on: an information bound for a leading
+    indicator that announces the end at N (tests/bench/prognosis_indicators.py prints candidate onsets).
   choice by own record: at each point the answering row with the fewest answers known wrong in the last
     GATE_HOURS (ties: the narrower interval relative to its own median).
 Decision points are 10 minutes apart (snapshot index / 6 = hours), as in IMS test 2 and the simulations; run
@@ -56,7 +59,13 @@ def known_wrong(past, now, gate):
 
 
 def main():
-    gate = float(sys.argv[1]) if len(sys.argv) > 1 else 24.0
+    args = sys.argv[1:]
+    announced = None
+    if "--announced-at" in args:
+        k = args.index("--announced-at")
+        announced = int(args[k + 1])
+        del args[k:k + 2]
+    gate = float(args[0]) if args else 24.0
     for level, points in read(sys.stdin).items():
         n = len(points)
         methods = list(points[0][2].keys())
@@ -67,9 +76,17 @@ def main():
             hind["1.5"] += any(w <= 1.5 for w in c)
             hind["3"] += any(w <= 3 for w in c)
             hind["a30"] += any(abs(f[0] - actual) <= 0.3 * actual for f in preds.values() if f)
+            early = announced is None or round(now * 6) < announced
+            hind["1.5o"] += early and any(w <= 1.5 for w in c)
+            hind["a30o"] += early and any(abs(f[0] - actual) <= 0.3 * actual for f in preds.values() if f)
         print("%s (%d decision points) hindsight: covered by some row %.2f (width <= 1.5x: %.2f, <= 3x: %.2f);"
               " some median within +-30 %%: %.2f" % (level, n, hind["any"] / n, hind["1.5"] / n, hind["3"] / n,
                                                     hind["a30"] / n))
+        if announced is not None:
+            late = sum(1 for now, actual, preds in points if round(now * 6) >= announced)
+            print("  with a perfect forecast from snapshot %d on (%.2f of the points): width <= 1.5x %.2f,"
+                  " median within +-30 %% %.2f" % (announced, late / n, (hind["1.5o"] + late) / n,
+                                                   (hind["a30o"] + late) / n))
         past = {m: [] for m in methods}
         gated = {m: [] for m in methods}
         chosen = []
