@@ -17,10 +17,16 @@ A measurement, not shipped. From the trace lines (snapshot, level, actual remain
     conditioned on the result exceeding e; before that, survival.
 The library's time scale is the simulation's (40-120 h from the onset to the stop, run_to_failure_sim.cpp),
 which this project chose with IMS test 2 (~73 h from its first alarm to the stop) known: on IMS this row is
-only as independent as that choice. Columns as causal-prognosis-eval's. --trace: instead of the table, the target's trace lines with the rows
+only as independent as that choice. Also scored: "twin, else fleet" (the twin's answer, the fleet's where the twin says unknown) and "hull twin +
+fleet" (where both answer, the hull of the two intervals around the twin's median), both defined before any run
+was scored. Columns as causal-prognosis-eval's. --trace: instead of the table, the target's trace lines with the rows
 fleet-surv and fleet-paced appended (for tests/bench/prognosis_trace_bounds.py)."""
+import os
 import statistics
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import prognosis_trace_bounds as bounds  # noqa: E402  (the trace format, one reader)
 
 
 def runs(path):
@@ -62,6 +68,7 @@ def forecast(lib, level, e, e_warn, paced):
 
 def emit_trace(lib, path):
     """The target's trace lines, each with the two fleet rows appended (same format as the tool's)."""
+    out = []
     with open(path) as f:
         lines = [x.rstrip("\n") for x in f if x.startswith("trace ")]
     k = 0
@@ -81,8 +88,18 @@ def emit_trace(lib, path):
                           else " %s=unknown 0 [0, 0]" % name)
             head, sep, why = lines[k].partition(" conformal=")
             tail = why.split("]", 1)
-            print(head + sep + tail[0] + "]" + extra + tail[1])
+            out.append(head + sep + tail[0] + "]" + extra + tail[1])
             k += 1
+    return out
+
+
+def combined(preds):
+    """The rows scored: the fleet alone (two ways), and the twin with the fleet where the twin says unknown
+    (fill) or with the hull of both intervals around the twin's median where both answer (hull)."""
+    t, f = preds.get("twin"), preds.get("fleet-paced")
+    hull = (t[0], min(t[1], f[1]), max(t[2], f[2])) if t and f else (t or f)
+    return {"fleet survival": preds.get("fleet-surv"), "fleet paced": f, "twin": t, "twin, else fleet": t or f,
+            "hull twin + fleet": hull}
 
 
 def main():
@@ -91,41 +108,29 @@ def main():
         sys.exit("usage: prognosis_fleet_prior.py LIBRARY_TRACE TARGET_TRACE [--trace]")
     lib = [{lvl: pts[0][1] for lvl, pts in r.items()} for r in runs(args[0])]
     lib = [r for r in lib if len(r) == 3]
+    lines = emit_trace(lib, args[1])
     if "--trace" in sys.argv:
-        emit_trace(lib, args[1])
+        print("\n".join(lines))
         return
-    targets = runs(args[1])
-    print("library: %d runs; targets: %d runs" % (len(lib), len(targets)))
+    print("library: %d runs; targets: %d runs" % (len(lib), len(runs(args[1]))))
     print("| level | method | decisions | answered | coverage | med rel w | a-l 20% | a-l 30% | truth earlier |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for level in ("warning", "critical", "end_of_life"):
-        for paced in (False, True):
-            n = ans = cov = a20 = a30 = early = 0
-            widths = []
-            for r in targets:
-                if level not in r:
-                    continue
-                first_idx, T = r[level][0]
-                w = r.get("warning", [])
-                t_warn = w[0][1] if w else None  # hours from the first alarm to the warning crossing
-                last_w = w[-1][0] if w else None  # the last decision point before it was reached
-                for idx, actual in r[level]:
-                    e = T - actual
-                    reached = t_warn is not None and idx > last_w  # observable: the alarm has escalated
-                    q = forecast(lib, level, e, t_warn if reached else None, paced)
-                    n += 1
-                    if q is None:
-                        continue
-                    ans += 1
-                    cov += q[0] <= actual <= q[2]
-                    early += actual < q[0]
-                    a20 += abs(q[1] - actual) <= 0.2 * actual
-                    a30 += abs(q[1] - actual) <= 0.3 * actual
-                    widths.append((q[2] - q[0]) / actual)
+    for level, points in bounds.read(lines).items():
+        per = {}
+        for _, actual, preds in points:
+            for name, q in combined(preds).items():
+                per.setdefault(name, []).append((q, actual))
+        for name, picked in per.items():
+            n = len(picked)
+            ans = [(q, a) for q, a in picked if q]
+            widths = [(hi - lo) / a for (h, lo, hi), a in ans]
+            k = max(len(ans), 1)
             print("| %s | %s | %d | %.2f | %.2f | %s | %.2f | %.2f | %.2f |" % (
-                level, "fleet paced" if paced else "fleet survival", n, ans / n if n else 0.0,
-                cov / ans if ans else 0.0, "%.2f" % statistics.median(widths) if widths else "-",
-                a20 / n if n else 0.0, a30 / n if n else 0.0, early / ans if ans else 0.0))
+                level, name, n, len(ans) / n, sum(lo <= a <= hi for (h, lo, hi), a in ans) / k,
+                "%.2f" % statistics.median(widths) if widths else "-",
+                sum(abs(h - a) <= 0.2 * a for (h, lo, hi), a in ans) / n,
+                sum(abs(h - a) <= 0.3 * a for (h, lo, hi), a in ans) / n,
+                sum(a < lo for (h, lo, hi), a in ans) / k))
 
 
 if __name__ == "__main__":
