@@ -125,3 +125,32 @@ TEST(SimulatedRuns, ConformalOnAStraightLine) {
   for (std::size_t i = 0; i < y.size(); ++i) down[i] = -y[i];
   EXPECT_FALSE(ConformalLevel(t, down).time_to(0.5, 0.9).known);
 }
+
+// Episodic wear (SimSpec::episodic): the same run with the level holding 4-24 h and catching up with the smooth
+// path in 1 h. Its draws come from a separate stream: the rows before the onset are the smooth run's, bit for
+// bit, and every noise-free crossing lies in a catch-up hour.
+TEST(SimulatedRuns, EpisodicWearHoldsThenCatchesUp) {
+  constexpr double kNsPerHour = 3.6e12;
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    SimSpec smooth_spec;
+    smooth_spec.seed = seed;
+    SimSpec episodic_spec = smooth_spec;
+    episodic_spec.episodic = true;
+    const SimRun smooth = simulate_run_to_failure(smooth_spec), episodic = simulate_run_to_failure(episodic_spec);
+    ASSERT_TRUE(smooth.episode_ends_h.empty());
+    ASSERT_GE(episodic.episode_ends_h.size(), 2u) << "seed " << seed;
+    for (int row = 0; row < smooth_spec.healthy_rows; ++row) {
+      ASSERT_EQ(smooth.features(row, 0), episodic.features(row, 0)) << "seed " << seed << " row " << row;
+      ASSERT_EQ(smooth.time_ns[static_cast<std::size_t>(row)], episodic.time_ns[static_cast<std::size_t>(row)]);
+    }
+    EXPECT_GE(episodic.stop_ns, smooth.stop_ns) << "a hold only delays the wear";
+    for (const double ratio : {2.0, 4.0, 6.0}) {
+      const double tau = static_cast<double>(episodic.crossing_ns(ratio) - episodic.onset_ns) / kNsPerHour;
+      EXPECT_GE(tau, static_cast<double>(smooth.crossing_ns(ratio) - smooth.onset_ns) / kNsPerHour - 1e-6);
+      const bool in_catch_up = std::any_of(episodic.episode_ends_h.begin(), episodic.episode_ends_h.end(),
+                                           [&](double end) { return tau >= end - 1.0 - 1e-6 && tau <= end + 1e-6; });
+      EXPECT_TRUE(in_catch_up) << "seed " << seed << " ratio " << ratio << " at " << tau << " h";
+      EXPECT_LE(episodic.crossing_ns(ratio), episodic.stop_ns + static_cast<std::int64_t>(kNsPerHour));
+    }
+  }
+}

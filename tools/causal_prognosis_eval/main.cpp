@@ -43,6 +43,7 @@ struct Options {
   bool sim = false;
   int seeds = 20;
   int first_seed = 1;  // seeds first_seed .. first_seed + seeds - 1 (other seeds: a held-out judge)
+  bool episodic = false;  // simulated wear in episodes (run_to_failure_sim.hpp)
   bool trace = false;
   std::string alarms_config;     // alarm-recommender's alarms.yaml, read by its own loader
   alarms::AlarmParams alarm;     // its condition_level section: the engine whose alarms start the prognosis
@@ -52,7 +53,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "causal-prognosis-eval: " << why << "\n"
             << "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | "
-               "--sim [--seeds 20]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F] [--first-seed 1] [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N] [--huber-k K] [--end-of-life-ratio R] [--trend-fit-limit L] [--no-power-law] [--no-fill] [--trace]\n";
+               "--sim [--seeds 20] [--episodic]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F] [--first-seed 1] [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N] [--huber-k K] [--end-of-life-ratio R] [--trend-fit-limit L] [--no-power-law] [--no-fill] [--trace]\n";
   std::exit(causal::config::kExitUsage);
 }
 
@@ -67,7 +68,7 @@ void print_help() {
                "the actual remaining time, alpha-lambda (share of decision points whose median is within +-20 % /\n"
                "+-30 % of the actual remaining time; unknown = not within).\n"
                "usage: causal-prognosis-eval (--ims FILE [--feature-name NAME] [--channel 1] [--stop-index 981] | --sim\n"
-               "       [--seeds 20] [--first-seed 1]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F]\n"
+               "       [--seeds 20] [--first-seed 1] [--episodic]) [--alarms-config FILE] [--acceleration-diffusion Q] [--forecast-diffusion F]\n"
                "       [--min-trend-z Z] [--pessimistic-z Z] [--calibration-lag H] [--calibration-memory N]\n"
                "       [--huber-k K] [--end-of-life-ratio R] [--trend-fit-limit L] [--no-power-law] [--no-fill] [--trace]\n"
                "  (every tuning option overrides the prognosis parameters of the alarms file; see docs/prognosis.md)\n"
@@ -76,6 +77,8 @@ void print_help() {
                "  --ims FILE         IMS-format feature table, run through the services' alarm chain\n"
                "  --sim              simulated run-to-failure channels with known crossing times\n"
                "  --seeds N          seeds per noise kind (Gaussian, uniform) with --sim\n"
+               "  --episodic         with --sim: the wear shows in episodes (the level holds 4-24 h, then catches up\n"
+               "                     with the smooth path in 1 h)\n"
                "  --trend-fit-limit L  the local trend answers while its forecast inflation is <= L (default 2.51),\n"
                "                     else the long-run model (0: long-run first)\n"
                "  --no-power-law     the long-run model with the exponential-excess shape only\n"
@@ -129,6 +132,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--sim") o.sim = true;
     else if (a == "--seeds") o.seeds = std::stoi(value());
     else if (a == "--trace") o.trace = true;
+    else if (a == "--episodic") o.episodic = true;
     else if (a == "--acceleration-diffusion") o.params.trend.acceleration_diffusion = std::stod(value());
     else if (a == "--forecast-diffusion") o.params.trend.forecast_diffusion = std::stod(value());
     else if (a == "--pessimistic-z") o.params.pessimistic_z = std::stod(value());
@@ -144,6 +148,7 @@ Options parse(int argc, char** argv) {
     else usage("unknown option " + a);
   }
   if (o.ims.empty() == !o.sim) usage("give exactly one of --ims FILE and --sim");
+  if (o.episodic && !o.sim) usage("--episodic needs --sim");
   o.params.validate();
   return o;
 }
@@ -200,6 +205,7 @@ int run_sim(const Options& o) {
       SimSpec spec;
       spec.seed = static_cast<std::uint64_t>(seed);
       spec.gaussian = kind == 0;
+      spec.episodic = o.episodic;
       const SimRun run = simulate_run_to_failure(spec);
       const PrognosisScorer s = score_simulated_run(run, o.params);
       if (s.first_alarm_index() < 0) ++no_alarm;
@@ -210,9 +216,9 @@ int run_sim(const Options& o) {
       if (o.trace) print_trace(s);
     }
   }
-  std::printf("simulated run-to-failure: seeds %d..%d x {Gaussian, uniform} noise, acceleration_diffusion %g, forecast_diffusion %g, "
+  std::printf("simulated run-to-failure%s: seeds %d..%d x {Gaussian, uniform} noise, acceleration_diffusion %g, forecast_diffusion %g, "
               "pessimistic_z %g, calibration lag %g h memory %g, end of life %.3gx; %d runs without a degradation alarm on the wearing channel\n",
-              o.first_seed, o.first_seed + o.seeds - 1, o.params.trend.acceleration_diffusion, o.params.trend.forecast_diffusion,
+              o.episodic ? " (episodic wear)" : "", o.first_seed, o.first_seed + o.seeds - 1, o.params.trend.acceleration_diffusion, o.params.trend.forecast_diffusion,
               o.params.pessimistic_z, o.params.trend.calibration_lag_hours, o.params.trend.calibration_memory,
               o.params.end_of_life_ratio, no_alarm);
   std::cout << score_table("Gaussian noise", per_kind[0]) << "\n"

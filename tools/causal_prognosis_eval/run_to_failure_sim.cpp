@@ -1,5 +1,6 @@
 #include "run_to_failure_sim.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -20,10 +21,34 @@ double noise(std::mt19937_64& rng, bool gaussian, double sd) {
   return uniform(rng, -std::sqrt(3.0) * sd, std::sqrt(3.0) * sd);
 }
 
+constexpr double kCatchUpHours = 1.0;
+
+// The episodic clock: it stands at the last episode end a_k for the hold, then runs up to the next end a_{k+1}
+// in the last kCatchUpHours before it, so the level w(s(tau)) is flat and then catches up with the smooth path.
+double episodic_clock(const std::vector<double>& ends, double tau) {
+  double start = 0.0;
+  for (const double end : ends) {
+    if (tau < end) {
+      const double ramp = std::max(0.0, tau - (end - kCatchUpHours)) / kCatchUpHours;
+      return start + ramp * (end - start);
+    }
+    start = end;
+  }
+  return tau;
+}
+
 }  // namespace
 
 std::int64_t SimRun::crossing_ns(double ratio) const {
-  const double tau = std::log1p(std::log(ratio) / c) / lambda;
+  double tau = std::log1p(std::log(ratio) / c) / lambda;
+  double start = 0.0;
+  for (const double end : episode_ends_h) {  // episodic: the catch-up during which s(tau) passes tau
+    if (tau <= end) {
+      tau = end - kCatchUpHours + kCatchUpHours * (tau - start) / (end - start);
+      break;
+    }
+    start = end;
+  }
   return onset_ns + static_cast<std::int64_t>(std::llround(tau * kNsPerHour));
 }
 
@@ -41,6 +66,10 @@ SimRun simulate_run_to_failure(const SimSpec& spec) {
   const double step_1 = uniform(rng, 0.15, 0.20), step_2 = uniform(rng, 0.15, 0.20);
   const double late_gap_tau = uniform(rng, 0.1, 0.6) * tau_stop, late_gap_hours = uniform(rng, 2, 12);
   const double base0 = 0.06, base1 = 0.045;
+  if (spec.episodic) {  // a separate stream: the smooth runs' draws stay as they were
+    std::mt19937_64 episodes(spec.seed * 0xD1B54A32D192ED03ULL + 29);
+    for (double end = 0.0; end < 3.0 * tau_stop;) run.episode_ends_h.push_back(end += uniform(episodes, 4.0, 24.0));
+  }
   double gain = 1.0, t_hours = 0.0;
   bool late_gap_done = !spec.gaps;
   for (int row = 0;; ++row) {
@@ -60,7 +89,8 @@ SimRun simulate_run_to_failure(const SimSpec& spec) {
       discontinuity = true;
       late_gap_done = true;
     }
-    const double w = row >= spec.healthy_rows ? run.c * std::expm1(run.lambda * tau) : 0.0;
+    const double clock = spec.episodic ? episodic_clock(run.episode_ends_h, tau) : tau;
+    const double w = row >= spec.healthy_rows ? run.c * std::expm1(run.lambda * clock) : 0.0;
     const double stop_w = std::log(spec.stop_ratio);
     const double sd0 = run.noise_std * (1.0 + 2.0 * std::min(w, stop_w) / stop_w);
     double y0 = std::log(base0 * gain) + std::min(w, stop_w) + noise(rng, spec.gaussian, sd0);

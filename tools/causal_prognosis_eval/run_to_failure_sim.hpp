@@ -8,6 +8,10 @@
 // or a re-levelled plant after a stop gives; a few hours after the onset, no step: wear goes on in clock
 // time); measurement noise on the log level, Gaussian or uniform, growing with the wear (a damaged bearing is
 // noisier); and 1 % single-snapshot spikes (+50 %) on the degrading channel.
+// Episodic (SimSpec::episodic): the same wear shows in episodes, as a bearing whose damage grows in steps does:
+// the level holds for 4-24 h, then catches up with the smooth path w(tau) in one hour, and holds again (a clock
+// s(tau) that stands still and then runs; w(s(tau))). Drawn from a separate stream, so every other draw, and
+// every smooth run, is unchanged.
 #pragma once
 
 #include <Eigen/Core>
@@ -23,6 +27,7 @@ struct SimSpec {
   double stop_ratio = 6.5;       // the run ends when channel 0 reaches this multiple of its baseline
   bool gaps = true;              // recording gaps (and the pre-onset level steps)
   bool spikes = true;
+  bool episodic = false;         // wear in episodes: holds of 4-24 h, each ended by a 1-h catch-up
 };
 
 struct SimRun {
@@ -32,6 +37,7 @@ struct SimRun {
   std::int64_t onset_ns = 0;
   std::int64_t stop_ns = 0;              // time of the last row
   double noise_std = 0.0, lambda = 0.0, c = 0.0;  // drawn parameters (per hour)
+  std::vector<double> episode_ends_h;    // episodic: hours after the onset at which each hold's catch-up ends
   // Time at which channel 0's noise-free level reaches `ratio` x its baseline (w = log ratio).
   std::int64_t crossing_ns(double ratio) const;
 };
