@@ -2,8 +2,11 @@
 """An episodic (renewal) time-to-level forecaster learned from the channel's own past episodes, scored on IMS test 2.
 
 Usage: python3 tests/bench/prognosis_episodes.py [LEVEL_CSV] [--first-alarm 541] [--baseline 0.060826] [--stop 981]
+       python3 tests/bench/prognosis_episodes.py --sim-trace FILE
   default LEVEL_CSV deploy/data/ims2-features/merged_dataset_BearingTest_2.csv (bearing 1's mean abs, the level
-  causal-prognosis-eval scores; first alarm, baseline and stop as it prints them).
+  causal-prognosis-eval scores; first alarm, baseline and stop as it prints them; 10-minute snapshots).
+  --sim-trace: the output of causal-prognosis-eval --sim ... --trace (its "run" and "series" lines: each run's
+  level, times, first alarm and baseline; the stop is the run's last row), every run scored and pooled.
 
 A measurement, not shipped. The model (every constant fixed before it was run, none fitted on IMS):
   episodes: the level "jumps" where its 5-snapshot median leaves the preceding 6 h (36 snapshots ending 1 h
@@ -32,10 +35,12 @@ from prognosis_indicators import jump_onsets, med5  # noqa: E402  (the same jump
 ARGS = {"--first-alarm": 541, "--baseline": 0.060826, "--stop": 981}
 
 
-def forecast(v, t, target, onsets, seed, draws=2000, horizon=2000.0):
+def forecast(v, t, target, onsets, seed, hours=None, draws=2000, horizon=2000.0):
+    """hours[i]: the time of snapshot i in hours (default i / 6: 10-minute snapshots)."""
+    h = hours if hours is not None else [k / 6.0 for k in range(len(v))]
     if len(onsets) < 3:
         return None, "fewer than 2 completed episodes"
-    holds = [(b - a) / 6.0 for a, b in zip(onsets, onsets[1:])]
+    holds = [h[b] - h[a] for a, b in zip(onsets, onsets[1:])]
     steps = []
     for a, b in zip(onsets, onsets[1:]):
         before = statistics.median(v[max(0, a - 36):a])
@@ -43,8 +48,8 @@ def forecast(v, t, target, onsets, seed, draws=2000, horizon=2000.0):
         steps.append(end - before)
     if max(steps) <= 0:
         return None, "no past episode rose"
-    elapsed = (t - onsets[-1]) / 6.0
-    longer = [h - elapsed for h in holds if h > elapsed]
+    elapsed = h[t] - h[onsets[-1]]
+    longer = [x - elapsed for x in holds if x > elapsed]
     if not longer:
         return None, "the current hold is longer than every past one"
     rng = random.Random(seed)
@@ -65,47 +70,84 @@ def forecast(v, t, target, onsets, seed, draws=2000, horizon=2000.0):
     return q, ""
 
 
+LEVELS = (("warning", 2.0), ("critical", 4.0), ("end_of_life", 6.0))
+
+
+def score_run(v, hours, first, base, stop, tally):
+    """Adds one run's decision points (first alarm .. each level's crossing - 1) to tally[level]."""
+    all_onsets = jump_onsets(v[:stop + 1])
+    for name, ratio in LEVELS:
+        hit = [t for t in range(first, stop + 1) if med5(v, t) >= base + math.log(ratio)]
+        end = hit[0] if hit else stop
+        c = tally.setdefault(name, {"n": 0, "ans": 0, "cov": 0, "a20": 0, "a30": 0, "early": 0, "rising": 0,
+                                    "widths": [], "why": {}})
+        for t in range(first, end):
+            onsets = [o for o in all_onsets if o <= t]  # detection at o uses data up to o only
+            actual = hours[end] - hours[t]
+            c["n"] += 1
+            c["rising"] += bool(onsets) and hours[t] - hours[onsets[-1]] <= 2.0
+            q, why = forecast(v, t, base + math.log(ratio), onsets, seed=t, hours=hours)
+            if q is None:
+                c["why"][why] = c["why"].get(why, 0) + 1
+                continue
+            c["ans"] += 1
+            c["cov"] += q[0] <= actual <= q[2]
+            c["early"] += actual < q[0]
+            c["a20"] += abs(q[1] - actual) <= 0.2 * actual
+            c["a30"] += abs(q[1] - actual) <= 0.3 * actual
+            c["widths"].append((q[2] - q[0]) / actual)
+    return all_onsets
+
+
+def sim_runs(path):
+    """(level log series, hours, first alarm, log baseline) per run of a causal-prognosis-eval --sim --trace."""
+    runs = []
+    with open(path) as f:
+        for line in f:
+            p = line.split()
+            if p and p[0] == "run":
+                runs.append(([], [], int(p[3]), math.log(float(p[4]))))
+            elif p and p[0] == "series":
+                runs[-1][0].append(math.log(max(float(p[3]), 1e-9)))
+                runs[-1][1].append(int(p[2]) / 3.6e12)
+    return [r for r in runs if r[2] >= 0]
+
+
 def main():
-    files, i = [], 1
+    files, i, sim = [], 1, None
     while i < len(sys.argv):
         if sys.argv[i] in ARGS:
             ARGS[sys.argv[i]] = type(ARGS[sys.argv[i]])(sys.argv[i + 1])
             i += 2
+        elif sys.argv[i] == "--sim-trace":
+            sim = sys.argv[i + 1]
+            i += 2
         else:
             files.append(sys.argv[i])
             i += 1
-    path = files[0] if files else "deploy/data/ims2-features/merged_dataset_BearingTest_2.csv"
-    with open(path) as f:
-        v = [math.log(max(float(r[1]), 1e-9)) for r in csv.reader(f) if r and r[0] and r[0][0].isdigit()]
-    first, base, stop = ARGS["--first-alarm"], math.log(ARGS["--baseline"]), ARGS["--stop"]
-    all_onsets = jump_onsets(v[:stop + 1])
-    print("jump onsets up to the stop: %s" % all_onsets)
+    tally = {}
+    if sim:
+        runs = sim_runs(sim)
+        for v, hours, first, base in runs:
+            score_run(v, hours, first, base, len(v) - 1, tally)
+        print("%d simulated runs with a first alarm" % len(runs))
+    else:
+        path = files[0] if files else "deploy/data/ims2-features/merged_dataset_BearingTest_2.csv"
+        with open(path) as f:
+            v = [math.log(max(float(r[1]), 1e-9)) for r in csv.reader(f) if r and r[0] and r[0][0].isdigit()]
+        onsets = score_run(v, [k / 6.0 for k in range(len(v))], ARGS["--first-alarm"],
+                           math.log(ARGS["--baseline"]), ARGS["--stop"], tally)
+        print("jump onsets up to the stop: %s" % onsets)
     print("| level | decisions | answered | coverage | med rel w | a-l 20% | a-l 30% | truth earlier | rising share |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for name, ratio in (("warning", 2.0), ("critical", 4.0), ("end_of_life", 6.0)):
-        hit = [t for t in range(first, stop + 1) if med5(v, t) >= base + math.log(ratio)]
-        end = hit[0] if hit else stop
-        n = ans = cov = a20 = a30 = early = rising = 0
-        widths, reasons = [], {}
-        for t in range(first, end):
-            onsets = [o for o in all_onsets if o <= t]  # detection at o uses data up to o only
-            actual = (end - t) / 6.0
-            n += 1
-            rising += bool(onsets) and t - onsets[-1] <= 12
-            q, why = forecast(v, t, base + math.log(ratio), onsets, seed=t)
-            if q is None:
-                reasons[why] = reasons.get(why, 0) + 1
-                continue
-            ans += 1
-            cov += q[0] <= actual <= q[2]
-            early += actual < q[0]
-            a20 += abs(q[1] - actual) <= 0.2 * actual
-            a30 += abs(q[1] - actual) <= 0.3 * actual
-            widths.append((q[2] - q[0]) / actual)
+    for name, _ in LEVELS:
+        c = tally[name]
+        n, ans = c["n"], c["ans"]
         print("| %s | %d | %.2f | %.2f | %s | %.2f | %.2f | %.2f | %.2f |" % (
-            name, n, ans / n, cov / ans if ans else 0.0, "%.2f" % statistics.median(widths) if widths else "-",
-            a20 / n, a30 / n, early / ans if ans else 0.0, rising / n))
-        print("|   unknown: %s |" % ", ".join("%s %d" % kv for kv in sorted(reasons.items())))
+            name, n, ans / n, c["cov"] / ans if ans else 0.0,
+            "%.2f" % statistics.median(c["widths"]) if c["widths"] else "-", c["a20"] / n, c["a30"] / n,
+            c["early"] / ans if ans else 0.0, c["rising"] / n))
+        print("|   unknown: %s |" % ", ".join("%s %d" % kv for kv in sorted(c["why"].items())))
 
 
 if __name__ == "__main__":

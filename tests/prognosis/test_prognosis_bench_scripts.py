@@ -2,6 +2,7 @@
 """The measurement scripts of docs/prognosis.md ("Against the targets": leading indicators, episodes, fleet prior)
 on inputs whose answers are known by hand: the jump detector sees no future, the renewal forecast of equal
 episodes is exact, the fleet prior's quantiles are those of the library's remaining times."""
+import math
 import os
 import sys
 import tempfile
@@ -52,6 +53,32 @@ class RenewalForecast(unittest.TestCase):
         expected = 10.0 - 28 / 6.0 + 20.0
         for x in q:
             self.assertAlmostEqual(x, expected, places=6)
+
+    def test_hours_come_from_the_times_so_a_recording_gap_counts(self):
+        # The same equal episodes, with a 5-h recording gap inside the current hold: 5 h less to wait.
+        onsets_true = [520, 580, 640, 700]
+        v = stepped(onsets_true, n=760)
+        hours = [k / 6.0 + (5.0 if k >= 715 else 0.0) for k in range(len(v))]
+        onsets = indicators.jump_onsets(v)
+        q, why = episodes.forecast(v, 730, target=v[730] + 1.2, onsets=onsets, seed=1, hours=hours)
+        self.assertEqual(why, "")
+        self.assertAlmostEqual(q[1], 10.0 - (28 / 6.0 + 5.0) + 20.0, places=6)
+
+    def test_sim_trace_runs_are_read_with_their_times_first_alarm_and_baseline(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "sim.txt")
+            with open(path, "w") as f:
+                f.write("trace 3 warning actual=1.00 twin=unknown 0 [0, 0]\nrun 7 gaussian 2 0.5\n")
+                for k in range(4):
+                    f.write("series %d %d %.6f\n" % (k, k * 1800 * 10 ** 9, 0.5 * (1 + k)))
+                f.write("run 8 uniform -1 0.5\nseries 0 0 0.5\n")
+            runs = episodes.sim_runs(path)
+            self.assertEqual(len(runs), 1, "a run without a first alarm is not scored")
+            v, hours, first, base = runs[0]
+            self.assertEqual(first, 2)
+            self.assertAlmostEqual(hours[3], 1.5)
+            self.assertAlmostEqual(v[1], math.log(1.0))
+            self.assertAlmostEqual(base, math.log(0.5))
 
     def test_unknown_before_two_completed_episodes(self):
         v = stepped([600, 660], n=700)

@@ -83,6 +83,7 @@ void print_help() {
                "                     else the long-run model (0: long-run first)\n"
                "  --no-power-law     the long-run model with the exponential-excess shape only\n"
                "  --no-fill          the long-run model does not answer where a fitting local trend says unknown\n"
+               "  --trace            one line per decision point and level (with --sim also each run's level series)\n"
                "  --help, --version  this text; the project version\n"
                "Exit: 0 tables printed, 2 bad options or input.\n";
 }
@@ -157,6 +158,17 @@ void print_trace(const PrognosisScorer& s) {
   for (const auto& line : s.trace) std::cout << "trace " << line << "\n";
 }
 
+// With --sim --trace, the wearing channel's level after the run's trace lines, for measurements that need the
+// series itself (tests/bench/prognosis_episodes.py): "run SEED KIND FIRST_ALARM BASELINE", then one
+// "series INDEX TIME_NS LEVEL" per row.
+void print_series(const SimSpec& spec, const SimRun& run, const PrognosisScorer& s) {
+  std::printf("run %llu %s %lld %.9g\n", static_cast<unsigned long long>(spec.seed), spec.gaussian ? "gaussian" : "uniform",
+              static_cast<long long>(s.first_alarm_index()), std::exp(s.baseline_log()));
+  for (std::size_t i = 0; i < run.time_ns.size(); ++i)
+    std::printf("series %zu %lld %.9g\n", i, static_cast<long long>(run.time_ns[i]),
+                run.features(static_cast<Eigen::Index>(i), 0));
+}
+
 int run_ims(const Options& o) {
   const auto series = alarms::series_from_feature_table(o.ims, o.feature_name);
   const int ch = o.channel - 1;
@@ -213,7 +225,10 @@ int run_sim(const Options& o) {
         per_kind[kind][static_cast<std::size_t>(m)].merge(s.scores()[static_cast<std::size_t>(m)]);
         both[static_cast<std::size_t>(m)].merge(s.scores()[static_cast<std::size_t>(m)]);
       }
-      if (o.trace) print_trace(s);
+      if (o.trace) {
+        print_trace(s);
+        print_series(spec, run, s);
+      }
     }
   }
   std::printf("simulated run-to-failure%s: seeds %d..%d x {Gaussian, uniform} noise, acceleration_diffusion %g, forecast_diffusion %g, "
