@@ -47,34 +47,8 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
-# The estimator's condition level as the integration tests run it on simulated plants: log levels, centred, the
-# instantaneous order learned by VAR-LiNGAM on the first 200 snapshots.
-cat > "$WORK/estimator.yaml" <<'EOF'
-sample_level:
-  enabled: false
-  lag_order: 1
-  include_self_lags: false
-  instantaneous_graph: ""
-  noise: {mode: fixed, q: 1.0e-6, r: 1.0e-2, p0: 1.0, calibration_samples: 4096}
-  structure: {calibration_samples: 0, centre: false, causal_order: configured, prune_threshold: 0.0}
-  publish_every: 1024
-  fixed_lag: 0
-condition_level:
-  enabled: true
-  feature: meanabs
-  log_transform: true
-  window_samples: 0
-  min_samples: 256
-  lag_order: 1
-  include_self_lags: true
-  instantaneous_graph: ""
-  noise: {mode: fixed, q: 1.0e-4, r: 1.0e-2, p0: 1.0, calibration_samples: 100}
-  structure: {calibration_samples: 200, centre: true, causal_order: lingam, prune_threshold: 0.0}
-  publish_every: 1
-  fixed_lag: 0
-health:
-  deadline_s: 30
-EOF
+# The estimator's condition level as the integration tests run it on simulated plants (the file says how).
+ESTIMATOR_PARAMS="$ROOT/tests/bench/closed_loop_estimator.yaml"
 
 # The recommender's shipped parameters, except that the healthy reference model is confirmed after 30 snapshots
 # instead of 144 (one day at 10 min): these plants change at snapshot 250, and a lever may be claimed only when it
@@ -107,7 +81,7 @@ run_seed() {
   PIDS=()
   "$HIST" "${DDS[@]}" --out "$dir/rec" --idle-exit 8 --max-runtime "$BOUND" > "$dir/recorder.log" 2>&1 & PIDS+=($!); local p_hist=$!
   "$REC" "${DDS[@]}" --params "$WORK/alarms.yaml" --idle-exit 6 --max-runtime "$BOUND" > "$dir/alarm.log" 2>&1 & PIDS+=($!); local p_rec=$!
-  "$EST" "${DDS[@]}" --params "$WORK/estimator.yaml" --idle-exit 3 --max-runtime "$BOUND" --wait-for alarm-recommender \
+  "$EST" "${DDS[@]}" --params "$ESTIMATOR_PARAMS" --idle-exit 3 --max-runtime "$BOUND" --wait-for alarm-recommender \
       --wait-for causal-recorder > "$dir/estimator.log" 2>&1 & PIDS+=($!); local p_est=$!
   "$SIM" "${DDS[@]}" --plant lever,no-lever,near-unit-root --groups 3 --seed "$seed" --snapshots "$SNAPSHOTS" \
       --snapshot-rate "$RATE" --wait-timeout 60 > "$dir/sim.log" 2>&1 & PIDS+=($!); local p_sim=$!

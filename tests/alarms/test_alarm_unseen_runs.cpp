@@ -14,6 +14,7 @@
 
 #include "causal/alarms/alarm_pipeline.hpp"
 #include "ims_variants_unseen.hpp"
+#include "variant_series.hpp"
 
 namespace causal::alarms {
 namespace {
@@ -26,25 +27,8 @@ const causal::testing::BaseRun& base() {
   return b;
 }
 
-causal::alarms::ConditionSeries series_of(const Variant& v) {
-  causal::alarms::ConditionSeries s;
-  s.channel_names = v.channel_names;
-  s.time_ns = v.time_ns;
-  s.values = v.values;
-  s.feature = "meanabs";
-  const double gap = AlarmParams{}.gap_multiple * 600e9;
-  for (std::size_t i = 0; i < v.time_ns.size(); ++i) {
-    s.index.push_back(i);
-    s.discontinuity.push_back(i == 0 || static_cast<double>(v.time_ns[i] - v.time_ns[i - 1]) > gap);
-  }
-  return s;
-}
-
-bool failing(const Variant& v, int c) {
-  for (int f : v.failing_channels)
-    if (f == c) return true;
-  return false;
-}
+using causal::alarms::test::failing;
+using causal::alarms::test::series_of;
 
 void print_events(const Variant& v, const std::vector<AlarmEvent>& events) {
   for (const auto& e : events)

@@ -13,6 +13,7 @@
 //    critical by the end of the run.
 #include "ims_variants_month.hpp"
 #include "robust_z_baseline.hpp"
+#include "variant_series.hpp"
 
 #include <gtest/gtest.h>
 
@@ -36,23 +37,8 @@ using causal::testing::Variant;
 
 constexpr double kRowsPerMonth = 30.0 * 144.0;  // 10-minute snapshots
 
-causal::alarms::ConditionSeries series_of(const Variant& v) {
-  causal::alarms::ConditionSeries s;
-  s.channel_names = v.channel_names;
-  s.time_ns = v.time_ns;
-  s.values = v.values;
-  s.feature = "meanabs";
-  const double gap = causal::alarms::AlarmParams{}.gap_multiple * 600e9;
-  for (std::size_t i = 0; i < v.time_ns.size(); ++i) {
-    s.index.push_back(i);
-    s.discontinuity.push_back(i == 0 || static_cast<double>(v.time_ns[i] - v.time_ns[i - 1]) > gap);
-  }
-  return s;
-}
-
-bool failing(const Variant& v, int c) {
-  return std::find(v.failing_channels.begin(), v.failing_channels.end(), c) != v.failing_channels.end();
-}
+using causal::alarms::test::failing;
+using causal::alarms::test::series_of;
 
 struct RunScore {
   int false_raises = 0;                 // product: degradation raises before healthy_end

@@ -5,6 +5,7 @@
 #include <causal/estimation/svar_layout.hpp>
 
 #include <cmath>
+#include <utility>
 
 #include "matrix_asserts.hpp"
 
@@ -16,46 +17,38 @@ namespace {
 
 const std::vector<std::string> kNames{"bearing 1", "bearing 2", "vibration at bearing 3"};
 
-TEST(Recommendation, SentenceMatchesTheHouseExample) {
+// A steady-state answer to moving `channel` by `delta`: effect within [lower, upper] at `coverage`,
+// `immediate` at once.
+Recommendation steady_state(int channel, double delta, double effect, std::pair<double, double> interval,
+                            double immediate, double coverage) {
   Recommendation rec;
-  rec.action = {2, -0.02};
+  rec.action = {channel, delta};
   rec.answer.kind = AnswerKind::steady_state;
-  rec.effect = rec.steady_state = -0.015;
-  rec.lower = -0.019;
-  rec.upper = -0.010;
-  rec.immediate = -0.008;
+  rec.effect = rec.steady_state = effect;
+  rec.lower = interval.first;
+  rec.upper = interval.second;
+  rec.immediate = immediate;
   rec.interval_valid = true;
-  rec.coverage = 0.9;
+  rec.coverage = coverage;
+  return rec;
+}
+
+TEST(Recommendation, SentenceMatchesTheHouseExample) {
+  Recommendation rec = steady_state(2, -0.02, -0.015, {-0.019, -0.010}, -0.008, 0.9);
   EXPECT_EQ(describe_recommendation(rec, 0, kNames, "g"),
             "Reduce vibration at bearing 3 by 0.02 g: bearing 1 is predicted to drop by 0.015 g (90% interval "
             "0.010..0.019) at steady state, 0.008 at once.");
 }
 
 TEST(Recommendation, NarrowIntervalsGetMoreDecimals) {
-  Recommendation rec;
-  rec.action = {1, -0.000923};
-  rec.answer.kind = AnswerKind::steady_state;
-  rec.effect = rec.steady_state = -0.00171;
-  rec.lower = -0.00175;
-  rec.upper = -0.00168;
-  rec.immediate = -0.0008;
-  rec.interval_valid = true;
-  rec.coverage = 0.9;
+  Recommendation rec = steady_state(1, -0.000923, -0.00171, {-0.00175, -0.00168}, -0.0008, 0.9);
   EXPECT_EQ(describe_recommendation(rec, 3, {"b1", "b2", "b3", "b4"}, "g"),
             "Reduce b2 by 0.000923 g: b4 is predicted to drop by 0.00171 g (90% interval 0.00168..0.00175) at steady "
             "state, 0.00080 at once.");
 }
 
 TEST(Recommendation, SentencesForRisesHorizonUncertainAndRefusedCases) {
-  Recommendation rec;
-  rec.action = {1, 0.5};
-  rec.answer.kind = AnswerKind::steady_state;
-  rec.effect = rec.steady_state = 1.2;
-  rec.lower = -0.1;
-  rec.upper = 2.4;
-  rec.immediate = 0.0;
-  rec.interval_valid = true;
-  rec.coverage = 0.95;
+  Recommendation rec = steady_state(1, 0.5, 1.2, {-0.1, 2.4}, 0.0, 0.95);
   const std::string up = describe_recommendation(rec, 0, {}, "");
   EXPECT_EQ(up,
             "Raise channel 2 by 0.5: channel 1 is predicted to rise by 1.2 (95% interval -0.1..2.4) at steady state, "

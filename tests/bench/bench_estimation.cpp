@@ -47,16 +47,24 @@ void BM_FilterStep(benchmark::State& state) {
   state.counters["factors"] = layout.total_factors();
 }
 
-// Batch filter with all outputs (estimates, std devs, innovations): run_filter.
-void BM_RunFilter(benchmark::State& state) {
+// A batch estimator (run_filter, run_rts_smoother) over 20000 samples with all its outputs.
+template <typename Run>
+void batch(benchmark::State& state, Run run_batch) {
   const causal::estimation::SvarLayout layout = make_layout(state);
   constexpr int kRows = 20000;
   const Eigen::MatrixXd y = random_samples(kRows, layout.channels());
   for (auto _ : state) {
-    causal::estimation::EstimationRun run = causal::estimation::run_filter(layout, kNoise, y);
+    causal::estimation::EstimationRun run = run_batch(layout, kNoise, y);
     benchmark::DoNotOptimize(run.estimates.data());
   }
   state.SetItemsProcessed(state.iterations() * kRows);
+}
+
+// Batch filter with all outputs (estimates, std devs, innovations): run_filter.
+void BM_RunFilter(benchmark::State& state) {
+  batch(state, [](const auto& layout, const auto& noise, const auto& y) {
+    return causal::estimation::run_filter(layout, noise, y);
+  });
 }
 
 // Streaming fixed-lag smoother, L = state.range(2), releasing every state.range(3)-th sample (1 = every
@@ -80,14 +88,9 @@ void BM_FixedLagStep(benchmark::State& state) {
 
 // Batch RTS smoother with covariances: run_rts_smoother.
 void BM_RunRts(benchmark::State& state) {
-  const causal::estimation::SvarLayout layout = make_layout(state);
-  constexpr int kRows = 20000;
-  const Eigen::MatrixXd y = random_samples(kRows, layout.channels());
-  for (auto _ : state) {
-    causal::estimation::EstimationRun run = causal::estimation::run_rts_smoother(layout, kNoise, y);
-    benchmark::DoNotOptimize(run.estimates.data());
-  }
-  state.SetItemsProcessed(state.iterations() * kRows);
+  batch(state, [](const auto& layout, const auto& noise, const auto& y) {
+    return causal::estimation::run_rts_smoother(layout, noise, y);
+  });
 }
 
 void configs(benchmark::internal::Benchmark* b) {

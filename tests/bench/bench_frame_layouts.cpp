@@ -20,6 +20,7 @@
 // (max_abs_error: the largest |received - sent| sample of the first frames, 0 for 64-bit layouts). The reader gives
 // up after 15 s without a frame. Exit 0 when every frame of every run arrived (received == expected, exactly), 1
 // otherwise, 2 bad usage.
+#include "bench_dds_settings.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal/dds/event_loop.hpp"
@@ -96,15 +97,6 @@ bool data_sharing_segment() {
   return false;
 }
 
-causal::dds::DdsSettings settings(const Options& o, const std::string& name) {
-  causal::dds::DdsSettings s;
-  s.profile_files = {o.qos, o.transport};
-  s.domain_id = o.domain;
-  s.participant_name = name;
-  s.security_dir = "off";
-  return s;
-}
-
 // Fills a frame of any layout from rows of a double block (sample-major), as to_frame does for VibrationFrame.
 template <typename Frame>
 void fill(Frame& f, const std::string& group, std::uint64_t seq, const std::vector<std::string>& names,
@@ -157,7 +149,7 @@ struct ReaderResult {
 
 template <typename PubSub>
 ReaderResult run_reader(const Options& o, const std::string& topic, std::size_t expected) {
-  causal::dds::Participant participant(settings(o, "bench-layout-reader"));
+  causal::dds::Participant participant(causal::bench::dds_settings(o, "bench-layout-reader"));
   causal::dds::TypedReader<PubSub> reader(participant, topic, "frame_layout_reader");
   causal::dds::EventLoop loop;
   loop.attach(reader.get());
@@ -189,7 +181,7 @@ ReaderResult run_reader(const Options& o, const std::string& topic, std::size_t 
 
 template <typename PubSub>
 int run_writer(const Options& o, const std::string& topic, const std::string& profile, int result_fd) {
-  causal::dds::Participant participant(settings(o, "bench-layout-writer"));
+  causal::dds::Participant participant(causal::bench::dds_settings(o, "bench-layout-writer"));
   causal::dds::TypedWriter<PubSub> writer(participant, topic, profile);
   const bool sharing = data_sharing_segment();
   if (sharing != (profile == "frame_layout_shared_writer")) {

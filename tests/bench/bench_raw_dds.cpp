@@ -13,6 +13,7 @@
 // the reader gives up after 60 s without progress.
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/frame_conversions.hpp"
+#include "bench_dds_settings.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
@@ -45,17 +46,8 @@ long long wall_ns() {
       .count();
 }
 
-causal::dds::DdsSettings settings(const Options& o, const std::string& name) {
-  causal::dds::DdsSettings s;
-  s.profile_files = {o.qos, o.transport};
-  s.domain_id = o.domain;
-  s.participant_name = name;
-  s.security_dir = "off";
-  return s;
-}
-
 int run_reader(const Options& o, std::size_t expected) {
-  causal::dds::Participant participant(settings(o, "bench-raw-reader"));
+  causal::dds::Participant participant(causal::bench::dds_settings(o, "bench-raw-reader"));
   causal::dds::TypedReader<causal_twin::VibrationFramePubSubType> reader(
       participant, causal::dds::topics::kVibrationFrame, causal::dds::profiles::kVibrationFrameReader);
   causal::dds::EventLoop loop;
@@ -80,7 +72,7 @@ int run_reader(const Options& o, std::size_t expected) {
 }
 
 int run_writer(const Options& o) {
-  causal::dds::Participant participant(settings(o, "bench-raw-writer"));
+  causal::dds::Participant participant(causal::bench::dds_settings(o, "bench-raw-writer"));
   causal::dds::TypedWriter<causal_twin::VibrationFramePubSubType> writer(
       participant, causal::dds::topics::kVibrationFrame, causal::dds::profiles::kVibrationFrameWriter);
   std::atomic<bool> stop{false};

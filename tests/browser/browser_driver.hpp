@@ -1,10 +1,12 @@
 // What the Chromium tests share: playwright-core in the build folder, twin-web's port and the driver script's
 // RESULT line.
-// Needs BROWSER_TEST_SOURCE_DIR and NPM_BIN (the tests' compile definitions, tests/browser/CMakeLists.txt).
+// Needs BROWSER_TEST_SOURCE_DIR, BROWSER_TEST_BINARY_DIR, CHROMIUM_BIN and NPM_BIN (the tests' compile definitions, tests/browser/CMakeLists.txt).
 #pragma once
 
 #include "process_runner.hpp"
+#include "served_port.hpp"
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -12,6 +14,7 @@
 #include <regex>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace causal::test {
 
@@ -35,17 +38,34 @@ inline bool ensure_node_modules(const std::filesystem::path& dir, const std::str
   return code && *code == 0 && fs::exists(dir / "node_modules" / "playwright-core" / "package.json");
 }
 
-// The port twin-web printed ("serving http://127.0.0.1:PORT/"), waiting for it (bounded); 0 when it did not.
-inline int served_port(ServiceProcess& web, std::chrono::seconds timeout) {
-  const std::regex served(R"(serving http://127\.0\.0\.1:(\d+)/)");
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline && web.running()) {
-    std::smatch m;
-    const std::string out = web.output();
-    if (std::regex_search(out, m, served)) return std::stoi(m[1]);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+// The folders of a Chromium test in this build's tests/browser: node/ (playwright-core and the drivers) and
+// output/ (screenshots and logs); `work` is output/<work_name>, made fresh, when the test names one.
+struct BrowserFolders {
+  std::filesystem::path node, out, work;
+};
+
+// Chromium installed, the folders made, playwright-core and each driver in node/ (npm ci the first time); a
+// failure says what is missing. Use as ASSERT_TRUE(prepare_browser_test(...)).
+inline ::testing::AssertionResult prepare_browser_test(BrowserFolders& f, const std::vector<std::string>& drivers,
+                                                       const std::string& work_name = "") {
+  namespace fs = std::filesystem;
+  if (!fs::exists(CHROMIUM_BIN)) {
+    return ::testing::AssertionFailure() << CHROMIUM_BIN << " missing: run deploy/install_deps.sh (Debian chromium)";
   }
-  return 0;
+  f.node = fs::path(BROWSER_TEST_BINARY_DIR) / "node";
+  f.out = fs::path(BROWSER_TEST_BINARY_DIR) / "output";
+  fs::create_directories(f.out);
+  if (!work_name.empty()) {
+    f.work = f.out / work_name;
+    fs::remove_all(f.work);
+    fs::create_directories(f.work);
+  }
+  for (const std::string& driver : drivers) {
+    if (!ensure_node_modules(f.node, driver, f.out / "npm.log")) {
+      return ::testing::AssertionFailure() << "npm ci failed, see " << (f.out / "npm.log");
+    }
+  }
+  return ::testing::AssertionSuccess();
 }
 
 // The JSON after the driver's last "RESULT " line (a discarded value when there is none or it does not parse).

@@ -70,14 +70,9 @@ std::string csv_field_from_end(const std::string& header, const std::string& lin
 }  // namespace
 
 TEST(AlarmActionBrowser, OperatorClicksAcknowledgeAndEveryViewShowsIt) {
-  ASSERT_TRUE(fs::exists(CHROMIUM_BIN)) << CHROMIUM_BIN << " missing: run deploy/install_deps.sh (Debian chromium)";
-  const fs::path node_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "node";
-  const fs::path out_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "output";
-  const fs::path work = out_dir / "alarm_action";
-  fs::remove_all(work);
-  fs::create_directories(work);
-  ASSERT_TRUE(causal::test::ensure_node_modules(node_dir, "drive_alarm_action.mjs", out_dir / "npm.log"))
-      << "npm ci failed, see " << (out_dir / "npm.log");
+  causal::test::BrowserFolders dirs;
+  ASSERT_TRUE(causal::test::prepare_browser_test(dirs, {"drive_alarm_action.mjs"}, "alarm_action"));
+  const fs::path node_dir = dirs.node, out_dir = dirs.out, work = dirs.work;
   for (const char* name : {"twin_web_alarm_action.png", "twin_web_alarm_action_card.png"}) fs::remove(out_dir / name);
   const std::string table = causal::test::write_simulated_shaft_table(work);
   const int domain = causal::test::private_domain_id(19);

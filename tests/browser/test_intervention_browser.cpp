@@ -36,14 +36,6 @@ namespace {
 constexpr const char* kUser = "it-operator";
 constexpr const char* kPassword = "closed-loop-2026";
 
-int served_port(ServiceProcess& web) {
-  if (!web.wait_for_output("serving http://", 20s)) return 0;
-  const std::regex served(R"(serving http://127\.0\.0\.1:(\d+)/)");
-  std::smatch m;
-  const std::string out = web.output();
-  return std::regex_search(out, m, served) ? std::stoi(m[1]) : 0;
-}
-
 // The page's formats (intervention_panel.js): a signed percent with one decimal, trust with two.
 std::string signed_percent(const std::string& cell) {
   char buf[64];
@@ -120,16 +112,10 @@ std::string approve_on_the_page(const std::string& url, const fs::path& node_dir
 }  // namespace
 
 TEST(InterventionBrowser, AnOperatorApprovesOnThePageAndSeesTheOutcomeAndLeverTrust) {
-  ASSERT_TRUE(fs::exists(CHROMIUM_BIN)) << CHROMIUM_BIN << " missing: run deploy/install_deps.sh (Debian chromium)";
-  const fs::path node_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "node";
-  const fs::path out_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "output";
-  const fs::path work = out_dir / "interventions";
-  fs::remove_all(work);
-  fs::create_directories(work);
-  for (const char* driver : {"drive_approve.mjs", "drive_interventions.mjs"}) {
-    ASSERT_TRUE(causal::test::ensure_node_modules(node_dir, driver, out_dir / "npm.log"))
-        << "npm ci failed, see " << (out_dir / "npm.log");
-  }
+  causal::test::BrowserFolders dirs;
+  ASSERT_TRUE(
+      causal::test::prepare_browser_test(dirs, {"drive_approve.mjs", "drive_interventions.mjs"}, "interventions"));
+  const fs::path node_dir = dirs.node, out_dir = dirs.out, work = dirs.work;
   for (const char* name : {"twin_web_interventions.png", "twin_web_interventions_card.png", "twin_web_approve.png"}) {
     fs::remove(out_dir / name);
   }
@@ -140,7 +126,7 @@ TEST(InterventionBrowser, AnOperatorApprovesOnThePageAndSeesTheOutcomeAndLeverTr
   causal::test::ClosedLoopRun run(work, causal::test::private_domain_id(39),
                                   {"--basic-auth-file", auth.string(), "--approval-lead", "25", "--approval-duration",
                                    "24"});
-  const int port = served_port(run.web);
+  const int port = causal::test::served_port(run.web, 20s);
   ASSERT_GT(port, 0) << run.web.output();
   const std::string url = "http://127.0.0.1:" + std::to_string(port) + "/";
   const std::string request_id = approve_on_the_page(url, node_dir, out_dir, work);

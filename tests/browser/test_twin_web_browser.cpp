@@ -143,12 +143,9 @@ void check_operator_page(const json& r, const DdsObserver& observer, std::size_t
 }  // namespace
 
 TEST(TwinWebBrowser, LiveViewShowsTrendsAlarmsAndAnswersWhatIf) {
-  ASSERT_TRUE(fs::exists(CHROMIUM_BIN)) << CHROMIUM_BIN << " missing: run deploy/install_deps.sh (Debian chromium)";
-  const fs::path node_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "node";
-  const fs::path out_dir = fs::path(BROWSER_TEST_BINARY_DIR) / "output";
-  fs::create_directories(out_dir);
-  ASSERT_TRUE(causal::test::ensure_node_modules(node_dir, "drive_twin_web.mjs", out_dir / "npm.log"))
-      << "npm ci failed, see " << (out_dir / "npm.log");
+  causal::test::BrowserFolders dirs;
+  ASSERT_TRUE(causal::test::prepare_browser_test(dirs, {"drive_twin_web.mjs"}));
+  const fs::path node_dir = dirs.node, out_dir = dirs.out;
 
   const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
   const auto features = causal::io::read_feature_table(table, "_meanabs");

@@ -3,6 +3,7 @@
 // indices are duplicates), bounded pending with a partial or drop policy, exact counters. The expected
 // values come from the generating formulas below, not from the assembler.
 #include "causal/dds/factor_set_assembler.hpp"
+#include "factor_message_head.hpp"
 
 #include <gtest/gtest.h>
 
@@ -31,17 +32,9 @@ double sd(std::uint64_t n, int k, int i) { return 0.5 + 1e-3 * (k + i) + 1e-6 * 
 FactorMessage message(std::uint64_t n, int k, const std::string& group = "ims2",
                       causal_twin::TimeScale scale = causal_twin::CONDITION_LEVEL,
                       causal_twin::EstimateKind kind = causal_twin::FILTER) {
-  FactorMessage m;
-  m.asset_group = group;
-  m.outcome = k;
-  m.kind = kind;
-  m.time_scale = scale;
-  m.feature = scale == causal_twin::CONDITION_LEVEL ? "rms" : "";
-  m.outcome_name = "b" + std::to_string(k + 1);
-  m.channel_count = kG;
-  m.lag_order = 1;
-  m.sample_index = n;
-  m.time_ns = kT0 + static_cast<std::int64_t>(n) * kStep;
+  const causal::test::FactorStreamId id{group, scale, kind, scale == causal_twin::CONDITION_LEVEL ? "rms" : ""};
+  FactorMessage m = causal::test::factor_message_head(id, k, "b" + std::to_string(k + 1), kG, 1, n,
+                                                      kT0 + static_cast<std::int64_t>(n) * kStep);
   const int d = factor_count(k);
   m.factors.resize(d);
   m.factor_std.resize(d);

@@ -4,6 +4,7 @@
 // condition vectors joined by time; bounded waiting (max_pending) and bounded memory for indices that never
 // complete.
 #include "observation_assembler.hpp"
+#include "factor_message_head.hpp"
 
 #include <gtest/gtest.h>
 
@@ -36,17 +37,9 @@ double factor_value(std::uint64_t index, int global_factor) {
 FactorMessage message(const estimation::SvarLayout& l, causal_twin::TimeScale scale, int k, std::uint64_t index,
                       causal_twin::EstimateKind kind = causal_twin::FILTER, const std::string& group = "ims2",
                       const std::string& feature = "rms") {
-  FactorMessage m;
-  m.asset_group = group;
-  m.outcome = k;
-  m.kind = kind;
-  m.time_scale = scale;
-  m.feature = scale == causal_twin::CONDITION_LEVEL ? feature : "";
-  m.outcome_name = "b" + std::to_string(k + 1);
-  m.channel_count = l.channels();
-  m.lag_order = l.lag_order();
-  m.sample_index = index;
-  m.time_ns = kT0 + static_cast<std::int64_t>(index) * kStep;
+  const test::FactorStreamId id{group, scale, kind, scale == causal_twin::CONDITION_LEVEL ? feature : ""};
+  FactorMessage m = test::factor_message_head(id, k, "b" + std::to_string(k + 1), l.channels(), l.lag_order(), index,
+                                              kT0 + static_cast<std::int64_t>(index) * kStep);
   const int d = l.factor_count(k);
   m.factors.resize(d);
   m.factor_std.resize(d);

@@ -4,6 +4,7 @@
 // be joined with its observation (the first observations are the alarm engine's baseline), and what was
 // joined is not kept.
 #include "observation_assembler.hpp"
+#include "factor_message_head.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,17 +17,9 @@ constexpr std::int64_t kT0 = 1'077'000'000'000'000'000LL;
 constexpr std::int64_t kStep = 600'000'000'000LL;  // 10 min
 
 dds::FactorMessage message(const estimation::SvarLayout& l, int k, std::uint64_t index) {
-  dds::FactorMessage m;
-  m.asset_group = "wide";
-  m.outcome = k;
-  m.kind = causal_twin::FILTER;
-  m.time_scale = causal_twin::CONDITION_LEVEL;
-  m.feature = "meanabs";
-  m.outcome_name = "c" + std::to_string(k + 1);
-  m.channel_count = l.channels();
-  m.lag_order = l.lag_order();
-  m.sample_index = index;
-  m.time_ns = kT0 + static_cast<std::int64_t>(index) * kStep;
+  const test::FactorStreamId id{"wide", causal_twin::CONDITION_LEVEL, causal_twin::FILTER, "meanabs"};
+  dds::FactorMessage m = test::factor_message_head(id, k, "c" + std::to_string(k + 1), l.channels(), l.lag_order(),
+                                                   index, kT0 + static_cast<std::int64_t>(index) * kStep);
   const int d = l.factor_count(k);
   m.factors = Eigen::VectorXd::Constant(d, 0.1);
   m.factor_std = Eigen::VectorXd::Constant(d, 0.5);

@@ -61,6 +61,15 @@ class TwoGroups final : public causal::dds::SampleSource {
   Eigen::MatrixXd samples_;
 };
 
+// Frames, the first once the participant `peer` matched (waiting at most timeout_s).
+causal::dds::SourceDriverOptions frames_after(const std::string& peer, double timeout_s) {
+  causal::dds::SourceDriverOptions o;
+  o.frames = true;
+  o.wait.wait_for = {peer};
+  o.wait.wait_timeout_s = timeout_s;
+  return o;
+}
+
 struct Received {
   std::uint64_t sequence, first_sample_index;
   double first_value;
@@ -72,11 +81,7 @@ TEST(SourceDriver, NumbersFramesPerGroupAndRenumbersASnapshotSentAgain) {
   causal::dds::TypedReader<causal_twin::VibrationFramePubSubType> reader(
       reader_side, causal::dds::topics::kVibrationFrame, causal::dds::profiles::kVibrationFrameReader);
   causal::dds::Participant writer_side(causal::test::loopback_settings(d, "test-source"));
-  causal::dds::SourceDriverOptions o;
-  o.frames = true;
-  o.wait.wait_for = {"test-reader"};
-  o.wait.wait_timeout_s = 20.0;
-  causal::dds::SourceDriver driver(writer_side, o);
+  causal::dds::SourceDriver driver(writer_side, frames_after("test-reader", 20.0));
   TwoGroups source;
   ASSERT_EQ(driver.run(source), causal::config::kExitOk);
 
@@ -109,10 +114,7 @@ TEST(SourceDriver, NumbersFramesPerGroupAndRenumbersASnapshotSentAgain) {
 TEST(SourceDriver, NoReaderInTimeIsExit3AndRefusedInputIsExit4) {
   const int d = domain(2);
   causal::dds::Participant writer_side(causal::test::loopback_settings(d, "test-source"));
-  causal::dds::SourceDriverOptions o;
-  o.frames = true;
-  o.wait.wait_for = {"nobody"};
-  o.wait.wait_timeout_s = 0.5;
+  causal::dds::SourceDriverOptions o = frames_after("nobody", 0.5);
   {
     causal::dds::SourceDriver driver(writer_side, o);
     TwoGroups source;

@@ -54,6 +54,11 @@ class CausalOfflineCli : public ::testing::Test {
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
   }
 
+  // causal-offline <in> --out <out><args> (args starts with a space).
+  Result estimate(const fs::path& in, const fs::path& out, const std::string& args = "") {
+    return run("\"" + in.string() + "\" --out \"" + out.string() + "\"" + args);
+  }
+
   fs::path dir_;
 };
 
@@ -76,12 +81,30 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
   return rows;
 }
 
-TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
+std::string channels_csv(const Eigen::MatrixXd& y) {
+  std::string csv = "alpha,beta,gamma\n";
+  for (Eigen::Index n = 0; n < y.rows(); ++n) {
+    csv += number(y(n, 0)) + "," + number(y(n, 1)) + "," + number(y(n, 2)) + "\n";
+  }
+  return csv;
+}
+
+// The three channels alpha, beta, gamma (default model spec) and a simulated run of them, noise kNoise.
+const estimation::NoiseParams kNoise{2e-5, 0.02, 1.0};
+
+estimation::SvarLayout three_channels() {
   estimation::ModelSpec spec;
   spec.channels = 3;
-  estimation::SvarLayout layout(spec);
-  const estimation::NoiseParams noise{2e-5, 0.02, 1.0};
-  const test::Simulation sim = test::simulate_svar(layout, {noise}, 200, 31);
+  return estimation::SvarLayout(spec);
+}
+
+test::Simulation simulate_three(int rows, std::uint64_t seed) {
+  return test::simulate_svar(three_channels(), {kNoise}, rows, seed);
+}
+
+TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
+  const estimation::SvarLayout layout = three_channels();
+  const test::Simulation sim = simulate_three(200, 31);
   std::string csv = "time,alpha,beta,gamma\n";
   for (int n = 0; n < 200; ++n) {
     csv += std::to_string(n) + "," + number(sim.y(n, 0)) + "," + number(sim.y(n, 1)) + "," + number(sim.y(n, 2)) + "\n";
@@ -90,8 +113,8 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
   const fs::path out = dir_ / "factors.csv";
   for (const std::string estimator : {"filter", "fixed-lag", "rts"}) {
     SCOPED_TRACE(estimator);
-    const Result res = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --estimator " + estimator +
-                           " --lag 7 --q 2e-5 --r 0.02 --p0 1 --no-standardise");
+    const Result res =
+        estimate(in, out, " --estimator " + estimator + " --lag 7 --q 2e-5 --r 0.02 --p0 1 --no-standardise");
     ASSERT_EQ(res.exit_code, 0) << res.err;
     const auto rows = parse_csv(slurp(out));
     ASSERT_EQ(rows.size(), 201u);
@@ -100,9 +123,9 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
         "x31",    "x32",     "xL31",    "xL32",    "sd_x12",  "sd_x13",  "sd_xL12", "sd_xL13", "sd_x21",
         "sd_x23", "sd_xL21", "sd_xL23", "sd_x31",  "sd_x32",  "sd_xL31", "sd_xL32"};
     EXPECT_EQ(rows[0], expected_header);
-    const estimation::EstimationRun ref = estimator == std::string("filter") ? estimation::run_filter(layout, {noise}, sim.y)
-                              : estimator == std::string("rts")  ? estimation::run_rts_smoother(layout, {noise}, sim.y)
-                                                                 : estimation::run_fixed_lag_smoother(layout, {noise}, sim.y, {}, 7);
+    const estimation::EstimationRun ref = estimator == std::string("filter") ? estimation::run_filter(layout, {kNoise}, sim.y)
+                              : estimator == std::string("rts")  ? estimation::run_rts_smoother(layout, {kNoise}, sim.y)
+                                                                 : estimation::run_fixed_lag_smoother(layout, {kNoise}, sim.y, {}, 7);
     for (int n = 0; n < 200; n += 13) {
       ASSERT_EQ(rows[n + 1].size(), 25u);
       EXPECT_EQ(rows[n + 1][0], std::to_string(n));
@@ -113,7 +136,7 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
     }
   }
   // Automatic noise runs and reports the tuned values.
-  const Result tuned = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --auto-noise");
+  const Result tuned = estimate(in, out, " --auto-noise");
   ASSERT_EQ(tuned.exit_code, 0) << tuned.err;
   EXPECT_NE(tuned.err.find("auto-noise: outcome 3"), std::string::npos) << tuned.err;
 }
@@ -121,18 +144,13 @@ TEST_F(CausalOfflineCli, WritesAllFactorsAndStdDevsMatchingTheLibrary) {
 // --format columns: the binary column file holds exactly the numbers of the CSV (bit for bit: both are the
 // same run) with the same names and n = i * every, and they are the library's factors.
 TEST_F(CausalOfflineCli, ColumnsFormatHoldsExactlyTheCsvNumbers) {
-  estimation::ModelSpec spec;
-  spec.channels = 3;
-  estimation::SvarLayout layout(spec);
-  const estimation::NoiseParams noise{2e-5, 0.02, 1.0};
-  const test::Simulation sim = test::simulate_svar(layout, {noise}, 300, 41);
-  std::string csv = "alpha,beta,gamma\n";
-  for (int n = 0; n < 300; ++n) csv += number(sim.y(n, 0)) + "," + number(sim.y(n, 1)) + "," + number(sim.y(n, 2)) + "\n";
-  const fs::path in = write("in.csv", csv);
+  const estimation::SvarLayout layout = three_channels();
+  const test::Simulation sim = simulate_three(300, 41);
+  const fs::path in = write("in.csv", channels_csv(sim.y));
   const fs::path out_csv = dir_ / "f.csv", out_cols = dir_ / "f.cols";
   const std::string common = " --estimator filter --q 2e-5 --r 0.02 --p0 1 --no-standardise --every 3";
-  ASSERT_EQ(run("\"" + in.string() + "\" --out \"" + out_csv.string() + "\"" + common).exit_code, 0);
-  const Result res = run("\"" + in.string() + "\" --out \"" + out_cols.string() + "\" --format columns" + common);
+  ASSERT_EQ(estimate(in, out_csv, common).exit_code, 0);
+  const Result res = estimate(in, out_cols, " --format columns" + common);
   ASSERT_EQ(res.exit_code, 0) << res.err;
   // The log names the kernel variant the loader chose (results repeat bit for bit only within one variant).
   EXPECT_NE(res.err.find(std::string("; kernels ") + estimation::kernel_instruction_set() + "\n"), std::string::npos) << res.err;
@@ -147,7 +165,7 @@ TEST_F(CausalOfflineCli, ColumnsFormatHoldsExactlyTheCsvNumbers) {
   EXPECT_EQ(cols.names, std::vector<std::string>(rows[0].begin() + 1, rows[0].end()));
   estimation::BatchOutput every3;
   every3.every = 3;
-  const estimation::EstimationRun ref = estimation::run_filter(layout, {noise}, sim.y, {}, every3);
+  const estimation::EstimationRun ref = estimation::run_filter(layout, {kNoise}, sim.y, {}, every3);
   for (int i = 0; i < 100; ++i) {
     EXPECT_EQ(rows[i + 1][0], std::to_string(3 * i));
     for (int c = 0; c < 24; ++c) {
@@ -161,27 +179,17 @@ TEST_F(CausalOfflineCli, ColumnsFormatHoldsExactlyTheCsvNumbers) {
   }
 }
 
-std::string channels_csv(const Eigen::MatrixXd& y) {
-  std::string csv = "alpha,beta,gamma\n";
-  for (Eigen::Index n = 0; n < y.rows(); ++n) {
-    csv += number(y(n, 0)) + "," + number(y(n, 1)) + "," + number(y(n, 2)) + "\n";
-  }
-  return csv;
-}
-
 // Scale invariance end to end: 'beta' in other units (x1e6, x1e-9) gives the factors of the unscaled file
 // times the exact unit relation x_kj -> x_kj s_k / s_j, with fixed and with tuned noise, never NaN.
 TEST_F(CausalOfflineCli, ChannelUnitsDoNotChangeTheFactors) {
-  estimation::ModelSpec spec;
-  spec.channels = 3;
-  estimation::SvarLayout layout(spec);
-  const test::Simulation sim = test::simulate_svar(layout, {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 400, 17);
+  const estimation::SvarLayout layout = three_channels();
+  const test::Simulation sim = simulate_three(400, 17);
   const std::vector<std::string> names = layout.factor_names();
   const fs::path base_in = write("base.csv", channels_csv(sim.y));
   for (const std::string noise : {"", " --auto-noise --calibration-samples 200"}) {
     SCOPED_TRACE(noise);
     const fs::path base_out = dir_ / "base_factors.csv";
-    const Result base = run("\"" + base_in.string() + "\" --out \"" + base_out.string() + "\"" + noise);
+    const Result base = estimate(base_in, base_out, noise);
     ASSERT_EQ(base.exit_code, 0) << base.err;
     const auto ref = parse_csv(slurp(base_out));
     ASSERT_EQ(ref.size(), 401u);
@@ -191,7 +199,7 @@ TEST_F(CausalOfflineCli, ChannelUnitsDoNotChangeTheFactors) {
       y.col(1) *= f;
       const fs::path in = write("scaled.csv", channels_csv(y));
       const fs::path out = dir_ / "scaled_factors.csv";
-      const Result res = run("\"" + in.string() + "\" --out \"" + out.string() + "\"" + noise);
+      const Result res = estimate(in, out, noise);
       ASSERT_EQ(res.exit_code, 0) << res.err;
       const std::string text = slurp(out);
       EXPECT_EQ(text.find("nan"), std::string::npos);
@@ -215,16 +223,14 @@ TEST_F(CausalOfflineCli, ChannelUnitsDoNotChangeTheFactors) {
 }
 
 TEST_F(CausalOfflineCli, DeadOrStuckChannelIsRefusedNamingIt) {
-  estimation::ModelSpec spec;
-  spec.channels = 3;
-  const test::Simulation sim = test::simulate_svar(estimation::SvarLayout(spec), {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 200, 3);
+  const test::Simulation sim = simulate_three(200, 3);
   for (double level : {0.0, 2.5}) {
     Eigen::MatrixXd y = sim.y;
     y.col(1).setConstant(level);
     const fs::path in = write("dead.csv", channels_csv(y));
     for (const std::string extra : {"", " --auto-noise", " --no-standardise --estimator filter"}) {
       SCOPED_TRACE(extra);
-      const Result res = run("\"" + in.string() + "\" --out \"" + (dir_ / "o.csv").string() + "\"" + extra);
+      const Result res = estimate(in, dir_ / "o.csv", extra);
       EXPECT_EQ(res.exit_code, 2);
       EXPECT_NE(res.err.find("dead.csv: channel 2 'beta' is constant over the 200 calibration rows"),
                 std::string::npos)
@@ -236,32 +242,28 @@ TEST_F(CausalOfflineCli, DeadOrStuckChannelIsRefusedNamingIt) {
 // Raw units at 1e160 overflow the filter: an error exit naming factor, channel, row and file line; never NaN
 // with exit 0. Standardised, the same file is estimated normally.
 TEST_F(CausalOfflineCli, NonFiniteEstimateExitsNonZeroNamingFactorChannelAndRow) {
-  estimation::ModelSpec spec;
-  spec.channels = 3;
-  const test::Simulation sim = test::simulate_svar(estimation::SvarLayout(spec), {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 100, 4);
+  const test::Simulation sim = simulate_three(100, 4);
   const fs::path in = write("huge.csv", channels_csv(sim.y * 1e160));
   const fs::path out = dir_ / "o.csv";
-  Result res = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --no-standardise --estimator filter");
+  Result res = estimate(in, out, " --no-standardise --estimator filter");
   EXPECT_EQ(res.exit_code, 1);
   EXPECT_NE(res.err.find("huge.csv:3: factor x12 (outcome channel 1 'alpha', regressor channel 2 'beta') is not "
                          "finite at row 1"),
             std::string::npos)
       << res.err;
   EXPECT_EQ(slurp(out).find("nan"), std::string::npos);
-  res = run("\"" + in.string() + "\" --out \"" + out.string() + "\" --estimator rts");
+  res = estimate(in, out, " --estimator rts");
   EXPECT_EQ(res.exit_code, 0) << res.err;
   EXPECT_EQ(slurp(out).find("nan"), std::string::npos);
 }
 
 // --every K writes samples 0, K, 2K, ... with exactly the values of the full run.
 TEST_F(CausalOfflineCli, EveryKWritesTheFullRunsRows) {
-  estimation::ModelSpec spec;
-  spec.channels = 3;
-  const test::Simulation sim = test::simulate_svar(estimation::SvarLayout(spec), {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 301, 8);
+  const test::Simulation sim = simulate_three(301, 8);
   const fs::path in = write("in.csv", channels_csv(sim.y));
   const fs::path full = dir_ / "full.csv", dec = dir_ / "dec.csv";
-  ASSERT_EQ(run("\"" + in.string() + "\" --out \"" + full.string() + "\" --auto-noise").exit_code, 0);
-  const Result res = run("\"" + in.string() + "\" --out \"" + dec.string() + "\" --auto-noise --every 10");
+  ASSERT_EQ(estimate(in, full, " --auto-noise").exit_code, 0);
+  const Result res = estimate(in, dec, " --auto-noise --every 10");
   ASSERT_EQ(res.exit_code, 0) << res.err;
   const auto f = parse_csv(slurp(full)), d = parse_csv(slurp(dec));
   ASSERT_EQ(f.size(), 302u);
@@ -274,9 +276,7 @@ TEST_F(CausalOfflineCli, EveryKWritesTheFullRunsRows) {
 // causal-recorder's conditions CSV (snapshot,time_ns,time_utc before the channels) read from standard input
 // gives the factors of the plain channels file: the bookkeeping columns are not channels.
 TEST_F(CausalOfflineCli, ReadsARecorderConditionsCsvFromStandardInput) {
-  estimation::ModelSpec spec;
-  spec.channels = 3;
-  const test::Simulation sim = test::simulate_svar(estimation::SvarLayout(spec), {estimation::NoiseParams{2e-5, 0.02, 1.0}}, 120, 5);
+  const test::Simulation sim = simulate_three(120, 5);
   const fs::path plain = write("plain.csv", channels_csv(sim.y));
   std::string recorded;
   std::istringstream lines(channels_csv(sim.y));
@@ -288,7 +288,7 @@ TEST_F(CausalOfflineCli, ReadsARecorderConditionsCsvFromStandardInput) {
   }
   const fs::path rec = write("conditions_g_meanabs.csv", recorded);
   const fs::path plain_out = dir_ / "plain_factors.csv", rec_out = dir_ / "rec_factors.csv";
-  ASSERT_EQ(run("\"" + plain.string() + "\" --out \"" + plain_out.string() + "\" --auto-noise").exit_code, 0);
+  ASSERT_EQ(estimate(plain, plain_out, " --auto-noise").exit_code, 0);
   const Result res = run("- --out \"" + rec_out.string() + "\" --auto-noise < \"" + rec.string() + "\"");
   ASSERT_EQ(res.exit_code, 0) << res.err;
   const auto a = parse_csv(slurp(plain_out)), b = parse_csv(slurp(rec_out));

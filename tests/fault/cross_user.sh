@@ -18,11 +18,10 @@
 # (on one domain a second causal-estimator appears, the replay rewinds for it and resends).
 set -uo pipefail
 bin="$1"; deploy="$2"; mode="${3:-shipped}"
-other=ctwin-other
+. "$(dirname "$0")/other_user.sh"
 work="$(mktemp -d)"
 chmod 755 "$work"
 pids=()
-made_user=0
 cleanup() {
   for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null; done
   sleep 1
@@ -44,11 +43,7 @@ pkill_user_tools() {  # only the tool this script started as the other user (its
 }
 trap cleanup EXIT
 fail() { echo "FAIL: $1"; exit 1; }
-[ "$(id -u)" = 0 ] || { echo "SKIP: needs root to create a second user"; exit 77; }
-if ! id "$other" >/dev/null 2>&1; then
-  useradd --system --no-create-home --shell /usr/sbin/nologin "$other" || fail "useradd $other"
-  made_user=1
-fi
+need_other_user
 services_profile="$deploy/dds/localhost-udp.xml"
 [ "$mode" = shm ] && services_profile="$deploy/dds/localhost.xml"
 tool_profile="$deploy/dds/localhost.xml"

@@ -30,20 +30,15 @@
 set -uo pipefail
 bin="$1"; deploy="$2"; seed="${PLANT_DAY_SEED:-24}"
 . "$(dirname "$0")/../support/live_pipeline.sh"
-other=ctwin-other
+. "$(dirname "$0")/other_user.sh"
 work="$(mktemp -d)"; keep="${PLANT_DAY_KEEP:-0}"
 chmod 755 "$work"
-made_user=0
 # Besides this shell's jobs (live_cleanup): the other user's recorder, and the user this test made.
 on_exit='for f in "$work"/*/other/other.pid; do [ -f "$f" ] && kill -TERM "$(cat "$f")" 2>/dev/null; done
   [ "$made_user" = 1 ] && userdel "$other" 2>/dev/null'
 trap live_cleanup EXIT
 fail() { echo "FAIL: $1"; exit 1; }
-[ "$(id -u)" = 0 ] || { echo "SKIP: needs root to create a second user"; exit 77; }
-if ! id "$other" > /dev/null 2>&1; then
-  useradd --system --no-create-home --shell /usr/sbin/nologin "$other" || fail "useradd $other"
-  made_user=1
-fi
+need_other_user
 profile="$deploy/dds/localhost-udp.xml"
 group=plant-day
 live_blocks "$deploy" "$group" "$seed" "$work/blocks.jsonl"

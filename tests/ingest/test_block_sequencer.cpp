@@ -26,6 +26,15 @@ IngestBlock block(std::uint64_t sequence, std::int64_t t0_ns, std::size_t n = 10
   return b;
 }
 
+// An admitted block that starts a new segment: a discontinuity at snapshot index `snapshot`, frame `sequence`.
+template <typename Admission>
+void expect_new_segment(const Admission& a, std::uint64_t snapshot, std::uint64_t sequence) {
+  ASSERT_TRUE(a.plan) << a.detail;
+  EXPECT_TRUE(a.plan->discontinuity);
+  EXPECT_EQ(a.plan->snapshot_index, snapshot);
+  EXPECT_EQ(a.plan->sequence, sequence);
+}
+
 }  // namespace
 
 TEST(BlockSequencer, ContiguousBlocksGiveGapFreeFrames) {
@@ -44,11 +53,8 @@ TEST(BlockSequencer, SourceSequenceGapIsADiscontinuityNotAFrameGap) {
   BlockSequencer s;
   ASSERT_TRUE(s.admit(block(0, 0)).plan);
   const auto a = s.admit(block(3, 30 * kMs));  // blocks 1 and 2 never arrived
-  ASSERT_TRUE(a.plan);
-  EXPECT_TRUE(a.plan->discontinuity);
-  EXPECT_EQ(a.plan->sequence, 1u);
+  ASSERT_NO_FATAL_FAILURE(expect_new_segment(a, 1, 1));
   EXPECT_EQ(a.plan->first_sample_index, 10u);
-  EXPECT_EQ(a.plan->snapshot_index, 1u);
 }
 
 TEST(BlockSequencer, TimeGapOverGapFactorIsADiscontinuity) {
@@ -59,11 +65,7 @@ TEST(BlockSequencer, TimeGapOverGapFactorIsADiscontinuity) {
   ASSERT_TRUE(jitter.plan);
   EXPECT_FALSE(jitter.plan->discontinuity);
   // Previous ends at 20.4 ms (last sample 19.4 ms); 21 ms is 1.6 periods after the last sample: a gap.
-  const auto gap = s.admit(block(2, 21 * kMs));
-  ASSERT_TRUE(gap.plan);
-  EXPECT_TRUE(gap.plan->discontinuity);
-  EXPECT_EQ(gap.plan->snapshot_index, 1u);
-  EXPECT_EQ(gap.plan->sequence, 2u);
+  expect_new_segment(s.admit(block(2, 21 * kMs)), 1, 2);
 }
 
 TEST(BlockSequencer, DuplicatesOverlapsAndLayoutChangesAreRejectedWithoutConsumingNumbers) {
@@ -100,11 +102,7 @@ TEST(BlockSequencer, RestartedSourceAndNewSegmentsAreDiscontinuities) {
   const auto c = s.admit(closing);
   ASSERT_TRUE(c.plan);
   EXPECT_FALSE(c.plan->discontinuity);
-  const auto next = s.admit(block(2, 80 * kMs));  // contiguous in time, but after end_of_segment
-  ASSERT_TRUE(next.plan);
-  EXPECT_TRUE(next.plan->discontinuity);
-  EXPECT_EQ(next.plan->snapshot_index, 2u);
-  EXPECT_EQ(next.plan->sequence, 3u);
+  expect_new_segment(s.admit(block(2, 80 * kMs)), 2, 3);  // contiguous in time, but after end_of_segment
 }
 
 TEST(BlockSequencer, AssetGroupsAreCountedSeparately) {

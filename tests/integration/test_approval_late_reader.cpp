@@ -10,6 +10,7 @@
 #include "loopback_settings.hpp"
 #include "process_expect.hpp"
 #include "process_runner.hpp"
+#include "served_port.hpp"
 
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
@@ -55,14 +56,6 @@ causal_twin::Recommendation lever(const std::string& group, const std::string& i
   return r;
 }
 
-int served_port(ServiceProcess& web) {
-  if (!web.wait_for_output("serving http://", 20s)) return 0;
-  const std::regex served(R"(serving http://127\.0\.0\.1:(\d+)/)");
-  std::smatch m;
-  const std::string out = web.output();
-  return std::regex_search(out, m, served) ? std::stoi(m[1]) : 0;
-}
-
 bool page_knows(int port, const std::string& group, const std::string& rec) {
   for (int i = 0; i < 100; ++i) {
     const auto r = causal::test::http_request(port, "GET", "/api/state?group=" + group, kAuth);
@@ -93,7 +86,7 @@ TEST(ApprovalLateReader, APlantStartedAfterTheApprovalsAppliesBoth) {
   ServiceProcess web("twin-web", {TWIN_WEB_BIN, "--domain", d, "--port", "0", "--approval-lead", "40",
                                   "--basic-auth-file", auth.string(), "--max-runtime", "90"},
                      (work / "web.log").string());
-  const int port = served_port(web);
+  const int port = causal::test::served_port(web, 20s);
   ASSERT_GT(port, 0) << web.output();
 
   causal::dds::Participant advisor(causal::test::loopback_settings(domain, "test-advisor"));

@@ -81,17 +81,31 @@ std::optional<Clock::time_point> wait_for_health(const DdsObserver& o, std::size
   return std::nullopt;
 }
 
-// A fresh work folder causal_it_<name>_<pid>, the IMS feature table, and a private domain in 150..199 from the
-// pid like the other integration tests (`salt`: one per test).
+// A fresh work folder causal_it_<name>_<pid>, the IMS feature table, a private domain in 150..199 from the
+// pid like the other integration tests (`salt`: one per test) and the observer on it.
 struct HealthRun {
   const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
   fs::path work;
   std::string d;
+  DdsObserver observer;
   HealthRun(const std::string& name, unsigned salt)
       : work(fs::temp_directory_path() / ("causal_it_" + name + "_" + std::to_string(getpid()))),
-        d(std::to_string(150 + static_cast<int>((static_cast<unsigned>(getpid()) * 11u + salt) % 50u))) {
+        d(std::to_string(150 + static_cast<int>((static_cast<unsigned>(getpid()) * 11u + salt) % 50u))),
+        observer(std::stoi(d)) {
     fs::remove_all(work);
     fs::create_directories(work);
+  }
+  std::string log(const std::string& name) const { return (work / name).string(); }
+  // A service on its shipped parameter file (deploy/config/<file>) with the health deadline deadline_s.
+  std::vector<std::string> shipped_argv(const char* bin, const std::string& file, double deadline_s,
+                                        const std::string& max_runtime) const {
+    return {bin, "--domain", d, "--params", shipped_config_with_deadline(work, file, deadline_s), "--max-runtime",
+            max_runtime};
+  }
+  // The work folder is kept when the test failed; stale shared-memory files are removed either way.
+  void finish(bool failed) const {
+    if (!failed) fs::remove_all(work);
+    causal::test::clean_stale_shared_memory();
   }
   // IMS snapshots are 10 min apart: --speed 600 publishes one per second.
   std::vector<std::string> replay_argv(const std::vector<std::string>& more) const {
@@ -116,6 +130,18 @@ void expect_one_raised(const DdsObserver& o, causal_twin::Alarm& raised) {
   raised = alarms[0];
   EXPECT_EQ(raised.state(), causal_twin::RAISED);
   EXPECT_EQ(raised.severity(), causal_twin::WARNING);
+}
+
+// `victim` killed (SIGKILL) after `settle`: the first health alarm comes within the deadline (+ margin) of the kill
+// (after_s: how long after) and is the only one, raised as a WARNING.
+void kill_then_one_raised(ServiceProcess& victim, std::chrono::seconds settle, const DdsObserver& o,
+                          const std::function<std::string()>& log, double& after_s, causal_twin::Alarm& raised) {
+  std::this_thread::sleep_for(settle);
+  const auto killed_at = Clock::now();
+  EXPECT_EQ(victim.kill_hard(), 128 + 9);
+  ASSERT_NO_FATAL_FAILURE(wait_for_raised(o, killed_at, log, after_s));
+  EXPECT_LE(after_s, kDeadlineS + kMarginS) << "health alarm " << after_s << " s after the kill";
+  ASSERT_NO_FATAL_FAILURE(expect_one_raised(o, raised));
 }
 
 // The source is back: a second health alarm message clears the first (same id).
@@ -144,31 +170,25 @@ void expect_health_summary(const std::string& log) {
 
 TEST(SourceHealthOverDds, KilledReplayRaisesWithinDeadlineResumedClearsCleanEndRaisesNothing) {
   const HealthRun run("health", 23u);
-  const std::string& d = run.d;
-  DdsObserver observer(std::stoi(d));
+  const DdsObserver& observer = run.observer;
   ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params",
-                            shipped_config_with_deadline(run.work, "estimator.yaml", kDeadlineS), "--max-runtime", "150"},
-                           (run.work / "estimator.log").string());
+                           run.shipped_argv(CAUSAL_ESTIMATOR_BIN, "estimator.yaml", kDeadlineS, "150"),
+                           run.log("estimator.log"));
   auto replay = [&](const std::string& log, int first, int count) {
     return std::make_unique<ServiceProcess>(
         "sensor-replay",
         run.replay_argv({"--first-snapshot", std::to_string(first), "--max-snapshots", std::to_string(count)}),
-        (run.work / log).string());
+        run.log(log));
   };
 
   // 1. Killed mid-run: raised within the deadline (+ margin) of the kill, exactly once.
   auto first = replay("replay1.log", 0, 60);
   ASSERT_TRUE(first->wait_for_output("replaying", std::chrono::seconds(60))) << first->output();
   ASSERT_TRUE(estimator.wait_for_output("new asset group 'health-it'", std::chrono::seconds(30))) << estimator.output();
-  std::this_thread::sleep_for(std::chrono::seconds(3));  // a few snapshots
-  const auto killed_at = Clock::now();
-  EXPECT_EQ(first->kill_hard(), 128 + 9);
   double after_s = 0.0;
-  ASSERT_NO_FATAL_FAILURE(wait_for_raised(observer, killed_at, [&] { return estimator.output(); }, after_s));
-  EXPECT_LE(after_s, kDeadlineS + kMarginS) << "health alarm " << after_s << " s after the kill";
-  causal_twin::Alarm raised;
-  ASSERT_NO_FATAL_FAILURE(expect_one_raised(observer, raised));
+  causal_twin::Alarm raised;  // killed after a few snapshots
+  ASSERT_NO_FATAL_FAILURE(kill_then_one_raised(*first, std::chrono::seconds(3), observer,
+                                               [&] { return estimator.output(); }, after_s, raised));
   EXPECT_EQ(raised.asset_group(), kGroup);
   EXPECT_EQ(raised.alarm_id(), kGroup + "/source/health/s" + std::to_string(raised.sample_index()));
   EXPECT_LT(raised.sample_index(), 60u);
@@ -194,38 +214,32 @@ TEST(SourceHealthOverDds, KilledReplayRaisesWithinDeadlineResumedClearsCleanEndR
   expect_health_summary(estimator.output());
   std::printf("health alarm %.2f s after the kill (deadline %.0f s); estimator exit %d\n", after_s, kDeadlineS,
               estimator_code);
-  if (!HasFailure()) fs::remove_all(run.work);
-  causal::test::clean_stale_shared_memory();
+  run.finish(HasFailure());
 }
 
 TEST(SourceHealthOverDds, KilledEstimatorRaisesInTheRecommenderRestartedClearsCleanEndRaisesNothing) {
   const HealthRun run("health_rec", 37u);
   const std::string& d = run.d;
-  DdsObserver observer(std::stoi(d));
+  const DdsObserver& observer = run.observer;
   ServiceProcess recommender("alarm-recommender",
-                             {ALARM_RECOMMENDER_BIN, "--domain", d, "--params",
-                              shipped_config_with_deadline(run.work, "alarms.yaml", kDeadlineS), "--max-runtime", "150"},
-                             (run.work / "recommender.log").string());
+                             run.shipped_argv(ALARM_RECOMMENDER_BIN, "alarms.yaml", kDeadlineS, "150"),
+                             run.log("recommender.log"));
   const std::string est_params = write_condition_level_params(run.work / "estimator_quick.yaml");
   auto estimator = [&](const std::string& log) {
     return std::make_unique<ServiceProcess>(
         "causal-estimator",
         std::vector<std::string>{CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params", est_params, "--idle-exit", "2",
                                  "--max-runtime", "150", "--wait-for", "alarm-recommender"},
-        (run.work / log).string());
+        run.log(log));
   };
   auto first = estimator("estimator1.log");
   // One snapshot per second, 25 in all: the kill lands mid-run, the second estimator sees the rest.
-  ServiceProcess replay("sensor-replay", run.replay_argv({"--max-snapshots", "25"}), (run.work / "replay.log").string());
+  ServiceProcess replay("sensor-replay", run.replay_argv({"--max-snapshots", "25"}), run.log("replay.log"));
   ASSERT_TRUE(first->wait_for_output("new asset group 'health-it'", std::chrono::seconds(60))) << first->output();
-  std::this_thread::sleep_for(std::chrono::seconds(4));
-  const auto killed_at = Clock::now();
-  EXPECT_EQ(first->kill_hard(), 128 + 9);
   double after_s = 0.0;
-  ASSERT_NO_FATAL_FAILURE(wait_for_raised(observer, killed_at, [&] { return recommender.output(); }, after_s));
-  EXPECT_LE(after_s, kDeadlineS + kMarginS) << "health alarm " << after_s << " s after the kill";
   causal_twin::Alarm raised;
-  ASSERT_NO_FATAL_FAILURE(expect_one_raised(observer, raised));
+  ASSERT_NO_FATAL_FAILURE(kill_then_one_raised(*first, std::chrono::seconds(4), observer,
+                                               [&] { return recommender.output(); }, after_s, raised));
   EXPECT_EQ(raised.alarm_id(), kGroup + "/estimator/health/s" + std::to_string(raised.sample_index()));
   EXPECT_NE(raised.reason().find("causal factors"), std::string::npos) << raised.reason();
 
@@ -240,19 +254,15 @@ TEST(SourceHealthOverDds, KilledEstimatorRaisesInTheRecommenderRestartedClearsCl
   recommender.terminate();
   expect_health_summary(recommender.output());
   std::printf("recommender: health alarm %.2f s after the estimator was killed (deadline %.0f s)\n", after_s, kDeadlineS);
-  if (!HasFailure()) fs::remove_all(run.work);
-  causal::test::clean_stale_shared_memory();
+  run.finish(HasFailure());
 }
 
 TEST(SourceHealthOverDds, WithoutDeadlineAKilledReplayIsALostWriterWhenItsLeaseExpires) {
   const HealthRun run("health_lost", 5u);
-  const std::string& d = run.d;
-  DdsObserver observer(std::stoi(d));
-  ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--params",
-                            shipped_config_with_deadline(run.work, "estimator.yaml", 0.0), "--max-runtime", "120"},
-                           (run.work / "estimator.log").string());
-  ServiceProcess replay("sensor-replay", run.replay_argv({"--max-snapshots", "60"}), (run.work / "replay.log").string());
+  const DdsObserver& observer = run.observer;
+  ServiceProcess estimator("causal-estimator", run.shipped_argv(CAUSAL_ESTIMATOR_BIN, "estimator.yaml", 0.0, "120"),
+                           run.log("estimator.log"));
+  ServiceProcess replay("sensor-replay", run.replay_argv({"--max-snapshots", "60"}), run.log("replay.log"));
   ASSERT_TRUE(estimator.wait_for_output("new asset group 'health-it'", std::chrono::seconds(60))) << estimator.output();
   std::this_thread::sleep_for(std::chrono::seconds(2));
   const auto killed_at = Clock::now();
@@ -268,6 +278,5 @@ TEST(SourceHealthOverDds, WithoutDeadlineAKilledReplayIsALostWriterWhenItsLeaseE
   EXPECT_NE(alarms[0].reason().find("writer was lost"), std::string::npos) << alarms[0].reason();
   estimator.terminate();
   std::printf("lost writer seen %.2f s after the kill (lease 5 s)\n", after_s);
-  if (!HasFailure()) fs::remove_all(run.work);
-  causal::test::clean_stale_shared_memory();
+  run.finish(HasFailure());
 }

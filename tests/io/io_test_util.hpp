@@ -10,6 +10,8 @@
 #include <fstream>
 #include <string>
 
+#include "causal/io/input_error.hpp"
+
 #ifndef CAUSAL_IO_FIXTURE_DIR
 #error "CAUSAL_IO_FIXTURE_DIR must point at tests/data"
 #endif
@@ -23,6 +25,20 @@ inline std::string deploy_data(const std::string& rel) {
 // Full IMS test-2 folder in ../shared (optional on a developer machine).
 inline std::string shared_ims2() { return std::string(CAUSAL_TWIN_SHARED_DIR) + "/data/ims2"; }
 inline bool shared_available() { return std::filesystem::is_directory(shared_ims2() + "/raw"); }
+
+// The InputError read() must throw for `path`; a test failure (and a placeholder error) when it throws none.
+template <typename Read>
+InputError input_error_of(const std::string& path, Read read) {
+  try {
+    read();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError for " << path;
+  return InputError(path, 0, "none");
+}
+
+inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 class TempDir {
  public:

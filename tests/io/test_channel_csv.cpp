@@ -17,16 +17,10 @@ using causal::io::test::TempDir;
 namespace {
 
 InputError expect_input_error(const std::string& path) {
-  try {
-    read_channel_csv(path);
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError for " << path;
-  return InputError(path, 0, "none");
+  return causal::io::test::input_error_of(path, [&] { read_channel_csv(path); });
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using causal::io::test::contains;
 
 // Bit-exact comparison that also treats NaN == NaN (ASSERT_MATRIX_NEAR rejects non-finite values).
 void expect_bit_equal(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {

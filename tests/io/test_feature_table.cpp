@@ -19,16 +19,10 @@ constexpr std::int64_t kTenMin = 600LL * 1'000'000'000;
 const std::int64_t kRunStart = causal::io::utc_to_ns(2004, 2, 12, 10, 32, 39);
 
 InputError expect_input_error(const std::string& path, const std::string& suffix = "") {
-  try {
-    read_feature_table(path, suffix);
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError for " << path;
-  return InputError(path, 0, "none");
+  return causal::io::test::input_error_of(path, [&] { read_feature_table(path, suffix); });
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using causal::io::test::contains;
 
 // Checks the facts the IMS README states about the two test-2 tables in `folder`.
 void check_real_tables(const std::string& folder) {

@@ -36,16 +36,10 @@ Eigen::MatrixXd tiny_expected() {
 
 // Runs read_ims_snapshot and returns the InputError it must throw.
 InputError expect_input_error(const std::string& path, int channels = 0) {
-  try {
-    read_ims_snapshot(path, channels);
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError for " << path;
-  return InputError(path, 0, "none");
+  return causal::io::test::input_error_of(path, [&] { read_ims_snapshot(path, channels); });
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using causal::io::test::contains;
 
 }  // namespace
 

@@ -55,6 +55,22 @@ void feed_rows(FactorStream& s, const Data& d, Eigen::Index from, Eigen::Index t
   }
 }
 
+// All 1500 rows through `s`, finished: the uninterrupted run.
+std::vector<FactorReport> run_whole(FactorStream& s, const Data& d, std::uint64_t first_index = kFirstIndex) {
+  std::vector<FactorReport> out;
+  feed_rows(s, d, 0, 1500, out, first_index);
+  s.finish(out);
+  return out;
+}
+
+// The checkpoint of a fresh stream fed rows [0, rows).
+std::string checkpoint_after(const Data& d, Eigen::Index rows) {
+  FactorStream first(tuned_stream_params());
+  std::vector<FactorReport> ignored;
+  feed_rows(first, d, 0, rows, ignored);
+  return checkpoint_of(first);
+}
+
 void expect_same_state(const FactorStream& got, const FactorStream& want) {
   EXPECT_EQ(got.samples_seen(), want.samples_seen());
   EXPECT_EQ(got.calibrated(), want.calibrated());
@@ -73,9 +89,7 @@ void expect_same_state(const FactorStream& got, const FactorStream& want) {
 TEST(FactorStreamCheckpoint, TwoHalvesWithRestoreEqualTheUninterruptedRunBitForBit) {
   const Data d = data();
   FactorStream whole(tuned_stream_params());
-  std::vector<FactorReport> want;
-  feed_rows(whole, d, 0, 1500, want);
-  whole.finish(want);
+  const std::vector<FactorReport> want = run_whole(whole, d);
   ASSERT_GT(causal::test::of_kind(want, EstimateKind::FixedLag).size(), 0u);
   ASSERT_EQ(whole.counters().rejected_non_finite, 1u);
 
@@ -100,9 +114,7 @@ TEST(FactorStreamCheckpoint, TwoHalvesWithRestoreEqualTheUninterruptedRunBitForB
 TEST(FactorStreamCheckpoint, TwoRestartsInARow) {
   const Data d = data();
   FactorStream whole(tuned_stream_params());
-  std::vector<FactorReport> want;
-  feed_rows(whole, d, 0, 1500, want);
-  whole.finish(want);
+  const std::vector<FactorReport> want = run_whole(whole, d);
 
   FactorStream a(tuned_stream_params());
   std::vector<FactorReport> got;
@@ -120,11 +132,7 @@ TEST(FactorStreamCheckpoint, TwoRestartsInARow) {
 TEST(FactorStreamCheckpoint, ReportsCarryTheSourceIndex) {
   const Data d = data();
   FactorStream counted(tuned_stream_params()), sourced(tuned_stream_params());
-  std::vector<FactorReport> a, b;
-  feed_rows(counted, d, 0, 1500, a, 0);
-  feed_rows(sourced, d, 0, 1500, b, 7'000'000);
-  counted.finish(a);
-  sourced.finish(b);
+  const std::vector<FactorReport> a = run_whole(counted, d, 0), b = run_whole(sourced, d, 7'000'000);
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(b[i].sample_index, a[i].sample_index + 7'000'000) << "report " << i;
@@ -139,10 +147,7 @@ TEST(FactorStreamCheckpoint, ReportsCarryTheSourceIndex) {
 
 TEST(FactorStreamCheckpoint, OtherParametersAreRefusedAndLeaveTheStreamUnchanged) {
   const Data d = data();
-  FactorStream first(tuned_stream_params());
-  std::vector<FactorReport> ignored;
-  feed_rows(first, d, 0, 400, ignored);
-  const std::string bytes = checkpoint_of(first);
+  const std::string bytes = checkpoint_after(d, 400);
 
   auto message = [&](FactorStreamParams p) -> std::string {
     FactorStream other(p);
@@ -181,10 +186,7 @@ TEST(FactorStreamCheckpoint, OtherParametersAreRefusedAndLeaveTheStreamUnchanged
 
 TEST(FactorStreamCheckpoint, TruncatedOrForeignCheckpointsThrow) {
   const Data d = data();
-  FactorStream first(tuned_stream_params());
-  std::vector<FactorReport> ignored;
-  feed_rows(first, d, 0, 310, ignored);
-  const std::string bytes = checkpoint_of(first);
+  const std::string bytes = checkpoint_after(d, 310);
   for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 200) {
     FactorStream s(tuned_stream_params());
     EXPECT_THROW(restore_from(s, bytes.substr(0, n)), estimation::StateError) << "truncated to " << n << " bytes";

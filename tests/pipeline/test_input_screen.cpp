@@ -457,6 +457,13 @@ RowMajorMatrix stopped_rows(std::mt19937_64& rng, Eigen::Index n) {
     for (int j = 0; j < kG; ++j) y(i, j) = levels[pick(rng)];
   return y;
 }
+// Frames of 1024 running rows through `screen`, its events appended.
+void run_frames(InputScreen& screen, std::mt19937_64& rng, int frames, std::vector<QualityEvent>& events) {
+  for (int f = 0; f < frames; ++f) {
+    RowMajorMatrix y = running_rows(rng, 1024);
+    screen.screen(y.data(), 1024, events);
+  }
+}
 std::size_t count_kind(const std::vector<QualityEvent>& events, QualityEventKind kind) {
   return static_cast<std::size_t>(std::count_if(events.begin(), events.end(), [&](const auto& e) { return e.kind == kind; }));
 }
@@ -466,10 +473,7 @@ TEST(InputScreenStoppedMachine, EveryChannelAtTheQuantisationFloorIsAnOperatingS
   std::mt19937_64 rng(24);
   InputScreen screen(kScreen, kG, ScreenLevel::Sample);
   std::vector<QualityEvent> events;
-  for (int f = 0; f < 8; ++f) {
-    RowMajorMatrix y = running_rows(rng, 1024);
-    screen.screen(y.data(), 1024, events);
-  }
+  run_frames(screen, rng, 8, events);
   ASSERT_TRUE(events.empty());
   for (int f = 0; f < 20; ++f) {  // one IMS snapshot: 20 frames of 1024 rows
     RowMajorMatrix y = stopped_rows(rng, 1024);
@@ -493,10 +497,7 @@ TEST(InputScreenStoppedMachine, OneChannelAtTheFloorWhileTheOthersRunIsStillQuar
   std::mt19937_64 rng(25);
   InputScreen screen(kScreen, kG, ScreenLevel::Sample);
   std::vector<QualityEvent> events;
-  for (int f = 0; f < 8; ++f) {
-    RowMajorMatrix y = running_rows(rng, 1024);
-    screen.screen(y.data(), 1024, events);
-  }
+  run_frames(screen, rng, 8, events);
   for (int f = 0; f < 8; ++f) {
     RowMajorMatrix y = running_rows(rng, 1024);
     y.col(1).setZero();  // a dead channel

@@ -8,6 +8,7 @@
 #include "../fault/delivery_checks.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "operator_samples.hpp"
 #include "recommender_partition_switch.hpp"
 
 #include <gtest/gtest.h>
@@ -19,21 +20,11 @@ namespace {
 
 constexpr std::uint64_t kBefore = 4, kAfter = 3;  // actions per group before / after the partition change
 
-causal_twin::AlarmAction action(const std::string& group, std::uint64_t n) {
-  causal_twin::AlarmAction a;
-  a.request_id("switcher-" + std::to_string(n));
-  a.asset_group(group);
-  a.alarm_id(group + "/1/feature_drift/1");
-  a.action(causal_twin::ACKNOWLEDGE);
-  a.user_name("mallory");
-  a.time_ns(1'800'000'000'000'000'000LL);
-  return a;
-}
-
 TEST(AlarmActionGrantLifetime, ASenderThatChangesItsPartitionsIsRefusedFromThenOn) {
   const RecommenderSwitch attack{"alarm_action_grant_lifetime", 64, causal::dds::topics::kAlarmAction,
                                  causal::dds::profiles::kAlarmActionWriter, "action-switcher", kBefore, kAfter};
-  const auto r = switch_against_recommender<causal_twin::AlarmActionPubSubType>(attack, action);
+  const auto r =
+      switch_against_recommender<causal_twin::AlarmActionPubSubType>(attack, acknowledgements("switcher-", "mallory"));
   ASSERT_NO_FATAL_FAILURE(expect_refused_from_the_change_on(attack, r, "alarm_action"));
   EXPECT_EQ(summary_count(r.log, "causal_twin/alarm_action", "applied"), 0u) << r.log;
   EXPECT_EQ(summary_count(r.log, "causal_twin/alarm_action_result", "sent"), 2 * (kBefore + kAfter)) << r.log;

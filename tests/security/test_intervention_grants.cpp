@@ -13,6 +13,7 @@
 #include "../fault/delivery_checks.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "operator_samples.hpp"
 #include "partition_switch.hpp"
 #include "process_runner.hpp"
 
@@ -114,27 +115,6 @@ TEST(InterventionGrantLifetime, AnApproverThatChangesItsPartitionsIsRefusedFromT
   fs::remove_all(work);
 }
 
-causal_twin::WhatIfRequest question(const std::string& group, std::uint64_t n) {
-  causal_twin::WhatIfRequest r;
-  r.request_id("limited-" + std::to_string(n));
-  r.asset_group(group);
-  r.intervene_channel(1);
-  r.delta(0.5);
-  r.sustained(true);
-  return r;
-}
-
-causal_twin::AlarmAction acknowledgement(const std::string& group, std::uint64_t n) {
-  causal_twin::AlarmAction a;
-  a.request_id("limited-" + std::to_string(n));
-  a.asset_group(group);
-  a.alarm_id(group + "/1/feature_drift/1");
-  a.action(causal_twin::ACKNOWLEDGE);
-  a.user_name("olivia");
-  a.time_ns(1'800'000'000'000'000'000LL);
-  return a;
-}
-
 // Writes `count` samples of each group on `topic` once `readers` services matched; returns those written.
 template <typename PubSubType, typename Make>
 std::uint64_t write_each_group(causal::dds::Participant& p, const char* topic, const char* profile,
@@ -179,9 +159,9 @@ TEST(OperatorGroupGrants, AnOperatorLimitedToOneGroupIsRefusedEveryOther) {
     namespace t = causal::dds::topics;
     namespace pr = causal::dds::profiles;
     questions = write_each_group<causal_twin::WhatIfRequestPubSubType>(p, t::kWhatIfRequest, pr::kWhatIfWriter, 1,
-                                                                       kEach, question);
+                                                                       kEach, whatif_questions("limited-"));
     actions = write_each_group<causal_twin::AlarmActionPubSubType>(p, t::kAlarmAction, pr::kAlarmActionWriter, 1,
-                                                                   kEach, acknowledgement);
+                                                                   kEach, acknowledgements("limited-", "olivia"));
     approvals = write_each_group<causal_twin::InterventionPubSubType>(p, t::kIntervention, pr::kInterventionWriter, 3,
                                                                       kEach, approval);
     std::this_thread::sleep_for(std::chrono::seconds(1));  // taken before the plant stops

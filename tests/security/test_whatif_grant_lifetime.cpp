@@ -8,6 +8,7 @@
 // about 15 s.
 #include "causal/dds/topics.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "operator_samples.hpp"
 #include "recommender_partition_switch.hpp"
 
 #include <gtest/gtest.h>
@@ -18,20 +19,11 @@ namespace {
 
 constexpr std::uint64_t kBefore = 6, kAfter = 5;  // requests per group before / after the partition change
 
-causal_twin::WhatIfRequest request(const std::string& group, std::uint64_t n) {
-  causal_twin::WhatIfRequest r;
-  r.request_id("switcher-" + std::to_string(n));
-  r.asset_group(group);
-  r.intervene_channel(1);
-  r.delta(0.5);
-  r.sustained(true);
-  return r;
-}
-
 TEST(WhatIfGrantLifetime, AnAskerThatChangesItsPartitionsIsRefusedFromThenOn) {
   const RecommenderSwitch attack{"whatif_grant_lifetime", 63, causal::dds::topics::kWhatIfRequest,
                                  causal::dds::profiles::kWhatIfWriter, "whatif-switcher", kBefore, kAfter};
-  const auto r = switch_against_recommender<causal_twin::WhatIfRequestPubSubType>(attack, request);
+  const auto r =
+      switch_against_recommender<causal_twin::WhatIfRequestPubSubType>(attack, whatif_questions("switcher-"));
   ASSERT_NO_FATAL_FAILURE(expect_refused_from_the_change_on(attack, r, "whatif"));
   EXPECT_EQ(occurrences(r.log, "what-if switcher-"), 2 * kBefore) << "the requests before the change answered:\n" << r.log;
 }

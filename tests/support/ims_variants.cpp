@@ -43,6 +43,7 @@ void check_base(const BaseRun& base) {
 }  // namespace
 
 Variant copy_of_base(const BaseRun& base, const std::string& name) {
+  check_base(base);
   Variant v;
   v.name = name;
   v.channel_names = base.channel_names;
@@ -64,7 +65,6 @@ BaseRun read_base_run(const std::string& merged_table_path) {
 }
 
 Variant make_gaps_variant(const BaseRun& base, std::uint64_t seed) {
-  check_base(base);
   Draws draw(seed ^ 0xa1);
   Variant v = copy_of_base(base, "gaps");
   // Three stops inside the healthy part, each with at least 140 healthy rows after the last one (as many as
@@ -92,7 +92,6 @@ Variant make_gaps_variant(const BaseRun& base, std::uint64_t seed) {
 }
 
 Variant make_steps_variant(const BaseRun& base, std::uint64_t seed) {
-  check_base(base);
   Draws draw(seed ^ 0xb2);
   Variant v = copy_of_base(base, "steps");
   std::vector<int> healthy;
@@ -120,7 +119,6 @@ Variant make_steps_variant(const BaseRun& base, std::uint64_t seed) {
 }
 
 Variant make_eight_channel_variant(const BaseRun& base, std::uint64_t seed) {
-  check_base(base);
   Draws draw(seed ^ 0xc3);
   Variant v = copy_of_base(base, "eight_channels");
   const Eigen::Index n = base.values.rows(), g = base.values.cols();
@@ -209,7 +207,6 @@ Variant make_stretched_variant(const BaseRun& base, std::uint64_t seed, std::siz
 }
 
 Variant make_unchanged_variant(const BaseRun& base) {
-  check_base(base);
   Variant v = copy_of_base(base, "unchanged");
   v.description = "IMS test 2 as recorded";
   return v;

@@ -64,7 +64,8 @@ Variant make_eight_channel_gaps_variant(const BaseRun& base, std::uint64_t seed)
 // stamps continue at the base interval; the base's degrading part follows unchanged at the end.
 Variant make_stretched_variant(const BaseRun& base, std::uint64_t seed, std::size_t total_rows = 6000);
 // A copy of the base run under `name`: every row its own source row, the base's healthy end and failing channel;
-// the variants start from it.
+// the variants start from it. The base is checked first (shapes agree, a healthy part of at least 450 rows, the
+// failing channel in range): std::invalid_argument otherwise.
 Variant copy_of_base(const BaseRun& base, const std::string& name);
 // (e) The base run itself.
 Variant make_unchanged_variant(const BaseRun& base);
