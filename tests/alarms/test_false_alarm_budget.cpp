@@ -208,9 +208,11 @@ TEST(FalseAlarmBudget, SlowWanderAndShortExcursions) {
         EXPECT_LE(raises / (months * g), 0.05) << g << " channels: short excursions within the budget";
       } else {  // known limit (docs/alarm-rules.md, section 9): a +-10 % wander's first crests cross the +8 % floor
         EXPECT_LE(channels_alarmed, baseline_alarmed) << g << " channels";
-        // The wander a channel came back from is learned (SignalMonitor::wander_top): measured 2.667 (4 channels)
-        // and 1.708 (8) per channel-month, from 3.667 and 2.958 without it; the bound pins the gain.
-        if (range < 0) EXPECT_LT(raises / (months * g), 3.0) << g << " channels";
+        // The wander a channel came back from is learned (SignalMonitor::wander_top) and an innovation detector
+        // needs innovation_persistence (4) observations at its threshold: measured 1.833 (4 channels) and 1.500
+        // (8) per channel-month, from 2.667 and 1.708 with persistence 1 and 3.667 and 2.958 without the wander
+        // range; the bound pins the gain.
+        if (range < 0) EXPECT_LT(raises / (months * g), 2.0) << g << " channels";
       }
     }
   }

@@ -1,8 +1,10 @@
 // End-to-end check of the causal-whatif executable on a CSV simulated from a known structural VAR.
 #include <gtest/gtest.h>
 
+#include <causal/analysis/effect_units.hpp>
 #include <causal/analysis/intervention.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -229,6 +231,61 @@ TEST(WhatifCli, UnknownWithItsReasonAndNoFigureBeyondTheCap) {
   ASSERT_EQ(neg_lines.size(), 3u) << neg.out;
   for (const auto& l : neg_lines)
     EXPECT_NE(l.find("effect unknown (the level at row 2999 is not positive"), std::string::npos) << l;
+}
+
+// IMS test 2 (the four bearings' mean |x|, log taken: the live twin's log_transform), sustained -10 % on a bearing
+// at rows where the model sits near or past a unit root: every answer line makes the live twin's decision
+// (analysis::effect_unknown_reason on the percent interval, recomputed here from the line's own interval in the
+// CSV's units), says "effect unknown (<reason>)" where it is unknown, and states no figure beyond +-1000 %.
+TEST(WhatifCli, ImsTest2UnknownWhereTheLiveTwinSaysSoAndNoFigureBeyondTheCap) {
+  const std::string csv = scenario().dir + "/ims2_log.csv";
+  {
+    std::ifstream in(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/merged_dataset_BearingTest_2.csv");
+    ASSERT_TRUE(in.good());
+    std::ofstream out(csv);
+    out.precision(17);
+    std::string line;
+    std::getline(in, line);
+    out << "snapshot,Bearing1,Bearing2,Bearing3,Bearing4\n";
+    for (int row = 0; std::getline(in, line); ++row) {
+      std::istringstream cells(line);
+      std::string cell;
+      std::getline(cells, cell, ',');  // the time stamp
+      out << row;
+      while (std::getline(cells, cell, ',')) out << "," << std::log(std::stod(cell));
+      out << "\n";
+    }
+  }
+  int unknown = 0, known = 0;
+  for (const auto& [at, channel] : std::vector<std::pair<int, int>>{{648, 2}, {648, 4}, {744, 3}, {900, 1}}) {
+    const CliRun r = run_cli("--csv " + csv + " --lingam --calibration 100 --log-levels --at " + std::to_string(at) +
+                             " --intervene " + std::to_string(channel) + " --delta " + std::to_string(std::log(0.9)));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto lines = answer_lines(r.out);
+    ASSERT_EQ(lines.size(), 3u) << r.out;
+    for (const auto& l : lines) {
+      SCOPED_TRACE(l);
+      const auto open = l.rfind("(");
+      double point = 0.0, lo = 0.0, hi = 0.0;
+      ASSERT_EQ(std::sscanf(l.c_str() + open, "(%lf [%lf, %lf] in the CSV's units)", &point, &lo, &hi), 3);
+      const std::string why = effect_unknown_reason(100.0 * std::expm1(lo), 100.0 * std::expm1(hi), 0.9);
+      if (!why.empty()) {
+        ++unknown;
+        // The same reason (its figure, e.g. the level factor, is recomputed here from 6 printed digits).
+        EXPECT_NE(l.find("effect unknown (" + why.substr(0, 33)), std::string::npos) << why;
+        continue;
+      }
+      ++known;
+      EXPECT_EQ(l.find("effect unknown"), std::string::npos);
+      // The stated figures: "<effect> % [<lower>, <upper>] (90 %)".
+      double e = 0.0, a = 0.0, b = 0.0;
+      const auto colon = l.find(": ");
+      ASSERT_EQ(std::sscanf(l.c_str() + colon, ": %lf %% [%lf, %lf]", &e, &a, &b), 3);
+      for (double v : {e, a, b}) EXPECT_LE(std::abs(v), 1000.0);
+    }
+  }
+  EXPECT_GE(unknown, 3);  // 648 x 2 and 744 x 3 reach beyond +1000 %, 648 x 4 spans a factor of 10^8 in level
+  EXPECT_GE(known, 3);
 }
 
 TEST(WhatifCli, ClearErrors) {

@@ -272,6 +272,7 @@ std::vector<AdviceItem> Advisor::evaluate(const std::string& asset_group, int ta
   options.channel_names = m.channel_names;
   options.unit = params_.model_log_features ? "log-level" : "";
   options.rule = params_.rule;
+  options.draw_sharing = params_.draw_sharing;
   const auto ranked = analysis::rank_interventions(*m.layout, posterior(m), target, candidates, options);
   const auto& names = m.channel_names;
   const double level = m.features[target];

@@ -72,6 +72,7 @@ const std::vector<AlarmKey>& alarm_keys() {
       positive("cusum_cap_factor", &P::cusum_cap_factor),
       positive("clear_fraction", &P::clear_fraction),
       whole("raise_persistence", &P::raise_persistence, 1, 1000),
+      whole("innovation_persistence", &P::innovation_persistence, 1, 1000),
       whole("clear_persistence", &P::clear_persistence, 1, 1000),
       whole("level_window", &P::level_window, 1, 1000),
       flag("feature_enabled", &P::feature_enabled),

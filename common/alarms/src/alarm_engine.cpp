@@ -52,7 +52,9 @@ AlarmEngine::AlarmEngine(std::string asset_group, std::vector<std::string> chann
   m.ch.resize(static_cast<std::size_t>(g));
   for (auto& c : m.ch) {
     for (int k = 0; k < detail::kKindCount; ++k) {
-      const int raise = k == detail::kFactor ? params.factor_persistence : params.raise_persistence;
+      const int raise = k == detail::kFactor                              ? params.factor_persistence
+                        : k == detail::kInnovation || k == detail::kNis ? params.innovation_persistence
+                                                                        : params.raise_persistence;
       c.slots[static_cast<std::size_t>(k)].latch = PersistenceLatch(raise, params.clear_persistence);
     }
     c.nis = WindowMean(params.nis_window);

@@ -34,6 +34,7 @@ void for_each_param(P& p, F&& f) {
   f("cusum_cap_factor", p.cusum_cap_factor);
   f("clear_fraction", p.clear_fraction);
   f("raise_persistence", p.raise_persistence);
+  f("innovation_persistence", p.innovation_persistence);
   f("clear_persistence", p.clear_persistence);
   f("level_window", p.level_window);
   f("feature_enabled", p.feature_enabled);
@@ -66,10 +67,10 @@ void for_each_param(P& p, F&& f) {
   f("root_cause_margin_z", p.root_cause_margin_z);
   f("root_cause_persistence", p.root_cause_persistence);
 }
-constexpr std::uint32_t kParamCount = 41;
+constexpr std::uint32_t kParamCount = 42;
 // Tripwire (x86-64 layout): a field added to AlarmParams usually changes its size. List it in
 // for_each_param (or checkpoints would ignore it), bump kParamCount, then update this size.
-static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 248,
+static_assert(sizeof(void*) != 8 || sizeof(AlarmParams) == 256,
               "AlarmParams changed: update for_each_param and kParamCount");
 
 }  // namespace
@@ -133,6 +134,7 @@ void AlarmParams::validate() const {
   require(std::isfinite(cusum_cap_factor) && cusum_cap_factor >= 1.0, "cusum_cap_factor must be >= 1");
   require(clear_fraction > 0.0 && clear_fraction <= 1.0, "clear_fraction must be in (0, 1]");
   require(raise_persistence >= 1, "raise_persistence must be >= 1");
+  require(innovation_persistence >= 1, "innovation_persistence must be >= 1");
   require(clear_persistence >= 1, "clear_persistence must be >= 1");
   require(level_window >= 1, "level_window must be >= 1");
   require(warning_ratio > 1.0 && critical_ratio > warning_ratio, "need 1 < warning_ratio < critical_ratio");

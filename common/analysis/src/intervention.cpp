@@ -30,19 +30,30 @@ Eigen::VectorXd lagged_drive(const StructuralModel& model, const Eigen::MatrixXd
 }
 
 // The dynamics of the system that runs after n0, from the (I - A0) factorisation predict() already has. Exact
-// (check_dynamics) unless `exact_radius` is false and the norms of companion powers prove it settles; the radius
-// is then that upper bound (< 1 - 1e-9), which is all a Monte Carlo draw needs.
-DynamicsCheck dynamics_after(const StructuralModel& after, const detail::InstantaneousSolve& solve, bool exact_radius) {
+// (check_dynamics) unless `exact_radius` is false and the norms of companion powers prove it settles, or (with
+// prove_unstable) the traces of its powers prove it does not; the radius is then that bound (1 - 1e-9), which is
+// all a Monte Carlo draw needs.
+DynamicsCheck dynamics_after(const StructuralModel& after, const detail::InstantaneousSolve& solve, bool exact_radius,
+                             bool prove_unstable) {
   if (exact_radius || !solve.ok()) return check_dynamics(after);
   const Eigen::MatrixXd c = detail::companion_from(solve, after.lags);
-  if (!detail::radius_proved_below(c, detail::kUnstableRadius)) return check_dynamics(after);
+  const detail::RadiusProof proof = detail::prove_radius(c, detail::kUnstableRadius, prove_unstable);
+  if (proof == detail::RadiusProof::none) return check_dynamics(after);
   DynamicsCheck d;
   d.rcond = solve.rcond();
   d.spectral_radius = detail::kUnstableRadius;
+  if (proof == detail::RadiusProof::at_or_above) {
+    d.status = AnalysisStatus::unstable;
+    d.message = "companion spectral radius proved >= 1 - 1e-9: the system does not settle, there is no steady state";
+  }
   return d;
 }
 
-InterventionEffect predict(const StructuralModel& model, const InterventionQuery& query, bool exact_radius) {
+// skip_dynamics (sustained only): the caller already knows the model itself does not settle, so the draw is
+// unstable whatever the intervened system does; its dynamics (the eigenvalue fallback where the norms prove
+// nothing, most of a draw's cost on trending data) and the steady state are not computed.
+InterventionEffect predict(const StructuralModel& model, const InterventionQuery& query, bool exact_radius,
+                           bool skip_dynamics = false, bool prove_unstable = false) {
   validate_model(model);
   const int g = model.channels();
   const int j = query.channel;
@@ -85,7 +96,14 @@ InterventionEffect predict(const StructuralModel& model, const InterventionQuery
   std::optional<detail::InstantaneousSolve> impulse_solve;
   if (!sustained) impulse_solve.emplace(after.a0);
   const detail::InstantaneousSolve& after_solve = sustained ? cut_solve : *impulse_solve;
-  const DynamicsCheck dynamics = dynamics_after(after, after_solve, exact_radius);
+  DynamicsCheck dynamics;
+  if (skip_dynamics && sustained) {
+    dynamics.status = AnalysisStatus::unstable;
+    dynamics.spectral_radius = kNaN;
+    dynamics.message = "the model itself does not settle, there is no steady state";
+  } else {
+    dynamics = dynamics_after(after, after_solve, exact_radius, prove_unstable);
+  }
   effect.spectral_radius = dynamics.spectral_radius;
 
   // Path (W1) or the impulse recursion; rows stay NaN if the post-n0 system cannot be solved.
@@ -135,16 +153,19 @@ InterventionEffect predict_intervention(const StructuralModel& model, const Inte
 
 namespace detail {
 
-InterventionEffect predict_intervention_draw(const StructuralModel& model, const InterventionQuery& query) {
-  return predict(model, query, /*exact_radius=*/false);
+InterventionEffect predict_intervention_draw(const StructuralModel& model, const InterventionQuery& query,
+                                             bool model_settles, bool prove_unstable) {
+  return predict(model, query, /*exact_radius=*/false, /*skip_dynamics=*/!model_settles, prove_unstable);
 }
 
-bool settles(const StructuralModel& model) {
+bool settles(const StructuralModel& model, bool prove_unstable) {
   if (!all_finite(model)) return false;
   const InstantaneousSolve solve(model.a0);
   if (!solve.ok()) return false;
   const Eigen::MatrixXd c = companion_from(solve, model.lags);
-  return radius_proved_below(c, kUnstableRadius) || spectral_radius(c) < kUnstableRadius;
+  const RadiusProof proof = prove_radius(c, kUnstableRadius, prove_unstable);
+  if (proof != RadiusProof::none) return proof == RadiusProof::below;
+  return spectral_radius(c) < kUnstableRadius;
 }
 
 }  // namespace detail

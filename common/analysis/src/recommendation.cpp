@@ -96,7 +96,7 @@ std::vector<Recommendation> rank_interventions(const estimation::SvarLayout& lay
     throw std::invalid_argument("recommendation: " + std::to_string(options.channel_names.size()) +
                                 " channel names for " + std::to_string(g) + " channels");
   }
-  std::vector<Recommendation> out;
+  std::vector<InterventionQuery> queries;
   for (const CandidateIntervention& c : candidates) {
     if (c.channel < 0 || c.channel >= g) {
       throw std::invalid_argument("recommendation: candidate channel " + std::to_string(c.channel) + " outside 0.." +
@@ -108,9 +108,17 @@ std::vector<Recommendation> rank_interventions(const estimation::SvarLayout& lay
     query.channel = c.channel;
     query.delta = c.delta;
     query.kind = InterventionKind::sustained;
+    queries.push_back(query);
+  }
+  // Every candidate is answered from the same posterior draws (common random numbers): the ranking compares
+  // them on equal terms, and each draw is sampled and checked for settling once, not once per candidate.
+  std::vector<BoundedAnswer> answers =
+      answer_interventions(layout, posterior, queries, options.rule, options.uncertainty, options.draw_sharing);
+  std::vector<Recommendation> out;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
     Recommendation rec;
-    rec.action = c;
-    rec.answer = answer_intervention(layout, posterior, query, options.rule, options.uncertainty);
+    rec.action = candidates[i];
+    rec.answer = std::move(answers[i]);
     rec.status = rec.answer.status;
     rec.message = rec.answer.reason;
     rec.immediate = rec.answer.immediate.median(target);

@@ -52,9 +52,13 @@ struct AdvisorParams {
   double coverage = 0.9;          // interval coverage
   int draws = 2000;               // Monte Carlo draws
   // Candidate levers evaluated per alarm: those with the largest excess over their baseline. Each costs `draws`
-  // solves of the G-channel model; all 19 of a 20-channel group took ~10 s per alarm on a loaded 2-core machine
-  // and the recommender fell behind the estimator. 4 keeps every candidate of a 4- or 5-channel group.
+  // solves of the G-channel model (the draws themselves are shared); all 19 of a 20-channel group took ~10 s per
+  // alarm on a loaded 2-core machine and the recommender fell behind the estimator. 4 keeps every candidate of a
+  // 4- or 5-channel group (20 channels: ~0.5 s CPU per alarm, docs/advice.md "Cost of the advice at width").
   int max_candidates = 4;
+  // Candidates share one set of posterior draws (analysis::DrawSharing; the same answers either way). Not a
+  // configuration key: per_query is the former way, for the equivalence test and tests/bench/bench_advice_cost.cpp.
+  analysis::DrawSharing draw_sharing = analysis::DrawSharing::shared;
   bool model_log_features = true; // the estimator's condition_level.log_transform
   analysis::AnswerRule rule;      // steady state / horizon / refusal (alarms.yaml recommendations.answer_*)
   // The healthy reference model (Advisor::set_health): a model captured past learning with no degradation alarm

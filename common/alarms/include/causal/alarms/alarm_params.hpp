@@ -61,6 +61,13 @@ struct AlarmParams {
   // still-shifted process (mean >= k) keeps S from draining and cannot clear.
   double clear_fraction = 0.5;
   int raise_persistence = 1;
+  // The innovation detectors (innovation_rise, innovation_nis) raise only after this many consecutive
+  // observations at or above their threshold. A burst of 2-4 snapshots (a short excursion, a knock) drives
+  // the innovation CUSUM and the 12-snapshot NIS mean over their thresholds at once; alone it is held by the
+  // size floor, but on the crest of a channel's slow wander (its level above the floor for hours) it raised a
+  // second and third alarm on that channel. 4 = one more than such a burst's own span above the threshold
+  // (docs/alarm-rules.md section 9). A change of the channel's own behaviour persists.
+  int innovation_persistence = 4;
   int clear_persistence = 12;
   // Current level of a signal (for severities) = median of the last level_window standardised values:
   // robust to one outlier among 5.

@@ -34,6 +34,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 namespace causal::analysis {
 
@@ -75,6 +76,20 @@ struct BoundedAnswer {
 BoundedAnswer answer_intervention(const estimation::SvarLayout& layout, const FactorPosterior& posterior,
                                   const InterventionQuery& query, const AnswerRule& rule,
                                   const UncertaintyOptions& options);
+
+// How several queries on one posterior are drawn. shared: one set of draws for all (common random numbers;
+// each draw is sampled, assembled and checked for settling once, and a sustained query skips its intervened
+// system's dynamics where the model itself does not settle, as that draw is unstable either way). per_query:
+// each query draws and checks on its own (the way before sharing, kept as the reference the equivalence test
+// and tests/bench/bench_advice_cost.cpp compare with). Both give every query the same answer, bit for bit, as
+// answer_intervention on it alone: the draws come from the same seed.
+enum class DrawSharing { shared, per_query };
+
+// answer_intervention for each query, in order. Throws as answer_intervention.
+std::vector<BoundedAnswer> answer_interventions(const estimation::SvarLayout& layout, const FactorPosterior& posterior,
+                                               const std::vector<InterventionQuery>& queries, const AnswerRule& rule,
+                                               const UncertaintyOptions& options,
+                                               DrawSharing sharing = DrawSharing::shared);
 
 const char* to_string(AnswerKind kind);
 

@@ -48,6 +48,7 @@ struct RecommendationOptions {
   std::vector<std::string> channel_names;  // G names; "channel <j+1>" when empty
   std::string unit;                        // appended to amounts, e.g. "g"; may be empty
   AnswerRule rule;                         // when steady state, when horizon, when refused
+  DrawSharing draw_sharing = DrawSharing::shared;  // bounded_answer.hpp: the same answers either way
 };
 
 // Sorted: reliable first, then answered but unreliable, then refused; within each by `upper` ascending (the
