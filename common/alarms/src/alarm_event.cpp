@@ -38,21 +38,9 @@ namespace {
 // for save and restore (SaveFields / RestoreFields, state_fields.hpp).
 template <class Io, class E>
 void fields_after_state(Io io, E& e) {
-  io(e.kind);
-  io(e.raised_time_ns);
-  io(e.cleared_time_ns);
-  io(e.index);
-  io(e.onset_index);
-  io(e.onset_time_ns);
-  io(e.root_cause_channel);
-  io(e.factor_names);
-  io(e.factor_baseline);
-  io(e.factor_now);
-  io(e.score);
-  io(e.threshold);
-  io(e.reason);
-  io(e.category);
-  io(e.root_cause_confidence);
+  io(e.kind, e.raised_time_ns, e.cleared_time_ns, e.index, e.onset_index, e.onset_time_ns, e.root_cause_channel,
+     e.factor_names, e.factor_baseline, e.factor_now, e.score, e.threshold, e.reason, e.category,
+     e.root_cause_confidence);
 }
 
 }  // namespace

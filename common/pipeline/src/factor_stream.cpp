@@ -31,28 +31,15 @@ namespace {
 // One field list each for save and restore (SaveFields / RestoreFields, state_fields.hpp).
 template <class Io, class N>
 void noise_fields(Io io, N& n) {
-  io(n.q);
-  io(n.r);
-  io(n.p0);
+  io(n.q, n.r, n.p0);
 }
 
 template <class Io, class R>
 void report_fields(Io io, R& r) {
   io(r.kind);
   io(r.outcome);  // as an int32 (static_assert below)
-  io(r.sample_index);
-  io(r.time_ns);
-  io(r.factors);
-  io(r.std_devs);
-  io(r.covariance);
-  io(r.innovation_count);
-  io(r.innovation_mean);
-  io(r.nis_mean);
-  io(r.last_innovation);
-  io(r.last_innovation_variance);
-  io(r.rejected);
-  io(r.q);
-  io(r.r);
+  io(r.sample_index, r.time_ns, r.factors, r.std_devs, r.covariance, r.innovation_count, r.innovation_mean, r.nis_mean,
+     r.last_innovation, r.last_innovation_variance, r.rejected, r.q, r.r);
 }
 
 static_assert(sizeof(int) == sizeof(std::int32_t), "checkpoints store FactorReport::outcome as 4 bytes");
@@ -62,17 +49,14 @@ void tuning_fields(Io io, T& t) {
   noise_fields(io, t.noise);
   io(t.log_likelihood);
   io.template as<std::int32_t>(t.evaluations);
-  io(t.converged);
-  io(t.message);
-  io(t.at_range_limit);
+  io(t.converged, t.message, t.at_range_limit);
   io.template as<std::int64_t>(t.updates);
 }
 
 // A filter report waiting for its twin: where it stands (its reports follow, with their count).
 template <class Io, class P>
 void pending_fields(Io io, P& p) {
-  io(p.index);
-  io(p.time_ns);
+  io(p.index, p.time_ns);
 }
 
 void put_noise(estimation::StateWriter& w, const estimation::NoiseParams& n) { noise_fields(estimation::SaveFields{w}, n); }
