@@ -77,22 +77,28 @@ FactorReport get_report(estimation::StateReader& in) {
 
 }  // namespace
 
+namespace {
+
+// The parameters a stream's state depends on: saved with it, and on restore compared with the stream's own.
+template <class Io>
+void stream_param_fields(Io io, const FactorStreamParams& params, const char* owner) {
+  io.same(params.noise.automatic, "automatic noise", owner);
+  io.same(params.noise.fixed.q, "configured q", owner);
+  io.same(params.noise.fixed.r, "configured r", owner);
+  io.same(params.noise.fixed.p0, "configured p0", owner);
+  io.template same_as<std::uint64_t>(params.noise.calibration_samples, "calibration_samples", owner);
+  io.template same_as<std::uint64_t>(params.publish_every, "publish_every", owner);
+  io.template same_as<std::int32_t>(params.fixed_lag, "fixed lag", owner);
+}
+
+}  // namespace
+
 void save_stream_params(estimation::StateWriter& w, const FactorStreamParams& params) {
-  w.put(params.noise.automatic);
-  put_noise(w, params.noise.fixed);
-  w.put(static_cast<std::uint64_t>(params.noise.calibration_samples));
-  w.put(static_cast<std::uint64_t>(params.publish_every));
-  w.put(static_cast<std::int32_t>(params.fixed_lag));
+  stream_param_fields(estimation::SaveFields{w}, params, "");
 }
 
 void expect_same_stream_params(estimation::StateReader& r, const FactorStreamParams& params, const std::string& owner) {
-  estimation::expect_saved(r, "automatic noise", params.noise.automatic, owner);
-  estimation::expect_saved(r, "configured q", params.noise.fixed.q, owner);
-  estimation::expect_saved(r, "configured r", params.noise.fixed.r, owner);
-  estimation::expect_saved(r, "configured p0", params.noise.fixed.p0, owner);
-  estimation::expect_saved(r, "calibration_samples", static_cast<std::uint64_t>(params.noise.calibration_samples), owner);
-  estimation::expect_saved(r, "publish_every", static_cast<std::uint64_t>(params.publish_every), owner);
-  estimation::expect_saved(r, "fixed lag", static_cast<std::int32_t>(params.fixed_lag), owner);
+  stream_param_fields(estimation::RestoreFields{r}, params, owner.c_str());
 }
 
 std::size_t FactorStream::minimum_noise_calibration_samples(const estimation::ModelSpec& model) {
