@@ -1,12 +1,13 @@
 #include "alarm_state_store.hpp"
 
 #include "causal/io/file_names.hpp"
+#include "causal/io/group_state_files.hpp"
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -20,6 +21,35 @@ constexpr const char* kTag = "alarm_recommender_stream";
 constexpr std::uint32_t kVersion = 1;
 
 const char* level_name(bool sample_level) { return sample_level ? "sample" : "condition"; }
+
+// A checkpoint's field lists (SaveFields / RestoreFields, causal/estimation/state_fields.hpp): the stream it belongs
+// to, then what the store keeps of it (the engine and the trends follow, each with its own save / restore).
+template <class Io, class G, class B>
+void stream_key_fields(Io io, G& asset_group, B& sample_level) {
+  io.tag(kTag, kVersion);
+  io(asset_group, sample_level);
+}
+
+template <class Io, class S>
+void stream_fields(Io io, S& s) {
+  bool has_index = s.last_index.has_value();
+  std::uint64_t index = s.last_index.value_or(0);
+  io(has_index, index);
+  if constexpr (Io::restoring) {
+    if (has_index) s.last_index = index;
+  }
+  auto events = static_cast<std::uint64_t>(s.last_events.size());
+  io(events);
+  if constexpr (Io::restoring) {
+    for (; events > 0; --events) {
+      alarms::AlarmEvent e;
+      io.section(e);
+      s.last_events[e.alarm_id] = e;
+    }
+  } else {
+    for (const auto& [id, e] : s.last_events) io.section(e);
+  }
+}
 
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
@@ -64,25 +94,14 @@ AlarmStateStore::Opened AlarmStateStore::open_checkpoint(const std::string& asse
 std::vector<AlarmStateStore::Found> AlarmStateStore::checkpoints() const {
   std::vector<Found> out;
   if (!enabled()) return out;
-  const std::string suffix = ".alarms.state";
-  std::vector<std::string> files;
-  for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file() && name.size() > suffix.size() &&
-        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
-      files.push_back(entry.path().string());
-    }
-  }
-  std::sort(files.begin(), files.end());  // a stable order: the same restart publishes in the same order
-  for (const auto& file : files) {
+  // Sorted: the same restart publishes in the same order.
+  for (const auto& file : io::files_with_suffix(dir_, ".alarms.state")) {
     try {
       auto bytes = estimation::load_state_file(file);
       if (!bytes) continue;  // removed meanwhile
       estimation::StateReader in(std::move(*bytes));
-      in.expect(kTag, kVersion);
       Found f;
-      f.asset_group = in.get<std::string>();
-      f.sample_level = in.get<bool>();
+      stream_key_fields(estimation::RestoreFields{in}, f.asset_group, f.sample_level);
       if (path(f.asset_group, f.sample_level) != file) {
         throw estimation::StateError("its content is for asset group '" + f.asset_group + "' at " +
                                  level_name(f.sample_level) + " level, another file name");
@@ -111,19 +130,13 @@ AlarmStateStore::Opened AlarmStateStore::open_stream(const std::string& asset_gr
     if (enabled()) bytes = estimation::load_state_file(file);  // nullopt: no checkpoint yet
     if (bytes) {
       estimation::StateReader in(std::move(*bytes));
-      in.expect(kTag, kVersion);
-      const auto group = in.get<std::string>();
-      const auto sample = in.get<bool>();
+      std::string group;
+      bool sample = false;
+      stream_key_fields(estimation::RestoreFields{in}, group, sample);
       if (group != asset_group || sample != sample_level) {
         throw estimation::StateError("it belongs to asset group '" + group + "' at " + level_name(sample) + " level");
       }
-      if (in.get<bool>()) s.last_index = in.get<std::uint64_t>();
-      const auto events = in.get<std::uint64_t>();
-      for (std::uint64_t i = 0; i < events; ++i) {
-        alarms::AlarmEvent e;
-        alarms::restore(in, e);
-        s.last_events[e.alarm_id] = e;
-      }
+      stream_fields(estimation::RestoreFields{in}, s);
       out.engine = std::make_unique<alarms::AlarmEngine>(alarms::AlarmEngine::restore(in, params));
       if (!in.at_end()) {  // checkpoints written before the prognosis end here
         out.trends = std::make_unique<prognosis::ChannelTrends>(prognosis::ChannelTrends::restore(
@@ -199,13 +212,8 @@ void AlarmStateStore::flush() {
 
 void AlarmStateStore::save(const Key& key, Stream& s) {
   estimation::StateWriter out;
-  out.begin(kTag, kVersion);
-  out.put(key.first);
-  out.put(key.second);
-  out.put(s.last_index.has_value());
-  out.put(s.last_index.value_or(0));
-  out.put(static_cast<std::uint64_t>(s.last_events.size()));
-  for (const auto& [id, e] : s.last_events) alarms::save(out, e);
+  stream_key_fields(estimation::SaveFields{out}, key.first, key.second);
+  stream_fields(estimation::SaveFields{out}, s);
   s.engine->save(out);
   if (s.trends != nullptr) s.trends->save(out);
   const std::string file = path(key.first, key.second);

@@ -7,11 +7,12 @@
 
 #include "causal/dds/cdr_bytes.hpp"
 #include "causal/io/file_names.hpp"
+#include "causal/io/group_state_files.hpp"
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -52,7 +53,7 @@ class KeptMessages {
   std::vector<Msg> load_all() {
     std::vector<Msg> out;
     if (dir_.empty()) return out;
-    for (const auto& file : files()) {
+    for (const auto& file : io::files_with_suffix(dir_, Traits::kSuffix)) {
       try {
         load(file, out);
       } catch (const estimation::StateError& e) {
@@ -68,46 +69,37 @@ class KeptMessages {
   std::string path(const std::string& group) const {
     return (std::filesystem::path(dir_) / (io::safe_file_component(group) + Traits::kSuffix)).string();
   }
-  std::vector<std::string> files() const {
-    const std::string suffix = Traits::kSuffix;
-    std::vector<std::string> found;
-    for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
-      const std::string name = entry.path().filename().string();
-      if (entry.is_regular_file() && name.size() > suffix.size() &&
-          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
-        found.push_back(entry.path().string());
-      }
-    }
-    std::sort(found.begin(), found.end());
-    return found;
+  // The file's field list (SaveFields / RestoreFields, causal/estimation/state_fields.hpp): its asset group and
+  // the kept messages' CDR bytes.
+  template <class Io, class G, class B>
+  static void fields(Io io, G& group, B& bodies) {
+    io.tag(Traits::kTag, Traits::kVersion);
+    io(group, bodies);
   }
   void load(const std::string& file, std::vector<Msg>& out) {
     auto bytes = estimation::load_state_file(file);
     if (!bytes) return;
     estimation::StateReader in(std::move(*bytes));
-    in.expect(Traits::kTag, Traits::kVersion);
-    const auto group = in.get<std::string>();
+    std::string group;
+    std::vector<std::string> bodies;
+    fields(estimation::RestoreFields{in}, group, bodies);
     if (path(group) != file) throw estimation::StateError("its content is for asset group '" + group + "'");
-    const auto n = in.get<std::uint64_t>();
     auto& kept = kept_[group];
-    for (std::uint64_t i = 0; i < n; ++i) {
-      const auto body = in.get<std::string>();
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
       Msg m;
-      if (!dds::from_cdr_bytes<PubSub>(body, m) || Traits::group(m) != group) {
+      if (!dds::from_cdr_bytes<PubSub>(bodies[i], m) || Traits::group(m) != group) {
         throw estimation::StateError("message " + std::to_string(i) + " is not readable");
       }
-      kept[Traits::id(m)] = body;
+      kept[Traits::id(m)] = std::move(bodies[i]);
       out.push_back(std::move(m));
     }
     if (!in.at_end()) throw estimation::StateError("unexpected data after the messages");
   }
   void save(const std::string& group) {
     estimation::StateWriter out;
-    out.begin(Traits::kTag, Traits::kVersion);
-    out.put(group);
-    const auto& kept = kept_[group];
-    out.put(static_cast<std::uint64_t>(kept.size()));
-    for (const auto& [id, bytes] : kept) out.put(bytes);
+    std::vector<std::string> bodies;
+    for (const auto& [id, bytes] : kept_[group]) bodies.push_back(bytes);
+    fields(estimation::SaveFields{out}, group, bodies);
     try {
       estimation::save_state_file(path(group), out.bytes());
     } catch (const estimation::StateError& e) {

@@ -1,10 +1,26 @@
 #include "ingest_state_store.hpp"
 
 #include "causal/estimation/state_archive.hpp"
+#include "causal/estimation/state_fields.hpp"
 
 #include <stdexcept>
 
 namespace causal::ingest {
+
+namespace {
+
+constexpr const char* kTag = "ingest_numbering";
+constexpr std::uint32_t kVersion = 2;
+
+// The numbering's field list (SaveFields / RestoreFields, causal/estimation/state_fields.hpp) as written at
+// `version`: version 1 ends before the source's sequence.
+template <class Io, class P>
+void numbering_fields(Io io, P& p, std::uint32_t version) {
+  io(p.channels, p.next_sequence, p.next_sample_index, p.snapshot_index);
+  if (version >= 2) io(p.has_source_sequence, p.last_source_sequence);
+}
+
+}  // namespace
 
 std::optional<ResumePoint> IngestStateStore::load(const std::string& asset_group) const {
   const std::string file = path(asset_group);
@@ -16,19 +32,12 @@ std::optional<ResumePoint> IngestStateStore::load(const std::string& asset_group
     // then not known.
     const auto tag = r.get<std::string>();
     const auto version = r.get<std::uint32_t>();
-    if (tag != "ingest_numbering" || (version != 1 && version != 2))
+    if (tag != kTag || (version != 1 && version != kVersion))
       throw estimation::StateError("section '" + tag + "' version " + std::to_string(version) + " is not ingest_numbering 1 or 2");
     const std::string saved_group = r.get<std::string>();
     if (saved_group != asset_group) throw estimation::StateError("it belongs to asset group '" + saved_group + "'");
     ResumePoint p;
-    r.read(p.channels);
-    r.read(p.next_sequence);
-    r.read(p.next_sample_index);
-    r.read(p.snapshot_index);
-    if (version >= 2) {
-      r.read(p.has_source_sequence);
-      r.read(p.last_source_sequence);
-    }
+    numbering_fields(estimation::RestoreFields{r}, p, version);
     return p;
   } catch (const estimation::StateError& e) {
     throw std::runtime_error("numbering state '" + file + "' cannot be used: " + e.what() +
@@ -38,14 +47,9 @@ std::optional<ResumePoint> IngestStateStore::load(const std::string& asset_group
 
 bool IngestStateStore::save(const std::string& asset_group, const ResumePoint& point) {
   return files_.save(asset_group, [&](estimation::StateWriter& w) {
-    w.begin("ingest_numbering", 2);
+    w.begin(kTag, kVersion);
     w.put(asset_group);
-    w.put(point.channels);
-    w.put(point.next_sequence);
-    w.put(point.next_sample_index);
-    w.put(point.snapshot_index);
-    w.put(point.has_source_sequence);
-    w.put(point.last_source_sequence);
+    numbering_fields(estimation::SaveFields{w}, point, kVersion);
   });
 }
 

@@ -36,11 +36,7 @@ void entries(estimation::RestoreFields io, std::deque<std::string>& d, Entry ent
 
 template <class Io, class O>
 void outcome_fields(Io io, O& o) {
-  io(o.applied);
-  io(o.refusal);
-  io(o.error);
-  io(o.acknowledged);
-  io(o.shelved);
+  io(o.applied, o.refusal, o.error, o.acknowledged, o.shelved);
 }
 
 }  // namespace
@@ -48,27 +44,17 @@ void outcome_fields(Io io, O& o) {
 template <class Io, class M>
 void AlarmManager::fields(Io io, M& m) {
   entries(io, m.alarms_, [](auto f, auto& e) {
-    f(e.first);
-    f(e.second.asset_group);
-    f(e.second.open);
-    f(e.second.acknowledged);
-    f(e.second.raised_time_ns);
+    f(e.first, e.second.asset_group, e.second.open, e.second.acknowledged, e.second.raised_time_ns);
   });
   entries(io, m.cleared_order_, [](auto f, auto& id) { f(id); });
   entries(io, m.shelved_, [](auto f, auto& e) {
-    f(e.first);
-    f(e.second.asset_group);
-    f(e.second.alarm_id);
-    f(e.second.until_ns);
+    f(e.first, e.second.asset_group, e.second.alarm_id, e.second.until_ns);
   });
   entries(io, m.raises_by_source_, [](auto f, auto& e) {
-    f(e.first.first);
-    f(e.first.second);
-    f(e.second);
+    f(e.first.first, e.first.second, e.second);
   });
   entries(io, m.raises_by_group_, [](auto f, auto& e) {
-    f(e.first);
-    f(e.second);
+    f(e.first, e.second);
   });
   entries(io, m.outcomes_, [](auto f, auto& e) {
     f(e.first);

@@ -34,52 +34,34 @@ const char* to_string(AlarmState s) {
 
 namespace {
 
-// The event's fields after its severity and state (both written as int32 and checked on restore); one list
-// for save and restore (SaveFields / RestoreFields, state_fields.hpp).
+// The event's field list (SaveFields / RestoreFields, state_fields.hpp); severity and state are written as int32
+// and checked on restore.
 template <class Io, class E>
-void fields_after_state(Io io, E& e) {
-  io(e.kind);
-  io(e.raised_time_ns);
-  io(e.cleared_time_ns);
-  io(e.index);
-  io(e.onset_index);
-  io(e.onset_time_ns);
-  io(e.root_cause_channel);
-  io(e.factor_names);
-  io(e.factor_baseline);
-  io(e.factor_now);
-  io(e.score);
-  io(e.threshold);
-  io(e.reason);
-  io(e.category);
-  io(e.root_cause_confidence);
+void event_fields(Io io, E& e) {
+  io.tag("alarm_event", 2);
+  io(e.alarm_id, e.channel);
+  io.template as<std::int32_t>(e.severity);
+  io.template as<std::int32_t>(e.state);
+  if constexpr (Io::restoring) {
+    const auto severity = static_cast<int>(e.severity);
+    const auto state = static_cast<int>(e.state);
+    if (severity < static_cast<int>(Severity::Advisory) || severity > static_cast<int>(Severity::Critical) ||
+        state < static_cast<int>(AlarmState::Raised) || state > static_cast<int>(AlarmState::Cleared)) {
+      throw estimation::StateError("checkpoint: alarm_event '" + e.alarm_id + "' has an unknown severity or state");
+    }
+  }
+  io(e.kind, e.raised_time_ns, e.cleared_time_ns, e.index, e.onset_index, e.onset_time_ns, e.root_cause_channel,
+     e.factor_names, e.factor_baseline, e.factor_now, e.score, e.threshold, e.reason, e.category,
+     e.root_cause_confidence);
 }
 
 }  // namespace
 
-void save(estimation::StateWriter& out, const AlarmEvent& e) {
-  out.begin("alarm_event", 2);
-  out.put(e.alarm_id);
-  out.put(e.channel);
-  out.put(static_cast<std::int32_t>(e.severity));
-  out.put(static_cast<std::int32_t>(e.state));
-  fields_after_state(estimation::SaveFields{out}, e);
-}
+void save(estimation::StateWriter& out, const AlarmEvent& e) { event_fields(estimation::SaveFields{out}, e); }
 
 void restore(estimation::StateReader& in, AlarmEvent& event) {
-  in.expect("alarm_event", 2);
-  AlarmEvent e;
-  in.read(e.alarm_id);
-  in.read(e.channel);
-  const auto severity = in.get<std::int32_t>();
-  const auto state = in.get<std::int32_t>();
-  if (severity < static_cast<int>(Severity::Advisory) || severity > static_cast<int>(Severity::Critical) ||
-      state < static_cast<int>(AlarmState::Raised) || state > static_cast<int>(AlarmState::Cleared)) {
-    throw estimation::StateError("checkpoint: alarm_event '" + e.alarm_id + "' has an unknown severity or state");
-  }
-  e.severity = static_cast<Severity>(severity);
-  e.state = static_cast<AlarmState>(state);
-  fields_after_state(estimation::RestoreFields{in}, e);
+  AlarmEvent e;  // restored aside: a damaged checkpoint leaves `event` as it was
+  event_fields(estimation::RestoreFields{in}, e);
   event = std::move(e);
 }
 

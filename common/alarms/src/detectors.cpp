@@ -38,12 +38,7 @@ void ClippedCusum::reset() {
 template <class IO, class Self>
 void ClippedCusum::fields(IO io, Self& c) {
   io.tag("clipped_cusum", 1);
-  io(c.k_);
-  io(c.clip_);
-  io(c.cap_);
-  io(c.s_);
-  io(c.onset_index_);
-  io(c.onset_time_ns_);
+  io(c.k_, c.clip_, c.cap_, c.s_, c.onset_index_, c.onset_time_ns_);
 }
 
 void ClippedCusum::save(estimation::StateWriter& out) const { fields(estimation::SaveFields{out}, *this); }
@@ -97,10 +92,7 @@ double WindowMean::median() const {
 template <class IO, class Self>
 void WindowMean::fields(IO io, Self& w) {
   io.tag("window_mean", 1);
-  io(w.buf_);
-  io(w.next_);
-  io(w.count_);
-  io(w.sum_);
+  io(w.buf_, w.next_, w.count_, w.sum_);
 }
 
 void WindowMean::save(estimation::StateWriter& out) const { fields(estimation::SaveFields{out}, *this); }
@@ -154,11 +146,7 @@ void PersistenceLatch::reset() {
 template <class IO, class Self>
 void PersistenceLatch::fields(IO io, Self& l) {
   io.tag("persistence_latch", 1);
-  io(l.raise_count_);
-  io(l.clear_count_);
-  io(l.above_);
-  io(l.below_);
-  io(l.active_);
+  io(l.raise_count_, l.clear_count_, l.above_, l.below_, l.active_);
 }
 
 void PersistenceLatch::save(estimation::StateWriter& out) const { fields(estimation::SaveFields{out}, *this); }

@@ -21,283 +21,156 @@ namespace {
 // The field lists (SaveFields / RestoreFields, state_fields.hpp): O is the structure, const when saving.
 template <class Io, class O>
 void onset_fields(Io io, O& o) {
-  io(o.set);
-  io(o.index);
-  io(o.time_ns);
-  io(o.level);
-  io(o.evidence);
+  io(o.set, o.index, o.time_ns, o.level, o.evidence);
 }
 
 template <class Io, class S>
 void signal_fields(Io io, S& s) {
+  io.tag("signal_monitor", 4);
   io(s.baseline);
   io.section(s.stats);
-  io(s.monitored);
-  io(s.last_value);
-  io(s.last_z);
-  io(s.detect_z);
-  io(s.nis_z);
-  io(s.scale_inflation);
-  io(s.location_margin);
+  io(s.monitored, s.last_value, s.last_z, s.detect_z, s.nis_z, s.scale_inflation, s.location_margin);
   io.object(s.cusum);
   io.object(s.level);
-  io(s.anchor_location);
-  io(s.refine_left);
-  io(s.reference_location);
-  io(s.warmup);
-  io(s.healthy_top);
-  io(s.range_left);
-  io(s.wander_top);
-  io(s.excursion_peak);
-  io(s.excursion_above);
-  io(s.excursion_last);
-  io(s.excursion_jumped);
+  io(s.anchor_location, s.refine_left, s.reference_location, s.warmup, s.healthy_top, s.range_left, s.wander_top,
+     s.excursion_peak, s.excursion_above, s.excursion_last, s.excursion_jumped);
 }
 
 template <class Io, class F>
 void factor_fields(Io io, F& f) {
+  io.tag("factor_monitor", 1);
   io(f.baseline);
   io.section(f.stats);
-  io(f.monitored);
-  io(f.last_value);
-  io(f.last_std);
-  io(f.last_z);
+  io(f.monitored, f.last_value, f.last_std, f.last_z);
 }
 
-// An alarm slot's fields before and after its severity (written as an int32, checked on restore).
+// The severity is written as an int32 and checked on restore.
 template <class Io, class A>
-void slot_fields_before_severity(Io io, A& slot) {
+void slot_fields(Io io, A& slot) {
+  io.tag("alarm_slot", 2);
   io.object(slot.latch);
-  io(slot.counter);  // alarm id counter: ids are never reused across a restart
-  io(slot.id);
-}
-
-template <class Io, class A>
-void slot_fields_after_severity(Io io, A& slot) {
-  io(slot.raised_time_ns);
-  io(slot.onset_index);
-  io(slot.onset_time_ns);
-  io(slot.score);
-  io(slot.threshold);
-  io.section(slot.last_event);
-  io(slot.warning_run);
-  io(slot.critical_run);
-  io(slot.root);
-  io(slot.root_confidence);
-  io(slot.challenger);
-  io(slot.challenger_run);
-}
-
-// A channel's fields after its factor_argmax (checked on restore).
-template <class Io, class C>
-void channel_fields_after_argmax(Io io, C& cs) {
-  io(cs.factor_run_start_index);
-  io(cs.factor_run_start_time_ns);
-  io(cs.factor_in_run);
-  io(cs.rejected);
-  io(cs.own_sum);
-  io(cs.own_count);
-  io(cs.baseline_from_filter);
-  io(cs.baseline_from_nis);
-  io(cs.excursion_obs);
-  io(cs.excursion_sum_z);
-  io(cs.change_counter);
-  io(cs.size_run);
-  io(cs.recent_ratio);
-  io(cs.level_peak);
-}
-
-template <class Io, class C>
-void confirmation_scalars(Io io, C& c) {
-  io(c.active);
-  io(c.gap);
-  io(c.restart);
-  io(c.step_channel);
-  io(c.gap_s);
-  io(c.start_index);
-  io(c.start_time_ns);
-  io(c.step_onset_index);
-  io(c.step_onset_time_ns);
-}
-
-void save(estimation::StateWriter& out, const Onset& o) { onset_fields(estimation::SaveFields{out}, o); }
-void restore(estimation::StateReader& in, Onset& o) { onset_fields(estimation::RestoreFields{in}, o); }
-
-std::size_t read_count(estimation::StateReader& in, std::size_t expected, const char* what) {
-  const auto n = in.get<std::uint64_t>();
-  if (n != expected) {
-    throw estimation::StateError(std::string("checkpoint: ") + what + " count " + std::to_string(n) + ", expected " +
-                             std::to_string(expected));
+  io(slot.counter, slot.id);  // alarm id counter: ids are never reused across a restart
+  io.template as<std::int32_t>(slot.severity);
+  if constexpr (Io::restoring) {
+    const auto severity = static_cast<int>(slot.severity);
+    if (slot.counter < 0 || severity < static_cast<int>(Severity::Advisory) ||
+        severity > static_cast<int>(Severity::Critical)) {
+      throw estimation::StateError("checkpoint: alarm_slot '" + slot.id + "' holds an invalid counter or severity");
+    }
   }
-  return static_cast<std::size_t>(n);
+  io(slot.raised_time_ns, slot.onset_index, slot.onset_time_ns, slot.score, slot.threshold);
+  io.section(slot.last_event);
+  io(slot.warning_run, slot.critical_run, slot.root, slot.root_confidence, slot.challenger, slot.challenger_run);
+}
+
+// factor_count: the engine's factors, which factor_argmax refers to (checked on restore).
+template <class Io, class C>
+void channel_fields(Io io, C& cs, int factor_count) {
+  io.tag("alarm_channel", 4);
+  io.section(cs.feature);
+  io.section(cs.innovation);
+  io.object(cs.nis);
+  io.same_count(cs.slots.size(), "alarm kinds");
+  for (auto& slot : cs.slots) io.section(slot);
+  io(cs.factor_stat, cs.factor_argmax);
+  if constexpr (Io::restoring) {
+    if (cs.factor_argmax < -1 || cs.factor_argmax >= factor_count) {
+      throw estimation::StateError("checkpoint: alarm_channel refers to factor " + std::to_string(cs.factor_argmax) +
+                                   " of " + std::to_string(factor_count));
+    }
+  }
+  io(cs.factor_run_start_index, cs.factor_run_start_time_ns, cs.factor_in_run, cs.rejected, cs.own_sum,
+     cs.own_count, cs.baseline_from_filter, cs.baseline_from_nis, cs.excursion_obs, cs.excursion_sum_z,
+     cs.change_counter, cs.size_run, cs.recent_ratio, cs.level_peak);
+}
+
+// A restore starts from an episode of `channels` empty onsets; the counts must match them.
+template <class Io, class E>
+void episode_fields(Io io, E& e, int channels) {
+  io.tag("alarm_episode", 1);
+  if constexpr (Io::restoring) e.reset(channels);
+  io.same_count(e.own.size(), "episode onsets (own)");
+  for (auto& o : e.own) onset_fields(io, o);
+  io.same_count(e.departure.size(), "episode onsets (departure)");
+  for (auto& o : e.departure) onset_fields(io, o);
+}
+
+// The window's values per channel: none (no window open) or one pair of vectors per channel.
+template <class Io, class C>
+void confirmation_fields(Io io, C& c, int channels) {
+  io.tag("alarm_confirmation", 1);
+  io(c.active, c.gap, c.restart, c.step_channel, c.gap_s, c.start_index, c.start_time_ns, c.step_onset_index,
+     c.step_onset_time_ns);
+  auto n = static_cast<std::uint64_t>(c.feature.size());
+  io(n);
+  if constexpr (Io::restoring) {
+    if ((n != 0 && n != static_cast<std::uint64_t>(channels)) || c.step_channel < -1 || c.step_channel >= channels) {
+      throw estimation::StateError("checkpoint: alarm_confirmation does not fit " + std::to_string(channels) +
+                                   " channels");
+    }
+    c.feature.resize(static_cast<std::size_t>(n));
+    c.innovation.resize(static_cast<std::size_t>(n));
+  }
+  for (std::size_t i = 0; i < n; ++i) io(c.feature[i], c.innovation[i]);
 }
 
 }  // namespace
 
-void save(estimation::StateWriter& out, const SignalMonitor& s) {
-  out.begin("signal_monitor", 4);
-  signal_fields(estimation::SaveFields{out}, s);
-}
-
-void restore(estimation::StateReader& in, SignalMonitor& s) {
-  in.expect("signal_monitor", 4);
-  signal_fields(estimation::RestoreFields{in}, s);
-}
-
-void save(estimation::StateWriter& out, const FactorMonitor& f) {
-  out.begin("factor_monitor", 1);
-  factor_fields(estimation::SaveFields{out}, f);
-}
-
-void restore(estimation::StateReader& in, FactorMonitor& f) {
-  in.expect("factor_monitor", 1);
-  factor_fields(estimation::RestoreFields{in}, f);
-}
-
-void save(estimation::StateWriter& out, const AlarmSlot& slot) {
-  out.begin("alarm_slot", 2);
-  slot_fields_before_severity(estimation::SaveFields{out}, slot);
-  out.put(static_cast<std::int32_t>(slot.severity));
-  slot_fields_after_severity(estimation::SaveFields{out}, slot);
-}
-
-void restore(estimation::StateReader& in, AlarmSlot& slot) {
-  in.expect("alarm_slot", 2);
-  slot_fields_before_severity(estimation::RestoreFields{in}, slot);
-  const auto severity = in.get<std::int32_t>();
-  if (slot.counter < 0 || severity < static_cast<int>(Severity::Advisory) ||
-      severity > static_cast<int>(Severity::Critical)) {
-    throw estimation::StateError("checkpoint: alarm_slot '" + slot.id + "' holds an invalid counter or severity");
-  }
-  slot.severity = static_cast<Severity>(severity);
-  slot_fields_after_severity(estimation::RestoreFields{in}, slot);
-}
-
-void save(estimation::StateWriter& out, const ChannelState& cs) {
-  out.begin("alarm_channel", 4);
-  save(out, cs.feature);
-  save(out, cs.innovation);
-  cs.nis.save(out);
-  out.put(static_cast<std::uint64_t>(cs.slots.size()));
-  for (const auto& slot : cs.slots) save(out, slot);
-  out.put(cs.factor_stat);
-  out.put(cs.factor_argmax);
-  channel_fields_after_argmax(estimation::SaveFields{out}, cs);
-}
-
-void restore(estimation::StateReader& in, ChannelState& cs, int factor_count) {
-  in.expect("alarm_channel", 4);
-  restore(in, cs.feature);
-  restore(in, cs.innovation);
-  cs.nis.restore(in);
-  read_count(in, cs.slots.size(), "alarm kinds");
-  for (auto& slot : cs.slots) restore(in, slot);
-  in.read(cs.factor_stat);
-  in.read(cs.factor_argmax);
-  if (cs.factor_argmax < -1 || cs.factor_argmax >= factor_count) {
-    throw estimation::StateError("checkpoint: alarm_channel refers to factor " + std::to_string(cs.factor_argmax) +
-                             " of " + std::to_string(factor_count));
-  }
-  channel_fields_after_argmax(estimation::RestoreFields{in}, cs);
-}
-
-void save(estimation::StateWriter& out, const Episode& e) {
-  out.begin("alarm_episode", 1);
-  out.put(static_cast<std::uint64_t>(e.own.size()));
-  for (const auto& o : e.own) save(out, o);
-  out.put(static_cast<std::uint64_t>(e.departure.size()));
-  for (const auto& o : e.departure) save(out, o);
-}
-
-void restore(estimation::StateReader& in, Episode& e, int channels) {
-  in.expect("alarm_episode", 1);
-  e.reset(channels);
-  read_count(in, e.own.size(), "episode onsets (own)");
-  for (auto& o : e.own) restore(in, o);
-  read_count(in, e.departure.size(), "episode onsets (departure)");
-  for (auto& o : e.departure) restore(in, o);
-}
-
-void save(estimation::StateWriter& out, const Confirmation& c) {
-  out.begin("alarm_confirmation", 1);
-  confirmation_scalars(estimation::SaveFields{out}, c);
-  out.put(static_cast<std::uint64_t>(c.feature.size()));
-  for (std::size_t i = 0; i < c.feature.size(); ++i) {
-    out.put(c.feature[i]);
-    out.put(c.innovation[i]);
-  }
-}
-
-void restore(estimation::StateReader& in, Confirmation& c, int channels) {
-  in.expect("alarm_confirmation", 1);
-  Confirmation r;
-  confirmation_scalars(estimation::RestoreFields{in}, r);
-  const auto n = in.get<std::uint64_t>();
-  if ((n != 0 && n != static_cast<std::uint64_t>(channels)) || r.step_channel < -1 || r.step_channel >= channels) {
-    throw estimation::StateError("checkpoint: alarm_confirmation does not fit " + std::to_string(channels) + " channels");
-  }
-  r.feature.resize(static_cast<std::size_t>(n));
-  r.innovation.resize(static_cast<std::size_t>(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    in.read(r.feature[i]);
-    in.read(r.innovation[i]);
-  }
-  c = std::move(r);
-}
+void save(estimation::StateWriter& out, const SignalMonitor& s) { signal_fields(estimation::SaveFields{out}, s); }
+void restore(estimation::StateReader& in, SignalMonitor& s) { signal_fields(estimation::RestoreFields{in}, s); }
+void save(estimation::StateWriter& out, const FactorMonitor& f) { factor_fields(estimation::SaveFields{out}, f); }
+void restore(estimation::StateReader& in, FactorMonitor& f) { factor_fields(estimation::RestoreFields{in}, f); }
+void save(estimation::StateWriter& out, const AlarmSlot& slot) { slot_fields(estimation::SaveFields{out}, slot); }
+void restore(estimation::StateReader& in, AlarmSlot& slot) { slot_fields(estimation::RestoreFields{in}, slot); }
 
 }  // namespace detail
 
+namespace {
+
+// Everything that changes after construction: M is AlarmEngine::Impl, const when saving. A restore runs on an
+// engine built from the saved configuration, so the counts of channels, factors and kinds must match it.
+template <class Io, class M>
+void engine_state_fields(Io io, M& m) {
+  io.tag("alarm_engine_state", 3);
+  io(m.seen, m.rejected, m.not_running, m.ready);
+  io.same_count(m.ch.size(), "channel");
+  for (auto& cs : m.ch) detail::channel_fields(io, cs, static_cast<int>(m.fac.size()));
+  io.same_count(m.fac.size(), "factor");
+  for (auto& f : m.fac) io.section(f);
+  detail::episode_fields(io, m.episode, m.channels());
+  io(m.baseline_times, m.median_interval_ns, m.has_last_time, m.last_time_ns);
+  if constexpr (Io::restoring) {
+    detail::Confirmation c;  // restored aside: a window that does not fit leaves the engine's as it was
+    detail::confirmation_fields(io, c, m.channels());
+    m.confirm = std::move(c);
+  } else {
+    detail::confirmation_fields(io, m.confirm, m.channels());
+  }
+  io(m.discontinuities, m.operating_changes, m.stopped);
+  io.section(m.continuity);
+}
+
+// The configuration the engine is rebuilt from (asset group, names, parameters).
+template <class Io, class S, class V, class P>
+void engine_config_fields(Io io, S& group, V& names, V& factor_names, P& params) {
+  io.tag("alarm_engine", 1);
+  io(group, names, factor_names);
+  io.section(params);
+}
+
+}  // namespace
+
 void AlarmEngine::Impl::save_state(estimation::StateWriter& out) const {
-  out.begin("alarm_engine_state", 3);
-  out.put(seen);
-  out.put(rejected);
-  out.put(not_running);
-  out.put(ready);
-  out.put(static_cast<std::uint64_t>(ch.size()));
-  for (const auto& cs : ch) detail::save(out, cs);
-  out.put(static_cast<std::uint64_t>(fac.size()));
-  for (const auto& f : fac) detail::save(out, f);
-  detail::save(out, episode);
-  out.put(baseline_times);
-  out.put(median_interval_ns);
-  out.put(has_last_time);
-  out.put(last_time_ns);
-  detail::save(out, confirm);
-  out.put(discontinuities);
-  out.put(operating_changes);
-  out.put(stopped);
-  detail::save(out, continuity);
+  engine_state_fields(estimation::SaveFields{out}, *this);
 }
 
 void AlarmEngine::Impl::restore_state(estimation::StateReader& in) {
-  in.expect("alarm_engine_state", 3);
-  in.read(seen);
-  in.read(rejected);
-  in.read(not_running);
-  in.read(ready);
-  detail::read_count(in, ch.size(), "channel");
-  for (auto& cs : ch) detail::restore(in, cs, static_cast<int>(fac.size()));
-  detail::read_count(in, fac.size(), "factor");
-  for (auto& f : fac) detail::restore(in, f);
-  detail::restore(in, episode, channels());
-  in.read(baseline_times);
-  in.read(median_interval_ns);
-  in.read(has_last_time);
-  in.read(last_time_ns);
-  detail::restore(in, confirm, channels());
-  in.read(discontinuities);
-  in.read(operating_changes);
-  in.read(stopped);
-  detail::restore(in, continuity);
+  engine_state_fields(estimation::RestoreFields{in}, *this);
 }
 
 void AlarmEngine::save(estimation::StateWriter& out) const {
   const Impl& m = *impl_;
-  out.begin("alarm_engine", 1);
-  out.put(m.group);
-  out.put(m.names);
-  out.put(m.factor_names);
-  alarms::save(out, m.p);
+  engine_config_fields(estimation::SaveFields{out}, m.group, m.names, m.factor_names, m.p);
   m.save_state(out);
   out.begin("alarm_engine_end", 1);  // catches a reader that consumed a different number of fields
 }
@@ -305,12 +178,10 @@ void AlarmEngine::save(estimation::StateWriter& out) const {
 namespace {
 
 AlarmEngine restore_engine(estimation::StateReader& in, const AlarmParams* expected) {
-  in.expect("alarm_engine", 1);
-  auto group = in.get<std::string>();
-  auto names = in.get<std::vector<std::string>>();
-  auto factor_names = in.get<std::vector<std::string>>();
+  std::string group;
+  std::vector<std::string> names, factor_names;
   AlarmParams saved;
-  alarms::restore(in, saved);
+  engine_config_fields(estimation::RestoreFields{in}, group, names, factor_names, saved);
   if (expected != nullptr) {
     const std::string diff = param_differences(saved, *expected);
     if (!diff.empty()) {

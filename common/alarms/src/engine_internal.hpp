@@ -202,12 +202,8 @@ void save(estimation::StateWriter& out, const FactorMonitor& f);
 void restore(estimation::StateReader& in, FactorMonitor& f);
 void save(estimation::StateWriter& out, const AlarmSlot& slot);
 void restore(estimation::StateReader& in, AlarmSlot& slot);
-void save(estimation::StateWriter& out, const ChannelState& cs);
-void restore(estimation::StateReader& in, ChannelState& cs, int factor_count);
-void save(estimation::StateWriter& out, const Episode& e);
-void restore(estimation::StateReader& in, Episode& e, int channels);
-void save(estimation::StateWriter& out, const Confirmation& c);
-void restore(estimation::StateReader& in, Confirmation& c, int channels);
+// A channel, the episode and the confirmation window are saved as part of the engine's state (their restore
+// needs the engine's counts of channels and factors).
 
 // ---- the detector table (detector_table.cpp) ------------------------------------------------------
 // Alarm kinds are data: one row per kind with what it watches and how its statistic, threshold, onset and

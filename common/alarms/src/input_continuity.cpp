@@ -40,13 +40,7 @@ LostRange IndexContinuity::step(std::uint64_t index, std::int64_t time_ns) {
 template <class IO, class C>
 void continuity_fields(IO io, C& c) {
   io.tag("alarm_index_continuity", 1);
-  io(c.has_last);
-  io(c.last_index);
-  io(c.last_time_ns);
-  io(c.unit_steps);
-  io(c.other_steps);
-  io(c.losses);
-  io(c.lost);
+  io(c.has_last, c.last_index, c.last_time_ns, c.unit_steps, c.other_steps, c.losses, c.lost);
 }
 
 void save(estimation::StateWriter& out, const IndexContinuity& c) { continuity_fields(estimation::SaveFields{out}, c); }

@@ -57,9 +57,7 @@ RobustStats robust_stats(const std::vector<double>& v, double relative_floor, do
 template <class IO, class S>
 void robust_stats_fields(IO io, S& s) {
   io.tag("robust_stats", 1);
-  io(s.location);
-  io(s.scale);
-  io(s.lag1_autocorr);
+  io(s.location, s.scale, s.lag1_autocorr);
   io.template as<std::uint64_t>(s.count);
   io(s.valid);
 }

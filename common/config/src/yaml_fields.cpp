@@ -7,6 +7,20 @@
 
 namespace causal::config {
 
+namespace {
+
+// The value of `key` as T; what YAML cannot read as T fails naming the key, what it must be and what it is.
+template <class T>
+T converted(const Section& section, const YAML::Node& n, const std::string& key, const char* must_be) {
+  try {
+    return n.as<T>();
+  } catch (const YAML::Exception&) {
+    section.fail(key, std::string("must be ") + must_be + ", got '" + n.as<std::string>("?") + "'");
+  }
+}
+
+}  // namespace
+
 Section Section::load_file(const std::string& path) {
   const std::string text = read_yaml_file(path);
   check_yaml_bounds(text, path);  // before yaml-cpp builds a tree of it (yaml_bounds.hpp)
@@ -43,13 +57,7 @@ Section Section::child(const std::string& key) const {
 }
 
 double Section::number(const std::string& key) const {
-  const YAML::Node n = field(key);
-  double v = 0.0;
-  try {
-    v = n.as<double>();
-  } catch (const YAML::Exception&) {
-    fail(key, "must be a number, got '" + n.as<std::string>("?") + "'");
-  }
+  const double v = converted<double>(*this, field(key), key, "a number");
   if (!std::isfinite(v)) fail(key, "must be finite");
   return v;
 }
@@ -67,13 +75,7 @@ double Section::non_negative(const std::string& key) const {
 }
 
 long Section::integer(const std::string& key, long min, long max) const {
-  const YAML::Node n = field(key);
-  long v = 0;
-  try {
-    v = n.as<long>();
-  } catch (const YAML::Exception&) {
-    fail(key, "must be a whole number, got '" + n.as<std::string>("?") + "'");
-  }
+  const long v = converted<long>(*this, field(key), key, "a whole number");
   if (v < min || v > max) {
     fail(key, "must be in " + std::to_string(min) + ".." + std::to_string(max) + ", got " + std::to_string(v));
   }
@@ -81,12 +83,7 @@ long Section::integer(const std::string& key, long min, long max) const {
 }
 
 bool Section::boolean(const std::string& key) const {
-  const YAML::Node n = field(key);
-  try {
-    return n.as<bool>();
-  } catch (const YAML::Exception&) {
-    fail(key, "must be true or false, got '" + n.as<std::string>("?") + "'");
-  }
+  return converted<bool>(*this, field(key), key, "true or false");
 }
 
 std::string Section::text(const std::string& key) const {

@@ -1,5 +1,7 @@
 #include "causal/dds/ack_watch.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal/metrics/metrics_registry.hpp"
@@ -15,10 +17,6 @@ namespace causal::dds {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-std::int64_t wall_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : "; ") + x;
@@ -100,7 +98,7 @@ void AckWatch::check(Watched& w, Clock::time_point now) {
   if (progress) {
     if (w.open) {
       w.open->state(causal_twin::CLEARED);
-      w.open->cleared_time_ns(wall_ns());
+      w.open->cleared_time_ns(io::utc_now_ns());
       w.open->reason("the readers of " + w.topic + " acknowledge again" +
                      (matched.current_count == 0 ? " (none is matched now)" : ""));
       spdlog::info("HEALTH CLEARED {}: {}", w.open->alarm_id(), w.open->reason());
@@ -114,7 +112,7 @@ void AckWatch::check(Watched& w, Clock::time_point now) {
   const auto readers = participant_.directory().reader_descriptions(w.topic);
   const std::string self = participant_.directory().name_of(participant_.get()->guid().guidPrefix);
   causal_twin::Alarm a;
-  const auto now_ns = wall_ns();
+  const auto now_ns = io::utc_now_ns();
   a.alarm_id(self + "/" + w.topic + "/reader_not_acknowledging/t" + std::to_string(now_ns / 1000000000));
   a.kind("reader_not_acknowledging");
   a.category("health");

@@ -1,5 +1,7 @@
 #include "causal/dds/event_loop.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include <fastdds/dds/core/condition/StatusCondition.hpp>
 
 #include "causal/dds/systemd_notify.hpp"
@@ -65,8 +67,7 @@ RunEnd EventLoop::run(const RunLimits& limits, const std::function<std::size_t()
         ++suspension_.count;
         suspension_.last_seconds = std::chrono::duration<double>(now - last_tick).count();
         suspension_.last_resumed_at = now;
-        suspension_.last_resumed_at_unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                  std::chrono::system_clock::now().time_since_epoch()).count();
+        suspension_.last_resumed_at_unix_ns = io::utc_now_ns();
         spdlog::warn("this process did not run for {:.1f} s (stopped or not scheduled): its peers may have dropped "
                      "it meanwhile (their lease of it expired), and what they published then is missing here",
                      suspension_.last_seconds);

@@ -1,5 +1,7 @@
 #include "causal/dds/health_watch.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include <fastdds/dds/subscriber/InstanceState.hpp>
 
 #include <algorithm>
@@ -13,11 +15,6 @@ std::array<unsigned char, 16> key_of(const eprosima::fastrtps::rtps::InstanceHan
   std::array<unsigned char, 16> k{};
   for (std::size_t i = 0; i < k.size(); ++i) k[i] = static_cast<unsigned char>(h.value[i]);
   return k;
-}
-
-std::int64_t wall_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
 }
 
 }  // namespace
@@ -87,7 +84,7 @@ std::vector<causal_twin::Alarm> HealthWatch::take_alarms() {
 
 void HealthWatch::convert(std::vector<HealthChange>& changes) {
   for (auto& c : changes) {
-    const std::int64_t now_ns = wall_ns();
+    const std::int64_t now_ns = io::utc_now_ns();
     if (c.kind == HealthChange::Kind::Cleared) {
       const auto it = open_.find(c.source);
       if (it == open_.end()) continue;

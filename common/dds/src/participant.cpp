@@ -288,14 +288,7 @@ std::vector<std::string> ParticipantDirectory::reader_names(const std::string& t
 }
 
 std::size_t ParticipantDirectory::readers_named(const std::string& topic, const std::string& name) const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  std::size_t n = 0;
-  for (const auto& [guid, t] : readers_) {
-    if (t != topic) continue;
-    const auto it = names_.find(guid.guidPrefix);  // a dropped participant (lease expired) no longer counts
-    if (it != names_.end() && it->second == name) ++n;
-  }
-  return n;
+  return reader_guids_named(topic, name).size();
 }
 
 std::vector<eprosima::fastrtps::rtps::GUID_t> ParticipantDirectory::reader_guids_named(const std::string& topic,
@@ -304,7 +297,7 @@ std::vector<eprosima::fastrtps::rtps::GUID_t> ParticipantDirectory::reader_guids
   std::vector<eprosima::fastrtps::rtps::GUID_t> out;
   for (const auto& [guid, t] : readers_) {
     if (t != topic) continue;
-    const auto it = names_.find(guid.guidPrefix);
+    const auto it = names_.find(guid.guidPrefix);  // a dropped participant (lease expired) no longer counts
     if (it != names_.end() && it->second == name) out.push_back(guid);
   }
   return out;

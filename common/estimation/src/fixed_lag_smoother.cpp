@@ -168,8 +168,7 @@ void FixedLagSmoother::fields(IO io, Self& s) {
   io.same_size(s.var_, "smoother variances");
   io.template as<std::int32_t>(s.head_);
   io.template as<std::int32_t>(s.active_);
-  io(s.next_release_);
-  io(s.last_status_);
+  io(s.next_release_, s.last_status_);
 }
 
 void FixedLagSmoother::save(StateWriter& w) const { fields(SaveFields{w}, *this); }

@@ -43,10 +43,7 @@ void InnovationStats::reset() {
 template <class IO, class Self>
 void InnovationAccumulator::fields(IO io, Self& a) {
   io.tag("innovation_accumulator", 1);
-  io(a.count_);
-  io(a.sum_e_);
-  io(a.sum_e2_);
-  io(a.sum_nis_);
+  io(a.count_, a.sum_e_, a.sum_e2_, a.sum_nis_);
 }
 
 void InnovationAccumulator::save(StateWriter& w) const { fields(SaveFields{w}, *this); }

@@ -234,9 +234,7 @@ void SvarKalmanFilter::set_noise(int k, const NoiseParams& noise) {
 template <class IO, class Self>
 void SvarKalmanFilter::fields(IO io, Self& f) {
   for (auto& n : f.noise_) {
-    io(n.q);
-    io(n.r);
-    io(n.p0);
+    io(n.q, n.r, n.p0);
   }
   io.same_size(f.x_, "filter state");
   io.same_size(f.p_, "filter covariance");
@@ -244,10 +242,7 @@ void SvarKalmanFilter::fields(IO io, Self& f) {
   io.same_size(f.s_, "last innovation variances");
   io.same_size(f.window_, "lag window");
   io.template as<std::int32_t>(f.history_);
-  io(f.steps_);
-  io(f.counters_.updated);
-  io(f.counters_.warm_up);
-  io(f.counters_.rejected_non_finite);
+  io(f.steps_, f.counters_.updated, f.counters_.warm_up, f.counters_.rejected_non_finite);
 }
 
 void SvarKalmanFilter::save(StateWriter& w) const {

@@ -110,9 +110,7 @@ void model_spec_fields(IO io, S& spec) {
   io.tag("model_spec", 1);
   io.template as<std::int32_t>(spec.channels);
   io.template as<std::int32_t>(spec.lag_order);
-  io(spec.include_self_lags);
-  io(spec.allowed);
-  io(spec.instantaneous_allowed);
+  io(spec.include_self_lags, spec.allowed, spec.instantaneous_allowed);
 }
 
 }  // namespace

@@ -49,10 +49,7 @@ class PostgresStore final : public HistoryStore {
     exec("SET client_min_messages = warning");  // "relation already exists, skipping" is not news
     exec("BEGIN");
     exec("SELECT pg_advisory_xact_lock(7301)");
-    for (const Table& t : tables()) {
-      exec(create_table_sql(t, true));
-      for (const auto& sql : create_index_sql(t)) exec(sql);
-    }
+    for (const auto& sql : create_schema_sql(true)) exec(sql);
     exec("COMMIT");
   }
   ~PostgresStore() override { PQfinish(conn_); }
@@ -60,22 +57,12 @@ class PostgresStore final : public HistoryStore {
   std::string describe() const override { return url_; }
 
   std::size_t apply_retention(double days, std::int64_t now_ns) override {
-    if (!(days > 0)) return 0;
-    const auto cutoff = now_ns - static_cast<std::int64_t>(days * 86400.0 * 1e9);
+    const auto deletes = retention_sql(days, now_ns, true);
+    if (deletes.empty()) return 0;
     std::size_t removed = 0;
     exec("BEGIN");
-    for (const Table& t : tables()) {
-      std::string bound;
-      if (t.time_column == "time_utc") {
-        bound = io::format_utc(cutoff);
-      } else if (t.time_column == "time_ns") {
-        bound = std::to_string(cutoff);
-      } else {
-        continue;  // recommendations: kept with their alarms (no time of their own)
-      }
-      Result r = params("DELETE FROM " + t.name + " WHERE " + t.time_column + " < $1" +
-                            (t.time_column == "time_utc" ? " AND time_utc <> ''" : ""),
-                        {bound}, PGRES_COMMAND_OK);
+    for (const auto& d : deletes) {
+      Result r = params(d, PGRES_COMMAND_OK);
       removed += std::stoul("0" + std::string(PQcmdTuples(r.get())));
     }
     exec("COMMIT");
@@ -83,23 +70,7 @@ class PostgresStore final : public HistoryStore {
   }
 
   std::vector<Row> select(const Table& t, const RangeQuery& q) override {
-    std::string sql = "SELECT ";
-    for (std::size_t i = 0; i < t.columns.size(); ++i) sql += (i ? ", " : "") + t.columns[i].name;
-    sql += " FROM " + t.name + " WHERE 1=1";
-    std::vector<std::string> values;
-    auto next = [&values](std::string v) {
-      values.push_back(std::move(v));
-      return "$" + std::to_string(values.size());
-    };
-    if (!q.asset_group.empty()) sql += " AND asset_group = " + next(q.asset_group);
-    const bool text_time = t.time_column == "time_utc";
-    auto bound = [&](std::int64_t ns) { return text_time ? io::format_utc(ns) : std::to_string(ns); };
-    if (q.from_ns) sql += " AND " + t.time_column + " >= " + next(bound(*q.from_ns));
-    if (q.to_ns) sql += " AND " + t.time_column + " <= " + next(bound(*q.to_ns));
-    sql += " ORDER BY " + t.time_column;
-    for (const auto& k : t.key) sql += ", " + k;
-    if (q.limit > 0) sql += " LIMIT " + std::to_string(q.limit);
-    Result r = params(sql, values, PGRES_TUPLES_OK);
+    Result r = params(select_sql(t, q, true), PGRES_TUPLES_OK);
     std::vector<Row> rows;
     const int n = PQntuples(r.get());
     for (int i = 0; i < n; ++i) {
@@ -179,6 +150,11 @@ class PostgresStore final : public HistoryStore {
     Result r(PQexec(conn_, sql.c_str()));
     const auto status = PQresultStatus(r.get());
     if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) check(r, PGRES_COMMAND_OK, sql);
+  }
+  Result params(const BoundStatement& s, ExecStatusType want) {
+    std::vector<std::string> values;
+    for (const auto& [type, text] : s.values) values.push_back(text);
+    return params(s.sql, values, want);
   }
   Result params(const std::string& sql, const std::vector<std::string>& values, ExecStatusType want) {
     std::vector<const char*> v;

@@ -4,6 +4,8 @@
 // holds every group.
 #include "causal/history/history_store.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include <cerrno>
 #include <cstdlib>
 
@@ -167,6 +169,61 @@ std::string insert_sql(const Table& t, bool postgres) {
     s += postgres ? "$" + std::to_string(i + 1) : "?";
   }
   return s + ") ON CONFLICT DO NOTHING";
+}
+
+std::vector<std::string> create_schema_sql(bool postgres) {
+  std::vector<std::string> out;
+  for (const Table& t : tables()) {
+    out.push_back(create_table_sql(t, postgres));
+    for (auto& sql : create_index_sql(t)) out.push_back(std::move(sql));
+  }
+  return out;
+}
+
+namespace {
+
+// Appends a parameter and returns its marker: "?" (SQLite) or "$n" (PostgreSQL).
+std::string marker(BoundStatement& s, ColumnType type, std::string value, bool postgres) {
+  s.values.emplace_back(type, std::move(value));
+  return postgres ? "$" + std::to_string(s.values.size()) : "?";
+}
+
+// A time bound as the table's time column spells it.
+std::pair<ColumnType, std::string> time_bound(const Table& t, std::int64_t ns) {
+  if (t.time_column == "time_utc") return {ColumnType::Text, io::format_utc(ns)};
+  return {ColumnType::Integer, std::to_string(ns)};
+}
+
+}  // namespace
+
+BoundStatement select_sql(const Table& t, const RangeQuery& q, bool postgres) {
+  BoundStatement s;
+  s.sql = "SELECT " + joined(t.column_names()) + " FROM " + t.name + " WHERE 1=1";
+  if (!q.asset_group.empty()) s.sql += " AND asset_group = " + marker(s, ColumnType::Text, q.asset_group, postgres);
+  for (const auto& [bound, op] : {std::pair{q.from_ns, " >= "}, std::pair{q.to_ns, " <= "}}) {
+    if (!bound) continue;
+    auto [type, text] = time_bound(t, *bound);
+    s.sql += " AND " + t.time_column + op + marker(s, type, std::move(text), postgres);
+  }
+  s.sql += " ORDER BY " + t.time_column;
+  for (const auto& k : t.key) s.sql += ", " + k;
+  if (q.limit > 0) s.sql += " LIMIT " + std::to_string(q.limit);
+  return s;
+}
+
+std::vector<BoundStatement> retention_sql(double days, std::int64_t now_ns, bool postgres) {
+  std::vector<BoundStatement> out;
+  if (!(days > 0)) return out;
+  const auto cutoff = now_ns - static_cast<std::int64_t>(days * 86400.0 * 1e9);
+  for (const Table& t : tables()) {
+    if (t.time_column != "time_utc" && t.time_column != "time_ns") continue;
+    BoundStatement s;
+    auto [type, text] = time_bound(t, cutoff);
+    s.sql = "DELETE FROM " + t.name + " WHERE " + t.time_column + " < " + marker(s, type, std::move(text), postgres) +
+            (t.time_column == "time_utc" ? " AND time_utc <> ''" : "");
+    out.push_back(std::move(s));
+  }
+  return out;
 }
 
 }  // namespace causal::history

@@ -62,6 +62,11 @@ void bind(sqlite3_stmt* s, int i, ColumnType type, const Cell& cell) {
   }
 }
 
+void bind_values(Statement& s, const BoundStatement& b) {
+  int i = 1;
+  for (const auto& [type, text] : b.values) bind(s.get(), i++, type, text);
+}
+
 Cell read_cell(sqlite3_stmt* s, int i, ColumnType type) {
   if (sqlite3_column_type(s, i) == SQLITE_NULL) return std::nullopt;
   switch (type) {
@@ -90,10 +95,7 @@ class SqliteStore final : public HistoryStore {
     exec("PRAGMA journal_mode=WAL");
     exec("PRAGMA synchronous=NORMAL");
     exec("BEGIN");
-    for (const Table& t : tables()) {
-      exec(create_table_sql(t, false));
-      for (const auto& sql : create_index_sql(t)) exec(sql);
-    }
+    for (const auto& sql : create_schema_sql(false)) exec(sql);
     exec("COMMIT");
   }
   ~SqliteStore() override {
@@ -104,20 +106,13 @@ class SqliteStore final : public HistoryStore {
   std::string describe() const override { return "sqlite:" + path_; }
 
   std::size_t apply_retention(double days, std::int64_t now_ns) override {
-    if (!(days > 0)) return 0;
-    const auto cutoff = now_ns - static_cast<std::int64_t>(days * 86400.0 * 1e9);
+    const auto deletes = retention_sql(days, now_ns, false);
+    if (deletes.empty()) return 0;
     std::size_t removed = 0;
     exec("BEGIN IMMEDIATE");
-    for (const Table& t : tables()) {
-      Statement s(db_, "DELETE FROM " + t.name + " WHERE " + t.time_column + " < ?" +
-                           (t.time_column == "time_utc" ? " AND time_utc <> ''" : ""));
-      if (t.time_column == "time_utc") {
-        bind(s.get(), 1, ColumnType::Text, io::format_utc(cutoff));
-      } else if (t.time_column == "time_ns") {
-        bind(s.get(), 1, ColumnType::Integer, std::to_string(cutoff));
-      } else {
-        continue;  // recommendations: kept with their alarms (no time of their own)
-      }
+    for (const auto& d : deletes) {
+      Statement s(db_, d.sql);
+      bind_values(s, d);
       s.step();
       removed += static_cast<std::size_t>(sqlite3_changes(db_));
     }
@@ -126,25 +121,9 @@ class SqliteStore final : public HistoryStore {
   }
 
   std::vector<Row> select(const Table& t, const RangeQuery& q) override {
-    std::string sql = "SELECT " + joined_names(t) + " FROM " + t.name + " WHERE 1=1";
-    if (!q.asset_group.empty()) sql += " AND asset_group = ?";
-    const bool text_time = t.time_column == "time_utc";
-    if (q.from_ns) sql += " AND " + t.time_column + " >= ?";
-    if (q.to_ns) sql += " AND " + t.time_column + " <= ?";
-    sql += " ORDER BY " + t.time_column;
-    for (const auto& k : t.key) sql += ", " + k;
-    if (q.limit > 0) sql += " LIMIT " + std::to_string(q.limit);
-    Statement s(db_, sql);
-    int n = 1;
-    if (!q.asset_group.empty()) bind(s.get(), n++, ColumnType::Text, q.asset_group);
-    for (const auto& bound : {q.from_ns, q.to_ns}) {
-      if (!bound) continue;
-      if (text_time) {
-        bind(s.get(), n++, ColumnType::Text, io::format_utc(*bound));
-      } else {
-        bind(s.get(), n++, ColumnType::Integer, std::to_string(*bound));
-      }
-    }
+    const BoundStatement query = select_sql(t, q, false);
+    Statement s(db_, query.sql);
+    bind_values(s, query);
     std::vector<Row> rows;
     while (s.step() == SQLITE_ROW) {
       Row r;
@@ -208,11 +187,6 @@ class SqliteStore final : public HistoryStore {
       sqlite3_free(err);
       throw HistoryError("sqlite " + path_ + ": " + why + " in: " + sql);
     }
-  }
-  static std::string joined_names(const Table& t) {
-    std::string s;
-    for (const auto& c : t.columns) s += (s.empty() ? "" : ", ") + c.name;
-    return s;
   }
 
   std::string path_;

@@ -3,11 +3,25 @@
 #include "causal/estimation/state_archive.hpp"
 #include "causal/io/file_names.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
 
 namespace causal::io {
+
+std::vector<std::string> files_with_suffix(const std::string& dir, const std::string& suffix) {
+  std::vector<std::string> found;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && name.size() > suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      found.push_back(entry.path().string());
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
 
 GroupStateFiles::GroupStateFiles(std::string dir, std::string suffix) : dir_(std::move(dir)), suffix_(std::move(suffix)) {
   if (dir_.empty()) return;

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <stdexcept>
 
 namespace causal::metrics {
@@ -141,26 +142,35 @@ MetricsRegistry::Family& MetricsRegistry::family(const std::string& name, Type t
   return it->second;
 }
 
+namespace {
+
+// The metric of `labels` in `slots`, made at first use by `add` from the prometheus family, which `build` (a
+// prometheus::Build* builder) registers at the first use of the name.
+template <class Metric, class Builder, class Add>
+Metric& metric_of(void*& prometheus_family, Builder build, prometheus::Registry& registry, const std::string& name,
+                  const std::string& help, std::map<Labels, std::unique_ptr<Metric>>& slots, const Labels& labels,
+                  Add add) {
+  using PrometheusFamily = std::remove_reference_t<decltype(build.Register(registry))>;
+  if (prometheus_family == nullptr) prometheus_family = &build.Name(kMetricPrefix + name).Help(help).Register(registry);
+  auto& slot = slots[labels];
+  if (!slot) slot = std::make_unique<Metric>(add(*static_cast<PrometheusFamily*>(prometheus_family)));
+  return *slot;
+}
+
+}  // namespace
+
 Counter& MetricsRegistry::counter(const std::string& name, const std::string& help, const Labels& labels) {
   std::lock_guard<std::mutex> lock(mutex_);
   Family& f = family(name, Type::Counter, help, labels);
-  if (f.prometheus_family == nullptr) {
-    f.prometheus_family = &prometheus::BuildCounter().Name(kMetricPrefix + name).Help(help).Register(*registry_);
-  }
-  auto& slot = f.counters[labels];
-  if (!slot) slot = std::make_unique<Counter>(static_cast<prometheus::Family<prometheus::Counter>*>(f.prometheus_family)->Add(labels));
-  return *slot;
+  return metric_of(f.prometheus_family, prometheus::BuildCounter(), *registry_, name, help, f.counters, labels,
+                   [&](auto& family) -> auto& { return family.Add(labels); });
 }
 
 Gauge& MetricsRegistry::gauge(const std::string& name, const std::string& help, const Labels& labels) {
   std::lock_guard<std::mutex> lock(mutex_);
   Family& f = family(name, Type::Gauge, help, labels);
-  if (f.prometheus_family == nullptr) {
-    f.prometheus_family = &prometheus::BuildGauge().Name(kMetricPrefix + name).Help(help).Register(*registry_);
-  }
-  auto& slot = f.gauges[labels];
-  if (!slot) slot = std::make_unique<Gauge>(static_cast<prometheus::Family<prometheus::Gauge>*>(f.prometheus_family)->Add(labels));
-  return *slot;
+  return metric_of(f.prometheus_family, prometheus::BuildGauge(), *registry_, name, help, f.gauges, labels,
+                   [&](auto& family) -> auto& { return family.Add(labels); });
 }
 
 Histogram& MetricsRegistry::histogram(const std::string& name, const std::string& help, const Labels& labels,
@@ -172,15 +182,10 @@ Histogram& MetricsRegistry::histogram(const std::string& name, const std::string
   }
   std::lock_guard<std::mutex> lock(mutex_);
   Family& f = family(name, Type::Histogram, help, labels);
-  if (f.prometheus_family == nullptr) {
-    f.prometheus_family = &prometheus::BuildHistogram().Name(kMetricPrefix + name).Help(help).Register(*registry_);
-  }
-  auto& slot = f.histograms[labels];
-  if (!slot) {
-    auto* fam = static_cast<prometheus::Family<prometheus::Histogram>*>(f.prometheus_family);
-    slot = std::make_unique<Histogram>(fam->Add(labels, prometheus::Histogram::BucketBoundaries(upper_bounds)));
-  }
-  return *slot;
+  return metric_of(f.prometheus_family, prometheus::BuildHistogram(), *registry_, name, help, f.histograms, labels,
+                   [&](auto& family) -> auto& {
+                     return family.Add(labels, prometheus::Histogram::BucketBoundaries(upper_bounds));
+                   });
 }
 
 CallbackHandle MetricsRegistry::gauge_callback(const std::string& name, const std::string& help, const Labels& labels,

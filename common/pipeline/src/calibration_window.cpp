@@ -26,10 +26,7 @@ Eigen::Map<const RowMajorMatrix> CalibrationWindow::samples() const {
 
 template <class IO, class Self>
 void CalibrationWindow::fields(IO io, Self& w) {
-  io(w.values_);
-  io(w.disc_);
-  io(w.time_);
-  io(w.index_);
+  io(w.values_, w.disc_, w.time_, w.index_);
 }
 
 void CalibrationWindow::save(estimation::StateWriter& w) const { fields(estimation::SaveFields{w}, *this); }

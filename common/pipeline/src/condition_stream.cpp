@@ -82,14 +82,9 @@ void ConditionStream::feed(const double* rows, std::size_t n, std::uint64_t firs
 template <class IO, class Self>
 void ConditionStream::fields(IO io, Self& c) {
   io.object(c.acc_);
-  io(c.window_time_ns_);
-  io(c.window_first_sample_);
-  io(c.window_snapshot_);
-  io(c.window_open_);
+  io(c.window_time_ns_, c.window_first_sample_, c.window_snapshot_, c.window_open_);
   io.template as<std::uint64_t>(c.fed_in_window_);
-  io(c.next_discontinuity_);
-  io(c.produced_);
-  io(c.dropped_);
+  io(c.next_discontinuity_, c.produced_, c.dropped_);
 }
 
 void ConditionStream::save(estimation::StateWriter& w) const {

@@ -31,28 +31,15 @@ namespace {
 // One field list each for save and restore (SaveFields / RestoreFields, state_fields.hpp).
 template <class Io, class N>
 void noise_fields(Io io, N& n) {
-  io(n.q);
-  io(n.r);
-  io(n.p0);
+  io(n.q, n.r, n.p0);
 }
 
 template <class Io, class R>
 void report_fields(Io io, R& r) {
   io(r.kind);
   io(r.outcome);  // as an int32 (static_assert below)
-  io(r.sample_index);
-  io(r.time_ns);
-  io(r.factors);
-  io(r.std_devs);
-  io(r.covariance);
-  io(r.innovation_count);
-  io(r.innovation_mean);
-  io(r.nis_mean);
-  io(r.last_innovation);
-  io(r.last_innovation_variance);
-  io(r.rejected);
-  io(r.q);
-  io(r.r);
+  io(r.sample_index, r.time_ns, r.factors, r.std_devs, r.covariance, r.innovation_count, r.innovation_mean, r.nis_mean,
+     r.last_innovation, r.last_innovation_variance, r.rejected, r.q, r.r);
 }
 
 static_assert(sizeof(int) == sizeof(std::int32_t), "checkpoints store FactorReport::outcome as 4 bytes");
@@ -62,17 +49,14 @@ void tuning_fields(Io io, T& t) {
   noise_fields(io, t.noise);
   io(t.log_likelihood);
   io.template as<std::int32_t>(t.evaluations);
-  io(t.converged);
-  io(t.message);
-  io(t.at_range_limit);
+  io(t.converged, t.message, t.at_range_limit);
   io.template as<std::int64_t>(t.updates);
 }
 
 // A filter report waiting for its twin: where it stands (its reports follow, with their count).
 template <class Io, class P>
 void pending_fields(Io io, P& p) {
-  io(p.index);
-  io(p.time_ns);
+  io(p.index, p.time_ns);
 }
 
 void put_noise(estimation::StateWriter& w, const estimation::NoiseParams& n) { noise_fields(estimation::SaveFields{w}, n); }
@@ -93,22 +77,28 @@ FactorReport get_report(estimation::StateReader& in) {
 
 }  // namespace
 
+namespace {
+
+// The parameters a stream's state depends on: saved with it, and on restore compared with the stream's own.
+template <class Io>
+void stream_param_fields(Io io, const FactorStreamParams& params, const char* owner) {
+  io.same(params.noise.automatic, "automatic noise", owner);
+  io.same(params.noise.fixed.q, "configured q", owner);
+  io.same(params.noise.fixed.r, "configured r", owner);
+  io.same(params.noise.fixed.p0, "configured p0", owner);
+  io.template same_as<std::uint64_t>(params.noise.calibration_samples, "calibration_samples", owner);
+  io.template same_as<std::uint64_t>(params.publish_every, "publish_every", owner);
+  io.template same_as<std::int32_t>(params.fixed_lag, "fixed lag", owner);
+}
+
+}  // namespace
+
 void save_stream_params(estimation::StateWriter& w, const FactorStreamParams& params) {
-  w.put(params.noise.automatic);
-  put_noise(w, params.noise.fixed);
-  w.put(static_cast<std::uint64_t>(params.noise.calibration_samples));
-  w.put(static_cast<std::uint64_t>(params.publish_every));
-  w.put(static_cast<std::int32_t>(params.fixed_lag));
+  stream_param_fields(estimation::SaveFields{w}, params, "");
 }
 
 void expect_same_stream_params(estimation::StateReader& r, const FactorStreamParams& params, const std::string& owner) {
-  estimation::expect_saved(r, "automatic noise", params.noise.automatic, owner);
-  estimation::expect_saved(r, "configured q", params.noise.fixed.q, owner);
-  estimation::expect_saved(r, "configured r", params.noise.fixed.r, owner);
-  estimation::expect_saved(r, "configured p0", params.noise.fixed.p0, owner);
-  estimation::expect_saved(r, "calibration_samples", static_cast<std::uint64_t>(params.noise.calibration_samples), owner);
-  estimation::expect_saved(r, "publish_every", static_cast<std::uint64_t>(params.publish_every), owner);
-  estimation::expect_saved(r, "fixed lag", static_cast<std::int32_t>(params.fixed_lag), owner);
+  stream_param_fields(estimation::RestoreFields{r}, params, owner.c_str());
 }
 
 std::size_t FactorStream::minimum_noise_calibration_samples(const estimation::ModelSpec& model) {

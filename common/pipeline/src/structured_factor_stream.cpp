@@ -191,14 +191,7 @@ template <class Io, class L>
 void learned_fields(Io io, L& l) {
   io(l.ready);
   io.template as<std::uint64_t>(l.samples);
-  io(l.centre);
-  io(l.order);
-  io(l.b0);
-  io(l.instantaneous_allowed);
-  io(l.problem);
-  io(l.order_confidence);
-  io(l.order_source);
-  io(l.order_summary);
+  io(l.centre, l.order, l.b0, l.instantaneous_allowed, l.problem, l.order_confidence, l.order_source, l.order_summary);
 }
 
 }  // namespace

@@ -108,5 +108,20 @@ bool valid_cell(ColumnType type, const std::string& text);
 std::string create_table_sql(const Table& t, bool postgres);
 std::vector<std::string> create_index_sql(const Table& t);
 std::string insert_sql(const Table& t, bool postgres);
+// Every CREATE TABLE and CREATE INDEX of tables(), in order (each backend runs them in one transaction).
+std::vector<std::string> create_schema_sql(bool postgres);
+
+// A statement and the SQL text of its parameters, each typed as the column it is compared with (SQLite binds
+// by type; PostgreSQL infers it from the column).
+struct BoundStatement {
+  std::string sql;
+  std::vector<std::pair<ColumnType, std::string>> values;
+};
+// The SELECT of RangeQuery q on t: its columns in order, ordered by time and then by key.
+BoundStatement select_sql(const Table& t, const RangeQuery& q, bool postgres);
+// apply_retention's DELETEs: one per table with a time of its own (recommendations have none: they are kept with
+// their alarms), of the rows before now_ns - days (a time_utc table compares the UTC text and keeps rows
+// without a time).
+std::vector<BoundStatement> retention_sql(double days, std::int64_t now_ns, bool postgres);
 
 }  // namespace causal::history

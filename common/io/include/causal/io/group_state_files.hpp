@@ -8,12 +8,17 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace causal::estimation {
 class StateWriter;
 }  // namespace causal::estimation
 
 namespace causal::io {
+
+// The regular files in `dir` whose names end in `suffix` (and are longer than it), sorted by path: a stable order,
+// so the same restart restores and republishes in the same order.
+std::vector<std::string> files_with_suffix(const std::string& dir, const std::string& suffix);
 
 class GroupStateFiles {
  public:
