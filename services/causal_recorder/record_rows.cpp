@@ -55,15 +55,6 @@ std::vector<std::string> alarm_row(const causal_twin::Alarm& a, std::optional<st
   return row.take_cells();
 }
 
-const char* action_name(causal_twin::AlarmActionKind kind) {
-  switch (kind) {
-    case causal_twin::ACKNOWLEDGE: return "acknowledge";
-    case causal_twin::SHELVE: return "shelve";
-    case causal_twin::UNSHELVE: return "unshelve";
-  }
-  return "unknown";
-}
-
 bool PrognosisLedger::accept(const causal_twin::Prognosis& p) {
   const std::string key = p.asset_group() + '\x1f' + std::to_string(p.channel()) + '\x1f' + p.level();
   auto [it, created] = last_.try_emplace(key, p.sample_index());

@@ -46,8 +46,6 @@ inline constexpr const char* kAssetStatusHistoryReader = "asset_status_history_r
 // acknowledge, shelve, unshelve, and shelvings that expired by themselves). Refused actions changed nothing: they
 // are counted, not stored.
 inline constexpr const char* kAlarmActionsFile = "alarm_actions.csv";
-// "acknowledge" | "shelve" | "unshelve".
-const char* action_name(causal_twin::AlarmActionKind kind);
 
 // Exactly once per key (asset group, channel, level) and snapshot: a prognosis whose sample_index is not
 // after the last one written for its key is a repeat (transient-local replay, re-publication after a restart).

@@ -291,8 +291,8 @@ void RecorderNode::on_action_result(const causal_twin::AlarmActionResult& in) {
   }
   if (!action_counts_.admit(action_repeats_.accept(in.request_id(), in.request_id()))) return;
   write_row(*actions_file_, history_.get(), "alarm_actions", row_of(in), action_counts_);
-  spdlog::info("alarm action {} {} on {} by '{}'", in.request_id(), action_name(in.action()), in.alarm_id(),
-               in.user_name());
+  spdlog::info("alarm action {} {} on {} by '{}'", in.request_id(), dds::to_string(in.action(), "unknown"),
+               in.alarm_id(), in.user_name());
 }
 
 void RecorderNode::flush_all() {

@@ -1,7 +1,5 @@
 #include "row_cells.hpp"
 
-#include "record_rows.hpp"
-
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/io/csv_format.hpp"
 #include "causal/io/time_format.hpp"
@@ -29,7 +27,7 @@ void RowCells::named(const char* name, causal_twin::AlarmState e, bool present) 
 }
 
 void RowCells::named(const char* name, causal_twin::AlarmActionKind e, bool present) {
-  push(name, present ? action_name(e) : "");
+  push(name, present ? dds::to_string(e, "unknown") : "");
 }
 
 void RowCells::push_integer(const char* name, std::int64_t v) { push(name, io::format_integer(v)); }

@@ -2,6 +2,8 @@
 
 #include "request_fields.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
+
 #include <cmath>
 
 namespace causal::web {
@@ -11,10 +13,6 @@ using nlohmann::json;
 namespace {
 
 constexpr double kMaxShelveMinutes = 10080.0;  // a week: alarm-recommender refuses longer shelvings
-
-const char* action_name(causal_twin::AlarmActionKind k) {
-  return k == causal_twin::SHELVE ? "shelve" : k == causal_twin::UNSHELVE ? "unshelve" : "acknowledge";
-}
 
 }  // namespace
 
@@ -59,7 +57,7 @@ json alarm_action_result_json(const causal_twin::AlarmActionResult& r) {
           {"request_id", r.request_id()},
           {"asset_group", r.asset_group()},
           {"alarm_id", r.alarm_id()},
-          {"action", action_name(r.action())},
+          {"action", dds::to_string(r.action(), "unknown")},
           {"user", r.user_name()},
           {"acknowledged", r.acknowledged()},
           {"shelved", r.shelved()},
