@@ -25,36 +25,6 @@ using causal::history::Row;
 
 namespace {
 
-// Gives every listed field its own value (text: its column name; numbers: the column's position), so a column
-// read into the wrong field, or not read, shows in the row written again.
-class FillFields {
- public:
-  void text(const char* name, std::string& s) { s = std::string(name) + " " + std::to_string(++n_); }
-  template <class T>
-  void integer(const char*, T& v) { v = static_cast<T>(++n_ * 7); }
-  void real(const char*, double& v) { v = ++n_ + 0.25; }
-  void hours(const char*, double& v, bool) { v = ++n_ + 0.5; }
-  void flag(const char*, bool& b) { b = (++n_ % 2) == 1; }
-  // 2004-02-12 10:32:39 UTC plus whole seconds (the UTC text keeps seconds).
-  void utc(const char*, std::int64_t& ns) { ns = (1076581959LL + ++n_) * 1'000'000'000LL; }
-  template <class E>
-  void named(const char*, E& e, bool = true) { e = static_cast<E>(++n_ % 3); }
-  void utc_copy(const char*, std::int64_t) {}
-  void derived(const char*, const std::string&) {}
-
- private:
-  int n_ = 0;
-};
-
-template <class Message>
-Message filled() {
-  Message m;
-  FillFields fill;
-  MessageFields<Message>::list(fill, m);
-  return m;
-}
-
-
 class HistoryView : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -151,6 +121,36 @@ TEST_F(HistoryView, ARangeComesFromTheDatabaseAndBadParametersAreRefusedByName) 
   causal::web::HistoryRoutes none(nullptr, 0);
   EXPECT_EQ(none.range("pump-7", "", "").status, 404);
 }
+
+// Gives every listed field its own value (text: its column name; numbers: the column's position), so a column
+// read into the wrong field, or not read, shows in the row written again.
+class FillFields {
+ public:
+  void text(const char* name, std::string& s) { s = std::string(name) + " " + std::to_string(++n_); }
+  template <class T>
+  void integer(const char*, T& v) { v = static_cast<T>(++n_ * 7); }
+  void real(const char*, double& v) { v = ++n_ + 0.25; }
+  void hours(const char*, double& v, bool) { v = ++n_ + 0.5; }
+  void flag(const char*, bool& b) { b = (++n_ % 2) == 1; }
+  // 2004-02-12 10:32:39 UTC plus whole seconds (the UTC text keeps seconds).
+  void utc(const char*, std::int64_t& ns) { ns = (1076581959LL + ++n_) * 1'000'000'000LL; }
+  template <class E>
+  void named(const char*, E& e, bool = true) { e = static_cast<E>(++n_ % 3); }
+  void utc_copy(const char*, std::int64_t) {}
+  void derived(const char*, const std::string&) {}
+
+ private:
+  int n_ = 0;
+};
+
+template <class Message>
+Message filled() {
+  Message m;
+  FillFields fill;
+  MessageFields<Message>::list(fill, m);
+  return m;
+}
+
 
 TEST_F(HistoryView, EveryRecordedFieldComesBackFromTheHistory) {
   using Integers = causal::web::RowFields::Integers;
