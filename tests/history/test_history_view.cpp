@@ -20,7 +20,6 @@
 #include <unistd.h>
 
 namespace fs = std::filesystem;
-using causal::dds::MessageFields;
 using causal::history::Row;
 
 namespace {
@@ -72,7 +71,7 @@ class HistoryView : public ::testing::Test {
   // fixture's rows are in the same tables).
   template <class Message>
   void expect_round_trip(const Message& m, causal::web::RowFields::Integers integers) {
-    const char* table = MessageFields<Message>::table;
+    const char* table = causal::dds::MessageFields<Message>::table;
     EXPECT_EQ(causal::recorder::header_of<Message>(), causal::history::table(table).column_names()) << table;
     store_->add(table, causal::recorder::csv_history_row(causal::recorder::row_of(m)));
     ASSERT_EQ(store_->commit(), 1u) << table;
@@ -147,7 +146,7 @@ template <class Message>
 Message filled() {
   Message m;
   FillFields fill;
-  MessageFields<Message>::list(fill, m);
+  causal::dds::MessageFields<Message>::list(fill, m);
   return m;
 }
 
