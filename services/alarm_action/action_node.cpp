@@ -1,6 +1,8 @@
 #include "action_node.hpp"
 
+#include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/topics.hpp"
+#include "causal/io/time_format.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -18,16 +20,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::int64_t wall_clock_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 std::string request_id() {
   char host[128] = "host";
   gethostname(host, sizeof host - 1);
   return std::string("causal-alarm-action/") + host + "/" + std::to_string(getpid()) + "/" +
-         std::to_string(wall_clock_ns());
+         std::to_string(io::utc_now_ns());
 }
 
 void check(const ActionOptions& o) {
@@ -38,10 +35,6 @@ void check(const ActionOptions& o) {
   if (o.alarm_id.empty()) throw std::invalid_argument("--alarm must not be empty");
   if (o.user.empty()) throw std::invalid_argument("--user must not be empty");
   if (o.shelve_minutes > 0.0 && o.reason.empty()) throw std::invalid_argument("--shelve needs --reason TEXT");
-}
-
-const char* verb(causal_twin::AlarmActionKind k) {
-  return k == causal_twin::SHELVE ? "shelve" : k == causal_twin::UNSHELVE ? "unshelve" : "acknowledge";
 }
 
 }  // namespace
@@ -61,7 +54,7 @@ causal_twin::AlarmAction ActionNode::action() const {
   a.alarm_id(options_.alarm_id);
   a.user_name(options_.user);
   a.reason(options_.reason);
-  a.time_ns(wall_clock_ns());
+  a.time_ns(io::utc_now_ns());
   if (options_.shelve_minutes > 0.0) {
     a.action(causal_twin::SHELVE);
     a.until_ns(a.time_ns() + static_cast<std::int64_t>(std::llround(options_.shelve_minutes * 60e9)));
@@ -95,11 +88,12 @@ int ActionNode::run() {
       if (r.request_id() == a.request_id()) result = r;
     });
     if (!result) continue;
+    const char* verb = dds::to_string(a.action(), "unknown");
     if (!result->applied()) {
-      std::printf("refused: %s %s: %s\n", verb(a.action()), a.alarm_id().c_str(), result->error().c_str());
+      std::printf("refused: %s %s: %s\n", verb, a.alarm_id().c_str(), result->error().c_str());
       return kRefused;
     }
-    std::printf("applied: %s %s by %s (acknowledged %s, shelved %s)\n", verb(a.action()), a.alarm_id().c_str(),
+    std::printf("applied: %s %s by %s (acknowledged %s, shelved %s)\n", verb, a.alarm_id().c_str(),
                 a.user_name().c_str(), result->acknowledged() ? "yes" : "no", result->shelved() ? "yes" : "no");
     return kApplied;
   }

@@ -2,6 +2,7 @@
 
 #include "causal/dds/topics.hpp"
 #include "causal/estimation/state_archive.hpp"
+#include "causal/io/time_format.hpp"
 #include "causal/metrics/metrics_registry.hpp"
 
 #include <chrono>
@@ -14,11 +15,6 @@ namespace causal::recommender {
 namespace am = alarm_management;
 
 namespace {
-
-std::int64_t wall_clock_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 am::ActionKind from_idl(causal_twin::AlarmActionKind k) {
   switch (k) {
@@ -112,7 +108,7 @@ void AlarmActionDesk::count(const am::ActionOutcome& o, bool entitled) {
 std::size_t AlarmActionDesk::poll(std::set<std::string>& changed, const std::atomic<bool>& stop) {
   std::size_t n = actions_.take_all([&](const causal_twin::AlarmAction& a, const auto& info) {
     ++received_;
-    const std::int64_t now = wall_clock_ns();
+    const std::int64_t now = io::utc_now_ns();
     causal_twin::AlarmActionResult r = echo(a);
     am::ActionOutcome o;
     const bool entitled = grants_.entitled(a.asset_group(), info.sample_identity.writer_guid());
@@ -145,7 +141,7 @@ std::size_t AlarmActionDesk::poll(std::set<std::string>& changed, const std::ato
     if (!o.repeated) save();  // its outcome is remembered even when refused (a re-delivery gets the same answer)
     publish(r, stop);
   });
-  const std::int64_t now = wall_clock_ns();
+  const std::int64_t now = io::utc_now_ns();
   const auto expired = manager_.expire(now);
   if (!expired.empty()) save();
   for (const auto& e : expired) {

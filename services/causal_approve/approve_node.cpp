@@ -1,6 +1,7 @@
 #include "approve_node.hpp"
 
 #include "causal/dds/topics.hpp"
+#include "causal/io/time_format.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -82,8 +83,7 @@ int ApproveNode::run() {
   if (latest_index_) start = *latest_index_ + options_.lead;
   if (options_.start_index) start = *options_.start_index;
   const std::int64_t start_time_ns = dds::start_time_of(start, latest_index_, latest_time_ns_, cadence_ns_);
-  const std::int64_t now_ns =
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const std::int64_t now_ns = io::utc_now_ns();
   dds::Approval a = dds::make_approval(*rec, {options_.asset_group, options_.user, options_.duration}, start, start_time_ns, now_ns);
   if (!a.why.empty()) {
     spdlog::error("not approved: {}", a.why);

@@ -32,6 +32,13 @@ history::Row csv_history_row(const std::vector<std::string>& csv_row) {
   return history::Row(csv_row.begin(), csv_row.end());
 }
 
+void write_row(io::CsvFile& file, HistorySink* history, const char* table, const std::vector<std::string>& row,
+               TopicCounts& counts) {
+  file.write_row(row);
+  if (history) history->add(table, csv_history_row(row));
+  ++counts.written;
+}
+
 HistorySink::HistorySink(const std::string& url, double retention_days)
     : store_(history::open_history(url)), retention_days_(retention_days) {
   spdlog::info("history: {}{}", store_->describe(),

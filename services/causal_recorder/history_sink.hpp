@@ -5,7 +5,10 @@
 // code 4 (an incomplete history).
 #pragma once
 
+#include "record_rows.hpp"
+
 #include "causal/history/history_store.hpp"
+#include "causal/io/csv_format.hpp"
 #include "causal_twin.h"
 
 #include <cstdint>
@@ -23,6 +26,12 @@ history::Row factor_history_row(const std::string& asset_group, const std::strin
                                 const std::vector<std::string>& header, const std::vector<std::string>& csv_row);
 // The other tables have the CSV's columns exactly: every cell as written.
 history::Row csv_history_row(const std::vector<std::string>& csv_row);
+
+class HistorySink;
+// One row written: to its CSV file and, with --db (history not null), to `table` (its columns are the file's);
+// counted in counts.written.
+void write_row(io::CsvFile& file, HistorySink* history, const char* table, const std::vector<std::string>& row,
+               TopicCounts& counts);
 
 class HistorySink {
  public:

@@ -29,11 +29,8 @@ namespace causal::recorder {
 inline constexpr const char* kInterventionsFile = "interventions.csv";
 inline constexpr const char* kInterventionOutcomesFile = "intervention_outcomes.csv";
 
-// Every field of Intervention / InterventionOutcome, in IDL order (times also as UTC).
-const std::vector<std::string>& intervention_header();
-std::vector<std::string> intervention_row(const causal_twin::Intervention& in);
-const std::vector<std::string>& intervention_outcome_header();
-std::vector<std::string> intervention_outcome_row(const causal_twin::InterventionOutcome& in);
+// Their columns: every field of Intervention / InterventionOutcome, in IDL order, times also as UTC
+// (header_of / row_of, row_cells.hpp).
 
 class InterventionTables {
  public:

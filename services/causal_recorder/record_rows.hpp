@@ -28,24 +28,25 @@ inline constexpr const char* kPrognosisFile = "prognosis.csv";
 std::vector<std::string> condition_header(const causal_twin::ConditionVector& in);
 std::vector<std::string> condition_row(const causal_twin::ConditionVector& in);
 
-// alarm_id,state,severity,kind,asset_group,channel,channel_name,sample_index,time_utc,raised_utc,
-// cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason,category,root_cause_confidence,
-// next_level,hours_to_next_level,hours_to_next_level_low,hours_to_next_level_high (empty hours: unknown)
-const std::vector<std::string>& alarm_header();
+// The other recorded topics: header_of<M>() and row_of(m) (row_cells.hpp) from their field lists
+// (causal/dds/message_fields.hpp), which twin-web reads back: alarms.csv, recommendations.csv, prognosis.csv,
+// asset_status.csv, alarm_actions.csv, interventions.csv and intervention_outcomes.csv, in the historian the tables
+// of the same names (MessageFields<M>::table). An alarm's row also needs its event time:
 // time_utc is the data time of this state change: the clearing time for CLEARED, the raising time for
 // RAISED, and for ESCALATED the time of sample_index when the caller knows it (evidence_time_ns, from the
 // asset's condition-level factors), else empty. Times that are 0 ("not set") give empty cells.
 std::vector<std::string> alarm_row(const causal_twin::Alarm& alarm, std::optional<std::int64_t> evidence_time_ns);
 
-// Every field of Recommendation, in IDL order.
-const std::vector<std::string>& recommendation_header();
-std::vector<std::string> recommendation_row(const causal_twin::Recommendation& r);
+inline constexpr const char* kAssetStatusFile = "asset_status.csv";
+// The recorder keeps every change of asset_status (the operator's line per asset group each time it changed):
+// a KEEP_ALL reader (deploy/dds/qos.xml); views use asset_status_reader (last value per group). Named here, not in
+// causal/dds/topics.hpp, as only the recorder reads the history.
+inline constexpr const char* kAssetStatusHistoryReader = "asset_status_history_reader";
+// alarm_actions.csv: one row per alarm action that alarm-recommender applied (causal_twin/alarm_action_result:
+// acknowledge, shelve, unshelve, and shelvings that expired by themselves). Refused actions changed nothing: they
+// are counted, not stored.
+inline constexpr const char* kAlarmActionsFile = "alarm_actions.csv";
 
-// asset_group,channel,channel_name,sample_index,time_utc,level,hours,hours_low,hours_high (the prognosis
-// interface: channel 1-based, level warning | critical | end_of_life, empty hours = unknown), then known,
-// reached,level_ratio,current_ratio,growth_per_hour,coverage,eta_utc,eta_low_utc,eta_high_utc,alarm_id,text.
-const std::vector<std::string>& prognosis_header();
-std::vector<std::string> prognosis_row(const causal_twin::Prognosis& p);
 // Exactly once per key (asset group, channel, level) and snapshot: a prognosis whose sample_index is not
 // after the last one written for its key is a repeat (transient-local replay, re-publication after a restart).
 class PrognosisLedger {
@@ -70,8 +71,12 @@ class RepeatFilter {
 };
 // What makes an alarm message new: its state, severity and sample_index.
 std::string alarm_signature(const causal_twin::Alarm& a);
-// A recommendation is new unless every recorded field is the same.
+// The cells of a row, joined: a row's signature where every recorded field makes a message new.
+std::string row_signature(const std::vector<std::string>& row);
+// A recommendation or an asset status is new unless every recorded field is the same (a repeat: a transient-local
+// replay, a re-match).
 std::string recommendation_signature(const causal_twin::Recommendation& r);
+std::string asset_status_signature(const causal_twin::AssetStatus& s);
 
 // What one recorded topic stream saw, for the exit log.
 struct TopicCounts {
@@ -79,6 +84,12 @@ struct TopicCounts {
   std::uint64_t written = 0;
   std::uint64_t duplicates = 0;  // already written: not written again
   std::uint64_t refused = 0;     // did not fit the file (or were inconsistent)
+  // Counts a message received and, unless is_new, a duplicate; returns is_new (write it).
+  bool admit(bool is_new) {
+    ++received;
+    if (!is_new) ++duplicates;
+    return is_new;
+  }
 };
 // "received 12, written 9, duplicates 2, refused 1"
 std::string describe(const TopicCounts& c);

@@ -59,11 +59,11 @@ RecorderNode::RecorderNode(RecorderOptions options)
   if (!options_.db_url.empty()) history_ = std::make_unique<HistorySink>(options_.db_url, options_.retention_days);
   // Alarms and recommendations always get a file: a header-only alarms.csv says "no alarms", which is
   // different from "not recorded".
-  alarms_ = open(kAlarmsFile, alarm_header());
-  recommendations_ = open(kRecommendationsFile, recommendation_header());
-  statuses_ = open(kAssetStatusFile, asset_status_header());
-  prognoses_ = open(kPrognosisFile, prognosis_header());
-  actions_file_ = open(kAlarmActionsFile, alarm_action_header());
+  alarms_ = open(kAlarmsFile, header_of<causal_twin::Alarm>());
+  recommendations_ = open(kRecommendationsFile, header_of<causal_twin::Recommendation>());
+  statuses_ = open(kAssetStatusFile, header_of<causal_twin::AssetStatus>());
+  prognoses_ = open(kPrognosisFile, header_of<causal_twin::Prognosis>());
+  actions_file_ = open(kAlarmActionsFile, header_of<causal_twin::AlarmActionResult>());
   interventions_ = std::make_unique<InterventionTables>(participant_, out_dir_, loop_, history_.get());
 }
 
@@ -261,70 +261,38 @@ void RecorderNode::write_ready_rows(FactorTable& table) {
 void RecorderNode::on_alarm(const causal_twin::Alarm& in) {
   std::optional<std::int64_t> evidence_time;
   if (auto it = clocks_.find(in.asset_group()); it != clocks_.end()) evidence_time = it->second.time_of(in.sample_index());
-  ++alarm_counts_.received;
-  if (!alarm_repeats_.accept(in.alarm_id(), alarm_signature(in))) {  // last value replayed or re-sent
-    ++alarm_counts_.duplicates;
-    return;
-  }
-  const auto row = alarm_row(in, evidence_time);
-  alarms_->write_row(row);
-  if (history_) history_->add("alarms", csv_history_row(row));
-  ++alarm_counts_.written;
+  // A repeat: the last value replayed or re-sent.
+  if (!alarm_counts_.admit(alarm_repeats_.accept(in.alarm_id(), alarm_signature(in)))) return;
+  write_row(*alarms_, history_.get(), "alarms", alarm_row(in, evidence_time), alarm_counts_);
   spdlog::info("alarm {} {} {}: {}", in.alarm_id(), dds::to_string(in.state(), "?"), dds::to_string(in.severity(), "?"), in.reason());
 }
 
 void RecorderNode::on_recommendation(const causal_twin::Recommendation& in) {
-  ++recommendation_counts_.received;
-  if (!recommendation_repeats_.accept(in.recommendation_id(), recommendation_signature(in))) {
-    ++recommendation_counts_.duplicates;
-    return;
-  }
-  const auto row = recommendation_row(in);
-  recommendations_->write_row(row);
-  if (history_) history_->add("recommendations", csv_history_row(row));
-  ++recommendation_counts_.written;
+  const bool is_new = recommendation_repeats_.accept(in.recommendation_id(), recommendation_signature(in));
+  if (!recommendation_counts_.admit(is_new)) return;
+  write_row(*recommendations_, history_.get(), "recommendations", row_of(in), recommendation_counts_);
 }
 
 void RecorderNode::on_status(const causal_twin::AssetStatus& in) {
-  ++status_counts_.received;
-  if (!status_repeats_.accept(in.asset_group(), asset_status_signature(in))) {
-    ++status_counts_.duplicates;
-    return;
-  }
-  const auto row = asset_status_row(in);
-  statuses_->write_row(row);
-  if (history_) history_->add("asset_status", csv_history_row(row));
-  ++status_counts_.written;
+  if (!status_counts_.admit(status_repeats_.accept(in.asset_group(), asset_status_signature(in)))) return;
+  write_row(*statuses_, history_.get(), "asset_status", row_of(in), status_counts_);
 }
 
 void RecorderNode::on_prognosis(const causal_twin::Prognosis& in) {
-  ++prognosis_counts_.received;
-  if (!prognosis_ledger_.accept(in)) {
-    ++prognosis_counts_.duplicates;
-    return;
-  }
-  const auto row = prognosis_row(in);
-  prognoses_->write_row(row);
-  if (history_) history_->add("prognoses", csv_history_row(row));
-  ++prognosis_counts_.written;
+  if (!prognosis_counts_.admit(prognosis_ledger_.accept(in))) return;
+  write_row(*prognoses_, history_.get(), "prognoses", row_of(in), prognosis_counts_);
 }
 
 void RecorderNode::on_action_result(const causal_twin::AlarmActionResult& in) {
-  ++action_counts_.received;
   if (!in.applied()) {
+    ++action_counts_.received;
     ++actions_not_applied_;
     return;
   }
-  if (!action_repeats_.accept(in.request_id(), in.request_id())) {
-    ++action_counts_.duplicates;
-    return;
-  }
-  const auto row = alarm_action_row(in);
-  actions_file_->write_row(row);
-  if (history_) history_->add("alarm_actions", csv_history_row(row));
-  ++action_counts_.written;
-  spdlog::info("alarm action {} {} on {} by '{}'", in.request_id(), action_name(in.action()), in.alarm_id(),
-               in.user_name());
+  if (!action_counts_.admit(action_repeats_.accept(in.request_id(), in.request_id()))) return;
+  write_row(*actions_file_, history_.get(), "alarm_actions", row_of(in), action_counts_);
+  spdlog::info("alarm action {} {} on {} by '{}'", in.request_id(), dds::to_string(in.action(), "unknown"),
+               in.alarm_id(), in.user_name());
 }
 
 void RecorderNode::flush_all() {

@@ -5,12 +5,11 @@
 // wrote, dropped as duplicate or refused, and the snapshot ranges it never got.
 #pragma once
 
-#include "action_rows.hpp"
 #include "factor_row_assembler.hpp"
 #include "history_sink.hpp"
 #include "intervention_rows.hpp"
 #include "record_rows.hpp"
-#include "status_rows.hpp"
+#include "row_cells.hpp"
 
 #include "causal/io/csv_format.hpp"
 

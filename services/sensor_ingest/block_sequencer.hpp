@@ -74,17 +74,14 @@ class BlockSequencer {
 
  private:
   struct Group {
-    std::vector<std::string> channels;
-    std::uint64_t last_source_sequence = 0;
+    // The numbering (what resume() restores and resume_point() saves); at.has_source_sequence: the source's
+    // sequence of the last block is known (a block taken, or restored).
+    ResumePoint at;
     std::int64_t last_t0_ns = 0;
     std::size_t last_samples = 0;
     double last_rate_hz = 0.0;
     bool segment_closed = false;  // the last block had end_of_segment
     bool resumed = false;         // numbering restored from a previous run, no block of this run yet
-    bool has_source = false;      // last_source_sequence is known (a block taken, or restored)
-    std::uint64_t next_sequence = 0;
-    std::uint64_t next_sample_index = 0;
-    std::uint64_t snapshot_index = 0;
   };
   Admission finish(Group& g, const IngestBlock& block, FramePlan& plan, Admission& a);
   // The first block after a restart (resume()): a new segment; blocks the source sent meanwhile and this process

@@ -35,24 +35,7 @@ void check_names(const std::string& path, const std::vector<std::string>& channe
   }
 }
 
-}  // namespace
-
-bool ReplayClock::pace(dds::SourceDriver& driver, std::int64_t plant_ns) {
-  if (!plant_origin_ns_) plant_origin_ns_ = plant_ns;
-  const double due_s = options_.speed > 0.0 ? static_cast<double>(plant_ns - *plant_origin_ns_) * 1e-9 / options_.speed : 0.0;
-  return driver.pace(due_s);
-}
-
-void ReplayClock::report_progress(const dds::SourceDriver& driver, std::size_t done, std::size_t total, bool force) const {
-  const auto now = std::chrono::steady_clock::now();
-  if (!force && std::chrono::duration<double>(now - last_progress_).count() < options_.progress_every_s) return;
-  last_progress_ = now;
-  const double elapsed = driver.elapsed_s();
-  const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
-  const double eta = rate > 0 ? static_cast<double>(total - done) / rate : 0.0;
-  spdlog::info("progress: {}/{} snapshots, {:.1f} snapshots/s, ETA {:.0f} s", done, total, rate, eta);
-}
-
+// The first snapshot to send again for a restarted estimator of `group`, or nullopt (nothing to resend).
 std::optional<std::size_t> rewind_point(const dds::PublishedSnapshots& published, const std::string& group,
                                         std::size_t first, std::size_t next, const std::vector<std::string>& who) {
   const auto it = published.find(group);
@@ -64,16 +47,49 @@ std::optional<std::size_t> rewind_point(const dds::PublishedSnapshots& published
   return resume;
 }
 
+}  // namespace
+
+void ReplaySource::select(std::size_t available) {
+  first_ = std::min(options_.first_snapshot, available);
+  last_ = available;
+  if (options_.max_snapshots > 0) last_ = std::min(last_, first_ + options_.max_snapshots);
+  next_ = first_;
+}
+
+bool ReplaySource::rewound(dds::SourceDriver& driver) {
+  const auto published = driver.restarted();
+  if (!published) return false;
+  const auto resume = rewind_point(*published, options_.asset_group, first_, next_, options_.wait.wait_for);
+  if (!resume) return false;
+  ++rewinds_;
+  next_ = *resume;
+  return true;
+}
+
+bool ReplaySource::pace(dds::SourceDriver& driver, std::int64_t plant_ns) {
+  if (!plant_origin_ns_) plant_origin_ns_ = plant_ns;
+  const double due_s = options_.speed > 0.0 ? static_cast<double>(plant_ns - *plant_origin_ns_) * 1e-9 / options_.speed : 0.0;
+  return driver.pace(due_s);
+}
+
+void ReplaySource::report_progress(std::size_t done, bool force) const {
+  const auto now = std::chrono::steady_clock::now();
+  if (!force && std::chrono::duration<double>(now - last_progress_).count() < options_.progress_every_s) return;
+  last_progress_ = now;
+  const std::size_t total = last_ - first_;
+  const double elapsed = driver_->elapsed_s();
+  const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
+  const double eta = rate > 0 ? static_cast<double>(total - done) / rate : 0.0;
+  spdlog::info("progress: {}/{} snapshots, {:.1f} snapshots/s, ETA {:.0f} s", done, total, rate, eta);
+}
+
 void SnapshotReplay::start(dds::SourceDriver& driver) {
   driver_ = &driver;
   source_ = options_.source == SourceKind::ImsDirectory
                 ? open_ims_directory(options_.path, options_.channels, options_.channel_names)
                 : open_channel_csv(options_.path, options_.channels, options_.channel_names);
   check_names(options_.path, source_->channel_names());
-  first_ = std::min(options_.first_snapshot, source_->size());
-  last_ = source_->size();
-  if (options_.max_snapshots > 0) last_ = std::min(last_, first_ + options_.max_snapshots);
-  next_ = first_;
+  select(source_->size());
   spdlog::info("replaying {} snapshot(s) of {} from {} as asset group '{}', channels [{}], {} samples per frame, "
                "speed {}",
                last_ - first_, source_->size(), options_.path, options_.asset_group,
@@ -89,13 +105,8 @@ dds::Take SnapshotReplay::next(dds::SourceDriver& driver, dds::SourceBlock& out)
   while (!driver.stopping()) {
     if (!loaded_) {
       if (next_ >= last_) return dds::Take::End;
-      if (const auto published = driver.restarted()) {
-        if (const auto resume = rewind_point(*published, options_.asset_group, first_, next_, options_.wait.wait_for)) {
-          ++rewinds_;
-          next_ = *resume;
-          driver.renumber_from(options_.asset_group, next_);  // its frames keep their sample indices
-        }
-      }
+      // Frames sent again keep their sample indices.
+      if (rewound(driver)) driver.renumber_from(options_.asset_group, next_);
       snapshot_ = source_->load(next_);
       row_ = 0;
       loaded_ = true;
@@ -104,7 +115,7 @@ dds::Take SnapshotReplay::next(dds::SourceDriver& driver, dds::SourceBlock& out)
     if (row_ >= n) {  // the snapshot is out
       ++snapshots_sent_;
       spdlog::debug("snapshot {} ({}) published", snapshot_.name, io::format_utc(snapshot_.time_ns));
-      clock_.report_progress(driver, next_ + 1 - first_, last_ - first_, false);
+      report_progress(next_ + 1 - first_, false);
       ++next_;
       loaded_ = false;
       continue;
@@ -116,7 +127,7 @@ dds::Take SnapshotReplay::next(dds::SourceDriver& driver, dds::SourceBlock& out)
         snapshot_.time_ns + static_cast<std::int64_t>(static_cast<double>(row_) * (1e9 / options_.sample_rate_hz));
     header_.discontinuity = (row_ == 0);  // every snapshot starts a new contiguous segment
     header_.end_of_segment = (row_ + rows == n);
-    if (!clock_.pace(driver, header_.first_sample_time_ns)) return dds::Take::End;
+    if (!pace(driver, header_.first_sample_time_ns)) return dds::Take::End;
     out.kind = dds::SourceBlock::Kind::Frame;
     out.frame = header_;
     out.samples = &snapshot_.samples;
@@ -134,7 +145,7 @@ void SnapshotReplay::written(const dds::SourceBlock& block, dds::WriteResult res
 
 void SnapshotReplay::summary(const dds::SourceCounts& counts, bool stopped) const {
   if (!driver_) return;  // never started (no readers)
-  clock_.report_progress(*driver_, last_ - first_, last_ - first_, true);
+  report_progress(last_ - first_, true);
   spdlog::info("published {} frames ({} samples per channel) in {:.2f} s{}", counts.frames, samples_sent_,
                driver_->elapsed_s(), stopped ? " (stopped early)" : "");
   spdlog::info("summary topic=causal_twin/vibration_frame sent={} snapshots={} rewinds={}", counts.frames,
@@ -169,27 +180,19 @@ void FeatureTableReplay::start(dds::SourceDriver& driver) {
   header_.channel_names = select_names(table.channel_names, options_.channels, options_.channel_names);
   check_names(options_.path, header_.channel_names);
   const auto rows = static_cast<std::size_t>(values_.rows());
-  first_ = std::min(options_.first_snapshot, rows);
-  last_ = rows;
-  if (options_.max_snapshots > 0) last_ = std::min(last_, first_ + options_.max_snapshots);
-  next_ = first_;
+  select(rows);
   spdlog::info("replaying {} condition vector(s) of {} ('{}') from {} as asset group '{}'", last_ - first_, rows,
                header_.feature, options_.path, options_.asset_group);
 }
 
 dds::Take FeatureTableReplay::next(dds::SourceDriver& driver, dds::SourceBlock& out) {
   if (driver.stopping() || next_ >= last_) return dds::Take::End;
-  if (const auto published = driver.restarted()) {
-    if (const auto resume = rewind_point(*published, options_.asset_group, first_, next_, options_.wait.wait_for)) {
-      ++rewinds_;
-      next_ = *resume;
-    }
-  }
+  rewound(driver);  // condition vectors are numbered by their snapshot index: nothing to renumber
   const std::size_t i = next_++;
   header_.snapshot_index = i;
   header_.time_ns = time_ns_[i];
   header_.discontinuity = (i == first_) || after_gap_[i];
-  if (!clock_.pace(driver, header_.time_ns)) return dds::Take::End;
+  if (!pace(driver, header_.time_ns)) return dds::Take::End;
   out.kind = dds::SourceBlock::Kind::Condition;
   out.condition = header_;
   out.values = values_.row(static_cast<Eigen::Index>(i)).transpose();
@@ -199,12 +202,12 @@ dds::Take FeatureTableReplay::next(dds::SourceDriver& driver, dds::SourceBlock& 
 void FeatureTableReplay::written(const dds::SourceBlock&, dds::WriteResult result, const causal_twin::VibrationFrame*) {
   if (result != dds::WriteResult::Ok) return;
   ++sent_;
-  clock_.report_progress(*driver_, sent_, last_ - first_, false);
+  report_progress(sent_, false);
 }
 
 void FeatureTableReplay::summary(const dds::SourceCounts& counts, bool stopped) const {
   if (!driver_) return;  // never started (no readers)
-  clock_.report_progress(*driver_, sent_, last_ - first_, true);
+  report_progress(sent_, true);
   spdlog::info("published {} condition vectors in {:.2f} s{}", counts.conditions, driver_->elapsed_s(),
                stopped ? " (stopped early)" : "");
   spdlog::info("summary topic=causal_twin/condition_input sent={} rewinds={} time_gaps={}", counts.conditions, rewinds_,

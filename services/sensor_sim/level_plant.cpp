@@ -1,5 +1,7 @@
 #include "level_plant.hpp"
 
+#include "seed_mix.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,14 +10,6 @@
 namespace causal::sim {
 
 namespace {
-
-// SplitMix64 finaliser (as svar_generator.cpp): (seed, group) -> a well-separated generator seed.
-std::uint64_t mix(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ULL;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
 
 constexpr int kCausalOrder[LevelPlant::kChannels] = {1, 0, 2};  // channel 2 before channel 1 (A0(0, 1) != 0)
 

@@ -1,9 +1,10 @@
 #include "sim_node.hpp"
 
+#include "causal/io/time_format.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 
 namespace causal::sim {
@@ -51,8 +52,7 @@ void SvarFrames::start(dds::SourceDriver& driver) {
                options_.rate_hz > 0 ? fmt::format("{} samples/s per group", options_.rate_hz)
                                     : std::string("as fast as possible"));
   if (options_.wall_clock_stamps) {
-    options_.start_time_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                 std::chrono::system_clock::now().time_since_epoch()).count();
+    options_.start_time_ns = io::utc_now_ns();
   }
 }
 

@@ -1,5 +1,7 @@
 #include "svar_generator.hpp"
 
+#include "seed_mix.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
@@ -10,14 +12,6 @@
 namespace causal::sim {
 
 namespace {
-
-// SplitMix64 finaliser: turns (seed, group, stream) into well-separated generator seeds.
-std::uint64_t mix(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ULL;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
 
 enum Stream : std::uint64_t { kModelStream = 1, kNoiseStream = 2 };
 

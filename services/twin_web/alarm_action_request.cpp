@@ -1,6 +1,8 @@
 #include "alarm_action_request.hpp"
 
-#include "causal/dds/sample_limits.hpp"
+#include "request_fields.hpp"
+
+#include "causal/dds/alarm_conversions.hpp"
 
 #include <cmath>
 
@@ -12,34 +14,17 @@ namespace {
 
 constexpr double kMaxShelveMinutes = 10080.0;  // a week: alarm-recommender refuses longer shelvings
 
-// The string field `key` of `body`: "" when absent; false when present but not a string or too long.
-bool text_field(const json& body, const char* key, std::size_t max_bytes, std::string& out) {
-  out.clear();
-  if (!body.contains(key)) return true;
-  if (!body[key].is_string()) return false;
-  out = body[key].get<std::string>();
-  return out.size() <= max_bytes;
-}
-
-const char* action_name(causal_twin::AlarmActionKind k) {
-  return k == causal_twin::SHELVE ? "shelve" : k == causal_twin::UNSHELVE ? "unshelve" : "acknowledge";
-}
-
 }  // namespace
 
 std::string parse_alarm_action(const json& body, const std::string& authenticated_user, std::int64_t now_ns,
                                causal_twin::AlarmAction& out) {
   if (!body.is_object()) return "the body must be a JSON object";
   std::string group, alarm, action, reason, user;
-  if (!text_field(body, "asset_group", dds::kMaxIdBytes, group) || group.empty()) {
-    return "asset_group (string) is required";
-  }
-  if (!text_field(body, "alarm_id", dds::kMaxIdBytes, alarm) || alarm.empty()) return "alarm_id (string) is required";
+  if (auto why = required_id(body, "asset_group", group); !why.empty()) return why;
+  if (auto why = required_id(body, "alarm_id", alarm); !why.empty()) return why;
   if (!text_field(body, "action", 16, action)) return "action must be acknowledge, shelve or unshelve";
   if (!text_field(body, "reason", 255, reason)) return "reason must be a string of at most 255 bytes";
-  if (!text_field(body, "user", 64, user)) return "user must be a string of at most 64 bytes";
-  if (!authenticated_user.empty()) user = authenticated_user;
-  if (user.empty()) return "user (string) is required";
+  if (auto why = acting_user(body, authenticated_user, user); !why.empty()) return why;
   out.asset_group(group);
   out.alarm_id(alarm);
   out.user_name(user);
@@ -72,7 +57,7 @@ json alarm_action_result_json(const causal_twin::AlarmActionResult& r) {
           {"request_id", r.request_id()},
           {"asset_group", r.asset_group()},
           {"alarm_id", r.alarm_id()},
-          {"action", action_name(r.action())},
+          {"action", dds::to_string(r.action(), "unknown")},
           {"user", r.user_name()},
           {"acknowledged", r.acknowledged()},
           {"shelved", r.shelved()},

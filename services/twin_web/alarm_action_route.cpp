@@ -29,7 +29,7 @@ void WebServer::alarm_action_route() {
       return;
     }
     causal_twin::AlarmAction action;
-    if (const std::string problem = parse_alarm_action(body, guard_->user(), wall_clock_ns(), action);
+    if (const std::string problem = parse_alarm_action(body, guard_->user(), io::utc_now_ns(), action);
         !problem.empty()) {
       send_json(res, 400, {{"answered", false}, {"error", problem}});
       return;

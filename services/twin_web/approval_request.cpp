@@ -1,6 +1,6 @@
 #include "approval_request.hpp"
 
-#include "causal/dds/sample_limits.hpp"
+#include "request_fields.hpp"
 
 #include <cmath>
 
@@ -12,29 +12,14 @@ namespace {
 
 constexpr double kMaxDuration = 1000000.0;  // snapshots, as causal-approve --duration
 
-// The string field `key` of `body`: "" when absent; false when present but not a string or too long.
-bool text_field(const json& body, const char* key, std::size_t max_bytes, std::string& out) {
-  out.clear();
-  if (!body.contains(key)) return true;
-  if (!body[key].is_string()) return false;
-  out = body[key].get<std::string>();
-  return out.size() <= max_bytes;
-}
-
 }  // namespace
 
 std::string parse_approval(const json& body, const std::string& authenticated_user, ApprovalAsk& out) {
   if (!body.is_object()) return "the body must be a JSON object";
   std::string group, rec, user;
-  if (!text_field(body, "asset_group", dds::kMaxIdBytes, group) || group.empty()) {
-    return "asset_group (string) is required";
-  }
-  if (!text_field(body, "recommendation_id", dds::kMaxIdBytes, rec) || rec.empty()) {
-    return "recommendation_id (string) is required";
-  }
-  if (!text_field(body, "user", 64, user)) return "user must be a string of at most 64 bytes";
-  if (!authenticated_user.empty()) user = authenticated_user;
-  if (user.empty()) return "user (string) is required";
+  if (auto why = required_id(body, "asset_group", group); !why.empty()) return why;
+  if (auto why = required_id(body, "recommendation_id", rec); !why.empty()) return why;
+  if (auto why = acting_user(body, authenticated_user, user); !why.empty()) return why;
   out = ApprovalAsk{};
   if (body.contains("duration_snapshots")) {
     const json& d = body["duration_snapshots"];

@@ -35,7 +35,7 @@ void WebServer::approve_route() {
     if (!ask.act.duration && options_.approval_duration > 0) ask.act.duration = options_.approval_duration;
     const PlannedApproval plan = plan_approval(ask, state_.group(ask.act.asset_group),
                                                clock_->latest(ask.act.asset_group), options_.approval_lead,
-                                               wall_clock_ns());
+                                               io::utc_now_ns());
     if (plan.status != 200) {
       send_json(res, plan.status, {{"answered", false}, {"error", plan.why}, {"already", plan.already}});
       return;

@@ -1,14 +1,21 @@
 // twin-web's history (--db): rows of a real SQLite history become the live view's state (history_loader) and
-// /api/history answers ranges (history_routes). Alarm events come back in the order they happened even when an
+// /api/history answers ranges (history_routes). One field list per recorded message (causal/dds/message_fields.hpp)
+// serves both sides: causal-recorder's header is the table's column list, and a message it writes comes back from
+// twin-web's reader with every recorded field equal. Alarm events come back in the order they happened even when an
 // escalation's time is unknown; an index gap stays a gap in the trend; a bad range parameter is refused by name.
+#include "history_cells.hpp"
 #include "history_loader.hpp"
 #include "history_routes.hpp"
+#include "history_sink.hpp"
+#include "row_cells.hpp"
 
+#include "causal/dds/message_fields.hpp"
 #include "causal/history/history_store.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <unistd.h>
 
@@ -60,6 +67,22 @@ class HistoryView : public ::testing::Test {
     set("category", "degradation");
     return r;
   }
+  // Written as causal-recorder writes it, read back as twin-web reads it (the message's own asset group: the
+  // fixture's rows are in the same tables).
+  template <class Message>
+  void expect_round_trip(const Message& m, causal::web::RowFields::Integers integers) {
+    const char* table = causal::dds::MessageFields<Message>::table;
+    EXPECT_EQ(causal::recorder::header_of<Message>(), causal::history::table(table).column_names()) << table;
+    store_->add(table, causal::recorder::csv_history_row(causal::recorder::row_of(m)));
+    ASSERT_EQ(store_->commit(), 1u) << table;
+    causal::history::RangeQuery q;
+    q.asset_group = m.asset_group();
+    const auto rows = store_->select(causal::history::table(table), q);
+    ASSERT_EQ(rows.size(), 1u) << table;
+    const auto back = causal::web::message_from_row<Message>(rows[0], integers);
+    ASSERT_TRUE(back.has_value()) << table;
+    EXPECT_EQ(causal::recorder::row_of(*back), causal::recorder::row_of(m)) << table;
+  }
   fs::path dir_;
   std::unique_ptr<causal::history::HistoryStore> store_;
 };
@@ -96,6 +119,73 @@ TEST_F(HistoryView, ARangeComesFromTheDatabaseAndBadParametersAreRefusedByName) 
   EXPECT_EQ(routes.range("pump-7", "2004-02-13", "2004-02-12").status, 400);
   causal::web::HistoryRoutes none(nullptr, 0);
   EXPECT_EQ(none.range("pump-7", "", "").status, 404);
+}
+
+// Gives every listed field its own value (text: its column name; numbers: the column's position), so a column
+// read into the wrong field, or not read, shows in the row written again.
+class FillFields {
+ public:
+  void text(const char* name, std::string& s) { s = std::string(name) + " " + std::to_string(++n_); }
+  template <class T>
+  void integer(const char*, T& v) { v = static_cast<T>(++n_ * 7); }
+  void real(const char*, double& v) { v = ++n_ + 0.25; }
+  void hours(const char*, double& v, bool) { v = ++n_ + 0.5; }
+  void flag(const char*, bool& b) { b = (++n_ % 2) == 1; }
+  // 2004-02-12 10:32:39 UTC plus whole seconds (the UTC text keeps seconds).
+  void utc(const char*, std::int64_t& ns) { ns = (1076581959LL + ++n_) * 1'000'000'000LL; }
+  template <class E>
+  void named(const char*, E& e, bool = true) { e = static_cast<E>(++n_ % 3); }
+  void utc_copy(const char*, std::int64_t) {}
+  void derived(const char*, const std::string&) {}
+
+ private:
+  int n_ = 0;
+};
+
+template <class Message>
+Message filled() {
+  Message m;
+  FillFields fill;
+  causal::dds::MessageFields<Message>::list(fill, m);
+  return m;
+}
+
+
+TEST_F(HistoryView, EveryRecordedFieldComesBackFromTheHistory) {
+  using Integers = causal::web::RowFields::Integers;
+  expect_round_trip(filled<causal_twin::Alarm>(), Integers::ZeroWhenEmpty);
+  expect_round_trip(filled<causal_twin::Recommendation>(), Integers::ZeroWhenEmpty);
+  expect_round_trip(filled<causal_twin::Prognosis>(), Integers::ZeroWhenEmpty);
+  expect_round_trip(filled<causal_twin::AssetStatus>(), Integers::ZeroWhenEmpty);
+  expect_round_trip(filled<causal_twin::Intervention>(), Integers::Required);
+  expect_round_trip(filled<causal_twin::InterventionOutcome>(), Integers::Required);
+  // Alarm actions are written, not read back by twin-web: their header is the table's all the same.
+  EXPECT_EQ(causal::recorder::header_of<causal_twin::AlarmActionResult>(),
+            causal::history::table("alarm_actions").column_names());
+}
+
+TEST_F(HistoryView, UnknownHoursAndNoOpenAlarmStayUnknown) {
+  auto a = filled<causal_twin::Alarm>();
+  a.next_level("");  // no level ahead: the hours are not written, and read back as unknown
+  const auto row = causal::recorder::row_of(a);
+  EXPECT_EQ(row[19], "");
+  auto s = filled<causal_twin::AssetStatus>();
+  s.has_alarm(false);  // no open alarm: no worst severity
+  const auto status_row = causal::recorder::row_of(s);
+  EXPECT_EQ(status_row[7], "");
+  store_->add("alarms", causal::recorder::csv_history_row(row));
+  store_->add("asset_status", causal::recorder::csv_history_row(status_row));
+  ASSERT_EQ(store_->commit(), 2u);
+  causal::history::RangeQuery q;
+  q.asset_group = a.asset_group();
+  const auto alarm = causal::web::alarm_from_row(store_->select(causal::history::table("alarms"), q).at(0));
+  ASSERT_TRUE(alarm.has_value());
+  EXPECT_TRUE(std::isnan(alarm->hours_to_next_level()));
+  q.asset_group = s.asset_group();
+  const auto status = causal::web::status_from_row(store_->select(causal::history::table("asset_status"), q).at(0));
+  ASSERT_TRUE(status.has_value());
+  EXPECT_FALSE(status->has_alarm());
+  EXPECT_EQ(status->worst_severity(), causal_twin::Severity{});
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // What the recorder writes per topic: file names, condition / alarm / recommendation rows, quoting.
 #include "record_rows.hpp"
+#include "row_cells.hpp"
 
 #include "causal/io/csv_format.hpp"
 #include "causal/io/file_names.hpp"
@@ -64,8 +65,8 @@ TEST(RecordRows, ConditionRow) {
 
 TEST(RecordRows, AlarmRowQuotesTextAndFormatsTimes) {
   const auto a = make_alarm();
-  ASSERT_EQ(alarm_header().size(), 22u);
-  EXPECT_EQ(csv_line(alarm_header()),
+  ASSERT_EQ(header_of<causal_twin::Alarm>().size(), 22u);
+  EXPECT_EQ(csv_line(header_of<causal_twin::Alarm>()),
             "alarm_id,state,severity,kind,asset_group,channel,channel_name,sample_index,time_utc,raised_utc,"
             "cleared_utc,root_cause_channel,root_cause_name,score,threshold,reason,category,root_cause_confidence,"
             "next_level,hours_to_next_level,hours_to_next_level_low,hours_to_next_level_high\n");
@@ -90,7 +91,7 @@ TEST(RecordRows, AlarmRowCarriesTheNextLevel) {
 }
 
 TEST(RecordRows, PrognosisRowStartsWithTheInterfaceColumns) {
-  const std::string head = csv_line(prognosis_header());
+  const std::string head = csv_line(header_of<causal_twin::Prognosis>());
   EXPECT_EQ(head.rfind("asset_group,channel,channel_name,sample_index,time_utc,level,hours,hours_low,hours_high,", 0), 0u)
       << head;
   causal_twin::Prognosis p;
@@ -105,8 +106,8 @@ TEST(RecordRows, PrognosisRowStartsWithTheInterfaceColumns) {
   p.hours_low(6.0);
   p.hours_high(20.0);
   p.eta_time_ns(kT0 + 630 * kMin);
-  const auto row = prognosis_row(p);
-  ASSERT_EQ(row.size(), prognosis_header().size());
+  const auto row = row_of(p);
+  ASSERT_EQ(row.size(), header_of<causal_twin::Prognosis>().size());
   EXPECT_EQ(row[0], "ims2");
   EXPECT_EQ(row[1], "1");
   EXPECT_EQ(row[3], "600");
@@ -119,7 +120,7 @@ TEST(RecordRows, PrognosisRowStartsWithTheInterfaceColumns) {
   p.hours(std::numeric_limits<double>::quiet_NaN());
   p.hours_low(std::numeric_limits<double>::quiet_NaN());
   p.hours_high(std::numeric_limits<double>::quiet_NaN());
-  const auto unknown = prognosis_row(p);
+  const auto unknown = row_of(p);
   EXPECT_EQ(unknown[6], "");
   EXPECT_EQ(unknown[7], "");
   EXPECT_EQ(unknown[8], "");
@@ -193,8 +194,8 @@ TEST(RecordRows, RecommendationRowHasEveryField) {
   r.horizon_hours(2.0);
   r.order_confidence(0.92);
   r.order_source("learned");
-  EXPECT_EQ(recommendation_header().size(), 34u);
-  EXPECT_EQ(csv_line(recommendation_row(r)),
+  EXPECT_EQ(header_of<causal_twin::Recommendation>().size(), 34u);
+  EXPECT_EQ(csv_line(row_of(r)),
             "x/1,x,g,1,2,3,-0.5,-0.25,-0.4,-0.6,-0.2,0.9,\"reduce load on Bearing 3, then re-check\",horizon,12,0.993,400,37,"
             "0.0925,-0.3,-25.9,-45.1,-18.1,-0.02,true,\"after 12 snapshots: -25.9 % [-45.1, -18.1] (90 %)\",533,"
             "\"Reduce Bearing 3 by 10 %, then re-check\",upstream_lever,3,Bearing 3,2,0.92,learned\n");

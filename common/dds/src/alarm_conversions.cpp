@@ -46,6 +46,15 @@ const char* to_string(causal_twin::AlarmState s, const char* unknown) {
   return core ? alarms::to_string(*core) : unknown;
 }
 
+const char* to_string(causal_twin::AlarmActionKind k, const char* unknown) {
+  switch (k) {
+    case causal_twin::ACKNOWLEDGE: return "acknowledge";
+    case causal_twin::SHELVE: return "shelve";
+    case causal_twin::UNSHELVE: return "unshelve";
+  }
+  return unknown;
+}
+
 namespace {
 std::string name_of(const std::vector<std::string>& names, int channel) {
   return channel >= 0 && static_cast<std::size_t>(channel) < names.size() ? names[static_cast<std::size_t>(channel)]
