@@ -197,7 +197,6 @@ void BM_FramePathStartup(benchmark::State& state) {
     if (pipe.sample_stream() == nullptr || !pipe.sample_stream()->calibrated()) state.SkipWithError("not calibrated");
     benchmark::DoNotOptimize(out.sample_reports.data());
   }
-  state.counters["frames"] = static_cast<double>(frames_needed);
 }
 BENCHMARK(BM_FramePathStartup)->Unit(benchmark::kMillisecond);
 
