@@ -3,6 +3,8 @@
 #  (k) the kernel: BM_SampleLevelFactorStream at the fixed lag of estimator.yaml (one group's sample-level work,
 #      filter + fixed-lag smoother, CPU time) -> kernel_per_frame_us (per 1024-sample frame) and kernel_groups
 #      (the groups one core could serve at the IMS rate, 20 frames/s each); BM_FilterStep G=4 M=1 for the record;
+#      in the same run BM_FramePath: the estimator's whole per-frame work without DDS (AssetPipeline::feed_frame) and
+#      its stages, and one group's start-up -> "frame path" line (not in the last line);
 #  (a) raw Fast DDS: causal_bench_raw_dds, the pipeline's VibrationFrame (4 channels x 1024 samples, 32 KiB),
 #      the same groups (instances), QoS profiles and loopback transport, no estimation -> frames/s;
 #  (b) the pipeline end to end, for 1 and 2 estimator shards (hash slices, content-filtered readers):
@@ -47,7 +49,7 @@ while [ $# -gt 0 ]; do
     --transport) TRANSPORT_ARG="$2"; shift ;;
     --shards) SHARDS_ARG="$2"; shift ;;
     --live-shards) LIVE_SHARDS_ARG="$2"; shift ;;
-    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
     *) echo "bench_scale.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -105,7 +107,8 @@ echo "bench_scale: $(date -u +%FT%TZ) on $(nproc) cores, $(uptime | sed 's/.*loa
 # (k) the kernel, same model (G = 4 channels, M = 1) and fixed lag as the estimator's sample level -----------------
 FAILED=0
 LAG=$(awk '/^sample_level:/ { s = 1; next } /^[a-z_]+:/ { s = 0 } s && $1 == "fixed_lag:" { print $2; exit }' "$PARAMS")
-"$KERNEL" --benchmark_filter="BM_SampleLevelFactorStream/L:${LAG}\$" --benchmark_min_time="$BENCH_TIME" \
+# In the same run: the estimator's whole per-frame work without DDS, stage by stage (tests/bench/bench_frame_path.cpp).
+"$KERNEL" --benchmark_filter="BM_SampleLevelFactorStream/L:${LAG}\$|BM_FramePath" --benchmark_min_time="$BENCH_TIME" \
   --benchmark_format=csv > "$WORK/kernel.csv" 2> "$WORK/kernel.err"
 # items_per_second is per CPU second (Google Benchmark's default): the kernel's CPU per 1024-sample frame.
 KERNEL_IPS=$(awk -F, '/^"BM_SampleLevelFactorStream/ { print $7 }' "$WORK/kernel.csv" | head -n1)
@@ -119,6 +122,16 @@ K_GROUPS=$(awk -v k="$K_US" -v r="$IMS_FPS" 'BEGIN { printf "%d", (k > 0 ? 1e6 /
   > "$WORK/filter_step.csv" 2>/dev/null
 STEP_NS=$(awk -F, '/^"BM_FilterStep/ { printf "%.1f", $4 }' "$WORK/filter_step.csv" | head -n1)
 echo "kernel: BM_SampleLevelFactorStream/L:$LAG ${K_US} us CPU per ${FRAME}-sample frame -> ${K_GROUPS} groups per core at ${IMS_FPS} frames/s; BM_FilterStep/G:4/M:1 ${STEP_NS:-?} ns CPU per sample vector"
+stage_us() {  # stage_us N: CPU us per 1024-sample frame of BM_FramePath/stage:N ("?" when not built)
+  awk -F, -v n="\"BM_FramePath/stage:$1\"" -v f="$FRAME" '$1 == n && $7 > 0 { printf "%.1f", f / $7 * 1e6; found = 1 }
+    END { if (!found) printf "?" }' "$WORK/kernel.csv"
+}
+PATH_US=$(stage_us 0)
+STARTUP_MS=$(awk -F, '$1 == "\"BM_FramePathStartup\"" { printf "%.1f", $4 * ($5 == "ms" ? 1 : ($5 == "us" ? 1e-3 : 1e-6)) }' "$WORK/kernel.csv")
+echo "frame path (no DDS, same run as the kernel): AssetPipeline::feed_frame ${PATH_US} us per frame" \
+  "($(awk -v p="$PATH_US" -v k="$K_US" 'BEGIN { if (p + 0 > 0 && k > 0) printf "%.2f", p / k; else printf "?" }') x kernel):" \
+  "copy $(stage_us 1), copy + input screen $(stage_us 2), sample level $(stage_us 3), condition features $(stage_us 4) us;" \
+  "one group's start-up (noise tuning on its first 4096 samples) ${STARTUP_MS:-?} ms CPU"
 
 # (a) raw Fast DDS ------------------------------------------------------------------------------------------
 "$RAW" --domain 230 --groups "$TP_GROUPS" --frames-per-group "$TP_FRAMES" --channels "$CHANNELS" \
@@ -297,14 +310,17 @@ echo "targets: live_efficiency $E >= 0.5 $(met "$E >= 0.5"); cpu_per_frame_us $C
 # Missed targets: by how much, and why (the evidence: docs/scale-and-benchmarks.md, "Latency spikes" and
 # "Estimator CPU per frame").
 if ! awk "BEGIN { exit !($CPU_US <= 1.5 * $K_US) }"; then
+  # Where C goes: the pipeline's own work (line "frame path"), the start-up spread over this run's frames, the rest.
+  STARTUP_US=$(awk -v m="${STARTUP_MS:-0}" -v n="$TP_FRAMES" 'BEGIN { printf "%.1f", m * 1e3 / n }')
+  REST_US=$(awk -v c="$CPU_US" -v p="$PATH_US" -v s="$STARTUP_US" 'BEGIN { if (p + 0 > 0) printf "%.1f", c - p - s; else printf "?" }')
   echo "missed: cpu_per_frame_us $(by "$CPU_US" "$(awk -v k="$K_US" 'BEGIN { print 1.5 * k }')") over 1.5 x kernel:" \
-    "the frame's way in (shared-memory copy, decode for the key, conversion) costs the reader only ~15-35 us per" \
-    "frame in isolation (tests/bench/bench_frame_layouts.cpp), so no frame layout closes the gap (32-bit samples" \
-    "or data sharing save <= ~10 us of it; data sharing also needs unkeyed types, no DDS-Security, and lost frames" \
-    "there); what remains is the estimator's own work beside the kernel: two reliable writes per frame (filter and" \
-    "fixed-lag batches: one message needs an IDL change), start-up in the figure (participant, noise tuning), the" \
-    "input screen and condition features (~12 %) and ~3-5 context switches per frame (docs/scale-and-benchmarks.md," \
-    "\"round 3\")"
+    "without DDS the estimator's work per frame is ${PATH_US} us (line \"frame path\": the kernel, the input screen" \
+    "and the condition features); each group's start-up (noise tuning, on the worker thread but in the process's" \
+    "CPU) adds ${STARTUP_US} us per frame over this run's ${TP_FRAMES} frames per group; the other ${REST_US} us are" \
+    "DDS around it: the frame's way in (~15-35 us per frame in isolation, tests/bench/bench_frame_layouts.cpp: no" \
+    "frame layout closes the gap), two reliable writes per frame (filter and fixed-lag batches: one message per" \
+    "snapshot needs an IDL change), the participant, and ~3-5 context switches per frame" \
+    "(docs/scale-and-benchmarks.md, \"round 4\")"
 fi
 if ! awk "BEGIN { exit !($E >= 0.5) }"; then
   echo "missed: live_efficiency $([ "$N1" = 0 ] && echo "(no group held)" || by "$E" 0.5) under 0.5: the kernel" \

@@ -27,6 +27,7 @@
 #include <memory>
 #include <random>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace causal::pipeline {
@@ -416,6 +417,72 @@ TEST(InputScreenScaleBlock, VerdictEqualsTheMedianTestIncludingStraddlingMiddleP
   EXPECT_TRUE(block_quarantines({0.1, 0.2, 0.4, 3.0, 3.0}));   // odd: median 0.4
   EXPECT_FALSE(block_quarantines({0.1, 0.2, 0.5, 3.0, 3.0}));  // odd: median 0.5, not below 0.5
   EXPECT_FALSE(block_quarantines({0.1, 0.2, 0.6, 3.0, 3.0}));  // odd: median 0.6
+}
+
+// The scale verdict at the limits themselves: a block of three values v after a reference block of r quarantines
+// exactly when fl(v / r) < collapse or fl(v / r) > explosion, for v one double step at a time around collapse x r and
+// explosion x r (the screen counts against exact bounds instead of dividing; one step off would show here).
+bool quarantined_at(double reference, double v) {
+  InputScreenParams p;
+  p.scale_window = 3;
+  p.recovery_samples = 3;
+  p.stuck_samples = 0;
+  p.sudden_run = 0;
+  InputScreen screen(p, 1, ScreenLevel::Sample);
+  std::vector<double> rows = {reference, reference, reference, v, v, v};
+  std::vector<QualityEvent> events;
+  screen.screen(rows.data(), rows.size(), events);
+  return screen.counters()[0].quarantined;
+}
+
+TEST(InputScreenScaleBlock, VerdictAtTheLimitsIsTheDivisionsToTheLastBit) {
+  const InputScreenParams p;
+  int checked = 0;
+  for (const double r : {0.3, 0.7, 1.0 / 3.0, 0.1, 0.06, 2.5e-5, 123.456}) {
+    for (const double limit : {p.scale_collapse, p.scale_explosion}) {
+      double v = limit * r;
+      for (int s = 0; s < 4; ++s) v = std::nextafter(v, 0.0);
+      for (int s = 0; s < 9; ++s, v = std::nextafter(v, 1e300)) {
+        // A value above explosion x r (the product, as rounded) is one out-of-range value and never reaches the
+        // block (with sudden_run 0 nothing quarantines then); one at or below it that divides to more than
+        // explosion does.
+        const bool in_block = !(v > p.scale_explosion * r);
+        const bool expected = in_block && (v / r < p.scale_collapse || v / r > p.scale_explosion);
+        EXPECT_EQ(quarantined_at(r, v), expected) << "reference " << r << ", value " << v;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 7 * 2 * 9);
+}
+
+// Events of several channels in one frame come in the order the values arrive (row, then channel), whichever
+// channel runs ahead in the screen's common case.
+TEST(InputScreenEvents, SeveralChannelsInOneFrameAreReportedInArrivalOrder) {
+  InputScreen screen(kScreen, 3, ScreenLevel::Sample);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<double> rows(3 * 12);
+  for (double& x : rows) x = normal(rng);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  rows[3 * 3 + 2] = nan;    // row 3, channel 3
+  rows[3 * 3 + 0] = 1e9;    // row 3, channel 1: above the physical limit
+  rows[5 * 3 + 1] = nan;    // row 5, channel 2
+  rows[9 * 3 + 0] = nan;    // row 9, channel 1
+  rows[9 * 3 + 2] = 2e9;    // row 9, channel 3
+  screen.continue_at(100);
+  std::vector<QualityEvent> events;
+  screen.screen(rows.data(), 12, events);
+  const std::vector<std::pair<std::uint64_t, int>> expected = {{103, 0}, {103, 2}, {105, 1}, {109, 0}, {109, 2}};
+  ASSERT_EQ(events.size(), expected.size());
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    EXPECT_EQ(events[i].index, expected[i].first) << i;
+    EXPECT_EQ(events[i].channel, expected[i].second) << i;
+  }
+  EXPECT_EQ(events[0].kind, QualityEventKind::OutOfRange);
+  EXPECT_EQ(events[1].kind, QualityEventKind::NonFinite);
+  EXPECT_TRUE(std::isnan(rows[3 * 3 + 0]) && std::isnan(rows[9 * 3 + 2]));
+  EXPECT_EQ(screen.counters()[0].screened + screen.counters()[1].screened + screen.counters()[2].screened, 36u);
 }
 
 TEST(InputScreenParameters, InvalidThresholdsThrowAtConstructionAndRefuseTheFirstFrame) {

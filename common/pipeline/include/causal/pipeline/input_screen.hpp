@@ -143,14 +143,17 @@ class InputScreen {
     std::size_t high_run = 0;       // consecutive values above scale_explosion x reference
     std::size_t low_run = 0;        // consecutive values below scale_collapse x reference
     std::vector<double> block;      // |x| of the current scale block
+    // scale_verdict_by_counting's exact bounds for bounds_reference: |x| / reference < collapse exactly when
+    // |x| < collapse_below, > explosion exactly when |x| > explosion_above.
+    double bounds_reference = 0.0, collapse_below = 0.0, explosion_above = 0.0;
   };
   double screen_value(int j, double x, std::uint64_t index, std::vector<QualityEvent>& events);
-  bool screen_plain_value(ChannelState& c, ChannelQualityCounters& k, double x);
+  std::size_t screen_plain_run(std::size_t j, const double* rows, std::size_t from, std::size_t n);
   double screen_exploded(int j, ChannelState& c, ChannelQualityCounters& k, double x, std::uint64_t index,
                          std::vector<QualityEvent>& events);
   bool scale_block_bad(int j, ChannelState& c);
   bool at_quantisation_floor(const double* rows, std::size_t n) const;
-  int scale_verdict_by_counting(const std::vector<double>& block, double reference) const;
+  int scale_verdict_by_counting(ChannelState& c, double reference) const;
   void emit(std::vector<QualityEvent>& events, int j, QualityEventKind kind, std::uint64_t index,
             std::uint64_t count, std::string reason) const;
 
@@ -161,6 +164,7 @@ class InputScreen {
   std::uint64_t next_index_ = 0;
   bool stopped_ = false;
   std::uint64_t stopped_rows_ = 0;
+  std::vector<std::size_t> next_;  // screen(): per channel, the next row its common case did not take
 };
 
 }  // namespace causal::pipeline
