@@ -1,13 +1,22 @@
 // causal-estimator: the checkpoint's resend list. Every condition-level message stays in it until the readers
 // acknowledged it (unacked_output.hpp); a restarted estimator sends the list again (consumers drop by index).
-#include "estimator_node.hpp"
+#include "estimator_publishing.hpp"
 #include "wire_bytes.hpp"
 
 #include <spdlog/spdlog.h>
 
 namespace causal::estimator {
 
-void EstimatorNode::resend_restored(const std::string& name, Asset& a, const std::vector<std::string>& resend) {
+bool EstimatorPublisher::restore(const std::string& name, GroupState& a) {
+  std::vector<std::string> resend;
+  if (!store_.restore(name, a.pipeline, resend, &a.last_time_ns)) return false;
+  // The names come with the checkpoint: output (finish() at exit included) needs them before any new input.
+  a.channel_names = a.pipeline.channel_names();
+  resend_restored(name, a, resend);
+  return true;
+}
+
+void EstimatorPublisher::resend_restored(const std::string& name, GroupState& a, const std::vector<std::string>& resend) {
   // Listed again until acknowledged: a second kill before the readers have them must not lose them.
   a.unacked.begin_snapshot();
   std::size_t sent = 0;
@@ -20,14 +29,14 @@ void EstimatorNode::resend_restored(const std::string& name, Asset& a, const std
       auto flag = a.unacked.add(bytes);
       outbound_.push("condition_vector", dds::OutboundQueue::Class::Essential,
                      [this, msg, flag](const std::atomic<bool>& s) { return mark(conditions_out_.write(*msg, s), flag); },
-                     loop_.stop_flag());
+                     stop_);
     } else if (bytes[0] == 'B') {  // 'F' (one message per outcome) was the form before batches: not restored
       auto msg = std::make_shared<causal_twin::CausalFactorBatch>();
       if (!from_bytes<causal_twin::CausalFactorBatchPubSubType>(body, *msg)) continue;
       auto flag = a.unacked.add(bytes);
       outbound_.push("causal_factors/condition", dds::OutboundQueue::Class::Essential,
                      [this, msg, flag](const std::atomic<bool>& s) { return mark(factors_.write(*msg, s), flag); },
-                     loop_.stop_flag());
+                     stop_);
     } else {
       continue;
     }
@@ -39,12 +48,12 @@ void EstimatorNode::resend_restored(const std::string& name, Asset& a, const std
   }
 }
 
-dds::WriteResult EstimatorNode::mark(dds::WriteResult result, const UnackedOutput::Flag& flag) {
+dds::WriteResult EstimatorPublisher::mark(dds::WriteResult result, const UnackedOutput::Flag& flag) {
   if (result == dds::WriteResult::Ok && flag) flag->store(true);
   return result;
 }
 
-void EstimatorNode::settle_unacked(Asset& a, bool begin_snapshot) {
+void EstimatorPublisher::settle_unacked(GroupState& a, bool begin_snapshot) {
   const std::uint64_t dropped = a.unacked.dropped();
   a.unacked.settle([this] {
     return conditions_out_.wait_for_acknowledgments(std::chrono::milliseconds(0)) &&

@@ -1,7 +1,8 @@
-// causal-estimator, continuity of input: after a restore from a checkpoint, input ahead of the checkpoint waits
-// (held, bounded) for the source to resend the continuation; input that never arrived is counted where it is
-// missed (source sequence numbers, snapshot indices), logged, and raised as the group's HEALTH alarm input_lost.
-#include "estimator_node.hpp"
+// causal-estimator, admission: continuity of input. After a restore from a checkpoint, input ahead of the
+// checkpoint waits (held, bounded) for the source to resend the continuation; input that never arrived is counted
+// where it is missed (source sequence numbers, snapshot indices), logged, and raised as the group's HEALTH alarm
+// input_lost.
+#include "estimator_admission.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -13,8 +14,8 @@ namespace {
 constexpr std::size_t kHoldMax = 256;
 }  // namespace
 
-bool EstimatorNode::continues(const std::string& name, Asset& a, bool is_continuation,
-                              const causal_twin::VibrationFrame* frame, const causal_twin::ConditionVector* condition) {
+bool EstimatorAdmission::continues(const std::string& name, GroupState& a, bool is_continuation,
+                                   const causal_twin::VibrationFrame* frame, const causal_twin::ConditionVector* condition) {
   if (!a.awaiting_continuation) return true;
   if (is_continuation) {
     a.awaiting_continuation = false;
@@ -38,7 +39,7 @@ bool EstimatorNode::continues(const std::string& name, Asset& a, bool is_continu
   return false;
 }
 
-void EstimatorNode::release_held(const std::string& name, Asset& a) {
+void EstimatorAdmission::release_held(const std::string& name, GroupState& a) {
   a.awaiting_continuation = false;
   auto frames = std::move(a.held_frames);
   auto conditions = std::move(a.held_conditions);
@@ -53,15 +54,15 @@ void EstimatorNode::release_held(const std::string& name, Asset& a) {
   releasing_ = false;
 }
 
-void EstimatorNode::release_expired_holds(bool all) {
+void EstimatorAdmission::release_expired_holds(bool all) {
   const auto now = std::chrono::steady_clock::now();
-  for (auto& [name, a] : assets_) {
+  for (auto& [name, a] : processing_.groups()) {
     if (!a.awaiting_continuation || (a.held_frames.empty() && a.held_conditions.empty())) continue;
     if (all || now >= a.continuation_deadline) release_held(name, a);
   }
 }
 
-void EstimatorNode::report_input_lost(const std::string& name, Asset& a, std::uint64_t count, const char* unit,
+void EstimatorAdmission::report_input_lost(const std::string& name, GroupState& a, std::uint64_t count, const char* unit,
                                       std::uint64_t first, std::uint64_t last, const std::string& detail) {
   const std::string u = unit;
   if (u == "frames") a.lost_frames += count;
@@ -75,7 +76,7 @@ void EstimatorNode::report_input_lost(const std::string& name, Asset& a, std::ui
   }
   a.lost_metric->inc(static_cast<double>(count));
   const std::string range = first == last ? fmt::format("snapshot {}", first) : fmt::format("snapshots {}..{}", first, last);
-  raise_input_alarm(name, "input_lost", causal_twin::WARNING, a.lost_alarms++, static_cast<double>(count), 0.0,
+  publisher_.raise_input_alarm(name, "input_lost", causal_twin::WARNING, a.lost_alarms++, static_cast<double>(count), 0.0,
                     fmt::format("{} {} never reached the estimator ({}; {}): the twin lost this input (a restart "
                                 "beyond the source's backlog, or the network), the machine did not stop",
                                 count, unit, range, detail));
