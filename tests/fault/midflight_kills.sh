@@ -9,6 +9,10 @@
 # holds the output of several snapshots; the recommender restarts 0.5 s later, the estimator 2 s after its kill. Over stdin (a FIFO; the DAQ drops what it produces while no ingest reads, as a
 # live source does) or MQTT (a real mosquitto broker, QoS 1, --mqtt-keep-session with a fixed client id: the broker
 # queues what is published while the ingest is down and redelivers what it has not acknowledged).
+# The services use the installed hosts' transport, UDP loopback (deploy/dds/localhost-udp.xml; MIDFLIGHT_TRANSPORT=
+# localhost.xml for shared memory): with shared memory a process restarted after SIGKILL takes its predecessor's port,
+# and a peer that kept the old segment open can go on writing into the removed one (Fast DDS 2.9; docs/reliability.md
+# "Shared memory and SIGKILL").
 #   midflight_kills.sh <build/services dir> <deploy dir> <stdin|mqtt> <domain>
 # What the design promises (docs/reliability.md "Mid-flight kills"), checked exactly:
 #  * the recorder, recommender and estimator kills lose nothing: their input comes again (the recorder and the
@@ -85,7 +89,7 @@ kill_now() {  # $1 = run folder, $2 = service: SIGKILL, and how far the recordin
 run() {  # $1 = name, $2 = domain, $3 = 1 with kills
   run_name=$1; logs="$work/$1"; local d="$work/$1"
   mkdir -p "$d/state/ingest" "$d/state/estimator" "$d/state/recommender"
-  local c="--domain $2 --qos '$deploy/dds/qos.xml' --transport '$deploy/dds/localhost.xml' --max-runtime 100"
+  local c="--domain $2 --qos '$deploy/dds/qos.xml' --transport '$deploy/dds/${MIDFLIGHT_TRANSPORT:-localhost-udp.xml}' --max-runtime 100"
   cmd[recorder]="'$bin/causal_recorder/causal-recorder' $c --out '$d/rec'"
   cmd[recommender]="'$bin/alarm_recommender/alarm-recommender' $c --state-dir '$d/state/recommender'"
   cmd[estimator]="'$bin/causal_estimator/causal-estimator' $c --state-dir '$d/state/estimator' --wait-for alarm-recommender --wait-for causal-recorder --wait-timeout 60"
