@@ -11,6 +11,8 @@
 # input_lost naming the range, exit 4), the recorder's gap equals it (its lost=, exit 4), and the recommender's
 # alarm engine reports the same range as input lost (HEALTH input_lost), never as a recording gap or an operating
 # change (no "OPERATING CHANGE", no discontinuity event in the recording).
+# Over UDP loopback, the installed hosts' transport (shared memory after SIGKILL: docs/reliability.md "Shared memory and
+# SIGKILL"; LIVE_RESTART_TRANSPORT=localhost.xml runs it on shared memory).
 #   live_restart_stdin.sh <build/services dir> <deploy dir> <estimator|recommender|recorder|beyond> <domain>
 set -uo pipefail
 bin="$1"; deploy="$2"; victim="$3"; domain="$4"
@@ -25,7 +27,7 @@ group=live-restart
 live_blocks "$deploy" "$group" 33 "$work/blocks.jsonl" "$total"
 [ "$(wc -l < "$work/blocks.jsonl")" = "$total" ] || fail "the generator wrote $(wc -l < "$work/blocks.jsonl") blocks"
 backlog=600; [ "$victim" = beyond ] && backlog=5
-c="--domain $domain --qos '$deploy/dds/qos.xml' --transport '$deploy/dds/localhost.xml' --max-runtime 120"
+c="--domain $domain --qos '$deploy/dds/qos.xml' --transport '$deploy/dds/${LIVE_RESTART_TRANSPORT:-localhost-udp.xml}' --max-runtime 120"
 mkdir -p "$work/state/estimator" "$work/state/recommender" "$work/state/ingest"
 cmd[recorder]="'$bin/causal_recorder/causal-recorder' $c --out '$work/rec'"
 cmd[recommender]="'$bin/alarm_recommender/alarm-recommender' $c --state-dir '$work/state/recommender'"
