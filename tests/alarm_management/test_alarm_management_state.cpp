@@ -5,6 +5,7 @@
 
 #include "causal/alarm_management/alarm_management.hpp"
 #include "causal/estimation/state_archive.hpp"
+#include "same_fields.hpp"
 
 #include <gtest/gtest.h>
 
@@ -42,13 +43,7 @@ am::AlarmManager round_trip(const am::AlarmManager& m) {
 }
 
 void expect_same_health(const am::GroupHealth& a, const am::GroupHealth& b) {
-  EXPECT_EQ(a.unacknowledged, b.unacknowledged);
-  EXPECT_EQ(a.shelved, b.shelved);
-  EXPECT_EQ(a.alarms_per_10_min, b.alarms_per_10_min);
-  EXPECT_EQ(a.flood, b.flood);
-  EXPECT_EQ(a.standing, b.standing);
-  EXPECT_EQ(a.chattering, b.chattering);
-  EXPECT_EQ(a.open, b.open);
+  EXPECT_SAME_FIELDS(a, b, unacknowledged, shelved, alarms_per_10_min, flood, standing, chattering, open);
 }
 
 }  // namespace

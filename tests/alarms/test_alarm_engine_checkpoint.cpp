@@ -22,6 +22,7 @@
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/svar_layout.hpp"
+#include "same_fields.hpp"
 #include "synthetic_group.hpp"
 
 using namespace causal::alarms;
@@ -41,23 +42,13 @@ bool same(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 void expect_same_event(const AlarmEvent& a, const AlarmEvent& b, const std::string& where) {
-  EXPECT_EQ(a.alarm_id, b.alarm_id) << where;
-  EXPECT_EQ(a.channel, b.channel) << where;
-  EXPECT_EQ(a.severity, b.severity) << where;
-  EXPECT_EQ(a.state, b.state) << where;
-  EXPECT_EQ(a.kind, b.kind) << where;
-  EXPECT_EQ(a.raised_time_ns, b.raised_time_ns) << where;
-  EXPECT_EQ(a.cleared_time_ns, b.cleared_time_ns) << where;
-  EXPECT_EQ(a.index, b.index) << where;
-  EXPECT_EQ(a.onset_index, b.onset_index) << where;
-  EXPECT_EQ(a.onset_time_ns, b.onset_time_ns) << where;
-  EXPECT_EQ(a.root_cause_channel, b.root_cause_channel) << where;
-  EXPECT_EQ(a.factor_names, b.factor_names) << where;
+  SCOPED_TRACE(where);
+  EXPECT_SAME_FIELDS(a, b, alarm_id, channel, severity, state, kind, raised_time_ns, cleared_time_ns, index,
+                     onset_index, onset_time_ns, root_cause_channel, factor_names, reason);
   EXPECT_TRUE(same(a.factor_baseline, b.factor_baseline)) << where;
   EXPECT_TRUE(same(a.factor_now, b.factor_now)) << where;
   EXPECT_TRUE(same(a.score, b.score)) << where << ": " << a.score << " vs " << b.score;
   EXPECT_TRUE(same(a.threshold, b.threshold)) << where;
-  EXPECT_EQ(a.reason, b.reason) << where;
 }
 
 void expect_same_signal(const SignalDiagnostics& a, const SignalDiagnostics& b, const std::string& where) {

@@ -40,29 +40,29 @@ void expect_bar(const PipelineResult& res, const std::string& what) {
   ::testing::Test::RecordProperty(what + "_bearing1_first_alarm_index", static_cast<int>(b1.first.index));
 }
 
+// One IMS test-2 feature table (column `feature`, "" for the merged table's own layout) through the shipped
+// condition chain; skipped when the table is in neither place.
+void expect_table_meets_bar(const std::string& file, const std::string& feature, const std::string& what) {
+  const std::string path = ims2(file);
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 data not found at " << path << " (CAUSAL_TWIN_SHARED_DIR)";
+  const PipelineOptions opt = shipped_options("ims2");
+  expect_bar(run_condition_pipeline(series_from_feature_table(path, feature), opt), what);
+}
+
 }  // namespace
 
 TEST(AlarmIms2, DerivedMeanAbsMeetsBar) {
-  const std::string path = ims2("derived_per_file_stats_all984.csv");
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 data not found at " << path << " (CAUSAL_TWIN_SHARED_DIR)";
-  const PipelineOptions opt = shipped_options("ims2");
-  expect_bar(run_condition_pipeline(series_from_feature_table(path, "meanabs"), opt), "derived_meanabs");
+  expect_table_meets_bar("derived_per_file_stats_all984.csv", "meanabs", "derived_meanabs");
 }
 
 TEST(AlarmIms2, ThirdPartyMergedTableMeetsBar) {
   // Same feature (mean |x|) from an independent third-party table (first sample of each file dropped).
-  const std::string path = ims2("merged_dataset_BearingTest_2.csv");
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 data not found at " << path << " (CAUSAL_TWIN_SHARED_DIR)";
-  const PipelineOptions opt = shipped_options("ims2");
-  expect_bar(run_condition_pipeline(series_from_feature_table(path, ""), opt), "merged_meanabs");
+  expect_table_meets_bar("merged_dataset_BearingTest_2.csv", "", "merged_meanabs");
 }
 
 TEST(AlarmIms2, DerivedRmsMeetsBar) {
   // RMS is the alternative scale feature; the same configuration must meet the bar with it too.
-  const std::string path = ims2("derived_per_file_stats_all984.csv");
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "IMS test-2 data not found at " << path << " (CAUSAL_TWIN_SHARED_DIR)";
-  const PipelineOptions opt = shipped_options("ims2");
-  expect_bar(run_condition_pipeline(series_from_feature_table(path, "rms"), opt), "derived_rms");
+  expect_table_meets_bar("derived_per_file_stats_all984.csv", "rms", "derived_rms");
 }
 
 // Sample-level (walking-skeleton demo): the 6 raw snapshots shipped in deploy/data/ims2-slice (3 healthy at

@@ -6,6 +6,7 @@
 #include "causal/analysis/recommendation.hpp"
 
 #include "../../common/analysis/src/linear_system.hpp"
+#include "same_fields.hpp"
 
 #include <gtest/gtest.h>
 
@@ -81,14 +82,8 @@ void expect_same(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const char*
 }
 
 void expect_same(const BoundedAnswer& a, const BoundedAnswer& b) {
-  EXPECT_EQ(a.kind, b.kind);
-  EXPECT_EQ(a.status, b.status);
-  EXPECT_EQ(a.reason, b.reason);
-  EXPECT_EQ(a.horizon_snapshots, b.horizon_snapshots);
-  EXPECT_EQ(a.draws, b.draws);
-  EXPECT_EQ(a.unstable_draws, b.unstable_draws);
-  EXPECT_EQ(a.singular_draws, b.singular_draws);
-  EXPECT_EQ(a.draws_summarised, b.draws_summarised);
+  EXPECT_SAME_FIELDS(a, b, kind, status, reason, horizon_snapshots, draws, unstable_draws, singular_draws,
+                     draws_summarised);
   for (const EffectSummary* s : {&a.immediate, &a.effect}) {
     const EffectSummary& t = s == &a.immediate ? b.immediate : b.effect;
     expect_same(s->median, t.median, "median");

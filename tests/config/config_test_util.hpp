@@ -38,6 +38,13 @@ inline std::filesystem::path process_temp_dir() {
 
 inline std::string temp_yaml_path(const std::string& name) { return (process_temp_dir() / name).string(); }
 
+// Writes `text` byte for byte to a fresh file `name` in this process's temp dir and returns its path.
+inline std::string write_yaml(const std::string& name, const std::string& text) {
+  const std::string p = temp_yaml_path(name);
+  std::ofstream(p, std::ios::binary) << text;
+  return p;
+}
+
 // Loads `source`, applies `mutate` to the document, writes it to a temp file and returns its path.
 inline std::string mutated_copy(const std::string& source, const std::string& name,
                                 const std::function<void(YAML::Node&)>& mutate) {

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <string>
 
+#include "test_files.hpp"
+
 namespace fs = std::filesystem;
 using causal::config::ConfigChoice;
 using causal::config::ConfigKind;
@@ -20,9 +22,6 @@ namespace {
 class Places : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string tmpl = (fs::temp_directory_path() / "config_search_XXXXXX").string();
-    ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
-    root_ = tmpl;
     for (const char* d : {"env", "etc", "installed", "tree"}) fs::create_directories(root_ / d);
     roots_.env_dir = dir("env");
     roots_.env_name = "CAUSAL_TWIN_DDS_DIR";
@@ -30,11 +29,11 @@ class Places : public ::testing::Test {
     roots_.installed_dir = dir("installed");
     roots_.build_tree_dir = dir("tree");
   }
-  void TearDown() override { fs::remove_all(root_); }
   std::string dir(const std::string& name) const { return (root_ / name).string(); }
   void put(const std::string& where, const std::string& file) const { std::ofstream(root_ / where / file) << "x"; }
 
-  fs::path root_;
+  const causal::test::TestTempDir temp_{"config_search"};
+  const fs::path& root_ = temp_.path;
   SearchRoots roots_;
 };
 

@@ -39,6 +39,13 @@ std::string joined(const std::vector<std::string>& problems) {
   return out;
 }
 
+// Exactly these problems: as many as `each` lists, and every entry's words in exactly one of them.
+void expect_problems(const std::vector<std::string>& problems,
+                     std::initializer_list<std::initializer_list<const char*>> each) {
+  EXPECT_EQ(problems.size(), each.size()) << joined(problems);
+  for (const auto& words : each) EXPECT_TRUE(reported(problems, words)) << *words.begin() << "\n" << joined(problems);
+}
+
 TEST(PlantDescription, ShippedExampleParsesAsWritten) {
   const auto r = causal::plant::load_plant_description(std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/plant/example-plant.yaml");
   ASSERT_TRUE(r.ok()) << joined(r.problems);
@@ -79,9 +86,7 @@ TEST(PlantDescription, Ipv4AddressSyntax) {
 
 TEST(PlantDescription, DuplicateHostNameAndAddress) {
   const auto r = parse_plant_description(plant(kValidHosts + "  - {name: a, address: 10.1.0.3, roles: [web]}\n"), "p.yaml");
-  EXPECT_EQ(r.problems.size(), 2u) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"p.yaml", "duplicate host name 'a'"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"duplicate address 10.1.0.3"})) << joined(r.problems);
+  expect_problems(r.problems, {{"p.yaml", "duplicate host name 'a'"}, {"duplicate address 10.1.0.3"}});
 }
 
 TEST(PlantDescription, BadAddresses) {
@@ -93,11 +98,10 @@ hosts:
   - {name: d, roles: [recorder]}
 )"),
                                          "p.yaml");
-  EXPECT_EQ(r.problems.size(), 4u) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"hosts[0] (a)", "'10.1.0.300' is not an IPv4 address"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"hosts[1] (b)", "loopback"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"hosts[2] (c)", "multicast"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"hosts[3] (d)", "missing 'address'"})) << joined(r.problems);
+  expect_problems(r.problems, {{"hosts[0] (a)", "'10.1.0.300' is not an IPv4 address"},
+                               {"hosts[1] (b)", "loopback"},
+                               {"hosts[2] (c)", "multicast"},
+                               {"hosts[3] (d)", "missing 'address'"}});
 }
 
 TEST(PlantDescription, MissingAndUnknownRoles) {
@@ -109,13 +113,12 @@ hosts:
 )"),
                                          "p.yaml");
   // Per host: a role twice, no roles, two unknown roles; for the plant: no estimator, no recommender.
-  EXPECT_EQ(r.problems.size(), 6u) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"(a)", "role 'sensor' given twice"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"(b)", "missing 'roles'"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"(c)", "unknown role 'estimater'"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"(c)", "unknown role 'recorder 1/2'"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"no host has the role 'estimator'"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"no host has the role 'recommender'"})) << joined(r.problems);
+  expect_problems(r.problems, {{"(a)", "role 'sensor' given twice"},
+                               {"(b)", "missing 'roles'"},
+                               {"(c)", "unknown role 'estimater'"},
+                               {"(c)", "unknown role 'recorder 1/2'"},
+                               {"no host has the role 'estimator'"},
+                               {"no host has the role 'recommender'"}});
 }
 
 TEST(PlantDescription, EstimatorShardsMustBeCompleteAndConsistent) {
@@ -127,10 +130,9 @@ hosts:
 )"),
                                            "p.yaml");
   // 3/3 is not a shard of 3; shard 1/3 is missing; shard 2/3 runs twice.
-  EXPECT_EQ(gap.problems.size(), 3u) << joined(gap.problems);
-  EXPECT_TRUE(reported(gap.problems, {"unknown role 'estimator 3/3'"})) << joined(gap.problems);
-  EXPECT_TRUE(reported(gap.problems, {"shard 1/3 is on no host"})) << joined(gap.problems);
-  EXPECT_TRUE(reported(gap.problems, {"shard 2/3 is on 2 hosts"})) << joined(gap.problems);
+  expect_problems(gap.problems, {{"unknown role 'estimator 3/3'"},
+                                 {"shard 1/3 is on no host"},
+                                 {"shard 2/3 is on 2 hosts"}});
 
   const auto mixed = parse_plant_description(plant(R"(
 hosts:
@@ -138,20 +140,18 @@ hosts:
   - {name: b, address: 10.1.0.2, roles: [estimator 1/2]}
 )"),
                                              "p.yaml");
-  EXPECT_EQ(mixed.problems.size(), 1u) << joined(mixed.problems);
-  EXPECT_TRUE(reported(mixed.problems, {"disagree on the shard count"})) << joined(mixed.problems);
+  expect_problems(mixed.problems, {{"disagree on the shard count"}});
 }
 
 TEST(PlantDescription, TopLevelKeys) {
   const auto r = parse_plant_description(
       plant(kValidHosts, "domain: 233\nsecurity: etc/pki\ndiscovery_server: {host: z, port: 70000}\ntransport: udp\n"),
       "p.yaml");
-  EXPECT_EQ(r.problems.size(), 5u) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"unknown key 'transport'"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"domain", "0..232", "'233'"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"security", "absolute path or 'off'"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"discovery_server.port", "1..65535"})) << joined(r.problems);
-  EXPECT_TRUE(reported(r.problems, {"discovery_server.host", "'z' is not one of the hosts"})) << joined(r.problems);
+  expect_problems(r.problems, {{"unknown key 'transport'"},
+                               {"domain", "0..232", "'233'"},
+                               {"security", "absolute path or 'off'"},
+                               {"discovery_server.port", "1..65535"},
+                               {"discovery_server.host", "'z' is not one of the hosts"}});
 
   const auto none = parse_plant_description("hosts: []\n", "p.yaml");
   EXPECT_EQ(none.problems.size(), 3u) << joined(none.problems);  // domain, security, hosts

@@ -12,7 +12,6 @@
 #include <sys/resource.h>
 
 #include <chrono>
-#include <fstream>
 #include <string>
 
 namespace {
@@ -20,12 +19,7 @@ namespace {
 using causal::config::kMaxYamlBytes;
 using causal::config::Section;
 using causal::test::config_error;
-
-std::string write_yaml(const std::string& name, const std::string& text) {
-  const std::string p = causal::test::temp_yaml_path(name);
-  std::ofstream(p, std::ios::binary) << text;
-  return p;
-}
+using causal::test::write_yaml;
 
 // Loads `path`, expects a ConfigError within a second, returns its message.
 std::string refused(const std::string& path) {

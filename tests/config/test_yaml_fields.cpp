@@ -8,7 +8,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 namespace {
@@ -16,13 +15,7 @@ namespace {
 using causal::config::ConfigError;
 using causal::config::Section;
 using causal::test::config_error;
-
-// Writes `text` to a fresh file under the gtest temp dir and returns its path.
-std::string write_yaml(const std::string& name, const std::string& text) {
-  const std::string p = causal::test::temp_yaml_path(name);
-  std::ofstream(p) << text;
-  return p;
-}
+using causal::test::write_yaml;
 
 const char* kDoc = R"(
 top:

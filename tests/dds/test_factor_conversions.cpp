@@ -6,6 +6,7 @@
 
 #include "causal_twinPubSubTypes.h"
 #include "matrix_asserts.hpp"
+#include "same_fields.hpp"
 
 #include <gtest/gtest.h>
 
@@ -197,18 +198,13 @@ TEST(FactorConversions, RoundTripThroughTheBatchAndCdr) {
       EXPECT_EQ(m.outcome_name, names[static_cast<std::size_t>(k)]);
       EXPECT_EQ(m.channel_count, 4);
       EXPECT_EQ(m.lag_order, 2);
-      EXPECT_EQ(m.sample_index, r.sample_index);
-      EXPECT_EQ(m.time_ns, r.time_ns);
+      EXPECT_SAME_FIELDS(m, r, sample_index, time_ns);
       std::vector<std::string> layout_names;
       for (int i = 0; i < l.factor_count(k); ++i) layout_names.push_back(l.factor_name(k, i));
       EXPECT_EQ(m.factor_names, layout_names);
       EXPECT_TRUE((m.factors.array() == r.factors.array()).all());
       EXPECT_TRUE((m.factor_std.array() == r.std_devs.array()).all());
-      EXPECT_EQ(m.innovation_count, r.innovation_count);
-      EXPECT_EQ(m.innovation_mean, r.innovation_mean);
-      EXPECT_EQ(m.nis_mean, r.nis_mean);
-      EXPECT_EQ(m.last_innovation, r.last_innovation);
-      EXPECT_EQ(m.last_innovation_variance, r.last_innovation_variance);
+      EXPECT_SAME_FIELDS(m, r, innovation_count, innovation_mean, nis_mean, last_innovation, last_innovation_variance);
       EXPECT_EQ(m.rejected_samples, r.rejected);
     }
   }

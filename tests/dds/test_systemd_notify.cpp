@@ -13,7 +13,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <string>
+
+#include "test_files.hpp"
 
 namespace fs = std::filesystem;
 using causal::dds::notify_systemd;
@@ -50,16 +53,16 @@ class NotifySocket {
 
 class SystemdNotify : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::string tmpl = (fs::temp_directory_path() / "notify_XXXXXX").string();
-    ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
-    dir_ = tmpl;
+  void TearDown() override { ::unsetenv("NOTIFY_SOCKET"); }
+  // A listening socket at `name`, announced in NOTIFY_SOCKET as systemd does.
+  void listen(const std::string& name) {
+    socket_.emplace(name);
+    ASSERT_TRUE(socket_->bound());
+    ::setenv("NOTIFY_SOCKET", name.c_str(), 1);
   }
-  void TearDown() override {
-    ::unsetenv("NOTIFY_SOCKET");
-    fs::remove_all(dir_);
-  }
-  fs::path dir_;
+  const causal::test::TestTempDir temp_{"notify"};
+  const fs::path& dir_ = temp_.path;
+  std::optional<NotifySocket> socket_;
 };
 
 TEST_F(SystemdNotify, OutsideSystemdNothingIsSent) {
@@ -70,21 +73,15 @@ TEST_F(SystemdNotify, OutsideSystemdNothingIsSent) {
 }
 
 TEST_F(SystemdNotify, PathSocketReceivesTheStateVerbatim) {
-  const std::string path = (dir_ / "notify").string();
-  NotifySocket socket(path);
-  ASSERT_TRUE(socket.bound());
-  ::setenv("NOTIFY_SOCKET", path.c_str(), 1);
+  ASSERT_NO_FATAL_FAILURE(listen((dir_ / "notify").string()));
   EXPECT_EQ(notify_systemd("READY=1\nSTATUS=running"), NotifyResult::Sent);
-  EXPECT_EQ(socket.receive(), "READY=1\nSTATUS=running");
+  EXPECT_EQ(socket_->receive(), "READY=1\nSTATUS=running");
 }
 
 TEST_F(SystemdNotify, AbstractSocketNamedWithAt) {
-  const std::string name = "@causal_twin_notify_test_" + std::to_string(::getpid());
-  NotifySocket socket(name);
-  ASSERT_TRUE(socket.bound());
-  ::setenv("NOTIFY_SOCKET", name.c_str(), 1);
+  ASSERT_NO_FATAL_FAILURE(listen("@causal_twin_notify_test_" + std::to_string(::getpid())));
   EXPECT_EQ(notify_systemd("STOPPING=1"), NotifyResult::Sent);
-  EXPECT_EQ(socket.receive(), "STOPPING=1");
+  EXPECT_EQ(socket_->receive(), "STOPPING=1");
 }
 
 TEST_F(SystemdNotify, NoListenerOrBadNameIsAFailureNotAnException) {
@@ -98,16 +95,13 @@ TEST_F(SystemdNotify, NoListenerOrBadNameIsAFailureNotAnException) {
 
 // Every service's run loop: READY=1 when it starts taking data, STOPPING=1 when it ends, once each.
 TEST_F(SystemdNotify, RunLoopSignalsReadyThenStopping) {
-  const std::string path = (dir_ / "notify").string();
-  NotifySocket socket(path);
-  ASSERT_TRUE(socket.bound());
-  ::setenv("NOTIFY_SOCKET", path.c_str(), 1);
+  ASSERT_NO_FATAL_FAILURE(listen((dir_ / "notify").string()));
   causal::dds::EventLoop loop;
   int polls = 0;
   const auto end = loop.run({0.0, 0.3}, [&] { ++polls; return std::size_t{0}; }, [] { return std::size_t{0}; });
   EXPECT_EQ(end, causal::dds::RunEnd::MaxRuntime);
-  EXPECT_EQ(socket.receive(), "READY=1\nSTATUS=running");
-  EXPECT_EQ(socket.receive(), "STOPPING=1");
+  EXPECT_EQ(socket_->receive(), "READY=1\nSTATUS=running");
+  EXPECT_EQ(socket_->receive(), "STOPPING=1");
 }
 
 }  // namespace

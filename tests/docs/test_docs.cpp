@@ -49,6 +49,16 @@ CheckReport over_all_pages(const Repository& repo,
   return all;
 }
 
+// One check over every page of the repository: prints how many quotes it checked, which must be more than
+// `more_than` (a scanner that finds nothing passes nothing), and expects no problem.
+void expect_every_page_passes(const std::string& what, int more_than,
+                              const std::function<CheckReport(const std::string&, const MarkdownPage&)>& check) {
+  const CheckReport report = over_all_pages(repository(), check);
+  std::cout << what << " checked: " << report.checked << "\n";
+  EXPECT_GT(report.checked, more_than);
+  EXPECT_TRUE(report.problems.empty()) << format(report.problems);
+}
+
 }  // namespace
 
 TEST(DocsScanner, FindsSpansFencesLinksAndAnchors) {
@@ -130,30 +140,21 @@ TEST(Docs, ReadmeIsTheFrontDoorWithTheTwoSetUpCommands) {
 
 TEST(Docs, QuotedRepositoryPathsExist) {
   const Repository& repo = repository();
-  const CheckReport report =
-      over_all_pages(repo, [&](const std::string& page, const MarkdownPage& m) { return check_paths(repo, page, m); });
-  std::cout << "paths checked: " << report.checked << "\n";
-  EXPECT_GT(report.checked, 100);
-  EXPECT_TRUE(report.problems.empty()) << format(report.problems);
+  expect_every_page_passes("paths", 100,
+                           [&](const std::string& page, const MarkdownPage& m) { return check_paths(repo, page, m); });
 }
 
 TEST(Docs, QuotedToolsAreBuiltAndAnswerHelpWithTheirOptions) {
   const Repository& repo = repository();
   HelpCache help;
-  const CheckReport report = over_all_pages(
-      repo, [&](const std::string& page, const MarkdownPage& m) { return check_commands(repo, page, m, help); });
-  std::cout << "commands checked: " << report.checked << "\n";
-  EXPECT_GT(report.checked, 30);
-  EXPECT_TRUE(report.problems.empty()) << format(report.problems);
+  expect_every_page_passes(
+      "commands", 30, [&](const std::string& page, const MarkdownPage& m) { return check_commands(repo, page, m, help); });
 }
 
 TEST(Docs, LinksBetweenPagesResolve) {
   const Repository& repo = repository();
-  const CheckReport report =
-      over_all_pages(repo, [&](const std::string& page, const MarkdownPage& m) { return check_links(repo, page, m); });
-  std::cout << "links checked: " << report.checked << "\n";
-  EXPECT_GT(report.checked, 20);
-  EXPECT_TRUE(report.problems.empty()) << format(report.problems);
+  expect_every_page_passes("links", 20,
+                           [&](const std::string& page, const MarkdownPage& m) { return check_links(repo, page, m); });
   for (const std::string& page : pages_expected_after_merge())
     if (!fs::exists(kSource / page)) std::cout << "expected after the merge, not here yet: " << page << "\n";
 }

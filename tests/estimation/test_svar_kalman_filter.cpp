@@ -20,6 +20,22 @@ namespace {
 using test::kNaN;
 using test::spec_g;
 
+// The filter stepped over sim.y against the dense stacked reference: every filtered estimate, then the covariance
+// of the last outcome (`last`, `d` factors) after the last sample.
+void expect_filter_matches_dense(const estimation::SvarLayout& layout, const std::vector<estimation::NoiseParams>& noise,
+                                 const test::Simulation& sim, const test::DenseReference& ref, int last, int d) {
+  estimation::SvarKalmanFilter filter(layout, noise);
+  Eigen::VectorXd x(layout.total_factors());
+  const int samples = static_cast<int>(sim.y.rows());
+  for (int n = 0; n < samples; ++n) {
+    const Eigen::RowVectorXd row = sim.y.row(n);
+    filter.step(row.data());
+    filter.estimates(x.data());
+    ASSERT_MATRIX_NEAR(x, ref.x_filt[n], 1e-10);
+  }
+  ASSERT_MATRIX_NEAR(filter.covariance(last), ref.p_filt[samples - 1].bottomRightCorner(d, d), 1e-10);
+}
+
 // G = 2, M = 1: outcome 1 has factors (x12, xL12) with h = (y2[n], y2[n-1]); outcome 2 has (x21, xL21) with
 // h = (y1[n], y1[n-1]). q = 0.5, r = 1, p0 = 1. Data y[0] = (0, 1), y[1] = (1, 1), y[2] = (2, 0).
 //
@@ -274,15 +290,7 @@ TEST(SvarKalmanFilter, GenericDimensionPathMatchesDenseReference) {
   const std::vector<estimation::NoiseParams> noise = {{1e-4, 0.05, 1.0}};
   const test::Simulation sim = test::simulate_svar(layout, noise, 120, 21, 0.05);
   const test::DenseReference ref(layout, noise, sim.y);
-  estimation::SvarKalmanFilter filter(layout, noise);
-  Eigen::VectorXd x(layout.total_factors());
-  for (int n = 0; n < 120; ++n) {
-    const Eigen::RowVectorXd row = sim.y.row(n);
-    filter.step(row.data());
-    filter.estimates(x.data());
-    ASSERT_MATRIX_NEAR(x, ref.x_filt[n], 1e-10);
-  }
-  ASSERT_MATRIX_NEAR(filter.covariance(5), ref.p_filt[119].bottomRightCorner(15, 15), 1e-10);
+  ASSERT_NO_FATAL_FAILURE(expect_filter_matches_dense(layout, noise, sim, ref, 5, 15));
 }
 
 // d = 13 (G = 7, M = 1, self lags) and d = 14 (G = 8, M = 1: the eight-channel model) have fixed-size kernels
@@ -297,15 +305,7 @@ TEST(SvarKalmanFilter, FixedKernelsOfDimension13And14MatchDenseReference) {
     const std::vector<estimation::NoiseParams> noise = {{1e-4, 0.05, 1.0}};
     const test::Simulation sim = test::simulate_svar(layout, noise, 150, 23, 0.05);
     const test::DenseReference ref(layout, noise, sim.y);
-    estimation::SvarKalmanFilter filter(layout, noise);
-    Eigen::VectorXd x(layout.total_factors());
-    for (int n = 0; n < 150; ++n) {
-      const Eigen::RowVectorXd row = sim.y.row(n);
-      filter.step(row.data());
-      filter.estimates(x.data());
-      ASSERT_MATRIX_NEAR(x, ref.x_filt[n], 1e-10);
-    }
-    ASSERT_MATRIX_NEAR(filter.covariance(g - 1), ref.p_filt[149].bottomRightCorner(d, d), 1e-10);
+    ASSERT_NO_FATAL_FAILURE(expect_filter_matches_dense(layout, noise, sim, ref, g - 1, d));
     const estimation::EstimationRun rts = estimation::run_rts_smoother(layout, noise, sim.y);
     for (int n = 0; n < 150; n += 7) ASSERT_MATRIX_NEAR(rts.estimates.row(n).transpose(), ref.x_smooth[n], 1e-9);
   }

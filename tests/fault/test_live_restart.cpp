@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "process_runner.hpp"
+#include "test_files.hpp"
 
 namespace fs = std::filesystem;
 using causal::test::counts_in_last_line;
@@ -30,12 +31,7 @@ constexpr std::size_t kRows = 256;          // samples per block
 constexpr std::size_t kBlocksPerSnapshot = 4;
 constexpr std::int64_t kPeriodNs = 1000000;  // 1 kHz
 
-fs::path work_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("causal_live_restart_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+fs::path work_dir(const std::string& name) { return causal::test::fresh_work_dir("causal_live_restart", name); }
 
 // `snapshots` snapshots of kBlocksPerSnapshot CSV blocks of a live 2-channel signal (deterministic noise, never
 // stuck), source sequence numbers from 0 (a source that restarted counts from 0 again), data times from t0.

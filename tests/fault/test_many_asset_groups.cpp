@@ -13,6 +13,7 @@
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -163,11 +164,7 @@ std::vector<std::string> sim_argv(const std::string& d, const std::string& frame
           "--wait-timeout", "30", "--max-runtime", max_runtime};
 }
 
-fs::path work_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("causal_fault_" + name + "_" + std::to_string(getpid()));
-  fs::create_directories(p);
-  return p;
-}
+fs::path work_dir(const std::string& name) { return causal::test::fresh_work_dir("causal_fault", name); }
 
 }  // namespace
 

@@ -17,6 +17,7 @@
 
 #include "process_expect.hpp"
 #include "process_runner.hpp"
+#include "test_files.hpp"
 
 namespace fs = std::filesystem;
 using causal::test::expect_exit_zero;
@@ -24,12 +25,7 @@ using causal::test::ServiceProcess;
 
 namespace {
 
-fs::path work_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("causal_operator_status_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+fs::path work_dir(const std::string& name) { return causal::test::fresh_work_dir("causal_operator_status", name); }
 
 std::string transport() { return std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml"; }
 

@@ -17,6 +17,7 @@
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -114,11 +115,7 @@ ShardReport report_of(ServiceProcess& p, std::optional<int> code) {
   return r;
 }
 
-fs::path work_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("causal_fault_shards_" + name + "_" + std::to_string(getpid()));
-  fs::create_directories(p);
-  return p;
-}
+fs::path work_dir(const std::string& name) { return causal::test::fresh_work_dir("causal_fault_shards", name); }
 
 // Runs sensor-sim with the estimators given (extra arguments per shard) and checks the division exactly
 // against `expected` (shard index -> the groups it must own; a shard may own none).

@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "ingest_test_support.hpp"
+#include "test_files.hpp"
 
 namespace fs = std::filesystem;
 using causal::test::FrameRecorder;
@@ -21,11 +22,7 @@ namespace {
 // once on it: each has its own asset group and its own recorder, which its adapter waits for by name.
 constexpr int kDomain = 83;
 
-fs::path work_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("causal_ingest_" + name + "_" + std::to_string(getpid()));
-  fs::create_directories(p);
-  return p;
-}
+fs::path work_dir(const std::string& name) { return causal::test::fresh_work_dir("causal_ingest", name); }
 
 // The adapter on kDomain, waiting for the test's own recorder (by its participant name) before taking input.
 std::vector<std::string> ingest_args(const std::string& recorder, const std::string& source) {

@@ -8,6 +8,8 @@
 #include "process_expect.hpp"
 #include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
+#include "service_argv.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -37,9 +39,8 @@ std::map<std::string, std::vector<std::string>> alarm_lines(const std::string& l
 }  // namespace
 
 TEST(AlarmRestart, KillNineResumesRepublishesAndNeverReusesIds) {
-  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
-  const fs::path work = fs::temp_directory_path() / ("causal_it_restart_" + std::to_string(getpid()));
-  fs::remove_all(work);
+  const std::string table = causal::test::ims2_feature_table();
+  const fs::path work = causal::test::fresh_work_dir("causal_it", "restart");
   fs::create_directories(work / "state");
   // A private domain in 150..230 (the project's range for tests that start processes by hand).
   const std::string d = std::to_string(150 + static_cast<int>(static_cast<unsigned>(getpid()) * 7u % 81u));
@@ -50,9 +51,7 @@ TEST(AlarmRestart, KillNineResumesRepublishesAndNeverReusesIds) {
     return std::make_unique<ServiceProcess>("alarm-recommender", argv, (work / log).string());
   };
   auto first = recommender("alarm1.log", false);
-  ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
-                            "--wait-for", "alarm-recommender"},
+  ServiceProcess estimator("causal-estimator", service_argv(CAUSAL_ESTIMATOR_BIN, d, "4", "300", wait_for({"alarm-recommender"})),
                            (work / "estimator.log").string());
   // 60 snapshots per second of wall clock: the kill lands mid-run, the run lasts ~20 s.
   ServiceProcess replay("sensor-replay",

@@ -7,6 +7,7 @@
 #include "feature_table_run.hpp"
 #include "ims_variants.hpp"
 #include "process_runner.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,11 +33,7 @@ const causal::testing::BaseRun& base() {
   return b;
 }
 
-fs::path work_dir(const std::string& what) {
-  const fs::path dir = fs::temp_directory_path() / ("causal_it_any_table_" + what + "_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path work_dir(const std::string& name) { return causal::test::fresh_work_dir("causal_it_any_table", name); }
 
 }  // namespace
 

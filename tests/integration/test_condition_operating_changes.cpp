@@ -12,6 +12,8 @@
 #include "process_expect.hpp"
 #include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
+#include "service_argv.hpp"
+#include "test_files.hpp"
 
 #include "causal/io/feature_table.hpp"
 #include "causal/io/time_format.hpp"
@@ -32,11 +34,9 @@ constexpr int kGapAt = 300, kStepAt = 400, kStepChannel = 2;
 }  // namespace
 
 TEST(ConditionOperatingChanges, GapAndOperatingStepAreReportedNotAlarmed) {
-  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
-  const auto f = causal::io::read_feature_table(table, "_meanabs");
+  const auto f = causal::io::read_feature_table(causal::test::ims2_feature_table(), "_meanabs");
   ASSERT_EQ(f.time_ns.size(), 984u);
-  const fs::path work = fs::temp_directory_path() / ("causal_it_opchange_" + std::to_string(getpid()));
-  fs::create_directories(work);
+  const fs::path work = causal::test::fresh_work_dir("causal_it", "opchange");
   const std::string variant = (work / "variant.csv").string();
   std::vector<std::int64_t> times;
   {
@@ -64,11 +64,9 @@ TEST(ConditionOperatingChanges, GapAndOperatingStepAreReportedNotAlarmed) {
   const int domain = causal::test::private_domain_id(26);
   const std::string d = std::to_string(domain);
   DdsObserver observer(domain);
-  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "5", "--max-runtime", "300"},
-                       (work / "alarm.log").string());
+  ServiceProcess alarm("alarm-recommender", service_argv(ALARM_RECOMMENDER_BIN, d, "5", "300"), (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
-                            "--wait-for", "alarm-recommender", "--wait-for", "test-observer"},
+                           service_argv(CAUSAL_ESTIMATOR_BIN, d, "4", "300", wait_for({"alarm-recommender", "test-observer"})),
                            (work / "estimator.log").string());
   ASSERT_NO_FATAL_FAILURE(replay_through(estimator, SENSOR_REPLAY_BIN, d, variant, work / "replay.log"));
   ASSERT_TRUE(alarm.wait(std::chrono::seconds(120)).has_value()) << alarm.output();

@@ -8,6 +8,8 @@
 #include "process_expect.hpp"
 #include "ims_feature_replay.hpp"
 #include "process_runner.hpp"
+#include "service_argv.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -63,19 +65,14 @@ long last_number(const std::string& text, const std::string& pattern) {
 }  // namespace
 
 TEST(Prognosis, ImsReplayPublishesAndRecordsTimeToLevel) {
-  const std::string table = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/data/ims2-features/derived_per_file_stats_all984.csv";
-  const fs::path work = fs::temp_directory_path() / ("causal_it_prognosis_" + std::to_string(getpid()));
-  fs::create_directories(work);
+  const std::string table = causal::test::ims2_feature_table();
+  const fs::path work = causal::test::fresh_work_dir("causal_it", "prognosis");
   const std::string d = std::to_string(causal::test::private_domain_id(5));
-  ServiceProcess recorder("causal-recorder",
-                          {CAUSAL_RECORDER_BIN, "--domain", d, "--out", (work / "rec").string(), "--idle-exit", "5",
-                           "--max-runtime", "300"},
+  ServiceProcess recorder("causal-recorder", service_argv(CAUSAL_RECORDER_BIN, d, "5", "300", {"--out", (work / "rec").string()}),
                           (work / "recorder.log").string());
-  ServiceProcess alarm("alarm-recommender", {ALARM_RECOMMENDER_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300"},
-                       (work / "alarm.log").string());
+  ServiceProcess alarm("alarm-recommender", service_argv(ALARM_RECOMMENDER_BIN, d, "4", "300"), (work / "alarm.log").string());
   ServiceProcess estimator("causal-estimator",
-                           {CAUSAL_ESTIMATOR_BIN, "--domain", d, "--idle-exit", "4", "--max-runtime", "300",
-                            "--wait-for", "alarm-recommender", "--wait-for", "causal-recorder"},
+                           service_argv(CAUSAL_ESTIMATOR_BIN, d, "4", "300", wait_for({"alarm-recommender", "causal-recorder"})),
                            (work / "estimator.log").string());
   ASSERT_NO_FATAL_FAILURE(replay_through(estimator, SENSOR_REPLAY_BIN, d, table, work / "replay.log"));
   ASSERT_NO_FATAL_FAILURE(expect_exit_zero(alarm, std::chrono::seconds(120)));

@@ -49,6 +49,12 @@ estimation::ModelSpec sample_spec(int g) {
   return s;
 }
 
+// n samples of g channels simulated from the sample-level model (sample_spec(g)).
+RowMajorMatrix simulated_samples(int g, int n, std::uint64_t seed) {
+  const estimation::SvarLayout layout(sample_spec(g));
+  return causal::test::simulate_svar(layout, n, seed);
+}
+
 TEST(AssetPipeline, FirstFrameFixesTheChannelCountAndAChangeIsRefused) {
   AssetPipeline pipe(params(true, true));
   PipelineOutput out;
@@ -234,8 +240,7 @@ TEST(AssetPipeline, FeedConditionRefusedWhenTheConditionLevelIsDisabled) {
 
 TEST(AssetPipeline, SampleLevelOnlyProducesNoConditions) {
   const int g = 2;
-  const estimation::SvarLayout layout(sample_spec(g));
-  const RowMajorMatrix y = causal::test::simulate_svar(layout, 256, 5);
+  const RowMajorMatrix y = simulated_samples(g, 256, 5);
   AssetPipeline pipe(params(true, false));
   PipelineOutput out;
   ASSERT_TRUE(pipe.feed_frame(y, 0, 0, true, true, false, kT0, kRate, out).ok);
@@ -249,8 +254,7 @@ TEST(AssetPipeline, SampleLevelOnlyProducesNoConditions) {
 
 TEST(AssetPipeline, SampleTimesUseTheSampleRate) {
   const int g = 3;
-  const estimation::SvarLayout layout(sample_spec(g));
-  const RowMajorMatrix y = causal::test::simulate_svar(layout, 512, 6);
+  const RowMajorMatrix y = simulated_samples(g, 512, 6);
   AssetPipeline pipe(params(true, false));
   PipelineOutput out;
   const double rate = 25'600.0;  // 39062.5 ns per sample

@@ -57,6 +57,28 @@ std::vector<FactorReport> feed_all(FactorStream& stream, const RowMajorMatrix& y
   return out;
 }
 
+// y through a FactorStream publishing every `pe` with fixed lag `lag`, fed in irregular blocks; a new record starts
+// at the first sample and at the first sample of block `restart_block`. The flags and the two kinds of report.
+struct FixedLagRun {
+  std::vector<bool> disc;
+  std::vector<FactorReport> filt, smooth;
+};
+FixedLagRun run_fixed_lag(const estimation::SvarLayout& layout, const RowMajorMatrix& y, std::size_t pe, int lag,
+                          std::size_t restart_block) {
+  const auto sizes = causal::test::irregular_blocks(y.rows());
+  FixedLagRun r;
+  r.disc.assign(static_cast<std::size_t>(y.rows()), false);
+  r.disc[0] = true;
+  Eigen::Index restart = 0;
+  for (std::size_t b = 0; b < restart_block; ++b) restart += sizes[b];
+  r.disc[static_cast<std::size_t>(restart)] = true;
+  FactorStream stream(fixed_params(layout.spec(), pe, lag));
+  const auto all = feed_all(stream, y, sizes, r.disc);
+  r.filt = causal::test::of_kind(all, EstimateKind::Filter);
+  r.smooth = causal::test::of_kind(all, EstimateKind::FixedLag);
+  return r;
+}
+
 void expect_report_matches(const FactorReport& r, const ExpectedReport& e, double tol) {
   SCOPED_TRACE("outcome " + std::to_string(e.outcome) + " at sample " + std::to_string(e.index));
   EXPECT_EQ(r.kind, EstimateKind::Filter);
@@ -194,14 +216,8 @@ TEST(FactorStream, FixedLagReportsEqualTheBatchFixedLagSmootherAtTheSameIndices)
   const int n = 500, lag = 5;
   const std::size_t pe = 16;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 41);
-  const auto sizes = causal::test::irregular_blocks(n);
-  std::vector<bool> disc(static_cast<std::size_t>(n), false);
-  disc[0] = true;
-  disc[static_cast<std::size_t>(sizes[0] + sizes[1] + sizes[2])] = true;  // a restart inside the record
-  FactorStream stream(fixed_params(layout.spec(), pe, lag));
-  const auto all = feed_all(stream, y, sizes, disc);
-  const auto filt = causal::test::of_kind(all, EstimateKind::Filter);
-  const auto smooth = causal::test::of_kind(all, EstimateKind::FixedLag);
+  const FixedLagRun run = run_fixed_lag(layout, y, pe, lag, 3);  // a restart inside the record
+  const auto& [disc, filt, smooth] = run;
   const std::size_t per_outcome = static_cast<std::size_t>(n) / pe;
   ASSERT_EQ(filt.size(), per_outcome * 3);
   ASSERT_EQ(smooth.size(), filt.size());  // after finish() every filter report has its twin
@@ -256,14 +272,8 @@ TEST(FactorStream, FilterReportsCarryTheFilterCovarianceBlock) {
   const int n = 600, lag = 6;
   const std::size_t pe = 40;
   const RowMajorMatrix y = causal::test::simulate_svar(layout, n, 61);
-  const auto sizes = causal::test::irregular_blocks(n);
-  std::vector<bool> disc(static_cast<std::size_t>(n), false);
-  disc[0] = true;
-  disc[static_cast<std::size_t>(sizes[0] + sizes[1] + sizes[2] + sizes[3])] = true;
-  FactorStream stream(fixed_params(layout.spec(), pe, lag));
-  const auto all = feed_all(stream, y, sizes, disc);
-  const auto filt = causal::test::of_kind(all, EstimateKind::Filter);
-  const auto smooth = causal::test::of_kind(all, EstimateKind::FixedLag);
+  const FixedLagRun run = run_fixed_lag(layout, y, pe, lag, 4);
+  const auto& [disc, filt, smooth] = run;
   ASSERT_EQ(filt.size(), static_cast<std::size_t>(n) / pe * 3);
   ASSERT_EQ(smooth.size(), filt.size());
 

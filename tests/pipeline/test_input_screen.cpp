@@ -17,6 +17,7 @@
 #include "causal/pipeline/input_screen.hpp"
 
 #include "../analysis/svar_sim.hpp"
+#include "same_fields.hpp"
 
 #include <gtest/gtest.h>
 
@@ -255,13 +256,7 @@ TEST_P(FaultInOneChannel, ScreenedExactlyAndEveryOutcomeKeepsTracking) {
     w.screened = static_cast<std::uint64_t>(kRows);
     if (j == kBad) w = want.counters;
     SCOPED_TRACE("channel " + std::to_string(j));
-    EXPECT_EQ(got.screened, w.screened);
-    EXPECT_EQ(got.non_finite, w.non_finite);
-    EXPECT_EQ(got.out_of_range, w.out_of_range);
-    EXPECT_EQ(got.quarantined_values, w.quarantined_values);
-    EXPECT_EQ(got.stuck, w.stuck);
-    EXPECT_EQ(got.scale_change, w.scale_change);
-    EXPECT_EQ(got.recovered, w.recovered);
+    EXPECT_SAME_FIELDS(got, w, screened, non_finite, out_of_range, quarantined_values, stuck, scale_change, recovered);
     EXPECT_FALSE(got.quarantined);
   }
   EXPECT_TRUE(clean.quality_events.empty());

@@ -41,6 +41,23 @@ TrendParams no_forecast_diffusion() {
   return t;
 }
 
+// No process noise at all: the forecast is the state's own Gaussian.
+TrendParams no_diffusion() {
+  TrendParams t;
+  t.acceleration_diffusion = t.level_diffusion = 0.0;
+  return t;
+}
+
+// Level, slope and acceleration, with independent standard deviations of level and slope (none elsewhere).
+TrendState state_of(double level, double slope, double acceleration, double level_sd, double slope_sd) {
+  TrendState s;
+  s.x << level, slope, acceleration;
+  s.p.setZero();
+  s.p(0, 0) = level_sd * level_sd;
+  s.p(1, 1) = slope_sd * slope_sd;
+  return s;
+}
+
 // The Gaussian closed form alone: no pessimistic lower end.
 PrognosisParams lenient() {
   PrognosisParams p;
@@ -53,14 +70,8 @@ PrognosisParams lenient() {
 
 TEST(TimeToLevel, StraightLineClosedForm) {
   // q = 0: P(T <= t) = Phi((m + b t - L) / sqrt([1 t] P [1 t]^T)) exactly; the median is (L - m) / b.
-  TrendParams trend;
-  trend.acceleration_diffusion = 0.0;
-  trend.level_diffusion = 0.0;
-  TrendState s;
-  s.x << 0.1, 0.02, 0.0;
-  s.p.setZero();
-  s.p(0, 0) = 0.01 * 0.01;
-  s.p(1, 1) = 0.004 * 0.004;
+  const TrendParams trend = no_diffusion();
+  TrendState s = state_of(0.1, 0.02, 0.0, 0.01, 0.004);
   s.p(0, 1) = s.p(1, 0) = 0.3 * 0.01 * 0.004;
   const double l = std::log(2.0);
   const auto r = time_to_level(s, trend, l, 100, lenient());
@@ -122,14 +133,8 @@ TEST(TimeToLevel, PessimisticScenarioMovesOnlyTheLowerEnd) {
   // State with a rising slope and acceleration: the pessimistic lower end is the exponential path's closed form
   // m' + b' (exp(lambda s) - 1) / lambda = L, lambda = a' / b', every quantity at +z sd; median and upper end
   // stay those of the Gaussian forecast.
-  TrendParams trend;
-  trend.acceleration_diffusion = 0.0;
-  trend.level_diffusion = 0.0;
-  TrendState s;
-  s.x << 0.1, 0.02, 0.0005;
-  s.p.setZero();
-  s.p(0, 0) = 0.01 * 0.01;
-  s.p(1, 1) = 0.002 * 0.002;
+  const TrendParams trend = no_diffusion();
+  TrendState s = state_of(0.1, 0.02, 0.0005, 0.01, 0.002);
   s.p(2, 2) = 0.0001 * 0.0001;
   const double l = std::log(4.0), z = 2.0;
   const auto gauss = time_to_level(s, trend, l, 100, lenient());

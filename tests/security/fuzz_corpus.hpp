@@ -8,6 +8,7 @@
 //    counts, channel 0 or 999, an empty group): these reach the services, which must count and survive them.
 #pragma once
 
+#include "bus_samples.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal_twinPubSubTypes.h"
 
@@ -52,6 +53,13 @@ inline void add_generic(TopicCorpus& c, const Bytes& valid) {
   c.refused.push_back(bad_encapsulation);
 }
 
+// `sample` changed by `change`, encoded and added to `into` (a corpus's refused or accepted samples).
+template <typename PubSubType, typename Change>
+void add_changed(std::vector<Bytes>& into, typename PubSubType::type sample, Change change) {
+  change(sample);
+  into.push_back(encode<PubSubType>(sample));
+}
+
 // Sets the last byte (a trailing boolean) to 7: Fast CDR throws BadParamException.
 inline Bytes with_bad_trailing_bool(Bytes b) {
   b.back() = 7;
@@ -59,13 +67,7 @@ inline Bytes with_bad_trailing_bool(Bytes b) {
 }
 
 inline causal_twin::VibrationFrame frame(const std::string& group) {
-  causal_twin::VibrationFrame f;
-  f.asset_group(group);
-  f.sample_rate_hz(20000.0);
-  f.channel_names({"b1", "b2", "b3", "b4"});
-  f.samples_per_channel(4);
-  f.samples(std::vector<double>(16, 0.5));
-  f.discontinuity(true);
+  causal_twin::VibrationFrame f = security::four_bearing_frame(group, 4);
   f.source("fuzz");
   return f;
 }
@@ -75,28 +77,18 @@ inline TopicCorpus vibration_frames() {
   TopicCorpus c{dds::topics::kVibrationFrame, "causal_twin::VibrationFrame", dds::profiles::kVibrationFrameWriter, {}, {}};
   add_generic(c, encode<T>(frame("fuzz-g")));
   c.refused.push_back(encode<T>(frame(kLongId)));
-  auto f = frame("fuzz-g");
-  f.channel_names(std::vector<std::string>(65, "c"));
-  c.refused.push_back(encode<T>(f));
+  add_changed<T>(c.refused, frame("fuzz-g"), [](auto& f) { f.channel_names(std::vector<std::string>(65, "c")); });
   // Accepted by the guard, wrong in content (a long source is free text, not an id):
-  f = frame("fuzz-long-source");
-  f.source(std::string(5000, 's'));
-  c.accepted.push_back(encode<T>(f));
-  f = frame("fuzz-nan");
-  f.samples({kNaN, kInf, -kInf, 1.0, kNaN, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
-  c.accepted.push_back(encode<T>(f));
-  f = frame("fuzz-count");
-  f.samples(std::vector<double>(10, 0.5));  // 4 x 4 expected
-  c.accepted.push_back(encode<T>(f));
-  f = frame("fuzz-huge-n");
-  f.samples_per_channel(4000000000u);
-  c.accepted.push_back(encode<T>(f));
-  f = frame("fuzz-rate");
-  f.sample_rate_hz(kNaN);
-  f.channel_names({});
-  c.accepted.push_back(encode<T>(f));
-  f = frame("");
-  c.accepted.push_back(encode<T>(f));
+  add_changed<T>(c.accepted, frame("fuzz-long-source"), [](auto& f) { f.source(std::string(5000, 's')); });
+  add_changed<T>(c.accepted, frame("fuzz-nan"),
+                 [](auto& f) { f.samples({kNaN, kInf, -kInf, 1.0, kNaN, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}); });
+  add_changed<T>(c.accepted, frame("fuzz-count"), [](auto& f) { f.samples(std::vector<double>(10, 0.5)); });  // 4 x 4 expected
+  add_changed<T>(c.accepted, frame("fuzz-huge-n"), [](auto& f) { f.samples_per_channel(4000000000u); });
+  add_changed<T>(c.accepted, frame("fuzz-rate"), [](auto& f) {
+    f.sample_rate_hz(kNaN);
+    f.channel_names({});
+  });
+  c.accepted.push_back(encode<T>(frame("")));
   return c;
 }
 
@@ -117,22 +109,14 @@ inline TopicCorpus condition_vectors(const std::string& topic, const std::string
   add_generic(c, valid);
   c.refused.push_back(with_bad_trailing_bool(valid));
   c.refused.push_back(encode<T>(condition(kLongId)));
-  auto v = condition("fuzz-g");
-  v.feature(kLongId);
-  c.refused.push_back(encode<T>(v));
-  v = condition("fuzz-g");
-  v.values(std::vector<double>(65, 0.1));
-  c.refused.push_back(encode<T>(v));
-  v = condition("fuzz-nan");
-  v.values({kNaN, kInf, 0.1, -kInf});
-  c.accepted.push_back(encode<T>(v));
-  v = condition("fuzz-count");
-  v.values({0.1, 0.2});
-  c.accepted.push_back(encode<T>(v));
-  v = condition("fuzz-index");
-  v.snapshot_index(std::numeric_limits<std::uint64_t>::max());
-  v.feature("no-such-feature");
-  c.accepted.push_back(encode<T>(v));
+  add_changed<T>(c.refused, condition("fuzz-g"), [](auto& v) { v.feature(kLongId); });
+  add_changed<T>(c.refused, condition("fuzz-g"), [](auto& v) { v.values(std::vector<double>(65, 0.1)); });
+  add_changed<T>(c.accepted, condition("fuzz-nan"), [](auto& v) { v.values({kNaN, kInf, 0.1, -kInf}); });
+  add_changed<T>(c.accepted, condition("fuzz-count"), [](auto& v) { v.values({0.1, 0.2}); });
+  add_changed<T>(c.accepted, condition("fuzz-index"), [](auto& v) {
+    v.snapshot_index(std::numeric_limits<std::uint64_t>::max());
+    v.feature("no-such-feature");
+  });
   c.accepted.push_back(encode<T>(condition("")));
   return c;
 }
@@ -164,28 +148,24 @@ inline TopicCorpus factor_batches() {
   TopicCorpus c{dds::topics::kCausalFactors, "causal_twin::CausalFactorBatch", dds::profiles::kCausalFactorsWriter, {}, {}};
   add_generic(c, encode<T>(factor_batch("fuzz-g")));
   c.refused.push_back(encode<T>(factor_batch(kLongId)));
-  auto b = factor_batch("fuzz-g");
-  b.kind(static_cast<causal_twin::EstimateKind>(7));
-  c.refused.push_back(encode<T>(b));
-  b = factor_batch("fuzz-g");
-  b.outcomes()[0].factors(std::vector<double>(1025, 0.0));
-  c.refused.push_back(encode<T>(b));
-  b = factor_batch("fuzz-nan");
-  b.outcomes()[1].factors({kNaN, kInf});
-  b.outcomes()[2].factor_std({-1.0, kNaN});
-  c.accepted.push_back(encode<T>(b));
-  b = factor_batch("fuzz-count");
-  b.channel_count(9);  // four outcomes follow
-  b.outcomes()[3].outcome(99);
-  b.outcomes()[0].factor_names({"x12"});  // two factors
-  c.accepted.push_back(encode<T>(b));
-  b = factor_batch("fuzz-empty");
-  b.outcomes().clear();
-  b.channel_count(0);
-  c.accepted.push_back(encode<T>(b));
-  b = factor_batch("fuzz-cov");
-  b.outcomes()[0].factor_covariance({1.0, kNaN});  // 3 expected for 2 factors
-  c.accepted.push_back(encode<T>(b));
+  add_changed<T>(c.refused, factor_batch("fuzz-g"), [](auto& b) { b.kind(static_cast<causal_twin::EstimateKind>(7)); });
+  add_changed<T>(c.refused, factor_batch("fuzz-g"),
+                 [](auto& b) { b.outcomes()[0].factors(std::vector<double>(1025, 0.0)); });
+  add_changed<T>(c.accepted, factor_batch("fuzz-nan"), [](auto& b) {
+    b.outcomes()[1].factors({kNaN, kInf});
+    b.outcomes()[2].factor_std({-1.0, kNaN});
+  });
+  add_changed<T>(c.accepted, factor_batch("fuzz-count"), [](auto& b) {
+    b.channel_count(9);  // four outcomes follow
+    b.outcomes()[3].outcome(99);
+    b.outcomes()[0].factor_names({"x12"});  // two factors
+  });
+  add_changed<T>(c.accepted, factor_batch("fuzz-empty"), [](auto& b) {
+    b.outcomes().clear();
+    b.channel_count(0);
+  });
+  add_changed<T>(c.accepted, factor_batch("fuzz-cov"),
+                 [](auto& b) { b.outcomes()[0].factor_covariance({1.0, kNaN}); });  // 3 expected for 2 factors
   return c;
 }
 
@@ -206,27 +186,21 @@ inline TopicCorpus alarms() {
   TopicCorpus c{dds::topics::kAlarm, "causal_twin::Alarm", dds::profiles::kAlarmWriter, {}, {}};
   add_generic(c, encode<T>(alarm("fuzz/1/fuzz/0")));
   c.refused.push_back(encode<T>(alarm(kLongId)));
-  auto a = alarm("fuzz/1/fuzz/1");
-  a.asset_group(kLongId);
-  c.refused.push_back(encode<T>(a));
-  a = alarm("fuzz/1/fuzz/2");
-  a.severity(static_cast<causal_twin::Severity>(9));
-  c.refused.push_back(encode<T>(a));
-  a = alarm("fuzz/1/fuzz/3");
-  a.factor_now(std::vector<double>(100, 1.0));
-  c.refused.push_back(encode<T>(a));
-  a = alarm("fuzz/999/fuzz/4");
-  a.channel(999);
-  a.root_cause_channel(500);
-  a.score(kNaN);
-  a.root_cause_confidence(kInf);
-  a.factor_names({"x12", "x13"});
-  a.factor_now({kNaN});
-  c.accepted.push_back(encode<T>(a));
-  a = alarm("");
-  a.asset_group("");
-  a.channel(0);
-  c.accepted.push_back(encode<T>(a));
+  add_changed<T>(c.refused, alarm("fuzz/1/fuzz/1"), [](auto& a) { a.asset_group(kLongId); });
+  add_changed<T>(c.refused, alarm("fuzz/1/fuzz/2"), [](auto& a) { a.severity(static_cast<causal_twin::Severity>(9)); });
+  add_changed<T>(c.refused, alarm("fuzz/1/fuzz/3"), [](auto& a) { a.factor_now(std::vector<double>(100, 1.0)); });
+  add_changed<T>(c.accepted, alarm("fuzz/999/fuzz/4"), [](auto& a) {
+    a.channel(999);
+    a.root_cause_channel(500);
+    a.score(kNaN);
+    a.root_cause_confidence(kInf);
+    a.factor_names({"x12", "x13"});
+    a.factor_now({kNaN});
+  });
+  add_changed<T>(c.accepted, alarm(""), [](auto& a) {
+    a.asset_group("");
+    a.channel(0);
+  });
   return c;
 }
 
@@ -247,16 +221,14 @@ inline TopicCorpus recommendations() {
   TopicCorpus c{dds::topics::kRecommendation, "causal_twin::Recommendation", dds::profiles::kRecommendationWriter, {}, {}};
   add_generic(c, encode<T>(recommendation("fuzz/0/1")));
   c.refused.push_back(encode<T>(recommendation(kLongId)));
-  auto r = recommendation("fuzz/0/2");
-  r.asset_group(kLongId);
-  c.refused.push_back(encode<T>(r));
-  r = recommendation("fuzz/0/3");
-  r.target_channel(999);
-  r.intervene_channel(0);
-  r.delta(kNaN);
-  r.effect_low(kInf);
-  r.effect_high(-kInf);
-  c.accepted.push_back(encode<T>(r));
+  add_changed<T>(c.refused, recommendation("fuzz/0/2"), [](auto& r) { r.asset_group(kLongId); });
+  add_changed<T>(c.accepted, recommendation("fuzz/0/3"), [](auto& r) {
+    r.target_channel(999);
+    r.intervene_channel(0);
+    r.delta(kNaN);
+    r.effect_low(kInf);
+    r.effect_high(-kInf);
+  });
   return c;
 }
 
@@ -277,20 +249,16 @@ inline TopicCorpus whatif_requests() {
   add_generic(c, valid);
   c.refused.push_back(with_bad_trailing_bool(valid));
   c.refused.push_back(encode<T>(whatif_request(kLongId)));
-  auto q = whatif_request("fuzz-q1");
-  q.asset_group(kLongId);
-  c.refused.push_back(encode<T>(q));
-  q = whatif_request("fuzz-q2");
-  q.intervene_channel(0);
-  c.accepted.push_back(encode<T>(q));
-  q = whatif_request("fuzz-q3");
-  q.intervene_channel(999);
-  q.delta(kNaN);
-  c.accepted.push_back(encode<T>(q));
-  q = whatif_request("fuzz-q4");
-  q.delta(kInf);
-  q.asset_group("");
-  c.accepted.push_back(encode<T>(q));
+  add_changed<T>(c.refused, whatif_request("fuzz-q1"), [](auto& q) { q.asset_group(kLongId); });
+  add_changed<T>(c.accepted, whatif_request("fuzz-q2"), [](auto& q) { q.intervene_channel(0); });
+  add_changed<T>(c.accepted, whatif_request("fuzz-q3"), [](auto& q) {
+    q.intervene_channel(999);
+    q.delta(kNaN);
+  });
+  add_changed<T>(c.accepted, whatif_request("fuzz-q4"), [](auto& q) {
+    q.delta(kInf);
+    q.asset_group("");
+  });
   return c;
 }
 
@@ -304,16 +272,12 @@ inline TopicCorpus whatif_replies() {
   r.channel_names({"b1", "b2"});
   r.effect_immediate({0.1, 0.2});
   add_generic(c, encode<T>(r));
-  auto bad = r;
-  bad.request_id(kLongId);
-  c.refused.push_back(encode<T>(bad));
-  bad = r;
-  bad.effect_median(std::vector<double>(70, 0.0));
-  c.refused.push_back(encode<T>(bad));
-  bad = r;
-  bad.request_id("fuzz-r1");
-  bad.effect_immediate({kNaN, kInf, 1.0});  // three values, two names
-  c.accepted.push_back(encode<T>(bad));
+  add_changed<T>(c.refused, r, [](auto& bad) { bad.request_id(kLongId); });
+  add_changed<T>(c.refused, r, [](auto& bad) { bad.effect_median(std::vector<double>(70, 0.0)); });
+  add_changed<T>(c.accepted, r, [](auto& bad) {
+    bad.request_id("fuzz-r1");
+    bad.effect_immediate({kNaN, kInf, 1.0});  // three values, two names
+  });
   return c;
 }
 

@@ -4,6 +4,7 @@
 // receives is counted per topic, split into its own samples (a control that it works) and everyone else's.
 #pragma once
 
+#include "bus_samples.hpp"
 #include "loopback_settings.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/security.hpp"
@@ -54,14 +55,7 @@ class Intruder {
     reader<WhatIfRequestPubSubType>(t::kWhatIfRequest, p::kWhatIfReader, [](const auto&) { return false; });
     reader<WhatIfReplyPubSubType>(t::kWhatIfReply, p::kWhatIfReader, [](const auto&) { return false; });
 
-    VibrationFrame frame;
-    frame.asset_group(kIntruderGroup);
-    frame.sample_rate_hz(20000.0);
-    frame.channel_names({"b1", "b2", "b3", "b4"});
-    frame.samples_per_channel(16);
-    frame.samples(std::vector<double>(64, 0.5));
-    frame.discontinuity(true);
-    writer<VibrationFramePubSubType>(t::kVibrationFrame, p::kVibrationFrameWriter, frame);
+    writer<VibrationFramePubSubType>(t::kVibrationFrame, p::kVibrationFrameWriter, four_bearing_frame(kIntruderGroup, 16));
     ConditionVector vector;
     vector.asset_group(kIntruderGroup);
     vector.feature("meanabs");

@@ -20,6 +20,16 @@ inline std::string slurp(const std::filesystem::path& p) {
   return ss.str();
 }
 
+// <tmp>/<prefix>_<name>_<pid>, emptied and created: the work folder of a test that runs services, kept afterwards
+// for their logs.
+inline std::filesystem::path fresh_work_dir(const std::string& prefix, const std::string& name) {
+  const std::filesystem::path p =
+      std::filesystem::temp_directory_path() / (prefix + "_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
+  return p;
+}
+
 // <tmp>/<prefix>_<pid>_<test name>: created empty for the running test, removed with everything in it afterwards.
 struct TestTempDir {
   std::filesystem::path path;
