@@ -20,6 +20,8 @@
 #include <unistd.h>
 #include <vector>
 
+#include "test_files.hpp"
+
 namespace causal::test::delivery {
 
 namespace fs = std::filesystem;
@@ -30,12 +32,7 @@ inline int delivery_domain_id(int salt) {
   return 200 + salt;  // a fixed id per test: ctest -j runs tests side by side (see CMakeLists.txt)
 }
 
-inline fs::path work_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("causal_delivery_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+inline fs::path work_dir(const std::string& name) { return causal::test::fresh_work_dir("causal_delivery", name); }
 
 inline std::string read_text(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

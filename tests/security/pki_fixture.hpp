@@ -8,6 +8,8 @@
 #include <string>
 #include <unistd.h>
 
+#include "test_files.hpp"
+
 namespace causal::test::security {
 
 namespace fs = std::filesystem;
@@ -19,12 +21,7 @@ inline void run(const std::string& command) {
   if (std::system((command + " > /dev/null 2>&1").c_str()) != 0) throw std::runtime_error("failed: " + command);
 }
 
-inline fs::path fresh_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("causal_security_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+inline fs::path fresh_dir(const std::string& name) { return causal::test::fresh_work_dir("causal_security", name); }
 
 // deploy/security/make-pki.sh DIR
 inline fs::path make_pki(const fs::path& dir) {
