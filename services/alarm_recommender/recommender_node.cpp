@@ -57,8 +57,8 @@ int RecommenderNode::run() {
   spdlog::info("alarm-recommender on domain {}, waiting for causal factors", participant_.domain_id());
   if (const int rc = wait_for_readers(); rc != 0) return rc;
   restore_checkpoints();
-  // ready: being judged; later: taken meanwhile (judged by the next poll, so what-if requests and alarm
-  // actions are still answered between batches).
+  // ready: being judged; later: taken meanwhile (judged by the next poll; what-if requests and alarm actions are
+  // answered after every observation, take_operator_requests).
   std::vector<AssembledObservation> ready, later;
   // Everything the readers hold is taken into the assembler, whose observations become `into` (appended).
   const auto take = [&](std::vector<AssembledObservation>& into) {
@@ -93,14 +93,16 @@ int RecommenderNode::run() {
     return n;
   };
   const auto poll = [&] {
-    std::size_t n = take(later);
+    const bool sources_gone = factors_.matched_writers() + conditions_.matched_writers() == 0;  // before the take
+    std::size_t data = take(later);
     ready.swap(later);
     later.clear();
-    handle(ready, [&] { n += take(later); });
+    std::size_t n = ready.size();  // judging is activity too: --idle-exit counts from its end
+    handle(ready, [&] { data += take(later); n += take_operator_requests(); });
     publish_health();
-    n += take_whatif_requests();
-    n += poll_alarm_actions();
-    return n;
+    n += take_operator_requests();
+    note_caught_up(sources_gone, data);
+    return n + data;
   };
   // Idle exit only once every source has left the domain (see causal-estimator).
   const auto end = loop_.run({options_.idle_exit_s, options_.max_runtime_s}, poll,
@@ -183,6 +185,7 @@ void RecommenderNode::handle(std::vector<AssembledObservation>& ready, const std
   // then waits at most its bounded drain at exit, and what it sent is kept here (the assembler) until judged.
   for (auto& a : ready) {
     observe(a);
+    ++observations_judged_;
     take_more();
   }
 }

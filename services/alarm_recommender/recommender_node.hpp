@@ -47,6 +47,11 @@ class RecommenderNode {
   int run();
   // --wait-for: 0 when every named reader matched (or none asked), 3 when one did not in time.
   int wait_for_readers();
+  // Logs "caught up: ..." once when every source of causal factors and condition vectors has left (sources_gone,
+  // read before this poll's take), the poll took no input (taken == 0: all taken before is judged) and every
+  // matched reader acknowledged all alarms, recommendations, prognoses and statuses published; again after a
+  // source came back and left (recommender_wait.cpp). Tests and scripts wait for it, not for a guessed time.
+  void note_caught_up(bool sources_gone, std::size_t taken);
   void stop() { loop_.stop(); }
 
  private:
@@ -59,7 +64,8 @@ class RecommenderNode {
     std::uint64_t raised = 0;
     bool unverified = false;  // restored at start from its checkpoint: the stream's names are not compared yet
   };
-  // Judges `ready` in order; after each observation take_more() takes what the readers got meanwhile.
+  // Judges `ready` in order; after each observation take_more() takes what the readers got meanwhile (input,
+  // what-if requests, alarm actions).
   void handle(std::vector<AssembledObservation>& ready, const std::function<void()>& take_more);
   void observe(AssembledObservation& a);
   // action: the decision's action for a degradation event (Alarm.action), "" otherwise; condition-level
@@ -81,6 +87,10 @@ class RecommenderNode {
   // Takes the what-if requests: answered when their writer's grant names their group, else refused
   // (recommender_whatif.cpp). Returns the number taken.
   std::size_t take_whatif_requests();
+  // What-if requests and alarm actions, taken after every observation judged (handle) and between polls: a backlog
+  // judged in one batch (hundreds of observations after a slow stretch) never keeps an operator waiting for more
+  // than one observation. Returns the number taken.
+  std::size_t take_operator_requests() { return take_whatif_requests() + poll_alarm_actions(); }
   void publish_health_alarm(causal_twin::Alarm& alarm);  // logged and written on causal_twin/alarm
   void log_whatif_summary() const;
   void publish_health();  // HEALTH alarms of silent or lost factor streams (HealthWatch), raised and cleared
@@ -136,6 +146,8 @@ class RecommenderNode {
   OpenAlarmMetrics open_alarms_;  // causal_twin_alarms_open{asset_group, category, severity}
   PrognosisMetrics prognosis_metrics_;  // causal_twin_prognosis_time_to_level_seconds{...}
   std::uint64_t factors_received_ = 0, conditions_received_ = 0;
+  std::uint64_t observations_judged_ = 0;
+  bool sources_seen_ = false, caught_up_logged_ = false;  // note_caught_up
   dds::WriterGrantCheck whatif_grants_{
       participant_.directory(), "whatif", "what-if request",
       "issue-identity.sh: an operator's grant names no partitions, or only those of --groups"};

@@ -2,6 +2,7 @@
 // every output topic, as causal-estimator --wait-for does for its factor readers. The writers keep the last 64
 // changes per key for late joiners; the asset status changes at every snapshot while a group learns, so a recorder
 // that matched after that ring turned over recorded a shorter history (CI: 396 of 428 status rows, exit 0).
+// And the other end: "caught up" once the sources left and all they sent is judged and acknowledged (note_caught_up).
 #include "recommender_node.hpp"
 
 #include "causal/config/exit_codes.hpp"
@@ -44,6 +45,26 @@ int RecommenderNode::wait_for_readers() {
   for (const auto& spec : options_.wait_for) names += (names.empty() ? "" : ", ") + spec;
   spdlog::info("readers matched on every output topic: {}", names);
   return config::kExitOk;
+}
+
+void RecommenderNode::note_caught_up(bool sources_gone, std::size_t taken) {
+  if (!sources_gone) {
+    sources_seen_ = true;
+    caught_up_logged_ = false;
+    return;
+  }
+  if (!sources_seen_ || caught_up_logged_ || taken > 0) return;
+  // Reliable writers: acknowledged means every matched reader holds what was published (a kill -9 from now on
+  // loses nothing a live reader would have seen). Not yet: asked again at the next poll, never waited for here.
+  const std::chrono::milliseconds at_once{0};
+  if (!alarms_.wait_for_acknowledgments(at_once) || !recommendations_.wait_for_acknowledgments(at_once) ||
+      !prognoses_.wait_for_acknowledgments(at_once) || !status_writer_.wait_for_acknowledgments(at_once)) {
+    return;
+  }
+  caught_up_logged_ = true;
+  spdlog::info("caught up: every source of causal factors and condition vectors left, the {} observations taken are "
+               "judged, and every reader acknowledged the alarms, recommendations, prognoses and statuses published",
+               observations_judged_);
 }
 
 }  // namespace causal::recommender

@@ -38,7 +38,12 @@ class DdsObserver {
     loop_.attach(recommendations_.get());
     thread_ = std::thread([this] { run(); });
   }
-  ~DdsObserver() {
+  ~DdsObserver() { stop(); }
+
+  // Stops listening; everything the readers received before it is taken (the lists are then complete), e.g. the
+  // reference of a run whose writers acknowledged all they published.
+  void stop() {
+    if (!thread_.joinable()) return;
     loop_.stop();
     thread_.join();
   }
@@ -95,7 +100,9 @@ class DdsObserver {
     return loopback_settings(domain_id, "test-observer");
   }
   void run() {
-    while (loop_.wait(std::chrono::milliseconds(100))) {
+    // One more pass after stop(): what arrived since the last one is taken too.
+    for (bool running = true; running;) {
+      running = loop_.wait(std::chrono::milliseconds(100));
       frames_.take_all([this](const auto&, const auto&) { ++frame_count_; });
       factors_.take_all([this](const causal_twin::CausalFactorBatch& f, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);

@@ -146,6 +146,9 @@ TEST(ConditionAlarms, FullRunFeatureReplayMeetsTheEarlyWarningBar) {
                             "causal-recorder"},
                            (work / "estimator.log").string());
   ASSERT_NO_FATAL_FAILURE(replay_through(estimator, SENSOR_REPLAY_BIN, d, table, work / "replay.log"));
+  // The final model: asked once the recommender has judged all the estimator sent (under load it can be far
+  // behind when the estimator leaves; the question would then be answered on whatever model it had reached).
+  ASSERT_TRUE(alarm.wait_for_output("caught up:", std::chrono::seconds(120))) << alarm.output();
   // A what-if on the final IMS model, a sustained 10 % cut of bearing 1's level: answered honestly
   // (medians inside their intervals, horizon and stability named) or refused with the reason.
   causal_twin::WhatIfRequest question;
