@@ -7,7 +7,6 @@
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
   causal::approve::ApproveOptions o;
-  std::uint64_t start = 0, duration = 0;
   CLI::App app{
       "causal-approve: approves one recommendation of alarm-recommender (a reliable upstream lever) and publishes it\n"
       "as an intervention on causal_twin/intervention: the lever channel's level changed by the recommended\n"
@@ -22,22 +21,20 @@ int main(int argc, char** argv) {
   app.add_option("--recommendation", o.recommendation_id, "recommendation id (as published, e.g. <alarm id>/1)")
       ->required();
   app.add_option("--user", o.user, "who approves it (recorded with the intervention)")->required();
-  auto* s = app.add_option("--start-index", start,
-                           "first snapshot index the change applies to (default: the group's latest snapshot, from the "
-                           "source's condition inputs or else the estimator's condition vectors, + --lead)");
+  app.add_option("--start-index", o.start_index,
+                 "first snapshot index the change applies to (default: the group's latest snapshot, from the source's "
+                 "condition inputs or else the estimator's condition vectors, + --lead)");
   app.add_option("--lead", o.lead, "snapshots between the latest one seen and the default start")
       ->check(CLI::Range(1, 100000))->capture_default_str();
-  auto* d = app.add_option("--duration", duration,
-                           "snapshots the change is held for (default: the recommendation's horizon, at least 12)")
-                ->check(CLI::Range(1, 1000000));
+  app.add_option("--duration", o.duration,
+                 "snapshots the change is held for (default: the recommendation's horizon, at least 12)")
+      ->check(CLI::Range(1, 1000000));
   app.add_option("--wait-for", o.wait_for,
                  "participant name whose intervention reader must be matched before publishing (repeatable), e.g. "
                  "sensor-sim");
   app.add_option("--timeout", o.timeout_s, "seconds to find the recommendation, the readers and their acknowledgement")
       ->check(CLI::PositiveNumber)->capture_default_str();
   CAUSAL_CLI_PARSE(app, argc, argv);
-  if (s->count() > 0) o.start_index = start;
-  if (d->count() > 0) o.duration = duration;
   return causal::dds::run_service(signals, "causal-approve", o.dds,
                                   [&] { return std::make_unique<causal::approve::ApproveNode>(std::move(o)); });
 }

@@ -90,6 +90,12 @@ void EstimatorAdmission::finish() {
 
 GroupState* EstimatorAdmission::screen(const std::string& group, const std::string& problem, const WriterGuid* writer,
                                        bool frame, std::uint64_t number, std::uint64_t snapshot, std::int64_t time_ns) {
+  // The content filter already keeps other shards' samples away; this check catches what a filter could not
+  // judge (a sample whose asset group it could not read is let through) and is counted.
+  if (!options_.groups.matches(group)) {
+    ++counts_.foreign;
+    return nullptr;
+  }
   if (!problem.empty()) {
     ++counts_.invalid;
     not_processed_invalid_->inc();
@@ -109,12 +115,6 @@ GroupState* EstimatorAdmission::screen(const std::string& group, const std::stri
 
 void EstimatorAdmission::on_frame(const causal_twin::VibrationFrame& frame, const WriterGuid* writer) {
   const std::string& name = frame.asset_group();
-  // The content filter already keeps other shards' samples away; this check catches what a filter could not
-  // judge (a sample whose asset group it could not read is let through) and is counted.
-  if (!options_.groups.matches(name)) {
-    ++counts_.foreign;
-    return;
-  }
   GroupState* group = screen(name, dds::validate_frame(frame), writer, true, frame.sequence_number(),
                              frame.snapshot_index(), frame.first_sample_time_ns());
   if (group == nullptr) return;
@@ -163,10 +163,6 @@ bool EstimatorAdmission::frame_gap(const causal_twin::VibrationFrame& frame, Gro
 
 void EstimatorAdmission::on_condition(const causal_twin::ConditionVector& in, const WriterGuid* writer) {
   const std::string& name = in.asset_group();
-  if (!options_.groups.matches(name)) {
-    ++counts_.foreign;
-    return;
-  }
   GroupState* group = screen(name, dds::validate_condition_vector(in), writer, false, in.snapshot_index(),
                              in.snapshot_index(), in.time_ns());
   if (group == nullptr) return;

@@ -87,13 +87,10 @@ void EstimatorProcessing::feed_frame(const causal_twin::VibrationFrame& frame, G
     return;
   }
   if (trace) trace->fed_ns = StageTrace::now_ns();
-  if (!check.ok) {
-    ++a.refused_frames;
-    spdlog::debug("asset '{}': frame {} refused: {}", name, frame.sequence_number(), check.problem);
-    publisher_.report_refusal(name, frame.snapshot_index(), frame.first_sample_time_ns(), check.problem);
+  if (!accepted(name, a, check, a.refused_frames, "frame", frame.sequence_number(), frame.snapshot_index(),
+                frame.first_sample_time_ns())) {
     return;
   }
-  log_adjustments(name, a);
   ++a.frames;
   a.last_time_ns = frame.first_sample_time_ns() +
                    static_cast<std::int64_t>(static_cast<double>(std::max<std::uint32_t>(frame.samples_per_channel(), 1) - 1) *
@@ -103,6 +100,19 @@ void EstimatorProcessing::feed_frame(const causal_twin::VibrationFrame& frame, G
   publisher_.publish(name, a, out_, frame.end_of_segment(), trace);
   if (!publisher_.standing_by()) log_learned(name, a);
   a.frame_seconds->observe(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+}
+
+bool EstimatorProcessing::accepted(const std::string& name, GroupState& a, const pipeline::FrameCheck& check,
+                                   std::uint64_t& refused, const char* kind, std::uint64_t number,
+                                   std::uint64_t snapshot, std::int64_t time_ns) {
+  if (!check.ok) {
+    ++refused;
+    spdlog::debug("asset '{}': {} {} refused: {}", name, kind, number, check.problem);
+    publisher_.report_refusal(name, snapshot, time_ns, check.problem);
+    return false;
+  }
+  log_adjustments(name, a);
+  return true;
 }
 
 void EstimatorProcessing::feed_condition(const causal_twin::ConditionVector& in, GroupState& a) {
@@ -121,13 +131,10 @@ void EstimatorProcessing::feed_condition(const causal_twin::ConditionVector& in,
     fail(name, a, e, in.snapshot_index(), in.time_ns());
     return;
   }
-  if (!check.ok) {
-    ++a.refused_conditions;
-    spdlog::debug("asset '{}': condition vector {} refused: {}", name, in.snapshot_index(), check.problem);
-    publisher_.report_refusal(name, in.snapshot_index(), in.time_ns(), check.problem);
+  if (!accepted(name, a, check, a.refused_conditions, "condition vector", in.snapshot_index(), in.snapshot_index(),
+                in.time_ns())) {
     return;
   }
-  log_adjustments(name, a);
   ++a.conditions_in;
   a.last_time_ns = in.time_ns();
   // The accepted vector goes on to the estimator's own topic: the one stream of condition vectors that the

@@ -42,6 +42,10 @@ class EstimatorProcessing {
   void fail(const std::string& name, GroupState& a, const std::exception& e, std::uint64_t snapshot,
             std::int64_t time_ns);
   void log_adjustments(const std::string& name, GroupState& a);  // once per group, after its first accepted input
+  // The pipeline's check of one input: refused (counted in `refused`, logged, reported) or accepted (its
+  // adjustments logged). `kind` and `number` name the input in the log.
+  bool accepted(const std::string& name, GroupState& a, const pipeline::FrameCheck& check, std::uint64_t& refused,
+                const char* kind, std::uint64_t number, std::uint64_t snapshot, std::int64_t time_ns);
   // Once each: the learned structure at both levels and the sample level's noise (tuned or fixed).
   void log_learned(const std::string& name, GroupState& a);
   void log_structure(const std::string& name, const GroupState& a, const char* level,

@@ -5,7 +5,7 @@
 #include "causal/pipeline/estimator_params.hpp"
 #include "shard_assignment.hpp"
 
-#include "causal/config/config_search.hpp"
+#include "causal/config/service_options.hpp"
 
 #include <CLI/CLI.hpp>
 #include "causal/config/cli_conventions.hpp"
@@ -15,16 +15,11 @@
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
   causal::estimator::EstimatorOptions o;
-  // Flag, $CAUSAL_TWIN_CONFIG_DIR, build tree, /etc/causal-twin, <prefix>/share/causal-twin/config (in that order).
-  const causal::config::ConfigChoice params_choice =
-      causal::config::find_config_file("estimator.yaml", "", causal::config::ConfigKind::Parameters);
-  o.params_file = params_choice.path;
   CLI::App app{"causal-estimator: learns time-varying causal factors between the channels of each asset group\n"
                "(Kalman filter and fixed-lag smoother, sample level and condition level) and publishes them.\n"
                "Exit codes: 0 done, 2 invalid configuration, 3 named readers never matched, 4 data lost or refused."};
   causal::dds::add_common_options(app, o.dds);
-  app.add_option("--params", o.params_file, "YAML parameter file; default: " + params_choice.describe("estimator.yaml"))
-      ->check(CLI::ExistingFile);
+  const causal::config::ConfigFileOption params(app, "--params", o.params_file, "estimator.yaml", "YAML parameter file");
   // Shards: either named in a configuration file (the primary way: the operator decides which groups go
   // where) or a hash slice (no configuration: groups spread by a stable hash of their id). Either way the
   // readers are content-filtered, so a shard receives only its own groups.
@@ -42,8 +37,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--idle-exit", o.idle_exit_s, "exit once data has arrived, every publisher of frames/condition vectors has left, and nothing arrived for this many seconds (0 = never)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  causal::config::add_max_runtime_option(app, o.max_runtime_s);
   causal::dds::add_wait_for_option(app, o.wait_for,
                                    "before processing, wait until readers of these participants are matched on the "
                                    "causal-factor topic (input queues meanwhile)",
@@ -102,13 +96,13 @@ int main(int argc, char** argv) {
     o.shard_name = std::to_string(shard_index) + "/" + std::to_string(shard_count);
   }
   return causal::dds::run_service(signals, "causal-estimator", o.dds, [&] {
-    if (o.params_file.empty()) throw std::invalid_argument(params_choice.describe("estimator.yaml") + ": give --params FILE");
+    params.require(o.params_file);
     if (!shards_file.empty()) {
       o.groups.patterns = causal::estimator::load_shard_assignment(shards_file).patterns_of(shard_name);
       o.shard_name = shard_name;
     }
-    auto params = causal::pipeline::load_estimator_params(o.params_file);
+    auto loaded = causal::pipeline::load_estimator_params(o.params_file);
     o.health_deadline_s = causal::pipeline::load_estimator_health(o.params_file).deadline_s;
-    return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(params));
+    return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(loaded));
   });
 }

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include "causal/config/cli_conventions.hpp"
+#include "causal/config/service_options.hpp"
 #include <spdlog/spdlog.h>
 
 int main(int argc, char** argv) {
@@ -21,9 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--idle-exit", o.idle_exit_s, "exit after this many seconds without data, once data arrived (0 = never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  causal::config::add_max_runtime_option(app, o.max_runtime_s);
   app.add_option("--max-pending", o.max_pending,
                  "factor rows per file waiting for missing outcomes before the oldest is written partially")
       ->check(CLI::PositiveNumber)

@@ -20,18 +20,16 @@ using nlohmann::json;
 void WebServer::alarm_action_route() {
   server_->Post("/api/alarm_action", [this](const HttpRequest& req, HttpResponse& res) {
     if (actions_ == nullptr) {
-      send_json(res, 503, {{"answered", false}, {"error", "alarm actions are not available"}});
+      send_unanswered(res, 503, "alarm actions are not available");
       return;
     }
-    const json body = json::parse(req.body, nullptr, false);
-    if (body.is_discarded()) {
-      send_json(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
-      return;
-    }
+    const std::optional<json> parsed = json_body(req, res);
+    if (!parsed) return;
+    const json& body = *parsed;
     causal_twin::AlarmAction action;
     if (const std::string problem = parse_alarm_action(body, guard_->user(), io::utc_now_ns(), action);
         !problem.empty()) {
-      send_json(res, 400, {{"answered", false}, {"error", problem}});
+      send_unanswered(res, 400, problem);
       return;
     }
     char host[128] = "host";
@@ -46,12 +44,12 @@ void WebServer::alarm_action_route() {
       return;
     }
     if (out.status == AlarmActionBridge::Status::Stopped) {
-      send_json(res, 503, {{"answered", false}, {"error", "twin-web is stopping"}});
+      send_unanswered(res, 503, "twin-web is stopping");
       return;
     }
     char msg[160];
     std::snprintf(msg, sizeof msg, "no result within %.0f s: is alarm-recommender running?", options_.whatif_timeout_s);
-    send_json(res, 504, {{"answered", false}, {"error", msg}});
+    send_unanswered(res, 504, msg);
   });
 }
 

@@ -19,17 +19,15 @@ using nlohmann::json;
 void WebServer::approve_route() {
   server_->Post("/api/approve", [this](const HttpRequest& req, HttpResponse& res) {
     if (approvals_ == nullptr || clock_ == nullptr) {
-      send_json(res, 503, {{"answered", false}, {"error", "approvals are not available"}});
+      send_unanswered(res, 503, "approvals are not available");
       return;
     }
-    const json body = json::parse(req.body, nullptr, false);
-    if (body.is_discarded()) {
-      send_json(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
-      return;
-    }
+    const std::optional<json> parsed = json_body(req, res);
+    if (!parsed) return;
+    const json& body = *parsed;
     ApprovalAsk ask;
     if (const std::string problem = parse_approval(body, guard_->user(), ask); !problem.empty()) {
-      send_json(res, 400, {{"answered", false}, {"error", problem}});
+      send_unanswered(res, 400, problem);
       return;
     }
     if (!ask.act.duration && options_.approval_duration > 0) ask.act.duration = options_.approval_duration;

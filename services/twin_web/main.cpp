@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include "causal/config/cli_conventions.hpp"
+#include "causal/config/service_options.hpp"
 
 int main(int argc, char** argv) {
   causal::dds::ShutdownSignal signals;  // first: every thread inherits the blocked signal mask
@@ -65,9 +66,7 @@ int main(int argc, char** argv) {
                  "exit this many seconds after every publisher left, once data arrived (0 = never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--max-runtime", o.max_runtime_s, "exit after this many seconds in any case (0 = never)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  causal::config::add_max_runtime_option(app, o.max_runtime_s);
   app.add_option("--db", o.db_url,
                  "the historian's database (sqlite:PATH or postgresql://..., as causal-recorder --db): drawn at start,\n"
                  "so the page is complete after a restart, and older ranges served on /api/history")

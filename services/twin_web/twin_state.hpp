@@ -180,6 +180,9 @@ class TwinState {
   Versions versions_locked(const std::string& asset_group) const;
   std::uint64_t index_of_time_locked(const GroupState& g, std::int64_t time_ns, std::uint64_t fallback) const;
   InterventionView& intervention_locked(GroupState& g, const std::string& request_id);
+  // An approval or the twin's check of it, kept in its slot of the request's view and counted.
+  template <class M>
+  void keep_intervention(const M& in, std::optional<M> InterventionView::*slot, std::uint64_t& received);
 
   StateLimits limits_;
   mutable std::mutex mutex_;

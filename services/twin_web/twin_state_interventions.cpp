@@ -99,20 +99,21 @@ InterventionView& TwinState::intervention_locked(GroupState& g, const std::strin
   return v;
 }
 
-void TwinState::on_intervention(const causal_twin::Intervention& in) {
+template <class M>
+void TwinState::keep_intervention(const M& in, std::optional<M> InterventionView::*slot, std::uint64_t& received) {
   std::lock_guard<std::mutex> lock(mutex_);
-  ++counters_.interventions;
+  ++received;
   GroupState& g = group_locked(in.asset_group());
-  intervention_locked(g, in.request_id()).approval = in;
+  intervention_locked(g, in.request_id()).*slot = in;
   changed_locked(&g);
 }
 
+void TwinState::on_intervention(const causal_twin::Intervention& in) {
+  keep_intervention(in, &InterventionView::approval, counters_.interventions);
+}
+
 void TwinState::on_intervention_outcome(const causal_twin::InterventionOutcome& in) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  ++counters_.intervention_outcomes;
-  GroupState& g = group_locked(in.asset_group());
-  intervention_locked(g, in.request_id()).outcome = in;
-  changed_locked(&g);
+  keep_intervention(in, &InterventionView::outcome, counters_.intervention_outcomes);
 }
 
 }  // namespace causal::web

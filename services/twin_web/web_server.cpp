@@ -251,7 +251,7 @@ void WebServer::guard_requests() {
     if (v.status == 0) return false;
     count_refusal(v.reason, v.detail, req.method + " " + req.path + " from " + req.remote_addr);
     if (v.status == 401) res.set_header("WWW-Authenticate", "Basic realm=\"causal-twin\", charset=\"UTF-8\"");
-    send_json(res, v.status, {{"answered", false}, {"error", v.reason + ": " + v.detail}});
+    send_unanswered(res, v.status, v.reason + ": " + v.detail);
     return true;
   });
 }
@@ -337,11 +337,9 @@ void WebServer::routes() {
         [this] { --event_streams_; });
   });
   s.Post("/api/whatif", [this](const HttpRequest& req, HttpResponse& res) {
-    const json body = json::parse(req.body, nullptr, false);
-    if (body.is_discarded()) {
-      send_json(res, 400, {{"answered", false}, {"error", "the body is not JSON"}});
-      return;
-    }
+    const std::optional<json> parsed = json_body(req, res);
+    if (!parsed) return;
+    const json& body = *parsed;
     causal_twin::WhatIfRequest request;
     bool percent = false;
     const std::string group = body.is_object() && body.contains("asset_group") && body["asset_group"].is_string()
@@ -349,7 +347,7 @@ void WebServer::routes() {
                                   : std::string();
     const std::vector<std::string> channels = state_.channels(group);
     if (const std::string problem = parse_question(body, channels, request, percent); !problem.empty()) {
-      send_json(res, 400, {{"answered", false}, {"error", problem}});
+      send_unanswered(res, 400, problem);
       return;
     }
     static const std::string prefix = "twin-web/" + host_name() + "/" + std::to_string(getpid()) + "/";
@@ -361,14 +359,14 @@ void WebServer::routes() {
       return;
     }
     if (out.status == WhatIfBridge::Status::Stopped) {
-      send_json(res, 503, {{"answered", false}, {"error", "twin-web is stopping"}});
+      send_unanswered(res, 503, "twin-web is stopping");
       return;
     }
     const bool reader = whatif_readers_ && whatif_readers_() > 0;
     char msg[160];
     std::snprintf(msg, sizeof msg, "no reply within %.0f s%s", options_.whatif_timeout_s,
                   reader ? "" : ": no alarm-recommender reads what-if requests");
-    send_json(res, 504, {{"answered", false}, {"error", msg}});
+    send_unanswered(res, 504, msg);
   });
 }
 

@@ -16,7 +16,7 @@
 #include "causal/advice/recommender_params.hpp"
 #include "causal/alarms/alarm_pipeline.hpp"
 #include "causal/config/cli_conventions.hpp"
-#include "causal/config/config_search.hpp"
+#include "causal/config/service_options.hpp"
 #include "causal/alarms/statistics.hpp"
 #include "sample_level_demo.hpp"
 
@@ -207,13 +207,10 @@ int main(int argc, char** argv) {
   app.add_option("--asset-group", group, "asset-group id used in alarm ids");
   // The alarm parameters are alarms.yaml's condition_level section, read by alarm-recommender's own loader; the
   // options below override single values of it.
-  const causal::config::ConfigChoice alarms_choice =
-      causal::config::find_config_file("alarms.yaml", "", causal::config::ConfigKind::Parameters);
-  std::string alarms_config = alarms_choice.path;
-  app.add_option("--alarms-config", alarms_config,
-                 "alarm-recommender's parameter file (its condition_level section is the alarm engine's parameters); "
-                 "default: " + alarms_choice.describe("alarms.yaml"))
-      ->check(CLI::ExistingFile);
+  std::string alarms_config;
+  const causal::config::ConfigFileOption alarms_file(
+      app, "--alarms-config", alarms_config, "alarms.yaml",
+      "alarm-recommender's parameter file (its condition_level section is the alarm engine's parameters)");
   AlarmParams cli;  // the overrides, applied over the file's values when given
   auto* warmup = app.add_option("--warmup", cli.warmup_observations, "observations ignored at the start (default: alarms file)");
   auto* baseline = app.add_option("--baseline", cli.baseline_observations, "healthy baseline length in observations (default: alarms file)");
@@ -253,7 +250,7 @@ int main(int argc, char** argv) {
   ConditionSeries series;
   PipelineResult res;
   try {
-    if (alarms_config.empty()) throw std::invalid_argument(alarms_choice.describe("alarms.yaml") + ": give --alarms-config FILE");
+    alarms_file.require(alarms_config);
     opt.params = causal::advice::load_recommender_params(alarms_config).condition;
     if (*warmup) opt.params.warmup_observations = cli.warmup_observations;
     if (*baseline) opt.params.baseline_observations = cli.baseline_observations;

@@ -11,6 +11,26 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// What every anchor answers before its fit is asked (hours unknown until then): true when that is the answer,
+// because there are too few points, the level is already reached (0 h) or the fit does not rise (`not_rising`).
+bool answered_without_fit(bool fitted, bool reached, bool rising, const char* not_rising, Prediction& p) {
+  p.hours = p.low = p.high = kNaN;
+  if (!fitted) {
+    p.why = "too few points";
+    return true;
+  }
+  if (reached) {
+    p.known = p.reached = true;
+    p.hours = p.low = p.high = 0;
+    return true;
+  }
+  if (!rising) {
+    p.why = not_rising;
+    return true;
+  }
+  return false;
+}
+
 double median_in_place(std::vector<double>& v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
@@ -68,18 +88,7 @@ TheilSenBootstrap::TheilSenBootstrap(const std::vector<double>& t, const std::ve
 
 Prediction TheilSenBootstrap::time_to(double log_ratio, double coverage) const {
   Prediction p;
-  p.hours = p.low = p.high = kNaN;
-  if (!fitted_ || slopes_.size() < 20) {
-    p.why = "too few points";
-    return p;
-  }
-  if (now_ >= log_ratio) {
-    p.known = p.reached = true;
-    p.hours = p.low = p.high = 0;
-    return p;
-  }
-  if (slope_ <= 0) {
-    p.why = "not rising";
+  if (answered_without_fit(fitted_ && slopes_.size() >= 20, now_ >= log_ratio, !(slope_ <= 0), "not rising", p)) {
     return p;
   }
   // Crossing time of every bootstrap fit; a fit that does not rise never crosses (+inf).
@@ -133,21 +142,8 @@ double inverse_gaussian_cdf(double t, double m, double lambda) {
 
 Prediction DriftRandomWalk::time_to(double log_ratio, double coverage) const {
   Prediction p;
-  p.hours = p.low = p.high = kNaN;
-  if (!fitted_) {
-    p.why = "too few points";
-    return p;
-  }
   const double gap = log_ratio - now_;
-  if (gap <= 0) {
-    p.known = p.reached = true;
-    p.hours = p.low = p.high = 0;
-    return p;
-  }
-  if (mu_ <= 0) {
-    p.why = "no rising drift";
-    return p;
-  }
+  if (answered_without_fit(fitted_, gap <= 0, !(mu_ <= 0), "no rising drift", p)) return p;
   const double m = gap / mu_, lambda = gap * gap / sigma2_;
   // Quantiles by bisection on log t (the CDF is increasing in t).
   auto quantile = [&](double q) {

@@ -66,6 +66,18 @@ double row_time(const CsvTable& t, const std::vector<std::string>& row, int ns_c
   return kNaN;
 }
 
+// Every row whose time is known: its time (seconds) appended to `times`, then use(row).
+template <class Use>
+void for_each_timed_row(const CsvTable& t, std::vector<double>& times, Use use) {
+  const int ns_col = t.column("time_ns"), utc_col = t.column("time_utc");
+  for (const auto& row : t.rows) {
+    const double time = row_time(t, row, ns_col, utc_col);
+    if (!std::isfinite(time)) continue;
+    times.push_back(time);
+    use(row);
+  }
+}
+
 }  // namespace
 
 const char* severity_colour(Severity s) {
@@ -179,19 +191,17 @@ ConditionSeries load_conditions(const fs::path& file, const std::string& feature
   const CsvTable t = read_csv(file);
   ConditionSeries s;
   s.feature = feature;
-  const int ns_col = t.column("time_ns"), utc_col = t.column("time_utc");
-  if (ns_col < 0 && utc_col < 0) throw std::runtime_error(t.path + ": no time_ns or time_utc column");
+  if (t.column("time_ns") < 0 && t.column("time_utc") < 0) {
+    throw std::runtime_error(t.path + ": no time_ns or time_utc column");
+  }
   // Channels: every column after snapshot,time_ns,time_utc.
   const std::size_t first = 3;
   if (t.header.size() <= first) throw std::runtime_error(t.path + ": no channel columns");
   s.channels.assign(t.header.begin() + static_cast<long>(first), t.header.end());
   s.values.assign(s.channels.size(), {});
-  for (const auto& row : t.rows) {
-    const double time = row_time(t, row, ns_col, utc_col);
-    if (!std::isfinite(time)) continue;
-    s.t.push_back(time);
+  for_each_timed_row(t, s.t, [&](const std::vector<std::string>& row) {
     for (std::size_t c = 0; c < s.channels.size(); ++c) s.values[c].push_back(cell_number(row[first + c]));
-  }
+  });
   return s;
 }
 
@@ -199,7 +209,6 @@ FactorSeries load_factors(const fs::path& file, const std::string& kind) {
   const CsvTable t = read_csv(file);
   FactorSeries s;
   s.kind = kind;
-  const int ns_col = t.column("time_ns"), utc_col = t.column("time_utc");
   std::vector<std::size_t> value_cols, sd_cols;
   for (std::size_t c = 0; c < t.header.size(); ++c) {
     if (starts_with(t.header[c], "nis_")) s.outcome_names.push_back(t.header[c].substr(4));
@@ -218,15 +227,12 @@ FactorSeries load_factors(const fs::path& file, const std::string& kind) {
   }
   s.mean.assign(s.names.size(), {});
   s.sd.assign(s.names.size(), {});
-  for (const auto& row : t.rows) {
-    const double time = row_time(t, row, ns_col, utc_col);
-    if (!std::isfinite(time)) continue;
-    s.t.push_back(time);
+  for_each_timed_row(t, s.t, [&](const std::vector<std::string>& row) {
     for (std::size_t f = 0; f < s.names.size(); ++f) {
       s.mean[f].push_back(cell_number(row[value_cols[f]]));
       s.sd[f].push_back(cell_number(row[sd_cols[f]]));
     }
-  }
+  });
   return s;
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <sstream>
 
@@ -31,6 +32,30 @@ std::string plural(std::size_t n, const std::string& what) {
   return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
 }
 
+// Throws unless `t` has every column named: "<file>: not a <what> (needs a, b, ...)".
+void need_columns(const CsvTable& t, const std::filesystem::path& file, const char* what,
+                  std::initializer_list<const char*> names) {
+  std::string needs;
+  bool missing = false;
+  for (const char* name : names) {
+    needs += (needs.empty() ? "" : ", ") + std::string(name);
+    missing = missing || t.column(name) < 0;
+  }
+  if (missing) throw std::runtime_error(file.string() + ": not a " + what + " (needs " + needs + ")");
+}
+
+// The rows of `asset` (every row when empty; matched as its file-name component, as the report names files),
+// each read into a record.
+template <class Record, class Read>
+std::vector<Record> rows_of_asset(const CsvTable& t, int group, const std::string& asset, Read read) {
+  std::vector<Record> out;
+  for (const auto& row : t.rows) {
+    if (!asset.empty() && io::safe_file_component(cell(row, group)) != asset) continue;
+    out.push_back(read(row));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<RecommendationRecord> load_recommendations(const std::filesystem::path& file, const std::string& asset) {
@@ -39,13 +64,8 @@ std::vector<RecommendationRecord> load_recommendations(const std::filesystem::pa
             rank = t.column("rank"), text = t.column("text"), summary = t.column("summary"),
             kind = t.column("answer_kind"), reliable = t.column("reliable"), action = t.column("action"),
             action_kind = t.column("action_kind"), index = t.column("sample_index");
-  if (id < 0 || group < 0 || rank < 0 || text < 0) {
-    throw std::runtime_error(file.string() + ": not a recommendations.csv (needs recommendation_id, asset_group, "
-                             "rank, text)");
-  }
-  std::vector<RecommendationRecord> out;
-  for (const auto& row : t.rows) {
-    if (!asset.empty() && io::safe_file_component(cell(row, group)) != asset) continue;
+  need_columns(t, file, "recommendations.csv", {"recommendation_id", "asset_group", "rank", "text"});
+  return rows_of_asset<RecommendationRecord>(t, group, asset, [&](const std::vector<std::string>& row) {
     RecommendationRecord r;
     r.recommendation_id = cell(row, id);
     r.alarm_id = cell(row, alarm);
@@ -59,22 +79,16 @@ std::vector<RecommendationRecord> load_recommendations(const std::filesystem::pa
     r.sample_index = cell(row, index);
     const std::string rel = cell(row, reliable);
     r.reliable = !(rel == "0" || rel == "false");
-    out.push_back(std::move(r));
-  }
-  return out;
+    return r;
+  });
 }
 
 std::vector<PrognosisRecord> load_prognoses(const std::filesystem::path& file, const std::string& asset) {
   const CsvTable t = read_csv(file);
   const int group = t.column("asset_group"), name = t.column("channel_name"), index = t.column("sample_index"),
             level = t.column("level"), known = t.column("known"), reached = t.column("reached"), text = t.column("text");
-  if (group < 0 || name < 0 || index < 0 || level < 0 || text < 0) {
-    throw std::runtime_error(file.string() + ": not a prognosis.csv (needs asset_group, channel_name, sample_index, "
-                             "level, text)");
-  }
-  std::vector<PrognosisRecord> out;
-  for (const auto& row : t.rows) {
-    if (!asset.empty() && io::safe_file_component(cell(row, group)) != asset) continue;
+  need_columns(t, file, "prognosis.csv", {"asset_group", "channel_name", "sample_index", "level", "text"});
+  return rows_of_asset<PrognosisRecord>(t, group, asset, [&](const std::vector<std::string>& row) {
     PrognosisRecord p;
     p.asset_group = cell(row, group);
     p.channel_name = cell(row, name);
@@ -83,9 +97,8 @@ std::vector<PrognosisRecord> load_prognoses(const std::filesystem::path& file, c
     p.known = cell(row, known) == "true";
     p.reached = cell(row, reached) == "true";
     p.text = cell(row, text);
-    out.push_back(std::move(p));
-  }
-  return out;
+    return p;
+  });
 }
 
 namespace {

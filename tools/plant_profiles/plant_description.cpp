@@ -84,6 +84,17 @@ void check_keys(const YAML::Node& map, const std::set<std::string>& known, const
 }
 
 // The asset groups a sensor host may write (its identity's grant: deploy/security/make-pki.sh --plant).
+// A required text field: into `out`, or false with `missing` noted when the key is absent or not a scalar.
+bool read_scalar(const YAML::Node& node, const char* key, std::string& out, const std::string& where,
+                 const std::string& missing, Problems& p) {
+  if (!node[key] || !node[key].IsScalar()) {
+    p.add(where, missing);
+    return false;
+  }
+  out = node[key].as<std::string>();
+  return true;
+}
+
 void parse_groups(const YAML::Node& node, const std::string& label, PlantHost& host, Problems& p) {
   if (!node) return;
   if (!node.IsSequence() || node.size() == 0) {
@@ -108,19 +119,12 @@ void parse_host(const YAML::Node& node, const std::string& where, PlantHost& hos
     return;
   }
   check_keys(node, {"name", "address", "interface", "roles", "groups"}, where, p);
-  if (!node["name"] || !node["name"].IsScalar()) {
-    p.add(where, "missing 'name'");
-  } else {
-    host.name = node["name"].as<std::string>();
-    if (!is_valid_host_name(host.name)) {
-      p.add(where, "name '" + host.name + "': letters, digits, '.', '_', '-' only (it names the profile file)");
-    }
+  if (read_scalar(node, "name", host.name, where, "missing 'name'", p) && !is_valid_host_name(host.name)) {
+    p.add(where, "name '" + host.name + "': letters, digits, '.', '_', '-' only (it names the profile file)");
   }
   const std::string label = host.name.empty() ? where : where + " (" + host.name + ")";
-  if (!node["address"] || !node["address"].IsScalar()) {
-    p.add(label, "missing 'address' (the host's IPv4 address on the plant network)");
-  } else {
-    host.address = node["address"].as<std::string>();
+  if (read_scalar(node, "address", host.address, label,
+                  "missing 'address' (the host's IPv4 address on the plant network)", p)) {
     if (!is_ipv4_address(host.address)) {
       p.add(label, "address '" + host.address + "' is not an IPv4 address (a.b.c.d)");
     } else if (const std::string why = unusable_address_reason(host.address); !why.empty()) {
