@@ -317,10 +317,11 @@ if ! awk "BEGIN { exit !($CPU_US <= 1.5 * $K_US) }"; then
     "without DDS the estimator's work per frame is ${PATH_US} us (line \"frame path\": the kernel, the input screen" \
     "and the condition features); each group's start-up (noise tuning, on the worker thread but in the process's" \
     "CPU) adds ${STARTUP_US} us per frame over this run's ${TP_FRAMES} frames per group; the other ${REST_US} us are" \
-    "DDS around it: the frame's way in (~15-35 us per frame in isolation, tests/bench/bench_frame_layouts.cpp: no" \
-    "frame layout closes the gap), two reliable writes per frame (filter and fixed-lag batches: one message per" \
-    "snapshot needs an IDL change), the participant, and ~3-5 context switches per frame" \
-    "(docs/scale-and-benchmarks.md, \"round 4\")"
+    "DDS around it (perf, docs/scale-and-benchmarks.md \"round 5\"): the Fast DDS receive thread (~19 % of C: the" \
+    "32 KiB copy into the reader's payload pool and a full decode of every frame for its key; no frame layout" \
+    "avoids either, tests/bench/bench_frame_layouts.cpp), the take with its second decode (~6-7 %), two reliable" \
+    "writes per frame (~9-12 %: filter and fixed-lag batches; one message per input is another change), and" \
+    "~2-3 context switches per frame"
 fi
 if ! awk "BEGIN { exit !($E >= 0.5) }"; then
   echo "missed: live_efficiency $([ "$N1" = 0 ] && echo "(no group held)" || by "$E" 0.5) under 0.5: the kernel" \

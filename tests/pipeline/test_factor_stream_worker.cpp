@@ -2,7 +2,8 @@
 // bit for bit, those of the stream that tunes on the feeding thread, whenever the worker's result arrives
 // (held until the end, released in the middle of the input, waited for when the buffer reaches its bound), and a
 // checkpoint taken while the worker tunes must continue, after a restore into a fresh stream with or without a
-// worker, to the same reports.
+// worker, to the same reports. Once the result is in, the buffered window is replayed a share per feed (the
+// samples fed meanwhile queue behind it), with the same reports, also across a checkpoint taken mid-replay.
 #include "causal/pipeline/factor_stream.hpp"
 
 #include "checkpoint_test_util.hpp"
@@ -94,7 +95,7 @@ TEST(FactorStreamWorker, ReleasedMidwayGivesTheSameReportsAtALaterFeed) {
     got.insert(got.end(), none.begin(), none.end());
   }
   EXPECT_TRUE(s.calibrated());
-  EXPECT_FALSE(got.empty()) << "the buffered samples were replayed when the result arrived";
+  EXPECT_FALSE(got.empty()) << "the replay of the buffered samples began when the result arrived";
   feed_rows(s, y, 800, kRows, got);
   s.finish(got);
   expect_identical(got, want, "released midway");
@@ -150,6 +151,61 @@ TEST(FactorStreamWorker, CheckpointWhileTuningContinuesToTheSameReports) {
     second.finish(got);
     expect_identical(got, want, "checkpoint while tuning");
     worker->hold(false);  // the first stream's tuning finishes and is never used
+  }
+}
+
+// Feeds empty blocks until the worker's result is taken (the feed that takes it starts the replay).
+void take_result(FactorStream& s, Eigen::Index at, std::vector<FactorReport>& got) {
+  while (s.tuning_in_background()) {
+    s.feed(RowMajorMatrix(0, causal::test::tuned_stream_params().model.channels), static_cast<std::uint64_t>(at), false,
+           kT0 + at * 50'000, kPeriod, got);
+  }
+}
+
+TEST(FactorStreamWorker, TheWindowIsReplayedASharePerFeedWithTheSameReports) {
+  const RowMajorMatrix y = data();
+  const auto want = on_this_thread(y);
+  auto worker = std::make_shared<TuningWorker>();
+  worker->hold(true);
+  FactorStream s(tuned_params(worker));
+  std::vector<FactorReport> got;
+  feed_rows(s, y, 0, 800, got);  // window full at 300, 500 more buffered
+  ASSERT_EQ(s.samples_seen(), 0u);
+  worker->hold(false);
+  take_result(s, 800, got);
+  const std::size_t share = 300 / NoiseSetting::kReplayShare;  // calibration_samples / kReplayShare = 75
+  EXPECT_TRUE(s.calibrated());
+  EXPECT_EQ(s.samples_seen(), share) << "the feed that takes the result replays one share, not the window";
+  EXPECT_EQ(s.replay_pending(), 800 - share);
+  s.feed(y.middleRows(800, 10), 800, false, kT0 + 800 * 50'000, kPeriod, got);
+  EXPECT_EQ(s.samples_seen(), share + 10 + share) << "a feed replays what it brings plus one share";
+  EXPECT_EQ(s.replay_pending(), 800 - 2 * share);
+  feed_rows(s, y, 810, kRows, got);
+  EXPECT_EQ(s.replay_pending(), 0u);
+  s.finish(got);
+  expect_identical(got, want, "replayed a share per feed");
+}
+
+TEST(FactorStreamWorker, CheckpointDuringTheReplayContinuesToTheSameReports) {
+  const RowMajorMatrix y = data();
+  const auto want = on_this_thread(y);
+  for (const bool restored_with_worker : {false, true}) {
+    SCOPED_TRACE(restored_with_worker ? "restored with a worker" : "restored without a worker");
+    auto worker = std::make_shared<TuningWorker>();
+    worker->hold(true);
+    FactorStream first(tuned_params(worker));
+    std::vector<FactorReport> got;
+    feed_rows(first, y, 0, 700, got);
+    worker->hold(false);
+    take_result(first, 700, got);
+    ASSERT_GT(first.replay_pending(), 0u);
+    FactorStream second(tuned_params(restored_with_worker ? std::make_shared<TuningWorker>() : nullptr));
+    restore_from(second, checkpoint_of(first));
+    EXPECT_TRUE(second.calibrated());
+    EXPECT_EQ(second.replay_pending(), first.replay_pending());
+    feed_rows(second, y, 700, kRows, got);
+    second.finish(got);
+    expect_identical(got, want, "checkpoint during the replay");
   }
 }
 

@@ -49,7 +49,9 @@ struct Tuner {
   Tuner(const SvarLayout& l, int outcome, const Eigen::MatrixXd& s, const std::vector<bool>& disc, double ms)
       : layout(l), k(outcome), samples(s), discontinuity(disc), mean_square(ms) {}
 
-  PassSums pass(const std::array<NoiseParams, detail::kLanes>& noise) {
+  // `used` lanes carry candidates (the others repeat one to fill the SIMD width): only theirs are summed, which
+  // saves the logarithms of the filler lanes (the grid's last pass, the exact pass: 3 of 4).
+  PassSums pass(const std::array<NoiseParams, detail::kLanes>& noise, int used) {
     SvarKalmanFilter f =
         detail::FilterAccess::replicated(layout, k, std::vector<NoiseParams>(noise.begin(), noise.end()));
     PassSums sums;
@@ -58,7 +60,7 @@ struct Tuner {
       for (Eigen::Index j = 0; j < samples.cols(); ++j) row[j] = samples(n, j);
       if (f.step(row.data(), !discontinuity.empty() && discontinuity[n]) != SampleStatus::Updated) continue;
       ++sums.updates;
-      for (int w = 0; w < detail::kLanes; ++w) {
+      for (int w = 0; w < used; ++w) {
         const double s = detail::FilterAccess::lane_s(f, 0, w), e = detail::FilterAccess::lane_e(f, 0, w);
         sums.sum_log_s[w] += std::log(s);
         sums.sum_e2_over_s[w] += e * e / s;
@@ -78,7 +80,7 @@ struct Tuner {
         const double l10 = log10_lambdas[first + std::min(w, m - 1)];
         noise[w] = NoiseParams{std::pow(10.0, l10), 1.0, pi};
       }
-      const PassSums job = pass(noise);
+      const PassSums job = pass(noise, static_cast<int>(m));
       const auto n = static_cast<double>(job.updates);
       for (std::size_t w = 0; w < m; ++w) {
         const double r_hat = job.sum_e2_over_s[w] / n;
@@ -99,7 +101,7 @@ struct Tuner {
   double exact(const NoiseParams& noise, long* updates) {
     std::array<NoiseParams, detail::kLanes> lanes;
     lanes.fill(noise);
-    const PassSums job = pass(lanes);
+    const PassSums job = pass(lanes, 1);
     if (updates) *updates = static_cast<long>(job.updates);
     if (job.updates == 0) return -std::numeric_limits<double>::infinity();
     return -0.5 * (static_cast<double>(job.updates) * kLog2Pi + job.sum_log_s[0] + job.sum_e2_over_s[0]);

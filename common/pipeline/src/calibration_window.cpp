@@ -19,6 +19,14 @@ void CalibrationWindow::clear() {
   index_.clear();
 }
 
+void CalibrationWindow::erase_front(std::size_t n) {
+  const auto diff = static_cast<std::ptrdiff_t>(n);
+  values_.erase(values_.begin(), values_.begin() + diff * g_);
+  disc_.erase(disc_.begin(), disc_.begin() + diff);
+  time_.erase(time_.begin(), time_.begin() + diff);
+  index_.erase(index_.begin(), index_.begin() + diff);
+}
+
 Eigen::Map<const RowMajorMatrix> CalibrationWindow::samples() const {
   return Eigen::Map<const RowMajorMatrix>(values_.data(), static_cast<Eigen::Index>(size()),
                                           static_cast<Eigen::Index>(g_));

@@ -147,11 +147,12 @@ void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint
     const std::int64_t t = row_time_ns(first_time_ns, row, period_ns);
     const std::uint64_t source_index = first_index + static_cast<std::uint64_t>(row);
     ++buffered_index_;
-    if (smoother_) {
+    if (smoother_ && window_.empty()) {
       process(y, disc, t, source_index, out);
       continue;
     }
     window_.push(y, disc, t, source_index);
+    if (smoother_) continue;  // behind the window's replay, in order
     if (tuning_job_.valid()) {
       if (window_.size() >= NoiseSetting::kWorkerBufferFactor * params_.noise.calibration_samples) calibrate(out);
       continue;
@@ -163,6 +164,17 @@ void FactorStream::feed(const Eigen::Ref<const RowMajorMatrix>& block, std::uint
       calibrate(out);
     }
   }
+  replay(static_cast<std::size_t>(block.rows()), out);
+}
+
+void FactorStream::replay(std::size_t fed_rows, std::vector<FactorReport>& out) {
+  if (!smoother_ || window_.empty()) return;
+  const std::size_t share =
+      params_.noise.worker ? fed_rows + std::max<std::size_t>(1, params_.noise.calibration_samples / NoiseSetting::kReplayShare)
+                           : window_.size();
+  window_.replay_front(share, [&](const double* y, bool disc, std::int64_t t, std::uint64_t source_index) {
+    process(y, disc, t, source_index, out);
+  });
 }
 
 namespace {
@@ -221,10 +233,9 @@ void FactorStream::install_tuning(std::vector<estimation::NoiseTuningResult> tun
     }
   }
   smoother_ = std::make_unique<estimation::FixedLagSmoother>(layout_, noise_, params_.fixed_lag, params_.publish_every);
-  // Replay the calibration window so no sample is lost.
-  window_.replay_and_clear([&](const double* y, bool disc, std::int64_t t, std::uint64_t source_index) {
-    process(y, disc, t, source_index, out);
-  });
+  // The calibration window is replayed so no sample is lost: at once on the feeding thread, with a worker a share
+  // per feed (replay()).
+  if (!params_.noise.worker) replay(0, out);
 }
 
 void FactorStream::process(const double* y, bool discontinuity, std::int64_t time_ns, std::uint64_t source_index,
@@ -308,6 +319,9 @@ void FactorStream::finish(std::vector<FactorReport>& out) {
     if (window_.empty()) return;
     calibrate(out);
   }
+  window_.replay_and_clear([&](const double* y, bool disc, std::int64_t t, std::uint64_t source_index) {
+    process(y, disc, t, source_index, out);
+  });
   for (const estimation::SmoothedSample& s : smoother_->flush()) {
     if (params_.fixed_lag > 0) emit_smoothed(s, out);
   }
@@ -366,7 +380,8 @@ void FactorStream::restore(estimation::StateReader& r) {
   stats.restore(r);
   const std::string inconsistent = "checkpoint: inconsistent calibration buffer of the factor stream";
   CalibrationWindow window = window_.read(r, inconsistent);
-  if (smoother && !window.empty()) throw estimation::StateError(inconsistent);
+  // A calibrated stream holds a window only while replaying it (automatic noise).
+  if (smoother && !window.empty() && !params_.noise.automatic) throw estimation::StateError(inconsistent);
   // Filter reports wait at most `fixed_lag` samples for their twin: at most fixed_lag + 1 are pending.
   const auto n_pending = r.get<std::uint64_t>();
   if (n_pending > static_cast<std::uint64_t>(params_.fixed_lag) + 1) throw estimation::StateError("checkpoint: too many pending reports");

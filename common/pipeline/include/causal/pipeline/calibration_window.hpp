@@ -43,6 +43,15 @@ class CalibrationWindow {
     clear();
   }
 
+  // The same for the first n samples (at most size()), which are then removed; the rest stays, in order.
+  template <class F>
+  void replay_front(std::size_t n, F&& f) {
+    n = n < size() ? n : size();
+    const auto g = static_cast<std::size_t>(g_);
+    for (std::size_t i = 0; i < n; ++i) f(values_.data() + i * g, disc_[i], time_[i], index_[i]);
+    erase_front(n);
+  }
+
   // Checkpoint: the values, the discontinuities, the times and the source indices, in that order.
   void save(estimation::StateWriter& w) const;
   // Reads what save() wrote into a window of the same channel count; throws StateError(`inconsistent`) when
@@ -53,6 +62,7 @@ class CalibrationWindow {
   // The checkpoint's one field list (SaveFields / RestoreFields, state_fields.hpp): Self is const when saving.
   template <class IO, class Self>
   static void fields(IO io, Self& self);
+  void erase_front(std::size_t n);
   int g_;
   std::vector<double> values_;       // row-major, G per sample
   std::vector<bool> disc_;

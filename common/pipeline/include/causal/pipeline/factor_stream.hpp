@@ -51,6 +51,11 @@ struct NoiseSetting {
   // tuning (memory per group stays bounded however long the worker's queue is, e.g. many groups joining at once).
   std::shared_ptr<TuningWorker> worker;
   static constexpr std::size_t kWorkerBufferFactor = 8;
+  // With a worker, the buffered window is replayed a share at a time once the tuning is in: each feed replays
+  // what it brings plus calibration_samples / kReplayShare more, so a group whose tuning arrives adds at most
+  // that much filter work to one feed instead of its whole window (the other groups' frames wait for it on the
+  // same thread). Samples fed meanwhile queue behind the window: the filter sees them in the same order.
+  static constexpr std::size_t kReplayShare = 4;
 };
 
 struct FactorStreamParams {
@@ -102,6 +107,7 @@ class FactorStream {
 
   const estimation::SvarLayout& layout() const { return layout_; }
   bool calibrated() const { return smoother_ != nullptr; }
+  std::size_t replay_pending() const { return smoother_ ? window_.size() : 0; }  // buffered samples not yet replayed
   bool tuning_in_background() const { return tuning_job_.valid(); }  // submitted to the worker, not yet taken
   const std::vector<estimation::NoiseParams>& noise() const { return noise_; }
   const std::vector<estimation::NoiseTuningResult>& tuning() const { return tuning_; }
@@ -131,6 +137,7 @@ class FactorStream {
   void start_tuning();                             // submits the tuning of the window's first samples
   void poll_tuning(std::vector<FactorReport>& out);  // the worker's result, when ready: install and replay
   void install_tuning(std::vector<estimation::NoiseTuningResult> tuning, std::vector<FactorReport>& out);
+  void replay(std::size_t fed_rows, std::vector<FactorReport>& out);  // the window's next share (all without a worker)
   void process(const double* y, bool discontinuity, std::int64_t time_ns, std::uint64_t source_index,
                std::vector<FactorReport>& out);
   void emit_filter(std::uint64_t index, std::uint64_t source_index, std::int64_t time_ns,
