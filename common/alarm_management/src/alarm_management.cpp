@@ -4,33 +4,27 @@
 #include <tuple>
 #include <utility>
 
+#include "causal/io/enum_names.hpp"
+
 namespace causal::alarm_management {
 
-const char* to_string(ActionKind kind) {
-  switch (kind) {
-    case ActionKind::Acknowledge: return "acknowledge";
-    case ActionKind::Shelve: return "shelve";
-    case ActionKind::Unshelve: return "unshelve";
-  }
-  return "unknown";
-}
+namespace {
 
-std::optional<ActionKind> parse_action(std::string_view text) {
-  if (text == "acknowledge") return ActionKind::Acknowledge;
-  if (text == "shelve") return ActionKind::Shelve;
-  if (text == "unshelve") return ActionKind::Unshelve;
-  return std::nullopt;
-}
+constexpr auto kActionNames = io::enum_names<ActionKind>(
+    {{ActionKind::Acknowledge, "acknowledge"}, {ActionKind::Shelve, "shelve"}, {ActionKind::Unshelve, "unshelve"}});
 
-const char* to_string(Refusal refusal) {
-  switch (refusal) {
-    case Refusal::None: return "none";
-    case Refusal::BadRequest: return "bad_request";
-    case Refusal::UnknownAlarm: return "unknown_alarm";
-    case Refusal::NotApplicable: return "not_applicable";
-  }
-  return "unknown";
-}
+constexpr auto kRefusalNames = io::enum_names<Refusal>({{Refusal::None, "none"},
+                                                        {Refusal::BadRequest, "bad_request"},
+                                                        {Refusal::UnknownAlarm, "unknown_alarm"},
+                                                        {Refusal::NotApplicable, "not_applicable"}});
+
+}  // namespace
+
+const char* to_string(ActionKind kind) { return kActionNames.name(kind, "unknown"); }
+
+std::optional<ActionKind> parse_action(std::string_view text) { return kActionNames.parse(text); }
+
+const char* to_string(Refusal refusal) { return kRefusalNames.name(refusal, "unknown"); }
 
 std::string source_of(const std::string& alarm_id) {
   const auto slash = alarm_id.rfind('/');

@@ -4,33 +4,25 @@
 
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_fields.hpp"
+#include "causal/io/enum_names.hpp"
 
 namespace causal::alarms {
 
-const char* to_string(Severity s) {
-  switch (s) {
-    case Severity::Advisory: return "advisory";
-    case Severity::Warning: return "warning";
-    case Severity::Critical: return "critical";
-  }
-  return "?";
-}
+namespace {
 
-std::optional<Severity> parse_severity(std::string_view text) {
-  for (const Severity s : {Severity::Advisory, Severity::Warning, Severity::Critical}) {
-    if (text == to_string(s)) return s;
-  }
-  return std::nullopt;
-}
+constexpr auto kSeverityNames = io::enum_names<Severity>(
+    {{Severity::Advisory, "advisory"}, {Severity::Warning, "warning"}, {Severity::Critical, "critical"}});
 
-const char* to_string(AlarmState s) {
-  switch (s) {
-    case AlarmState::Raised: return "raised";
-    case AlarmState::Escalated: return "escalated";
-    case AlarmState::Cleared: return "cleared";
-  }
-  return "?";
-}
+constexpr auto kStateNames = io::enum_names<AlarmState>(
+    {{AlarmState::Raised, "raised"}, {AlarmState::Escalated, "escalated"}, {AlarmState::Cleared, "cleared"}});
+
+}  // namespace
+
+const char* to_string(Severity s) { return kSeverityNames.name(s, "?"); }
+
+std::optional<Severity> parse_severity(std::string_view text) { return kSeverityNames.parse(text); }
+
+const char* to_string(AlarmState s) { return kStateNames.name(s, "?"); }
 
 namespace {
 

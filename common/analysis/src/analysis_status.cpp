@@ -1,19 +1,16 @@
 #include "causal/analysis/analysis_status.hpp"
 
+#include "causal/io/enum_names.hpp"
+
 namespace causal::analysis {
 
 const char* to_string(AnalysisStatus status) {
-  switch (status) {
-    case AnalysisStatus::ok:
-      return "ok";
-    case AnalysisStatus::not_identifiable:
-      return "not_identifiable";
-    case AnalysisStatus::unstable:
-      return "unstable";
-    case AnalysisStatus::non_finite_input:
-      return "non_finite_input";
-  }
-  return "unknown";
+  static constexpr auto kNames =
+      io::enum_names<AnalysisStatus>({{AnalysisStatus::ok, "ok"},
+                                      {AnalysisStatus::not_identifiable, "not_identifiable"},
+                                      {AnalysisStatus::unstable, "unstable"},
+                                      {AnalysisStatus::non_finite_input, "non_finite_input"}});
+  return kNames.name(status, "unknown");
 }
 
 }  // namespace causal::analysis

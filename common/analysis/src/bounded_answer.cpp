@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "causal/io/enum_names.hpp"
+
 namespace causal::analysis {
 namespace {
 
@@ -172,12 +174,9 @@ void validate_options(const AnswerRule& rule, const UncertaintyOptions& options)
 }  // namespace
 
 const char* to_string(AnswerKind kind) {
-  switch (kind) {
-    case AnswerKind::steady_state: return "steady_state";
-    case AnswerKind::horizon: return "horizon";
-    case AnswerKind::refused: return "refused";
-  }
-  return "unknown";
+  static constexpr auto kNames = io::enum_names<AnswerKind>(
+      {{AnswerKind::steady_state, "steady_state"}, {AnswerKind::horizon, "horizon"}, {AnswerKind::refused, "refused"}});
+  return kNames.name(kind, "unknown");
 }
 
 void validate_rule(const AnswerRule& rule) {

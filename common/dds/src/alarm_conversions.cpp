@@ -2,39 +2,32 @@
 
 #include <limits>
 
+#include "causal/io/enum_names.hpp"
+
 namespace causal::dds {
 
-causal_twin::Severity to_idl(alarms::Severity s) {
-  switch (s) {
-    case alarms::Severity::Advisory: return causal_twin::ADVISORY;
-    case alarms::Severity::Warning: return causal_twin::WARNING;
-    case alarms::Severity::Critical: return causal_twin::CRITICAL;
-  }
-  return causal_twin::ADVISORY;
-}
+namespace {
 
-causal_twin::AlarmState to_idl(alarms::AlarmState s) {
-  switch (s) {
-    case alarms::AlarmState::Raised: return causal_twin::RAISED;
-    case alarms::AlarmState::Escalated: return causal_twin::ESCALATED;
-    case alarms::AlarmState::Cleared: return causal_twin::CLEARED;
-  }
-  return causal_twin::RAISED;
-}
+// The core enums and their IDL twins, each pair once: to_idl reads them one way, from_idl the other.
+constexpr auto kSeverityIdl = io::enum_map<alarms::Severity, causal_twin::Severity>(
+    {{alarms::Severity::Advisory, causal_twin::ADVISORY},
+     {alarms::Severity::Warning, causal_twin::WARNING},
+     {alarms::Severity::Critical, causal_twin::CRITICAL}});
 
-std::optional<alarms::Severity> from_idl(causal_twin::Severity s) {
-  for (const auto core : {alarms::Severity::Advisory, alarms::Severity::Warning, alarms::Severity::Critical}) {
-    if (to_idl(core) == s) return core;
-  }
-  return std::nullopt;
-}
+constexpr auto kStateIdl = io::enum_map<alarms::AlarmState, causal_twin::AlarmState>(
+    {{alarms::AlarmState::Raised, causal_twin::RAISED},
+     {alarms::AlarmState::Escalated, causal_twin::ESCALATED},
+     {alarms::AlarmState::Cleared, causal_twin::CLEARED}});
 
-std::optional<alarms::AlarmState> from_idl(causal_twin::AlarmState s) {
-  for (const auto core : {alarms::AlarmState::Raised, alarms::AlarmState::Escalated, alarms::AlarmState::Cleared}) {
-    if (to_idl(core) == s) return core;
-  }
-  return std::nullopt;
-}
+}  // namespace
+
+causal_twin::Severity to_idl(alarms::Severity s) { return kSeverityIdl.at(s, causal_twin::ADVISORY); }
+
+causal_twin::AlarmState to_idl(alarms::AlarmState s) { return kStateIdl.at(s, causal_twin::RAISED); }
+
+std::optional<alarms::Severity> from_idl(causal_twin::Severity s) { return kSeverityIdl.find(s); }
+
+std::optional<alarms::AlarmState> from_idl(causal_twin::AlarmState s) { return kStateIdl.find(s); }
 
 const char* to_string(causal_twin::Severity s, const char* unknown) {
   const auto core = from_idl(s);

@@ -207,20 +207,26 @@ void ParticipantDirectory::on_publisher_discovery(eprosima::fastdds::dds::Domain
   }
 }
 
+namespace {
+// A copy of the value at `key`, or nullopt.
+template <class Map>
+std::optional<typename Map::mapped_type> value_at(const Map& map, const typename Map::key_type& key) {
+  const auto it = map.find(key);
+  if (it == map.end()) return std::nullopt;
+  return it->second;
+}
+}  // namespace
+
 std::optional<std::vector<std::string>> ParticipantDirectory::writer_partitions_changed(
     const eprosima::fastrtps::rtps::GUID_t& writer) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = changed_partitions_.find(writer);
-  if (it == changed_partitions_.end()) return std::nullopt;
-  return it->second;
+  return value_at(changed_partitions_, writer);
 }
 
 std::optional<std::vector<std::string>> ParticipantDirectory::writer_partitions(
     const eprosima::fastrtps::rtps::GUID_t& writer) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = writer_partitions_.find(writer);
-  if (it == writer_partitions_.end()) return std::nullopt;
-  return it->second;
+  return value_at(writer_partitions_, writer);
 }
 
 namespace {
@@ -242,23 +248,39 @@ void Participant::add_granted_partitions(const std::string& topic, eprosima::fas
   set_partitions_property(qos.properties(), grants_.for_endpoint(topic, false));
 }
 
+namespace {
+
+using Endpoints = std::map<eprosima::fastrtps::rtps::GUID_t, std::string>;  // endpoint -> topic
+using Names = std::map<eprosima::fastrtps::rtps::GuidPrefix_t, std::string>;  // participant -> name
+
+// Calls visit(guid, name) for every endpoint of `topic` whose participant is still known by name (a dropped
+// participant, lease expired, no longer counts), leaving out the endpoints of participant `skip` when given.
+// Every directory query below is this walk with its own test and result.
+template <class Visit>
+void for_each_named(const Endpoints& endpoints, const Names& names, const std::string& topic,
+                    const eprosima::fastrtps::rtps::GuidPrefix_t* skip, Visit visit) {
+  for (const auto& [guid, t] : endpoints) {
+    if (t != topic || (skip != nullptr && guid.guidPrefix == *skip)) continue;
+    const auto it = names.find(guid.guidPrefix);
+    if (it != names.end()) visit(guid, it->second);
+  }
+}
+
+}  // namespace
+
 std::size_t ParticipantDirectory::live_writers(const std::string& topic) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::size_t n = 0;
-  for (const auto& [guid, t] : writers_) {
-    if (t == topic && guid.guidPrefix != local_ && names_.count(guid.guidPrefix) > 0) ++n;
-  }
+  for_each_named(writers_, names_, topic, &local_, [&](const auto&, const std::string&) { ++n; });
   return n;
 }
 
 std::size_t ParticipantDirectory::writers_named(const std::string& topic, const std::string& name) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::size_t n = 0;
-  for (const auto& [guid, t] : writers_) {
-    if (t != topic || guid.guidPrefix == local_) continue;
-    const auto it = names_.find(guid.guidPrefix);
-    if (it != names_.end() && it->second == name) ++n;
-  }
+  for_each_named(writers_, names_, topic, &local_, [&](const auto&, const std::string& named) {
+    if (named == name) ++n;
+  });
   return n;
 }
 
@@ -266,23 +288,18 @@ std::size_t ParticipantDirectory::writers_named(const std::string& topic, const 
                                                 const std::string& role_tag) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::size_t n = 0;
-  for (const auto& [guid, t] : writers_) {
-    if (t != topic || guid.guidPrefix == local_) continue;
-    const auto it = names_.find(guid.guidPrefix);
+  for_each_named(writers_, names_, topic, &local_, [&](const auto& guid, const std::string& named) {
     const auto tag = role_tags_.find(guid.guidPrefix);
-    if (it != names_.end() && it->second == name && tag != role_tags_.end() && tag->second == role_tag) ++n;
-  }
+    if (named == name && tag != role_tags_.end() && tag->second == role_tag) ++n;
+  });
   return n;
 }
 
 std::vector<std::string> ParticipantDirectory::reader_names(const std::string& topic) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<std::string> out;
-  for (const auto& [guid, t] : readers_) {
-    if (t != topic) continue;
-    const auto it = names_.find(guid.guidPrefix);
-    if (it != names_.end()) out.push_back(it->second);
-  }
+  for_each_named(readers_, names_, topic, nullptr,
+                 [&](const auto&, const std::string& named) { out.push_back(named); });
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -295,27 +312,22 @@ std::vector<eprosima::fastrtps::rtps::GUID_t> ParticipantDirectory::reader_guids
                                                                                      const std::string& name) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<eprosima::fastrtps::rtps::GUID_t> out;
-  for (const auto& [guid, t] : readers_) {
-    if (t != topic) continue;
-    const auto it = names_.find(guid.guidPrefix);  // a dropped participant (lease expired) no longer counts
-    if (it != names_.end() && it->second == name) out.push_back(guid);
-  }
+  for_each_named(readers_, names_, topic, nullptr, [&](const auto& guid, const std::string& named) {
+    if (named == name) out.push_back(guid);
+  });
   return out;
 }
 
 std::vector<std::string> ParticipantDirectory::reader_descriptions(const std::string& topic) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<std::string> out;
-  for (const auto& [guid, t] : readers_) {
-    if (t != topic) continue;
-    const auto name = names_.find(guid.guidPrefix);
-    if (name == names_.end()) continue;
+  for_each_named(readers_, names_, topic, nullptr, [&](const auto& guid, const std::string& named) {
     const auto process = processes_.find(guid.guidPrefix);
-    out.push_back((name->second.empty() ? std::string("unnamed participant") : name->second) + " [" +
+    out.push_back((named.empty() ? std::string("unnamed participant") : named) + " [" +
                   (process == processes_.end() ? std::string("process not announced: not a causal-twin service")
                                                : process->second) +
                   "]");
-  }
+  });
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -1,5 +1,6 @@
 #include "causal/dds/sample_limits.hpp"
 
+#include "causal/io/enum_names.hpp"
 #include "causal/metrics/metrics_registry.hpp"
 
 #include <spdlog/spdlog.h>
@@ -13,15 +14,13 @@
 namespace causal::dds {
 
 const char* refusal_name(Refusal r) {
-  switch (r) {
-    case Refusal::None: return "none";
-    case Refusal::Malformed: return "malformed";
-    case Refusal::KeyTooLong: return "key_too_long";
-    case Refusal::IdTooLong: return "id_too_long";
-    case Refusal::BadEnum: return "bad_enum";
-    case Refusal::SequenceTooLong: return "sequence_too_long";
-  }
-  return "unknown";
+  static constexpr auto kNames = io::enum_names<Refusal>({{Refusal::None, "none"},
+                                                          {Refusal::Malformed, "malformed"},
+                                                          {Refusal::KeyTooLong, "key_too_long"},
+                                                          {Refusal::IdTooLong, "id_too_long"},
+                                                          {Refusal::BadEnum, "bad_enum"},
+                                                          {Refusal::SequenceTooLong, "sequence_too_long"}});
+  return kNames.name(r, "unknown");
 }
 
 namespace {

@@ -108,16 +108,24 @@ struct Tuner {
   }
 };
 
-// Outcome without factors: y_k = eps, the likelihood depends on r only (r_hat = mean y_k^2), q is moot.
-double empty_outcome_loglik(const Eigen::MatrixXd& samples, int k, const std::vector<SampleStatus>& status,
-                            double r, long* updates) {
+// Sum of y_k^2 over the samples that update the filter (status Updated), and their number `n`.
+double updated_sum_of_squares(const Eigen::MatrixXd& samples, int k, const std::vector<SampleStatus>& status,
+                              long& n) {
   double sum_sq = 0.0;
-  long n = 0;
+  n = 0;
   for (Eigen::Index i = 0; i < samples.rows(); ++i) {
     if (status[i] != SampleStatus::Updated) continue;
     sum_sq += samples(i, k) * samples(i, k);
     ++n;
   }
+  return sum_sq;
+}
+
+// Outcome without factors: y_k = eps, the likelihood depends on r only (r_hat = mean y_k^2), q is moot.
+double empty_outcome_loglik(const Eigen::MatrixXd& samples, int k, const std::vector<SampleStatus>& status,
+                            double r, long* updates) {
+  long n = 0;
+  const double sum_sq = updated_sum_of_squares(samples, k, status, n);
   if (updates) *updates = n;
   if (n == 0) return -std::numeric_limits<double>::infinity();
   return -0.5 * (static_cast<double>(n) * (kLog2Pi + std::log(r)) + sum_sq / r);
@@ -163,13 +171,8 @@ void validate_tuning_options(const NoiseTuningOptions& options) {
 // dead channel) or needs no search (no factors: r = mean square of y, result complete).
 bool reference_r(const SvarLayout& layout, int k, const Eigen::MatrixXd& samples,
                  const std::vector<SampleStatus>& status, NoiseTuningResult& result, double& r_ref) {
-  double sum_sq = 0.0;
   long usable = 0;
-  for (Eigen::Index n = 0; n < samples.rows(); ++n) {
-    if (status[n] != SampleStatus::Updated) continue;
-    sum_sq += samples(n, k) * samples(n, k);
-    ++usable;
-  }
+  const double sum_sq = updated_sum_of_squares(samples, k, status, usable);
   result.updates = usable;
   const int d = layout.factor_count(k);
   if (usable < 2 * d + 10) {

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "causal/io/enum_names.hpp"
+
 namespace causal::estimation {
 namespace {
 
@@ -39,24 +41,21 @@ std::vector<FactorRef> factor_refs(const SvarLayout& layout) {
 }  // namespace
 
 const char* to_string(ScaleStatus status) {
-  switch (status) {
-    case ScaleStatus::Ok: return "ok";
-    case ScaleStatus::ConstantChannel: return "constant";
-    case ScaleStatus::NoFiniteValues: return "no finite values";
-    case ScaleStatus::OutOfRange: return "scale out of range";
-  }
-  return "unknown";
+  static constexpr auto kNames = io::enum_names<ScaleStatus>({{ScaleStatus::Ok, "ok"},
+                                                              {ScaleStatus::ConstantChannel, "constant"},
+                                                              {ScaleStatus::NoFiniteValues, "no finite values"},
+                                                              {ScaleStatus::OutOfRange, "scale out of range"}});
+  return kNames.name(status, "unknown");
 }
 
 const char* to_string(EstimationStatus status) {
-  switch (status) {
-    case EstimationStatus::Ok: return "ok";
-    case EstimationStatus::ConstantChannel: return "constant channel";
-    case EstimationStatus::UnusableChannel: return "unusable channel";
-    case EstimationStatus::TuningFailed: return "noise tuning failed";
-    case EstimationStatus::NonFiniteOutput: return "non-finite output";
-  }
-  return "unknown";
+  static constexpr auto kNames =
+      io::enum_names<EstimationStatus>({{EstimationStatus::Ok, "ok"},
+                                        {EstimationStatus::ConstantChannel, "constant channel"},
+                                        {EstimationStatus::UnusableChannel, "unusable channel"},
+                                        {EstimationStatus::TuningFailed, "noise tuning failed"},
+                                        {EstimationStatus::NonFiniteOutput, "non-finite output"}});
+  return kNames.name(status, "unknown");
 }
 
 bool ChannelScales::ok() const { return first_refused() < 0; }

@@ -8,6 +8,7 @@
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_checks.hpp"
 #include "causal/estimation/state_fields.hpp"
+#include "causal/io/enum_names.hpp"
 #include "kernels.hpp"
 #include "lane_plan.hpp"
 #include "segment_tracker.hpp"
@@ -15,12 +16,11 @@
 namespace causal::estimation {
 
 const char* to_string(SampleStatus status) {
-  switch (status) {
-    case SampleStatus::Updated: return "updated";
-    case SampleStatus::WarmUp: return "warm-up";
-    case SampleStatus::RejectedNonFinite: return "rejected-non-finite";
-  }
-  return "unknown";
+  static constexpr auto kNames =
+      io::enum_names<SampleStatus>({{SampleStatus::Updated, "updated"},
+                                    {SampleStatus::WarmUp, "warm-up"},
+                                    {SampleStatus::RejectedNonFinite, "rejected-non-finite"}});
+  return kNames.name(status, "unknown");
 }
 
 // Binds each lane group to the kernels of its dimension D.

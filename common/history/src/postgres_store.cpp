@@ -59,14 +59,7 @@ class PostgresStore final : public HistoryStore {
   std::size_t apply_retention(double days, std::int64_t now_ns) override {
     const auto deletes = retention_sql(days, now_ns, true);
     if (deletes.empty()) return 0;
-    std::size_t removed = 0;
-    exec("BEGIN");
-    for (const auto& d : deletes) {
-      Result r = params(d, PGRES_COMMAND_OK);
-      removed += std::stoul("0" + std::string(PQcmdTuples(r.get())));
-    }
-    exec("COMMIT");
-    return removed;
+    return in_transaction(deletes, [&](const BoundStatement& d) { return changed(params(d, PGRES_COMMAND_OK)); });
   }
 
   std::vector<Row> select(const Table& t, const RangeQuery& q) override {
@@ -92,9 +85,7 @@ class PostgresStore final : public HistoryStore {
 
   std::optional<std::int64_t> max_integer(const Table& t, const std::string& column,
                                           const std::string& asset_group) override {
-    if (t.column(column) == std::string::npos) throw HistoryError("no column " + column + " in " + t.name);
-    Result r = params("SELECT MAX(" + column + ") FROM " + t.name + " WHERE asset_group = $1", {asset_group},
-                      PGRES_TUPLES_OK);
+    Result r = params(max_integer_sql(t, column, asset_group, true), PGRES_TUPLES_OK);
     if (PQntuples(r.get()) == 0 || PQgetisnull(r.get(), 0, 0)) return std::nullopt;
     return std::stoll(PQgetvalue(r.get(), 0, 0));
   }
@@ -105,42 +96,39 @@ class PostgresStore final : public HistoryStore {
   }
 
   std::optional<std::int64_t> earliest(const Table& t) override {
-    const bool text_time = t.time_column == "time_utc";
-    Result r = params("SELECT MIN(" + t.time_column + ") FROM " + t.name + (text_time ? " WHERE time_utc <> ''" : ""),
-                      {}, PGRES_TUPLES_OK);
+    Result r = params(earliest_sql(t), {}, PGRES_TUPLES_OK);
     if (PQntuples(r.get()) == 0 || PQgetisnull(r.get(), 0, 0)) return std::nullopt;
     const std::string v = PQgetvalue(r.get(), 0, 0);
-    if (!text_time) return std::stoll(v);
+    if (t.time_column != "time_utc") return std::stoll(v);
     return io::parse_utc(v);
   }
 
  protected:
   std::size_t write(const std::vector<std::pair<const Table*, Row>>& rows) override {
-    exec("BEGIN");
-    std::size_t stored = 0;
-    try {
-      for (const auto& [t, row] : rows) {
-        const std::string name = "insert_" + t->name;
-        if (!prepared_.count(name)) {
-          Result p(PQprepare(conn_, name.c_str(), insert_sql(*t, true).c_str(), 0, nullptr));
-          check(p, PGRES_COMMAND_OK, "prepare " + name);
-          prepared_[name] = true;
-        }
-        std::vector<const char*> values;
-        for (const auto& cell : row) values.push_back(cell ? cell->c_str() : nullptr);
-        Result r(PQexecPrepared(conn_, name.c_str(), static_cast<int>(values.size()), values.data(), nullptr, nullptr, 0));
-        check(r, PGRES_COMMAND_OK, name);
-        stored += std::stoul("0" + std::string(PQcmdTuples(r.get())));
+    return in_transaction(rows, [&](const std::pair<const Table*, Row>& table_row) {
+      const auto& [t, row] = table_row;
+      const std::string name = "insert_" + t->name;
+      if (!prepared_.count(name)) {
+        Result p(PQprepare(conn_, name.c_str(), insert_sql(*t, true).c_str(), 0, nullptr));
+        check(p, PGRES_COMMAND_OK, "prepare " + name);
+        prepared_[name] = true;
       }
-      exec("COMMIT");
-    } catch (...) {
-      Result rollback(PQexec(conn_, "ROLLBACK"));
-      throw;
-    }
-    return stored;
+      std::vector<const char*> values;
+      for (const auto& cell : row) values.push_back(cell ? cell->c_str() : nullptr);
+      Result r(PQexecPrepared(conn_, name.c_str(), static_cast<int>(values.size()), values.data(), nullptr, nullptr, 0));
+      check(r, PGRES_COMMAND_OK, name);
+      return changed(r);
+    });
   }
 
  private:
+  template <class Items, class Run>
+  std::size_t in_transaction(const Items& items, Run run) {
+    return sum_in_transaction(
+        items, "BEGIN", [&](const char* sql) { exec(sql); }, [&] { Result rollback(PQexec(conn_, "ROLLBACK")); }, run);
+  }
+  // Rows a command changed.
+  static std::size_t changed(const Result& r) { return std::stoul("0" + std::string(PQcmdTuples(r.get()))); }
   void check(const Result& r, ExecStatusType want, const std::string& what) {
     if (PQresultStatus(r.get()) != want) {
       throw HistoryError("postgresql " + url_ + ": " + PQerrorMessage(conn_) + " in: " + what);

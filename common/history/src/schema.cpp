@@ -226,4 +226,18 @@ std::vector<BoundStatement> retention_sql(double days, std::int64_t now_ns, bool
   return out;
 }
 
+BoundStatement max_integer_sql(const Table& t, const std::string& column, const std::string& asset_group,
+                               bool postgres) {
+  if (t.column(column) == std::string::npos) throw HistoryError("no column " + column + " in " + t.name);
+  BoundStatement s;
+  s.sql = "SELECT MAX(" + column + ") FROM " + t.name +
+          " WHERE asset_group = " + marker(s, ColumnType::Text, asset_group, postgres);
+  return s;
+}
+
+std::string earliest_sql(const Table& t) {
+  return "SELECT MIN(" + t.time_column + ") FROM " + t.name +
+         (t.time_column == "time_utc" ? " WHERE time_utc <> ''" : "");
+}
+
 }  // namespace causal::history

@@ -108,16 +108,12 @@ class SqliteStore final : public HistoryStore {
   std::size_t apply_retention(double days, std::int64_t now_ns) override {
     const auto deletes = retention_sql(days, now_ns, false);
     if (deletes.empty()) return 0;
-    std::size_t removed = 0;
-    exec("BEGIN IMMEDIATE");
-    for (const auto& d : deletes) {
+    return in_transaction(deletes, [&](const BoundStatement& d) {
       Statement s(db_, d.sql);
       bind_values(s, d);
       s.step();
-      removed += static_cast<std::size_t>(sqlite3_changes(db_));
-    }
-    exec("COMMIT");
-    return removed;
+      return static_cast<std::size_t>(sqlite3_changes(db_));
+    });
   }
 
   std::vector<Row> select(const Table& t, const RangeQuery& q) override {
@@ -135,9 +131,9 @@ class SqliteStore final : public HistoryStore {
 
   std::optional<std::int64_t> max_integer(const Table& t, const std::string& column,
                                           const std::string& asset_group) override {
-    if (t.column(column) == std::string::npos) throw HistoryError("no column " + column + " in " + t.name);
-    Statement s(db_, "SELECT MAX(" + column + ") FROM " + t.name + " WHERE asset_group = ?");
-    bind(s.get(), 1, ColumnType::Text, asset_group);
+    const BoundStatement query = max_integer_sql(t, column, asset_group, false);
+    Statement s(db_, query.sql);
+    bind_values(s, query);
     if (s.step() != SQLITE_ROW || sqlite3_column_type(s.get(), 0) == SQLITE_NULL) return std::nullopt;
     return sqlite3_column_int64(s.get(), 0);
   }
@@ -149,37 +145,39 @@ class SqliteStore final : public HistoryStore {
   }
 
   std::optional<std::int64_t> earliest(const Table& t) override {
-    const bool text_time = t.time_column == "time_utc";
-    Statement s(db_, "SELECT MIN(" + t.time_column + ") FROM " + t.name + (text_time ? " WHERE time_utc <> ''" : ""));
+    Statement s(db_, earliest_sql(t));
     if (s.step() != SQLITE_ROW || sqlite3_column_type(s.get(), 0) == SQLITE_NULL) return std::nullopt;
-    if (!text_time) return sqlite3_column_int64(s.get(), 0);
+    if (t.time_column != "time_utc") return sqlite3_column_int64(s.get(), 0);
     return io::parse_utc(reinterpret_cast<const char*>(sqlite3_column_text(s.get(), 0)));
   }
 
  protected:
   std::size_t write(const std::vector<std::pair<const Table*, Row>>& rows) override {
-    exec("BEGIN IMMEDIATE");
-    std::size_t stored = 0;
-    try {
-      for (const auto& [t, row] : rows) {
-        auto it = inserts_.find(t->name);
-        if (it == inserts_.end()) it = inserts_.emplace(t->name, std::make_unique<Statement>(db_, insert_sql(*t, false))).first;
-        Statement& s = *it->second;
-        for (std::size_t i = 0; i < row.size(); ++i) bind(s.get(), static_cast<int>(i + 1), t->columns[i].type, row[i]);
-        s.step();
-        stored += static_cast<std::size_t>(sqlite3_changes(db_));
-        s.reset();
-      }
-      exec("COMMIT");
-    } catch (...) {
-      sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
-      for (auto& [name, s] : inserts_) s->reset();
-      throw;
-    }
-    return stored;
+    return in_transaction(rows, [&](const std::pair<const Table*, Row>& table_row) {
+      const auto& [t, row] = table_row;
+      auto it = inserts_.find(t->name);
+      if (it == inserts_.end()) it = inserts_.emplace(t->name, std::make_unique<Statement>(db_, insert_sql(*t, false))).first;
+      Statement& s = *it->second;
+      for (std::size_t i = 0; i < row.size(); ++i) bind(s.get(), static_cast<int>(i + 1), t->columns[i].type, row[i]);
+      s.step();
+      const auto stored = static_cast<std::size_t>(sqlite3_changes(db_));
+      s.reset();
+      return stored;
+    });
   }
 
  private:
+  // BEGIN IMMEDIATE: the write lock at once, so a concurrent writer waits at BEGIN rather than failing mid-way.
+  template <class Items, class Run>
+  std::size_t in_transaction(const Items& items, Run run) {
+    return sum_in_transaction(
+        items, "BEGIN IMMEDIATE", [&](const char* sql) { exec(sql); },
+        [&] {
+          sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+          for (auto& [name, s] : inserts_) s->reset();
+        },
+        run);
+  }
   void exec(const std::string& sql) {
     char* err = nullptr;
     if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {

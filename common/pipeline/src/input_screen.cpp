@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "causal/io/enum_names.hpp"
+
 namespace causal::pipeline {
 
 const char* to_string(ScreenLevel level) {
@@ -13,16 +15,15 @@ const char* to_string(ScreenLevel level) {
 }
 
 const char* to_string(QualityEventKind kind) {
-  switch (kind) {
-    case QualityEventKind::NonFinite: return "non_finite";
-    case QualityEventKind::OutOfRange: return "out_of_range";
-    case QualityEventKind::Stuck: return "stuck";
-    case QualityEventKind::ScaleChange: return "scale_change";
-    case QualityEventKind::Recovered: return "recovered";
-    case QualityEventKind::MachineStopped: return "machine_stopped";
-    case QualityEventKind::MachineRunning: return "machine_running";
-  }
-  return "unknown";
+  static constexpr auto kNames =
+      io::enum_names<QualityEventKind>({{QualityEventKind::NonFinite, "non_finite"},
+                                        {QualityEventKind::OutOfRange, "out_of_range"},
+                                        {QualityEventKind::Stuck, "stuck"},
+                                        {QualityEventKind::ScaleChange, "scale_change"},
+                                        {QualityEventKind::Recovered, "recovered"},
+                                        {QualityEventKind::MachineStopped, "machine_stopped"},
+                                        {QualityEventKind::MachineRunning, "machine_running"}});
+  return kNames.name(kind, "unknown");
 }
 
 InputScreen::InputScreen(InputScreenParams params, int channels, ScreenLevel level)

@@ -1,6 +1,7 @@
 #include "causal/prognosis/time_to_level.hpp"
 
 #include "causal/estimation/normal_quantile.hpp"
+#include "causal/io/enum_names.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -76,12 +77,9 @@ void require(bool ok, const char* field, const char* what) {
 }  // namespace
 
 const char* to_string(Level level) {
-  switch (level) {
-    case Level::warning: return "warning";
-    case Level::critical: return "critical";
-    case Level::end_of_life: return "end_of_life";
-  }
-  return "?";
+  static constexpr auto kNames = io::enum_names<Level>(
+      {{Level::warning, "warning"}, {Level::critical, "critical"}, {Level::end_of_life, "end_of_life"}});
+  return kNames.name(level, "?");
 }
 
 void PrognosisParams::validate() const {

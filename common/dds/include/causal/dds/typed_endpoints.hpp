@@ -28,6 +28,23 @@ using eprosima::fastrtps::types::ReturnCode_t;
 // a sample not written is counted or logged by its caller, never dropped unseen.
 enum class [[nodiscard]] WriteResult { Ok, TimedOut, Stopped, Error };
 
+namespace detail {
+
+// Throws why a DataWriter or DataReader (`kind`) could not be created. Secured, the usual cause is the identity's
+// permissions or the governance: a configuration error (std::invalid_argument); otherwise the QoS profile is
+// missing (std::runtime_error).
+[[noreturn]] inline void endpoint_refused(const Participant& participant, const char* kind,
+                                          const std::string& topic_name, const std::string& profile) {
+  const std::string what = std::string("cannot create ") + kind + " for '" + topic_name + "'";
+  if (participant.secured()) {
+    throw std::invalid_argument(what + ": DDS-Security refused it (" + participant.security_note() +
+                                "; see the Fast DDS error above)");
+  }
+  throw std::runtime_error(what + " from QoS profile '" + profile + "' (is the QoS XML loaded?)");
+}
+
+}  // namespace detail
+
 template <typename PubSubType>
 class TypedWriter {
  public:
@@ -45,15 +62,7 @@ class TypedWriter {
       participant.add_granted_partitions(topic_name, qos);
       writer_ = participant.publisher()->create_datawriter(topic, qos);
     }
-    if (writer_ == nullptr) {
-      // Secured, the usual cause is the identity's permissions or the governance: a configuration error.
-      if (participant.secured()) {
-        throw std::invalid_argument("cannot create DataWriter for '" + topic_name + "': DDS-Security refused it (" +
-                                    participant.security_note() + "; see the Fast DDS error above)");
-      }
-      throw std::runtime_error("cannot create DataWriter for '" + topic_name + "' from QoS profile '" + profile +
-                               "' (is the QoS XML loaded?)");
-    }
+    if (writer_ == nullptr) detail::endpoint_refused(participant, "DataWriter", topic_name, profile);
     auto& m = metrics::process_metrics();
     const metrics::Labels by_topic{{"topic", topic_name}};
     written_ = &m.counter("dds_samples_written_total", "Samples the DDS writer accepted", by_topic);
@@ -263,14 +272,7 @@ class TypedReader {
       reader_ = participant.subscriber()->create_datareader(topic, qos, &rejections_,
                                                             eprosima::fastdds::dds::StatusMask::sample_rejected());
     }
-    if (reader_ == nullptr) {
-      if (participant.secured()) {
-        throw std::invalid_argument("cannot create DataReader for '" + topic_name + "': DDS-Security refused it (" +
-                                    participant.security_note() + "; see the Fast DDS error above)");
-      }
-      throw std::runtime_error("cannot create DataReader for '" + topic_name + "' from QoS profile '" + profile +
-                               "' (is the QoS XML loaded?)");
-    }
+    if (reader_ == nullptr) detail::endpoint_refused(participant, "DataReader", topic_name, profile);
     reader_->get_statuscondition().set_enabled_statuses(eprosima::fastdds::dds::StatusMask::data_available());
     auto& m = metrics::process_metrics();
     const metrics::Labels by_topic{{"topic", topic_name}};

@@ -123,5 +123,10 @@ BoundStatement select_sql(const Table& t, const RangeQuery& q, bool postgres);
 // their alarms), of the rows before now_ns - days (a time_utc table compares the UTC text and keeps rows
 // without a time).
 std::vector<BoundStatement> retention_sql(double days, std::int64_t now_ns, bool postgres);
+// max_integer's SELECT: the largest `column` (HistoryError unless t has it) among asset_group's rows.
+BoundStatement max_integer_sql(const Table& t, const std::string& column, const std::string& asset_group,
+                               bool postgres);
+// earliest's SELECT: the smallest time of t (a time_utc table leaves out the rows without a time).
+std::string earliest_sql(const Table& t);
 
 }  // namespace causal::history
