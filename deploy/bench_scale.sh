@@ -322,8 +322,7 @@ if ! awk "BEGIN { exit !($CPU_US <= 1.5 * $K_US) }"; then
     "DDS around it (perf, docs/scale-and-benchmarks.md \"round 5\"): the Fast DDS receive thread (~19 % of C: the" \
     "32 KiB copy into the reader's payload pool and a full decode of every frame for its key; no frame layout" \
     "avoids either, tests/bench/bench_frame_layouts.cpp), the take with its second decode (~6-7 %), two reliable" \
-    "writes per frame (~9-12 %: filter and fixed-lag batches; one message per input is --params with" \
-    "output.factor_messages: set, no clear gain measured yet), and" \
+    "writes per frame (~9-12 %: filter and fixed-lag batches; one message per input is another change), and" \
     "~2-3 context switches per frame"
 fi
 if ! awk "BEGIN { exit !($E >= 0.5) }"; then
