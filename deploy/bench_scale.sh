@@ -10,8 +10,11 @@
 #  (b) the pipeline end to end, for 1 and 2 estimator shards (hash slices, content-filtered readers):
 #      sensor-sim as fast as possible, the SAME frames (count, groups, size) -> causal-estimator(s) ->
 #      causal_bench_factor_counter (frames covered by factor messages, exactly) -> frames/s, and each
-#      estimator's user+system CPU over its run (its "summary cpu" line) -> cpu_per_frame_us (1 shard) and
-#      shard_cpu_ratio (summed CPU of the 2 shards / 1 shard, same frames); the source's CPU -> "source cpu:" line;
+#      estimator's user+system CPU: cpu_per_frame_us (1 shard) is the STEADY STATE, like the kernel's figure: from
+#      the last group's start-up done (noise tuned, window replayed: its "summary startup_done" line, CPU and frames
+#      so far) to the end ("summary cpu"), over the frames fed in that stretch; exit 1 if a group never logs it. The
+#      whole run's figure, start-up included, is printed beside it ("estimator cpu:" line); shard_cpu_ratio =
+#      whole-run CPU of the 2 shards / 1 shard, same frames; the source's CPU -> "source cpu:" line;
 #  (s) the other sources' CPU per frame, each feeding one estimator as fast as it takes them, its frames counted
 #      exactly: sensor-replay from a channel CSV and sensor-ingest from JSON blocks on stdin (SRC_FRAMES frames of
 #      one group, generated here) -> "source cpu (replay, ingest):" line (not in the last line);
@@ -49,7 +52,7 @@ while [ $# -gt 0 ]; do
     --transport) TRANSPORT_ARG="$2"; shift ;;
     --shards) SHARDS_ARG="$2"; shift ;;
     --live-shards) LIVE_SHARDS_ARG="$2"; shift ;;
-    -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,36p' "$0"; exit 0 ;;
     *) echo "bench_scale.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -93,7 +96,7 @@ if [ "$QUICK" = 1 ]; then
   TP_GROUPS=2; TP_FRAMES=20; SHARDS=(1 2); DURATION=3; MAX_GROUPS=2; START_GROUPS=2; SKIP_FRAMES=8; BENCH_TIME=0.05
   SRC_FRAMES=20
 else
-  TP_GROUPS=16; TP_FRAMES=500; SHARDS=(1 2); START_GROUPS=8; BENCH_TIME=0.5; SRC_FRAMES=1000
+  TP_GROUPS=16; TP_FRAMES=1000; SHARDS=(1 2); START_GROUPS=8; BENCH_TIME=0.5; SRC_FRAMES=1000
 fi
 if [ -n "$SHARDS_ARG" ]; then read -r -a SHARDS <<< "$SHARDS_ARG"; fi
 if [ -n "$LIVE_SHARDS_ARG" ]; then read -r -a LIVE_SHARDS <<< "$LIVE_SHARDS_ARG"; fi
@@ -191,6 +194,18 @@ run_pipeline() {
             if (kv[1] == "user_s" || kv[1] == "sys_s") s += kv[2] } } END { printf "%.3f", s }')
   RUN_EST_FRAMES=$(cat "$dir"/est*.log | awk '/summary cpu / { for (i = 1; i <= NF; ++i) { split($i, kv, "=");
             if (kv[1] == "frames") n += kv[2] } } END { print n + 0 }')
+  # The steady state: from each estimator's last "summary startup_done" line (its last group past its start-up:
+  # noise calibrated, buffered window replayed; the line carries the process's CPU and the frames fed so far) to
+  # its "summary cpu" line at exit, summed over the shards. Every group seen must have logged it (else 0 frames:
+  # the caller fails). STEADY_GROUPS: groups with the line, summed.
+  read -r RUN_STEADY_CPU RUN_STEADY_FRAMES RUN_STEADY_GROUPS < <(for f in "$dir"/est*.log; do
+      awk '/summary startup_done / { n++; for (i = 1; i <= NF; ++i) { split($i, kv, "=");
+             if (kv[1] == "user_s") u = kv[2]; if (kv[1] == "sys_s") y = kv[2]; if (kv[1] == "frames") fr = kv[2] } }
+           /summary not_processed / { for (i = 1; i <= NF; ++i) { split($i, kv, "="); if (kv[1] == "groups") g = kv[2] } }
+           /summary cpu / { for (i = 1; i <= NF; ++i) { split($i, kv, "=");
+             if (kv[1] == "user_s") eu = kv[2]; if (kv[1] == "sys_s") ey = kv[2]; if (kv[1] == "frames") ef = kv[2] } }
+           END { ok = (n > 0 && n == g && ef != ""); printf "%.6f %d %d\n", ok ? eu + ey - u - y : 0, ok ? ef - fr : 0, n }' "$f"
+    done | awk '{ c += $1; n += $2; g += $3 } END { printf "%.6f %d %d\n", c, n, g }')
   # `times` prints the shell's, then its children's user and system time ("0m1.234s 0m0.321s").
   RUN_SIM_CPU=$(sed -n 2p "$dir/sim.times" 2>/dev/null | awk '{ s = 0; for (i = 1; i <= 2; ++i) { split($i, t, "m");
             sub("s", "", t[2]); s += t[1] * 60 + t[2] } printf "%.3f", s }')
@@ -200,13 +215,19 @@ run_pipeline() {
 }
 
 # (b) the pipeline end to end, same frames as (a) ------------------------------------------------------------
-declare -A FPS CPU SIM_CPU
+declare -A FPS CPU SIM_CPU STEADY_CPU STEADY_FRAMES
 BEST_FPS=0; BEST_SHARDS=1
 for s in "${SHARDS[@]}"; do
   run_pipeline 231 "$s" "$TP_GROUPS" "$TP_FRAMES" 0
   FPS[$s]=$(field frames_per_s "$RUN_LINE")
   CPU[$s]=$RUN_CPU
   SIM_CPU[$s]=${RUN_SIM_CPU:-0}
+  STEADY_CPU[$s]=$RUN_STEADY_CPU
+  STEADY_FRAMES[$s]=$RUN_STEADY_FRAMES
+  if [ "$RUN_STEADY_GROUPS" != "$TP_GROUPS" ] || [ "$RUN_STEADY_FRAMES" -le 0 ]; then
+    echo "  (no steady state: $RUN_STEADY_GROUPS of $TP_GROUPS groups logged \"summary startup_done\", $RUN_STEADY_FRAMES frames after it: logs kept in $WORK)"
+    FAILED=1; KEEP=1
+  fi
   [ "$RUN_EST_FRAMES" = $((TP_GROUPS * TP_FRAMES)) ] || { echo "  (the estimators processed $RUN_EST_FRAMES frames, not $((TP_GROUPS * TP_FRAMES)))"; FAILED=1; }
   [ "$RUN_OK" = 1 ] || { FPS[$s]=0; FAILED=1; echo "  (run failed: see the logs kept in $WORK)"; KEEP=1; }
   ratio=$(awk -v p="${FPS[$s]}" -v r="$RAW_FPS" 'BEGIN { printf "%.3f", (r > 0 ? p / r : 0) }')
@@ -215,14 +236,18 @@ for s in "${SHARDS[@]}"; do
 done
 RATIO=$(awk -v p="$BEST_FPS" -v r="$RAW_FPS" 'BEGIN { printf "%.3f", (r > 0 ? p / r : 0) }')
 SPEEDUP=$(awk -v a="${FPS[2]:-0}" -v b="${FPS[1]:-0}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
-CPU_US=$(awk -v c="${CPU[1]:-0}" -v n=$((TP_GROUPS * TP_FRAMES)) 'BEGIN { printf "%.1f", c * 1e6 / n }')
+STARTUP_INCL_US=$(awk -v c="${CPU[1]:-0}" -v n=$((TP_GROUPS * TP_FRAMES)) 'BEGIN { printf "%.1f", c * 1e6 / n }')
+# C, as the kernel's k: the steady state (every group past its start-up), the CPU per frame a live group costs.
+CPU_US=$(awk -v c="${STEADY_CPU[1]:-0}" -v n="${STEADY_FRAMES[1]:-0}" 'BEGIN { printf "%.1f", (n > 0 ? c * 1e6 / n : 0) }')
 SHARD_CPU=$(awk -v a="${CPU[2]:-0}" -v b="${CPU[1]:-0}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
 SIM_US=$(awk -v c="${SIM_CPU[1]:-0}" -v n=$((TP_GROUPS * TP_FRAMES)) 'BEGIN { printf "%.1f", c * 1e6 / n }')
-echo "estimator cpu: ${CPU_US} us per frame with 1 shard (user+system over the run, start-up included; kernel ${K_US} us);" \
-  "2 shards ${CPU[2]:-?} s vs 1 shard ${CPU[1]:-?} s for the same $((TP_GROUPS * TP_FRAMES)) frames"
+echo "estimator cpu: ${CPU_US} us per frame with 1 shard in the steady state (user+system from the last group's" \
+  "start-up done to the end: ${STEADY_FRAMES[1]:-0} of $((TP_GROUPS * TP_FRAMES)) frames); ${STARTUP_INCL_US} us over the" \
+  "whole run, start-up included; kernel ${K_US} us; 2 shards ${CPU[2]:-?} s vs 1 shard ${CPU[1]:-?} s for the same" \
+  "$((TP_GROUPS * TP_FRAMES)) frames (whole runs)"
 # The source beside it, same run: what live capacity spends on the harness rather than the estimator.
 echo "source cpu: sensor-sim ${SIM_US} us per frame with 1 shard (user+system over the run, start-up included;" \
-  "$(awk -v s="$SIM_US" -v c="$CPU_US" 'BEGIN { printf "%.2f", (c > 0 ? s / c : 0) }') x the estimator's)"
+  "$(awk -v s="$SIM_US" -v c="$STARTUP_INCL_US" 'BEGIN { printf "%.2f", (c > 0 ? s / c : 0) }') x the estimator's over the run)"
 
 # (s) sensor-replay and sensor-ingest: CPU per frame, one group, the same frame shape ------------------------------
 # source_cost NAME INPUT COMMAND...: runs one estimator and the source with INPUT as its standard input (a background
@@ -268,7 +293,7 @@ source_cost ingest "$WORK/ingest.jsonl" "$INGEST" --domain 231 "${DDS[@]}" --sou
 INGEST_US=$SRC_US
 echo "source cpu (replay, ingest): sensor-replay ${REPLAY_US} us per frame (channel CSV), sensor-ingest ${INGEST_US} us" \
   "per frame (JSON blocks on stdin); ${SRC_FRAMES} frames of ${CHANNELS} x ${FRAME} samples each, one group, as fast as" \
-  "one estimator takes them (user+system over the run, start-up included; estimator ${CPU_US} us, sensor-sim ${SIM_US} us)"
+  "one estimator takes them (user+system over the run, start-up included; estimator ${STARTUP_INCL_US} us, sensor-sim ${SIM_US} us)"
 
 # (c) groups live at the IMS rate ------------------------------------------------------------------------------
 FRAMES_LIVE=$((DURATION * RATE / FRAME))
@@ -310,18 +335,17 @@ echo "targets: live_efficiency $E >= 0.5 $(met "$E >= 0.5"); cpu_per_frame_us $C
 # Missed targets: by how much, and why (the evidence: docs/scale-and-benchmarks.md, "Latency spikes" and
 # "Estimator CPU per frame").
 if ! awk "BEGIN { exit !($CPU_US <= 1.5 * $K_US) }"; then
-  # Where C goes: the pipeline's own work (line "frame path"), the start-up spread over this run's frames, the rest.
-  STARTUP_US=$(awk -v m="${STARTUP_MS:-0}" -v n="$TP_FRAMES" 'BEGIN { printf "%.1f", m * 1e3 / n }')
-  REST_US=$(awk -v c="$CPU_US" -v p="$PATH_US" -v s="$STARTUP_US" 'BEGIN { if (p + 0 > 0) printf "%.1f", c - p - s; else printf "?" }')
-  echo "missed: cpu_per_frame_us $(by "$CPU_US" "$(awk -v k="$K_US" 'BEGIN { print 1.5 * k }')") over 1.5 x kernel:" \
-    "without DDS the estimator's work per frame is ${PATH_US} us (line \"frame path\": the kernel, the input screen" \
-    "and the condition features); each group's start-up (noise tuning, on the worker thread but in the process's" \
-    "CPU) adds ${STARTUP_US} us per frame over this run's ${TP_FRAMES} frames per group; the other ${REST_US} us are" \
-    "DDS around it (perf, docs/scale-and-benchmarks.md \"round 5\"): the Fast DDS receive thread (~19 % of C: the" \
-    "32 KiB copy into the reader's payload pool and a full decode of every frame for its key; no frame layout" \
-    "avoids either, tests/bench/bench_frame_layouts.cpp), the take with its second decode (~6-7 %), two reliable" \
-    "writes per frame (~9-12 %: filter and fixed-lag batches; one message per input is another change), and" \
-    "~2-3 context switches per frame"
+  # Where C goes (steady state, like k): the pipeline's own work (line "frame path") and the DDS rest.
+  REST_US=$(awk -v c="$CPU_US" -v p="$PATH_US" 'BEGIN { if (p + 0 > 0) printf "%.1f", c - p; else printf "?" }')
+  echo "missed: cpu_per_frame_us $(by "$CPU_US" "$(awk -v k="$K_US" 'BEGIN { print 1.5 * k }')") over 1.5 x kernel" \
+    "(both steady state; with each group's start-up, noise tuning on 4096 samples, the whole run costs" \
+    "${STARTUP_INCL_US} us per frame, line \"estimator cpu\"): without DDS the estimator's work per frame is ${PATH_US} us" \
+    "(line \"frame path\": the kernel, the input screen and the condition features); the other ${REST_US} us are DDS" \
+    "around it (perf of the steady state, docs/scale-and-benchmarks.md \"round 6\"): the Fast DDS receive thread" \
+    "(~22 % of C: the 32 KiB copy into the reader's payload pool and a full decode of every frame for its key; no" \
+    "frame layout avoids either, tests/bench/bench_frame_layouts.cpp), the take with its second decode (~9 %), two" \
+    "reliable writes per frame (~15 %: filter and fixed-lag batches; one message per input is another change)," \
+    "context switches (~8 %: the receive thread's waits, the writes' wake-ups)"
 fi
 if ! awk "BEGIN { exit !($E >= 0.5) }"; then
   echo "missed: live_efficiency $([ "$N1" = 0 ] && echo "(no group held)" || by "$E" 0.5) under 0.5: the kernel" \

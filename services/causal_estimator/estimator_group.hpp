@@ -38,6 +38,7 @@ struct GroupState {
   // its numbering, e.g. a sensor-ingest without --state-dir): refused and counted, never silently skipped.
   std::int64_t last_time_ns = INT64_MIN;
   bool adjustments_logged = false, tuning_logged = false;
+  bool startup_logged = false;  // its start-up done (noise calibrated, window replayed): logged once
   bool sample_structure_logged = false, condition_structure_logged = false;
   // Prometheus: time to process one input (filters, smoothers, output queued), per asset group.
   metrics::Histogram* frame_seconds = nullptr;

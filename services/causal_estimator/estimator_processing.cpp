@@ -92,6 +92,7 @@ void EstimatorProcessing::feed_frame(const causal_twin::VibrationFrame& frame, G
     return;
   }
   ++a.frames;
+  ++frames_fed_;
   a.last_time_ns = frame.first_sample_time_ns() +
                    static_cast<std::int64_t>(static_cast<double>(std::max<std::uint32_t>(frame.samples_per_channel(), 1) - 1) *
                                              1e9 / frame.sample_rate_hz());
@@ -99,6 +100,7 @@ void EstimatorProcessing::feed_frame(const causal_twin::VibrationFrame& frame, G
   publisher_.publish_quality(name, a, out_, frame.snapshot_index(), frame.first_sample_time_ns(), frame.end_of_segment());
   publisher_.publish(name, a, out_, frame.end_of_segment(), trace);
   if (!publisher_.standing_by()) log_learned(name, a);
+  if (!a.startup_logged) log_startup_done(name, a);
   a.frame_seconds->observe(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }
 
@@ -200,6 +202,14 @@ void EstimatorProcessing::log_learned(const std::string& name, GroupState& a) {
                    s->tuning().empty() ? " (fixed)" : " (tuned: " + s->tuning()[k].message + ")");
     }
   }
+}
+
+void EstimatorProcessing::log_startup_done(const std::string& name, GroupState& a) {
+  const auto* s = a.pipeline.sample_stream();
+  if (s == nullptr || !s->calibrated() || s->replay_pending() > 0) return;
+  a.startup_logged = true;
+  // Machine-readable (deploy/bench_scale.sh): frames= counts every group's frames fed so far, this one included.
+  spdlog::info("summary startup_done group={} group_frames={} {}", name, a.frames, process_cpu_summary(frames_fed_));
 }
 
 void EstimatorProcessing::log_structure(const std::string& name, const GroupState& a, const char* level,

@@ -46,6 +46,10 @@ class EstimatorProcessing {
   // adjustments logged). `kind` and `number` name the input in the log.
   bool accepted(const std::string& name, GroupState& a, const pipeline::FrameCheck& check, std::uint64_t& refused,
                 const char* kind, std::uint64_t number, std::uint64_t snapshot, std::int64_t time_ns);
+  // Once per group, the first time its sample level runs in steady state (noise calibrated, its buffered window
+  // replayed): the process's CPU and the frames fed so far, so that deploy/bench_scale.sh can take the CPU per
+  // frame of the steady state (every group past its start-up) apart from the start-up.
+  void log_startup_done(const std::string& name, GroupState& a);
   // Once each: the learned structure at both levels and the sample level's noise (tuned or fixed).
   void log_learned(const std::string& name, GroupState& a);
   void log_structure(const std::string& name, const GroupState& a, const char* level,
@@ -55,6 +59,7 @@ class EstimatorProcessing {
   pipeline::AssetPipelineParams params_;
   EstimatorPublisher& publisher_;
   std::map<std::string, GroupState> groups_;
+  std::uint64_t frames_fed_ = 0;  // frames accepted, all groups
   pipeline::PipelineOutput out_;
 };
 
