@@ -28,6 +28,7 @@
 #include <memory>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -529,6 +530,95 @@ void run_frames(InputScreen& screen, std::mt19937_64& rng, int frames, std::vect
 std::size_t count_kind(const std::vector<QualityEvent>& events, QualityEventKind kind) {
   return static_cast<std::size_t>(std::count_if(events.begin(), events.end(), [&](const auto& e) { return e.kind == kind; }));
 }
+// Whole frames, calls of random sizes and one row per call give the same values, events and counters: the
+// screen's common case judges long stretches of clean values at once (their runs restarted, the scale block
+// filled), one row per call judges each value by itself, and random call sizes move the stretches' ends over the
+// data. The data hit every boundary of that: quantised noise with exact repeats, +0 / -0 pairs (equal, different
+// bits), exact zeros (below the collapse limit, repeated), short and long runs below the collapse limit, a stuck
+// run, NaN, inf and huge values. With runs of 3 quarantining, a run's length one off anywhere shows as an event.
+struct ScreenRun {
+  std::vector<double> out;
+  std::vector<QualityEvent> events;
+  std::vector<ChannelQualityCounters> counters;
+};
+
+ScreenRun screen_in_calls(const InputScreenParams& p, const std::vector<double>& rows, std::size_t g,
+                          std::size_t per_call, std::uint64_t seed) {
+  InputScreen screen(p, static_cast<int>(g), ScreenLevel::Sample);
+  ScreenRun r{rows, {}, {}};
+  std::mt19937_64 rng(seed);
+  const std::size_t n = rows.size() / g;
+  for (std::size_t i = 0; i < n;) {
+    const std::size_t m = std::min(per_call > 0 ? per_call : 1 + rng() % 300, n - i);
+    screen.screen(r.out.data() + i * g, m, r.events);
+    i += m;
+  }
+  r.counters = screen.counters();
+  return r;
+}
+
+void expect_same_screening(const ScreenRun& a, const ScreenRun& b, const char* what) {
+  SCOPED_TRACE(what);
+  ASSERT_EQ(a.out.size(), b.out.size());
+  EXPECT_EQ(std::memcmp(a.out.data(), b.out.data(), a.out.size() * sizeof(double)), 0);
+  ASSERT_EQ(a.events.size(), b.events.size());
+  for (std::size_t e = 0; e < a.events.size(); ++e) {
+    EXPECT_EQ(a.events[e].channel, b.events[e].channel) << e;
+    EXPECT_EQ(a.events[e].kind, b.events[e].kind) << e;
+    EXPECT_EQ(a.events[e].index, b.events[e].index) << e;
+    EXPECT_EQ(a.events[e].count, b.events[e].count) << e;
+    EXPECT_EQ(a.events[e].reason, b.events[e].reason) << e;
+  }
+  ASSERT_EQ(a.counters.size(), b.counters.size());
+  for (std::size_t j = 0; j < a.counters.size(); ++j) {
+    EXPECT_EQ(a.counters[j].screened, b.counters[j].screened) << j;
+    EXPECT_EQ(a.counters[j].non_finite, b.counters[j].non_finite) << j;
+    EXPECT_EQ(a.counters[j].out_of_range, b.counters[j].out_of_range) << j;
+    EXPECT_EQ(a.counters[j].quarantined_values, b.counters[j].quarantined_values) << j;
+    EXPECT_EQ(a.counters[j].stuck, b.counters[j].stuck) << j;
+    EXPECT_EQ(a.counters[j].scale_change, b.counters[j].scale_change) << j;
+    EXPECT_EQ(a.counters[j].recovered, b.counters[j].recovered) << j;
+    EXPECT_EQ(a.counters[j].quarantined, b.counters[j].quarantined) << j;
+    EXPECT_EQ(a.counters[j].reference_scale, b.counters[j].reference_scale) << j;
+  }
+}
+
+TEST(InputScreenStretches, WholeFramesEqualOneRowPerCallToTheBit) {
+  constexpr std::size_t g = 4, n = 6 * 1024 + 300;
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<double> rows(g * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < g; ++j) rows[i * g + j] = std::round(normal(rng) * (j == 0 ? 3.0 : 200.0)) / 64.0;
+    if (uniform(rng) < 0.04) rows[i * g + 1] = 0.0;  // exact zeros: low, and repeated now and then
+  }
+  for (std::size_t i = 2000; i < 2010; i += 2) rows[i * g + 1] = 0.0, rows[(i + 1) * g + 1] = -0.0;
+  for (std::size_t i = 3000; i < 3020; ++i) rows[i * g + 2] = 1e-7;                           // low, short
+  for (std::size_t i = 4100; i < 4140; ++i) rows[i * g + 2] = 1e-7 * static_cast<double>(i);  // sudden run
+  for (std::size_t i = 5000; i < 5300; ++i) rows[i * g + 3] = 0.25;                           // stuck run
+  rows[1500 * g + 3] = std::numeric_limits<double>::quiet_NaN();
+  rows[1501 * g + 3] = std::numeric_limits<double>::infinity();
+  rows[2047 * g + 0] = 1e9;
+  rows[6100 * g + 1] = 5e5;  // within the physical limit, far above the channel's scale
+  InputScreenParams shipped = InputScreenParams::for_samples();
+  shipped.stopped_max_levels = 0;  // no stopped-machine verdict: it judges whole calls only
+  InputScreenParams tight = shipped;  // runs of 3 quarantine; blocks of 64
+  tight.stuck_samples = 3;
+  tight.sudden_run = 3;
+  tight.scale_window = 64;
+  tight.recovery_samples = 64;
+  for (const InputScreenParams& p : {shipped, tight}) {
+    const ScreenRun single = screen_in_calls(p, rows, g, 1, 0);
+    EXPECT_GE(single.events.size(), 5u);  // the faults above were seen (non-finite, out of range, quarantines)
+    for (std::size_t j = 0; j < g; ++j) EXPECT_EQ(single.counters[j].screened, n);
+    expect_same_screening(screen_in_calls(p, rows, g, 1024, 0), single, "frames of 1024 rows");
+    for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+      expect_same_screening(screen_in_calls(p, rows, g, 0, seed), single, "calls of random sizes");
+    }
+  }
+}
+
 }  // namespace
 
 TEST(InputScreenStoppedMachine, EveryChannelAtTheQuantisationFloorIsAnOperatingStateNotAFault) {
