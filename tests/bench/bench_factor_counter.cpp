@@ -10,6 +10,9 @@
 // its noise at once, a one-time stall whose worst latency is printed separately as startup_max_ms.
 //   causal_bench_factor_counter --groups K --frames-per-group F [--frame-samples N] [--sample-rate HZ]
 //       [--skip-frames S] [--domain D] [--timeout S] [--quiet-exit S] [--qos FILE] [--transport FILE]
+//       [--latency-csv FILE]
+// --latency-csv: one row per frame (group, frame, arrival_s since the first due time, latency_ms), to see when a
+// probe's slow frames came (start-up backlog or steady state).
 // Prints "ready" once its reader exists, then one line
 //   factors: frames=D expected=E seconds=S frames_per_s=T p50_ms=A p99_ms=B max_ms=C latency_frames=L
 //            startup_max_ms=M
@@ -27,6 +30,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <limits>
 #include <set>
 #include <string>
@@ -57,6 +61,7 @@ int main(int argc, char** argv) {
   int domain = 231;
   std::string qos = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/qos.xml";
   std::string transport = std::string(CAUSAL_TWIN_DEPLOY_DIR) + "/dds/localhost.xml";
+  std::string latency_csv;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (i + 1 >= argc) {
@@ -74,6 +79,7 @@ int main(int argc, char** argv) {
     else if (a == "--quiet-exit") quiet_exit_s = std::atof(v);
     else if (a == "--qos") qos = v;
     else if (a == "--transport") transport = v;
+    else if (a == "--latency-csv") latency_csv = v;
     else {
       std::fprintf(stderr, "unknown option %s (see the file header)\n", a.c_str());
       return 2;
@@ -101,6 +107,13 @@ int main(int argc, char** argv) {
   const double ns_per_sample = 1e9 / sample_rate;
   std::set<std::pair<std::string, std::uint64_t>> covered;
   std::vector<double> latency_ms;
+  struct Row {
+    std::string group;
+    long frame;
+    long long arrived_ns;
+    double ms;
+  };
+  std::vector<Row> rows;  // --latency-csv
   double startup_max_ms = 0.0;  // the skipped frames' worst latency (calibration and noise tuning at start)
   long long start_ns = std::numeric_limits<long long>::max(), last_ns = 0;
   const auto began = Clock::now();
@@ -122,6 +135,7 @@ int main(int argc, char** argv) {
       const auto offset = static_cast<double>(f.sample_index() % static_cast<std::uint64_t>(frame_samples));
       const long long due = f.time_ns() - static_cast<long long>(offset * ns_per_sample);
       const double ms = static_cast<double>(arrived - due) / 1e6;
+      if (!latency_csv.empty()) rows.push_back({f.asset_group(), frame, arrived, ms});
       if (frame < skip_frames) {
         startup_max_ms = std::max(startup_max_ms, ms);
       } else {
@@ -138,5 +152,15 @@ int main(int argc, char** argv) {
               covered.size(), expected, seconds, seconds > 0 ? static_cast<double>(covered.size()) / seconds : 0.0, p50,
               p99, max, n_latency, startup_max_ms);
   std::fflush(stdout);
+  if (!latency_csv.empty()) {
+    std::ofstream out(latency_csv);
+    out << "group,frame,arrival_s,latency_ms\n";
+    for (const auto& r : rows)
+      out << r.group << ',' << r.frame << ',' << static_cast<double>(r.arrived_ns - start_ns) / 1e9 << ',' << r.ms << '\n';
+    if (!out) {
+      std::fprintf(stderr, "cannot write %s\n", latency_csv.c_str());
+      return 1;
+    }
+  }
   return covered.size() == expected ? 0 : 1;
 }
