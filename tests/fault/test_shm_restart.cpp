@@ -3,11 +3,14 @@
 // Fast DDS 2.9.1 lets the restarted process take its predecessor's shared-memory port and replace the dead
 // segment without telling the writer, which had the old one open and goes on writing into it for ever
 // (docs/reliability.md "Shared memory and SIGKILL"); common/dds/src/shm_participant_id.cpp chooses the
-// participant id so that the new process listens on a port nobody holds a stale segment of.
+// participant id so that the new process listens on a port nobody holds a stale segment of
+// ($CAUSAL_TWIN_SHM_PORT_CHOICE=1, set here). Without it both restarts took the dead reader's port and received
+// 0 of 50 frames (2 of 2 runs).
 // The stall is made deterministic: shm-restart-peer's reader blocks in its data callback (on the transport's
 // receive thread) before it is killed, the state the writer's port watchdog does not detect.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -54,6 +57,7 @@ std::string kill_a_busy_reader(const fs::path& work, const std::string& domain, 
 }  // namespace
 
 TEST(ShmRestart, ReaderKilledWhileBusyGetsEveryFrameAfterRestart) {
+  setenv("CAUSAL_TWIN_SHM_PORT_CHOICE", "1", 1);  // the peers inherit it
   const fs::path work = causal::test::fresh_work_dir("causal_shm_restart", "busy");
   const std::string domain = std::to_string(causal::test::private_domain_id(41));
   std::unique_ptr<ServiceProcess> writer;

@@ -302,11 +302,17 @@ bool listens_on_shm_port(std::uint32_t port, const std::string& shm_dir) {
   return false;
 }
 
+bool shm_port_choice_enabled() {
+  const char* value = std::getenv("CAUSAL_TWIN_SHM_PORT_CHOICE");
+  return value != nullptr && std::string(value) == "1";
+}
+
 eprosima::fastdds::dds::DomainParticipant* create_participant_on_safe_shm_port(
     int domain, DomainParticipantQos qos, eprosima::fastdds::dds::DomainParticipantListener* listener,
     const eprosima::fastdds::dds::StatusMask& mask) {
   ShmChoiceLock lock;
-  const ShmIdAssignment shm = assign_shm_participant_id(qos, domain, lock);
+  ShmIdAssignment shm;
+  if (shm_port_choice_enabled()) shm = assign_shm_participant_id(qos, domain, lock);
   if (shm.warning) {
     spdlog::warn("{}", shm.note);
   } else if (!shm.note.empty()) {
