@@ -112,7 +112,8 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
   }
   directory_ = std::make_unique<ParticipantDirectory>();
   // Discovery callbacks do not depend on the status mask; no other status is routed to this listener.
-  // On shared memory, an id whose ports no live peer holds a stale segment of (a SIGKILL-ed predecessor's).
+  // With $CAUSAL_TWIN_SHM_PORT_CHOICE=1, on shared memory: an id whose ports no live peer holds a stale segment of
+  // (a SIGKILL-ed predecessor's); otherwise exactly create_participant.
   participant_ = create_participant_on_safe_shm_port(settings.domain_id, qos, directory_.get(),
                                                      eprosima::fastdds::dds::StatusMask::none());
   if (participant_ == nullptr) {
