@@ -108,9 +108,9 @@ ShmIdAssignment assign_shm_participant_id(eprosima::fastdds::dds::DomainParticip
 bool listens_on_shm_port(std::uint32_t port, const std::string& shm_dir = "/dev/shm");
 
 // Whether the choice is on: $CAUSAL_TWIN_SHM_PORT_CHOICE=1. Off by default: with it on, a recommender killed and
-// restarted at once in AlarmRestart (tests/integration/test_alarm_restart.cpp) counted 2 or 3 condition-level
-// samples lost (DDS sample-lost status, exit 4) in 3 of 4 runs, 0 of 3 without it; not understood yet
-// (docs/reliability.md "Shared memory and SIGKILL").
+// restarted at once in AlarmRestart (tests/integration/test_alarm_restart.cpp) counted samples lost (DDS
+// sample-lost status, exit 4) in 5 of 7 runs, 0 of 4 without it; not understood yet (docs/reliability.md
+// "Shared memory and SIGKILL").
 bool shm_port_choice_enabled();
 
 // DomainParticipantFactory::create_participant with the id assign_shm_participant_id chooses when enabled (the lock held until
