@@ -3,6 +3,7 @@
 #include "causal/dds/ack_watch.hpp"
 #include "causal/dds/revocation_watch.hpp"
 #include "causal/dds/security.hpp"
+#include "causal/dds/shm_participant_id.hpp"
 #include "causal/metrics/metrics_registry.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -111,8 +112,10 @@ Participant::Participant(const DdsSettings& settings) : domain_id_(settings.doma
   }
   directory_ = std::make_unique<ParticipantDirectory>();
   // Discovery callbacks do not depend on the status mask; no other status is routed to this listener.
-  participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(settings.domain_id), qos,
-                                             directory_.get(), eprosima::fastdds::dds::StatusMask::none());
+  // With $CAUSAL_TWIN_SHM_PORT_CHOICE=1, on shared memory: an id whose ports no live peer holds a stale segment of
+  // (a SIGKILL-ed predecessor's); otherwise exactly create_participant.
+  participant_ = create_participant_on_safe_shm_port(settings.domain_id, qos, directory_.get(),
+                                                     eprosima::fastdds::dds::StatusMask::none());
   if (participant_ == nullptr) {
     // Fast DDS says why on its own log (a security plugin that refused a file, a governance without a rule
     // for this domain): flush it before the service exits.
