@@ -76,7 +76,8 @@ struct Resumed {
   std::vector<PrognosisLine> prognoses;       // of the last observation the checkpoint holds
 };
 
-// What the operator's status line is built from (the group's engines after the observation).
+// What the operator's status line is built from (the group's engines after the observation). The pointers and the
+// prognosis function refer into the desk: use them before its next judge() (the caller publishes at once).
 struct StatusFacts {
   const alarms::AlarmEngine* condition = nullptr;  // the group's engines (null when that scale is not running)
   const alarms::AlarmEngine* sample = nullptr;
