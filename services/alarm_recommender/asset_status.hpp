@@ -8,25 +8,23 @@
 // DDS-free apart from the generated type; the node publishes what update() reports as changed.
 #pragma once
 
+#include "causal/advice/alarm_desk.hpp"
 #include "causal/alarms/alarm_engine.hpp"
 #include "causal_twin.h"
 
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <map>
 #include <string>
 
 namespace causal::recommender {
 
-struct StatusInput {
-  const alarms::AlarmEngine* condition = nullptr;  // the group's engines (null when that scale is not running)
-  const alarms::AlarmEngine* sample = nullptr;
-  bool stopped_now = false;  // the latest observation was gated as "not running"
-  std::uint64_t index = 0;
-  std::int64_t time_ns = 0;
-  // The prognosis line for the worst open degradation alarm (AssetStatus.prognosis_text): "" when none is given.
-  // A function, so the board stays free of the prognosis trends (the node owns them).
-  std::function<std::string(const alarms::AlarmEvent& worst)> prognosis;
+// The alarm desk's facts (the group's engines, the operating-state verdict, the prognosis line as a function, so
+// the board stays free of the prognosis trends) and the alarm management desk's fields.
+struct StatusInput : advice::StatusFacts {
+  StatusInput() = default;
+  explicit StatusInput(advice::StatusFacts facts) : advice::StatusFacts(std::move(facts)) {}
   // Fills the alarm management and health fields (unacknowledged, shelved, per 10 min, ...); unset: left 0.
   std::function<void(causal_twin::AssetStatus&)> management;
 };

@@ -34,12 +34,12 @@ std::string outcome_text(const intervention::Outcome& o, const std::string& leve
 
 }  // namespace
 
-InterventionDesk::InterventionDesk(dds::Participant& participant, bool log_features)
+InterventionDesk::InterventionDesk(dds::Participant& participant, intervention::OutcomeCheck& check)
     : participant_(participant),
       in_(participant, dds::topics::kIntervention, dds::profiles::kInterventionReader),
       out_(participant, dds::topics::kInterventionOutcome, dds::profiles::kInterventionOutcomeWriter),
       stop_(&never_stopped_),
-      log_features_(log_features),
+      check_(check),
       grants_(participant.directory(), "intervention", "approved intervention",
               "issue-identity.sh: an operator's grant names no partitions, or only those of --groups") {}
 
@@ -80,36 +80,11 @@ std::size_t InterventionDesk::take() {
   });
 }
 
-intervention::Prediction InterventionDesk::predict(const intervention::InterventionPlan& plan,
-                                                   const Advisor& advisor) const {
-  intervention::Prediction p;
-  const WhatIfAnswer a = advisor.what_if(plan.asset_group, plan.lever, plan.delta, true);
-  const auto k = static_cast<Eigen::Index>(plan.target);
-  if (!a.ok || k >= a.effect.size()) {
-    p.why = a.ok ? "target channel outside the group" : a.error;
-    return p;
-  }
-  p.ok = std::isfinite(a.effect[k]) && std::isfinite(a.lower[k]) && std::isfinite(a.upper[k]);
-  if (!p.ok) p.why = "no finite effect predicted";
-  p.steady_state = a.diag.kind == "steady_state";
-  p.horizon = a.diag.horizon_snapshots;
-  p.effect = a.effect[k];
-  p.low = a.lower[k];
-  p.high = a.upper[k];
-  return p;
-}
-
-void InterventionDesk::observed(const AssembledObservation& a, const Advisor& advisor) {
-  if (a.time_scale != causal_twin::CONDITION_LEVEL || a.observation.features.size() == 0) return;
-  channel_names_[a.asset_group] = a.channel_names;
-  std::vector<intervention::Outcome> done;
-  const std::uint64_t n = a.observation.index;
-  // The outcome check works in log levels (the model's units when the estimator logs its features).
-  Eigen::VectorXd z = a.observation.features;
-  if (log_features_) z = z.array().max(0.0).log().matrix();  // a level of 0 gives -inf: rejected and counted
-  check_.observe(a.asset_group, n, z, done);
-  for (const auto& plan : check_.due(a.asset_group, n)) check_.freeze(plan.request_id, predict(plan, advisor), done);
-  for (const auto& o : done) publish(o);
+void InterventionDesk::publish_finished(const std::string& group, const std::vector<std::string>& channel_names,
+                                        const std::vector<intervention::Outcome>& outcomes) {
+  if (outcomes.empty()) return;
+  channel_names_[group] = channel_names;
+  for (const auto& o : outcomes) publish(o);
 }
 
 void InterventionDesk::publish(const intervention::Outcome& o) {

@@ -1,8 +1,9 @@
 // alarm-recommender's side of the closed prescriptive loop: approved interventions in (causal_twin/intervention),
 // their checked outcomes out (causal_twin/intervention_outcome). The check itself is common/intervention
-// (outcome_check.hpp, no DDS); this adapter feeds it every condition-level observation, answers the frozen
-// what-if from the advisor's model as of the snapshot before the start, and publishes what finished. Lever trust
-// learned from the outcomes withdraws a lever's claim (lever_claimed) when its outcomes miss.
+// (outcome_check.hpp, no DDS), owned and fed by the alarm desk (advice::AlarmDesk: every condition-level
+// observation, the frozen what-if from the advisor's model as of the snapshot before the start); this adapter
+// hands it the approvals and publishes the outcomes the desk's judgement reports finished. Lever trust learned
+// from the outcomes withdraws a lever's claim (lever_claimed) when its outcomes miss.
 //
 // Approvals come from operator identities (causal-approve, twin-web): one is taken only when its writer's grant,
 // as of the writer's first discovery, names the approval's asset group (dds/writer_grant_check.hpp, as the what-if
@@ -11,7 +12,6 @@
 #pragma once
 
 #include "advice_names.hpp"
-#include "observation_assembler.hpp"
 
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/participant.hpp"
@@ -28,13 +28,15 @@ namespace causal::recommender {
 
 class InterventionDesk {
  public:
-  InterventionDesk(dds::Participant& participant, bool log_features);
+  // check: the alarm desk's outcome check (it outlives this desk).
+  InterventionDesk(dds::Participant& participant, intervention::OutcomeCheck& check);
   // The loop that wakes on approvals and whose stop flag bounds the outcome writes (call once, before run).
   void attach(dds::EventLoop& loop);
   // Approvals that arrived (each request id once); returns the number of messages taken.
   std::size_t take();
-  // After the advisor has taken condition-level observation `a`: freezes what is due, checks what finished.
-  void observed(const AssembledObservation& a, const Advisor& advisor);
+  // The outcomes the alarm desk's check finished at an observation of `group` (its channel names name them).
+  void publish_finished(const std::string& group, const std::vector<std::string>& channel_names,
+                        const std::vector<intervention::Outcome>& outcomes);
   // At exit: every intervention still open is published as "no_data" (never dropped silently).
   void finish();
   // Whether lever `lever` on `target` (0-based) of `group` may still be claimed, and the reason when not.
@@ -44,7 +46,6 @@ class InterventionDesk {
   std::uint64_t not_entitled() const { return not_entitled_; }
 
  private:
-  intervention::Prediction predict(const intervention::InterventionPlan& plan, const Advisor& advisor) const;
   void publish(const intervention::Outcome& o);
 
   dds::Participant& participant_;
@@ -52,8 +53,7 @@ class InterventionDesk {
   dds::TypedWriter<causal_twin::InterventionOutcomePubSubType> out_;
   const std::atomic<bool>* stop_ = nullptr;
   std::atomic<bool> never_stopped_{false};
-  bool log_features_;
-  intervention::OutcomeCheck check_;
+  intervention::OutcomeCheck& check_;
   dds::WriterGrantCheck grants_;
   std::uint64_t not_entitled_ = 0;
   std::map<std::string, std::vector<std::string>> channel_names_;  // per group, for the texts

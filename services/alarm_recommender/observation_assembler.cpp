@@ -28,7 +28,7 @@ void ObservationAssembler::observe(const dds::FactorSet& set, std::vector<Assemb
   const int g = set.channel_count;
   AssembledObservation a;
   a.asset_group = set.stream.asset_group;
-  a.time_scale = set.stream.time_scale;
+  a.time_scale = set.stream.time_scale == causal_twin::SAMPLE_LEVEL ? advice::TimeScale::Sample : advice::TimeScale::Condition;
   a.lag_order = set.lag_order;
   a.channel_names = set.channel_names;
   a.factor_names = set.factor_names;
@@ -48,8 +48,8 @@ void ObservationAssembler::observe(const dds::FactorSet& set, std::vector<Assemb
     r.last_innovation_variance = stats.last_innovation_variance;
   }
   a.observation = alarms::observation_from_outcomes(set.index, set.time_ns, outcomes,
-                                                    a.time_scale == causal_twin::SAMPLE_LEVEL);
-  if (a.time_scale == causal_twin::SAMPLE_LEVEL) {
+                                                    a.time_scale == advice::TimeScale::Sample);
+  if (a.time_scale == advice::TimeScale::Sample) {
     out.push_back(std::move(a));  // sample-level observations carry no condition features
     return;
   }

@@ -5,7 +5,7 @@
 // condition level. observation.index is the messages' sample_index (the snapshot index at condition level).
 #pragma once
 
-#include "causal/advice/advisor.hpp"
+#include "causal/advice/alarm_desk.hpp"
 #include "causal/alarms/observation.hpp"
 #include "causal/dds/factor_conversions.hpp"
 #include "causal/dds/factor_set_assembler.hpp"
@@ -19,11 +19,9 @@
 
 namespace causal::recommender {
 
-// The advisor's plain observation (asset group, channel and factor names, lag order, the engine's observation,
-// the per-outcome covariance blocks P_k from the messages) and the time scale it came from.
-struct AssembledObservation : advice::ModelObservation {
-  causal_twin::TimeScale time_scale = causal_twin::CONDITION_LEVEL;
-};
+// The alarm desk's plain input (advice::JudgedInput: asset group, channel and factor names, lag order, the engine's
+// observation, the per-outcome covariance blocks P_k from the messages, the time scale): what the messages assemble.
+using AssembledObservation = advice::JudgedInput;
 
 class ObservationAssembler {
  public:

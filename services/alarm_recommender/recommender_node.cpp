@@ -1,13 +1,13 @@
 #include "recommender_node.hpp"
 
+#include "advice_conversions.hpp"
+#include "prognosis_conversions.hpp"
+
 #include "causal/config/exit_codes.hpp"
 #include "causal/dds/alarm_conversions.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
-#include "advice_conversions.hpp"
-#include "prognosis_conversions.hpp"
 
-#include "causal/estimation/state_archive.hpp"
 #include "causal/metrics/metrics_registry.hpp"
 
 #include <cmath>
@@ -15,17 +15,6 @@
 #include <spdlog/spdlog.h>
 
 namespace causal::recommender {
-
-namespace {
-
-bool has_open_degradation(const alarms::AlarmEngine& engine) {
-  for (const auto& e : engine.active_alarms()) {
-    if (e.category == alarms::category::kDegradation) return true;
-  }
-  return false;
-}
-
-}  // namespace
 
 RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams params)
     : options_(std::move(options)),
@@ -40,9 +29,8 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       status_writer_(participant_, dds::topics::kAssetStatus, dds::profiles::kAssetStatusWriter),
       prognoses_(participant_, dds::topics::kPrognosis, dds::profiles::kPrognosisWriter),
       action_desk_(participant_, options_.state_dir),
-      interventions_(participant_, params_.advice.model_log_features),
-      advisor_(params_.advice),
-      store_(options_.state_dir),
+      desk_(params_, options_.state_dir),
+      interventions_(participant_, desk_.outcome_check()),
       recommendation_store_(options_.state_dir),
       alarm_message_store_(options_.state_dir),
       health_(params_.health_deadline_s, "causal factors", "estimator", {dds::topics::kCausalFactors}) {
@@ -85,7 +73,7 @@ int RecommenderNode::run() {
       }
       ++factors_received_;  // messages (batches), as the estimator counts what it sent
       if (f.time_scale() == causal_twin::CONDITION_LEVEL && f.kind() == causal_twin::FILTER) {
-        order_trust_[f.asset_group()] = OrderTrust{f.order_confidence(), f.order_source()};
+        desk_.set_order_trust(f.asset_group(), OrderTrust{f.order_confidence(), f.order_source()});
       }
       // One outcome at a time: the assembler also takes partial batches and keeps its per-index checks.
       for (const auto& m : dds::from_causal_factor_batch(f)) assembler_.add_factors(m, into);
@@ -113,20 +101,20 @@ int RecommenderNode::run() {
   handle(later, [] {});
   interventions_.finish();
   for (auto& alarm : interventions_.take_health_alarms()) publish_health_alarm(alarm);  // refused at the end
-  store_.flush();
-  for (const auto& [key, st] : engines_) {
-    const auto active = st.engine->active_alarms();
+  auto& store = desk_.store();
+  store.flush();
+  for (const auto& error : store.take_errors()) spdlog::error("{}", error);
+  for (const auto& e : desk_.summaries()) {
     spdlog::info("asset '{}' {} level: {} observations, {} alarms raised, {} still active, {} discontinuities, "
-                 "{} operating changes re-baselined", key.first,
-                 key.second == causal_twin::SAMPLE_LEVEL ? "sample" : "condition", st.engine->observations_seen(),
-                 st.raised, active.size(), st.engine->discontinuities(), st.engine->operating_changes());
+                 "{} operating changes re-baselined", e.asset_group, advice::to_string(e.time_scale), e.observations,
+                 e.raised, e.active, e.discontinuities, e.operating_changes);
   }
   if (invalid_msgs_ > 0) spdlog::warn("{} malformed messages refused", invalid_msgs_);
-  spdlog::info("{} re-sent observations dropped (index not after the last one processed)", store_.duplicates());
-  if (store_.enabled()) {
+  spdlog::info("{} re-sent observations dropped (index not after the last one processed)", store.duplicates());
+  if (store.enabled()) {
     spdlog::info("{} checkpoints written to '{}', {} failed; alarm messages: {} not written, {} re-published "
-                 "without their decision; recommendations: {} not written", store_.saves(), options_.state_dir,
-                 store_.save_failures(), alarm_message_store_.save_failures(), decisions_not_kept_,
+                 "without their decision; recommendations: {} not written", store.saves(), options_.state_dir,
+                 store.save_failures(), alarm_message_store_.save_failures(), decisions_not_kept_,
                  recommendation_store_.save_failures());
   }
   if (const auto c = assembler_.factor_counters(); c.dropped + c.duplicates + c.refused > 0) {
@@ -191,108 +179,63 @@ void RecommenderNode::handle(std::vector<AssembledObservation>& ready, const std
 }
 
 void RecommenderNode::observe(AssembledObservation& a) {
-  const bool sample = a.time_scale == causal_twin::SAMPLE_LEVEL;
-  if (sample ? !params_.sample_enabled : !params_.condition_enabled) return;
-  auto key = std::make_pair(a.asset_group, static_cast<int>(a.time_scale));
-  auto it = engines_.find(key);
-  if (it == engines_.end()) {
-    EngineState st;
-    const alarms::AlarmParams p = params_for(sample);
-    auto opened = store_.open(a.asset_group, sample, a.channel_names, a.factor_names, p, params_.prognosis);
-    st.engine = std::move(opened.engine);  // from the checkpoint if any
-    st.trends = std::move(opened.trends);
-    if (sample) st.engine->set_id_scope("sample");  // ids unique across time scales
-    st.channel_names = a.channel_names;
-    st.baseline_logged = st.engine->baseline_ready();
-    it = engines_.emplace(key, std::move(st)).first;
-    if (opened.resumed) {  // its file appeared after the start (restore_checkpoints publishes the others)
-      spdlog::info("asset '{}' {} level: resumed from checkpoint: {} observations, {} active alarms", a.asset_group,
-                   sample ? "sample" : "condition", it->second.engine->observations_seen(),
-                   it->second.engine->active_alarms().size());
-      republish(a.asset_group, a.channel_names, opened.republish);
-      republish_prognoses(a.asset_group, it->second, sample);
-    } else {
-      spdlog::info("asset '{}' {} level: learning the baseline from the first {} observations", a.asset_group,
-                   sample ? "sample" : "condition", p.warmup_observations + p.baseline_observations);
-    }
-  } else if (it->second.unverified) {
-    // Restored at start: the stream must be the one the checkpoint was written for (as AlarmStateStore::open).
-    const auto& engine = *it->second.engine;
-    if (engine.channel_names() != a.channel_names || engine.factor_names() != a.factor_names) {
-      throw estimation::StateError("checkpoint '" + store_.path(a.asset_group, sample) +
-                               "' was written for other channels or factors than the stream has (did "
-                               "causal-estimator restart without its state and learn another causal order?). Move it "
-                               "away to start this asset group over");
-    }
-    it->second.unverified = false;
+  const advice::Judgement j = desk_.judge(a);
+  publish_judgement(a, j);
+}
+
+// The output edge: the desk's judgement published on the alarm, recommendation, prognosis and asset status topics
+// and logged, in the order the chain produced it. The desk has already written the checkpoint, so every event
+// published here is one a restart can publish again.
+void RecommenderNode::publish_judgement(const AssembledObservation& a, const advice::Judgement& j) {
+  const char* scale = advice::to_string(a.time_scale);
+  if (j.opened && j.resumed) {  // its file appeared after the start (restore_checkpoints published the others)
+    publish_resumed(j.resumed_from);
+  } else if (j.opened) {
+    spdlog::info("asset '{}' {} level: learning the baseline from the first {} observations", a.asset_group, scale,
+                 j.learning_observations);
   }
-  EngineState& st = it->second;
-  if (store_.is_duplicate(a.asset_group, sample, a.observation.index)) {
-    spdlog::debug("asset '{}' {} level: observation {} already processed (re-sent), dropped", a.asset_group,
-                  sample ? "sample" : "condition", a.observation.index);
+  if (j.duplicate) {
+    spdlog::debug("asset '{}' {} level: observation {} already processed (re-sent), dropped", a.asset_group, scale,
+                  a.observation.index);
     return;
   }
-  if (!sample) {  // the advisor models the condition level only
-    advisor_.update(a);
-    interventions_.observed(a, advisor_);
+  if (!j.judged) return;
+  interventions_.publish_finished(a.asset_group, a.channel_names, j.finished_outcomes);
+  if (j.covariance_changed) {
+    spdlog::info("asset '{}': what-if intervals from {}", a.asset_group,
+                 j.full_covariance ? "the full per-outcome factor covariance"
+                                   : "factor standard deviations only (no covariance blocks: correlations ignored)");
   }
-  if (!sample && advisor_.has_model(a.asset_group)) {
-    const int full = advisor_.full_covariance(a.asset_group) ? 1 : 0;
-    if (full != st.full_covariance) {
-      st.full_covariance = full;
-      spdlog::info("asset '{}': what-if intervals from {}", a.asset_group,
-                   full ? "the full per-outcome factor covariance"
-                        : "factor standard deviations only (no covariance blocks: correlations ignored)");
-    }
-  }
-  const auto not_running_before = st.engine->not_running_observations();
-  const auto gaps_before = st.engine->discontinuities();
-  const auto lost_before = st.engine->lost_observations();
-  const auto events = st.engine->observe(a.observation);
-  if (const auto lost = st.engine->lost_observations() - lost_before; lost > 0) {
-    observations_lost_ += lost;
+  if (j.observations_lost > 0) {
+    observations_lost_ += j.observations_lost;
     metrics::process_metrics()
         .counter("recommender_observations_lost_total",
                  "Observations the alarm engines saw skipped by a consecutively numbered source (input lost)",
-                 {{"asset_group", a.asset_group}, {"time_scale", sample ? "sample" : "condition"}})
-        .inc(static_cast<double>(lost));
+                 {{"asset_group", a.asset_group}, {"time_scale", scale}})
+        .inc(static_cast<double>(j.observations_lost));
   }
-  const bool stopped_now = st.engine->not_running_observations() > not_running_before;
-  if (!sample) advisor_.set_health(a.asset_group, !st.engine->baseline_ready(), has_open_degradation(*st.engine));
-  if (!sample) {  // the trends follow every snapshot, alarm or not, so a prognosis has history at the raise
-    const int refused = prognosis::observe_for_prognosis(*st.trends, *st.engine, a.observation,
-                                                         a.observation.discontinuity ||
-                                                             st.engine->discontinuities() > gaps_before);
-    if (refused > 0) {
-      spdlog::warn("asset '{}': {} feature values refused by the prognosis trends at observation {} ({} so far)",
-                   a.asset_group, refused, a.observation.index, st.trends->refused());
-    }
+  if (j.trend_values_refused > 0) {
+    spdlog::warn("asset '{}': {} feature values refused by the prognosis trends at observation {} ({} so far)",
+                 a.asset_group, j.trend_values_refused, a.observation.index, j.trend_values_refused_total);
   }
-  store_.record(a.asset_group, sample, a.observation.index, events);  // checkpoint before publishing
-  for (const auto& e : events) {
-    const bool degradation = e.category == alarms::category::kDegradation;
-    if (e.state == alarms::AlarmState::Raised && degradation) ++st.raised;
-    // Every degradation raise and escalation carries an action, on the alarm and as recommendations at the
-    // event's own index (docs/advice.md "From alarm to action"), and the time to the next level (docs/prognosis.md).
-    if (degradation && e.state != alarms::AlarmState::Cleared && params_.advice.enabled) {
-      const Decision d = decide_for(a, st, e);
-      publish_event(a, st, e, d.action);
-      recommend(a, e, d);
-    } else {
-      publish_event(a, st, e, "");
-    }
+  for (const auto& error : j.checkpoint_errors) spdlog::error("{}", error);
+  for (const auto& e : j.events) {
+    publish_event(a, e);
+    if (e.advised) recommend(a, e);
   }
-  if (!sample) publish_prognoses(a.asset_group, st, a.observation.index, a.observation.time_ns);
-  publish_status(a, stopped_now);
-  if (!st.baseline_logged && st.engine->baseline_ready()) {
-    st.baseline_logged = true;
-    spdlog::info("asset '{}' {} level: baseline learned, monitoring from observation {}", a.asset_group,
-                 sample ? "sample" : "condition", a.observation.index);
+  if (j.prognoses_judged) publish_prognoses(a.asset_group, j.prognoses);
+  publish_status(a, j.status);
+  if (j.baseline_learned) {
+    spdlog::info("asset '{}' {} level: baseline learned, monitoring from observation {}", a.asset_group, scale,
+                 a.observation.index);
   }
 }
 
-alarms::AlarmParams RecommenderNode::params_for(bool sample_level) const {
-  return sample_level ? alarms::AlarmParams::sample_level(params_.sample_baseline_publications) : params_.condition;
+void RecommenderNode::publish_resumed(const advice::Resumed& r) {
+  spdlog::info("asset '{}' {} level: resumed from checkpoint: {} observations, {} active alarms", r.asset_group,
+               advice::to_string(r.time_scale), r.observations, r.active_alarms);
+  republish(r.asset_group, r.channel_names, r.republish);
+  if (r.prognoses_judged) publish_prognoses(r.asset_group, r.prognoses);
 }
 
 void RecommenderNode::republish(const std::string& asset_group, const std::vector<std::string>& channel_names,
@@ -320,51 +263,14 @@ void RecommenderNode::republish(const std::string& asset_group, const std::vecto
   }
 }
 
-void RecommenderNode::restore_checkpoints() {
-  alarm_message_store_.load_all();  // before the engines: republish() takes each alarm's decision from it
-  for (const auto& found : store_.checkpoints()) {
-    const bool sample = found.sample_level;
-    if (sample ? !params_.sample_enabled : !params_.condition_enabled) continue;
-    auto opened = store_.open_checkpoint(found.asset_group, sample, params_for(sample), params_.prognosis);
-    EngineState st;
-    st.engine = std::move(opened.engine);
-    st.trends = std::move(opened.trends);
-    if (sample) st.engine->set_id_scope("sample");  // as a new engine: ids unique across time scales
-    st.channel_names = st.engine->channel_names();
-    st.baseline_logged = st.engine->baseline_ready();
-    st.unverified = true;
-    spdlog::info("asset '{}' {} level: resumed from checkpoint: {} observations, {} active alarms", found.asset_group,
-                 sample ? "sample" : "condition", st.engine->observations_seen(), st.engine->active_alarms().size());
-    republish(found.asset_group, st.channel_names, opened.republish);
-    const auto placed = engines_.emplace(std::make_pair(found.asset_group, sample ? static_cast<int>(causal_twin::SAMPLE_LEVEL)
-                                                                                 : static_cast<int>(causal_twin::CONDITION_LEVEL)),
-                                         std::move(st));
-    republish_prognoses(found.asset_group, placed.first->second, sample);
-  }
-  const auto recommendations = recommendation_store_.load_all();
-  for (auto r : recommendations) {
-    if (recommendations_.write(r, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
-  }
-  if (!recommendations.empty()) {
-    spdlog::info("{} recommendations re-published from the checkpoint", recommendations.size());
-  }
-}
-
-void RecommenderNode::republish_prognoses(const std::string& asset_group, const EngineState& st, bool sample) {
-  // The prognoses of the last observation processed: the process may have died after the checkpoint and
-  // before publishing them (the recorder drops the ones it already has).
-  const auto last = store_.last_index(asset_group, sample);
-  if (!last || sample || !st.trends) return;
-  std::int64_t time_ns = 0;
-  for (int k = 0; k < st.trends->channels(); ++k) time_ns = std::max(time_ns, st.trends->trend(k).state().time_ns);
-  publish_prognoses(asset_group, st, *last, time_ns);
-}
-
-void RecommenderNode::publish_event(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e,
-                                    const std::string& action) {
+void RecommenderNode::publish_event(const AssembledObservation& a, const advice::EventJudgement& j) {
+  const alarms::AlarmEvent& e = j.event;
   dds::to_alarm(a.asset_group, a.channel_names, e, alarm_msg_);
-  if (a.time_scale == causal_twin::CONDITION_LEVEL) fill_next_level(st, e, alarm_msg_);
-  alarm_msg_.action(action);
+  if (j.has_next_level) {
+    set_next_level(j.next_level, alarm_msg_);
+    spdlog::info("PROGNOSIS {}: {}", e.alarm_id, j.next_level_text);
+  }
+  alarm_msg_.action(j.advised ? j.decision.action : std::string());
   alarm_message_store_.record(alarm_msg_);  // kept before it is published, as the engine checkpoint
   action_desk_.on_publish(alarm_msg_);
   if (alarms_.write(alarm_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
@@ -383,44 +289,94 @@ void RecommenderNode::publish_event(const AssembledObservation& a, const EngineS
       spdlog::info("OPERATING CHANGE {} {}: {}", e.alarm_id, alarm_msg_.channel_name(), e.reason);
     return;
   }
-  spdlog::log(level, "ALARM {} {} [{} {}, root cause {} confidence {:.2f}] {}: {}", alarms::to_string(e.state), e.alarm_id,
-              alarms::to_string(e.severity), a.time_scale == causal_twin::SAMPLE_LEVEL ? "sample-level" : "condition-level",
+  spdlog::log(level, "ALARM {} {} [{} {}, root cause {} confidence {:.2f}] {}: {}", alarms::to_string(e.state),
+              e.alarm_id, alarms::to_string(e.severity),
+              a.time_scale == advice::TimeScale::Sample ? "sample-level" : "condition-level",
               alarm_msg_.root_cause_name(), e.root_cause_confidence, alarm_msg_.channel_name(), e.reason);
 }
 
-}  // namespace causal::recommender
-
-namespace causal::recommender {
-
-void RecommenderNode::fill_next_level(const EngineState& st, const alarms::AlarmEvent& e, causal_twin::Alarm& msg) const {
-  prognosis::ChannelPrognosis p;
-  if (!params_.prognosis_enabled || !st.trends || !prognosis::next_level_of(*st.trends, *st.engine, e, p)) return;
-  set_next_level(p, msg);
-  spdlog::info("PROGNOSIS {}: {}", e.alarm_id,
-               prognosis_text(msg.channel_name(), p, st.trends->trend(e.channel).state().time_ns,
-                              params_.prognosis.coverage));
+void RecommenderNode::recommend(const AssembledObservation& a, const advice::EventJudgement& j) {
+  const Decision& d = j.decision;
+  const alarms::AlarmEvent& e = j.event;
+  ++events_advised_;
+  ++(d.kind == "upstream_lever" ? events_upstream_lever_ : events_act_on_asset_);
+  RecommendationContext ctx;
+  ctx.asset_group = a.asset_group;
+  ctx.alarm_id = e.alarm_id;
+  ctx.sample_index = e.index;
+  // A raise keeps the id "<alarm_id>/<rank>"; each escalation gets its own instance, so none replaces another.
+  ctx.id_prefix = e.state == alarms::AlarmState::Raised ? e.alarm_id : e.alarm_id + "@" + std::to_string(e.index);
+  ctx.action_kind = d.kind;
+  ctx.act_on_channel = d.act_on;
+  ctx.act_on_name = a.channel_names.at(static_cast<std::size_t>(d.act_on));
+  ctx.order_confidence = j.trust.confidence;
+  ctx.order_source = j.trust.source;
+  causal_twin::Recommendation msg;
+  for (const auto& item : d.items) {
+    if (item.rank > params_.advice.max_per_alarm) break;
+    ctx.action = item.action;
+    ctx.horizon_hours = item.diag.kind == "horizon" ? item.diag.horizon_snapshots * j.snapshot_hours : NAN;
+    to_recommendation(ctx, item, msg);
+    withdraw_if_untrusted(interventions_, msg);  // a lever whose intervention outcomes missed is not claimed
+    recommendation_store_.record(msg);  // kept before it is published, as the alarm events
+    if (recommendations_.write(msg, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
+    spdlog::info("RECOMMENDATION {} at {} #{} [{}, act on {}]: {}", e.alarm_id, e.index, item.rank, d.kind,
+                 ctx.act_on_name, item.text);
+  }
+  status_.note_action(e.alarm_id, d.action);  // the operator's status line shows the latest action
 }
 
-void RecommenderNode::publish_prognoses(const std::string& asset_group, const EngineState& st, std::uint64_t index,
-                                        std::int64_t time_ns) {
-  if (!params_.prognosis_enabled || !st.trends) return;
+void RecommenderNode::publish_prognoses(const std::string& asset_group,
+                                        const std::vector<advice::PrognosisLine>& lines) {
   prognosis_metrics_.begin(asset_group);
-  for (const auto& p : prognosis::open_alarm_prognoses(*st.trends, *st.engine, index)) {
-    to_prognosis(asset_group, st.channel_names, p, index, time_ns, params_.prognosis.coverage, prognosis_msg_);
+  for (const auto& line : lines) {
+    to_prognosis(asset_group, line, params_.prognosis.coverage, prognosis_msg_);
     if (prognoses_.write(prognosis_msg_, loop_.stop_flag()) == dds::WriteResult::Ok) {
       ++prognoses_published_;
       prognosis_metrics_.on_published(prognosis_msg_);
     } else if (prognosis_write_failures_++ % 100 == 0) {
-      spdlog::warn("prognosis for '{}' channel {} not published ({} failures so far)", asset_group, p.channel + 1,
-                   prognosis_write_failures_);
+      spdlog::warn("prognosis for '{}' channel {} not published ({} failures so far)", asset_group,
+                   line.prognosis.channel + 1, prognosis_write_failures_);
     }
     spdlog::debug("PROGNOSIS {}", prognosis_msg_.text());
   }
   prognosis_metrics_.end(asset_group);
 }
 
+// The AssetStatus line of the group (asset_status.hpp), published on causal_twin/asset_status when it changes
+// (transient-local, last value per group: a view that joins later gets every group's state).
+void RecommenderNode::publish_status(const AssembledObservation& a, const advice::StatusFacts& facts) {
+  StatusInput in(facts);
+  in.management = [this](causal_twin::AssetStatus& s) { action_desk_.fill(s); };
+  causal_twin::AssetStatus msg;
+  if (!status_.update(a.asset_group, in, msg)) return;
+  const bool learning = msg.state() == "learning";
+  // Learning advances at every observation: logged at debug, the other states when they change.
+  spdlog::log(learning ? spdlog::level::debug : spdlog::level::info, "STATUS {} {}: {}", a.asset_group, msg.state(),
+              msg.text());
+  const dds::WriteResult r = status_writer_.write(msg, loop_.stop_flag());
+  if (r == dds::WriteResult::Ok) {
+    ++statuses_published_;
+  } else if (r != dds::WriteResult::Stopped && status_write_failures_++ % 100 == 0) {
+    // A reader that stays behind past the give-up time (not a stop): counted, logged and in the exit code.
+    spdlog::warn("asset status of '{}' not published ({} failures so far)", a.asset_group, status_write_failures_);
+  }
+}
+
+void RecommenderNode::restore_checkpoints() {
+  alarm_message_store_.load_all();  // before the engines: republish() takes each alarm's decision from it
+  for (const auto& r : desk_.restore()) publish_resumed(r);
+  const auto recommendations = recommendation_store_.load_all();
+  for (auto r : recommendations) {
+    if (recommendations_.write(r, loop_.stop_flag()) == dds::WriteResult::Ok) ++recommendations_published_;
+  }
+  if (!recommendations.empty()) {
+    spdlog::info("{} recommendations re-published from the checkpoint", recommendations.size());
+  }
+}
+
 void RecommenderNode::answer(const causal_twin::WhatIfRequest& request) {
-  const auto ans = advisor_.what_if(request.asset_group(), static_cast<int>(request.intervene_channel()) - 1,
+  const auto ans = desk_.advisor().what_if(request.asset_group(), static_cast<int>(request.intervene_channel()) - 1,
                                     request.delta(), request.sustained());
   causal_twin::WhatIfReply reply;
   to_whatif_reply(request, ans, reply);

@@ -1,10 +1,11 @@
 // alarm-recommender's DDS node: causal factors and condition vectors in; alarms (and, on a raised alarm,
-// recommendations) out. One AlarmEngine per asset group and time scale.
+// recommendations), prognoses and asset statuses out. The judging of every observation is the alarm desk
+// (common/advice alarm_desk.hpp, no DDS); the node assembles its input and publishes and logs its judgement
+// (recommender_node.cpp).
 #pragma once
 
 #include "advice_names.hpp"
 #include "alarm_action_desk.hpp"
-#include "alarm_state_store.hpp"
 #include "asset_status.hpp"
 #include "intervention_desk.hpp"
 #include "observation_assembler.hpp"
@@ -12,7 +13,7 @@
 #include "prognosis_metrics.hpp"
 #include "recommendation_store.hpp"
 
-#include "causal/alarms/alarm_engine.hpp"
+#include "causal/advice/alarm_desk.hpp"
 #include "causal/dds/event_loop.hpp"
 #include "causal/dds/health_watch.hpp"
 #include "causal/dds/participant.hpp"
@@ -55,34 +56,21 @@ class RecommenderNode {
   void stop() { loop_.stop(); }
 
  private:
-  struct EngineState {
-    std::unique_ptr<alarms::AlarmEngine> engine;
-    std::unique_ptr<prognosis::ChannelTrends> trends;  // degradation trend per channel (condition level)
-    std::vector<std::string> channel_names;
-    bool baseline_logged = false;
-    int full_covariance = -1;  // last logged interval basis: -1 none yet, 0 diagonal, 1 full blocks
-    std::uint64_t raised = 0;
-    bool unverified = false;  // restored at start from its checkpoint: the stream's names are not compared yet
-  };
   // Judges `ready` in order; after each observation take_more() takes what the readers got meanwhile (input,
   // what-if requests, alarm actions).
   void handle(std::vector<AssembledObservation>& ready, const std::function<void()>& take_more);
+  // One observation: judged by the desk, its judgement published (the DDS edges only).
   void observe(AssembledObservation& a);
-  // action: the decision's action for a degradation event (Alarm.action), "" otherwise; condition-level
-  // degradation events also carry the time to the next level (fill_next_level).
-  void publish_event(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e,
-                     const std::string& action);
-  // The decision for a degradation raise or escalation (advice_policy.hpp); published by recommend().
-  Decision decide_for(const AssembledObservation& a, const EngineState& st, const alarms::AlarmEvent& e) const;
-  void recommend(const AssembledObservation& a, const alarms::AlarmEvent& e, const Decision& d);
-  // One Prognosis per level for every channel with an open degradation alarm (condition level), at
-  // observation `index` of data time time_ns.
-  void publish_prognoses(const std::string& asset_group, const EngineState& st, std::uint64_t index,
-                         std::int64_t time_ns);
-  // After a restart: the prognoses of the last observation the checkpoint holds, published again.
-  void republish_prognoses(const std::string& asset_group, const EngineState& st, bool sample);
-  // Next level ahead and the time to it on a degradation alarm event (Alarm decision fields).
-  void fill_next_level(const EngineState& st, const alarms::AlarmEvent& e, causal_twin::Alarm& msg) const;
+  // The judgement of `a` published and logged in the order the chain produced it (recommender_node.cpp).
+  void publish_judgement(const AssembledObservation& a, const advice::Judgement& j);
+  // A stream resumed from its checkpoint: logged, its alarms (with their kept decisions) and prognoses published.
+  void publish_resumed(const advice::Resumed& r);
+  // An alarm event with its decision's action (Alarm.action; "" unless advised) and, at condition level, the time
+  // to the next level (the Alarm decision fields).
+  void publish_event(const AssembledObservation& a, const advice::EventJudgement& j);
+  void recommend(const AssembledObservation& a, const advice::EventJudgement& j);
+  // One Prognosis per level for every channel with an open degradation alarm (condition level).
+  void publish_prognoses(const std::string& asset_group, const std::vector<advice::PrognosisLine>& lines);
   void answer(const causal_twin::WhatIfRequest& request);
   // Takes the what-if requests: answered when their writer's grant names their group, else refused
   // (recommender_whatif.cpp). Returns the number taken.
@@ -99,11 +87,8 @@ class RecommenderNode {
   void restore_checkpoints();
   void republish(const std::string& asset_group, const std::vector<std::string>& channel_names,
                  const std::vector<alarms::AlarmEvent>& events);
-  alarms::AlarmParams params_for(bool sample_level) const;
-  // AssetStatus of the group after an observation (recommender_status.cpp): published when it changed.
-  void publish_status(const AssembledObservation& a, bool stopped_now);
-  // AssetStatus.prognosis_text for the group's worst open degradation alarm ("unknown" when no time is given).
-  std::string status_prognosis(const EngineState& st, const alarms::AlarmEvent& worst) const;
+  // AssetStatus of the group after an observation: published when it changed.
+  void publish_status(const AssembledObservation& a, const advice::StatusFacts& facts);
   // Operators' alarm actions and expired shelvings (recommender_alarm_actions.cpp): applied, answered, and the
   // changed groups' AssetStatus published again.
   std::size_t poll_alarm_actions();
@@ -120,20 +105,16 @@ class RecommenderNode {
   dds::TypedWriter<causal_twin::AssetStatusPubSubType> status_writer_;
   AssetStatusBoard status_;
   std::uint64_t statuses_published_ = 0, status_write_failures_ = 0;
-  std::map<std::string, bool> status_last_stopped_;  // the condition level's latest operating-state verdict
   dds::TypedWriter<causal_twin::PrognosisPubSubType> prognoses_;
   AlarmActionDesk action_desk_;  // acknowledge / shelve (ISA-18.2): its reader is attached to loop_
+  advice::AlarmDesk desk_;          // the judging chain: engines, checkpoints, advice, prognoses (alarm_desk.hpp)
   InterventionDesk interventions_;  // approved interventions in, their checked outcomes out (intervention_desk.hpp)
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   ObservationAssembler assembler_;
-  Advisor advisor_;
-  AlarmStateStore store_;
   RecommendationStore recommendation_store_;
   AlarmMessageStore alarm_message_store_;  // each alarm as published, with its decision (republished after a restart)
   std::uint64_t decisions_not_kept_ = 0;   // republished alarms whose decision was not kept (died in between)
   dds::HealthWatch health_;
-  std::map<std::pair<std::string, int>, EngineState> engines_;
-  std::map<std::string, OrderTrust> order_trust_;  // per asset group, from its condition-level factor batches
   causal_twin::Alarm alarm_msg_;
   causal_twin::Prognosis prognosis_msg_;
   std::uint64_t prognoses_published_ = 0, prognosis_write_failures_ = 0;

@@ -1,9 +1,7 @@
 // The operator's status line per asset group (alarm-recommender's AssetStatusBoard,
 // fed by a real AlarmEngine on synthetic data with a known change) and alarm ids that differ across time scales.
 #include "asset_status.hpp"
-#include "prognosis_conversions.hpp"
 
-#include "causal/io/time_format.hpp"
 
 #include "../alarms/synthetic_group.hpp"
 
@@ -152,25 +150,4 @@ TEST(AssetStatus, CarriesThePrognosisLineOnlyWhileInAlarm) {
   }
   EXPECT_TRUE(seen_alarm);
   EXPECT_GT(asked, 0);
-}
-
-TEST(AssetStatus, PrognosisLineInRoundedHoursAndUtc) {
-  causal::prognosis::ChannelPrognosis p;
-  p.channel = 0;
-  p.level = causal::prognosis::Level::warning;
-  p.time.known = true;
-  p.time.hours = 12.34;
-  p.time.hours_low = 6.14;
-  p.time.hours_high = 29.7;
-  const std::int64_t at = *causal::io::parse_utc("2004-02-19 06:00:00");
-  EXPECT_EQ(causal::recommender::status_prognosis_text("bearing1", p, at),
-            "bearing1: warning in ~12 h (6.1-30 h), ~2004-02-19 18:00 UTC");
-  p.level = causal::prognosis::Level::critical;
-  p.time.known = false;
-  p.time.why = "no rising trend";
-  EXPECT_EQ(causal::recommender::status_prognosis_text("bearing1", p, at), "bearing1: critical: unknown (no rising trend)");
-  p.time.reached = true;
-  EXPECT_EQ(causal::recommender::status_prognosis_text("bearing1", p, at), "bearing1: critical reached");
-  p.level = causal::prognosis::Level::end_of_life;
-  EXPECT_EQ(causal::recommender::status_prognosis_text("bearing1", p, at), "bearing1: end of life reached");
 }

@@ -68,7 +68,7 @@ void expect_observation(const AssembledObservation& a, const estimation::SvarLay
   SCOPED_TRACE("observation " + std::to_string(index));
   const int g = l.channels();
   EXPECT_EQ(a.asset_group, "ims2");
-  EXPECT_EQ(a.time_scale, scale);
+  EXPECT_EQ(a.time_scale, scale == causal_twin::SAMPLE_LEVEL ? advice::TimeScale::Sample : advice::TimeScale::Condition);
   EXPECT_EQ(a.lag_order, 1);
   EXPECT_EQ(a.factor_names, l.factor_names());
   ASSERT_EQ(a.channel_names.size(), static_cast<std::size_t>(g));
@@ -325,14 +325,14 @@ TEST(ObservationAssembler, GroupsAndTimeScalesAreSeparateStreams) {
   asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 1, 0), out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].asset_group, "ims2");
-  EXPECT_EQ(out[0].time_scale, causal_twin::SAMPLE_LEVEL);
+  EXPECT_EQ(out[0].time_scale, advice::TimeScale::Sample);
   asm_.add_factors(message(l, causal_twin::SAMPLE_LEVEL, 0, 0, causal_twin::FILTER, "other"), out);
   ASSERT_EQ(out.size(), 2u);
   EXPECT_EQ(out[1].asset_group, "other");
   asm_.add_condition("ims2", "rms", kT0, condition_values(g, 0), out);
   asm_.add_factors(message(l, causal_twin::CONDITION_LEVEL, 0, 0), out);
   ASSERT_EQ(out.size(), 3u);
-  EXPECT_EQ(out[2].time_scale, causal_twin::CONDITION_LEVEL);
+  EXPECT_EQ(out[2].time_scale, advice::TimeScale::Condition);
   EXPECT_EQ(out[2].observation.features.size(), g);
 }
 
@@ -424,7 +424,7 @@ TEST(ObservationAssembler, TwoAssetGroupsInterleavedOnBothTimeScales) {
   ASSERT_EQ(out.size(), 24u);
   for (const auto& a : out) {
     seen[{a.asset_group, static_cast<int>(a.time_scale)}].push_back(a.observation.index);
-    if (a.time_scale == causal_twin::CONDITION_LEVEL) {
+    if (a.time_scale == advice::TimeScale::Condition) {
       EXPECT_TRUE((a.observation.features.array() == condition_values(g, a.observation.index).array()).all());
     }
   }

@@ -1,8 +1,8 @@
-// causal::recommender::AlarmStateStore (services/alarm_recommender/alarm_state_store.cpp): alarm-recommender's
+// causal::advice::AlarmStateStore (common/advice/src/alarm_state_store.cpp): alarm-recommender's
 // checkpoints. A "restart" here is a second store on the same directory after the first one and its engine
 // were dropped without any shutdown step (as after kill -9); the truth is the same stream through one
 // engine that never stopped.
-#include "alarm_state_store.hpp"
+#include "causal/advice/alarm_state_store.hpp"
 
 #include "../alarms/synthetic_group.hpp"
 #include "causal/estimation/state_archive.hpp"
@@ -19,7 +19,7 @@
 namespace causal::alarms {
 namespace {
 
-using causal::recommender::AlarmStateStore;
+using causal::advice::AlarmStateStore;
 
 namespace fs = std::filesystem;
 
@@ -45,7 +45,7 @@ std::vector<Observation> stream() {
   return causal::alarms::test::make_run(cfg);
 }
 
-// Feeds obs[from, to) the way RecommenderNode::observe does: duplicate check, observe, record.
+// Feeds obs[from, to) the way AlarmDesk::judge does: duplicate check, observe, record.
 std::vector<AlarmEvent> feed(AlarmStateStore& store, AlarmEngine& engine, bool sample, const std::vector<Observation>& obs,
                              std::size_t from, std::size_t to) {
   std::vector<AlarmEvent> all;

@@ -1,4 +1,4 @@
-#include "alarm_state_store.hpp"
+#include "causal/advice/alarm_state_store.hpp"
 
 #include "causal/io/file_names.hpp"
 #include "causal/io/group_state_files.hpp"
@@ -6,14 +6,12 @@
 #include "causal/estimation/state_archive.hpp"
 #include "causal/estimation/state_fields.hpp"
 
-#include <spdlog/spdlog.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
 
-namespace causal::recommender {
+namespace causal::advice {
 
 namespace {
 
@@ -223,11 +221,11 @@ void AlarmStateStore::save(const Key& key, Stream& s) {
     s.unsaved = false;
     s.last_save = Clock::now();
   } catch (const estimation::StateError& e) {
-    // Logged on the first failure and then every 100th: a full disk must not flood the log.
+    // Reported on the first failure and then every 100th: a full disk must not flood the log.
     if (save_failures_++ % 100 == 0) {
-      spdlog::error("checkpoint not written ({} failures so far): {}", save_failures_, e.what());
+      errors_.push_back("checkpoint not written (" + std::to_string(save_failures_) + " failures so far): " + e.what());
     }
   }
 }
 
-}  // namespace causal::recommender
+}  // namespace causal::advice

@@ -5,7 +5,7 @@
 // ChannelTrends; a checkpoint written before they existed ends after the engine and resumes with new trends). Without it a kill -9 meant: baseline re-learned on possibly
 // faulty data, alarm ids reused, and alarms raised before the crash invisible to readers that join later.
 //
-// Order per observation (see RecommenderNode::observe): is_duplicate() -> engine.observe() -> record()
+// Order per observation (see AlarmDesk::judge, alarm_desk.hpp): is_duplicate() -> engine.observe() -> record()
 // (checkpoint written) -> publish. The checkpoint is written BEFORE the events are published, so an event
 // that reached a reader is always in the checkpoint; one saved but not yet published when the process died
 // is published at restart with the others (republish list of open()).
@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-namespace causal::recommender {
+namespace causal::advice {
 
 class AlarmStateStore {
  public:
@@ -81,11 +81,15 @@ class AlarmStateStore {
   bool is_duplicate(const std::string& asset_group, bool sample_level, std::uint64_t index);
   // After the engine processed observation `index` and produced `events`: remembers the events (last per
   // alarm id) and writes the checkpoint (condition level: every time; sample level: see the constructor).
-  // A failed write is counted and logged, never thrown: alarms keep flowing when the disk is full.
+  // A failed write is counted and reported (take_errors), never thrown: alarms keep flowing when the disk is full.
   void record(const std::string& asset_group, bool sample_level, std::uint64_t index,
               const std::vector<alarms::AlarmEvent>& events);
   // Writes every checkpoint with changes not yet written (sample-level throttling); call at exit.
   void flush();
+
+  // The failed writes to log since the last call: the first and then every 100th, so a full disk does not flood
+  // the log ("checkpoint not written (N failures so far): why"). The store has no logger: the service logs them.
+  std::vector<std::string> take_errors() { return std::exchange(errors_, {}); }
 
   std::uint64_t duplicates() const { return duplicates_; }
   std::uint64_t saves() const { return saves_; }
@@ -111,6 +115,7 @@ class AlarmStateStore {
   std::chrono::milliseconds sample_interval_;
   std::map<Key, Stream> streams_;
   std::uint64_t duplicates_ = 0, saves_ = 0, save_failures_ = 0;
+  std::vector<std::string> errors_;
 };
 
-}  // namespace causal::recommender
+}  // namespace causal::advice
