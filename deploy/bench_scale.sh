@@ -34,9 +34,9 @@
 # targets are reported, not failed. Live probes that did not deliver every frame exactly are counted
 # (inexact_probes) and never count as held.
 # Usage: deploy/bench_scale.sh [--quick] [--build DIR] [--duration S] [--max-groups N] [--transport FILE]
-#        [--shards "1 2"] [--live-shards "1"]
+#        [--shards "1 2"] [--live-shards "1"] [--params FILE]
 # --transport: another participant profile (e.g. deploy/dds/localhost-udp.xml, the installed UDP-only one) to compare
-# transports (docs/cross-user-and-restarts.md); --shards: the shard counts of (b); --live-shards: of (c).
+# transports (docs/cross-user-and-restarts.md); --shards: the shard counts of (b); --live-shards: of (c); --params: another estimator.yaml.
 set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD="${BUILD_DIR:-$ROOT/build}"
@@ -46,6 +46,7 @@ MAX_GROUPS=256    # the live search stops here
 TRANSPORT_ARG=""
 SHARDS_ARG=""
 LIVE_SHARDS_ARG=""
+PARAMS_ARG=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) QUICK=1 ;;
@@ -55,6 +56,7 @@ while [ $# -gt 0 ]; do
     --transport) TRANSPORT_ARG="$2"; shift ;;
     --shards) SHARDS_ARG="$2"; shift ;;
     --live-shards) LIVE_SHARDS_ARG="$2"; shift ;;
+    --params) PARAMS_ARG="$2"; shift ;;
     -h|--help) sed -n '2,39p' "$0"; exit 0 ;;
     *) echo "bench_scale.sh: unknown option $1" >&2; exit 2 ;;
   esac
@@ -74,7 +76,7 @@ for b in "$SIM" "$REPLAY" "$INGEST" "$EST" "$RAW" "$COUNTER" "$KERNEL" "$FILTER_
 done
 QOS="$ROOT/deploy/dds/qos.xml"
 TRANSPORT="${TRANSPORT_ARG:-$ROOT/deploy/dds/localhost.xml}"
-PARAMS="$ROOT/deploy/config/estimator.yaml"
+PARAMS="${PARAMS_ARG:-$ROOT/deploy/config/estimator.yaml}"
 DDS=(--qos "$QOS" --transport "$TRANSPORT")
 WORK=$(mktemp -d /tmp/bench_scale.XXXXXX)
 PIDS=()

@@ -42,14 +42,14 @@ t=causal_twin
 case "$role" in
   sensor)      pub="$t/vibration_frame $t/condition_input"
                sub="$t/condition_vector $t/intervention" ;;   # progress and rewind; approved interventions (actuator)
-  estimator)   pub="$t/causal_factors $t/condition_vector $t/alarm"   # alarms: data quality and health
+  estimator)   pub="$t/causal_factors $t/causal_factor_sets $t/condition_vector $t/alarm"   # alarms: data quality and health
                sub="$t/vibration_frame $t/condition_input $t/condition_vector" ;;  # condition_vector: hot standby
   recommender) pub="$t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis $t/alarm_action_result $t/intervention_outcome"
-               sub="$t/causal_factors $t/condition_vector $t/whatif_request $t/alarm_action $t/intervention" ;;
+               sub="$t/causal_factors $t/causal_factor_sets $t/condition_vector $t/whatif_request $t/alarm_action $t/intervention" ;;
   recorder)    pub=""
-               sub="$t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/asset_status $t/prognosis $t/alarm_action_result $t/intervention $t/intervention_outcome" ;;
+               sub="$t/condition_vector $t/causal_factors $t/causal_factor_sets $t/alarm $t/recommendation $t/asset_status $t/prognosis $t/alarm_action_result $t/intervention $t/intervention_outcome" ;;
   operator)    pub="$t/whatif_request $t/alarm_action $t/intervention"   # an approval is an operator's act
-               sub="$t/condition_input $t/condition_vector $t/causal_factors $t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis $t/alarm_action_result $t/intervention $t/intervention_outcome" ;;
+               sub="$t/condition_input $t/condition_vector $t/causal_factors $t/causal_factor_sets $t/alarm $t/recommendation $t/whatif_reply $t/asset_status $t/prognosis $t/alarm_action_result $t/intervention $t/intervention_outcome" ;;
   *) echo "issue-identity: unknown role '$role' (sensor estimator recommender recorder operator)" >&2; exit 2 ;;
 esac
 

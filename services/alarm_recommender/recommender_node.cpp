@@ -21,6 +21,7 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       params_(std::move(params)),
       participant_(dds::to_dds_settings(options_.dds, "alarm-recommender")),
       factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsReader),
+      factor_sets_(dds::make_factor_set_reader(participant_)),
       conditions_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorReader),
       whatif_requests_(participant_, dds::topics::kWhatIfRequest, dds::profiles::kWhatIfReader),
       alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
@@ -33,8 +34,10 @@ RecommenderNode::RecommenderNode(RecommenderOptions options, RecommenderParams p
       interventions_(participant_, desk_.outcome_check()),
       recommendation_store_(options_.state_dir),
       alarm_message_store_(options_.state_dir),
-      health_(params_.health_deadline_s, "causal factors", "estimator", {dds::topics::kCausalFactors}) {
+      health_(params_.health_deadline_s, "causal factors", "estimator",
+              {dds::topics::kCausalFactors, dds::topics::kCausalFactorSets}) {
   loop_.attach(factors_.get());
+  if (factor_sets_) loop_.attach(factor_sets_->get());
   loop_.attach(conditions_.get());
   loop_.attach(whatif_requests_.get());
   loop_.attach(action_desk_.reader().get());
@@ -59,25 +62,7 @@ int RecommenderNode::run() {
       ++conditions_received_;
       assembler_.add_condition(c.asset_group(), c.feature(), c.time_ns(), dds::values_of(c), c.discontinuity(), into);
     });
-    n += factors_.take_all_and_states([&](const causal_twin::CausalFactorBatch& f, const auto& info) {
-      // Condition-level factors carry the snapshot index (the health alarm's id names the last one).
-      if (f.time_scale() == causal_twin::CONDITION_LEVEL) {
-        health_.on_sample(f.asset_group(), f.sample_index(), info);
-      } else {
-        health_.on_sample(f.asset_group(), info);
-      }
-      if (const auto problem = dds::validate_causal_factor_batch(f); !problem.empty()) {
-        ++invalid_msgs_;
-        spdlog::warn("causal factors from '{}' refused: {}", f.asset_group(), problem);
-        return;
-      }
-      ++factors_received_;  // messages (batches), as the estimator counts what it sent
-      if (f.time_scale() == causal_twin::CONDITION_LEVEL && f.kind() == causal_twin::FILTER) {
-        desk_.set_order_trust(f.asset_group(), OrderTrust{f.order_confidence(), f.order_source()});
-      }
-      // One outcome at a time: the assembler also takes partial batches and keeps its per-index checks.
-      for (const auto& m : dds::from_causal_factor_batch(f)) assembler_.add_factors(m, into);
-    }, [this](const auto& info) { health_.on_state(info); }, loop_.stop_flag());
+    n += take_factors(into);
     return n;
   };
   const auto poll = [&] {
@@ -94,7 +79,7 @@ int RecommenderNode::run() {
   };
   // Idle exit only once every source has left the domain (see causal-estimator).
   const auto end = loop_.run({options_.idle_exit_s, options_.max_runtime_s}, poll,
-                             [this] { return factors_.matched_writers() + conditions_.matched_writers(); });
+                             [this] { return factors_.matched_writers() + dds::matched_writers(factor_sets_) + conditions_.matched_writers(); });
   if (end == dds::RunEnd::Idle) spdlog::info("all sources gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
   assembler_.flush(later);
@@ -139,9 +124,14 @@ int RecommenderNode::run() {
   // Samples refused for lack of room are resent by the reliable writers (back-pressure); refused instances and
   // lost samples are not.
   const std::uint64_t dds_lost = factors_.rejections().instances_limit + factors_.lost_samples() +
+                                 (factor_sets_ ? factor_sets_->rejections().instances_limit + factor_sets_->lost_samples() : 0) +
                                  conditions_.rejections().instances_limit + conditions_.lost_samples();
   spdlog::info("summary topic=causal_twin/causal_factors received={} rejected={} lost={}", factors_received_,
                invalid_msgs_, observations_lost_);
+  if (factor_set_counts_.received > 0) {  // their batches are counted in the line above
+    spdlog::info("summary topic=causal_twin/causal_factor_sets received={} batches={} refused={}",
+                 factor_set_counts_.received, factor_set_counts_.batches, factor_set_counts_.refused);
+  }
   spdlog::info("summary topic=causal_twin/condition_vector received={}", conditions_received_);
   spdlog::info("summary topic=causal_twin/alarm sent={}", alarms_published_);
   const auto& h = health_.health();
@@ -154,7 +144,7 @@ int RecommenderNode::run() {
   action_desk_.log_summary();
   if (dds_lost > 0) spdlog::warn("summary dds: {} input samples rejected or lost by the readers", dds_lost);
   log_whatif_summary();
-  return (invalid_msgs_ + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
+  return (invalid_msgs_ + factor_set_counts_.refused + dds_lost + assembler_.dropped_incomplete() + assembler_.evicted_conditions() +
           status_write_failures_ + whatif_not_entitled_ + action_desk_.result_write_failures() +
           action_desk_.checkpoint_failures() + action_desk_.not_entitled() + interventions_.not_entitled()) > 0
              ? config::kExitLostOrRefused

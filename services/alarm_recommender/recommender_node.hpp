@@ -15,6 +15,7 @@
 
 #include "causal/advice/alarm_desk.hpp"
 #include "causal/dds/event_loop.hpp"
+#include "causal/dds/factor_sets.hpp"
 #include "causal/dds/health_watch.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/service_runtime.hpp"
@@ -92,11 +93,17 @@ class RecommenderNode {
   // Operators' alarm actions and expired shelvings (recommender_alarm_actions.cpp): applied, answered, and the
   // changed groups' AssetStatus published again.
   std::size_t poll_alarm_actions();
+  // Every causal factor message the readers hold, batches and sets alike, into the assembler (appended to `into`).
+  std::size_t take_factors(std::vector<AssembledObservation>& into);
 
   RecommenderOptions options_;
   RecommenderParams params_;
   dds::Participant participant_;
   dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> factors_;
+  // The same factors, one message per input, unpacked in order (factor_sets.hpp); null when DDS-Security does not
+  // allow the topic.
+  std::unique_ptr<dds::FactorSetReader> factor_sets_;
+  dds::FactorSetCounts factor_set_counts_;
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> conditions_;
   dds::TypedReader<causal_twin::WhatIfRequestPubSubType> whatif_requests_;
   dds::TypedWriter<causal_twin::AlarmPubSubType> alarms_;

@@ -78,6 +78,7 @@ struct GroupState {
 
   // --- publishing (estimator_publishing.cpp, estimator_resend.cpp)
   std::uint64_t sample_msgs = 0, condition_msgs = 0;  // factor batches (one per kind and index)
+  std::uint64_t sample_sets = 0, condition_sets = 0;  // output.factor_messages set: the messages holding them
   UnackedOutput unacked;  // condition-level output not yet acknowledged: the checkpoint's resend list
 };
 

@@ -26,7 +26,9 @@ void EstimatorPublisher::watch_output() {
     a.threshold(options_.stuck_after_s);
     a.reason(fmt::format("a reader of the estimator's output has not acknowledged for {:.1f} s (readers: {}); its "
                          "delivery waits, up to the reader's 5 s lease, the filters go on and {} messages are queued",
-                         blocked, fmt::join(participant_.directory().reader_names(dds::topics::kCausalFactors), ", "),
+                         blocked, fmt::join(participant_.directory().reader_names(factors_.sets() ? dds::topics::kCausalFactorSets
+                                                                                            : dds::topics::kCausalFactors),
+                                   ", "),
                          outbound_.size()));
     stuck_alarm_ = a;
   } else if (stuck_alarm_ && blocked == 0.0) {

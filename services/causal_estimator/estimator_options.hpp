@@ -37,6 +37,9 @@ struct EstimatorOptions {
   GroupQuotaLimits quota;  // --max-groups, --max-groups-per-writer (group_quota.hpp)
   std::string stage_trace;  // per-frame stage timestamps written here at exit (stage_trace.hpp); empty = off
   std::string state_dir;  // checkpoints (EstimatorStateStore); empty = none
+  // estimator.yaml output.factor_messages: false = batch (one message per CausalFactorBatch), true = set (one
+  // CausalFactorSet per input on causal_twin/causal_factor_sets).
+  bool factor_sets = false;
 };
 
 // The role tag an estimator announces (DdsSettings::role_tag): "shard " + its asset-group filter expression

@@ -4,6 +4,7 @@
 #include "estimator_publishing.hpp"
 
 #include "causal/dds/factor_conversions.hpp"
+#include "causal/dds/factor_sets.hpp"
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/io/time_format.hpp"
@@ -19,8 +20,7 @@ EstimatorPublisher::EstimatorPublisher(dds::Participant& participant, const Esti
       options_(options),
       condition_fixed_lag_(condition_fixed_lag),
       stop_(stop),
-      factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsWriter),
-      sample_factors_(participant_, dds::topics::kCausalFactors, dds::profiles::kCausalFactorsSampleWriter),
+      factors_(participant_, options_.factor_sets),
       conditions_out_(participant_, dds::topics::kConditionVector, dds::profiles::kConditionVectorWriter),
       quality_alarms_(participant_, dds::topics::kAlarm, dds::profiles::kAlarmWriter),
       store_(options_.state_dir),
@@ -34,9 +34,7 @@ EstimatorPublisher::EstimatorPublisher(dds::Participant& participant, const Esti
 
 std::string EstimatorPublisher::wait_for_readers(const std::vector<dds::NamedReaders>& wanted,
                                                  std::chrono::milliseconds timeout) {
-  std::string missing = dds::wait_for_named_readers(factors_, wanted, timeout, stop_);
-  if (missing.empty()) missing = dds::wait_for_named_readers(sample_factors_, wanted, timeout, stop_);
-  return missing;
+  return factors_.wait_for_readers(wanted, timeout, stop_);
 }
 
 void EstimatorPublisher::start() {
@@ -105,7 +103,6 @@ void EstimatorPublisher::factor_items(const std::string& name, GroupState& a,
                                       const std::vector<pipeline::FactorReport>& reports, bool condition,
                                       const std::function<UnackedOutput::Flag(std::string)>& listed,
                                       const std::shared_ptr<StageTrace::Frame>& trace, std::vector<Item>& items) {
-  using Class = dds::OutboundQueue::Class;
   if (reports.empty()) return;
   const pipeline::FactorStream* stream = condition ? a.pipeline.condition_stream() : a.pipeline.sample_stream();
   dds::FactorContext ctx;
@@ -122,39 +119,79 @@ void EstimatorPublisher::factor_items(const std::string& name, GroupState& a,
   std::uint64_t& counter = condition ? a.condition_msgs : a.sample_msgs;
   // One message per (kind, index) with every outcome's block: G times fewer samples, headers and
   // acknowledgements than one message per outcome (README "Lean data path").
-  for (auto& batch : dds::to_causal_factor_batches(ctx, reports)) {
-    auto msg = std::make_shared<causal_twin::CausalFactorBatch>(std::move(batch));
-    UnackedOutput::Flag flag =
-        listed && condition ? listed("B" + to_bytes<causal_twin::CausalFactorBatchPubSubType>(*msg)) : nullptr;
-    // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
-    items.push_back({condition ? "causal_factors/condition" : "causal_factors/sample",
-                     condition ? Class::Essential : Class::Droppable,
-                     [this, msg, condition, flag](const std::atomic<bool>& s) {
-                       return mark((condition ? factors_ : sample_factors_).write(*msg, s), flag);
-                     },
-                     nullptr, msg->sample_index()});
-    if (!condition) {
-      // The sample-level writer never blocks (max_blocking_time 0 in qos.xml): one attempt on this thread.
-      items.back().try_write = [this, msg] { return sample_factors_.try_write(*msg) == dds::WriteResult::Ok; };
+  auto batches = dds::to_causal_factor_batches(ctx, reports);
+  counter += batches.size();
+  if (!factors_.sets()) {
+    for (auto& batch : batches) {
+      auto msg = std::make_shared<causal_twin::CausalFactorBatch>(std::move(batch));
+      UnackedOutput::Flag flag =
+          listed && condition ? listed("B" + to_bytes<causal_twin::CausalFactorBatchPubSubType>(*msg)) : nullptr;
+      const bool traced = !condition && msg->kind() == causal_twin::FILTER;
+      factor_item(msg, condition, msg->sample_index(), flag, traced ? trace : nullptr, items);
     }
-    if (trace && !condition && msg->kind() == causal_twin::FILTER) {
-      // Tracing: the write of the frame's filter message (the one readers wait for) is stamped, inline or queued.
-      auto& it = items.back();
-      it.write = [trace, write = std::move(it.write)](const std::atomic<bool>& s) {
-        trace->write_start_ns = StageTrace::now_ns();
-        const auto result = write(s);
-        trace->write_end_ns = StageTrace::now_ns();
-        return result;
-      };
-      it.try_write = [trace, try_write = std::move(it.try_write)] {
-        trace->write_start_ns = StageTrace::now_ns();
-        const bool ok = try_write();
-        if (ok) trace->write_end_ns = StageTrace::now_ns();
-        return ok;
-      };
-    }
-    ++counter;
+    log_condition_reports(name, a, reports, condition);
+    return;
   }
+  // One set per input (and level): its batches in the order they would be written one by one.
+  for (std::size_t first = 0; first < batches.size(); first += dds::kFactorSetMaxBatches) {
+    auto set = std::make_shared<causal_twin::CausalFactorSet>();
+    set->asset_group(name);
+    set->time_scale(ctx.time_scale);
+    set->version(dds::kFactorSetVersion);
+    std::uint64_t index = 0;  // the newest index in it (a standby's takeover keeps what may be missing)
+    bool filter = false;
+    for (std::size_t i = first; i < std::min(batches.size(), first + dds::kFactorSetMaxBatches); ++i) {
+      index = std::max<std::uint64_t>(index, batches[i].sample_index());
+      filter = filter || batches[i].kind() == causal_twin::FILTER;
+      set->batches().push_back(std::move(batches[i]));
+    }
+    UnackedOutput::Flag flag =
+        listed && condition ? listed("S" + to_bytes<causal_twin::CausalFactorSetPubSubType>(*set)) : nullptr;
+    factor_item(set, condition, index, flag, !condition && filter ? trace : nullptr, items);
+    ++(condition ? a.condition_sets : a.sample_sets);
+  }
+  log_condition_reports(name, a, reports, condition);
+}
+
+template <typename Msg>
+void EstimatorPublisher::factor_item(std::shared_ptr<Msg> msg, bool condition, std::uint64_t index,
+                                     UnackedOutput::Flag flag, const std::shared_ptr<StageTrace::Frame>& traced,
+                                     std::vector<Item>& items) {
+  using Class = dds::OutboundQueue::Class;
+  const bool sets = factors_.sets();
+  // Condition-level factors are never dropped; sample-level ones are the stated victims of an overflow.
+  items.push_back({condition ? (sets ? "causal_factor_sets/condition" : "causal_factors/condition")
+                             : (sets ? "causal_factor_sets/sample" : "causal_factors/sample"),
+                   condition ? Class::Essential : Class::Droppable,
+                   [this, msg, condition, flag](const std::atomic<bool>& s) {
+                     return mark(factors_.write(condition, *msg, s), flag);
+                   },
+                   nullptr, index});
+  if (!condition) {
+    // The sample-level writer never blocks (max_blocking_time 0 in qos.xml): one attempt on this thread.
+    items.back().try_write = [this, msg] { return factors_.try_write(*msg); };
+  }
+  if (traced) {
+    // Tracing: the write of the frame's filter message (the one readers wait for) is stamped, inline or queued.
+    auto& it = items.back();
+    it.write = [trace = traced, write = std::move(it.write)](const std::atomic<bool>& s) {
+      trace->write_start_ns = StageTrace::now_ns();
+      const auto result = write(s);
+      trace->write_end_ns = StageTrace::now_ns();
+      return result;
+    };
+    it.try_write = [trace = traced, try_write = std::move(it.try_write)] {
+      trace->write_start_ns = StageTrace::now_ns();
+      const bool ok = try_write();
+      if (ok) trace->write_end_ns = StageTrace::now_ns();
+      return ok;
+    };
+  }
+}
+
+void EstimatorPublisher::log_condition_reports(const std::string& name, const GroupState& a,
+                                               const std::vector<pipeline::FactorReport>& reports,
+                                               bool condition) const {
   if (condition && options_.verbose) {
     for (const auto& r : reports) log_condition_report(name, a, r);
   }
@@ -282,7 +319,7 @@ void EstimatorPublisher::finish(bool stopping) {
     outbound_.abort();
   }
   const auto ack_wait = stopping ? std::chrono::seconds(1) : std::chrono::seconds(10);
-  if (!factors_.wait_for_acknowledgments(ack_wait) || !sample_factors_.wait_for_acknowledgments(ack_wait)) {
+  if (!factors_.acknowledged(ack_wait)) {
     spdlog::warn("not every factor message was acknowledged within {} s", ack_wait.count());
   }
   conditions_out_.wait_for_acknowledgments(ack_wait);

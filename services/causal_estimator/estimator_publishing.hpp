@@ -14,6 +14,7 @@
 #include "estimator_group.hpp"
 #include "estimator_options.hpp"
 #include "estimator_state_store.hpp"
+#include "factor_writers.hpp"
 #include "stage_trace.hpp"
 #include "standby_buffer.hpp"
 #include "unacked_output.hpp"
@@ -87,9 +88,19 @@ class EstimatorPublisher {
   void factor_items(const std::string& name, GroupState& a, const std::vector<pipeline::FactorReport>& reports,
                     bool condition, const std::function<UnackedOutput::Flag(std::string)>& listed,
                     const std::shared_ptr<StageTrace::Frame>& trace, std::vector<Item>& items);
+  // One item writing `msg` (a CausalFactorBatch or a CausalFactorSet) at its level; `traced`: the write of the
+  // frame's filter factors, stamped.
+  template <typename Msg>
+  void factor_item(std::shared_ptr<Msg> msg, bool condition, std::uint64_t index, UnackedOutput::Flag flag,
+                   const std::shared_ptr<StageTrace::Frame>& traced, std::vector<Item>& items);
   void send_items(const std::string& name, std::vector<Item>& items, const std::shared_ptr<StageTrace::Frame>& trace);
   void log_condition_report(const std::string& name, const GroupState& a, const pipeline::FactorReport& r) const;
+  void log_condition_reports(const std::string& name, const GroupState& a,
+                             const std::vector<pipeline::FactorReport>& reports, bool condition) const;
   void resend_restored(const std::string& name, GroupState& a, const std::vector<std::string>& resend);
+  // One listed factor message ('B' batch or 'S' set) queued again; false when its bytes do not decode.
+  template <typename PubSubType>
+  bool resend_factors(GroupState& a, const std::string& bytes);
   // The write's result; a written message's flag is set (UnackedOutput: written, awaiting acknowledgement).
   static dds::WriteResult mark(dds::WriteResult result, const UnackedOutput::Flag& flag);
   // Forgets the listed output every reader acknowledged (asked without waiting), before a checkpoint; then, with
@@ -106,10 +117,10 @@ class EstimatorPublisher {
   const EstimatorOptions& options_;
   int condition_fixed_lag_;
   const std::atomic<bool>& stop_;
-  // Factor batches (one per kind and index, all outcomes): condition level, and sample level on its own writer
-  // with a deeper ring (qos.xml causal_factors_sample_writer: the high-rate stream, the writer blocks less).
-  dds::TypedWriter<causal_twin::CausalFactorBatchPubSubType> factors_;
-  dds::TypedWriter<causal_twin::CausalFactorBatchPubSubType> sample_factors_;
+  // Factor batches (one per kind and index, all outcomes), one message each or one set per input: condition
+  // level, and sample level on its own writer with a deeper ring (qos.xml causal_factors_sample_writer: the
+  // high-rate stream, the writer blocks less).
+  FactorWriters factors_;
   dds::TypedWriter<causal_twin::ConditionVectorPubSubType> conditions_out_;
   dds::TypedWriter<causal_twin::AlarmPubSubType> quality_alarms_;
   EstimatorStateStore store_;

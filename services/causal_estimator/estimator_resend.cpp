@@ -31,12 +31,9 @@ void EstimatorPublisher::resend_restored(const std::string& name, GroupState& a,
                      [this, msg, flag](const std::atomic<bool>& s) { return mark(conditions_out_.write(*msg, s), flag); },
                      stop_);
     } else if (bytes[0] == 'B') {  // 'F' (one message per outcome) was the form before batches: not restored
-      auto msg = std::make_shared<causal_twin::CausalFactorBatch>();
-      if (!from_bytes<causal_twin::CausalFactorBatchPubSubType>(body, *msg)) continue;
-      auto flag = a.unacked.add(bytes);
-      outbound_.push("causal_factors/condition", dds::OutboundQueue::Class::Essential,
-                     [this, msg, flag](const std::atomic<bool>& s) { return mark(factors_.write(*msg, s), flag); },
-                     stop_);
+      if (!resend_factors<causal_twin::CausalFactorBatchPubSubType>(a, bytes)) continue;
+    } else if (bytes[0] == 'S') {  // output.factor_messages set; sent in the form in use now (FactorWriters)
+      if (!resend_factors<causal_twin::CausalFactorSetPubSubType>(a, bytes)) continue;
     } else {
       continue;
     }
@@ -48,6 +45,18 @@ void EstimatorPublisher::resend_restored(const std::string& name, GroupState& a,
   }
 }
 
+template <typename PubSubType>
+bool EstimatorPublisher::resend_factors(GroupState& a, const std::string& bytes) {
+  auto msg = std::make_shared<typename PubSubType::type>();
+  if (!from_bytes<PubSubType>(bytes.substr(1), *msg)) return false;
+  auto flag = a.unacked.add(bytes);
+  outbound_.push(factors_.sets() ? "causal_factor_sets/condition" : "causal_factors/condition",
+                 dds::OutboundQueue::Class::Essential,
+                 [this, msg, flag](const std::atomic<bool>& s) { return mark(factors_.write(true, *msg, s), flag); },
+                 stop_);
+  return true;
+}
+
 dds::WriteResult EstimatorPublisher::mark(dds::WriteResult result, const UnackedOutput::Flag& flag) {
   if (result == dds::WriteResult::Ok && flag) flag->store(true);
   return result;
@@ -57,7 +66,7 @@ void EstimatorPublisher::settle_unacked(GroupState& a, bool begin_snapshot) {
   const std::uint64_t dropped = a.unacked.dropped();
   a.unacked.settle([this] {
     return conditions_out_.wait_for_acknowledgments(std::chrono::milliseconds(0)) &&
-           factors_.wait_for_acknowledgments(std::chrono::milliseconds(0));
+           factors_.condition_acknowledged(std::chrono::milliseconds(0));
   });
   if (begin_snapshot) a.unacked.begin_snapshot();  // the oldest snapshot leaves here when the list is full
   if (a.unacked.dropped() > dropped) {

@@ -21,6 +21,10 @@ int EstimatorNode::log_summary() const {
                  a.lost_conditions,
                  a.sample_msgs, a.condition_msgs,
                  s ? s->counters().rejected_non_finite : 0);
+    if (options_.factor_sets) {
+      spdlog::info("asset '{}': those factor batches went in {} sample-level and {} condition-level factor-set messages "
+                   "(output.factor_messages set: one per input)", name, a.sample_sets, a.condition_sets);
+    }
     if (a.skipped > 0) spdlog::info("asset '{}': {} inputs processed before a restart skipped", name, a.skipped);
     if (a.renumbered > 0) {
       spdlog::error("asset '{}': {} inputs refused: numbered as processed already but later in time (a source that "

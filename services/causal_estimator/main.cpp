@@ -103,6 +103,8 @@ int main(int argc, char** argv) {
     }
     auto loaded = causal::pipeline::load_estimator_params(o.params_file);
     o.health_deadline_s = causal::pipeline::load_estimator_health(o.params_file).deadline_s;
+    o.factor_sets = causal::pipeline::load_estimator_output(o.params_file).factor_messages ==
+                    causal::pipeline::FactorMessages::Set;
     return std::make_unique<causal::estimator::EstimatorNode>(std::move(o), std::move(loaded));
   });
 }

@@ -102,7 +102,8 @@ int RecorderNode::run() {
       },
       // Idle exit once every publisher has left (the recommender's last alarms come after the estimator's data).
       [this] {
-        return in_.conditions.matched_writers() + in_.factors.matched_writers() + in_.alarms.matched_writers() +
+        return in_.conditions.matched_writers() + in_.factors.matched_writers() + dds::matched_writers(in_.factor_sets) +
+               in_.alarms.matched_writers() +
                in_.recommendations.matched_writers() + in_.status.matched_writers() +
                in_.prognoses.matched_writers() + interventions_->matched_writers();
       });
@@ -137,6 +138,15 @@ std::size_t RecorderNode::take_available() {
                           received(info);
                           on_factors(f);
                         }) +
+                        dds::take_factor_sets(
+                            in_.factor_sets, factor_set_counts_,
+                            [this](const auto& f, const auto& info) {
+                              received(info);
+                              on_factors(f);
+                            },
+                            [](const auto& set, const std::string& problem) {
+                              spdlog::warn("causal factor set of '{}' refused: {}", set.asset_group(), problem);
+                            }) +
                         in_.alarms.take_all([&](const auto& a, const auto& info) { alarms.emplace_back(key_of(info), a); }) +
                         in_.recommendations.take_all(
                             [&](const auto& r, const auto& info) { recs.emplace_back(key_of(info), r); }) +
@@ -354,6 +364,14 @@ int RecorderNode::finish() {
                 c.duplicates + t.disk_duplicates, c.refused,
                 t.file ? t.file->rows_written() : 0, extra);
   }
+  // One message per input (output.factor_messages set): its batches are counted in the lines above.
+  const dds::FactorSetCounts& sets = factor_set_counts_;
+  if (sets.received > 0) {
+    spdlog::log(sets.refused == 0 ? spdlog::level::info : spdlog::level::warn,
+                "summary topic=causal_twin/causal_factor_sets received={} batches={} refused={}", sets.received,
+                sets.batches, sets.refused);
+  }
+  refused_total += sets.refused;
   spdlog::info("alarms: {}", describe(alarm_counts_));
   spdlog::info("recommendations: {}", describe(recommendation_counts_));
   spdlog::info("prognoses: {}", describe(prognosis_counts_));

@@ -90,6 +90,7 @@ class RecorderNode {
 
   std::map<std::string, ConditionTable> conditions_;  // by file name
   std::map<std::string, FactorTable> factor_tables_;  // by "asset\x1fscale\x1fkind"
+  dds::FactorSetCounts factor_set_counts_;            // causal_twin/causal_factor_sets (unpacked into the tables)
   std::map<std::string, IndexClock> clocks_;          // per asset: condition-level index -> time
   std::map<std::string, std::string> file_assets_;    // raw asset id -> file-name component
   std::set<std::string> used_file_assets_;

@@ -89,8 +89,8 @@ int TwinWebNode::run() {
         return take_available();
       },
       [this] {
-        return in_.conditions.matched_writers() + in_.factors.matched_writers() + in_.alarms.matched_writers() +
-               in_.recommendations.matched_writers();
+        return in_.conditions.matched_writers() + in_.factors.matched_writers() + dds::matched_writers(in_.factor_sets) +
+               in_.alarms.matched_writers() + in_.recommendations.matched_writers();
       });
   if (end == dds::RunEnd::Idle) spdlog::info("all publishers gone and no data for {:.1f} s: finishing", options_.idle_exit_s);
   if (end == dds::RunEnd::MaxRuntime) spdlog::warn("max runtime {:.0f} s reached: finishing", options_.max_runtime_s);
@@ -118,6 +118,10 @@ int TwinWebNode::run() {
   spdlog::info("summary topic={} received={} skipped={} refused={}", dds::topics::kCausalFactors,
                c.factor_messages + c.factor_messages_skipped + c.factor_messages_rejected, c.factor_messages_skipped,
                c.factor_messages_rejected);
+  if (factor_set_counts_.received > 0) {  // their batches are counted in the line above
+    spdlog::info("summary topic={} received={} batches={} refused={}", dds::topics::kCausalFactorSets,
+                 factor_set_counts_.received, factor_set_counts_.batches, factor_set_counts_.refused);
+  }
   spdlog::info("summary topic={} received={}", dds::topics::kAlarm, c.alarm_events);
   spdlog::info("summary topic={} received={}", dds::topics::kRecommendation, c.recommendations);
   spdlog::info("summary topic={} received={}", dds::topics::kAssetStatus, c.statuses);
@@ -131,6 +135,7 @@ int TwinWebNode::run() {
   spdlog::info("summary topic={} sent={} failed={} asked={} answered={}", dds::topics::kAlarmAction, actions_sent_,
                actions_failed_, actions_.asked(), actions_.answered());
   const auto refused = in_.conditions.rejections().total() + in_.factors.rejections().total() +
+                       (in_.factor_sets ? in_.factor_sets->rejections().total() : 0) +
                        in_.alarms.rejections().total() + in_.recommendations.rejections().total() +
                        in_.status.rejections().total() + in_.prognoses.rejections().total();
   if (refused > 0) spdlog::warn("DDS readers refused {} samples (resource limits)", refused);
@@ -143,6 +148,13 @@ std::size_t TwinWebNode::take_available() {
   // Gaps in the trends (snapshot indices skipped, input lost upstream): twin_web_snapshots_missing.
   missing_metric_->set(static_cast<double>(state_.counters().snapshots_missing));
   n += in_.factors.take_all([this](const auto& f, const auto&) { state_.on_factors(f); }, loop_.stop_flag());
+  // One message per input (estimator.yaml output.factor_messages set): its batches, in order, as if one by one.
+  n += dds::take_factor_sets(
+      in_.factor_sets, factor_set_counts_, [this](const auto& f, const auto&) { state_.on_factors(f); },
+      [](const auto& set, const std::string& problem) {
+        spdlog::warn("causal factor set of '{}' refused: {}", set.asset_group(), problem);
+      },
+      &loop_.stop_flag());
   n += in_.alarms.take_all([this](const auto& a, const auto&) { state_.on_alarm(a); }, loop_.stop_flag());
   n += in_.status.take_all([this](const auto& st, const auto&) { state_.on_status(st); }, loop_.stop_flag());
   n += in_.prognoses.take_all([this](const auto& p, const auto&) { state_.on_prognosis(p); }, loop_.stop_flag());

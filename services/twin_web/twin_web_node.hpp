@@ -67,6 +67,7 @@ class TwinWebNode {
   dds::TypedReader<causal_twin::ConditionVectorPubSubType> inputs_in_;
   SourceClock source_clock_;
   std::uint64_t actions_sent_ = 0, actions_failed_ = 0;
+  dds::FactorSetCounts factor_set_counts_;  // causal_twin/causal_factor_sets, unpacked into state_
   dds::EventLoop loop_;  // after the readers: detaches their conditions first
   std::unique_ptr<history::HistoryStore> history_;
   std::unique_ptr<HistoryRoutes> history_routes_;

@@ -1,5 +1,6 @@
-// The scale benchmark's end of the pipeline (deploy/bench_scale.sh): reads causal_twin/causal_factors like
-// the recommender does (causal_factors_reader profile) and counts the FRAMES covered, i.e. distinct
+// The scale benchmark's end of the pipeline (deploy/bench_scale.sh): reads causal_twin/causal_factors and
+// causal_twin/causal_factor_sets (a set unpacked into its batches, in order) like the recommender does
+// (causal_factors_reader profile) and counts the FRAMES covered, i.e. distinct
 // (asset group, sample index) pairs of sample-level Kalman-filter messages, so it counts the same whether the
 // estimator sends one message per outcome or one batched message per frame. With sensor-sim
 // --wall-clock-stamps a frame's first_sample_time_ns is the wall-clock time it was due, so
@@ -19,6 +20,7 @@
 // (seconds: from the first frame's due time to the last arrival). Exit code 0 when D == E exactly, 1 otherwise.
 // Ends when every frame is covered, after --quiet-exit s without a new frame once some came, or at --timeout.
 #include "causal/dds/event_loop.hpp"
+#include "causal/dds/factor_sets.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
@@ -98,8 +100,11 @@ int main(int argc, char** argv) {
   causal::dds::Participant participant(s);
   causal::dds::TypedReader<causal_twin::CausalFactorBatchPubSubType> reader(
       participant, causal::dds::topics::kCausalFactors, causal::dds::profiles::kCausalFactorsReader);
+  const auto set_reader = causal::dds::make_factor_set_reader(participant);
+  causal::dds::FactorSetCounts sets;
   causal::dds::EventLoop loop;
   loop.attach(reader.get());
+  loop.attach(set_reader->get());
   std::printf("ready\n");
   std::fflush(stdout);
 
@@ -123,7 +128,7 @@ int main(int argc, char** argv) {
     if (std::chrono::duration<double>(now - began).count() > timeout_s) break;
     if (!covered.empty() && std::chrono::duration<double>(now - progress).count() > quiet_exit_s) break;
     loop.wait(std::chrono::milliseconds(100));
-    reader.take_all([&](const causal_twin::CausalFactorBatch& f, const auto&) {
+    const auto on_batch = [&](const causal_twin::CausalFactorBatch& f, const auto&) {
       if (f.time_scale() != causal_twin::SAMPLE_LEVEL || f.kind() != causal_twin::FILTER) return;
       if (!covered.emplace(f.asset_group(), f.sample_index()).second) return;  // a frame counted once
       const long long arrived = wall_ns();
@@ -141,6 +146,10 @@ int main(int argc, char** argv) {
       } else {
         latency_ms.push_back(ms);
       }
+    };
+    reader.take_all(on_batch);
+    causal::dds::take_factor_sets(set_reader, sets, on_batch, [](const auto& set, const std::string& problem) {
+      std::fprintf(stderr, "factor set of '%s' refused: %s\n", set.asset_group().c_str(), problem.c_str());
     });
   }
   const double seconds = covered.empty() ? 0.0 : static_cast<double>(last_ns - start_ns) / 1e9;
@@ -162,5 +171,5 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  return covered.size() == expected ? 0 : 1;
+  return covered.size() == expected && sets.refused == 0 ? 0 : 1;
 }

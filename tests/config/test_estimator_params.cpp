@@ -12,7 +12,9 @@
 namespace {
 
 using causal::pipeline::load_estimator_health;
+using causal::pipeline::load_estimator_output;
 using causal::pipeline::load_estimator_params;
+using causal::pipeline::FactorMessages;
 using causal::test::config_error;
 using causal::test::mutated_copy;
 
@@ -134,6 +136,12 @@ const Mutation kMutations[] = {
     {"deadline_too_long", [](YAML::Node& d) { d["health"]["deadline_s"] = 30000000; }, "health.deadline_s",
      "one day"},
     {"unknown_health_key", [](YAML::Node& d) { d["health"]["lease_s"] = 5; }, "health.lease_s", "unknown key"},
+    {"factor_messages_unknown", [](YAML::Node& d) { d["output"]["factor_messages"] = "frames"; },
+     "output.factor_messages", "one of"},
+    {"factor_messages_missing", [](YAML::Node& d) { d["output"].remove("factor_messages"); }, "output.factor_messages",
+     "missing"},
+    {"unknown_output_key", [](YAML::Node& d) { d["output"]["per_snapshot"] = true; }, "output.per_snapshot",
+     "unknown key"},
 };
 
 class EstimatorParamsMutation : public ::testing::TestWithParam<Mutation> {};
@@ -141,10 +149,11 @@ class EstimatorParamsMutation : public ::testing::TestWithParam<Mutation> {};
 TEST_P(EstimatorParamsMutation, ThrowsConfigErrorNamingFileAndKey) {
   const Mutation& m = GetParam();
   const std::string path = mutated_copy(kShipped, std::string("est_") + m.name + ".yaml", m.apply);
-  // Both loaders of the file: the estimator's parameters and its health section.
+  // Every loader of the file: the estimator's parameters, its health and its output section.
   const std::string msg = config_error([&] {
     (void)load_estimator_params(path);
     (void)load_estimator_health(path);
+    (void)load_estimator_output(path);
   });
   EXPECT_HAS(msg, path + ": ");
   EXPECT_HAS(msg, std::string(": ") + m.key + ":");
@@ -173,6 +182,23 @@ TEST(EstimatorParams, EveryFeatureNameIsAccepted) {
 TEST(EstimatorParams, ZeroDeadlineTurnsTheDeadlineOff) {
   const std::string p = mutated_copy(kShipped, "est_deadline_off.yaml", [](YAML::Node& d) { d["health"]["deadline_s"] = 0; });
   EXPECT_EQ(load_estimator_health(p).deadline_s, 0.0);
+}
+
+TEST(EstimatorParams, FactorMessagesAsWrittenAndBatchWithoutTheSection) {
+  const YAML::Node doc = YAML::LoadFile(kShipped);
+  EXPECT_EQ(load_estimator_output(kShipped).factor_messages == FactorMessages::Set,
+            doc["output"]["factor_messages"].as<std::string>() == "set");
+  for (const char* mode : {"batch", "set"}) {
+    const std::string p = mutated_copy(kShipped, std::string("est_factor_messages_") + mode + ".yaml",
+                                       [mode](YAML::Node& d) { d["output"]["factor_messages"] = mode; });
+    EXPECT_EQ(load_estimator_output(p).factor_messages, std::string(mode) == "set" ? FactorMessages::Set
+                                                                                  : FactorMessages::Batch);
+    (void)load_estimator_params(p);  // the other loaders take the section
+    (void)load_estimator_health(p);
+  }
+  // A file written before the section existed: one message per batch, as before.
+  const std::string old = mutated_copy(kShipped, "est_no_output.yaml", [](YAML::Node& d) { d.remove("output"); });
+  EXPECT_EQ(load_estimator_output(old).factor_messages, FactorMessages::Batch);
 }
 
 TEST(EstimatorParams, MissingFileIsAConfigError) {

@@ -4,11 +4,14 @@
 # clients with the shipped deploy/dds/discovery_client.xml (its port changed to this test's). The client profile
 # has no initial peers and no multicast, so the services can only meet through the server. Passes when
 # deploy/launch.sh exits 0 (every count exact: nothing lost, dropped or refused) and the replay's sent count
-# equals the estimator's received count for condition_input.
-#   discovery_server.sh <build dir> <deploy dir>
+# equals the estimator's received count for condition_input. With `factor-sets` the estimator writes one
+# CausalFactorSet per input (estimator.yaml output.factor_messages: set, in a copy of deploy/config): the set
+# writer announces itself through the server too, and alarm-recommender's set count must equal the sets sent.
+#   discovery_server.sh <build dir> <deploy dir> [factor-sets]
 set -euo pipefail
 build="$1"
 deploy="$2"
+mode="${3:-batch}"
 domain=96
 port=11896
 work="$(mktemp -d)"
@@ -27,8 +30,18 @@ server_pid=$!
 sleep 1
 kill -0 "$server_pid" 2>/dev/null || { echo "FAIL: discovery server did not start"; cat "$work/server.log"; exit 1; }
 
+config_env=()
+if [ "$mode" = factor-sets ]; then
+  cp -r "$deploy/config" "$work/config"
+  sed -i 's/^\(  factor_messages:\) batch /\1 set   /' "$work/config/estimator.yaml"
+  grep -q '^  factor_messages: set ' "$work/config/estimator.yaml" || { echo "FAIL: could not set factor-sets"; exit 1; }
+  config_env=(CAUSAL_TWIN_CONFIG_DIR="$work/config")
+elif [ "$mode" != batch ]; then
+  echo "usage: discovery_server.sh <build dir> <deploy dir> [factor-sets]" >&2; exit 2
+fi
+
 rc=0
-CAUSAL_TWIN_BUILD_DIR="$build" "$deploy/launch.sh" --domain "$domain" --transport "$work/client.xml" \
+env "${config_env[@]}" CAUSAL_TWIN_BUILD_DIR="$build" "$deploy/launch.sh" --domain "$domain" --transport "$work/client.xml" \
   --features "$deploy/data/ims2-features/derived_per_file_stats_all984.csv" --feature-suffix _meanabs \
   --feature-name meanabs --max-runtime 100 --logs "$work/logs" > "$work/launch.out" 2>&1 || rc=$?
 cat "$work/launch.out" | grep -E "launch:|summary|condition_input|condition_vector" || true
@@ -38,4 +51,12 @@ sent=$(grep -o 'summary topic=causal_twin/condition_input sent=[0-9]*' "$work/lo
 received=$(grep -o 'summary topic=causal_twin/condition_input received=[0-9]*' "$work/logs/causal-estimator.log" | grep -o '[0-9]*$')
 echo "condition_input: sent=$sent received=$received"
 [ "$sent" = 984 ] && [ "$received" = 984 ] || { echo "FAIL: want 984 sent and 984 received"; exit 1; }
-echo "PASS: the pipeline ran through the discovery server on 127.0.0.1:$port"
+if [ "$mode" = factor-sets ]; then
+  sets=$(grep -o 'summary topic=causal_twin/causal_factor_sets/condition sent=[0-9]*' \
+    "$work/logs/causal-estimator.log" | grep -o '[0-9]*$' || true)
+  taken=$(grep -o 'summary topic=causal_twin/causal_factor_sets received=[0-9]*' \
+    "$work/logs/alarm-recommender.log" | grep -o '[0-9]*$' || true)
+  echo "causal_factor_sets: sent=$sets received=$taken"
+  [ -n "$sets" ] && [ "$sets" -gt 0 ] && [ "$sets" = "$taken" ] || { echo "FAIL: want the sets sent received"; exit 1; }
+fi
+echo "PASS: the pipeline ($mode) ran through the discovery server on 127.0.0.1:$port"

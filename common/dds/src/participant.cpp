@@ -372,15 +372,8 @@ eprosima::fastdds::dds::Topic* Participant::topic_for(const std::string& name,
   if (auto it = topics_.find(name); it != topics_.end()) return it->second;
   const std::string type_name = type.get_type_name();
   if (participant_->find_type(type_name).empty()) {
-    // CausalFactorBatch holds a sequence of structs (OutcomeFactors). Announcing its TypeInformation made
-    // Debian's Fast DDS 2.9 discovery server (fast-discovery-server) crash (SIGSEGV in
-    // TypeObjectFactory::get_sequence_identifier while it builds the dynamic type on discovering our writer),
-    // so nobody could meet through it. That type goes out without type information: our readers match it by
-    // name, generic tools see the topic but cannot decode it without the IDL. Every other type keeps it.
-    if (type_name == "causal_twin::CausalFactorBatch") {
-      type->auto_fill_type_information(false);
-      type->auto_fill_type_object(false);
-    }
+    // The types holding a sequence of structs announce no type information: their generated type supports
+    // say so themselves (idl/name_only_types.cmake says why).
     if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
       throw std::runtime_error("cannot register DDS type " + type_name);
     }

@@ -118,6 +118,19 @@ Refusal check_limits(const causal_twin::CausalFactorBatch& s, std::string& why) 
   return c.result();
 }
 
+Refusal check_limits(const causal_twin::CausalFactorSet& s, std::string& why) {
+  Checker c(why);
+  c.id("asset_group", s.asset_group())
+      .enumeration("time_scale", static_cast<std::uint32_t>(s.time_scale()), 2)
+      .sequence("batches", s.batches().size(), kMaxFactorSetBatches);
+  if (const Refusal r = c.result(); r != Refusal::None) return r;
+  // Each batch as it would be checked alone (the readers hand them on one by one).
+  for (const auto& b : s.batches()) {
+    if (const Refusal r = check_limits(b, why); r != Refusal::None) return r;
+  }
+  return Refusal::None;
+}
+
 Refusal check_limits(const causal_twin::Alarm& s, std::string& why) {
   return Checker(why)
       .id("alarm_id", s.alarm_id())

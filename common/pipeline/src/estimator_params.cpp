@@ -53,7 +53,7 @@ std::string graph_text(const Section& s) {
 
 pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
   const Section root = Section::load_file(path);
-  root.only({"sample_level", "condition_level", "health"});
+  root.only({"sample_level", "condition_level", "health", "output"});
   pipeline::AssetPipelineParams p;
 
   const Section sample = root.child("sample_level");
@@ -84,13 +84,26 @@ pipeline::AssetPipelineParams load_estimator_params(const std::string& path) {
 
 EstimatorHealthParams load_estimator_health(const std::string& path) {
   const Section root = Section::load_file(path);
-  root.only({"sample_level", "condition_level", "health"});
+  root.only({"sample_level", "condition_level", "health", "output"});
   const Section h = root.child("health");
   h.only({"deadline_s"});
   EstimatorHealthParams p;
   p.deadline_s = h.non_negative("deadline_s");
   // A deadline far beyond any plant cadence is a typo (e.g. milliseconds), not a choice: one day at most.
   if (p.deadline_s > 86400.0) h.fail("deadline_s", "must be <= 86400 s (one day)");
+  return p;
+}
+
+EstimatorOutputParams load_estimator_output(const std::string& path) {
+  const Section root = Section::load_file(path);
+  root.only({"sample_level", "condition_level", "health", "output"});
+  EstimatorOutputParams p;
+  // Optional section: a file written before it existed keeps today's one message per batch.
+  if (!root.has("output")) return p;
+  const Section o = root.child("output");
+  o.only({"factor_messages"});
+  p.factor_messages =
+      o.one_of("factor_messages", {"batch", "set"}) == "set" ? FactorMessages::Set : FactorMessages::Batch;
   return p;
 }
 

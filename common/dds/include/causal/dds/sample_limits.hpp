@@ -26,6 +26,8 @@ inline constexpr std::size_t kMaxIdBytes = io::kMaxNameBytes;
 inline constexpr std::size_t kMaxChannels = io::kMaxChannels;
 // The bound of one outcome's factor list (sequence<..., 1024>).
 inline constexpr std::size_t kMaxFactors = 1024;
+// The bound of a CausalFactorSet's batches (sequence<CausalFactorBatch, 4>).
+inline constexpr std::size_t kMaxFactorSetBatches = 4;
 
 // Why a sample was refused: the `reason` label of dds_samples_refused_total.
 enum class Refusal { None, Malformed, KeyTooLong, IdTooLong, BadEnum, SequenceTooLong };
@@ -36,6 +38,7 @@ const char* refusal_name(Refusal r);
 Refusal check_limits(const causal_twin::VibrationFrame& s, std::string& why);
 Refusal check_limits(const causal_twin::ConditionVector& s, std::string& why);
 Refusal check_limits(const causal_twin::CausalFactorBatch& s, std::string& why);
+Refusal check_limits(const causal_twin::CausalFactorSet& s, std::string& why);
 Refusal check_limits(const causal_twin::Alarm& s, std::string& why);
 Refusal check_limits(const causal_twin::Prognosis& s, std::string& why);
 Refusal check_limits(const causal_twin::AssetStatus& s, std::string& why);

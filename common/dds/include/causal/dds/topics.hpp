@@ -7,6 +7,7 @@ inline constexpr const char* kVibrationFrame = "causal_twin/vibration_frame";
 inline constexpr const char* kConditionVector = "causal_twin/condition_vector";  // estimator output
 inline constexpr const char* kConditionInput = "causal_twin/condition_input";    // ready-made, to the estimator
 inline constexpr const char* kCausalFactors = "causal_twin/causal_factors";
+inline constexpr const char* kCausalFactorSets = "causal_twin/causal_factor_sets";  // one message per input
 inline constexpr const char* kAlarm = "causal_twin/alarm";
 inline constexpr const char* kRecommendation = "causal_twin/recommendation";
 inline constexpr const char* kWhatIfRequest = "causal_twin/whatif_request";

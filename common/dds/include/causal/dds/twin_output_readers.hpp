@@ -5,11 +5,13 @@
 #pragma once
 
 #include "causal/dds/event_loop.hpp"
+#include "causal/dds/factor_sets.hpp"
 #include "causal/dds/participant.hpp"
 #include "causal/dds/topics.hpp"
 #include "causal/dds/typed_endpoints.hpp"
 #include "causal_twinPubSubTypes.h"
 
+#include <memory>
 #include <string>
 
 namespace causal::dds {
@@ -20,6 +22,7 @@ struct TwinOutputReaders {
   TwinOutputReaders(Participant& participant, const std::string& status_profile)
       : conditions(participant, topics::kConditionVector, profiles::kConditionVectorReader),
         factors(participant, topics::kCausalFactors, profiles::kCausalFactorsReader),
+        factor_sets(make_factor_set_reader(participant)),
         alarms(participant, topics::kAlarm, profiles::kAlarmReader),
         recommendations(participant, topics::kRecommendation, profiles::kRecommendationReader),
         status(participant, topics::kAssetStatus, status_profile),
@@ -30,6 +33,7 @@ struct TwinOutputReaders {
   void attach_to(EventLoop& loop) {
     loop.attach(conditions.get());
     loop.attach(factors.get());
+    if (factor_sets) loop.attach(factor_sets->get());
     loop.attach(alarms.get());
     loop.attach(recommendations.get());
     loop.attach(status.get());
@@ -39,6 +43,9 @@ struct TwinOutputReaders {
 
   TypedReader<causal_twin::ConditionVectorPubSubType> conditions;
   TypedReader<causal_twin::CausalFactorBatchPubSubType> factors;
+  // The same factors, one message per input (factor_sets.hpp): unpacked in order. Null when DDS-Security does not
+  // allow the topic (an identity issued before it existed).
+  std::unique_ptr<FactorSetReader> factor_sets;
   TypedReader<causal_twin::AlarmPubSubType> alarms;
   TypedReader<causal_twin::RecommendationPubSubType> recommendations;
   TypedReader<causal_twin::AssetStatusPubSubType> status;

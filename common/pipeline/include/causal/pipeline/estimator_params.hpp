@@ -17,4 +17,14 @@ struct EstimatorHealthParams {
 };
 [[nodiscard]] EstimatorHealthParams load_estimator_health(const std::string& path);
 
+// The `output:` section (optional; absent = the defaults): how the factors leave the estimator.
+//   batch: one CausalFactorBatch message per batch on causal_twin/causal_factors (each input writes 1-2);
+//   set:   one CausalFactorSet message per input (a frame, or a snapshot at condition level) holding its
+//          batches in write order, on causal_twin/causal_factor_sets (one write instead of two per frame).
+enum class FactorMessages { Batch, Set };
+struct EstimatorOutputParams {
+  FactorMessages factor_messages = FactorMessages::Batch;
+};
+[[nodiscard]] EstimatorOutputParams load_estimator_output(const std::string& path);
+
 }  // namespace causal::pipeline
