@@ -60,6 +60,14 @@ TEST(ShmRestart, ReaderKilledWhileBusyGetsEveryFrameAfterRestart) {
   setenv("CAUSAL_TWIN_SHM_PORT_CHOICE", "1", 1);  // the peers inherit it
   const fs::path work = causal::test::fresh_work_dir("causal_shm_restart", "busy");
   const std::string domain = std::to_string(causal::test::private_domain_id(41));
+  // The choice's host-wide lock file of this private domain outlives the peers: removed at the end, pass or fail.
+  struct RemoveLock {
+    fs::path path;
+    ~RemoveLock() {
+      std::error_code ec;
+      fs::remove(path, ec);
+    }
+  } remove_lock{fs::path("/dev/shm") / ("causal_twin_ids_d" + domain + ".lock")};
   std::unique_ptr<ServiceProcess> writer;
   const std::string dead_port = kill_a_busy_reader(work, domain, "reader-1", writer);
   ASSERT_NE(dead_port, "");
