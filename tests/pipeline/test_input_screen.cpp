@@ -28,6 +28,7 @@
 #include <memory>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -563,23 +564,14 @@ void expect_same_screening(const ScreenRun& a, const ScreenRun& b, const char* w
   EXPECT_EQ(std::memcmp(a.out.data(), b.out.data(), a.out.size() * sizeof(double)), 0);
   ASSERT_EQ(a.events.size(), b.events.size());
   for (std::size_t e = 0; e < a.events.size(); ++e) {
-    EXPECT_EQ(a.events[e].channel, b.events[e].channel) << e;
-    EXPECT_EQ(a.events[e].kind, b.events[e].kind) << e;
-    EXPECT_EQ(a.events[e].index, b.events[e].index) << e;
-    EXPECT_EQ(a.events[e].count, b.events[e].count) << e;
-    EXPECT_EQ(a.events[e].reason, b.events[e].reason) << e;
+    SCOPED_TRACE("event " + std::to_string(e));
+    EXPECT_SAME_FIELDS(a.events[e], b.events[e], channel, kind, index, count, reason);
   }
   ASSERT_EQ(a.counters.size(), b.counters.size());
   for (std::size_t j = 0; j < a.counters.size(); ++j) {
-    EXPECT_EQ(a.counters[j].screened, b.counters[j].screened) << j;
-    EXPECT_EQ(a.counters[j].non_finite, b.counters[j].non_finite) << j;
-    EXPECT_EQ(a.counters[j].out_of_range, b.counters[j].out_of_range) << j;
-    EXPECT_EQ(a.counters[j].quarantined_values, b.counters[j].quarantined_values) << j;
-    EXPECT_EQ(a.counters[j].stuck, b.counters[j].stuck) << j;
-    EXPECT_EQ(a.counters[j].scale_change, b.counters[j].scale_change) << j;
-    EXPECT_EQ(a.counters[j].recovered, b.counters[j].recovered) << j;
-    EXPECT_EQ(a.counters[j].quarantined, b.counters[j].quarantined) << j;
-    EXPECT_EQ(a.counters[j].reference_scale, b.counters[j].reference_scale) << j;
+    SCOPED_TRACE("channel " + std::to_string(j));
+    EXPECT_SAME_FIELDS(a.counters[j], b.counters[j], screened, non_finite, out_of_range, quarantined_values, stuck,
+                       scale_change, recovered, quarantined, reference_scale);
   }
 }
 
