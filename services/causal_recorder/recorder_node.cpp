@@ -7,6 +7,10 @@
 #include "causal/dds/frame_conversions.hpp"
 #include "causal/dds/topics.hpp"
 
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/dds/topic/TopicDescription.hpp>
+
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -120,8 +124,8 @@ std::size_t RecorderNode::take_available() {
   // instance, not in publication order. Sorted back into publication order (writer, sequence number), the
   // recording is the same on every run.
   using Key = std::pair<std::string, std::uint64_t>;
-  auto key_of = [this](const eprosima::fastdds::dds::SampleInfo& info) {
-    received(info);
+  auto key_of = [this](const eprosima::fastdds::dds::DataReader* reader, const eprosima::fastdds::dds::SampleInfo& info) {
+    received(reader, info);
     std::ostringstream w;
     w << info.sample_identity.writer_guid();
     return Key{w.str(), info.sample_identity.sequence_number().to64long()};
@@ -131,30 +135,32 @@ std::size_t RecorderNode::take_available() {
   std::vector<std::pair<Key, causal_twin::AssetStatus>> statuses;
   std::vector<std::pair<Key, causal_twin::Prognosis>> prognoses;  // keyed too: back into publication order
   const std::size_t n = in_.conditions.take_all([this](const auto& c, const auto& info) {
-                          received(info);
+                          received(in_.conditions.get(), info);
                           on_condition(c);
                         }) +
                         in_.factors.take_all([this](const auto& f, const auto& info) {
-                          received(info);
+                          received(in_.factors.get(), info);
                           on_factors(f);
                         }) +
                         dds::take_factor_sets(
                             in_.factor_sets, factor_set_counts_,
                             [this](const auto& f, const auto& info) {
-                              received(info);
+                              received(in_.factor_sets->get(), info);
                               on_factors(f);
                             },
                             [](const auto& set, const std::string& problem) {
                               spdlog::warn("causal factor set of '{}' refused: {}", set.asset_group(), problem);
                             }) +
-                        in_.alarms.take_all([&](const auto& a, const auto& info) { alarms.emplace_back(key_of(info), a); }) +
+                        in_.alarms.take_all(
+                            [&](const auto& a, const auto& info) { alarms.emplace_back(key_of(in_.alarms.get(), info), a); }) +
                         in_.recommendations.take_all(
-                            [&](const auto& r, const auto& info) { recs.emplace_back(key_of(info), r); }) +
-                        in_.status.take_all([&](const auto& st, const auto& info) { statuses.emplace_back(key_of(info), st); }) +
+                            [&](const auto& r, const auto& info) { recs.emplace_back(key_of(in_.recommendations.get(), info), r); }) +
+                        in_.status.take_all(
+                            [&](const auto& st, const auto& info) { statuses.emplace_back(key_of(in_.status.get(), info), st); }) +
                         in_.prognoses.take_all(
-                            [&](const auto& p, const auto& info) { prognoses.emplace_back(key_of(info), p); }) +
+                            [&](const auto& p, const auto& info) { prognoses.emplace_back(key_of(in_.prognoses.get(), info), p); }) +
                         in_.action_results.take_all([this](const auto& r, const auto& info) {
-                          received(info);
+                          received(in_.action_results.get(), info);
                           on_action_result(r);
                         });
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
@@ -405,27 +411,50 @@ int RecorderNode::finish() {
   return (lost_total + refused_total) > 0 || tail_lost || !history_complete ? config::kExitLostOrRefused : config::kExitOk;
 }
 
-void RecorderNode::received(const eprosima::fastdds::dds::SampleInfo& info) {
-  last_received_unix_ns_ = std::max<std::int64_t>(last_received_unix_ns_, info.reception_timestamp.to_ns());
+void RecorderNode::received(const eprosima::fastdds::dds::DataReader* reader,
+                            const eprosima::fastdds::dds::SampleInfo& info) {
+  auto tag = reader_tags_.find(reader);
+  if (tag == reader_tags_.end()) {
+    const bool durable =
+        reader->get_qos().durability().kind == eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+    tag = reader_tags_.emplace(reader, ReaderTag{reader->get_topicdescription()->get_name(), durable}).first;
+  }
+  if (!tag->second.durable) return;
+  std::ostringstream writer;
+  writer << info.sample_identity.writer_guid();
+  receptions_.note(tag->second.topic, writer.str(), info.reception_timestamp.to_ns());
 }
 
 bool RecorderNode::tail_lost_after_suspension() const {
   const dds::Suspension& s = loop_.suspension();
+  if (s.count == 0) return false;
   // Shorter than the lease this participant announces, the stop was not noticed by the peers: reliable delivery
   // resumed where it was and nothing can be missing.
   const auto& lease = participant_.get()->get_qos().wire_protocol().builtin.discovery_config.leaseDuration;
-  if (s.count > 0 && s.last_seconds < lease.seconds + lease.nanosec * 1e-9) return false;
+  const double lease_s = lease.seconds + lease.nanosec * 1e-9;
+  if (s.last_seconds < lease_s) return false;
   // Reception timestamps, not the time of the take: samples that had arrived before the stop and are taken just
   // after it are not news from after it. The resume is stamped by the watchdog within a few ms of it, and the stop
-  // lasted at least kSuspendedAfter (3 s): 1 s of margin tells one side from the other.
+  // lasted at least kSuspendedAfter (3 s): 1 s of margin tells one side from the other. A writer counts as
+  // publishing when the stop began if it was heard within one lease before it.
   constexpr std::int64_t kMarginNs = 1'000'000'000;
-  if (s.count == 0 || last_received_unix_ns_ >= s.last_resumed_at_unix_ns - kMarginNs) return false;
-  // Seen in the freeze test on shared memory: after a 30 s SIGSTOP the peers re-discovered the recorder but no
-  // sample reached it again, and the file simply ended (150 of 984 rows, exit 0).
-  spdlog::warn("recording incomplete: this recorder did not run for {:.1f} s and received nothing after it: whatever "
-               "was published from then on is missing and no later row shows the gap (over shared memory a reader "
-               "whose port stalled may not be reached again: restart the recorder, or use the UDP profile "
-               "localhost-udp.xml)", s.last_seconds);
+  const auto stop_began_ns = s.last_resumed_at_unix_ns - static_cast<std::int64_t>(s.last_seconds * 1e9);
+  const std::int64_t heard_after_ns = s.last_resumed_at_unix_ns - kMarginNs;
+  const auto silent =
+      receptions_.silent_after(stop_began_ns, static_cast<std::int64_t>(lease_s * 1e9), heard_after_ns);
+  if (silent.empty()) return false;
+  // Seen in the freeze test on shared memory: after a 30 s SIGSTOP the peers re-discovered the recorder but the
+  // estimator's samples never reached it again, and the file simply ended (150 of 984 rows). alarm-recommender's
+  // did, so "nothing at all received after the stop" is not the test: each writer is.
+  std::string topics;
+  for (const auto& w : silent) {
+    if (topics.find(w.topic) == std::string::npos) topics += (topics.empty() ? "" : ", ") + w.topic;
+  }
+  spdlog::warn("recording incomplete: this recorder did not run for {:.1f} s and {} writer(s) publishing when it "
+               "stopped were never heard again ({}; {} writer(s) were): whatever they published from then on is "
+               "missing and no later row shows the gap (over shared memory a reader whose port stalled may not be "
+               "reached again: restart the recorder, or use the UDP profile localhost-udp.xml)",
+               s.last_seconds, silent.size(), topics, receptions_.heard_after(heard_after_ns));
   return true;
 }
 

@@ -7,6 +7,7 @@
 
 #include "factor_row_assembler.hpp"
 #include "history_sink.hpp"
+#include "reception_ledger.hpp"
 #include "intervention_rows.hpp"
 #include "record_rows.hpp"
 #include "row_cells.hpp"
@@ -105,11 +106,17 @@ class RecorderNode {
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;
   TopicCounts alarm_counts_, recommendation_counts_, status_counts_;
   std::uint64_t sample_level_skipped_ = 0, invalid_msgs_ = 0;
-  std::int64_t last_received_unix_ns_ = 0;  // the latest DDS reception timestamp of anything taken
-  // After a suspension (EventLoop::suspension) with nothing received since: the tail of the run is missing and no
-  // later index shows the gap, so it is said here and counted in the exit code.
+  // The latest reception per (topic, writer) of the TRANSIENT_LOCAL readers: after a suspension (EventLoop::suspension),
+  // a writer not heard again means the tail of its stream is missing and no later index shows the gap, so it is said
+  // here and counted in the exit code.
+  struct ReaderTag {
+    std::string topic;
+    bool durable = false;
+  };
+  std::map<const eprosima::fastdds::dds::DataReader*, ReaderTag> reader_tags_;
+  ReceptionLedger receptions_;
   bool tail_lost_after_suspension() const;
-  void received(const eprosima::fastdds::dds::SampleInfo& info);
+  void received(const eprosima::fastdds::dds::DataReader* reader, const eprosima::fastdds::dds::SampleInfo& info);
 };
 
 }  // namespace causal::recorder

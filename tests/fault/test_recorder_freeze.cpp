@@ -251,13 +251,18 @@ TEST(RecorderFreeze, ProducersNeverStallAndTheRecorderStatesWhatItLost) {
               static_cast<unsigned long long>(recorded.rows), line.lost.size(), ranges_text(line.lost).c_str(),
               static_cast<unsigned long long>(recorded.rows + line.lost.size()), static_cast<unsigned long long>(rows),
               static_cast<unsigned long long>(line.received), static_cast<unsigned long long>(line.duplicates));
-  // Over shared memory Fast DDS 2.9 sometimes never reaches a reader again whose port stalled for 30 s (seen once
-  // in four runs under load: re-discovered, but no sample after SIGCONT). The recorder cannot name that tail
-  // (no later index shows the gap), so it must say it was suspended and received nothing after: exit 4 and the
-  // "recording incomplete" line, with the rows it has contiguous from the first snapshot.
-  if (rec_log.find("recording incomplete: this recorder did not run") != std::string::npos) {
+  // Over shared memory Fast DDS 2.9 sometimes never reaches a reader again whose port stalled for 30 s (2 of 4
+  // runs with four copies of this test at once: re-discovered, but no condition vector after SIGCONT, while
+  // alarm-recommender's alarms do arrive again). The recorder cannot name that tail (no later index shows the
+  // gap), so it must say which writer it never heard again: exit 4 and the "recording incomplete" line naming the
+  // condition vectors' topic, with the rows it has contiguous from the first snapshot.
+  if (const auto incomplete = rec_log.find("recording incomplete: this recorder did not run");
+      incomplete != std::string::npos) {
+    const std::string said = rec_log.substr(incomplete, rec_log.find('\n', incomplete) - incomplete);
     std::printf("[ delivery ] causal-recorder was not reached again after the freeze and says so: %llu rows, the "
-                "rest named as an unrecorded tail\n", static_cast<unsigned long long>(recorded.rows));
+                "rest named as an unrecorded tail:\n[ delivery ]   %s\n", static_cast<unsigned long long>(recorded.rows),
+                said.c_str());
+    EXPECT_NE(said.find(causal::dds::topics::kConditionVector), std::string::npos) << said;
     EXPECT_EQ(*rec_code, 4);
     EXPECT_GE(recorded.rows, kFreezeAfter / 2) << "the rows before the freeze are missing";
     EXPECT_EQ(recorded.indices.size(), recorded.rows);
