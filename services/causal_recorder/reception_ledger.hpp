@@ -7,10 +7,18 @@
 // recorder again (say alarm-recommender's history) must not hide it. The stall is per sending participant, so the
 // other writers of that participant that were not heard again are named with it, however long they had been quiet
 // before the stop (an alarm writer publishes only now and then).
+//
+// A writer that does reach the recorder again re-sends only its history ring (the last 64 statuses per group,
+// 8 updates per alarm, ...): what it published during the stop beyond that never arrives, and statuses and
+// prognoses carry no index to show it. Its RTPS sequence numbers do: one per sample written, so the numbers
+// above the highest one received before the stop that never arrived are exactly the samples missed.
 #pragma once
+
+#include "causal/dds/index_ledger.hpp"
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <string>
 #include <tuple>
@@ -25,12 +33,20 @@ struct SilentWriter {
   std::int64_t last_reception_ns = 0;  // system clock, DDS reception timestamp
 };
 
+// Samples of one writer published while the recorder was stopped and never received.
+struct MissedSamples {
+  std::string topic, participant, writer;
+  std::uint64_t count = 0;
+  std::vector<dds::IndexRange> sequence_numbers;  // ascending
+};
+
 class ReceptionLedger {
  public:
   // A sample of `topic` from `writer` arrived at reception_ns (system clock). Only topics whose reader is
   // TRANSIENT_LOCAL belong here: a volatile writer that is still there sends nothing after a re-match.
+  // sequence_number: the sample's RTPS sequence number (SampleInfo::sample_identity).
   void note(const std::string& topic, const std::string& participant, const std::string& writer,
-            std::int64_t reception_ns);
+            std::uint64_t sequence_number, std::int64_t reception_ns);
 
   // Writers heard within `active_window_ns` before the stop began (stop_began_ns) and not at or after
   // heard_after_ns (the resume minus a margin: samples that arrived before the stop and were taken just after it
@@ -42,7 +58,14 @@ class ReceptionLedger {
   // Writers heard at or after heard_after_ns (those that reached the recorder again).
   std::size_t heard_after(std::int64_t heard_after_ns) const;
 
-  bool empty() const { return last_.empty(); }
+  // Per writer heard at or after heard_after_ns: the sequence numbers above the highest one received before it
+  // that never arrived, up to the highest received at all. A writer first heard after it counts from its first
+  // sample when its participant was heard before (the recorder was matched with it all along), and not at all
+  // otherwise (a late joiner's history). Writers that missed nothing are left out. Ordered by topic, participant,
+  // writer.
+  std::vector<MissedSamples> missed_across(std::int64_t heard_after_ns) const;
+
+  bool empty() const { return writers_.empty(); }
 
  private:
   struct Key {
@@ -51,7 +74,21 @@ class ReceptionLedger {
       return std::tie(topic, participant, writer) < std::tie(o.topic, o.participant, o.writer);
     }
   };
-  std::map<Key, std::int64_t> last_;  // latest reception per writer
+  // Receptions without a pause of kSegmentGapNs or more between them: where a stop falls is a segment boundary
+  // (a stopped process receives nothing), so the highest sequence number before it is the highest of the segments
+  // that ended before it. The last kSegments are kept (a writer that publishes once a minute makes one per sample).
+  struct Segment {
+    std::int64_t first_ns = 0, last_ns = 0;
+    std::uint64_t highest = 0;
+  };
+  static constexpr std::int64_t kSegmentGapNs = 1'000'000'000;
+  static constexpr std::size_t kSegments = 64;
+  struct Writer {
+    std::int64_t last_ns = 0;  // latest reception
+    dds::IndexLedger sequence_numbers;
+    std::deque<Segment> segments;  // in order of reception
+  };
+  std::map<Key, Writer> writers_;
 };
 
 }  // namespace causal::recorder

@@ -106,16 +106,17 @@ class RecorderNode {
   RepeatFilter alarm_repeats_, recommendation_repeats_, status_repeats_;
   TopicCounts alarm_counts_, recommendation_counts_, status_counts_;
   std::uint64_t sample_level_skipped_ = 0, invalid_msgs_ = 0;
-  // The latest reception per (topic, writer) of the TRANSIENT_LOCAL readers: after a suspension (EventLoop::suspension),
-  // a writer not heard again means the tail of its stream is missing and no later index shows the gap, so it is said
-  // here and counted in the exit code.
+  // Receptions per writer of the TRANSIENT_LOCAL readers (ReceptionLedger). After a suspension longer than the lease
+  // (EventLoop::suspension), a writer not heard again means the tail of its stream is missing, and a writer heard
+  // again may have published more than its history ring re-sent: no later index shows either, so both are said here
+  // and counted in the exit code.
   struct ReaderTag {
     std::string topic;
     bool durable = false;
   };
   std::map<const eprosima::fastdds::dds::DataReader*, ReaderTag> reader_tags_;
   ReceptionLedger receptions_;
-  bool tail_lost_after_suspension() const;
+  bool lost_across_suspension() const;
   void received(const eprosima::fastdds::dds::DataReader* reader, const eprosima::fastdds::dds::SampleInfo& info);
 };
 
