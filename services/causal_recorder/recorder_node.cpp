@@ -465,9 +465,9 @@ bool RecorderNode::lost_across_suspension() const {
     if (i == 0 || silent[i].topic != silent[i - 1].topic) topics += (i == 0 ? "" : ", ") + silent[i].topic;
   }
   spdlog::warn("recording incomplete: this recorder did not run for {:.1f} s and {} writer(s) publishing when it "
-               "stopped were never heard again ({}; {} writer(s) were): whatever they published from then on is "
-               "missing and no later row shows the gap (over shared memory a reader whose port stalled may not be "
-               "reached again: restart the recorder, or use the UDP profile localhost-udp.xml)",
+               "stopped were never heard again ({}; {} other writer(s) were heard again): whatever they published "
+               "from then on is missing and no later row shows the gap (over shared memory a reader whose port "
+               "stalled may not be reached again: restart the recorder, or use the UDP profile localhost-udp.xml)",
                s.last_seconds, silent.size(), topics, receptions_.heard_after(heard_after_ns));
   return true;
 }
