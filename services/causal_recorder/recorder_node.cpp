@@ -420,11 +420,16 @@ void RecorderNode::received(const eprosima::fastdds::dds::DataReader* reader,
     tag = reader_tags_.emplace(reader, ReaderTag{reader->get_topicdescription()->get_name(), durable}).first;
   }
   if (!tag->second.durable) return;
+  // The writer's GUID as text, formatted once per writer rather than once per sample.
   const auto& guid = info.sample_identity.writer_guid();
-  std::ostringstream participant, writer;
-  participant << guid.guidPrefix;
-  writer << guid.entityId;
-  receptions_.note(tag->second.topic, participant.str(), writer.str(),
+  auto name = writer_names_.find(guid);
+  if (name == writer_names_.end()) {
+    std::ostringstream participant, writer;
+    participant << guid.guidPrefix;
+    writer << guid.entityId;
+    name = writer_names_.emplace(guid, std::make_pair(participant.str(), writer.str())).first;
+  }
+  receptions_.note(tag->second.topic, name->second.first, name->second.second,
                    static_cast<std::uint64_t>(info.sample_identity.sequence_number().to64long()),
                    info.reception_timestamp.to_ns());
 }

@@ -115,6 +115,7 @@ class RecorderNode {
     bool durable = false;
   };
   std::map<const eprosima::fastdds::dds::DataReader*, ReaderTag> reader_tags_;
+  std::map<eprosima::fastrtps::rtps::GUID_t, std::pair<std::string, std::string>> writer_names_;  // prefix, entity
   ReceptionLedger receptions_;
   bool lost_across_suspension() const;
   void received(const eprosima::fastdds::dds::DataReader* reader, const eprosima::fastdds::dds::SampleInfo& info);
